@@ -1,0 +1,78 @@
+"""Argument validation shared by every family; every failure is a CagdError."""
+from __future__ import annotations
+
+import numbers
+from typing import Optional
+
+import numpy as np
+
+from .errors import CagdError
+
+
+def finite_array(value, name: str, ndim: Optional[int] = None) -> np.ndarray:
+    """``value`` as a float64 array, rejecting NaN/inf and a wrong number of dimensions."""
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise CagdError(f"{name}: not a numeric array ({exc})") from None
+    if ndim is not None and arr.ndim != ndim:
+        raise CagdError(f"{name}: expected a {ndim}-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        bad = np.argwhere(~np.isfinite(arr))[0]
+        raise CagdError(f"{name}: contains NaN or inf (at index {tuple(int(i) for i in bad)})")
+    return arr
+
+
+def points(value, name: str = "control_points", min_count: int = 1) -> np.ndarray:
+    """An (n, dim) array of finite points, dim >= 1; a 1-D input is n points of dim 1."""
+    arr = finite_array(value, name)
+    if arr.ndim == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2 or arr.shape[1] < 1:
+        raise CagdError(f"{name}: expected shape (n, dim), got {arr.shape}")
+    if arr.shape[0] < min_count:
+        raise CagdError(f"{name}: need at least {min_count} points, got {arr.shape[0]}")
+    return arr
+
+
+def weights(value, count: int, name: str = "weights") -> Optional[np.ndarray]:
+    """Positive finite weights, one per control point, or None."""
+    if value is None:
+        return None
+    w = finite_array(value, name, ndim=1)
+    if w.shape[0] != count:
+        raise CagdError(f"{name}: got {w.shape[0]} weights for {count} control points")
+    if np.any(w <= 0):
+        i = int(np.argmax(w <= 0))
+        raise CagdError(f"{name}: must be positive (weights[{i}]={w[i]!r})")
+    return w
+
+
+def integer(value, name: str, minimum: int = 0, maximum: Optional[int] = None) -> int:
+    """An int in [minimum, maximum]; bools and non-integral floats are rejected."""
+    if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
+        if isinstance(value, (float, np.floating)) and float(value).is_integer():
+            value = int(value)
+        else:
+            raise CagdError(f"{name}: must be an integer, got {value!r}")
+    value = int(value)
+    if value < minimum or (maximum is not None and value > maximum):
+        hi = "" if maximum is None else f", at most {maximum}"
+        raise CagdError(f"{name}: out of range ({value}); must be at least {minimum}{hi}")
+    return value
+
+
+def scalar(value, name: str) -> float:
+    """A finite float."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise CagdError(f"{name}: must be a number, got {value!r}") from None
+    if not np.isfinite(x):
+        raise CagdError(f"{name}: must be finite, got {x!r}")
+    return x
+
+
+def parameters(t, name: str = "t") -> np.ndarray:
+    """Finite float64 parameters of any shape."""
+    return finite_array(t, name)

@@ -1,0 +1,50 @@
+"""Bernstein polynomials BEZ_{i,n}(t) = C(n,i) t^i (1-t)^(n-i) (seed 000, 5.2.1)."""
+from __future__ import annotations
+
+from math import comb
+
+import numpy as np
+
+
+def bernstein(n: int, t) -> np.ndarray:
+    """All n+1 Bernstein polynomials of degree n at ``t``: shape ``np.shape(t) + (n+1,)``."""
+    t = np.asarray(t, dtype=np.float64)[..., None]
+    i = np.arange(n + 1)
+    c = np.array([comb(n, k) for k in range(n + 1)], dtype=np.float64)
+    return c * t ** i * (1.0 - t) ** (n - i)
+
+
+def bernstein_to_power(n: int) -> np.ndarray:
+    """Matrix A with power coefficients a = A @ P of a degree-n Bezier with control
+    points P, so that p(t) = sum_k a_k t^k. A[k, i] = (-1)^(k-i) C(n,k) C(k,i)."""
+    A = np.zeros((n + 1, n + 1))
+    for k in range(n + 1):
+        for i in range(k + 1):
+            A[k, i] = (-1) ** (k - i) * comb(n, k) * comb(k, i)
+    return A
+
+
+def power_to_bernstein(n: int) -> np.ndarray:
+    """Inverse of :func:`bernstein_to_power`: P = B @ a, B[i, k] = C(i,k)/C(n,k)."""
+    B = np.zeros((n + 1, n + 1))
+    for i in range(n + 1):
+        for k in range(i + 1):
+            B[i, k] = comb(i, k) / comb(n, k)
+    return B
+
+
+def bezier_matrix(n: int) -> np.ndarray:
+    """The seed's matrix form p(t) = [t^n ... t 1] M [P_0..P_n]^T (seed 000, 5.2.3:
+    degree 1, 2, 3 matrices are the cases n = 1, 2, 3)."""
+    return bernstein_to_power(n)[::-1]
+
+
+def elevation_matrix(n: int, r: int = 1) -> np.ndarray:
+    """(n+r+1, n+1) matrix E with elevated control points Q = E @ P of a degree-n
+    Bezier curve raised to degree n+r (Farin, Curves and Surfaces for CAGD, 6.1;
+    Piegl & Tiller eq. 5.36): E[i, j] = C(n,j) C(r,i-j) / C(n+r,i)."""
+    E = np.zeros((n + r + 1, n + 1))
+    for i in range(n + r + 1):
+        for j in range(max(0, i - r), min(n, i) + 1):
+            E[i, j] = comb(n, j) * comb(r, i - j) / comb(n + r, i)
+    return E

@@ -1,0 +1,323 @@
+"""B-spline and NURBS curves (seed 000, 5.3; Piegl & Tiller, The NURBS Book, ch. 2-5).
+
+Non-periodic: n control points, full knot vector u_0..u_{n+p}, domain [u_p, u_n].
+Periodic: n distinct control points and one period t_0..t_n; the curve is the
+B-spline with control points P_0..P_{n-1}, P_0..P_{p-1} on the unwrapped knots
+(see :func:`cagd.knots.periodic_extend`), C^(p-1) at the seam for simple knots.
+Rational curves work in homogeneous coordinates (w P, w) throughout.
+"""
+from __future__ import annotations
+
+from typing import List, NamedTuple, Optional, Tuple
+
+import numpy as np
+
+from .. import _checks
+from ..basis.bspline import basis_matrix
+from ..errors import CagdError
+from ..knots import vectors as kv
+from .base import Curve, rational_derivatives
+from .ppform import PPForm
+
+
+class OccForm(NamedTuple):
+    """Exactly the arguments of OCCT's ``Geom_BSplineCurve`` constructor."""
+    poles: np.ndarray              # (n, 3)
+    weights: Optional[np.ndarray]  # (n,) or None
+    knots: np.ndarray              # distinct knots
+    multiplicities: np.ndarray     # int
+    degree: int
+    periodic: bool
+
+
+class BSplineCurve(Curve):
+    """B-spline curve, NURBS when ``weights`` are given.
+
+    Args:
+        control_points: (n, dim) points; for a periodic curve the n distinct ones.
+        degree: polynomial degree p >= 1 (p <= n - 1; periodic: p <= n).
+        knots: full non-decreasing vector of n + p + 1 values (default clamped
+            uniform on [0, 1]); periodic: one period of n + 1 values (default uniform).
+        weights: n positive weights, or None for a polynomial B-spline.
+        periodic: closed curve, C^(p-1) at the seam.
+
+    Raises:
+        CagdError: mismatched counts, non-monotone knots, bad multiplicities,
+            non-positive weights, NaN/inf, degree out of range.
+    """
+
+    def __init__(self, control_points, degree: int, knots=None, weights=None, periodic: bool = False):
+        P = _checks.points(control_points, "control_points", min_count=2)
+        n = P.shape[0]
+        self.periodic = bool(periodic)
+        p = _checks.integer(degree, "degree", 1, n if self.periodic else n - 1)
+        w = _checks.weights(weights, n)
+        if self.periodic:
+            t = np.linspace(0.0, 1.0, n + 1) if knots is None else kv.validate_period(knots, n, p)
+            full_u = kv.periodic_extend(t, p)
+            idx = np.concatenate([np.arange(n), np.arange(p)])
+        else:
+            t = kv.clamped_uniform(n, p) if knots is None else kv.validate(knots, p, n)
+            full_u = t
+            idx = np.arange(n)
+        self.control_points, self.weights, self.degree, self.knots = P, w, p, t
+        self.dim = P.shape[1]
+        hom = P if w is None else np.hstack([P * w[:, None], w[:, None]])
+        self._u = full_u                    # full (unwrapped) knot vector
+        self._hom = hom[idx]                # matching (homogeneous) control points
+        self._pp: Optional[PPForm] = None
+
+    # --- basic properties ------------------------------------------------------------
+    @property
+    def is_rational(self) -> bool:
+        return self.weights is not None
+
+    @property
+    def domain(self) -> Tuple[float, float]:
+        u, p = self._u, self.degree
+        return float(u[p]), float(u[len(self._hom)])
+
+    @property
+    def full_knots(self) -> np.ndarray:
+        """The full knot vector (unwrapped for a periodic curve)."""
+        return self._u.copy()
+
+    def __repr__(self) -> str:
+        kind = "NURBS" if self.is_rational else "B-spline"
+        per = ", periodic" if self.periodic else ""
+        return f"<{kind} curve degree {self.degree}, {len(self.control_points)} control points{per}, domain {self.domain}>"
+
+    # --- evaluation ------------------------------------------------------------------
+    @property
+    def ppform(self) -> PPForm:
+        if self._pp is None:
+            self._pp = PPForm.from_bspline(self._u, self.degree, self._hom)
+        return self._pp
+
+    def _evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
+        pp = self.ppform
+        hom = np.stack([pp(t, k) for k in range(order + 1)])
+        return rational_derivatives(hom) if self.is_rational else hom
+
+    def _breaks_within(self, start: float, end: float) -> np.ndarray:
+        u = np.unique(self._u)
+        return u[(u > start) & (u < end)]
+
+    def to_nurbs(self) -> "BSplineCurve":
+        return self
+
+    def _rebuild(self, hom: np.ndarray, knots: np.ndarray, degree: Optional[int] = None) -> "BSplineCurve":
+        """A non-periodic curve from homogeneous control points and full knots."""
+        if self.is_rational:
+            w = hom[:, -1]
+            return BSplineCurve(hom[:, :-1] / w[:, None], degree or self.degree, knots, w)
+        return BSplineCurve(hom, degree or self.degree, knots)
+
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "BSplineCurve":
+        return BSplineCurve(self.control_points @ A.T + b, self.degree, self.knots, self.weights, self.periodic)
+
+    @property
+    def homogeneous_control_points(self) -> np.ndarray:
+        """(w P, w) for NURBS, P otherwise; the unwrapped sequence for periodic curves."""
+        return self._hom.copy()
+
+    # --- knot insertion ----------------------------------------------------------------
+    def insert_knot(self, t: float, times: int = 1) -> "BSplineCurve":
+        """Insert the knot ``t`` ``times`` times (Boehm's algorithm, Piegl & Tiller A5.1);
+        the curve is unchanged. A periodic curve stays periodic."""
+        t = _checks.scalar(t, "t")
+        times = _checks.integer(times, "times", 0)
+        a, b = self.domain
+        if not a <= t <= b:
+            raise CagdError(f"t: knot {t} is outside the domain [{a}, {b}]")
+        if self.periodic:
+            return self._insert_periodic(t, times)
+        u, hom = self._u, self._hom
+        p = self.degree
+        have = int(np.count_nonzero(u == t))
+        if have + times > p + (1 if t in (a, b) else 0):
+            raise CagdError(f"times: knot {t} would reach multiplicity {have + times} > degree = {p}")
+        for _ in range(times):
+            u, hom = _boehm(u, hom, p, t)
+        return self._rebuild(hom, u)
+
+    def _insert_periodic(self, t: float, times: int) -> "BSplineCurve":
+        """Boehm's algorithm on the bi-infinite periodic sequence: control point and
+        knot indices are taken modulo the period (knots continued by T = t_n - t_0)."""
+        p, period = self.degree, self.knots.copy()
+        T = period[-1] - period[0]
+        if t == period[-1]:
+            t = float(period[0])
+        have = int(np.count_nonzero(period[:-1] == t))
+        if t == period[0]:
+            have += int(np.count_nonzero(period == period[-1])) - 1
+        if have + times > p:
+            raise CagdError(f"times: knot {t} would reach multiplicity {have + times} > degree = {p}")
+        P = self._hom[:len(self.control_points)]
+        for s in range(have, have + times):
+            n = len(period) - 1
+            k = min(int(np.searchsorted(period, t, side="right")) - 1, n - 1)
+            # standard index i has knots u_i = t_{i-p}: affected i = k+1 .. k+p-s
+            i = np.arange(k + 1, k + p - s + 1)
+
+            def knot(j):
+                return period[j % n] + (j // n) * T
+
+            alpha = ((t - knot(i - p)) / (knot(i) - knot(i - p)))[:, None]
+            j = np.arange(n + 1)
+            Q = np.where((j <= k)[:, None], P[np.minimum(j, n - 1)], P[(j - 1) % n])
+            Q[i % (n + 1)] = alpha * P[i % n] + (1.0 - alpha) * P[(i - 1) % n]
+            P, period = Q, np.insert(period, k + 1, t)
+        if self.is_rational:
+            w = P[:, -1]
+            return BSplineCurve(P[:, :-1] / w[:, None], p, period, w, periodic=True)
+        return BSplineCurve(P, p, period, periodic=True)
+
+    def refine(self, new_knots) -> "BSplineCurve":
+        """Insert all ``new_knots`` (knot refinement, Piegl & Tiller 5.3, as repeated
+        Boehm insertions)."""
+        ks = _checks.finite_array(new_knots, "new_knots", ndim=1)
+        c = self
+        for k in np.sort(ks):
+            c = c.insert_knot(k)
+        return c
+
+    # --- restriction, Bezier decomposition, split ----------------------------------------
+    def _with_multiplicity(self, values: np.ndarray, mult: int) -> Tuple[np.ndarray, np.ndarray]:
+        """Full knots and homogeneous points after raising each of ``values`` to at
+        least ``mult`` (non-periodic unwrapped form)."""
+        u, hom, p = self._u, self._hom, self.degree
+        for v in values:
+            for _ in range(mult - int(np.count_nonzero(u == v))):
+                u, hom = _boehm(u, hom, p, v)
+        return u, hom
+
+    def segment(self, start: float, end: float) -> "BSplineCurve":
+        """The part of the curve on [start, end] as a clamped, non-periodic curve
+        with the same parametrisation."""
+        a, b = self.domain
+        start, end = _checks.scalar(start, "start"), _checks.scalar(end, "end")
+        if not (a <= start < end <= b):
+            raise CagdError(f"start, end: need {a} <= start < end <= {b}, got [{start}, {end}]")
+        p = self.degree
+        u, hom = self._with_multiplicity(np.array([start, end]), p)
+        k = int(np.searchsorted(u, start, side="right")) - 1   # last index with u_k = start
+        l = int(np.searchsorted(u, end, side="left"))          # first index with u_l = end
+        knots = np.concatenate([np.full(p + 1, start), u[k + 1:l], np.full(p + 1, end)])
+        return self._rebuild(hom[k - p:l], knots)
+
+    def clamped(self) -> "BSplineCurve":
+        """The same curve with clamped (open) end knots, non-periodic."""
+        return self.segment(*self.domain)
+
+    def split(self, t: float) -> Tuple["BSplineCurve", "BSplineCurve"]:
+        """Two clamped curves on [a, t] and [t, b]."""
+        a, b = self.domain
+        t = _checks.scalar(t, "t")
+        if not a < t < b:
+            raise CagdError(f"t: split parameter {t} must lie strictly inside the domain ({a}, {b})")
+        return self.segment(a, t), self.segment(t, b)
+
+    def bezier_segments(self) -> Tuple[np.ndarray, List["BSplineCurve"]]:
+        """Breakpoints and the Bezier pieces (each a clamped single-span curve on its
+        own interval), by knot insertion to multiplicity p (Piegl & Tiller A5.6)."""
+        a, b = self.domain
+        p = self.degree
+        inner = self._breaks_within(a, b)
+        values = np.concatenate([[a], inner, [b]])
+        u, hom = self._with_multiplicity(values, p)
+        pieces = []
+        for lo, hi in zip(values[:-1], values[1:]):
+            k = int(np.searchsorted(u, lo, side="right")) - 1
+            knots = np.concatenate([np.full(p + 1, lo), np.full(p + 1, hi)])
+            pieces.append(self._rebuild(hom[k - p:k + 1], knots))
+        return values, pieces
+
+    def to_bezier(self) -> list:
+        """Bezier decomposition: a list of :class:`cagd.BezierCurve` on [0, 1] each."""
+        from .bezier import BezierCurve
+        _, pieces = self.bezier_segments()
+        return [BezierCurve(c.control_points, c.weights) for c in pieces]
+
+    # --- degree elevation, reversal, reparametrisation ----------------------------------
+    def elevate(self, times: int = 1) -> "BSplineCurve":
+        """Raise the degree by ``times``; every distinct knot's multiplicity grows by
+        ``times`` so the continuity is kept (Piegl & Tiller 5.5). The new control
+        points solve the collocation system at the Greville abscissae of the new
+        knots, which the elevated curve satisfies exactly (it lies in the new
+        spline space). A periodic curve comes back clamped."""
+        times = _checks.integer(times, "times", 0)
+        if times == 0:
+            return self
+        c = self.clamped()
+        q = c.degree + times
+        vals, mults = kv.distinct_with_multiplicities(c._u)
+        knots = kv.from_multiplicities(vals, mults + times)
+        count = len(knots) - q - 1
+        tau = kv.greville(knots, q)
+        B = basis_matrix(knots, q, tau, count)
+        return c._rebuild(np.linalg.solve(B, c.ppform(tau)), knots, q)
+
+    def reversed(self) -> "BSplineCurve":
+        """The same point set traversed backwards: C_r(t) = C(a + b - t) (seed 000, 5.2.2
+        symmetry, for B-splines with reflected knots)."""
+        P, w = self.control_points[::-1], None if self.weights is None else self.weights[::-1]
+        if self.periodic:
+            p = self.degree
+            P = np.roll(P, p, axis=0)
+            w = None if w is None else np.roll(w, p)
+        knots = (self.knots[0] + self.knots[-1]) - self.knots[::-1]
+        return BSplineCurve(P, self.degree, knots, w, self.periodic)
+
+    def reparametrized(self, start: float, end: float) -> "BSplineCurve":
+        """Affine reparametrisation onto [start, end] (seed 004, 1.7): the knots are
+        mapped, the control points kept."""
+        start, end = _checks.scalar(start, "start"), _checks.scalar(end, "end")
+        if not start < end:
+            raise CagdError(f"start, end: need start < end, got [{start}, {end}]")
+        a, b = self.domain
+        knots = start + (self.knots - a) * ((end - start) / (b - a))
+        return BSplineCurve(self.control_points, self.degree, knots, self.weights, self.periodic)
+
+    # --- OCCT form ----------------------------------------------------------------------
+    def occ_form(self) -> OccForm:
+        """Poles (n, 3), weights, distinct knots, multiplicities, degree, periodic — what
+        ``Geom_BSplineCurve`` takes. 2-D curves get z = 0. For a periodic curve the
+        poles are the distinct control points and the knots one period; OCCT's periodic
+        convention is the engine's (pole j's basis starts p knots before t_j)."""
+        if self.dim > 3:
+            raise CagdError(f"control_points: OCCT curves are 3-D at most, this one is {self.dim}-D")
+        poles = np.zeros((len(self.control_points), 3))
+        poles[:, :self.dim] = self.control_points
+        knots, mults = kv.distinct_with_multiplicities(self.knots)
+        if self.periodic and len(mults) > 1:
+            seam = mults[0] + mults[-1] - 1
+            mults = mults.copy()
+            mults[0] = mults[-1] = seam
+            if mults[0] > 1:
+                # OCCT counts the seam knot's copies from the start of the period: shift
+                # the poles so that pole j still starts its support at the same knot
+                poles = np.roll(poles, -(self._seam_shift()), axis=0)
+        w = None if self.weights is None else self.weights.copy()
+        if self.periodic and w is not None and mults[0] > 1:
+            w = np.roll(w, -(self._seam_shift()))
+        return OccForm(poles, w, knots, mults.astype(int), self.degree, self.periodic)
+
+    def _seam_shift(self) -> int:
+        t = self.knots
+        return int(np.count_nonzero(t == t[-1])) - 1
+
+
+def _boehm(u: np.ndarray, hom: np.ndarray, p: int, t: float) -> Tuple[np.ndarray, np.ndarray]:
+    """One insertion of knot t (Boehm 1980; Piegl & Tiller A5.1 with r = 1),
+    vectorized over the affected control points."""
+    n = hom.shape[0]
+    k = max(int(np.searchsorted(u, t, side="right")) - 1, p)   # u_k <= t < u_{k+1}
+    s = int(np.count_nonzero(u == t))
+    i = np.arange(k - p + 1, k - s + 1)
+    alpha = ((t - u[i]) / (u[i + p] - u[i]))[:, None]
+    new = np.empty((n + 1, hom.shape[1]))
+    new[:k - p + 1] = hom[:k - p + 1]
+    new[i] = alpha * hom[i] + (1.0 - alpha) * hom[i - 1]
+    new[k - s + 1:] = hom[k - s:]
+    return np.insert(u, k + 1, t), new

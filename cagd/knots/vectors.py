@@ -1,0 +1,132 @@
+"""Knot vector algorithms (Piegl & Tiller ch. 2, 9; seed 000, 5.3.2 knot types)."""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+from .._checks import finite_array, integer
+from ..errors import CagdError
+
+
+def clamped_uniform(count: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
+    """Open uniform (clamped) knots: degree+1 copies of ``start`` and ``end``,
+    equally spaced interior knots (seed 000, 5.3.2 "open uniform")."""
+    inner = np.linspace(start, end, count - degree + 1)
+    return np.concatenate([np.full(degree, start), inner, np.full(degree, end)])
+
+
+def uniform(count: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
+    """Floating uniform knots with domain [u_p, u_n] = [start, end] (seed 000, 5.3.2)."""
+    h = (end - start) / (count - degree)
+    return start + h * np.arange(-degree, count + 1, dtype=np.float64)
+
+
+def averaged(params: np.ndarray, degree: int) -> np.ndarray:
+    """Clamped knots by averaging parameters (Piegl & Tiller eq. 9.8)."""
+    n = len(params)
+    c = np.cumsum(np.concatenate([[0.0], params]))
+    inner = (c[1 + degree:n] - c[1:n - degree]) / degree
+    return np.concatenate([np.full(degree + 1, params[0]), inner, np.full(degree + 1, params[-1])])
+
+
+def from_multiplicities(distinct, multiplicities) -> np.ndarray:
+    """Expand distinct knots and multiplicities into the full (flat) knot vector."""
+    return np.repeat(np.asarray(distinct, float), np.asarray(multiplicities, int))
+
+
+def distinct_with_multiplicities(knots, tol: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+    """Distinct knot values and their multiplicities (values closer than ``tol`` merge)."""
+    knots = np.asarray(knots, dtype=np.float64)
+    new = np.concatenate([[True], np.diff(knots) > tol])
+    starts = np.flatnonzero(new)
+    mults = np.diff(np.append(starts, len(knots)))
+    return knots[starts].copy(), mults
+
+
+def validate(knots, degree: int, count: int, name: str = "knots") -> np.ndarray:
+    """Check a full non-periodic knot vector for ``count`` control points.
+
+    Raises CagdError for a wrong length, NaN/inf, decreasing values, an end
+    multiplicity above degree+1, an interior multiplicity above degree, or an
+    empty domain [u_p, u_n].
+    """
+    u = finite_array(knots, name, ndim=1)
+    expected = count + degree + 1
+    if u.shape[0] != expected:
+        raise CagdError(f"{name}: expected {expected} values (len(control_points) + degree + 1 = "
+                        f"{count} + {degree} + 1), got {u.shape[0]}")
+    _non_decreasing(u, name)
+    if not u[degree] < u[count]:
+        raise CagdError(f"{name}: empty domain [knots[{degree}], knots[{count}]] = [{u[degree]}, {u[count]}]")
+    values, mults = distinct_with_multiplicities(u)
+    if mults.max() > degree + 1:
+        raise CagdError(f"{name}: a knot has multiplicity {mults.max()} > degree + 1 = {degree + 1}")
+    interior = (values > u[degree]) & (values < u[count]) & (mults > degree)
+    if interior.any():
+        i = int(np.argmax(interior))
+        raise CagdError(f"{name}: interior knot {values[i]} has multiplicity {mults[i]} > degree = "
+                        f"{degree} (the curve would break apart there)")
+    return u
+
+
+def validate_period(knots, count: int, degree: int, name: str = "knots") -> np.ndarray:
+    """Check one period t_0..t_n of a periodic knot vector (n = ``count``)."""
+    t = finite_array(knots, name, ndim=1)
+    if t.shape[0] != count + 1:
+        raise CagdError(f"{name}: a periodic curve with {count} control points takes one period of "
+                        f"{count + 1} knots, got {t.shape[0]}")
+    _non_decreasing(t, name)
+    if not t[0] < t[-1]:
+        raise CagdError(f"{name}: the period is empty (knots[0] == knots[-1] = {t[0]})")
+    # multiplicity of the seam counts knots at both ends of the period once
+    d, m = distinct_with_multiplicities(t)
+    m = m.copy()
+    if len(m) > 1:
+        m[0] += m[-1] - 1
+        m[-1] = m[0]
+    if m.max() > degree:
+        raise CagdError(f"{name}: a knot has multiplicity {m.max()} > degree = {degree} in a periodic curve")
+    return t
+
+
+def _non_decreasing(u: np.ndarray, name: str) -> None:
+    bad = np.flatnonzero(np.diff(u) < 0)
+    if bad.size:
+        i = int(bad[0])
+        raise CagdError(f"{name}: must be non-decreasing ({name}[{i + 1}]={u[i + 1]} < {name}[{i}]={u[i]})")
+
+
+def periodic_extend(period: np.ndarray, degree: int) -> np.ndarray:
+    """Unwrap one period t_0..t_n into the full vector u_k = t_{k-p} (k = 0..n+2p),
+    continued by the period T = t_n - t_0 on both sides. With control points
+    P_0..P_{n-1}, P_0..P_{p-1} the curve on [t_0, t_n] is the periodic curve; this
+    is also OCCT's periodic convention (for a uniform cubic, p(t_0) = (P0+4P1+P2)/6,
+    seed 000, 5.3.2)."""
+    n = len(period) - 1
+    T = period[-1] - period[0]
+    left = period[n - degree:n] - T
+    right = period[1:degree + 1] + T
+    return np.concatenate([left, period, right])
+
+
+def greville(knots: np.ndarray, degree: int) -> np.ndarray:
+    """Greville abscissae: averages of degree consecutive knots (Piegl & Tiller 9.2)."""
+    n = len(knots) - degree - 1
+    if degree == 0:
+        return 0.5 * (knots[:-1] + knots[1:])
+    c = np.cumsum(np.concatenate([[0.0], knots[1:]]))
+    return (c[degree:degree + n] - c[:n]) / degree
+
+
+def find_span(knots: np.ndarray, degree: int, t: np.ndarray, count: int) -> np.ndarray:
+    """Span index i with u_i <= t < u_{i+1}, restricted to p <= i <= n-1 so that the
+    domain end u_n falls into the last non-empty span (Piegl & Tiller A2.1)."""
+    span = np.searchsorted(knots, t, side="right") - 1
+    np.clip(span, degree, count - 1, out=span)
+    # a span must be non-empty: step back over repeated knots at the right end
+    last = count - 1
+    while knots[last] == knots[last + 1]:
+        last -= 1
+    np.minimum(span, last, out=span)
+    return span
