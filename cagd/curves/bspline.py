@@ -96,6 +96,8 @@ class BSplineCurve(Curve):
 
     def _evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
         pp = self.ppform
+        if order == 0:
+            return (pp.projected(t) if self.is_rational else pp(t))[None]
         hom = np.stack([pp(t, k) for k in range(order + 1)])
         return rational_derivatives(hom) if self.is_rational else hom
 

@@ -113,16 +113,32 @@ class PPForm:
         t = np.asarray(t, dtype=np.float64).ravel()
         out = np.empty((t.shape[0], pp.dim))
         for s in range(0, t.shape[0], _CHUNK):
-            pp._horner(t[s:s + _CHUNK], out[s:s + _CHUNK])
+            pp._horner(t[s:s + _CHUNK], out[s:s + _CHUNK], pp.dim)
         return out
 
-    def _horner(self, t: np.ndarray, out: np.ndarray) -> None:
+    def projected(self, t: np.ndarray) -> np.ndarray:
+        """Values of a homogeneous (rational) form divided by its last coordinate,
+        (len(t), dim-1); the division happens chunk by chunk while in cache."""
+        t = np.asarray(t, dtype=np.float64).ravel()
+        out = np.empty((t.shape[0], self.dim - 1))
+        for s in range(0, t.shape[0], _CHUNK):
+            self._horner(t[s:s + _CHUNK], out[s:s + _CHUNK], self.dim - 1, project=True)
+        return out
+
+    def _horner(self, t: np.ndarray, out: np.ndarray, ndim: int, project: bool = False) -> None:
         j = self.span_of(t)
         x = (t - self._mid.take(j)) * self._inv_half.take(j)
-        p = self.degree
-        for d in range(self.dim):
-            acc = self._tables[p][d].take(j)
-            for k in range(p - 1, -1, -1):
-                acc *= x
-                acc += self._tables[k][d].take(j)
+        inv_w = 1.0 / self._horner_1d(j, x, self.dim - 1) if project else None
+        for d in range(ndim):
+            acc = self._horner_1d(j, x, d)
+            if project:
+                acc *= inv_w
             out[:, d] = acc
+
+    def _horner_1d(self, j: np.ndarray, x: np.ndarray, d: int) -> np.ndarray:
+        p = self.degree
+        acc = self._tables[p][d].take(j)
+        for k in range(p - 1, -1, -1):
+            acc *= x
+            acc += self._tables[k][d].take(j)
+        return acc
