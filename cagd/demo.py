@@ -125,8 +125,9 @@ def _refine():
     return _rel(r(T), c(T)), [c], [P, r.control_points], None
 
 
-def run_demo(out_dir: Path, stream=sys.stdout, plots: bool = True) -> List[Result]:
+def run_demo(out_dir: Path, stream=None, plots: bool = True) -> List[Result]:
     """Run every example, write its PNG, print the table; return the results."""
+    stream = sys.stdout if stream is None else stream
     out_dir = Path(out_dir)
     results = []
     for i, ex in enumerate(EXAMPLES, 1):
