@@ -1,13 +1,26 @@
 """cagd: classical computer-aided geometric design in numpy.
 
-Curves: polynomial/Hermite/natural cubic splines, Bezier, B-spline and NURBS, each
-with vectorized evaluation, derivatives of any order and an exact ``to_nurbs()``.
-Invalid input raises :class:`CagdError` (a ValueError).
+Curves: polynomial (algebraic form), Hermite, four-point, natural cubic splines,
+Bezier, B-spline and NURBS, composite curves; each with vectorized evaluation,
+derivatives of any order and an exact ``to_nurbs()``. Invalid input raises
+:class:`CagdError` (a ValueError) naming the argument and the problem.
 """
 from .errors import CagdError
 from .curves.base import Curve
 from .curves.bspline import BSplineCurve, OccForm
 from .curves.bezier import BezierCurve
+from .curves.polynomial import HERMITE_M, HERMITE_M_INV, PolynomialCurve, four_point_cubic
+from .curves.hermite import HermiteCurve, HermiteSpline, hermite_basis
+from .curves.cubic_spline import CubicSpline, natural_cubic_spline
+from .curves.composite import CompositeCurve
+from .fitting import approximate, bezier_through_points, interpolate, parametrize
+from .operations import ContinuityReport, continuity, join, join_bezier
 
 __version__ = "0.1.0"
-__all__ = ["CagdError", "Curve", "BSplineCurve", "OccForm", "BezierCurve"]
+__all__ = [
+    "CagdError", "Curve", "BSplineCurve", "OccForm", "BezierCurve",
+    "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
+    "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
+    "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
+    "ContinuityReport", "continuity", "join", "join_bezier",
+]

@@ -19,6 +19,12 @@ from .basis.bspline import cox_de_boor
 from .curves.base import Curve
 from .curves.bezier import BezierCurve
 from .curves.bspline import BSplineCurve
+from .curves.composite import CompositeCurve
+from .curves.cubic_spline import natural_cubic_spline
+from .curves.hermite import HermiteCurve, hermite_basis
+from .curves.polynomial import HERMITE_M, PolynomialCurve, four_point_cubic
+from .fitting import bezier_through_points
+from .operations import continuity, join
 
 T = np.linspace(0.0, 1.0, 201)
 
@@ -125,6 +131,101 @@ def _refine():
     return _rel(r(T), c(T)), [c], [P, r.control_points], None
 
 
+@example("Hermite segment, k0 = k1 = 20 and 80 (loop)", "004 1.3; 000 5.1.2", "p = P0 H0 + P1 H1 + R0 H2 + R1 H3")
+def _hermite():
+    p0, p1 = np.array([4.0, 4.0, 0.0]), np.array([24.0, 4.0, 0.0])
+    d0, d1 = np.array([0.832, 0.5547, 0.0]), np.array([0.832, -0.5547, 0.0])
+    curves, dev = [], 0.0
+    for k in (20.0, 80.0):
+        c = HermiteCurve.from_directions(p0, p1, d0, d1, k, k)
+        H = hermite_basis(T)
+        r0, r1 = k * d0 / np.linalg.norm(d0), k * d1 / np.linalg.norm(d1)
+        dev = max(dev, _rel(c(T), H @ np.array([p0, p1, r0, r1])), _rel(c.to_nurbs()(T), c(T)))
+        curves.append(c)
+    return dev, curves, [], np.array([p0, p1])
+
+
+@example("algebraic <-> geometric form of a cubic", "004 1.3 (A = M B, B = M^-1 A)", "Hermite matrix M_h applied by hand")
+def _algebraic():
+    A = np.array([[1.0, 0.0], [2.0, 3.0], [-1.0, 2.0], [0.5, -4.0]])      # a0..a3
+    c = PolynomialCurve(A)
+    B = c.to_hermite()                                                   # P0, P1, P0', P1'
+    U = T[:, None] ** np.arange(3, -1, -1)
+    return max(_rel(c(T), U @ HERMITE_M @ B), _rel(PolynomialCurve.from_hermite(B)(T), c(T))), [c], [], None
+
+
+@example("four-point cubic", "004 contents (four-point curves)", "passes the points at u = 0, 1/3, 2/3, 1")
+def _four_point():
+    Q = np.array([[0.0, 0.0], [1.0, 1.5], [2.5, 1.0], [3.0, -0.5]])
+    c = four_point_cubic(Q)
+    return _rel(c(np.array([0, 1 / 3, 2 / 3, 1])), Q), [c], [], Q
+
+
+def _second_derivative_jump(spline, periodic: bool = False) -> float:
+    """Largest jump of p'' at the joints, from each span's own cubic in u = (t - t_j)/h_j:
+    left limit (2 a2 + 6 a3)/h_j^2, right limit 2 a2/h_{j+1}^2 (relative to max |p''|)."""
+    a = spline.unit_coefficients()
+    h = np.diff(spline.parameters)[:, None]
+    left = (2 * a[2] + 6 * a[3]) / h ** 2
+    right = 2 * a[2] / h ** 2
+    jump = right[1:] - left[:-1]
+    if periodic:
+        jump = np.vstack([jump, right[:1] - left[-1:]])
+    return float(np.abs(jump).max() / np.abs(np.vstack([left, right])).max())
+
+
+_DATA = np.array([[0.0, 0.0], [1.0, 1.2], [2.2, 1.4], [3.1, 0.3], [4.0, -0.4], [5.2, 0.6]])
+
+
+@example("natural cubic spline, chord length", "000 5.1.2", "interpolation, C2 joints, p'' = 0 at both ends")
+def _natural():
+    c = natural_cubic_spline(_DATA, "natural", "chord")
+    t = c.parameters
+    d2 = c.derivative(np.array([t[0], t[-1]]), 2)
+    dev = max(_rel(c(t), _DATA), float(np.abs(d2).max()), _second_derivative_jump(c),
+              _rel(c.to_nurbs()(np.linspace(t[0], t[-1], 201)), c(np.linspace(t[0], t[-1], 201))))
+    return dev, [c], [], _DATA
+
+
+@example("cubic spline end conditions: clamped, virtual points, periodic", "000 5.1.2", "interpolation and the end condition")
+def _end_conditions():
+    clamped = natural_cubic_spline(_DATA, "clamped", "centripetal", tangents=([1.0, 2.0], [1.0, 1.0]))
+    virtual = natural_cubic_spline(_DATA, "virtual", "uniform")
+    closed = natural_cubic_spline(np.vstack([_DATA, _DATA[:1]]), "periodic", "chord")
+    a, b = clamped.domain
+    dev = max(_rel(clamped(clamped.parameters), _DATA), _rel(virtual(virtual.parameters), _DATA),
+              _rel(clamped.derivative(np.array([a, b])), np.array([[1.0, 2.0], [1.0, 1.0]]), 1.0),
+              _second_derivative_jump(closed, periodic=True),
+              _rel(closed(closed.parameters[:-1]), _DATA))
+    return dev, [clamped, virtual, closed], [], _DATA
+
+
+@example("Bezier through points at t = i/n", "000 5.2.6", "the curve passes every given point")
+def _inverse_bezier():
+    c = bezier_through_points(_DATA[:5])
+    return _rel(c(np.linspace(0, 1, 5)), _DATA[:5]), [c], [c.control_points], _DATA[:5]
+
+
+@example("G2 join of two Bezier curves (alpha = 0.6, beta = 0.5)", "000 5.2.5", "measured curvature jump at the joint")
+def _g2_join():
+    P = BezierCurve(P4)
+    Q = join(P, [[6.5, -2.0]], "G2", alpha=0.6, beta=0.5)
+    rep = continuity(P, Q)
+    dev = max(rep.gap, rep.tangent_angle, rep.curvature_difference / max(abs(P.curvature(1.0)), 1e-300))
+    assert rep.G2, rep
+    return dev, [P, Q], [P.control_points, Q.control_points], None
+
+
+@example("composite curve -> one NURBS", "004 1.11 (composite curves)", "samples of the pieces")
+def _composite():
+    s = np.sqrt(0.5)
+    arc = BezierCurve([[4.0, 0.5], [5.0, 1.5], [6.0, 0.5]], [1.0, s, 1.0])
+    line = BezierCurve([[6.0, 0.5], [7.0, -0.5]])
+    comp = CompositeCurve([BezierCurve(P4), arc, line])
+    t = np.linspace(*comp.domain, 301)
+    return _rel(comp.to_nurbs()(t), comp(t)), [comp], [], None
+
+
 def run_demo(out_dir: Path, stream=None, plots: bool = True) -> List[Result]:
     """Run every example, write its PNG, print the table; return the results."""
     stream = sys.stdout if stream is None else stream
@@ -140,10 +241,10 @@ def run_demo(out_dir: Path, stream=None, plots: bool = True) -> List[Result]:
             png = plot_curves(out_dir / f"{i:02d}_{slug}.png", f"{ex.name} (seed {ex.seed})", curves, polygons, points=pts)
         results.append(Result(ex, dev, png))
     w = max(len(r.example.name) for r in results)
-    print(f"{'example':{w}s}  {'seed':18s} {'max deviation':>13s} {'tolerance':>9s}  ok  oracle", file=stream)
+    print(f"{'example':{w}s}  {'seed':32s} {'max deviation':>13s} {'tolerance':>9s}  ok  oracle", file=stream)
     for r in results:
         e = r.example
-        print(f"{e.name:{w}s}  {e.seed:18s} {r.deviation:13.2e} {e.tolerance:9.0e}  {'yes' if r.passed else 'NO ':3s} {e.oracle}",
+        print(f"{e.name:{w}s}  {e.seed:32s} {r.deviation:13.2e} {e.tolerance:9.0e}  {'yes' if r.passed else 'NO ':3s} {e.oracle}",
               file=stream)
     if plots:
         print(f"PNG plots (curve, control polygon, curvature comb) in {out_dir}", file=stream)

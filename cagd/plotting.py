@@ -34,6 +34,19 @@ def curvature_comb(curve: Curve, samples: int = 200, scale: Optional[float] = No
     return p, p - scale * kappa[:, None] * normal
 
 
+def _shared_comb_scale(curves: Sequence[Curve], samples: int = 200) -> float:
+    """One comb scale for all curves of a picture (15% of the picture's size over
+    the largest curvature), so that combs of joined curves are comparable."""
+    pts, kmax = [], 0.0
+    for c in curves:
+        t = np.linspace(*c.domain, samples)
+        pts.append(c(t)[:, :2])
+        k = c.curvature(t)
+        kmax = max(kmax, float(np.nanmax(k)) if np.isfinite(k).any() else 0.0)
+    size = float(np.ptp(np.vstack(pts), axis=0).max())
+    return 0.15 * size / kmax if kmax > 0 else 0.0
+
+
 def plot_curves(path: Path, title: str, curves: Sequence[Curve], control_polygons: Sequence[np.ndarray] = (),
                 comb: bool = True, points: Optional[np.ndarray] = None, samples: int = 400) -> Path:
     """Write one PNG with the curves (xy projection), dashed control polygons, a
@@ -44,10 +57,11 @@ def plot_curves(path: Path, title: str, curves: Sequence[Curve], control_polygon
 
     fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=110)
     colors = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange"]
+    scale = _shared_comb_scale(curves) if comb else 0.0
     for i, c in enumerate(curves):
         col = colors[i % len(colors)]
         if comb:
-            base, tips = curvature_comb(c, samples=120)
+            base, tips = curvature_comb(c, samples=120, scale=scale)
             for (x0, y0), (x1, y1) in zip(base, tips):
                 ax.plot([x0, x1], [y0, y1], color="0.7", lw=0.6, zorder=1)
             ax.plot(tips[:, 0], tips[:, 1], color="0.55", lw=0.8, zorder=1)

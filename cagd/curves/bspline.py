@@ -268,7 +268,8 @@ class BSplineCurve(Curve):
             p = self.degree
             P = np.roll(P, p, axis=0)
             w = None if w is None else np.roll(w, p)
-        knots = (self.knots[0] + self.knots[-1]) - self.knots[::-1]
+        a, b = self.domain
+        knots = (a + b) - self.knots[::-1]
         return BSplineCurve(P, self.degree, knots, w, self.periodic)
 
     def reparametrized(self, start: float, end: float) -> "BSplineCurve":
@@ -285,29 +286,32 @@ class BSplineCurve(Curve):
     def occ_form(self) -> OccForm:
         """Poles (n, 3), weights, distinct knots, multiplicities, degree, periodic — what
         ``Geom_BSplineCurve`` takes. 2-D curves get z = 0. For a periodic curve the
-        poles are the distinct control points and the knots one period; OCCT's periodic
-        convention is the engine's (pole j's basis starts p knots before t_j)."""
+        poles are the distinct control points and the knots one period, the seam
+        multiplicity counted once over both ends. OCCT sees only distinct knots and
+        multiplicities: it reads the period as if t_0 were simple and every other seam
+        copy sat at the end, so the poles are rolled by (copies of t_0) - 1
+        (:meth:`_seam_shift`; checked against OCCT's own evaluator)."""
         if self.dim > 3:
             raise CagdError(f"control_points: OCCT curves are 3-D at most, this one is {self.dim}-D")
         poles = np.zeros((len(self.control_points), 3))
         poles[:, :self.dim] = self.control_points
-        knots, mults = kv.distinct_with_multiplicities(self.knots)
-        if self.periodic and len(mults) > 1:
-            seam = mults[0] + mults[-1] - 1
-            mults = mults.copy()
-            mults[0] = mults[-1] = seam
-            if mults[0] > 1:
-                # OCCT counts the seam knot's copies from the start of the period: shift
-                # the poles so that pole j still starts its support at the same knot
-                poles = np.roll(poles, -(self._seam_shift()), axis=0)
         w = None if self.weights is None else self.weights.copy()
-        if self.periodic and w is not None and mults[0] > 1:
-            w = np.roll(w, -(self._seam_shift()))
+        knots, mults = kv.distinct_with_multiplicities(self.knots)
+        if self.periodic:
+            mults = mults.copy()
+            mults[0] = mults[-1] = mults[0] + mults[-1] - 1
+            shift = self._seam_shift()
+            if shift:
+                poles = np.roll(poles, -shift, axis=0)
+                w = None if w is None else np.roll(w, -shift)
         return OccForm(poles, w, knots, mults.astype(int), self.degree, self.periodic)
 
     def _seam_shift(self) -> int:
+        """Copies of the seam knot at the start of the period beyond the first: OCCT's
+        pole 0 is the engine's control point ``_seam_shift()`` (the engine's pole j
+        starts its support p knots before t_j, OCCT counts from the last copy of t_0)."""
         t = self.knots
-        return int(np.count_nonzero(t == t[-1])) - 1
+        return int(np.count_nonzero(t == t[0])) - 1
 
 
 def _boehm(u: np.ndarray, hom: np.ndarray, p: int, t: float) -> Tuple[np.ndarray, np.ndarray]:

@@ -51,12 +51,16 @@ class PPForm:
         span = np.flatnonzero(knots[p:n] < knots[p + 1:n + 1]) + p
         a, b = knots[span], knots[span + 1]
         mid, half = 0.5 * (a + b), 0.5 * (b - a)
-        ders = basis_derivatives(knots, p, mid, span, p)            # (p+1, s, p+1)
+        # each span's knot window u_{i-p}..u_{i+p+1} in its own centred variable
+        # x = (u - mid)/half, so the x-derivatives are the Taylor coefficients times k!
+        # without forming (1/h)^k (no overflow on narrow spans, no loss at large offsets)
+        window = span[:, None] + np.arange(-p, p + 2)
+        local = (knots[window] - mid[:, None]) / half[:, None]
+        width = 2 * p + 2
+        ders = basis_derivatives(local.ravel(), p, np.zeros(len(span)), np.arange(len(span)) * width + p, p)
         idx = span[:, None] - p + np.arange(p + 1)                   # (s, p+1)
-        local = control_points[idx]                                  # (s, p+1, dim)
-        coef = np.einsum("ksr,srd->ksd", ders, local)
-        scale = np.array([1.0 / factorial(k) for k in range(p + 1)])[:, None] * half[None, :] ** np.arange(p + 1)[:, None]
-        coef *= scale[:, :, None]
+        coef = np.einsum("ksr,srd->ksd", ders, control_points[idx])
+        coef /= np.array([factorial(k) for k in range(p + 1)], dtype=np.float64)[:, None, None]
         breaks = np.concatenate([a, b[-1:]])
         return cls(breaks, coef)
 

@@ -107,6 +107,9 @@ def periodic_extend(period: np.ndarray, degree: int) -> np.ndarray:
     T = period[-1] - period[0]
     left = period[n - degree:n] - T
     right = period[1:degree + 1] + T
+    # copies of the seam knot map exactly onto t_0 / t_n, not an ulp away
+    left[period[n - degree:n] == period[n]] = period[0]
+    right[period[1:degree + 1] == period[0]] = period[n]
     return np.concatenate([left, period, right])
 
 

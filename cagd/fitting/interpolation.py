@@ -1,0 +1,188 @@
+"""Curves through or near given points: Bezier through n+1 points (seed 000, 5.2.6),
+global B-spline interpolation and least-squares approximation (Piegl & Tiller,
+The NURBS Book, 9.2.1 and 9.4.1).
+"""
+from __future__ import annotations
+
+from typing import Optional, Union
+
+import numpy as np
+
+from .. import _checks
+from ..basis.bernstein import bernstein
+from ..basis.bspline import basis_matrix
+from ..curves.bezier import BezierCurve
+from ..curves.bspline import BSplineCurve
+from ..errors import CagdError
+from ..knots import vectors as kv
+
+ParameterSpec = Union[str, np.ndarray, list, tuple]
+
+_METHODS = ("uniform", "chord", "centripetal")
+
+
+def parametrize(points, method: ParameterSpec = "chord") -> np.ndarray:
+    """Parameters u_0 = 0 < u_1 < ... < u_n = 1 for the points Q_0..Q_n
+    (Piegl & Tiller 9.2.1):
+
+    * ``"uniform"``: u_k = k/n (equally spaced, eq. 9.3);
+    * ``"chord"``: u_k = u_{k-1} + |Q_k - Q_{k-1}| / d, d the total chord length (eq. 9.5);
+    * ``"centripetal"``: the same with |Q_k - Q_{k-1}|^(1/2) (eq. 9.6).
+
+    An array is returned as given after checking it is strictly increasing.
+
+    Raises:
+        CagdError: fewer than 2 points, an unknown method, coincident consecutive
+            points (chord/centripetal), explicit parameters of the wrong length or
+            not strictly increasing.
+    """
+    Q = _checks.points(points, "points", min_count=2)
+    n = Q.shape[0] - 1
+    if isinstance(method, str):
+        if method not in _METHODS:
+            raise CagdError(f"parameters: unknown method {method!r}; use one of {_METHODS} or an array")
+        if method == "uniform":
+            return np.arange(n + 1, dtype=np.float64) / n
+        d = np.linalg.norm(np.diff(Q, axis=0), axis=1)
+        if method == "centripetal":
+            d = np.sqrt(d)
+        if np.any(d <= 0.0):
+            k = int(np.argmax(d <= 0.0))
+            raise CagdError(f"points: points[{k}] and points[{k + 1}] coincide; "
+                            f"{method} parameters need distinct consecutive points")
+        u = np.concatenate([[0.0], np.cumsum(d)])
+        u /= u[-1]
+        u[-1] = 1.0
+        return u
+    u = _checks.finite_array(method, "parameters", ndim=1)
+    if u.shape[0] != n + 1:
+        raise CagdError(f"parameters: expected {n + 1} values (one per point), got {u.shape[0]}")
+    bad = np.flatnonzero(np.diff(u) <= 0.0)
+    if bad.size:
+        i = int(bad[0])
+        raise CagdError(f"parameters: must be strictly increasing "
+                        f"(parameters[{i + 1}]={u[i + 1]} <= parameters[{i}]={u[i]})")
+    return u
+
+
+def bezier_through_points(points, parameters: ParameterSpec = "uniform") -> BezierCurve:
+    """The degree-n Bezier curve through the n+1 points Q_i at t_i (seed 000, 5.2.6
+    "反求 Bezier 曲线控制点"): solve the (n+1)x(n+1) system
+    Q_i = sum_j C(n,j) t_i^j (1-t_i)^(n-j) P_j for the control points P_j.
+    The seed takes t_i = i/n (``"uniform"``); ``"chord"``, ``"centripetal"`` or
+    explicit parameters 0 = t_0 < ... < t_n = 1 are also accepted.
+
+    Raises:
+        CagdError: fewer than 2 points, bad parameters (see :func:`parametrize`),
+            explicit parameters not starting at 0 and ending at 1.
+    """
+    Q = _checks.points(points, "points", min_count=2)
+    t = parametrize(Q, parameters)
+    if t[0] != 0.0 or t[-1] != 1.0:
+        raise CagdError(f"parameters: a Bezier curve lives on [0, 1]; the parameters must start at 0 "
+                        f"and end at 1, got {t[0]} .. {t[-1]}")
+    n = Q.shape[0] - 1
+    return BezierCurve(np.linalg.solve(bernstein(n, t), Q))
+
+
+def interpolate(points, degree: int = 3, parameters: ParameterSpec = "chord", knots=None) -> BSplineCurve:
+    """Global B-spline interpolation (Piegl & Tiller 9.2.1): the degree-p curve
+    C(u) = sum_i N_{i,p}(u) P_i with C(u_k) = Q_k for all n+1 points.
+
+    Parameters u_k by :func:`parametrize`; knots by averaging (eq. 9.8,
+    :func:`cagd.knots.averaged`) unless a full knot vector of len(points) +
+    degree + 1 values is given. The control points solve the collocation system
+    [N_{i,p}(u_k)] P = Q.
+
+    Raises:
+        CagdError: fewer than 2 points, degree out of 1..len(points)-1, bad
+            parameters, invalid knots, parameters outside the knots' domain, or
+            knots violating the Schoenberg-Whitney condition N_{k,p}(u_k) > 0
+            (the system would be singular).
+    """
+    Q = _checks.points(points, "points", min_count=2)
+    count = Q.shape[0]
+    p = _checks.integer(degree, "degree", 1, count - 1)
+    u = parametrize(Q, parameters)
+    if knots is None:
+        U = kv.averaged(u, p)
+    else:
+        U = kv.validate(knots, p, count)
+        a, b = U[p], U[count]
+        if u[0] < a or u[-1] > b:
+            raise CagdError(f"knots: the domain [{a}, {b}] does not contain the parameters "
+                            f"[{u[0]}, {u[-1]}]")
+    N = basis_matrix(U, p, u, count)
+    _schoenberg_whitney(N, u)
+    return BSplineCurve(np.linalg.solve(N, Q), p, U)
+
+
+def _schoenberg_whitney(N: np.ndarray, u: np.ndarray) -> None:
+    """A square collocation matrix with increasing sites is invertible iff its
+    diagonal N_{k,p}(u_k) is non-zero (Schoenberg-Whitney; de Boor, A Practical
+    Guide to Splines, XIII)."""
+    diag = np.diag(N)
+    if np.any(diag <= 1e-14):
+        k = int(np.argmax(diag <= 1e-14))
+        raise CagdError(f"knots: Schoenberg-Whitney condition fails at parameters[{k}] = {u[k]} "
+                        f"(N_{k},p(u_{k}) = {diag[k]:.3g}); the interpolation system is singular")
+
+
+def approximation_knots(params: np.ndarray, count: int, degree: int) -> np.ndarray:
+    """Clamped knots for least-squares fitting with ``count`` = n+1 control points
+    to m+1 parameters (Piegl & Tiller eq. 9.68, 9.69): d = (m+1)/(n-p+1) and for
+    j = 1..n-p, i = int(j d), alpha = j d - i,
+    u_{p+j} = (1 - alpha) ubar_{i-1} + alpha ubar_i. Every knot span then holds
+    at least one parameter, so the normal equations are positive definite."""
+    ub = np.asarray(params, dtype=np.float64)
+    m, n, p = len(ub) - 1, count - 1, degree
+    d = (m + 1) / (n - p + 1)
+    jd = np.arange(1, n - p + 1) * d
+    i = np.floor(jd).astype(int)
+    alpha = jd - i
+    inner = (1.0 - alpha) * ub[i - 1] + alpha * ub[i]
+    return np.concatenate([np.full(p + 1, ub[0]), inner, np.full(p + 1, ub[-1])])
+
+
+def approximate(points, count: int, degree: int = 3, parameters: ParameterSpec = "chord") -> BSplineCurve:
+    """Least-squares B-spline approximation with ``count`` control points that
+    interpolates the first and last point (Piegl & Tiller 9.4.1).
+
+    With points Q_0..Q_m, parameters ubar_k (:func:`parametrize`) and knots from
+    :func:`approximation_knots` (eq. 9.69, meant for n < m; with ``count`` =
+    len(points) they give a badly conditioned square system, condition ~3e5 for
+    17 cubic points, so the interpolation knots of eq. 9.8 are used instead and
+    the result is :func:`interpolate`'s curve), P_0 = Q_0, P_n = Q_m and the interior P_1..P_{n-1}
+    minimise sum_{k=1}^{m-1} |Q_k - C(ubar_k)|^2, i.e. solve
+    N P = R with R_k = Q_k - N_{0,p}(ubar_k) Q_0 - N_{n,p}(ubar_k) Q_m in the
+    least-squares sense (eq. 9.63-9.67; solved by numpy.linalg.lstsq rather than
+    the normal equations, same minimiser, better conditioned).
+
+    Raises:
+        CagdError: fewer than 2 points, ``count`` < degree + 1 or > len(points),
+            degree < 1, bad parameters.
+    """
+    Q = _checks.points(points, "points", min_count=2)
+    total = Q.shape[0]
+    p = _checks.integer(degree, "degree", 1)
+    count = _checks.integer(count, "count")
+    if count < p + 1:
+        raise CagdError(f"count: a degree-{p} curve needs at least degree + 1 = {p + 1} control points, "
+                        f"got count = {count}")
+    if count > total:
+        raise CagdError(f"count: at most len(points) = {total} control points can be fitted "
+                        f"to {total} points, got count = {count}")
+    ub = parametrize(Q, parameters)
+    U = kv.averaged(ub, p) if count == total else approximation_knots(ub, count, p)
+    P = np.empty((count, Q.shape[1]))
+    P[0], P[-1] = Q[0], Q[-1]
+    if count > 2:
+        N = basis_matrix(U, p, ub[1:-1], count)
+        R = Q[1:-1] - N[:, :1] * Q[0] - N[:, -1:] * Q[-1]
+        A = N[:, 1:-1]
+        sol, _, rank, _ = np.linalg.lstsq(A, R, rcond=None)
+        if rank < A.shape[1]:
+            raise CagdError(f"parameters: the least-squares system is rank deficient ({rank} < "
+                            f"{A.shape[1]}); some knot span holds no parameter")
+        P[1:-1] = sol
+    return BSplineCurve(P, p, U)

@@ -1,0 +1,136 @@
+"""Measured continuity at the joint of two curves (seed 000, 5.1.1 "连续性条件").
+
+Parametric: C0 the points agree, C1 also the first derivatives, C2 also the
+second derivatives. Geometric: G1 the first derivatives are parallel and point
+the same way (seed: "proportional"), G2 in addition equal curvature vectors
+kappa N = (C'' - (C''.T) T) / |C'|^2, i.e. equal curvature and principal normal
+(seed: "the curvatures are equal"; Farin, Curves and Surfaces for CAGD, 14.1).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .. import _checks
+from ..curves.base import Curve
+from ..errors import CagdError
+
+
+@dataclass(frozen=True)
+class ContinuityReport:
+    """Measurements at c1(t1) -> c2(t2) and the continuity they satisfy.
+
+    gap: |c2(t2) - c1(t1)|; tangent_angle: angle between c1'(t1) and c2'(t2) in
+    radians (nan if either vanishes); derivative_ratio: |c2'| / |c1'|;
+    curvature_difference: |kappa2 - kappa1|; second_derivative_gap: |c2'' - c1''|;
+    tol: the relative tolerance used; size: the length scale (bounding-box
+    diagonal of both curves) that makes it relative.
+    """
+    t1: float
+    t2: float
+    gap: float
+    tangent_angle: float
+    derivative_ratio: float
+    curvature_difference: float
+    second_derivative_gap: float
+    C0: bool
+    C1: bool
+    C2: bool
+    G1: bool
+    G2: bool
+    tol: float
+    size: float
+
+    @property
+    def level(self) -> str:
+        """The strongest property that holds: "C2" > "G2" > "C1" > "G1" > "C0" > "none"."""
+        for name in ("C2", "G2", "C1", "G1", "C0"):
+            if getattr(self, name):
+                return name
+        return "none"
+
+    def __str__(self) -> str:
+        return (f"{self.level}: gap {self.gap:.3g}, tangent angle {self.tangent_angle:.3g} rad, "
+                f"|c2'|/|c1'| {self.derivative_ratio:.6g}, curvature difference "
+                f"{self.curvature_difference:.3g}, |c2''-c1''| {self.second_derivative_gap:.3g} "
+                f"(tol {self.tol:g} x size {self.size:.3g})")
+
+
+def curve_size(*curves: Curve, samples: int = 33) -> float:
+    """Diagonal of the bounding box of ``samples`` points on each curve (a length
+    scale for relative tolerances; 1 for curves collapsed to a point)."""
+    pts = []
+    for c in curves:
+        a, b = c.domain
+        pts.append(c._evaluate(np.linspace(a, b, samples), 0)[0])
+    pts = np.concatenate(pts)
+    size = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
+    return size if size > 0.0 else 1.0
+
+
+def _curvature_vector(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
+    s2 = float(d1 @ d1)
+    if s2 == 0.0:
+        return np.full_like(d1, np.nan)
+    return (d2 - (d2 @ d1) / s2 * d1) / s2
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle between two vectors, 2 atan2(|a^ - b^|, |a^ + b^|) (accurate near 0 and pi)."""
+    na, nb = np.linalg.norm(a), np.linalg.norm(b)
+    if na == 0.0 or nb == 0.0:
+        return float("nan")
+    ua, ub = a / na, b / nb
+    return float(2.0 * np.arctan2(np.linalg.norm(ua - ub), np.linalg.norm(ua + ub)))
+
+
+def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[float] = None,
+               tol: float = 1e-9) -> ContinuityReport:
+    """Continuity of the joint c1(t1) -> c2(t2) (default: end of c1, start of c2).
+
+    With size the bounding-box diagonal of both curves and L1, L2 their domain
+    lengths, the tests are
+    C0: gap <= tol size;
+    C1: C0 and |c2' - c1'| <= tol max(|c1'|, |c2'|, size / L);
+    C2: C1 and |c2'' - c1''| <= tol max(|c1''|, |c2''|, v^2 / size), v = max(|c1'|, |c2'|);
+    G1: C0, both derivatives non-zero and tangent_angle <= tol;
+    G2: G1 and |k2 - k1| <= tol max(|k1|, |k2|, 1 / size) for the curvature vectors k.
+    The derivatives are taken in each curve's own parameter (one-sided at the ends).
+
+    Raises:
+        CagdError: c1 or c2 not a Curve, different dimensions, tol not positive,
+            t1/t2 outside the domains.
+    """
+    for name, c in (("c1", c1), ("c2", c2)):
+        if not isinstance(c, Curve):
+            raise CagdError(f"{name}: must be a cagd Curve, got {type(c).__name__}")
+    if c1.dim != c2.dim:
+        raise CagdError(f"c2: dimension {c2.dim} differs from c1's {c1.dim}")
+    tol = _checks.scalar(tol, "tol")
+    if tol <= 0.0:
+        raise CagdError(f"tol: must be positive, got {tol}")
+    t1 = c1.domain[1] if t1 is None else _checks.scalar(t1, "t1")
+    t2 = c2.domain[0] if t2 is None else _checks.scalar(t2, "t2")
+    D1, D2 = c1.derivatives(t1, 2), c2.derivatives(t2, 2)
+    size = curve_size(c1, c2)
+    span = max(c1.domain[1] - c1.domain[0], c2.domain[1] - c2.domain[0])
+
+    gap = float(np.linalg.norm(D2[0] - D1[0]))
+    n1, n2 = float(np.linalg.norm(D1[1])), float(np.linalg.norm(D2[1]))
+    v = max(n1, n2)
+    dgap1 = float(np.linalg.norm(D2[1] - D1[1]))
+    dgap2 = float(np.linalg.norm(D2[2] - D1[2]))
+    angle = _angle(D1[1], D2[1])
+    k1, k2 = _curvature_vector(D1[1], D1[2]), _curvature_vector(D2[1], D2[2])
+    kn1, kn2 = float(np.linalg.norm(k1)), float(np.linalg.norm(k2))
+
+    C0 = gap <= tol * size
+    C1 = C0 and dgap1 <= tol * max(v, size / span)
+    C2 = C1 and dgap2 <= tol * max(np.linalg.norm(D1[2]), np.linalg.norm(D2[2]), v * v / size)
+    G1 = bool(C0 and n1 > 0.0 and n2 > 0.0 and angle <= tol)
+    G2 = bool(G1 and np.linalg.norm(k2 - k1) <= tol * max(kn1, kn2, 1.0 / size))
+    ratio = n2 / n1 if n1 > 0.0 else (float("inf") if n2 > 0.0 else float("nan"))
+    return ContinuityReport(float(t1), float(t2), gap, angle, ratio, abs(kn2 - kn1), dgap2,
+                            bool(C0), bool(C1), bool(C2), G1, G2, tol, size)
