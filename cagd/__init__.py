@@ -1,5 +1,6 @@
 """cagd: classical computer-aided geometric design in numpy.
 
+Surfaces: tensor-product Bezier, B-spline and NURBS patches.
 Curves: polynomial (algebraic form), Hermite, four-point, natural cubic splines,
 Bezier, B-spline and NURBS, composite curves; each with vectorized evaluation,
 derivatives of any order and an exact ``to_nurbs()``. Invalid input raises
@@ -15,6 +16,7 @@ from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
 from .operations import ContinuityReport, continuity, join, join_bezier
+from .surfaces import BezierSurface, BSplineSurface, Surface
 
 __version__ = "0.1.0"
 __all__ = [
@@ -23,4 +25,5 @@ __all__ = [
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
     "ContinuityReport", "continuity", "join", "join_bezier",
+    "Surface", "BezierSurface", "BSplineSurface",
 ]

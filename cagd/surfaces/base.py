@@ -1,0 +1,169 @@
+"""The common surface interface (seed 003, 1-2.1: tensor-product surfaces, partial
+derivatives, normal vector).
+
+Subclasses set ``dim`` and implement ``domain``, ``_evaluate(u, v, du, dv)`` on
+flat in-domain parameters (all mixed partials up to (du, dv), shape
+(du+1, dv+1, N, dim)), ``_grid(us, vs, du, dv)`` (shape (du+1, dv+1, len(us),
+len(vs), dim)), ``to_nurbs`` and ``_affine``. Everything else is shared here.
+"""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+from .._checks import finite_array, integer, parameters
+from ..errors import CagdError
+
+
+class Surface:
+    """Base class of all surfaces."""
+
+    periodic_u: bool = False
+    periodic_v: bool = False
+    dim: int
+
+    @property
+    def domain(self) -> Tuple[Tuple[float, float], Tuple[float, float]]:
+        raise NotImplementedError
+
+    def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def to_nurbs(self):
+        """The exact B-spline/NURBS form (a :class:`cagd.BSplineSurface`)."""
+        raise NotImplementedError
+
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "Surface":
+        raise NotImplementedError
+
+    # --- parameters ------------------------------------------------------------------
+    def _wrap(self, x: np.ndarray, which: int, periodic: bool, name: str) -> np.ndarray:
+        a, b = self.domain[which]
+        if periodic:
+            return a + np.mod(x - a, b - a)
+        tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
+        if x.size and (x.min() < a - tol or x.max() > b + tol):
+            bad = x[(x < a - tol) | (x > b + tol)][0]
+            raise CagdError(f"{name}: parameter {bad!r} is outside the domain [{a}, {b}]")
+        return np.clip(x, a, b)
+
+    def _flat(self, u, v):
+        u, v = parameters(u, "u"), parameters(v, "v")
+        try:
+            shape = np.broadcast_shapes(u.shape, v.shape)
+        except ValueError:
+            raise CagdError(f"u, v: shapes {u.shape} and {v.shape} do not broadcast") from None
+        uf = self._wrap(np.broadcast_to(u, shape).ravel(), 0, self.periodic_u, "u")
+        vf = self._wrap(np.broadcast_to(v, shape).ravel(), 1, self.periodic_v, "v")
+        return uf, vf, shape
+
+    # --- evaluation --------------------------------------------------------------------
+    def derivatives(self, u, v, du: int, dv: int) -> np.ndarray:
+        """All partials S_{u^i v^j}, i <= du, j <= dv: shape (du+1, dv+1) + broadcast shape + (dim,)."""
+        du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
+        uf, vf, shape = self._flat(u, v)
+        out = self._evaluate(uf, vf, du, dv)
+        return out.reshape((du + 1, dv + 1) + shape + (self.dim,))
+
+    def __call__(self, u, v) -> np.ndarray:
+        """Points S(u, v), element-wise with numpy broadcasting: shape broadcast(u, v).shape + (dim,)."""
+        return self.derivatives(u, v, 0, 0)[0, 0]
+
+    def derivative(self, u, v, du: int = 0, dv: int = 0) -> np.ndarray:
+        """The partial derivative d^(du+dv) S / du^du dv^dv at (u, v)."""
+        return self.derivatives(u, v, du, dv)[-1, -1]
+
+    def grid(self, us, vs, du: int = 0, dv: int = 0) -> np.ndarray:
+        """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
+        through basis matrices and matrix products (the fast path)."""
+        du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
+        us = self._wrap(finite_array(us, "us", ndim=1), 0, self.periodic_u, "us")
+        vs = self._wrap(finite_array(vs, "vs", ndim=1), 1, self.periodic_v, "vs")
+        return self._grid(us, vs, du, dv)[-1, -1]
+
+    # --- differential geometry -------------------------------------------------------------
+    def normal(self, u, v) -> np.ndarray:
+        """Unit normal (S_u x S_v)/|S_u x S_v| (seed 003, 2.1); CagdError where it is undefined."""
+        d = self.derivatives(u, v, 1, 1)
+        n = np.cross(_as3(d[1, 0]), _as3(d[0, 1]))
+        length = np.linalg.norm(n, axis=-1, keepdims=True)
+        scale = np.linalg.norm(_as3(d[1, 0]), axis=-1, keepdims=True) * np.linalg.norm(_as3(d[0, 1]), axis=-1, keepdims=True)
+        if np.any(length <= 1e-14 * np.maximum(scale, 1e-300)):
+            raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
+        return n / length
+
+    def fundamental_forms(self, u, v):
+        """First (E, F, G) and second (L, M, N) fundamental forms:
+        E = S_u.S_u, F = S_u.S_v, G = S_v.S_v; L = S_uu.n, M = S_uv.n, N = S_vv.n
+        (do Carmo, Differential Geometry of Curves and Surfaces, 3.3)."""
+        d = self.derivatives(u, v, 2, 2)
+        su, sv = _as3(d[1, 0]), _as3(d[0, 1])
+        n = self.normal(u, v)
+        dot = lambda a, b: np.einsum("...i,...i->...", a, b)  # noqa: E731
+        first = (dot(su, su), dot(su, sv), dot(sv, sv))
+        second = (dot(_as3(d[2, 0]), n), dot(_as3(d[1, 1]), n), dot(_as3(d[0, 2]), n))
+        return first, second
+
+    def gaussian_curvature(self, u, v) -> np.ndarray:
+        """K = (LN - M^2) / (EG - F^2)."""
+        (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
+        return (L * N - M * M) / (E * G - F * F)
+
+    def mean_curvature(self, u, v) -> np.ndarray:
+        """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v)."""
+        (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
+        return (E * N - 2 * F * M + G * L) / (2 * (E * G - F * F))
+
+    def transformed(self, matrix, offset=None) -> "Surface":
+        """The surface under x -> matrix @ x + offset, applied to the control points."""
+        A = finite_array(matrix, "matrix", ndim=2)
+        if A.shape[1] != self.dim:
+            raise CagdError(f"matrix: expected {self.dim} columns for a {self.dim}-D surface, got {A.shape}")
+        b = np.zeros(A.shape[0]) if offset is None else finite_array(offset, "offset", ndim=1)
+        if b.shape[0] != A.shape[0]:
+            raise CagdError(f"offset: expected {A.shape[0]} values, got {b.shape[0]}")
+        return self._affine(A, b)
+
+    # --- iso-parametric and boundary curves --------------------------------------------------
+    def isocurve(self, direction: str, value: float):
+        """The curve u -> S(u, value) (direction "u") or v -> S(value, v) (direction "v")
+        as an engine curve, from the NURBS form."""
+        return self.to_nurbs().isocurve(direction, value)
+
+    def boundaries(self) -> list:
+        """The four boundary curves [S(u, v0), S(u1, v), S(u, v1), S(u0, v)] (not reversed)."""
+        (u0, u1), (v0, v1) = self.domain
+        return [self.isocurve("u", v0), self.isocurve("v", u1), self.isocurve("u", v1), self.isocurve("v", u0)]
+
+
+def _as3(x: np.ndarray) -> np.ndarray:
+    """Lift 2-D vectors to 3-D (z = 0) for cross products."""
+    if x.shape[-1] == 3:
+        return x
+    if x.shape[-1] == 2:
+        return np.concatenate([x, np.zeros(x.shape[:-1] + (1,))], axis=-1)
+    raise CagdError(f"normal: defined for 2-D and 3-D surfaces, this one is {x.shape[-1]}-D")
+
+
+def rational_partials(hom: np.ndarray) -> np.ndarray:
+    """Cartesian partials S^(k,l) from homogeneous ones (du+1, dv+1, ..., dim+1)
+    (Piegl & Tiller A4.4, eq. 4.20)."""
+    from math import comb
+    A, w = hom[..., :-1], hom[..., -1:]
+    du, dv = hom.shape[0] - 1, hom.shape[1] - 1
+    S = np.empty_like(A)
+    for k in range(du + 1):
+        for l in range(dv + 1):
+            v = A[k, l].copy()
+            for j in range(1, l + 1):
+                v -= comb(l, j) * w[0, j] * S[k, l - j]
+            for i in range(1, k + 1):
+                v -= comb(k, i) * w[i, 0] * S[k - i, l]
+                for j in range(1, l + 1):
+                    v -= comb(k, i) * comb(l, j) * w[i, j] * S[k - i, l - j]
+            S[k, l] = v / w[0, 0]
+    return S

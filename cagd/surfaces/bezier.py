@@ -1,0 +1,152 @@
+"""Tensor-product Bezier patches, polynomial and rational (seed 000, 5.2.7;
+seed 003, 2.2: de Casteljau in two directions, boundary tangents, blossoms)."""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+from .. import _checks
+from ..basis.bernstein import bernstein, bezier_matrix, elevation_matrix
+from ..errors import CagdError
+from .base import Surface
+from .bspline import BSplineSurface
+
+
+class BezierSurface(Surface):
+    """p(u, v) = sum_i sum_j P_ij BEZ_{i,m}(u) BEZ_{j,n}(v) on [0, 1]^2 (seed 000, 5.2.7),
+    rational with ``weights`` (seed 003, 2.4).
+
+    Args:
+        control_points: (m+1, n+1, dim) control net, m, n >= 1.
+        weights: (m+1, n+1) positive weights or None.
+
+    Raises:
+        CagdError: shape, NaN/inf, weights.
+    """
+
+    def __init__(self, control_points, weights=None):
+        P = _checks.finite_array(control_points, "control_points")
+        if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2:
+            raise CagdError(f"control_points: expected shape (m+1 >= 2, n+1 >= 2, dim), got {P.shape}")
+        m, n = P.shape[0] - 1, P.shape[1] - 1
+        ku = np.concatenate([np.zeros(m + 1), np.ones(m + 1)])
+        kv = np.concatenate([np.zeros(n + 1), np.ones(n + 1)])
+        self._nurbs = BSplineSurface(P, m, n, ku, kv, weights)
+        self.control_points, self.weights = self._nurbs.control_points, self._nurbs.weights
+        self.degree_u, self.degree_v, self.dim = m, n, P.shape[2]
+
+    @property
+    def domain(self):
+        return (0.0, 1.0), (0.0, 1.0)
+
+    @property
+    def is_rational(self) -> bool:
+        return self.weights is not None
+
+    def __repr__(self) -> str:
+        kind = "rational Bezier" if self.is_rational else "Bezier"
+        return f"<{kind} surface degree ({self.degree_u}, {self.degree_v})>"
+
+    def _evaluate(self, u, v, du, dv):
+        return self._nurbs._evaluate(u, v, du, dv)
+
+    def _grid(self, us, vs, du, dv):
+        return self._nurbs._grid(us, vs, du, dv)
+
+    def to_nurbs(self) -> BSplineSurface:
+        return self._nurbs
+
+    def _affine(self, A, b) -> "BezierSurface":
+        return BezierSurface(self.control_points @ A.T + b, self.weights)
+
+    @property
+    def homogeneous_control_points(self) -> np.ndarray:
+        return self._nurbs.homogeneous_control_points
+
+    @classmethod
+    def _from_homogeneous(cls, hom: np.ndarray, rational: bool) -> "BezierSurface":
+        return cls(hom[..., :-1] / hom[..., -1:], hom[..., -1]) if rational else cls(hom)
+
+    def _project(self, hom: np.ndarray) -> np.ndarray:
+        return hom[..., :-1] / hom[..., -1:] if self.is_rational else hom
+
+    # --- the seed's algorithms -------------------------------------------------------
+    def bernstein_evaluate(self, u, v) -> np.ndarray:
+        """Direct double sum of Bernstein products (seed 000, 5.2.7), broadcasting u, v."""
+        u, v = np.broadcast_arrays(_checks.parameters(u, "u"), _checks.parameters(v, "v"))
+        Bu, Bv = bernstein(self.degree_u, u), bernstein(self.degree_v, v)
+        return self._project(np.einsum("...i,...j,ijd->...d", Bu, Bv, self.homogeneous_control_points))
+
+    def de_casteljau(self, u, v) -> np.ndarray:
+        """Two-stage de Casteljau (seed 003, 2.2.1): each row of the net reduced at v,
+        then the resulting column at u. Broadcasts u and v."""
+        u, v = np.broadcast_arrays(_checks.parameters(u, "u"), _checks.parameters(v, "v"))
+        net = np.broadcast_to(self.homogeneous_control_points, u.shape + self.homogeneous_control_points.shape)
+        vv = v[..., None, None, None]
+        while net.shape[-2] > 1:
+            net = (1 - vv) * net[..., :-1, :] + vv * net[..., 1:, :]
+        col = net[..., 0, :]
+        uu = u[..., None, None]
+        while col.shape[-2] > 1:
+            col = (1 - uu) * col[..., :-1, :] + uu * col[..., 1:, :]
+        return self._project(col[..., 0, :])
+
+    def matrix_form(self) -> np.ndarray:
+        """Coefficients C (per coordinate) with p(u, v) = U C V^T, U = [u^m ... 1],
+        V = [v^n ... 1]: C = M_m P M_n^T (seed 000, 5.2.7 bilinear/biquadratic/bicubic)."""
+        if self.is_rational:
+            raise CagdError("weights: a rational Bezier surface has no polynomial matrix form")
+        Mu, Mv = bezier_matrix(self.degree_u), bezier_matrix(self.degree_v)
+        return np.einsum("ai,ijd,bj->abd", Mu, self.control_points, Mv)
+
+    def blossom(self, us, vs) -> np.ndarray:
+        """Polar form f(u_1..u_m; v_1..v_n): symmetric and multi-affine in each group,
+        f(u..u; v..v) = p(u, v), P_ij = f(0^(m-i) 1^i; 0^(n-j) 1^j) (seed 003, 2.2.4).
+        ``us`` has m entries and ``vs`` n entries (each scalar or array; they broadcast)."""
+        if len(us) != self.degree_u or len(vs) != self.degree_v:
+            raise CagdError(f"us, vs: the blossom takes {self.degree_u} u-values and {self.degree_v} "
+                            f"v-values, got {len(us)} and {len(vs)}")
+        us = [_checks.parameters(x, "us") for x in us]
+        vs = [_checks.parameters(x, "vs") for x in vs]
+        shape = np.broadcast_shapes(*(x.shape for x in us + vs))
+        hom = self.homogeneous_control_points
+        net = np.broadcast_to(hom, shape + hom.shape)
+        for t in vs:
+            tt = np.broadcast_to(t, shape)[..., None, None, None]
+            net = (1 - tt) * net[..., :-1, :] + tt * net[..., 1:, :]
+        col = net[..., 0, :]
+        for t in us:
+            tt = np.broadcast_to(t, shape)[..., None, None]
+            col = (1 - tt) * col[..., :-1, :] + tt * col[..., 1:, :]
+        return self._project(col[..., 0, :])
+
+    # --- operations ------------------------------------------------------------------------
+    def subdivide(self, direction: str, t: float = 0.5) -> Tuple["BezierSurface", "BezierSurface"]:
+        """Split at u = t or v = t into two Bezier patches, each on [0, 1]^2 (de Casteljau)."""
+        t = _checks.scalar(t, "t")
+        if not 0.0 < t < 1.0:
+            raise CagdError(f"t: subdivision parameter must lie in (0, 1), got {t}")
+        a, b = self._nurbs.split(direction, t)
+        unit = ((0.0, 1.0), None) if direction == "u" else (None, (0.0, 1.0))
+        a, b = a.reparametrized(*unit), b.reparametrized(*unit)
+        return BezierSurface(a.control_points, a.weights), BezierSurface(b.control_points, b.weights)
+
+    def elevate(self, times_u: int = 1, times_v: int = 0) -> "BezierSurface":
+        """Degree elevation per direction with the Bernstein elevation matrices."""
+        times_u = _checks.integer(times_u, "times_u", 0)
+        times_v = _checks.integer(times_v, "times_v", 0)
+        Eu = elevation_matrix(self.degree_u, times_u)
+        Ev = elevation_matrix(self.degree_v, times_v)
+        hom = np.einsum("ai,ijd,bj->abd", Eu, self.homogeneous_control_points, Ev)
+        return self._from_homogeneous(hom, self.is_rational)
+
+    def boundary_tangents(self) -> dict:
+        """Cross-boundary derivative nets at the four edges (seed 003, 2.2.2):
+        S_u(0, v) has Bezier points m (P_1j - P_0j), S_u(1, v): m (P_mj - P_{m-1,j}),
+        S_v(u, 0): n (P_i1 - P_i0), S_v(u, 1): n (P_in - P_{i,n-1}). Polynomial patches."""
+        if self.is_rational:
+            raise CagdError("weights: boundary tangent nets are given here for polynomial patches")
+        P, m, n = self.control_points, self.degree_u, self.degree_v
+        return {"u0": m * (P[1] - P[0]), "u1": m * (P[-1] - P[-2]),
+                "v0": n * (P[:, 1] - P[:, 0]), "v1": n * (P[:, -1] - P[:, -2])}

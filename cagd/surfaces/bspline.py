@@ -1,0 +1,234 @@
+"""Tensor-product B-spline and NURBS surfaces (seed 000, 5.3.3; seed 003, 2.3-2.4;
+Piegl & Tiller ch. 3-5).
+
+S(u, v) = sum_i sum_j N_{i,p}(u) N_{j,q}(v) w_ij P_ij / sum_i sum_j N_{i,p}(u) N_{j,q}(v) w_ij.
+Knot conventions per direction are those of :class:`cagd.BSplineCurve`. Operations in
+one direction (knot insertion, elevation, split, reversal, ...) reuse the curve
+algorithms on the rows of the homogeneous control net, seen as one curve whose
+"points" are whole rows.
+"""
+from __future__ import annotations
+
+from typing import Optional, Tuple
+
+import numpy as np
+
+from .. import _checks
+from ..basis.bspline import basis_derivatives, basis_matrix
+from ..curves.bspline import BSplineCurve
+from ..errors import CagdError
+from ..knots import vectors as kv
+from .base import Surface, rational_partials
+
+_CHUNK = 1 << 14
+
+
+class BSplineSurface(Surface):
+    """B-spline surface, NURBS when ``weights`` are given.
+
+    Args:
+        control_points: (nu, nv, dim) control net; for a periodic direction the distinct rows.
+        degree_u, degree_v: degrees p, q >= 1.
+        knots_u, knots_v: per direction as for BSplineCurve (full vector, or one period).
+        weights: (nu, nv) positive weights or None.
+        periodic_u, periodic_v: closed in that direction.
+
+    Raises:
+        CagdError: shapes, counts, knots, multiplicities, weights, NaN/inf, degrees.
+    """
+
+    def __init__(self, control_points, degree_u: int, degree_v: int, knots_u=None, knots_v=None,
+                 weights=None, periodic_u: bool = False, periodic_v: bool = False):
+        P = _checks.finite_array(control_points, "control_points")
+        if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2 or P.shape[2] < 1:
+            raise CagdError(f"control_points: expected shape (nu >= 2, nv >= 2, dim), got {P.shape}")
+        nu, nv = P.shape[:2]
+        if weights is not None:
+            W = _checks.finite_array(weights, "weights")
+            if W.shape != (nu, nv):
+                raise CagdError(f"weights: expected shape {(nu, nv)} (one per control point), got {W.shape}")
+            if np.any(W <= 0):
+                i = tuple(int(k) for k in np.argwhere(W <= 0)[0])
+                raise CagdError(f"weights: must be positive (weights[{i[0]}, {i[1]}]={W[i]!r})")
+        else:
+            W = None
+        self.periodic_u, self.periodic_v = bool(periodic_u), bool(periodic_v)
+        self.degree_u = _checks.integer(degree_u, "degree_u", 1, nu if self.periodic_u else nu - 1)
+        self.degree_v = _checks.integer(degree_v, "degree_v", 1, nv if self.periodic_v else nv - 1)
+        self.knots_u, self._u, iu = _direction(knots_u, nu, self.degree_u, self.periodic_u, "knots_u")
+        self.knots_v, self._v, iv = _direction(knots_v, nv, self.degree_v, self.periodic_v, "knots_v")
+        self.control_points, self.weights = P, W
+        self.dim = P.shape[2]
+        hom = P if W is None else np.concatenate([P * W[..., None], W[..., None]], axis=2)
+        self._hom = hom[iu][:, iv]            # unwrapped homogeneous net
+
+    # --- properties --------------------------------------------------------------------
+    @property
+    def is_rational(self) -> bool:
+        return self.weights is not None
+
+    @property
+    def domain(self):
+        p, q = self.degree_u, self.degree_v
+        nu, nv = self._hom.shape[:2]
+        return (float(self._u[p]), float(self._u[nu])), (float(self._v[q]), float(self._v[nv]))
+
+    @property
+    def homogeneous_control_points(self) -> np.ndarray:
+        return self._hom.copy()
+
+    def __repr__(self) -> str:
+        kind = "NURBS" if self.is_rational else "B-spline"
+        nu, nv = self.control_points.shape[:2]
+        return f"<{kind} surface degree ({self.degree_u}, {self.degree_v}), {nu} x {nv} control points>"
+
+    def to_nurbs(self) -> "BSplineSurface":
+        return self
+
+    def _affine(self, A, b) -> "BSplineSurface":
+        return BSplineSurface(self.control_points @ A.T + b, self.degree_u, self.degree_v, self.knots_u,
+                              self.knots_v, self.weights, self.periodic_u, self.periodic_v)
+
+    # --- evaluation --------------------------------------------------------------------
+    def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        p, q = self.degree_u, self.degree_v
+        nu, nv, D = self._hom.shape
+        out = np.empty((du + 1, dv + 1, u.shape[0], D))
+        ii, jj = np.arange(p + 1), np.arange(q + 1)
+        for s in range(0, u.shape[0], _CHUNK):
+            uc, vc = u[s:s + _CHUNK], v[s:s + _CHUNK]
+            su = kv.find_span(self._u, p, uc, nu)
+            sv = kv.find_span(self._v, q, vc, nv)
+            Nu = basis_derivatives(self._u, p, uc, su, du)          # (du+1, m, p+1)
+            Nv = basis_derivatives(self._v, q, vc, sv, dv)          # (dv+1, m, q+1)
+            local = self._hom[(su[:, None] - p + ii)[:, :, None], (sv[:, None] - q + jj)[:, None, :]]
+            out[:, :, s:s + _CHUNK] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
+        return rational_partials(out) if self.is_rational else out
+
+    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+        nu, nv, D = self._hom.shape
+        Bu = [basis_matrix(self._u, self.degree_u, us, nu, k) for k in range(du + 1)]
+        Bv = [basis_matrix(self._v, self.degree_v, vs, nv, l) for l in range(dv + 1)]
+        net = np.ascontiguousarray(self._hom.transpose(2, 0, 1))            # (D, nu, nv)
+        out = np.empty((du + 1, dv + 1, len(us), len(vs), D))
+        for k in range(du + 1):
+            rows = Bu[k] @ net                                               # (D, Mu, nv)
+            for l in range(dv + 1):
+                out[k, l] = np.moveaxis(rows @ Bv[l].T, 0, -1)
+        if not self.is_rational:
+            return out
+        if du == 0 and dv == 0:
+            out[..., :-1] /= out[..., -1:]
+            return out[..., :-1]
+        return rational_partials(out)
+
+    # --- one direction at a time: reuse the curve algorithms ---------------------------------
+    def _row_curve(self, direction: str) -> BSplineCurve:
+        """The net as one curve in ``direction`` whose points are whole (flattened) rows."""
+        hom = self._distinct_hom()
+        if direction == "u":
+            rows = hom.reshape(hom.shape[0], -1)
+            return BSplineCurve(rows, self.degree_u, self.knots_u, periodic=self.periodic_u)
+        if direction == "v":
+            rows = hom.transpose(1, 0, 2).reshape(hom.shape[1], -1)
+            return BSplineCurve(rows, self.degree_v, self.knots_v, periodic=self.periodic_v)
+        raise CagdError(f"direction: must be 'u' or 'v', got {direction!r}")
+
+    def _distinct_hom(self) -> np.ndarray:
+        P, W = self.control_points, self.weights
+        return P if W is None else np.concatenate([P * W[..., None], W[..., None]], axis=2)
+
+    def _from_row_curve(self, direction: str, c: BSplineCurve) -> "BSplineSurface":
+        D = self._hom.shape[2]
+        if direction == "u":
+            hom = c.control_points.reshape(len(c.control_points), -1, D)
+            du, dv, ku, kvv, pu, pv = c.degree, self.degree_v, c.knots, self.knots_v, c.periodic, self.periodic_v
+        else:
+            hom = c.control_points.reshape(len(c.control_points), -1, D).transpose(1, 0, 2)
+            du, dv, ku, kvv, pu, pv = self.degree_u, c.degree, self.knots_u, c.knots, self.periodic_u, c.periodic
+        if self.is_rational:
+            w = hom[..., -1]
+            return BSplineSurface(hom[..., :-1] / w[..., None], du, dv, ku, kvv, w, pu, pv)
+        return BSplineSurface(hom, du, dv, ku, kvv, None, pu, pv)
+
+    def insert_knot(self, direction: str, t: float, times: int = 1) -> "BSplineSurface":
+        """Insert a knot in one direction (Boehm, applied to every row; Piegl & Tiller A5.3)."""
+        return self._from_row_curve(direction, self._row_curve(direction).insert_knot(t, times))
+
+    def refine(self, direction: str, new_knots) -> "BSplineSurface":
+        return self._from_row_curve(direction, self._row_curve(direction).refine(new_knots))
+
+    def elevate(self, direction: str, times: int = 1) -> "BSplineSurface":
+        """Degree elevation in one direction (a periodic direction comes back clamped)."""
+        return self._from_row_curve(direction, self._row_curve(direction).elevate(times))
+
+    def segment(self, direction: str, start: float, end: float) -> "BSplineSurface":
+        return self._from_row_curve(direction, self._row_curve(direction).segment(start, end))
+
+    def split(self, direction: str, t: float) -> Tuple["BSplineSurface", "BSplineSurface"]:
+        a, b = self._row_curve(direction).split(t)
+        return self._from_row_curve(direction, a), self._from_row_curve(direction, b)
+
+    def clamped(self) -> "BSplineSurface":
+        """Clamped, non-periodic in both directions (same surface)."""
+        s = self
+        for d in "uv":
+            s = s._from_row_curve(d, s._row_curve(d).clamped())
+        return s
+
+    def reversed(self, direction: str) -> "BSplineSurface":
+        return self._from_row_curve(direction, self._row_curve(direction).reversed())
+
+    def reparametrized(self, domain_u=None, domain_v=None) -> "BSplineSurface":
+        s = self
+        if domain_u is not None:
+            s = s._from_row_curve("u", s._row_curve("u").reparametrized(*domain_u))
+        if domain_v is not None:
+            s = s._from_row_curve("v", s._row_curve("v").reparametrized(*domain_v))
+        return s
+
+    def swapped(self) -> "BSplineSurface":
+        """The same surface with u and v exchanged (the normal flips)."""
+        W = None if self.weights is None else self.weights.T
+        return BSplineSurface(self.control_points.transpose(1, 0, 2), self.degree_v, self.degree_u,
+                              self.knots_v, self.knots_u, W, self.periodic_v, self.periodic_u)
+
+    def bezier_patches(self):
+        """Decomposition into Bezier patches: (breaks_u, breaks_v, patches) with
+        patches[i][j] a clamped single-span BSplineSurface (Piegl & Tiller A5.7)."""
+        bu, rows = self._row_curve("u").bezier_segments()
+        patches = []
+        for r in rows:
+            strip = self._from_row_curve("u", r)
+            bv, cols = strip._row_curve("v").bezier_segments()
+            patches.append([strip._from_row_curve("v", c) for c in cols])
+        return bu, bv, patches
+
+    def isocurve(self, direction: str, value: float) -> BSplineCurve:
+        """u -> S(u, value) ("u") or v -> S(value, v) ("v") as an exact BSplineCurve."""
+        other = "v" if direction == "u" else "u"
+        if direction not in ("u", "v"):
+            raise CagdError(f"direction: must be 'u' or 'v', got {direction!r}")
+        value = _checks.scalar(value, "value")
+        (u0, u1), (v0, v1) = self.domain
+        lo, hi = (v0, v1) if direction == "u" else (u0, u1)
+        if not lo - 1e-12 * (hi - lo) <= value <= hi + 1e-12 * (hi - lo):
+            raise CagdError(f"value: {value} is outside the {other} domain [{lo}, {hi}]")
+        rows = self._row_curve(other)                       # curve in the other direction
+        D = self._hom.shape[2]
+        hom = rows(min(max(value, lo), hi)).reshape(-1, D)  # the net collapsed at value
+        deg = self.degree_u if direction == "u" else self.degree_v
+        knots = self.knots_u if direction == "u" else self.knots_v
+        periodic = self.periodic_u if direction == "u" else self.periodic_v
+        if self.is_rational:
+            return BSplineCurve(hom[:, :-1] / hom[:, -1:], deg, knots, hom[:, -1], periodic)
+        return BSplineCurve(hom, deg, knots, None, periodic)
+
+
+def _direction(knots, count: int, degree: int, periodic: bool, name: str):
+    """(given knots, full unwrapped knots, index map of the net) for one direction."""
+    if periodic:
+        t = np.linspace(0.0, 1.0, count + 1) if knots is None else kv.validate_period(knots, count, degree, name)
+        return t, kv.periodic_extend(t, degree), np.concatenate([np.arange(count), np.arange(degree)])
+    t = kv.clamped_uniform(count, degree) if knots is None else kv.validate(knots, degree, count, name)
+    return t, t, np.arange(count)
