@@ -1,6 +1,7 @@
 """cagd: classical computer-aided geometric design in numpy.
 
-Surfaces: tensor-product Bezier, B-spline and NURBS patches.
+Surfaces: tensor-product Bezier, B-spline and NURBS patches, revolution, Coons,
+ruled and lofted surfaces, Bezier triangles; all exactly convertible to NURBS.
 Curves: polynomial (algebraic form), Hermite, four-point, natural cubic splines,
 Bezier, B-spline and NURBS, composite curves; each with vectorized evaluation,
 derivatives of any order and an exact ``to_nurbs()``. Invalid input raises
@@ -16,7 +17,9 @@ from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
 from .operations import ContinuityReport, continuity, join, join_bezier
-from .surfaces import BezierSurface, BSplineSurface, Surface
+from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Surface, cone, cylinder,
+                       ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus)
+from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 
 __version__ = "0.1.0"
 __all__ = [
@@ -25,5 +28,7 @@ __all__ = [
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
     "ContinuityReport", "continuity", "join", "join_bezier",
-    "Surface", "BezierSurface", "BSplineSurface",
+    "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "revolve", "sphere",
+    "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant", "ruled", "loft", "make_compatible",
+    "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
 ]

@@ -52,7 +52,7 @@ class Curve:
             tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
             if flat.size and (flat.min() < a - tol or flat.max() > b + tol):
                 bad = flat[(flat < a - tol) | (flat > b + tol)][0]
-                raise CagdError(f"t: parameter {bad!r} is outside the domain [{a}, {b}]")
+                raise CagdError(f"t: parameter {float(bad)!r} is outside the domain [{a}, {b}]")
             flat = np.clip(flat, a, b)
         return flat, shape
 

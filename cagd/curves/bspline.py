@@ -280,6 +280,8 @@ class BSplineCurve(Curve):
             raise CagdError(f"start, end: need start < end, got [{start}, {end}]")
         a, b = self.domain
         knots = start + (self.knots - a) * ((end - start) / (b - a))
+        knots[self.knots == a] = start      # the domain ends map exactly, not an ulp off
+        knots[self.knots == b] = end
         return BSplineCurve(self.control_points, self.degree, knots, self.weights, self.periodic)
 
     # --- OCCT form ----------------------------------------------------------------------

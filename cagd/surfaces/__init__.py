@@ -1,6 +1,13 @@
-"""Surfaces: tensor-product Bezier/B-spline/NURBS patches and their operations."""
+"""Surfaces: tensor-product Bezier/B-spline/NURBS patches, surfaces of revolution,
+the seed's rational ellipsoid, Coons patches, ruled surfaces and lofts."""
 from .base import Surface
 from .bspline import BSplineSurface
 from .bezier import BezierSurface
+from .revolution import cone, cylinder, revolve, sphere, torus
+from .ellipsoid import ellipsoid, ellipsoid_octant
+from .coons import CoonsPatch, HermiteCoonsPatch
+from .loft import loft, loft_parameters, make_compatible, ruled
 
-__all__ = ["Surface", "BSplineSurface", "BezierSurface"]
+__all__ = ["Surface", "BSplineSurface", "BezierSurface", "revolve", "sphere", "torus", "cylinder", "cone",
+           "ellipsoid", "ellipsoid_octant", "CoonsPatch", "HermiteCoonsPatch", "ruled", "loft",
+           "loft_parameters", "make_compatible"]

@@ -48,7 +48,7 @@ class Surface:
         tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
         if x.size and (x.min() < a - tol or x.max() > b + tol):
             bad = x[(x < a - tol) | (x > b + tol)][0]
-            raise CagdError(f"{name}: parameter {bad!r} is outside the domain [{a}, {b}]")
+            raise CagdError(f"{name}: parameter {float(bad)!r} is outside the domain [{a}, {b}]")
         return np.clip(x, a, b)
 
     def _flat(self, u, v):
