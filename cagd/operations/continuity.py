@@ -94,8 +94,8 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
     lengths, the tests are
     C0: gap <= tol size;
     C1: C0 and |c2' - c1'| <= tol max(|c1'|, |c2'|, size / L);
-    C2: C1 and |c2'' - c1''| <= tol max(|c1''|, |c2''|, v^2 / size), v = max(|c1'|, |c2'|);
-    G1: C0, both derivatives non-zero and tangent_angle <= tol;
+    C2: C1 and |c2'' - c1''| <= tol max(|c1''|, |c2''|, v^2 / size, size / L^2), v = max(|c1'|, |c2'|);
+    G1: C0, both derivatives non-zero (above 1e-12 size / L) and tangent_angle <= tol;
     G2: G1 and |k2 - k1| <= tol max(|k1|, |k2|, 1 / size) for the curvature vectors k.
     The derivatives are taken in each curve's own parameter (one-sided at the ends).
 
@@ -128,9 +128,12 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
 
     C0 = gap <= tol * size
     C1 = C0 and dgap1 <= tol * max(v, size / span)
-    C2 = C1 and dgap2 <= tol * max(np.linalg.norm(D1[2]), np.linalg.norm(D2[2]), v * v / size)
-    G1 = bool(C0 and n1 > 0.0 and n2 > 0.0 and angle <= tol)
+    C2 = C1 and dgap2 <= tol * max(np.linalg.norm(D1[2]), np.linalg.norm(D2[2]), v * v / size, size / span ** 2)
+    tiny = 1e-12 * size / span           # a first derivative below this is rounding noise
+    G1 = bool(C0 and n1 > tiny and n2 > tiny and angle <= tol)
     G2 = bool(G1 and np.linalg.norm(k2 - k1) <= tol * max(kn1, kn2, 1.0 / size))
-    ratio = n2 / n1 if n1 > 0.0 else (float("inf") if n2 > 0.0 else float("nan"))
+    ratio = n2 / n1 if n1 > tiny else (float("inf") if n2 > tiny else float("nan"))
+    if n2 <= tiny and n1 > tiny:
+        ratio = 0.0
     return ContinuityReport(float(t1), float(t2), gap, angle, ratio, abs(kn2 - kn1), dgap2,
                             bool(C0), bool(C1), bool(C2), G1, G2, tol, size)
