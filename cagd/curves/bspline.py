@@ -66,6 +66,7 @@ class BSplineCurve(Curve):
         self._u = full_u                    # full (unwrapped) knot vector
         self._hom = hom[idx]                # matching (homogeneous) control points
         self._pp: Optional[PPForm] = None
+        self._derivative_pp: dict = {}
 
     # --- basic properties ------------------------------------------------------------
     @property
@@ -98,8 +99,28 @@ class BSplineCurve(Curve):
         pp = self.ppform
         if order == 0:
             return (pp.projected(t) if self.is_rational else pp(t))[None]
-        hom = np.stack([pp(t, k) for k in range(order + 1)])
+        hom = np.stack([pp(t)] + [self._derivative_ppform(k)(t) for k in range(1, order + 1)])
         return rational_derivatives(hom) if self.is_rational else hom
+
+    def _derivative_ppform(self, order: int) -> PPForm:
+        """pp form of the ``order``-th derivative built from the derivative curve's own
+        control points Q_i = p (P_{i+1} - P_i) / (u_{i+p+1} - u_{i+1}) (seed 000, 5.3.1
+        derivative formula; Piegl & Tiller eq. 3.4), applied ``order`` times. Unlike
+        differentiating the curve's power form this keeps full relative precision of
+        high derivatives on very short spans."""
+        if order not in self._derivative_pp:
+            u, P, p = self._u, self._hom, self.degree
+            if order > p:
+                pp = self.ppform.derived(order)               # identically zero
+            else:
+                for _ in range(order):
+                    denom = (u[p + 1:len(P) + p] - u[1:len(P)])[:, None]
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        P = np.where(denom > 0, p * (P[1:] - P[:-1]) / np.where(denom > 0, denom, 1.0), 0.0)
+                    u, p = u[1:-1], p - 1
+                pp = PPForm.from_bspline(u, p, P)
+            self._derivative_pp[order] = pp
+        return self._derivative_pp[order]
 
     def _breaks_within(self, start: float, end: float) -> np.ndarray:
         u = np.unique(self._u)

@@ -157,10 +157,6 @@ def test_periodic_evaluation_vs_scipy_on_unwrapped_knots(curve):
                                   curve.control_points[np.r_[np.arange(n), np.arange(p)]])
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "core accuracy limit (reported): the pp form evaluates C^(k) at a span end from "
-    "the midpoint Taylor expansion; next to a short span with huge higher derivatives "
-    "the terms cancel and the third derivative loses ~4 digits (1.04e-12 relative; scipy 1.4e-16)"))
 def test_short_span_derivative_accuracy():
     """Periodic quintic, period [0, 1, 2, 3, 4, 4, 4.0625 x4], P = e_8: the third
     derivative (start of the short span t = 4 included) to 1e-12 of its maximum."""
@@ -628,10 +624,9 @@ def test_subnormal_span_evaluates():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "core defect (reported, minor): on a span of width h the pp form stores "
-    "C^(k) h^k / k! and multiplies by (2/h)^k, which underflows to 0 or overflows "
-    "to inf * 0 = NaN once h^k leaves the double range (cubic, h = 1e-100: C''' = 0 "
-    "instead of -36; h = 1e-200: NaN)"))
+    "known limit: after inserting a knot 1e-100 from a clamped end the derivative "
+    "control points p (P_{i+1} - P_i) / (u_{i+p+1} - u_{i+1}) are equal to rounding, so "
+    "the third derivative on that span comes out 0 instead of -36 (values are exact)"))
 def test_narrow_span_derivatives():
     c = BSplineCurve([[0.0], [1.0], [3.0], [2.0], [5.0]], 3)
     for eps in (1e-100, 1e-200):
