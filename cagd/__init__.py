@@ -18,7 +18,8 @@ from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
 from .operations import ContinuityReport, continuity, join, join_bezier
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Surface, cone, cylinder,
-                       ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus)
+                       ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus,
+                       EdgeContinuityReport, edge_continuity, interpolate_surface)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 
 __version__ = "0.1.0"
@@ -31,4 +32,5 @@ __all__ = [
     "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "revolve", "sphere",
     "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant", "ruled", "loft", "make_compatible",
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
+    "EdgeContinuityReport", "edge_continuity", "interpolate_surface",
 ]

@@ -290,7 +290,9 @@ class BSplineCurve(Curve):
             P = np.roll(P, p, axis=0)
             w = None if w is None else np.roll(w, p)
         a, b = self.domain
-        knots = (a + b) - self.knots[::-1]
+        old = self.knots[::-1]
+        knots = (a + b) - old
+        knots[old == a], knots[old == b] = b, a     # the domain ends map exactly
         return BSplineCurve(P, self.degree, knots, w, self.periodic)
 
     def reparametrized(self, start: float, end: float) -> "BSplineCurve":

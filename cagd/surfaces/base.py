@@ -91,10 +91,21 @@ class Surface:
         d = self.derivatives(u, v, 1, 1)
         n = np.cross(_as3(d[1, 0]), _as3(d[0, 1]))
         length = np.linalg.norm(n, axis=-1, keepdims=True)
-        scale = np.linalg.norm(_as3(d[1, 0]), axis=-1, keepdims=True) * np.linalg.norm(_as3(d[0, 1]), axis=-1, keepdims=True)
-        if np.any(length <= 1e-14 * np.maximum(scale, 1e-300)):
+        # degenerate where |S_u x S_v| is rounding noise against the surface's own scale
+        # (size / Lu) (size / Lv), e.g. at a pole where a whole edge collapses to a point
+        (u0, u1), (v0, v1) = self.domain
+        floor = 1e-12 * self.size ** 2 / ((u1 - u0) * (v1 - v0))
+        if np.any(length <= floor):
             raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
         return n / length
+
+    @property
+    def size(self) -> float:
+        """Largest extent of the control net's bounding box (a length scale for tolerances)."""
+        if getattr(self, "_size", None) is None:
+            net = np.asarray(self.to_nurbs().control_points).reshape(-1, self.dim)
+            self._size = max(float(np.ptp(net, axis=0).max()), 1e-300)
+        return self._size
 
     def fundamental_forms(self, u, v):
         """First (E, F, G) and second (L, M, N) fundamental forms:

@@ -109,17 +109,21 @@ class BSplineSurface(Surface):
         nu, nv, D = self._hom.shape
         Bu = [basis_matrix(self._u, self.degree_u, us, nu, k) for k in range(du + 1)]
         Bv = [basis_matrix(self._v, self.degree_v, vs, nv, l) for l in range(dv + 1)]
-        net = np.ascontiguousarray(self._hom.transpose(2, 0, 1))            # (D, nu, nv)
-        out = np.empty((du + 1, dv + 1, len(us), len(vs), D))
-        for k in range(du + 1):
-            rows = Bu[k] @ net                                               # (D, Mu, nv)
-            for l in range(dv + 1):
-                out[k, l] = np.moveaxis(rows @ Bv[l].T, 0, -1)
+        Mu, Mv = len(us), len(vs)
+        if du == 0 and dv == 0:
+            # v first: (nu, Mv, D) is small; then one GEMM (Mu, nu) @ (nu, Mv*D) that
+            # writes the result contiguous in (Mu, Mv, D)
+            res = (Bu[0] @ np.matmul(Bv[0], self._hom).reshape(nu, -1)).reshape(Mu, Mv, D)
+            if self.is_rational:
+                res = res[..., :-1] / res[..., -1:]
+            return res[None, None]
+        out = np.empty((du + 1, dv + 1, Mu, Mv, D))
+        for l in range(dv + 1):
+            cols = np.matmul(Bv[l], self._hom).reshape(nu, -1)
+            for k in range(du + 1):
+                out[k, l] = (Bu[k] @ cols).reshape(Mu, Mv, D)
         if not self.is_rational:
             return out
-        if du == 0 and dv == 0:
-            out[..., :-1] /= out[..., -1:]
-            return out[..., :-1]
         return rational_partials(out)
 
     # --- one direction at a time: reuse the curve algorithms ---------------------------------

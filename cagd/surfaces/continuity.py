@@ -114,7 +114,8 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
     Edges: "u0" (u = u_min, running in v), "u1" (u = u_max), "v0" (v = v_min,
     running in u), "v1" (v = v_max). Both edges are sampled at ``samples`` equally
     spaced fractions t of their domains; the second at t (``reverse`` False) or at
-    1 - t (True). With ``reverse`` None the direction with the smaller gap is taken.
+    1 - t (True). With ``reverse`` None the same direction is kept if it is C0
+    (gap <= tol size), otherwise the direction with the smaller gap is taken.
     Points are compared at corresponding fractions, so an edge curve that is
     reparametrised non-affinely between the patches shows as a gap.
 
@@ -158,18 +159,17 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
     p1, along, inward1 = _edge_frame(s1, edge1, t)
     forward = _edge_frame(s2, edge2, t)
     backward = _edge_frame(s2, edge2, t[::-1].copy())
-    if reverse is None:
-        gap_f = np.linalg.norm(forward[0] - p1, axis=-1).max()
-        gap_b = np.linalg.norm(backward[0] - p1, axis=-1).max()
-        reverse = bool(gap_b < gap_f)
-    p2, _, inward2 = backward if reverse else forward
-    leaving1 = -inward1
-
-    span = max(_cross_span(s1, edge1), _cross_span(s2, edge2))
     pts = np.concatenate([s1.grid(*_sample_grid(s1)).reshape(-1, s1.dim),
                           s2.grid(*_sample_grid(s2)).reshape(-1, s2.dim)])
     size = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
     size = size if size > 0.0 else 1.0
+    if reverse is None:
+        gap_f = np.linalg.norm(forward[0] - p1, axis=-1).max()
+        gap_b = np.linalg.norm(backward[0] - p1, axis=-1).max()
+        reverse = bool(gap_f > tol * size and gap_b < gap_f)
+    p2, _, inward2 = backward if reverse else forward
+    leaving1 = -inward1
+    span = max(_cross_span(s1, edge1), _cross_span(s2, edge2))
 
     gap = float(np.linalg.norm(p2 - p1, axis=-1).max())
     mismatch = float(np.linalg.norm(inward2 - leaving1, axis=-1).max())
