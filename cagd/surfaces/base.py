@@ -21,6 +21,7 @@ class Surface:
 
     periodic_u: bool = False
     periodic_v: bool = False
+    rectangular: bool = True      # False for triangles: the domain is u, v >= 0, u + v <= 1
     dim: int
 
     @property

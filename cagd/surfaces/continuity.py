@@ -134,13 +134,16 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
       equal degree m, P_1j - P_0j of the second = P_mj - P_(m-1)j of the first.
 
     Raises:
-        CagdError: s1/s2 not Surfaces, different dimensions, a surface that is not
+        CagdError: s1/s2 not rectangular Surfaces (triangles: see triangle_continuity), different dimensions, a surface that is not
             2-D or 3-D, an unknown edge name, samples < 2, tol not positive,
             reverse not True/False/None.
     """
     for name, s in (("s1", s1), ("s2", s2)):
         if not isinstance(s, Surface):
             raise CagdError(f"{name}: must be a cagd Surface, got {type(s).__name__}")
+        if not s.rectangular:
+            raise CagdError(f"{name}: a {type(s).__name__} has no rectangular edges u0/u1/v0/v1; "
+                            f"use cagd.triangle_continuity for triangles")
     if s1.dim != s2.dim:
         raise CagdError(f"s2: dimension {s2.dim} differs from s1's {s1.dim}")
     for name, e in (("edge1", edge1), ("edge2", edge2)):

@@ -76,6 +76,9 @@ def revolve(profile, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0),
     (2 n + 1 columns, n <= 4 arcs of at most 90 degrees), the profile's degree and knots
     in u. Exact: every isocurve u = const is a rational quadratic circle. (The seed turns
     the profile about the y-axis with four quadratic arcs; any axis is accepted here.)
+    Orientation: v turns counter-clockwise about ``axis_direction``, so the normal
+    S_u x S_v points away from the axis when the profile runs against the axis
+    direction (as in :func:`sphere`), towards it when the profile runs along it.
 
     Raises:
         CagdError: ``profile`` not a 3-D engine curve, a zero-length ``axis_direction``,

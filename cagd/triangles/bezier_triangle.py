@@ -50,6 +50,8 @@ class BezierTriangle(Surface):
             argument and the triple).
     """
 
+    rectangular = False
+
     def __init__(self, control_points, weights=None):
         P, n = parse_points(control_points, "control_points")
         W = parse_weights(weights, n, "weights")

@@ -3,6 +3,8 @@ split surface are C1, the seed's Bezier construction with a scaled difference ve
 is G1 but not C1, a kinked pair is only C0, and a gap is not even C0."""
 import numpy as np
 import pytest
+
+import cagd
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -215,3 +217,9 @@ def test_errors():
         edge_continuity(s, s, "u1", "u0", reverse="yes")
     with pytest.raises(CagdError, match="s1"):
         edge_continuity(line, line, "u1", "u0")
+
+
+def test_triangles_are_sent_to_triangle_continuity():
+    tri = cagd.BezierTriangle(np.arange(30.0).reshape(10, 3) % 7)
+    with pytest.raises(cagd.CagdError, match="triangle_continuity"):
+        cagd.edge_continuity(tri, tri, "u0", "u0")
