@@ -98,7 +98,14 @@ class BSplineCurve(Curve):
     def _evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
         pp = self.ppform
         if order == 0:
-            return (pp.projected(t) if self.is_rational else pp(t))[None]
+            pts = pp.projected(t) if self.is_rational else pp(t)
+            # clamped ends interpolate their control points bit for bit
+            u, p, n = self._u, self.degree, len(self._hom)
+            if u[0] == u[p]:
+                pts[t == u[p]] = self.control_points[0]
+            if u[-1] == u[n]:
+                pts[t == u[n]] = self.control_points[-1]
+            return pts[None]
         hom = np.stack([pp(t)] + [self._derivative_ppform(k)(t) for k in range(1, order + 1)])
         return rational_derivatives(hom) if self.is_rational else hom
 

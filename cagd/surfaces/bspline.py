@@ -16,6 +16,7 @@ import numpy as np
 from .. import _checks
 from ..basis.bspline import basis_derivatives, basis_matrix
 from ..curves.bspline import BSplineCurve
+from ..curves.ppform import PPForm
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Surface, rational_partials
@@ -90,7 +91,86 @@ class BSplineSurface(Surface):
                               self.knots_v, self.weights, self.periodic_u, self.periodic_v)
 
     # --- evaluation --------------------------------------------------------------------
+    def _patch_table(self):
+        """Per span pair (su, sv), the power coefficients of the patch in the centred
+        local variables x, y in [-1, 1]: the u-direction pp form of the rows (their
+        Taylor coefficients at the u-span midpoints), then the v-direction pp form of
+        each coefficient. Returns (pp_u, pp_v, tables[a][b][d] of length Sv*Su), or
+        None when the table would exceed ~4e6 values (then the gather path is used)."""
+        if not hasattr(self, "_table"):
+            p, q = self.degree_u, self.degree_v
+            nu, nv, D = self._hom.shape
+            su = np.count_nonzero(self._u[p:nu] < self._u[p + 1:nu + 1])
+            sv = np.count_nonzero(self._v[q:nv] < self._v[q + 1:nv + 1])
+            if (p + 1) * (q + 1) * su * sv * D > 4_000_000:
+                self._table = None
+            else:
+                pp_u = PPForm.from_bspline(self._u, p, self._hom.reshape(nu, nv * D))
+                cu = pp_u.coefficients.reshape(p + 1, su, nv, D)             # (a, su, j, d)
+                pp_v = PPForm.from_bspline(self._v, q, cu.transpose(2, 0, 1, 3).reshape(nv, -1))
+                cv = pp_v.coefficients.reshape(q + 1, sv, p + 1, su, D)      # (b, sv, a, su, d)
+                tables = [[[np.ascontiguousarray(cv[b, :, a, :, d]).ravel() for d in range(D)]
+                           for b in range(q + 1)] for a in range(p + 1)]
+                self._table = (pp_u, pp_v, tables, su)
+        return self._table
+
+    def _evaluate_points(self, u: np.ndarray, v: np.ndarray) -> Optional[np.ndarray]:
+        """Points by nested Horner on the patch table (1-D gathers only), chunked."""
+        table = self._patch_table()
+        if table is None:
+            return None
+        pp_u, pp_v, tables, su_count = table
+        p, q, D = self.degree_u, self.degree_v, self._hom.shape[2]
+        out = np.empty((u.shape[0], D))
+        for s in range(0, u.shape[0], _CHUNK):
+            uc, vc = u[s:s + _CHUNK], v[s:s + _CHUNK]
+            ju, jv = pp_u.span_of(uc), pp_v.span_of(vc)
+            x = (uc - pp_u._mid.take(ju)) * pp_u._inv_half.take(ju)
+            y = (vc - pp_v._mid.take(jv)) * pp_v._inv_half.take(jv)
+            idx = jv * su_count + ju
+            for d in range(D):
+                acc = None
+                for a in range(p, -1, -1):
+                    inner = tables[a][q][d].take(idx)
+                    for b in range(q - 1, -1, -1):
+                        inner *= y
+                        inner += tables[a][b][d].take(idx)
+                    if acc is None:
+                        acc = inner
+                    else:
+                        acc *= x
+                        acc += inner
+                out[s:s + _CHUNK, d] = acc
+        return out
+
     def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        if du == 0 and dv == 0:
+            pts = self._evaluate_points(u, v)
+            if pts is not None:
+                # on a clamped boundary the basis is exactly 0/1: evaluate those points
+                # through the basis so that boundaries reproduce their control points
+                # bit for bit (closed seams stay closed exactly)
+                on_edge = self._on_clamped_edge(u, v)
+                if on_edge.any():
+                    pts[on_edge] = self._evaluate_by_basis(u[on_edge], v[on_edge], 0, 0)[0, 0]
+                if self.is_rational:
+                    pts = pts[:, :-1] / pts[:, -1:]
+                return pts[None, None]
+        out = self._evaluate_by_basis(u, v, du, dv)
+        return rational_partials(out) if self.is_rational else out
+
+    def _on_clamped_edge(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        p, q = self.degree_u, self.degree_v
+        mask = np.zeros(u.shape, dtype=bool)
+        for x, knots, deg in ((u, self._u, p), (v, self._v, q)):
+            if knots[0] == knots[deg]:
+                mask |= x == knots[deg]
+            if knots[-1] == knots[-1 - deg]:
+                mask |= x == knots[-1 - deg]
+        return mask
+
+    def _evaluate_by_basis(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        """Homogeneous partials through the local bases (Piegl & Tiller A3.6, A4.4 input)."""
         p, q = self.degree_u, self.degree_v
         nu, nv, D = self._hom.shape
         out = np.empty((du + 1, dv + 1, u.shape[0], D))
@@ -103,7 +183,7 @@ class BSplineSurface(Surface):
             Nv = basis_derivatives(self._v, q, vc, sv, dv)          # (dv+1, m, q+1)
             local = self._hom[(su[:, None] - p + ii)[:, :, None], (sv[:, None] - q + jj)[:, None, :]]
             out[:, :, s:s + _CHUNK] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
-        return rational_partials(out) if self.is_rational else out
+        return out
 
     def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
         nu, nv, D = self._hom.shape

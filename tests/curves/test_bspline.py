@@ -614,9 +614,6 @@ def test_narrow_span_evaluates():
     np.testing.assert_allclose(r(t), c(t), atol=1e-13)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "core defect (reported, minor): a span of subnormal width (< 2.2e-308) makes "
-    "PPForm's 2/(b_{j+1} - b_j) overflow to inf, so the curve evaluates to NaN there"))
 def test_subnormal_span_evaluates():
     c = BSplineCurve([[0.0], [1.0]], 1)
     r = c.insert_knot(5e-324)
@@ -709,3 +706,14 @@ def test_shapes():
     assert c.derivatives(np.zeros(7), 2).shape == (3, 7, 2)
     assert c.derivative([0.1, 0.2], 2).shape == (2, 2)
     assert BSplineCurve(P5[:, 0], 2)(np.linspace(0, 1, 5)).shape == (5, 1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(curve=bspline_curves(kinds=("clamped",)))
+def test_clamped_ends_interpolate_bit_for_bit(curve):
+    """A clamped curve starts and ends exactly at its first and last control points
+    (closed profiles stay closed exactly when their end points coincide)."""
+    a, b = curve.domain
+    ends = curve(np.array([a, b]))
+    assert np.array_equal(ends[0], curve.control_points[0])
+    assert np.array_equal(ends[1], curve.control_points[-1])
