@@ -37,7 +37,8 @@ def surface_parameters(points, method: SurfaceParameters = "chord") -> Tuple[np.
     if isinstance(method, str):
         if method not in _METHODS:
             raise CagdError(f"parameters: unknown method {method!r}; use one of {_METHODS} or a pair of arrays")
-        return _averaged(Q, method, "u"), _averaged(Q.transpose(1, 0, 2), method, "v")
+        return (averaged_chord_parameters(Q, method, "points", "rows"),
+                averaged_chord_parameters(Q.transpose(1, 0, 2), method, "points", "columns"))
     if not isinstance(method, (tuple, list)) or len(method) != 2:
         raise CagdError("parameters: expected a method name or a pair (params_u, params_v)")
     pu = parametrize(Q[:, 0], method[0])           # checks length and strict increase
@@ -82,8 +83,18 @@ def _grid(points) -> np.ndarray:
     return Q
 
 
-def _averaged(Q: np.ndarray, method: str, which: str) -> np.ndarray:
-    """Mean over the columns Q[:, l] of their curve parameters (along axis 0)."""
+def averaged_chord_parameters(Q: np.ndarray, method: str, name: str = "points", item: str = "rows") -> np.ndarray:
+    """Parameters 0 = t_0 < ... < t_n = 1 of the n+1 entries along axis 0 of Q (shape
+    (n+1, columns, dim)): the chord-length ("chord") or square-root chord
+    ("centripetal") parameters of every column, averaged over the columns (Piegl &
+    Tiller eq. 9.9-9.10, 10.8); columns of zero total length (a pole, a common apex)
+    are left out; "uniform" gives k/n. Shared by surface interpolation (grid rows)
+    and lofting (sections).
+
+    Raises:
+        CagdError: naming ``name`` when every column has zero length or two
+            consecutive ``item`` coincide in every column.
+    """
     n = Q.shape[0] - 1
     if method == "uniform":
         return np.arange(n + 1, dtype=np.float64) / n
@@ -93,14 +104,13 @@ def _averaged(Q: np.ndarray, method: str, which: str) -> np.ndarray:
     total = d.sum(axis=0)
     used = total > 0.0
     if not used.any():
-        raise CagdError(f"points: every {'column' if which == 'u' else 'row'} of the grid has zero length; "
-                        f"no {method} parameters in {which}")
+        raise CagdError(f"{name}: all {item} coincide; no {method} parameters")
     u = np.concatenate([np.zeros((1, int(used.sum()))), np.cumsum(d[:, used], axis=0)]) / total[used]
     u = u.mean(axis=1)
     u[0], u[-1] = 0.0, 1.0
     bad = np.flatnonzero(np.diff(u) <= 0.0)
     if bad.size:
         k = int(bad[0])
-        raise CagdError(f"points: the averaged {which} parameters are not increasing at index {k + 1} "
-                        f"(rows {k} and {k + 1} coincide in every {'column' if which == 'u' else 'row'})")
+        raise CagdError(f"{name}: {item}[{k}] and {item}[{k + 1}] coincide; "
+                        f"{method} parameters need distinct consecutive {item}")
     return u

@@ -18,6 +18,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
+from .fitting import averaged_chord_parameters
 
 _SNAP = 64 * np.finfo(float).eps     # knots this close (on [0, 1]) are the same knot
 _METHODS = ("uniform", "chord", "centripetal")
@@ -179,21 +180,7 @@ def loft_parameters(sections, parameters: Union[str, Sequence[float]] = "chord")
     if parameters == "uniform":
         return np.arange(K + 1) / K
     Q = np.stack([c.control_points for c in cs])                 # (K+1, n, dim)
-    d = np.linalg.norm(np.diff(Q, axis=0), axis=2)               # (K, n)
-    if parameters == "centripetal":
-        d = np.sqrt(d)
-    total = d.sum(axis=0)
-    keep = total > 0
-    if not keep.any():
-        raise CagdError("sections: all sections coincide")
-    v = np.concatenate([[0.0], (np.cumsum(d[:, keep], axis=0) / total[keep]).mean(axis=1)])
-    v[-1] = 1.0
-    bad = np.flatnonzero(np.diff(v) <= 0)
-    if bad.size:
-        k = int(bad[0])
-        raise CagdError(f"sections: sections[{k}] and sections[{k + 1}] coincide; "
-                        f"{parameters} parameters need distinct consecutive sections")
-    return v
+    return averaged_chord_parameters(Q, parameters, "sections", "sections")
 
 
 def loft(sections, degree_v: int = 3, parameters: Union[str, Sequence[float]] = "chord") -> BSplineSurface:
