@@ -76,3 +76,14 @@ def scalar(value, name: str) -> float:
 def parameters(t, name: str = "t") -> np.ndarray:
     """Finite float64 parameters of any shape."""
     return finite_array(t, name)
+
+
+def affine_map(matrix, offset, dim: int, what: str):
+    """(A, b) of an affine map x -> A x + b acting on ``dim``-D points of a ``what``."""
+    A = finite_array(matrix, "matrix", ndim=2)
+    if A.shape[1] != dim:
+        raise CagdError(f"matrix: expected {dim} columns for a {dim}-D {what}, got {A.shape}")
+    b = np.zeros(A.shape[0]) if offset is None else finite_array(offset, "offset", ndim=1)
+    if b.shape[0] != A.shape[0]:
+        raise CagdError(f"offset: expected {A.shape[0]} values, got {b.shape[0]}")
+    return A, b

@@ -11,7 +11,7 @@ from typing import Tuple
 
 import numpy as np
 
-from .._checks import finite_array, integer, parameters
+from .._checks import affine_map, integer, parameters
 from ..errors import CagdError
 
 # Gauss-Legendre rule for arc length (Numerical Recipes 4.6; Piegl & Tiller don't cover this)
@@ -75,12 +75,7 @@ class Curve:
     def transformed(self, matrix, offset=None) -> "Curve":
         """The curve under the affine map x -> matrix @ x + offset, applied to the
         defining points (affine invariance, seed 000, 5.2.2; seed 004, 1.2)."""
-        A = finite_array(matrix, "matrix", ndim=2)
-        if A.shape[1] != self.dim:
-            raise CagdError(f"matrix: expected {self.dim} columns for a {self.dim}-D curve, got {A.shape}")
-        b = np.zeros(A.shape[0]) if offset is None else finite_array(offset, "offset", ndim=1)
-        if b.shape[0] != A.shape[0]:
-            raise CagdError(f"offset: expected {A.shape[0]} values, got {b.shape[0]}")
+        A, b = affine_map(matrix, offset, self.dim, "curve")
         return self._affine(A, b)
 
     def translated(self, offset) -> "Curve":

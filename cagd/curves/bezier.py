@@ -1,7 +1,7 @@
 """Bezier curves, polynomial and rational (seed 000, 5.2; seed 003, 2.2.4 blossoms)."""
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import Tuple
 
 import numpy as np
 

@@ -4,7 +4,7 @@ The NURBS Book, 9.2.1 and 9.4.1).
 """
 from __future__ import annotations
 
-from typing import Optional, Union
+from typing import Union
 
 import numpy as np
 

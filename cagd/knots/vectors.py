@@ -5,7 +5,7 @@ from typing import Tuple
 
 import numpy as np
 
-from .._checks import finite_array, integer
+from .._checks import finite_array
 from ..errors import CagdError
 
 

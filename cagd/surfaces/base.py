@@ -12,7 +12,7 @@ from typing import Tuple
 
 import numpy as np
 
-from .._checks import finite_array, integer, parameters
+from .._checks import affine_map, finite_array, integer, parameters
 from ..errors import CagdError
 
 
@@ -132,12 +132,7 @@ class Surface:
 
     def transformed(self, matrix, offset=None) -> "Surface":
         """The surface under x -> matrix @ x + offset, applied to the control points."""
-        A = finite_array(matrix, "matrix", ndim=2)
-        if A.shape[1] != self.dim:
-            raise CagdError(f"matrix: expected {self.dim} columns for a {self.dim}-D surface, got {A.shape}")
-        b = np.zeros(A.shape[0]) if offset is None else finite_array(offset, "offset", ndim=1)
-        if b.shape[0] != A.shape[0]:
-            raise CagdError(f"offset: expected {A.shape[0]} values, got {b.shape[0]}")
+        A, b = affine_map(matrix, offset, self.dim, "surface")
         return self._affine(A, b)
 
     # --- iso-parametric and boundary curves --------------------------------------------------
