@@ -10,39 +10,26 @@ Run: python -m benchmarks.bspline_eval [--points N] [--repeat R]
 from __future__ import annotations
 
 import argparse
-import time
-from typing import Callable, List, Tuple
+from typing import List
 
 import numpy as np
 
 import cagd
 
-
-def _best(fn: Callable[[], np.ndarray], repeat: int) -> Tuple[float, np.ndarray]:
-    out = fn()
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from .common import best, occ_knots
 
 
 def _occ_curve(curve: cagd.BSplineCurve):
     from OCP.Geom import Geom_BSplineCurve
     from OCP.TColgp import TColgp_Array1OfPnt
-    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
+    from OCP.TColStd import TColStd_Array1OfReal
     from OCP.gp import gp_Pnt
 
     f = curve.occ_form()
     poles = TColgp_Array1OfPnt(1, len(f.poles))
     for i, p in enumerate(f.poles, 1):
         poles.SetValue(i, gp_Pnt(*map(float, p)))
-    knots = TColStd_Array1OfReal(1, len(f.knots))
-    mults = TColStd_Array1OfInteger(1, len(f.knots))
-    for i, (k, m) in enumerate(zip(f.knots, f.multiplicities), 1):
-        knots.SetValue(i, float(k))
-        mults.SetValue(i, int(m))
+    knots, mults = occ_knots(f.knots, f.multiplicities)
     if f.weights is None:
         return Geom_BSplineCurve(poles, knots, mults, f.degree, f.periodic)
     weights = TColStd_Array1OfReal(1, len(f.weights))
@@ -71,25 +58,25 @@ def main(argv: List[str] = None) -> int:
     size = np.ptp(control_points, axis=0).max()
 
     rows = []  # (name, seconds, points, result, reference)
-    sec, ref = _best(lambda: curve(t), args.repeat)
+    sec, ref = best(lambda: curve(t), args.repeat)
     rows.append(("engine, clamped uniform knots", sec, len(t), ref, ref))
-    sec, out = _best(lambda: curve(t_random), args.repeat)
+    sec, out = best(lambda: curve(t_random), args.repeat)
     rows.append(("engine, unsorted parameters", sec, len(t), None, None))
-    sec, out = _best(lambda: curve_nu(t), args.repeat)
+    sec, out = best(lambda: curve_nu(t), args.repeat)
     rows.append(("engine, non-uniform knots", sec, len(t), None, None))
-    sec, out_r = _best(lambda: nurbs(t), args.repeat)
+    sec, out_r = best(lambda: nurbs(t), args.repeat)
     rows.append(("engine, rational (NURBS)", sec, len(t), None, None))
 
     from scipy.interpolate import BSpline
     sp = BSpline(curve.knots, control_points, 3)
-    sec, out = _best(lambda: sp(t), args.repeat)
+    sec, out = best(lambda: sp(t), args.repeat)
     rows.append(("scipy BSpline", sec, len(t), out, ref))
     scipy_row = len(rows) - 1
     sp_w = BSpline(curve.knots, np.hstack([control_points * weights[:, None], weights[:, None]]), 3)
-    sec, hom = _best(lambda: sp_w(t), args.repeat)
+    sec, hom = best(lambda: sp_w(t), args.repeat)
     rows.append(("scipy BSpline, homogeneous + division (NURBS)", sec, len(t), hom[:, :3] / hom[:, 3:], out_r))
     sp_nu = BSpline(curve_nu.knots, control_points, 3)
-    sec, out_nu = _best(lambda: sp_nu(t), args.repeat)
+    sec, out_nu = best(lambda: sp_nu(t), args.repeat)
     rows.append(("scipy BSpline, non-uniform knots", sec, len(t), out_nu, curve_nu(t)))
 
     try:
@@ -98,7 +85,7 @@ def main(argv: List[str] = None) -> int:
         g.degree = 3
         g.ctrlpts = control_points.tolist()
         g.knotvector = curve.knots.tolist()
-        sec, out = _best(lambda: np.array(g.evaluate_list(sub.tolist())), 1)
+        sec, out = best(lambda: np.array(g.evaluate_list(sub.tolist())), 1)
         rows.append(("geomdl (subsample)", sec, len(sub), out, curve(sub)))
     except ImportError:
         print("geomdl not installed: skipped")
@@ -109,7 +96,7 @@ def main(argv: List[str] = None) -> int:
         def occ_eval():
             pts = [occ.Value(float(x)) for x in sub]
             return np.array([[p.X(), p.Y(), p.Z()] for p in pts])
-        sec, out = _best(occ_eval, 1)
+        sec, out = best(occ_eval, 1)
         rows.append(("OCCT Geom_BSplineCurve per point (subsample)", sec, len(sub), out, curve(sub)))
     except ImportError:
         print("OCP not installed: skipped")

@@ -14,28 +14,18 @@ Run: python -m benchmarks.surface_grid [--grid N] [--repeat R]
 from __future__ import annotations
 
 import argparse
-import time
-from typing import Callable, List, Tuple
+from typing import List
 
 import numpy as np
 
 import cagd
 
-
-def _best(fn: Callable[[], np.ndarray], repeat: int) -> Tuple[float, np.ndarray]:
-    out = fn()
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from .common import best, occ_knots
 
 
 def _occ_surface(s: cagd.BSplineSurface):
     from OCP.Geom import Geom_BSplineSurface
     from OCP.TColgp import TColgp_Array2OfPnt
-    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
     from OCP.gp import gp_Pnt
 
     nu, nv, _ = s.control_points.shape
@@ -45,13 +35,7 @@ def _occ_surface(s: cagd.BSplineSurface):
             poles.SetValue(i + 1, j + 1, gp_Pnt(*map(float, s.control_points[i, j])))
 
     def knots(full):
-        values, mults = cagd.knots.distinct_with_multiplicities(full)
-        k = TColStd_Array1OfReal(1, len(values))
-        m = TColStd_Array1OfInteger(1, len(values))
-        for i, (x, c) in enumerate(zip(values, mults), 1):
-            k.SetValue(i, float(x))
-            m.SetValue(i, int(c))
-        return k, m
+        return occ_knots(*cagd.knots.distinct_with_multiplicities(full))
 
     ku, mu = knots(s.knots_u)
     kv, mv = knots(s.knots_v)
@@ -79,12 +63,12 @@ def main(argv: List[str] = None) -> int:
     U, V = (x.ravel() for x in np.meshgrid(sub_u, sub_v, indexing="ij"))
 
     rows = []  # (name, seconds, points, result, reference)
-    sec, ref = _best(lambda: surface.grid(us, vs), args.repeat)
+    sec, ref = best(lambda: surface.grid(us, vs), args.repeat)
     rows.append(("engine grid", sec, npts, ref, ref))
     ref_sub = ref[::step, ::step].reshape(-1, 3)
-    sec, out = _best(lambda: surface(us[:, None], vs[None, :]), max(1, args.repeat // 2))
+    sec, out = best(lambda: surface(us[:, None], vs[None, :]), max(1, args.repeat // 2))
     rows.append(("engine __call__ (element-wise, broadcast)", sec, npts, out, ref))
-    sec, out_r = _best(lambda: nurbs.grid(us, vs), args.repeat)
+    sec, out_r = best(lambda: nurbs.grid(us, vs), args.repeat)
     rows.append(("engine grid, rational (NURBS)", sec, npts, None, None))
 
     from scipy.interpolate import BSpline
@@ -93,7 +77,7 @@ def main(argv: List[str] = None) -> int:
         rows_v = BSpline(surface.knots_v, P.transpose(1, 0, 2).reshape(20, 60), 3)(vs)        # (Mv, nu*3)
         cols = rows_v.reshape(len(vs), 20, 3).transpose(1, 0, 2).reshape(20, -1)
         return BSpline(surface.knots_u, cols, 3)(us).reshape(len(us), len(vs), 3)
-    sec, out = _best(scipy_grid, args.repeat)
+    sec, out = best(scipy_grid, args.repeat)
     rows.append(("scipy BSpline per direction", sec, npts, out, ref))
 
     try:
@@ -102,7 +86,7 @@ def main(argv: List[str] = None) -> int:
         basis_v = splipy.BSplineBasis(order=4, knots=surface.knots_v)
         # splipy orders the control points with u running fastest
         sp = splipy.Surface(basis_u, basis_v, P.transpose(1, 0, 2).reshape(-1, 3))
-        sec, out = _best(lambda: sp(us, vs), args.repeat)
+        sec, out = best(lambda: sp(us, vs), args.repeat)
         rows.append(("splipy Surface(us, vs)", sec, npts, out, ref))
     except ImportError:
         print("splipy not installed: skipped")
@@ -116,7 +100,7 @@ def main(argv: List[str] = None) -> int:
         g.knotvector_u = surface.knots_u.tolist()
         g.knotvector_v = surface.knots_v.tolist()
         pairs = np.column_stack([U, V]).tolist()
-        sec, out = _best(lambda: np.array(g.evaluate_list(pairs)), 1)
+        sec, out = best(lambda: np.array(g.evaluate_list(pairs)), 1)
         rows.append(("geomdl evaluate_list (subsample)", sec, len(U), out, ref_sub))
     except ImportError:
         print("geomdl not installed: skipped")
@@ -130,7 +114,7 @@ def main(argv: List[str] = None) -> int:
                 p = occ.Value(a, b)
                 out[k] = (p.X(), p.Y(), p.Z())
             return out
-        sec, out = _best(occ_eval, 1)
+        sec, out = best(occ_eval, 1)
         rows.append(("OCCT Geom_BSplineSurface.Value per point (subsample)", sec, len(U), out, ref_sub))
     except ImportError:
         print("OCP not installed: skipped")
