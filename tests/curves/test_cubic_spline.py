@@ -48,8 +48,16 @@ def check_against(s, oracle, t, tol=1e-12, ends3=True):
     """Values and derivatives 1..3 agree; ``ends3=False`` skips the third derivative
     at the two ends (where an oracle on a longer knot sequence jumps)."""
     got = s.derivatives(t, 3)
+    # the third derivative jumps at the knots: compare it only away from them (the
+    # engine's and the oracle's knots agree to rounding, so a sample on a knot may
+    # take different sides)
+    knots = np.asarray(s.parameters)[1:-1]
+    width = s.domain[1] - s.domain[0]
+    off_knots = np.abs(t[:, None] - knots[None, :]).min(axis=1, initial=np.inf) > 1e-9 * width
     for k in range(4):
-        sel = slice(None) if ends3 or k < 3 else slice(1, -1)
+        sel = np.ones(len(t), dtype=bool) if k < 3 else off_knots.copy()
+        if k == 3 and not ends3:
+            sel[[0, -1]] = False
         want = oracle(t[sel], k)
         assert relative_error(got[k][sel], want, size_of(want)) < tol, k
 
