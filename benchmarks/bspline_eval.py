@@ -16,7 +16,7 @@ import numpy as np
 
 import cagd
 
-from .common import best, occ_knots
+from .common import best, occ_knots, report
 
 
 def _occ_curve(curve: cagd.BSplineCurve):
@@ -101,18 +101,8 @@ def main(argv: List[str] = None) -> int:
     except ImportError:
         print("OCP not installed: skipped")
 
-    engine_rate = rows[0][2] / rows[0][1]
     print(f"cubic B-spline, 100 control points, {args.points} parameters, best of {args.repeat}")
-    print(f"{'implementation':48s} {'M points/s':>11s} {'engine / peer':>14s} {'max deviation':>14s}")
-    ok = True
-    for name, sec, npts, out, reference in rows:
-        rate = npts / sec
-        dev = ""
-        if out is not None and reference is not None:
-            d = float(np.abs(np.asarray(out) - reference).max() / size)
-            ok &= d <= 1e-12
-            dev = f"{d:.1e}"
-        print(f"{name:48s} {rate / 1e6:11.2f} {engine_rate / rate:14.2f} {dev:>14s}")
+    ok = report(rows, size)
     rational_ratio = rows[3][1] / rows[0][1]
     print(f"rational / polynomial time: {rational_ratio:.2f} (target <= 1.5)")
     scipy_ratio = (rows[0][2] / rows[0][1]) / (rows[scipy_row][2] / rows[scipy_row][1])

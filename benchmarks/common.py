@@ -28,3 +28,22 @@ def occ_knots(distinct, multiplicities):
         k.SetValue(i, float(x))
         m.SetValue(i, int(c))
     return k, m
+
+
+def report(rows, size: float, width: int = 48, engine_label: str = "engine / peer") -> bool:
+    """Print the table of (name, seconds, points, result, reference) rows: throughput in
+    M points/s, the first row's rate over each row's, and the max deviation from the
+    reference relative to ``size``. Returns whether every deviation is <= 1e-12."""
+    engine_rate = rows[0][2] / rows[0][1]
+    col = max(len(engine_label), 14)
+    print(f"{'implementation':{width}s} {'M points/s':>11s} {engine_label:>{col}s} {'max deviation':>14s}")
+    ok = True
+    for name, sec, npts, out, reference in rows:
+        rate = npts / sec
+        dev = ""
+        if out is not None and reference is not None:
+            d = float(np.abs(np.asarray(out) - reference).max() / size)
+            ok &= d <= 1e-12
+            dev = f"{d:.1e}"
+        print(f"{name:{width}s} {rate / 1e6:11.2f} {engine_rate / rate:{col}.2f} {dev:>14s}")
+    return ok

@@ -20,7 +20,7 @@ import numpy as np
 
 import cagd
 
-from .common import best, occ_knots
+from .common import best, occ_knots, report
 
 
 def _occ_surface(s: cagd.BSplineSurface):
@@ -121,16 +121,7 @@ def main(argv: List[str] = None) -> int:
 
     engine_rate = rows[0][2] / rows[0][1]
     print(f"bicubic B-spline surface, 20 x 20 control points, {len(us)} x {len(vs)} grid, best of {args.repeat}")
-    print(f"{'implementation':54s} {'M points/s':>11s} {'engine grid / peer':>19s} {'max deviation':>14s}")
-    ok = True
-    for name, sec, n, out, reference in rows:
-        rate = n / sec
-        dev = ""
-        if out is not None and reference is not None:
-            d = float(np.abs(np.asarray(out) - reference).max() / size)
-            ok &= d <= 1e-12
-            dev = f"{d:.1e}"
-        print(f"{name:54s} {rate / 1e6:11.2f} {engine_rate / rate:19.2f} {dev:>14s}")
+    ok = report(rows, size, width=54, engine_label="engine grid / peer")
     print(f"engine grid: {engine_rate / 1e6:.1f} M points/s (target >= 50)")
     print("all results within 1e-12 of the engine" if ok else "DEVIATION ABOVE 1e-12")
     return 0 if ok else 1

@@ -87,3 +87,15 @@ def affine_map(matrix, offset, dim: int, what: str):
     if b.shape[0] != A.shape[0]:
         raise CagdError(f"offset: expected {A.shape[0]} values, got {b.shape[0]}")
     return A, b
+
+
+def increasing(value, count: int, name: str = "parameters") -> np.ndarray:
+    """``count`` finite, strictly increasing values (one parameter per point)."""
+    t = finite_array(value, name, ndim=1)
+    if t.shape[0] != count:
+        raise CagdError(f"{name}: expected {count} values (one per point), got {t.shape[0]}")
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        i = int(bad[0])
+        raise CagdError(f"{name}: must be strictly increasing ({name}[{i + 1}]={t[i + 1]} <= {name}[{i}]={t[i]})")
+    return t

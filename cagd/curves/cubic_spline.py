@@ -22,7 +22,7 @@ from .. import _checks
 from ..errors import CagdError
 from ..knots.vectors import periodic_extend
 from .bspline import BSplineCurve
-from .hermite import HermiteSpline, _blossom_control_points, _increasing
+from .hermite import HermiteSpline, _blossom_control_points
 
 END_CONDITIONS = ("natural", "clamped", "periodic", "virtual")
 PARAMETRIZATIONS = ("uniform", "chord", "centripetal")
@@ -227,7 +227,7 @@ class CubicSpline(HermiteSpline):
         n = P.shape[0] - 1
         chords = _chords(P, "points")
         explicit = parameters is not None
-        t = _increasing(parameters, n + 1) if explicit else \
+        t = _checks.increasing(parameters, n + 1) if explicit else \
             np.concatenate([[0.0], np.cumsum(_interval_lengths(chords, parametrization))])
 
         self.end_condition = end_condition

@@ -115,17 +115,6 @@ class HermiteCurve(Curve):
         return HermiteCurve(A @ self.p0 + b, A @ self.p1 + b, A @ self.t0, A @ self.t1)
 
 
-def _increasing(value, count: int, name: str = "parameters") -> np.ndarray:
-    t = _checks.finite_array(value, name, ndim=1)
-    if t.shape[0] != count:
-        raise CagdError(f"{name}: expected {count} values (one per point), got {t.shape[0]}")
-    bad = np.flatnonzero(np.diff(t) <= 0)
-    if bad.size:
-        i = int(bad[0])
-        raise CagdError(f"{name}: must be strictly increasing ({name}[{i + 1}]={t[i + 1]} <= {name}[{i}]={t[i]})")
-    return t
-
-
 class HermiteSpline(Curve):
     """Piecewise cubic Hermite interpolant, C1: on [t_j, t_{j+1}] (h_j its length)
     the segment with P_j, P_{j+1} and u-tangents R = h_j m_j, h_j m_{j+1}, where m
@@ -147,7 +136,7 @@ class HermiteSpline(Curve):
         if m.shape != P.shape:
             raise CagdError(f"tangents: expected shape {P.shape} (one per point), got {m.shape}")
         n = P.shape[0]
-        t = np.arange(n, dtype=np.float64) if parameters is None else _increasing(parameters, n)
+        t = np.arange(n, dtype=np.float64) if parameters is None else _checks.increasing(parameters, n)
         self.points, self.tangents, self.parameters = P, m, t
         self.dim = P.shape[1]
         self._pp = PPForm.from_unit_power(t, self.unit_coefficients())

@@ -54,15 +54,7 @@ def parametrize(points, method: ParameterSpec = "chord") -> np.ndarray:
         u /= u[-1]
         u[-1] = 1.0
         return u
-    u = _checks.finite_array(method, "parameters", ndim=1)
-    if u.shape[0] != n + 1:
-        raise CagdError(f"parameters: expected {n + 1} values (one per point), got {u.shape[0]}")
-    bad = np.flatnonzero(np.diff(u) <= 0.0)
-    if bad.size:
-        i = int(bad[0])
-        raise CagdError(f"parameters: must be strictly increasing "
-                        f"(parameters[{i + 1}]={u[i + 1]} <= parameters[{i}]={u[i]})")
-    return u
+    return _checks.increasing(method, n + 1, "parameters")
 
 
 def bezier_through_points(points, parameters: ParameterSpec = "uniform") -> BezierCurve:
