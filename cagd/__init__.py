@@ -17,6 +17,7 @@ from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
 from .operations import ContinuityReport, continuity, join, join_bezier
+from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Surface, cone, cylinder,
                        ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus,
                        EdgeContinuityReport, edge_continuity, interpolate_surface)
@@ -24,7 +25,7 @@ from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle
 
 __version__ = "0.1.0"
 __all__ = [
-    "CagdError", "Curve", "BSplineCurve", "OccForm", "BezierCurve",
+    "CagdError", "Curve", "BSplineCurve", "OccForm", "SurfaceOccForm", "BezierCurve",
     "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",

@@ -318,32 +318,34 @@ class BSplineCurve(Curve):
     def occ_form(self) -> OccForm:
         """Poles (n, 3), weights, distinct knots, multiplicities, degree, periodic — what
         ``Geom_BSplineCurve`` takes. 2-D curves get z = 0. For a periodic curve the
-        poles are the distinct control points and the knots one period, the seam
-        multiplicity counted once over both ends. OCCT sees only distinct knots and
-        multiplicities: it reads the period as if t_0 were simple and every other seam
-        copy sat at the end, so the poles are rolled by (copies of t_0) - 1
-        (:meth:`_seam_shift`; checked against OCCT's own evaluator)."""
+        poles are the distinct control points, rolled by the seam shift of
+        :func:`cagd.knots.occ_knots`, and the knots one period."""
         if self.dim > 3:
             raise CagdError(f"control_points: OCCT curves are 3-D at most, this one is {self.dim}-D")
         poles = np.zeros((len(self.control_points), 3))
         poles[:, :self.dim] = self.control_points
         w = None if self.weights is None else self.weights.copy()
-        knots, mults = kv.distinct_with_multiplicities(self.knots)
-        if self.periodic:
-            mults = mults.copy()
-            mults[0] = mults[-1] = mults[0] + mults[-1] - 1
-            shift = self._seam_shift()
-            if shift:
-                poles = np.roll(poles, -shift, axis=0)
-                w = None if w is None else np.roll(w, -shift)
-        return OccForm(poles, w, knots, mults.astype(int), self.degree, self.periodic)
+        knots, mults, shift = kv.occ_knots(self.knots, self.periodic)
+        if shift:
+            poles = np.roll(poles, -shift, axis=0)
+            w = None if w is None else np.roll(w, -shift)
+        return OccForm(poles, w, knots, mults, self.degree, self.periodic)
 
-    def _seam_shift(self) -> int:
-        """Copies of the seam knot at the start of the period beyond the first: OCCT's
-        pole 0 is the engine's control point ``_seam_shift()`` (the engine's pole j
-        starts its support p knots before t_j, OCCT counts from the last copy of t_0)."""
-        t = self.knots
-        return int(np.count_nonzero(t == t[0])) - 1
+    @classmethod
+    def from_occ_form(cls, poles, weights, knots, multiplicities, degree: int,
+                      periodic: bool = False, dim: Optional[int] = None) -> "BSplineCurve":
+        """The inverse of :meth:`occ_form`: the same curve from OCCT's poles, weights,
+        distinct knots and multiplicities (``dim`` = 2 drops z). Weights all equal
+        give a polynomial B-spline (the same curve). Raises CagdError on bad input."""
+        P = _checks.points(poles, "poles", min_count=2)
+        if dim is not None:
+            P = P[:, :_checks.integer(dim, "dim", 1, P.shape[1])]
+        degree = _checks.integer(degree, "degree", 1)
+        t = kv.from_occ_knots(knots, multiplicities, degree, periodic)
+        w = None if weights is None else _checks.weights(weights, len(P))
+        if w is not None and np.all(w == w[0]):
+            w = None
+        return cls(P, degree, t, w, periodic)
 
 
 def _boehm(u: np.ndarray, hom: np.ndarray, p: int, t: float) -> Tuple[np.ndarray, np.ndarray]:

@@ -133,3 +133,47 @@ def find_span(knots: np.ndarray, degree: int, t: np.ndarray, count: int) -> np.n
         last -= 1
     np.minimum(span, last, out=span)
     return span
+
+
+def occ_knots(knots, periodic: bool) -> Tuple[np.ndarray, np.ndarray, int]:
+    """Engine knots -> OCCT's (distinct knots, multiplicities, pole shift).
+
+    Non-periodic: the full vector, shift 0. Periodic (one period t_0..t_n): OCCT
+    counts the seam multiplicity once over both ends, and reads the period as if
+    t_0 were simple with every other seam copy at the end, so its pole 0 is the
+    engine's control point ``shift`` = (copies of t_0 at the start) - 1 (checked
+    against OCCT's own evaluator in tests/occ)."""
+    knots = np.asarray(knots, dtype=np.float64)
+    distinct, mults = distinct_with_multiplicities(knots)
+    mults = mults.astype(int)
+    if not periodic:
+        return distinct, mults, 0
+    mults[0] = mults[-1] = mults[0] + mults[-1] - 1
+    return distinct, mults, int(mults.size and np.count_nonzero(knots == knots[0]) - 1)
+
+
+def from_occ_knots(distinct, multiplicities, degree: int, periodic: bool,
+                   name: str = "knots") -> np.ndarray:
+    """OCCT's (distinct knots, multiplicities) -> the engine's knots: the full vector,
+    or for a periodic B-spline one period with t_0 simple and the seam's other copies
+    at the end, so that OCCT's poles are the engine's control points unshifted
+    (the inverse of :func:`occ_knots`). Raises CagdError for mismatched lengths,
+    non-increasing distinct knots or multiplicities out of [1, degree + 1]."""
+    t = finite_array(distinct, name)
+    m = np.asarray(multiplicities)
+    if t.ndim != 1 or m.shape != t.shape or t.size < 2:
+        raise CagdError(f"{name}: need at least 2 distinct knots and one multiplicity each, "
+                        f"got {t.shape} knots and {m.shape} multiplicities")
+    if not np.all(np.diff(t) > 0):
+        raise CagdError(f"{name}: distinct knots must be strictly increasing")
+    if not np.array_equal(m, np.round(m)) or m.min() < 1 or m.max() > degree + 1:
+        raise CagdError(f"{name}: multiplicities must be integers in [1, degree + 1 = {degree + 1}], "
+                        f"got {m.tolist()}")
+    m = m.astype(int)
+    if periodic:
+        if m[0] != m[-1]:
+            raise CagdError(f"{name}: a periodic B-spline needs equal first and last multiplicities, "
+                            f"got {m[0]} and {m[-1]}")
+        m = m.copy()
+        m[0] = 1
+    return from_multiplicities(t, m)

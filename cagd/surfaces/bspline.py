@@ -9,7 +9,7 @@ algorithms on the rows of the homogeneous control net, seen as one curve whose
 """
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import NamedTuple, Optional, Tuple
 
 import numpy as np
 
@@ -22,6 +22,20 @@ from ..knots import vectors as kv
 from .base import Surface, rational_partials
 
 _CHUNK = 1 << 14
+
+
+class SurfaceOccForm(NamedTuple):
+    """Exactly the arguments of OCCT's ``Geom_BSplineSurface`` constructor."""
+    poles: np.ndarray                # (nu, nv, 3)
+    weights: Optional[np.ndarray]    # (nu, nv) or None
+    knots_u: np.ndarray              # distinct knots
+    knots_v: np.ndarray
+    multiplicities_u: np.ndarray     # int
+    multiplicities_v: np.ndarray
+    degree_u: int
+    degree_v: int
+    periodic_u: bool
+    periodic_v: bool
 
 
 class BSplineSurface(Surface):
@@ -89,6 +103,42 @@ class BSplineSurface(Surface):
     def _affine(self, A, b) -> "BSplineSurface":
         return BSplineSurface(self.control_points @ A.T + b, self.degree_u, self.degree_v, self.knots_u,
                               self.knots_v, self.weights, self.periodic_u, self.periodic_v)
+
+    # --- OCCT form ---------------------------------------------------------------------
+    def occ_form(self) -> SurfaceOccForm:
+        """Poles (nu, nv, 3), weights, distinct knots and multiplicities per direction,
+        degrees and periodic flags — what ``Geom_BSplineSurface`` takes; per direction
+        as :meth:`cagd.BSplineCurve.occ_form` (periodic poles rolled by the seam shift
+        of :func:`cagd.knots.occ_knots`). 2-D nets get z = 0."""
+        if self.dim > 3:
+            raise CagdError(f"control_points: OCCT surfaces are 3-D at most, this one is {self.dim}-D")
+        poles = np.zeros(self.control_points.shape[:2] + (3,))
+        poles[..., :self.dim] = self.control_points
+        w = None if self.weights is None else self.weights.copy()
+        ku, mu, su = kv.occ_knots(self.knots_u, self.periodic_u)
+        kvv, mv, sv = kv.occ_knots(self.knots_v, self.periodic_v)
+        poles = np.roll(poles, (-su, -sv), axis=(0, 1))
+        w = None if w is None else np.roll(w, (-su, -sv), axis=(0, 1))
+        return SurfaceOccForm(poles, w, ku, kvv, mu, mv, self.degree_u, self.degree_v,
+                              self.periodic_u, self.periodic_v)
+
+    @classmethod
+    def from_occ_form(cls, poles, weights, knots_u, knots_v, multiplicities_u, multiplicities_v,
+                      degree_u: int, degree_v: int, periodic_u: bool = False,
+                      periodic_v: bool = False) -> "BSplineSurface":
+        """The inverse of :meth:`occ_form` (see :meth:`cagd.BSplineCurve.from_occ_form`).
+        Raises CagdError on bad input."""
+        P = _checks.finite_array(poles, "poles")
+        degree_u = _checks.integer(degree_u, "degree_u", 1)
+        degree_v = _checks.integer(degree_v, "degree_v", 1)
+        tu = kv.from_occ_knots(knots_u, multiplicities_u, degree_u, periodic_u, "knots_u")
+        tv = kv.from_occ_knots(knots_v, multiplicities_v, degree_v, periodic_v, "knots_v")
+        w = None
+        if weights is not None:
+            w = _checks.finite_array(weights, "weights")
+            if w.size and np.all(w == w.flat[0]) and w.flat[0] > 0:
+                w = None
+        return cls(P, degree_u, degree_v, tu, tv, w, periodic_u, periodic_v)
 
     # --- evaluation --------------------------------------------------------------------
     def _patch_table(self):
