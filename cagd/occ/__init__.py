@@ -1,0 +1,31 @@
+"""The bridge to OpenCascade (through OCP, from the ``cadquery-ocp`` wheel).
+
+Every engine curve and surface goes to OCCT B-spline geometry through its exact
+NURBS form (``to_nurbs().occ_form()``) and comes back from any geometry OCCT can
+convert to a B-spline; shapes (edges, wires, faces, shells, solids), STEP and IGES
+files, and :func:`verify`, the round-trip proof (engine vs OCCT, vs STEP, vs IGES).
+
+Only this subpackage imports OCP; ``import cagd`` never does.
+"""
+try:
+    import OCP  # noqa: F401
+except ImportError as exc:  # pragma: no cover - depends on the installation
+    raise ImportError("cagd.occ needs OCP (OpenCascade for Python): pip install 'cagd[cad]' "
+                      "or pip install cadquery-ocp") from exc
+
+from OCP.Message import Message, Message_Gravity
+
+for _printer in Message.DefaultMessenger_s().Printers():    # OCCT's transfer chatter, as CadQuery does
+    _printer.SetTraceLevel(Message_Gravity.Message_Fail)
+
+from .convert import from_occ, to_occ  # noqa: E402
+from .shapes import (area, check_valid, free_edge_count, make_edge, make_face, make_solid,  # noqa: E402
+                     make_wire, sew, solid_from_surfaces, subshapes, volume)
+from .files import Imported, read_iges, read_shapes, read_step, write_iges, write_step  # noqa: E402
+from .verify import STAGES, StageResult, VerifyReport, verify  # noqa: E402
+
+__all__ = [
+    "to_occ", "from_occ", "make_edge", "make_wire", "make_face", "sew", "make_solid", "solid_from_surfaces",
+    "check_valid", "free_edge_count", "subshapes", "area", "volume", "write_step", "read_step", "write_iges",
+    "read_iges", "read_shapes", "Imported", "verify", "VerifyReport", "StageResult", "STAGES",
+]

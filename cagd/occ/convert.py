@@ -1,0 +1,261 @@
+"""Engine objects <-> OCCT geometry (Geom_BSplineCurve/Surface, Geom_BezierCurve/Surface).
+
+``to_occ`` passes ``obj.to_nurbs().occ_form()`` (exact: the same poles, weights,
+knots and multiplicities) to OCCT's constructors; ``from_occ`` reads them back
+(:meth:`cagd.BSplineCurve.from_occ_form`) after ``GeomConvert`` has turned any
+other bounded curve or surface into a B-spline. OCCT's arrays are filled one
+value at a time (OCP has no buffer access); that is the only per-pole loop.
+"""
+from __future__ import annotations
+
+from typing import Union
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
+from OCP.Geom import (Geom_BezierCurve, Geom_BezierSurface, Geom_BSplineCurve, Geom_BSplineSurface, Geom_Curve,
+                      Geom_RectangularTrimmedSurface, Geom_Surface, Geom_TrimmedCurve)
+from OCP.Geom2d import Geom2d_BSplineCurve, Geom2d_Curve
+from OCP.Geom2dConvert import Geom2dConvert
+from OCP.GeomConvert import GeomConvert
+from OCP.gp import gp_Pnt, gp_Pnt2d
+from OCP.Standard import Standard_Failure
+from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
+from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+from OCP.TopoDS import TopoDS, TopoDS_Shape
+
+from ..curves.base import Curve
+from ..curves.bezier import BezierCurve
+from ..curves.bspline import BSplineCurve
+from ..errors import CagdError
+from ..surfaces.base import Surface
+from ..surfaces.bezier import BezierSurface
+from ..surfaces.bspline import BSplineSurface
+
+OccGeometry = Union[Geom_BSplineCurve, Geom_BezierCurve, Geom_BSplineSurface, Geom_BezierSurface]
+
+
+# --- arrays (OCCT arrays are 1-based) ---------------------------------------------------
+def _reals(values) -> TColStd_Array1OfReal:
+    a = TColStd_Array1OfReal(1, len(values))
+    for i, x in enumerate(values, 1):
+        a.SetValue(i, float(x))
+    return a
+
+
+def _ints(values) -> TColStd_Array1OfInteger:
+    a = TColStd_Array1OfInteger(1, len(values))
+    for i, x in enumerate(values, 1):
+        a.SetValue(i, int(x))
+    return a
+
+
+def _points(poles: np.ndarray):
+    if poles.shape[1] == 2:
+        a = TColgp_Array1OfPnt2d(1, len(poles))
+        for i, (x, y) in enumerate(poles.tolist(), 1):
+            a.SetValue(i, gp_Pnt2d(x, y))
+        return a
+    a = TColgp_Array1OfPnt(1, len(poles))
+    for i, (x, y, z) in enumerate(poles.tolist(), 1):
+        a.SetValue(i, gp_Pnt(x, y, z))
+    return a
+
+
+def _net(poles: np.ndarray) -> TColgp_Array2OfPnt:
+    nu, nv = poles.shape[:2]
+    a = TColgp_Array2OfPnt(1, nu, 1, nv)
+    for i, row in enumerate(poles.tolist(), 1):
+        for j, (x, y, z) in enumerate(row, 1):
+            a.SetValue(i, j, gp_Pnt(x, y, z))
+    return a
+
+
+def _weight_net(weights: np.ndarray) -> TColStd_Array2OfReal:
+    nu, nv = weights.shape
+    a = TColStd_Array2OfReal(1, nu, 1, nv)
+    for i, row in enumerate(weights.tolist(), 1):
+        for j, w in enumerate(row, 1):
+            a.SetValue(i, j, w)
+    return a
+
+
+def _to_numpy(array, count_dims: int = 3) -> np.ndarray:
+    """TColgp_Array1OfPnt(2d) -> (n, dim) array."""
+    lo, hi = array.Lower(), array.Upper()
+    if count_dims == 2:
+        return np.array([[array.Value(i).X(), array.Value(i).Y()] for i in range(lo, hi + 1)])
+    return np.array([[array.Value(i).X(), array.Value(i).Y(), array.Value(i).Z()] for i in range(lo, hi + 1)])
+
+
+def _values(array) -> np.ndarray:
+    return np.array([array.Value(i) for i in range(array.Lower(), array.Upper() + 1)])
+
+
+# --- engine -> OCCT -------------------------------------------------------------------------
+def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False):
+    """The exact OCCT geometry of an engine curve or surface.
+
+    Curves give ``Geom_BSplineCurve`` (2-D curves with z = 0; ``plane=True`` gives a
+    ``Geom2d_BSplineCurve`` instead), surfaces ``Geom_BSplineSurface``; with
+    ``bezier=True`` a BezierCurve/BezierSurface gives ``Geom_BezierCurve/Surface``.
+    A Bezier triangle goes through its collapsed-edge NURBS form (a different
+    parametrisation: T(u, v) = S(u, v / (1 - u))).
+
+    Raises:
+        CagdError: not an engine curve or surface, more than 3 dimensions, or OCCT
+            refuses the data (its message is passed on).
+    """
+    try:
+        if isinstance(obj, Curve):
+            if bezier and isinstance(obj, BezierCurve) and not plane:
+                return _bezier_curve(obj)
+            return _bspline_curve(obj.to_nurbs(), plane)
+        if isinstance(obj, Surface):
+            if bezier and isinstance(obj, BezierSurface):
+                return _bezier_surface(obj)
+            return _bspline_surface(obj.to_nurbs())
+    except Standard_Failure as exc:
+        raise CagdError(f"obj: OCCT rejected the geometry: {exc}") from None
+    raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
+
+
+def _bspline_curve(c: BSplineCurve, plane: bool):
+    f = c.occ_form()
+    if plane:
+        if c.dim != 2:
+            raise CagdError(f"obj: plane=True needs a 2-D curve, this one is {c.dim}-D")
+        poles = _points(f.poles[:, :2])
+        cls = Geom2d_BSplineCurve
+    else:
+        poles, cls = _points(f.poles), Geom_BSplineCurve
+    knots, mults = _reals(f.knots), _ints(f.multiplicities)
+    if f.weights is None:
+        return cls(poles, knots, mults, f.degree, f.periodic)
+    return cls(poles, _reals(f.weights), knots, mults, f.degree, f.periodic)
+
+
+def _bezier_curve(c: BezierCurve):
+    poles = np.zeros((len(c.control_points), 3))
+    poles[:, :c.dim] = c.control_points
+    if c.weights is None:
+        return Geom_BezierCurve(_points(poles))
+    return Geom_BezierCurve(_points(poles), _reals(c.weights))
+
+
+def _bspline_surface(s: BSplineSurface):
+    f = s.occ_form()
+    args = (_reals(f.knots_u), _reals(f.knots_v), _ints(f.multiplicities_u), _ints(f.multiplicities_v),
+            f.degree_u, f.degree_v, f.periodic_u, f.periodic_v)
+    if f.weights is None:
+        return Geom_BSplineSurface(_net(f.poles), *args)
+    return Geom_BSplineSurface(_net(f.poles), _weight_net(f.weights), *args)
+
+
+def _bezier_surface(s: BezierSurface):
+    poles = np.zeros(s.control_points.shape[:2] + (3,))
+    poles[..., :s.dim] = s.control_points
+    if s.weights is None:
+        return Geom_BezierSurface(_net(poles))
+    return Geom_BezierSurface(_net(poles), _weight_net(s.weights))
+
+
+# --- OCCT -> engine -------------------------------------------------------------------------
+def from_occ(geom, dim: int = 3) -> Union[BSplineCurve, BSplineSurface]:
+    """An engine B-spline from OCCT geometry or a shape.
+
+    Accepts any ``Geom_Curve``/``Geom2d_Curve``/``Geom_Surface`` that GeomConvert can
+    turn into a B-spline (B-spline, Bezier, trimmed conics, trimmed surfaces, ...;
+    the same curve, not an approximation), a ``TopoDS_Edge`` (its 3-D curve on the
+    edge's range) or a ``TopoDS_Face`` (its underlying surface; B-spline and Bezier
+    surfaces with their natural bounds, other surfaces trimmed to the face's UV
+    bounds). ``dim=2`` drops z from a curve.
+
+    Raises:
+        CagdError: unsupported type, an unbounded curve or surface, or OCCT failed.
+    """
+    try:
+        if isinstance(geom, TopoDS_Shape):
+            return _from_shape(geom, dim)
+        if isinstance(geom, Geom2d_Curve):
+            return _curve_from_bspline(_as_bspline2d(geom), 2)
+        if isinstance(geom, Geom_Curve):
+            return _curve_from_bspline(_as_bspline_curve(geom), dim)
+        if isinstance(geom, Geom_Surface):
+            return _surface_from_bspline(_as_bspline_surface(geom))
+    except Standard_Failure as exc:
+        raise CagdError(f"geom: OCCT could not convert {type(geom).__name__} to a B-spline: {exc}") from None
+    raise CagdError(f"geom: expected an OCCT Geom curve/surface, edge or face, got {type(geom).__name__}")
+
+
+def _from_shape(shape, dim: int):
+    if shape.ShapeType() == TopAbs_EDGE:
+        edge = TopoDS.Edge_s(shape)
+        if BRep_Tool.Degenerated_s(edge):
+            raise CagdError("geom: a degenerated edge has no 3-D curve")
+        curve = BRep_Tool.Curve_s(edge, 0.0, 0.0)
+        if curve is None:
+            raise CagdError("geom: the edge has no 3-D curve")
+        bs = _as_bspline_curve(curve)
+        adaptor = BRepAdaptor_Curve(edge)
+        first, last = adaptor.FirstParameter(), adaptor.LastParameter()
+        if (first, last) != (bs.FirstParameter(), bs.LastParameter()) and not bs.IsPeriodic():
+            bs = _as_bspline_curve(Geom_TrimmedCurve(curve, first, last))
+        return _curve_from_bspline(bs, dim)
+    if shape.ShapeType() == TopAbs_FACE:
+        face = TopoDS.Face_s(shape)
+        surface = BRep_Tool.Surface_s(face)
+        if not isinstance(surface, (Geom_BSplineSurface, Geom_BezierSurface)):
+            a = BRepAdaptor_Surface(face, True)
+            u0, u1 = a.FirstUParameter(), a.LastUParameter()
+            v0, v1 = a.FirstVParameter(), a.LastVParameter()
+            surface = Geom_RectangularTrimmedSurface(surface, u0, u1, v0, v1)
+        return _surface_from_bspline(_as_bspline_surface(surface))
+    raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType()}")
+
+
+def _as_bspline_curve(curve) -> Geom_BSplineCurve:
+    if isinstance(curve, Geom_BSplineCurve):
+        return curve
+    if not isinstance(curve, (Geom_BezierCurve, Geom_TrimmedCurve)) and not curve.IsPeriodic() and (
+            abs(curve.FirstParameter()) > 1e99 or abs(curve.LastParameter()) > 1e99):
+        raise CagdError(f"geom: {type(curve).__name__} is unbounded; trim it first (Geom_TrimmedCurve)")
+    return GeomConvert.CurveToBSplineCurve_s(curve)
+
+
+def _as_bspline2d(curve) -> Geom2d_BSplineCurve:
+    if isinstance(curve, Geom2d_BSplineCurve):
+        return curve
+    return Geom2dConvert.CurveToBSplineCurve_s(curve)
+
+
+def _as_bspline_surface(surface) -> Geom_BSplineSurface:
+    if isinstance(surface, Geom_BSplineSurface):
+        return surface
+    u0, u1, v0, v1 = surface.Bounds()
+    if max(abs(u0), abs(u1), abs(v0), abs(v1)) > 1e99:
+        raise CagdError(f"geom: {type(surface).__name__} is unbounded; trim it first "
+                        "(Geom_RectangularTrimmedSurface) or pass the face")
+    return GeomConvert.SurfaceToBSplineSurface_s(surface)
+
+
+def _curve_from_bspline(g, dim: int) -> BSplineCurve:
+    planar = isinstance(g, Geom2d_BSplineCurve)
+    poles = _to_numpy(g.Poles(), 2 if planar else 3)
+    weights = _values(g.Weights()) if g.IsRational() else None
+    return BSplineCurve.from_occ_form(poles, weights, _values(g.Knots()), _values(g.Multiplicities()).astype(int),
+                                      g.Degree(), g.IsPeriodic(), None if planar else dim)
+
+
+def _surface_from_bspline(g: Geom_BSplineSurface) -> BSplineSurface:
+    nu, nv = g.NbUPoles(), g.NbVPoles()
+    poles = np.array([[[g.Pole(i, j).X(), g.Pole(i, j).Y(), g.Pole(i, j).Z()] for j in range(1, nv + 1)]
+                      for i in range(1, nu + 1)])
+    weights = None
+    if g.IsURational() or g.IsVRational():
+        weights = np.array([[g.Weight(i, j) for j in range(1, nv + 1)] for i in range(1, nu + 1)])
+    return BSplineSurface.from_occ_form(poles, weights, _values(g.UKnots()), _values(g.VKnots()),
+                                        _values(g.UMultiplicities()).astype(int),
+                                        _values(g.VMultiplicities()).astype(int), g.UDegree(), g.VDegree(),
+                                        g.IsUPeriodic(), g.IsVPeriodic())

@@ -1,0 +1,172 @@
+"""OCCT shapes from engine geometry: edges, wires, faces with natural bounds, sewn
+shells, closed solids; validity (BRepCheck) and mass properties (BRepGProp)."""
+from __future__ import annotations
+
+from typing import Iterable, List, Sequence, Union
+
+from OCP.BRep import BRep_Builder, BRep_Tool
+from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeSolid,
+                                BRepBuilderAPI_MakeWire, BRepBuilderAPI_Sewing)
+from OCP.BRepCheck import BRepCheck_Analyzer
+from OCP.BRepGProp import BRepGProp
+from OCP.BRepLib import BRepLib
+from OCP.GProp import GProp_GProps
+from OCP.ShapeFix import ShapeFix_Shape
+from OCP.Standard import Standard_Failure
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS, TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
+
+from .._checks import scalar
+from ..curves.base import Curve
+from ..errors import CagdError
+from ..surfaces.base import Surface
+from .convert import to_occ
+
+
+def _tolerance(tol: float) -> float:
+    tol = scalar(tol, "tol")
+    if not tol > 0:
+        raise CagdError(f"tol: must be > 0, got {tol!r}")
+    return tol
+
+
+def subshapes(shape: TopoDS_Shape, kind) -> list:
+    """The sub-shapes of one type (TopAbs_FACE, TopAbs_EDGE, ...), downcast."""
+    cast = {TopAbs_FACE: TopoDS.Face_s, TopAbs_EDGE: TopoDS.Edge_s, TopAbs_SHELL: TopoDS.Shell_s,
+            TopAbs_SOLID: TopoDS.Solid_s}[kind]
+    out, ex = [], TopExp_Explorer(shape, kind)
+    while ex.More():
+        out.append(cast(ex.Current()))
+        ex.Next()
+    return out
+
+
+def make_edge(curve: Curve) -> TopoDS_Edge:
+    """The edge of an engine curve on its whole domain (its exact OCCT B-spline)."""
+    maker = BRepBuilderAPI_MakeEdge(to_occ(curve))
+    if not maker.IsDone():
+        raise CagdError(f"curve: OCCT could not make an edge (error {maker.Error()})")
+    return maker.Edge()
+
+
+def make_wire(curves: Sequence[Union[Curve, TopoDS_Edge]]) -> TopoDS_Shape:
+    """A wire of curves or edges joined end to end (in order, within their tolerances).
+
+    Raises:
+        CagdError: an empty list or pieces that do not connect.
+    """
+    if not len(curves):
+        raise CagdError("curves: need at least one curve")
+    maker = BRepBuilderAPI_MakeWire()
+    for i, c in enumerate(curves):
+        maker.Add(c if isinstance(c, TopoDS_Edge) else make_edge(c))
+        if not maker.IsDone():
+            raise CagdError(f"curves[{i}]: does not connect to the previous pieces (OCCT wire error {maker.Error()})")
+    return maker.Wire()
+
+
+def make_face(surface: Surface, tol: float = 1e-7) -> TopoDS_Face:
+    """The face of an engine surface bounded by its natural (parameter-domain) boundary.
+    Collapsed boundaries (poles of a revolution, the apex of a triangle's NURBS form)
+    become degenerated edges, closed directions a seam edge; ``tol`` is OCCT's
+    tolerance for detecting them."""
+    try:
+        maker = BRepBuilderAPI_MakeFace(to_occ(surface), _tolerance(tol))
+    except Standard_Failure as exc:
+        raise CagdError(f"surface: OCCT could not make a face: {exc}") from None
+    if not maker.IsDone():
+        raise CagdError(f"surface: OCCT could not make a face (error {maker.Error()})")
+    return maker.Face()
+
+
+def _faces(items: Iterable, tol: float) -> List[TopoDS_Shape]:
+    out = []
+    for i, item in enumerate(items):
+        if isinstance(item, Surface):
+            out.append(make_face(item, min(tol, 1e-7)))
+        elif isinstance(item, TopoDS_Shape):
+            out.extend(subshapes(item, TopAbs_FACE))
+        else:
+            raise CagdError(f"faces[{i}]: expected a cagd Surface or an OCCT shape, got {type(item).__name__}")
+    if not out:
+        raise CagdError("faces: nothing to sew")
+    return out
+
+
+def sew(faces: Iterable, tol: float = 1e-6) -> TopoDS_Shape:
+    """Sew faces (or engine surfaces) whose edges meet within ``tol`` into a shell
+    (BRepBuilderAPI_Sewing); returns a shell, or a compound when they form several."""
+    tol = _tolerance(tol)
+    sewing = BRepBuilderAPI_Sewing(tol)
+    for f in _faces(faces, tol):
+        sewing.Add(f)
+    sewing.Perform()
+    return sewing.SewedShape()
+
+
+def free_edge_count(shape: TopoDS_Shape, tol: float = 1e-6) -> int:
+    """Edges of ``shape`` that bound only one face (0 for a closed shell)."""
+    sewing = BRepBuilderAPI_Sewing(_tolerance(tol))
+    sewing.Load(shape)
+    sewing.Perform()
+    return sewing.NbFreeEdges()
+
+
+def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
+    """A solid from a closed shell, oriented so that its volume is positive.
+
+    Raises:
+        CagdError: not exactly one shell, the shell is open (the count of free edges
+            is given), or the result is not a valid solid.
+    """
+    shells = subshapes(shape, TopAbs_SHELL)
+    if not shells and shape.ShapeType() == TopAbs_FACE:      # one face closed on itself
+        shell = TopoDS_Shell()
+        builder = BRep_Builder()
+        builder.MakeShell(shell)
+        builder.Add(shell, shape)
+        shell.Closed(BRep_Tool.IsClosed_s(shell))
+        shells = [shell]
+    if len(shells) != 1:
+        raise CagdError(f"shape: need exactly one shell to make a solid, got {len(shells)} "
+                        "(faces that did not sew within tol?)")
+    free = free_edge_count(shells[0], tol)
+    if free or not BRep_Tool.IsClosed_s(shells[0]):
+        raise CagdError(f"shape: the shell is not closed: {free} free edge(s) after sewing with tol={tol:g}")
+    solid = BRepBuilderAPI_MakeSolid(shells[0]).Solid()
+    BRepLib.OrientClosedSolid_s(solid)
+    if not check_valid(solid):
+        fixer = ShapeFix_Shape(solid)
+        fixer.Perform()
+        solid = TopoDS.Solid_s(subshapes(fixer.Shape(), TopAbs_SOLID)[0])
+        if not check_valid(solid):
+            raise CagdError("shape: OCCT reports the solid as invalid (BRepCheck), also after ShapeFix")
+    return solid
+
+
+def solid_from_surfaces(surfaces: Iterable, tol: float = 1e-6) -> TopoDS_Solid:
+    """Sew surfaces that bound a volume (the eight ellipsoid patches, a closed
+    revolution, ...) and make the solid (see :func:`sew`, :func:`make_solid`)."""
+    return make_solid(sew(surfaces, tol), tol)
+
+
+def check_valid(shape: TopoDS_Shape) -> bool:
+    """OCCT's BRepCheck_Analyzer verdict."""
+    return bool(BRepCheck_Analyzer(shape).IsValid())
+
+
+def area(shape: TopoDS_Shape, eps: float = 1e-10) -> float:
+    """Surface area by OCCT's adaptive integration (BRepGProp.SurfaceProperties with
+    relative precision ``eps``)."""
+    props = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, props, _tolerance(eps))
+    return props.Mass()
+
+
+def volume(shape: TopoDS_Shape, eps: float = 1e-10) -> float:
+    """Volume by OCCT's adaptive integration (BRepGProp.VolumeProperties with
+    relative precision ``eps``)."""
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props, _tolerance(eps))
+    return props.Mass()
