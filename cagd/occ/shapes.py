@@ -156,7 +156,7 @@ def check_valid(shape: TopoDS_Shape) -> bool:
     return bool(BRepCheck_Analyzer(shape).IsValid())
 
 
-def area(shape: TopoDS_Shape, eps: float = 1e-10) -> float:
+def area(shape: TopoDS_Shape, eps: float = 1e-13) -> float:
     """Surface area by OCCT's adaptive integration (BRepGProp.SurfaceProperties with
     relative precision ``eps``)."""
     props = GProp_GProps()
@@ -164,7 +164,7 @@ def area(shape: TopoDS_Shape, eps: float = 1e-10) -> float:
     return props.Mass()
 
 
-def volume(shape: TopoDS_Shape, eps: float = 1e-10) -> float:
+def volume(shape: TopoDS_Shape, eps: float = 1e-13) -> float:
     """Volume by OCCT's adaptive integration (BRepGProp.VolumeProperties with
     relative precision ``eps``)."""
     props = GProp_GProps()
