@@ -55,7 +55,9 @@ def run_model_demo(out_dir: Path, stream=None, plots: bool = True):
           f"and {out_dir / 'model.igs'}", file=stream)
     for s in result.solids:
         print(f"  solid {s.name}: {s.faces} faces, valid {s.valid}, volume OCCT {s.volume_occt:.10g}, "
-              f"engine {abs(s.volume_engine):.10g} (relative difference {s.relative_difference:.1e})", file=stream)
+              f"engine {abs(s.volume_engine):.10g} (relative difference {s.relative_difference:.1e})"
+              + ("" if s.volume_exact is None else
+                 f", closed form {s.volume_exact:.10g} (engine off by {s.exact_difference:.1e})"), file=stream)
     worst = {}
     for r in result.reports:
         for st in r.stages:

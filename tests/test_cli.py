@@ -54,13 +54,15 @@ def test_demo_pictures_show_the_model(demo):
 def test_demo_solid_volumes(demo):
     _, out = demo
     report = (out / "report.md").read_text()
-    rows = re.findall(r"^\| (\w+) \| (\d+) \| yes \| ([\d.]+) \| ([\d.]+) \| ([\d.e+-]+) \|$", report, re.M)
+    rows = re.findall(r"^\| (\w+) \| (\d+) \| yes \| ([\d.]+) \| ([\d.]+) \| ([\d.e+-]+) \|", report, re.M)
     assert {r[0] for r in rows} == {"ellipsoid", "knob"}
     ell = next(r for r in rows if r[0] == "ellipsoid")
     a, b, c = (load_model(DEFAULT_MODEL_PATH)["ellipsoid"].source[k] for k in "abc")
     exact = 4 / 3 * np.pi * a * b * c
     assert int(ell[1]) == 8
     assert abs(float(ell[3]) - exact) / exact < 1e-9       # printed to 10 digits
+    assert abs(float(ell[2]) - exact) / exact < 1e-9       # OCCT's volume
+    assert float(ell[4]) < 1e-9
 
 
 def small_model(**extra):

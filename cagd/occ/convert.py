@@ -168,9 +168,11 @@ def from_occ(geom, dim: int = 3) -> Union[BSplineCurve, BSplineSurface]:
     Accepts any ``Geom_Curve``/``Geom2d_Curve``/``Geom_Surface`` that GeomConvert can
     turn into a B-spline (B-spline, Bezier, trimmed conics, trimmed surfaces, ...;
     the same curve, not an approximation), a ``TopoDS_Edge`` (its 3-D curve on the
-    edge's range) or a ``TopoDS_Face`` (its underlying surface; B-spline and Bezier
-    surfaces with their natural bounds, other surfaces trimmed to the face's UV
-    bounds). ``dim=2`` drops z from a curve.
+    edge's range) or a ``TopoDS_Face`` (its underlying surface trimmed to the face's UV
+    bounds; a B-spline face trimmed inside its surface gives the surface restricted
+    to the face's UV bounding box: exact for a face bounded by iso-curves, the
+    rectangle around the face otherwise, since the engine has no trimmed
+    surfaces). ``dim=2`` drops z from a curve.
 
     Raises:
         CagdError: unsupported type, an unbounded curve or surface, or OCCT failed.
@@ -190,6 +192,8 @@ def from_occ(geom, dim: int = 3) -> Union[BSplineCurve, BSplineSurface]:
 
 
 def _from_shape(shape, dim: int):
+    """An edge's curve on the edge's parameter range; a face's surface on the face's
+    UV bounding box (the whole surface when that is its natural domain)."""
     if shape.ShapeType() == TopAbs_EDGE:
         edge = TopoDS.Edge_s(shape)
         if BRep_Tool.Degenerated_s(edge):
@@ -197,22 +201,28 @@ def _from_shape(shape, dim: int):
         curve = BRep_Tool.Curve_s(edge, 0.0, 0.0)
         if curve is None:
             raise CagdError("geom: the edge has no 3-D curve")
-        bs = _as_bspline_curve(curve)
         adaptor = BRepAdaptor_Curve(edge)
         first, last = adaptor.FirstParameter(), adaptor.LastParameter()
-        if (first, last) != (bs.FirstParameter(), bs.LastParameter()) and not bs.IsPeriodic():
+        bs = _as_bspline_curve(curve)
+        if not _covers(bs.FirstParameter(), bs.LastParameter(), first, last):
             bs = _as_bspline_curve(Geom_TrimmedCurve(curve, first, last))
         return _curve_from_bspline(bs, dim)
     if shape.ShapeType() == TopAbs_FACE:
         face = TopoDS.Face_s(shape)
         surface = BRep_Tool.Surface_s(face)
-        if not isinstance(surface, (Geom_BSplineSurface, Geom_BezierSurface)):
-            a = BRepAdaptor_Surface(face, True)
-            u0, u1 = a.FirstUParameter(), a.LastUParameter()
-            v0, v1 = a.FirstVParameter(), a.LastVParameter()
+        a = BRepAdaptor_Surface(face, True)
+        u0, u1, v0, v1 = a.FirstUParameter(), a.LastUParameter(), a.FirstVParameter(), a.LastVParameter()
+        U0, U1, V0, V1 = surface.Bounds()
+        if not (_covers(U0, U1, u0, u1) and _covers(V0, V1, v0, v1)):
             surface = Geom_RectangularTrimmedSurface(surface, u0, u1, v0, v1)
         return _surface_from_bspline(_as_bspline_surface(surface))
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType()}")
+
+
+def _covers(a: float, b: float, first: float, last: float) -> bool:
+    """Whether [first, last] is the whole [a, b] (to 1e-12 of its length)."""
+    tol = 1e-12 * max(b - a, 1.0) if abs(a) < 1e99 and abs(b) < 1e99 else 0.0
+    return abs(first - a) <= tol and abs(last - b) <= tol
 
 
 def _as_bspline_curve(curve) -> Geom_BSplineCurve:

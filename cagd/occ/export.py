@@ -9,6 +9,7 @@ back and their faces and free edges counted.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import List, Optional, Tuple
@@ -32,10 +33,31 @@ class SolidCheck:
     volume_occt: float
     volume_engine: float
     volume_error: float          # the engine quadrature's error estimate
+    volume_exact: Optional[float] = None   # closed form, where the entry's type has one
 
     @property
     def relative_difference(self) -> float:
+        """|OCCT - engine| / engine."""
         return abs(self.volume_occt - abs(self.volume_engine)) / max(abs(self.volume_engine), 1e-300)
+
+    @property
+    def exact_difference(self) -> Optional[float]:
+        """|engine - closed form| / closed form."""
+        if self.volume_exact is None:
+            return None
+        return abs(abs(self.volume_engine) - self.volume_exact) / self.volume_exact
+
+
+def closed_form_volume(entry) -> Optional[float]:
+    """4/3 pi a b c (ellipsoid), 4/3 pi r^3 (sphere), 2 pi^2 R r^2 (torus); else None."""
+    src = entry.source
+    if entry.type == "ellipsoid":
+        return 4.0 / 3.0 * math.pi * src["a"] * src["b"] * src["c"]
+    if entry.type == "sphere":
+        return 4.0 / 3.0 * math.pi * src["radius"] ** 3
+    if entry.type == "torus":
+        return 2.0 * math.pi ** 2 * src["R"] * src["r"] ** 2
+    return None
 
 
 @dataclass
@@ -54,7 +76,8 @@ class ExportResult:
     def passed(self) -> bool:
         files_ok = all((faces, edges) == self.expected for _, _, faces, edges in self.read_back)
         return (all(r.passed for r in self.reports) and files_ok
-                and all(s.valid and s.relative_difference <= self.volume_tol for s in self.solids))
+                and all(s.valid and s.relative_difference <= self.volume_tol
+                        and (s.exact_difference or 0.0) <= self.volume_tol for s in self.solids))
 
     def to_markdown(self) -> str:
         """The report: solids, the round trip of every object, the files read back."""
@@ -64,9 +87,12 @@ class ExportResult:
                 f"- verdict: {'**all checks passed**' if self.passed else '**FAILED**'}", ""]
         if self.solids:
             out += ["## Solids", "", "| solid | faces | valid (BRepCheck) | volume, OCCT | volume, engine "
-                    "quadrature | relative difference |", "|---|---|---|---|---|---|"]
-            out += [f"| {s.name} | {s.faces} | {'yes' if s.valid else '**NO**'} | {s.volume_occt:.10g} | "
-                    f"{abs(s.volume_engine):.10g} | {s.relative_difference:.1e} |" for s in self.solids]
+                    "quadrature | OCCT vs engine | closed form | engine vs closed form |",
+                    "|---|---|---|---|---|---|---|---|"]
+            for s in self.solids:
+                exact = "" if s.volume_exact is None else f"{s.volume_exact:.10g} | {s.exact_difference:.1e}"
+                out.append(f"| {s.name} | {s.faces} | {'yes' if s.valid else '**NO**'} | {s.volume_occt:.10g} | "
+                           f"{abs(s.volume_engine):.10g} | {s.relative_difference:.1e} | {exact or '- | -'} |")
             out.append("")
         out += ["## Round trip (cagd.occ.verify)", "",
                 "Max deviation relative to the object's size (points) or to the largest derivative "
@@ -100,7 +126,7 @@ def export_model(model, step: Optional[Path] = None, iges: Optional[Path] = None
             solid = solid_from_surfaces(e.objects)
             vol = enclosed_volume(e.objects)
             result.solids.append(SolidCheck(e.name, len(subshapes(solid, TopAbs_FACE)), check_valid(solid),
-                                            volume(solid), vol.value, vol.error))
+                                            volume(solid), vol.value, vol.error, closed_form_volume(e)))
             items.append((e.name, solid))
             faces += len(e.objects)
         else:
