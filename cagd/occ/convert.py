@@ -203,10 +203,10 @@ def _from_shape(shape, dim: int):
             raise CagdError("geom: the edge has no 3-D curve")
         adaptor = BRepAdaptor_Curve(edge)
         first, last = adaptor.FirstParameter(), adaptor.LastParameter()
-        bs = _as_bspline_curve(curve)
-        if not _covers(bs.FirstParameter(), bs.LastParameter(), first, last):
-            bs = _as_bspline_curve(Geom_TrimmedCurve(curve, first, last))
-        return _curve_from_bspline(bs, dim)
+        if isinstance(curve, (Geom_BSplineCurve, Geom_BezierCurve)) and \
+                _covers(curve.FirstParameter(), curve.LastParameter(), first, last):
+            return _curve_from_bspline(_as_bspline_curve(curve), dim)
+        return _curve_from_bspline(_as_bspline_curve(Geom_TrimmedCurve(curve, first, last)), dim)
     if shape.ShapeType() == TopAbs_FACE:
         face = TopoDS.Face_s(shape)
         surface = BRep_Tool.Surface_s(face)

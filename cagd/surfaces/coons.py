@@ -260,6 +260,38 @@ class CoonsPatch(_BlendedPatch):
     def __init__(self, c0, c1, d0, d1, tol: float = 1e-9):
         self._setup([c0, c1], [d0, d1], tol)
 
+    @classmethod
+    def from_loop(cls, curves, tol: float = 1e-9) -> "CoonsPatch":
+        """The Coons patch bounded by four curves in any order and direction that form
+        a closed loop (the edges of a wire, say): ``curves[0]`` becomes c0, its end
+        the corner P10, and the others are chained end to end, reversed where needed
+        (exact reversal of the NURBS form, :meth:`cagd.BSplineCurve.reversed`).
+
+        Raises:
+            CagdError: not four curves, or they do not chain into one loop within
+                ``tol`` relative to the loop's size.
+        """
+        curves = list(curves)
+        if len(curves) != 4 or not all(isinstance(c, Curve) for c in curves):
+            raise CagdError(f"curves: need four cagd curves forming a loop, got {len(curves)} items")
+        ends = [tuple(c(np.array(c.domain, dtype=float))) for c in curves]
+        size = max(float(np.ptp(np.array([e for pair in ends for e in pair]), axis=0).max()), 1.0)
+        chain, rest, point = [curves[0]], [1, 2, 3], ends[0][1]
+        for k in range(3):
+            gaps = [(min(np.linalg.norm(ends[i][0] - point), np.linalg.norm(ends[i][1] - point)), i) for i in rest]
+            gap, i = min(gaps)
+            if gap > tol * size:
+                raise CagdError(f"curves: no curve starts or ends where curve {k} of the loop ends "
+                                f"(nearest gap {gap:.3g}, tolerance {tol * size:.3g})")
+            rest.remove(i)
+            forward = np.linalg.norm(ends[i][0] - point) <= np.linalg.norm(ends[i][1] - point)
+            chain.append(curves[i] if forward else curves[i].to_nurbs().reversed())
+            point = ends[i][1] if forward else ends[i][0]
+        if np.linalg.norm(point - ends[0][0]) > tol * size:
+            raise CagdError(f"curves: the loop does not close (gap {np.linalg.norm(point - ends[0][0]):.3g})")
+        c0, d1, c1_rev, d0_rev = chain
+        return cls(c0, c1_rev.to_nurbs().reversed(), d0_rev.to_nurbs().reversed(), d1, tol=tol)
+
     def __repr__(self) -> str:
         return f"<bilinearly blended Coons patch, {self.dim}-D>"
 

@@ -1,0 +1,179 @@
+"""Solid modelling helpers: sew faces into a shell or solid (naming the gaps when it
+fails), close a surface with planar caps (a surface of revolution whose profile
+ends off the axis), thicken a surface into a solid. Every solid returned passes
+CadQuery's ``isValid()`` (OCCT's BRepCheck)."""
+from __future__ import annotations
+
+import math
+from typing import Iterable, List, Union
+
+import cadquery as cq
+import numpy as np
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Sewing
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
+from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
+from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
+from OCP.TopAbs import TopAbs_WIRE
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS, TopoDS_Shape
+
+from cagd.errors import CagdError
+from cagd.curves.base import Curve
+from cagd.occ import make_edge, make_face, make_solid
+from cagd.surfaces.base import Surface
+
+FaceLike = Union[cq.Face, Surface, cq.Shape]
+
+
+def _occ_faces(faces: Iterable[FaceLike]) -> list:
+    out = []
+    for i, f in enumerate(faces):
+        if isinstance(f, Surface):
+            out.append(make_face(f))
+        elif isinstance(f, cq.Workplane):
+            out += [v.wrapped for v in f.vals() if isinstance(v, cq.Shape)]
+        elif isinstance(f, cq.Shape):
+            out.append(f.wrapped)
+        elif isinstance(f, TopoDS_Shape):
+            out.append(f)
+        else:
+            raise CagdError(f"faces[{i}]: expected a CadQuery face/shape or a cagd Surface, got {type(f).__name__}")
+    if not out:
+        raise CagdError("faces: nothing to sew")
+    return out
+
+
+def _sewn(faces: Iterable[FaceLike], tol: float):
+    if not tol > 0:
+        raise CagdError(f"tol: must be > 0, got {tol!r}")
+    sewing = BRepBuilderAPI_Sewing(tol)
+    for f in _occ_faces(faces):
+        sewing.Add(f)
+    sewing.Perform()
+    return sewing
+
+
+def free_edges(faces: Iterable[FaceLike], tol: float = 1e-6) -> List[cq.Edge]:
+    """The edges left unpaired after sewing the faces with ``tol`` (empty for a closed
+    shell): the gaps and open boundaries."""
+    sewing = _sewn(faces, tol)
+    return [cq.Edge(sewing.FreeEdge(i)) for i in range(1, sewing.NbFreeEdges() + 1)]
+
+
+def gap_report(edges: List[cq.Edge], limit: int = 8) -> str:
+    """One line per free edge: length, midpoint and the distance to the nearest other
+    free edge (a gap narrower than that would have been sewn with a larger tol)."""
+    lines = []
+    for i, e in enumerate(edges[:limit]):
+        mid = e.positionAt(0.5)
+        others = [o for j, o in enumerate(edges) if j != i]
+        near = min((e.distance(o) for o in others), default=float("nan"))
+        lines.append(f"  free edge {i}: length {e.Length():.6g} at ({mid.x:.6g}, {mid.y:.6g}, {mid.z:.6g}), "
+                     f"nearest other free edge {near:.3g} away")
+    if len(edges) > limit:
+        lines.append(f"  ... and {len(edges) - limit} more")
+    return "\n".join(lines)
+
+
+def sew_shell(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Shape:
+    """Sew faces (CadQuery faces or engine surfaces) whose edges meet within ``tol``:
+    a ``cq.Shell`` when they form one piece, else a compound."""
+    return cq.Shape.cast(_sewn(faces, tol).SewedShape())
+
+
+def sew_solid(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Solid:
+    """Sew faces into a closed shell and make the solid.
+
+    Raises:
+        CagdError: the faces do not close within ``tol``; the message lists the free
+            edges (length, position, nearest other free edge) to show the gaps.
+    """
+    faces = list(faces)
+    sewing = _sewn(faces, tol)
+    if sewing.NbFreeEdges():
+        edges = [cq.Edge(sewing.FreeEdge(i)) for i in range(1, sewing.NbFreeEdges() + 1)]
+        raise CagdError(f"faces: the shell is not closed with tol={tol:g}: {len(edges)} free edge(s)\n"
+                        + gap_report(edges))
+    return _checked(cq.Solid(make_solid(sewing.SewedShape(), tol)))
+
+
+def close_with_caps(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Solid:
+    """Close an open shell by a planar face on each open boundary loop, then make the
+    solid: a surface of revolution whose profile ends off the axis gets two disks.
+
+    Raises:
+        CagdError: an open boundary that is not a closed planar loop.
+    """
+    faces = _occ_faces(faces)
+    sewn = _sewn(faces, tol).SewedShape()
+    bounds = ShapeAnalysis_FreeBounds(sewn, False, False)      # free bounds of the sewn (shared-edge) shell
+    caps = []
+    for wire in _wires(bounds.GetClosedWires()):
+        maker = BRepBuilderAPI_MakeFace(wire, True)
+        if not maker.IsDone():
+            raise CagdError("faces: an open boundary loop is not planar; cannot cap it with a plane")
+        caps.append(maker.Face())
+    if _wires(bounds.GetOpenWires()):
+        raise CagdError("faces: an open boundary does not form a closed loop")
+    return sew_solid([cq.Shape.cast(f) for f in faces + caps], tol)
+
+
+def _wires(compound) -> list:
+    out, ex = [], TopExp_Explorer(compound, TopAbs_WIRE)
+    while ex.More():
+        out.append(TopoDS.Wire_s(ex.Current()))
+        ex.Next()
+    return out
+
+
+def thicken(face: FaceLike, thickness: float) -> cq.Solid:
+    """A solid of the given thickness grown from a surface along its normal (negative:
+    the other side) by OCCT's offset algorithm (BRepOffset_MakeOffset, as
+    ``cq.Face.thicken``). The offset is exact only for planes, spheres and the like;
+    OCCT approximates the offset surface of a free-form B-spline within its
+    tolerance (checked: the result is valid, and its volume is compared with area x
+    thickness in the tests).
+
+    Raises:
+        CagdError: a zero thickness, or OCCT cannot build a valid solid (e.g. the
+            thickness exceeds a radius of curvature).
+    """
+    if not thickness or not np.isfinite(thickness):
+        raise CagdError(f"thickness: must be finite and non-zero, got {thickness!r}")
+    occ = _occ_faces([face])
+    if len(occ) != 1 or occ[0].ShapeType().name != "TopAbs_FACE":
+        raise CagdError("face: expected exactly one face")
+    try:
+        solid = cq.Face(TopoDS.Face_s(occ[0])).thicken(thickness)
+    except Exception as exc:   # OCCT's Standard_Failure and CadQuery's ValueError
+        raise CagdError(f"thickness: OCCT could not thicken the face by {thickness}: {exc}") from None
+    return _checked(solid)
+
+
+def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> cq.Face:
+    """OCCT's surface of revolution (Geom_SurfaceOfRevolution, BRepPrimAPI_MakeRevol)
+    of the exact B-spline edge of an engine profile: the same surface as
+    :func:`cagd.revolve`, parametrised by the angle.
+
+    Raises:
+        CagdError: a zero axis direction, a zero angle, or OCCT fails.
+    """
+    d = np.asarray(axis_direction, dtype=float)
+    if not np.isfinite(d).all() or np.linalg.norm(d) == 0:
+        raise CagdError(f"axis_direction: must be a finite non-zero vector, got {d.tolist()}")
+    if not angle_degrees or not np.isfinite(angle_degrees):
+        raise CagdError(f"angle: must be finite and non-zero, got {angle_degrees!r}")
+    axis = gp_Ax1(gp_Pnt(*map(float, axis_point)), gp_Dir(*map(float, d)))
+    maker = BRepPrimAPI_MakeRevol(make_edge(profile), axis, math.radians(angle_degrees), True)
+    faces = cq.Shape.cast(maker.Shape()).Faces()
+    if len(faces) != 1:
+        raise CagdError(f"profile: OCCT made {len(faces)} faces from the revolution, expected 1")
+    return faces[0]
+
+
+def _checked(solid: cq.Shape) -> cq.Solid:
+    if not solid.isValid():
+        raise CagdError("the resulting solid is not valid (BRepCheck)")
+    if solid.Volume() < 0:
+        raise CagdError("the resulting solid has negative volume (inside out)")
+    return solid
