@@ -10,6 +10,10 @@ project into it with `pip install -e '.[cad,test,plot]'`, installing first, as
 root, the Debian packages that venv and OCP need (python3.X-venv, libgl1,
 libx11-6).  All that is skipped when .venv/.cagd-installed holds the sha256 of
 setup.cfg and pyproject.toml, so a second run starts at once.
+
+`test` also installs, as root, FreeCAD and Xvfb (Debian packages freecad, xvfb,
+xauth) when missing, for the FreeCAD workbench tests (tests/workbench); without root
+those tests are skipped (and fail when the environment variable CI is set).
 """
 
 from __future__ import annotations
@@ -33,6 +37,9 @@ EXTRAS = "cad,test,plot"
 PYTEST_NO_TESTS = 5
 # Shared libraries that OCP (OpenCascade, VTK build) loads, by Debian package.
 SYSTEM_LIBS = {"GL": "libgl1", "X11": "libx11-6"}
+# Programs the FreeCAD workbench tests run (any of the names), by Debian package
+# (xvfb-run needs xauth, which xvfb only recommends).
+TEST_TOOLS = {"freecad": ("freecadcmd", "FreeCADCmd"), "xvfb": ("xvfb-run",), "xauth": ("xauth",)}
 
 
 def log(msg: str) -> None:
@@ -84,6 +91,26 @@ def install_debian_packages(packages: list[str]) -> None:
     check(command, "apt-get install")
 
 
+def missing_test_packages() -> list[str]:
+    """Debian packages of the programs the FreeCAD workbench tests need."""
+    if not sys.platform.startswith("linux"):
+        return []
+    return [pkg for pkg, names in TEST_TOOLS.items() if not any(shutil.which(n) for n in names)]
+
+
+def ensure_test_tools() -> None:
+    """apt-get install FreeCAD and Xvfb as root when missing; otherwise say how."""
+    packages = missing_test_packages()
+    if not packages:
+        return
+    if os.geteuid() != 0 or shutil.which("apt-get") is None:
+        log(f"missing test programs (Debian packages {' '.join(packages)}): the FreeCAD workbench "
+            "tests will be skipped (with CI set they fail)")
+        log(f"to run them:  sudo apt-get install -y {' '.join(packages)}")
+        return
+    install_debian_packages(packages)
+
+
 def deps_hash() -> str:
     digest = hashlib.sha256()
     for name in ("setup.cfg", "pyproject.toml"):
@@ -114,6 +141,7 @@ def cmd_demo(args: list[str]) -> int:
 
 
 def cmd_test(args: list[str]) -> int:
+    ensure_test_tools()
     log("running: pytest " + " ".join(args))
     code = run([PYTHON, "-m", "pytest", *args])
     if code == PYTEST_NO_TESTS:

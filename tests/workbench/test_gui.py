@@ -1,0 +1,58 @@
+"""The workbench in FreeCAD's GUI under Xvfb (workbench/tests/gui_macro.py): the macro
+activates the workbench, runs every command on a prepared selection and saves, per
+step, a rendering with the step's new object and one with it hidden (same camera).
+Here the macro's own checks must all pass and every rendering must show the model:
+enough pixels differ between the two images of a step."""
+import json
+import os
+
+import numpy as np
+import pytest
+
+from wb_runner import ADDON, output_dir, need, report, run_group
+
+TIMEOUT = 240
+STEPS = 10                    # the macro's step count
+SCREENSHOTS = {               # step -> minimum number of the model's own pixels
+    "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
+    "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
+    "Cagd_BezierSurface": 5000, "Cagd_BSplineSurface": 5000, "Cagd_BezierTriangle": 5000,
+    "Cagd_CoonsPatch": 5000, "Cagd_Revolution": 5000, "Cagd_ContinuityCheck": 200,
+    "Cagd_ToggleComb": 200, "Cagd_ToggleControlNet": 200,
+}
+
+
+def model_pixels(shown, hidden):
+    """Pixels that differ (by more than 0.1 in some channel) between the two images."""
+    image = pytest.importorskip("matplotlib.image")
+    a, b = image.imread(shown)[..., :3], image.imread(hidden)[..., :3]
+    assert a.shape == b.shape and a.shape[0] > 100 and a.shape[1] > 100, f"{shown}: image size {a.shape}"
+    return int((np.abs(a - b).max(axis=-1) > 0.1).sum())
+
+
+def test_gui_commands_and_screenshots(freecad_env):
+    exe = need(["freecad", "FreeCAD"], "FreeCAD")
+    xvfb = need(["xvfb-run"], "Xvfb")
+    out = output_dir("workbench-gui")
+    freecad_env.update(CAGD_WB_OUT=str(out), QTWEBENGINE_DISABLE_SANDBOX="1", QT_QPA_PLATFORM="xcb")
+    log = out / "freecad-gui.log"
+    code, output = run_group([xvfb, "-a", "-s", "-screen 0 1280x1024x24", exe, str(ADDON / "tests" / "gui_macro.py")],
+                             freecad_env, TIMEOUT, log)
+    assert code is not None, f"FreeCAD GUI timed out after {TIMEOUT} s (macro log {out / 'macro.log'})"
+    result_path = out / "result.json"
+    assert result_path.is_file(), f"macro wrote no result (exit {code}); log {log}:\n{output[-3000:]}"
+    result = json.loads(result_path.read_text())
+    result.update(passed=len(result["passed"]), failed=len(result["failed"]), failures=result["failed"])
+    report("FreeCAD GUI macro", result, log)
+    assert result["failed"] == 0, result["failures"]
+    assert result["passed"] == STEPS
+    counts = {}
+    for name, minimum in SCREENSHOTS.items():
+        shown, hidden = out / f"{name}.png", out / f"{name}-hidden.png"
+        assert shown.is_file() and hidden.is_file(), f"screenshot {name} missing"
+        counts[name] = model_pixels(shown, hidden)
+    print("  model pixels per screenshot: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
+    print(f"  screenshots in {out}")
+    low = {k: v for k, v in counts.items() if v < SCREENSHOTS[k]}
+    assert not low, f"screenshots without the model: {low}"
+    assert os.path.getsize(out / "macro.log") > 0

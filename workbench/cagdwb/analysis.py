@@ -1,0 +1,105 @@
+"""Analysis on FreeCAD shapes through the engine: continuity of two edges or two
+faces (cagd.continuity, cagd.edge_continuity) and the curvature comb of an edge.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Tuple
+
+import numpy as np
+
+import FreeCAD as App
+
+from . import conversion
+from .conversion import cagd
+
+
+@dataclass
+class JointCheck:
+    """A continuity report with the joint it was measured at, as readable text."""
+    report: object
+    where: str
+
+    @property
+    def level(self) -> str:
+        return self.report.level
+
+    def flags(self) -> dict:
+        names = ("C0", "C1", "C2", "G1", "G2") if hasattr(self.report, "G2") else ("C0", "G1", "C1")
+        return {n: bool(getattr(self.report, n)) for n in names}
+
+    def text(self) -> str:
+        flags = "  ".join(f"{k} {'yes' if v else 'no'}" for k, v in self.flags().items())
+        return f"{self.where}\n{flags}\n{self.report}"
+
+
+def _ends(curve) -> Tuple[np.ndarray, np.ndarray]:
+    a, b = curve.domain
+    return curve(a), curve(b)
+
+
+def edges_continuity(edge1, edge2, tol: float = 1e-9) -> JointCheck:
+    """Continuity where two edges meet: the pair of end points closest to each other
+    is the joint; the curves are reversed so that the joint is the end of the first
+    and the start of the second, then measured by cagd.continuity (derivatives in each
+    curve's own parameter)."""
+    c1, c2 = conversion.edge_to_curve(edge1), conversion.edge_to_curve(edge2)
+    e1, e2 = _ends(c1), _ends(c2)
+    i, j = min(((i, j) for i in range(2) for j in range(2)),
+               key=lambda ij: float(np.linalg.norm(e1[ij[0]] - e2[ij[1]])))
+    if i == 0:
+        c1 = c1.reversed()
+    if j == 1:
+        c2 = c2.reversed()
+    report = cagd.continuity(c1, c2, tol=tol)
+    where = (f"joint: {'start' if i == 0 else 'end'} of edge 1 -> {'start' if j == 0 else 'end'} of edge 2 "
+             f"at {tuple(round(float(x), 6) for x in e1[i])}")
+    return JointCheck(report, where)
+
+
+def faces_continuity(face1, face2, tol: float = 1e-9, samples: int = 33) -> JointCheck:
+    """Continuity across the common boundary of two faces (their untrimmed surfaces):
+    the pair of boundary edges ('u0', 'u1', 'v0', 'v1') with the smallest gap is the
+    shared edge, measured by cagd.edge_continuity."""
+    s1, s2 = conversion.face_to_surface(face1), conversion.face_to_surface(face2)
+    best = None
+    for e1 in ("u0", "u1", "v0", "v1"):
+        for e2 in ("u0", "u1", "v0", "v1"):
+            r = cagd.edge_continuity(s1, s2, e1, e2, samples=9, tol=tol)
+            if best is None or r.gap < best[0]:
+                best = (r.gap, e1, e2)
+    _, e1, e2 = best
+    report = cagd.edge_continuity(s1, s2, e1, e2, samples=samples, tol=tol)
+    return JointCheck(report, f"shared boundary: {e1} of face 1 = {e2} of face 2")
+
+
+def check_shapes(shape1, shape2, tol: float = 1e-9) -> JointCheck:
+    """Two edges or two faces (e.g. the selected sub-elements)."""
+    kinds = (shape1.ShapeType, shape2.ShapeType)
+    if kinds == ("Edge", "Edge"):
+        return edges_continuity(shape1, shape2, tol)
+    if kinds == ("Face", "Face"):
+        return faces_continuity(shape1, shape2, tol)
+    raise cagd.CagdError(f"selection: need two edges or two faces, got {kinds[0]} and {kinds[1]}")
+
+
+def curvature_comb(edge, samples: int = 64, scale: float = 1.0) -> List[Tuple[App.Vector, App.Vector]]:
+    """Teeth (foot, tip) of the curvature comb: tip = C(t) - scale * kappa(t) N(t)
+    with kappa N = (C'' - (C''.T) T) / |C'|^2 the curvature vector (Farin 10.1), so
+    the teeth point away from the centre of curvature; t uniform in the domain."""
+    curve = conversion.edge_to_curve(edge)
+    t = np.linspace(*curve.domain, samples)
+    D = curve.derivatives(t, 2)
+    d1, d2 = D[1], D[2]
+    s2 = np.einsum("ij,ij->i", d1, d1)
+    s2 = np.where(s2 > 0.0, s2, np.inf)
+    k = (d2 - (np.einsum("ij,ij->i", d2, d1) / s2)[:, None] * d1) / s2[:, None]
+    tips = D[0] - scale * k
+    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(D[0], tips)]
+
+
+def auto_comb_scale(edge, samples: int = 64, fraction: float = 0.2) -> float:
+    """A comb scale making the longest tooth ``fraction`` of the edge length."""
+    teeth = curvature_comb(edge, samples, 1.0)
+    longest = max((a - b).Length for a, b in teeth)
+    return fraction * edge.Length / longest if longest > 0.0 else 1.0

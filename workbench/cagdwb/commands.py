@@ -1,0 +1,260 @@
+"""GUI commands of the CAGD workbench. Creation commands use the selection when it
+fits (vertices or point objects -> curve poles/points; four edges -> Coons patch;
+one edge -> revolution; two edges -> join) and otherwise make an editable example
+object; the continuity check measures two selected edges or faces."""
+from __future__ import annotations
+
+from typing import Callable, List, Tuple
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+from . import analysis, curves, icon, surfaces
+from .conversion import cagd
+
+Link = Tuple[object, str]
+LAST_CHECK: List[analysis.JointCheck] = []       # results of the continuity command (newest last)
+
+
+# --- selection ------------------------------------------------------------------------------
+def _selected(kind: str) -> List[Link]:
+    """(object, 'KindN') of the selected sub-elements of one kind, in selection
+    order; a whole selected object counts when its shape has exactly one of them."""
+    out = []
+    for sel in Gui.Selection.getSelectionEx():
+        subs = [s for s in sel.SubElementNames if s.startswith(kind)]
+        if subs:
+            out.extend((sel.Object, s) for s in subs)
+        elif not sel.SubElementNames and hasattr(sel.Object, "Shape"):
+            elements = getattr(sel.Object.Shape, kind + "es" if kind == "Vertex" else kind + "s")
+            if len(elements) == 1:
+                out.append((sel.Object, kind + "1"))
+    return out
+
+
+def selected_vertices() -> List[Link]:
+    return _selected("Vertex")
+
+
+def selected_edges() -> List[Link]:
+    return _selected("Edge")
+
+
+def selected_faces() -> List[Link]:
+    return _selected("Face")
+
+
+def _finish(obj) -> None:
+    doc = obj.Document
+    doc.recompute()
+    Gui.Selection.clearSelection()
+    if not obj.isValid():
+        App.Console.PrintError(f"{obj.Label}: {obj.Message}\n")
+
+
+def _error(message: str) -> None:
+    App.Console.PrintError(f"CAGD: {message}\n")
+    if Gui.getMainWindow() is not None:
+        Gui.getMainWindow().statusBar().showMessage(message, 8000)
+
+
+# --- commands -------------------------------------------------------------------------------
+class Command:
+    """Base: resources from NAME/MENU/TIP/ICON, active with an open document."""
+    NAME = MENU = TIP = ICON = ""
+
+    def GetResources(self) -> dict:
+        return {"Pixmap": icon(self.ICON), "MenuText": self.MENU, "ToolTip": self.TIP}
+
+    def IsActive(self) -> bool:
+        return App.ActiveDocument is not None
+
+    def Activated(self) -> None:
+        App.ActiveDocument.openTransaction(self.MENU)
+        try:
+            self.run()
+        finally:
+            App.ActiveDocument.commitTransaction()
+
+    def run(self) -> None:
+        raise NotImplementedError
+
+
+def _points_command(name, menu, tip, icon_name, make: Callable, min_points: int):
+    """A curve command that links the selected vertices (when at least min_points)."""
+    class PointsCommand(Command):
+        NAME, MENU, TIP, ICON = name, menu, tip, icon_name
+
+        def run(self) -> None:
+            verts = selected_vertices()
+            obj = make(verts if len(verts) >= min_points else None)
+            _finish(obj)
+    PointsCommand.__name__ = name
+    return PointsCommand()
+
+
+def _bezier(verts):
+    return curves.make_bezier_curve(vertices=verts)
+
+
+def _bspline(verts):
+    return curves.make_bspline_curve(vertices=verts, degree=None if not verts else min(3, len(verts) - 1))
+
+
+def _interpolation(verts):
+    return curves.make_interpolation_curve(vertices=verts, degree=None if not verts else min(3, len(verts) - 1))
+
+
+def _cubic(verts):
+    return curves.make_cubic_spline(vertices=verts)
+
+
+def _hermite(verts):
+    if verts and len(verts) == 2:
+        a, b = (o.Shape.getElement(s).Point for o, s in verts)
+        d = b - a
+        return curves.make_hermite_curve(StartPoint=a, EndPoint=b, StartTangent=App.Vector(d.y, -d.x, d.z),
+                                         EndTangent=App.Vector(d.y, -d.x, d.z))
+    return curves.make_hermite_curve()
+
+
+class CoonsCommand(Command):
+    NAME, MENU, ICON = "Cagd_CoonsPatch", "Coons patch", "CoonsPatch"
+    TIP = "Bilinearly blended Coons patch from four selected edges forming a closed loop"
+
+    def run(self) -> None:
+        edges = selected_edges()
+        if len(edges) != 4:
+            return _error(f"Coons patch: select exactly four edges (got {len(edges)})")
+        _finish(surfaces.make_coons(edges))
+
+
+class RevolutionCommand(Command):
+    NAME, MENU, ICON = "Cagd_Revolution", "Surface of revolution", "Revolution"
+    TIP = "Revolve the selected edge about the z axis (edit AxisPoint, AxisDirection, Angle)"
+
+    def run(self) -> None:
+        edges = selected_edges()
+        if len(edges) != 1:
+            return _error(f"Revolution: select one profile edge (got {len(edges)})")
+        _finish(surfaces.make_revolution(edges[0]))
+
+
+class JoinCommand(Command):
+    NAME, MENU, ICON = "Cagd_Join", "Join G1/G2", "Join"
+    TIP = "Continue the first selected curve with the second, G2 (edit Continuity, Alpha, Beta)"
+
+    def run(self) -> None:
+        edges = selected_edges()
+        if len(edges) != 2:
+            return _error(f"Join: select two edges, the curve to continue first (got {len(edges)})")
+        obj = curves.make_join(edges[0], edges[1])
+        _finish(obj)
+        if obj.isValid():
+            edges[1][0].ViewObject.Visibility = False
+
+
+class ContinuityCommand(Command):
+    NAME, MENU, ICON = "Cagd_ContinuityCheck", "Check continuity", "Continuity"
+    TIP = "Measure C0/C1/C2/G1/G2 between two selected edges, or C0/G1/C1 between two faces"
+
+    def run(self) -> None:
+        faces, edges = selected_faces(), selected_edges()
+        pick = faces if len(faces) == 2 else edges
+        if len(pick) != 2:
+            return _error("Continuity: select two edges or two faces")
+        shapes = [o.Shape.getElement(s) for o, s in pick]
+        try:
+            result = analysis.check_shapes(*shapes, tol=1e-7)
+        except cagd.CagdError as exc:
+            return _error(f"Continuity: {exc}")
+        LAST_CHECK.append(result)
+        names = " and ".join(f"{o.Label}.{s}" for o, s in pick)
+        text = f"Continuity of {names}: {result.level}\n{result.text()}\n"
+        App.Console.PrintMessage(text)
+        show_message("Continuity check", text)
+
+    def Activated(self) -> None:           # no document change: no transaction
+        self.run()
+
+
+def show_message(title: str, text: str) -> None:
+    """A non-modal message box (does not block scripts driving the GUI)."""
+    from .qt import QtCore, QtWidgets
+    box = QtWidgets.QMessageBox(Gui.getMainWindow())
+    box.setWindowTitle(title)
+    box.setText(text)
+    box.setModal(False)
+    box.setAttribute(QtCore.Qt.WA_DeleteOnClose)
+    box.show()
+
+
+class ToggleCommand(Command):
+    """Toggle a view property on the selected workbench objects (all of them when
+    nothing is selected)."""
+    PROPERTY = ""
+
+    def run(self) -> None:
+        objs = [s.Object for s in Gui.Selection.getSelectionEx()] or App.ActiveDocument.Objects
+        vobjs = [o.ViewObject for o in objs if hasattr(o.ViewObject, self.PROPERTY)]
+        if not vobjs:
+            return _error(f"{self.MENU}: no CAGD object to toggle")
+        value = not all(getattr(v, self.PROPERTY) for v in vobjs)
+        for v in vobjs:
+            setattr(v, self.PROPERTY, value)
+
+    def Activated(self) -> None:
+        self.run()
+
+
+class ToggleNetCommand(ToggleCommand):
+    NAME, MENU, ICON, PROPERTY = "Cagd_ToggleControlNet", "Toggle control net", "ControlNet", "ShowControlNet"
+    TIP = "Show or hide the control polygon / net of the selected CAGD objects"
+
+
+class ToggleCombCommand(ToggleCommand):
+    NAME, MENU, ICON, PROPERTY = "Cagd_ToggleComb", "Toggle curvature comb", "Comb", "ShowCurvatureComb"
+    TIP = "Show or hide the curvature comb of the selected CAGD curves"
+
+
+class SimpleCommand(Command):
+    def __init__(self, name, menu, tip, icon_name, make):
+        self.NAME, self.MENU, self.TIP, self.ICON, self.make = name, menu, tip, icon_name, make
+
+    def run(self) -> None:
+        _finish(self.make())
+
+
+CURVES = [
+    _points_command("Cagd_BezierCurve", "Bezier curve", "Bezier curve; poles from the selected vertices",
+                    "BezierCurve", _bezier, 2),
+    _points_command("Cagd_BSplineCurve", "B-spline curve", "B-spline/NURBS curve; poles from the selected vertices",
+                    "BSplineCurve", _bspline, 2),
+    _points_command("Cagd_InterpolationCurve", "Interpolating B-spline",
+                    "B-spline through the selected vertices", "InterpolationCurve", _interpolation, 2),
+    _points_command("Cagd_CubicSpline", "Cubic spline", "Natural cubic spline through the selected vertices "
+                    "(EndCondition: natural, clamped, periodic, virtual)", "CubicSpline", _cubic, 2),
+    _points_command("Cagd_HermiteCurve", "Hermite curve", "Cubic Hermite curve (between two selected vertices)",
+                    "HermiteCurve", _hermite, 2),
+    JoinCommand(),
+]
+SURFACES = [
+    SimpleCommand("Cagd_BezierSurface", "Bezier surface", "Bezier surface from a grid of poles",
+                  "BezierSurface", surfaces.make_bezier_surface),
+    SimpleCommand("Cagd_BSplineSurface", "B-spline surface", "B-spline/NURBS surface from a grid of poles",
+                  "BSplineSurface", surfaces.make_bspline_surface),
+    CoonsCommand(), SimpleCommand("Cagd_BezierTriangle", "Bezier triangle", "Cubic Bezier triangle",
+                                  "BezierTriangle", surfaces.make_bezier_triangle),
+    RevolutionCommand(),
+]
+TOOLS = [ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand()]
+
+
+def register() -> List[List[str]]:
+    """Add all commands to FreeCAD; returns the names per group (curves, surfaces, tools)."""
+    groups = []
+    for group in (CURVES, SURFACES, TOOLS):
+        for cmd in group:
+            Gui.addCommand(cmd.NAME, cmd)
+        groups.append([cmd.NAME for cmd in group])
+    return groups

@@ -1,0 +1,145 @@
+"""Engine <-> FreeCAD Part conversion through OCCT's exact B-spline form.
+
+Engine -> Part: ``geometry.to_nurbs().occ_form()`` gives exactly the arguments of
+``Part.BSplineCurve().buildFromPolesMultsKnots(poles, mults, knots, periodic,
+degree, weights)`` and ``Part.BSplineSurface().buildFromPolesMultsKnots(poles,
+umults, vmults, uknots, vknots, uperiodic, vperiodic, udegree, vdegree, weights)``
+(rational and periodic included). Part -> engine: getPoles / getWeights / getKnots
+/ getMultiplicities / Degree / isPeriodic into ``BSplineCurve.from_occ_form`` and
+``BSplineSurface.from_occ_form``; Part Bezier geometry and any other edge or face
+geometry first become B-splines (``toBSpline`` / ``toNurbs``).
+"""
+from __future__ import annotations
+
+from typing import Union
+
+import numpy as np
+
+import FreeCAD as App
+import Part
+
+from . import ensure_engine
+
+ensure_engine()
+import cagd  # noqa: E402
+
+EngineGeometry = Union["cagd.Curve", "cagd.Surface"]
+
+
+def vectors(points) -> list:
+    """An (n, 3) array (or nested (n, m, 3)) as a list of App.Vector (nested lists)."""
+    a = np.asarray(points, dtype=float)
+    if a.ndim == 3:
+        return [vectors(row) for row in a]
+    return [App.Vector(*map(float, p)) for p in a]
+
+
+def array(vecs) -> np.ndarray:
+    """A list of App.Vector (or nested lists) as a float array (..., 3)."""
+    if len(vecs) and isinstance(vecs[0], (list, tuple)):
+        return np.array([[[v.x, v.y, v.z] for v in row] for row in vecs], dtype=float)
+    return np.array([[v.x, v.y, v.z] for v in vecs], dtype=float).reshape(-1, 3)
+
+
+def curve_to_part(curve: "cagd.Curve") -> "Part.BSplineCurve":
+    """The engine curve as a Part.BSplineCurve (the same parametrisation)."""
+    f = curve.to_nurbs().occ_form()
+    bc = Part.BSplineCurve()
+    weights = None if f.weights is None else [float(w) for w in f.weights]
+    args = [vectors(f.poles), [int(m) for m in f.multiplicities], [float(k) for k in f.knots],
+            bool(f.periodic), int(f.degree)]
+    bc.buildFromPolesMultsKnots(*args, *([weights] if weights is not None else []))
+    return bc
+
+
+def surface_to_part(surface: "cagd.Surface") -> "Part.BSplineSurface":
+    """The engine surface (any kind, triangles through their collapsed-edge NURBS
+    form) as a Part.BSplineSurface with the same parametrisation."""
+    f = surface.to_nurbs().occ_form()
+    bs = Part.BSplineSurface()
+    args = [vectors(f.poles), [int(m) for m in f.multiplicities_u], [int(m) for m in f.multiplicities_v],
+            [float(k) for k in f.knots_u], [float(k) for k in f.knots_v],
+            bool(f.periodic_u), bool(f.periodic_v), int(f.degree_u), int(f.degree_v)]
+    if f.weights is not None:
+        args.append([[float(w) for w in row] for row in f.weights])
+    bs.buildFromPolesMultsKnots(*args)
+    return bs
+
+
+def to_shape(geometry: EngineGeometry) -> "Part.Shape":
+    """An edge for an engine curve, a face for an engine surface."""
+    if isinstance(geometry, cagd.Curve):
+        return curve_to_part(geometry).toShape()
+    if isinstance(geometry, cagd.Surface):
+        return surface_to_part(geometry).toShape()
+    raise TypeError(f"geometry: expected a cagd Curve or Surface, got {type(geometry).__name__}")
+
+
+def part_curve_to_engine(curve) -> "cagd.BSplineCurve":
+    """A Part.BSplineCurve or Part.BezierCurve as an engine BSplineCurve (exact)."""
+    if isinstance(curve, Part.BezierCurve):
+        curve = curve.toBSpline()
+    if not isinstance(curve, Part.BSplineCurve):
+        raise TypeError(f"curve: expected a Part B-spline or Bezier curve, got {type(curve).__name__}")
+    weights = curve.getWeights() if curve.isRational() else None
+    return cagd.BSplineCurve.from_occ_form(array(curve.getPoles()), weights, curve.getKnots(),
+                                           curve.getMultiplicities(), curve.Degree, curve.isPeriodic())
+
+
+def part_surface_to_engine(surface) -> "cagd.BSplineSurface":
+    """A Part.BSplineSurface or Part.BezierSurface as an engine BSplineSurface (exact)."""
+    if isinstance(surface, Part.BezierSurface):
+        surface = _bezier_surface_to_bspline(surface)
+    if not isinstance(surface, Part.BSplineSurface):
+        raise TypeError(f"surface: expected a Part B-spline or Bezier surface, got {type(surface).__name__}")
+    weights = np.array(surface.getWeights()) if surface.isURational() or surface.isVRational() else None
+    return cagd.BSplineSurface.from_occ_form(
+        array(surface.getPoles()), weights, surface.getUKnots(), surface.getVKnots(),
+        surface.getUMultiplicities(), surface.getVMultiplicities(), surface.UDegree, surface.VDegree,
+        surface.isUPeriodic(), surface.isVPeriodic())
+
+
+def _bezier_surface_to_bspline(surface) -> "Part.BSplineSurface":
+    """A Part.BezierSurface as the single-patch clamped B-spline on [0, 1]^2."""
+    poles = surface.getPoles()
+    nu, nv = len(poles), len(poles[0])
+    bs = Part.BSplineSurface()
+    args = [poles, [nu, nu], [nv, nv], [0.0, 1.0], [0.0, 1.0], False, False, nu - 1, nv - 1]
+    if surface.isURational() or surface.isVRational():
+        args.append(surface.getWeights())
+    bs.buildFromPolesMultsKnots(*args)
+    return bs
+
+
+def edge_to_curve(edge) -> "cagd.BSplineCurve":
+    """The edge's geometry (placement applied, trimmed to the edge's parameter range)
+    as an engine curve; lines, circles and other analytic curves through ``toNurbs``."""
+    curve = edge.Curve
+    first, last = edge.FirstParameter, edge.LastParameter
+    if not isinstance(curve, (Part.BSplineCurve, Part.BezierCurve)):
+        curve = edge.toNurbs().Edges[0].Curve
+        first, last = curve.FirstParameter, curve.LastParameter
+    c = part_curve_to_engine(curve)
+    a, b = c.domain
+    scale = max(1.0, abs(a), abs(b))
+    if first > a + 1e-12 * scale or last < b - 1e-12 * scale:
+        c = c.segment(max(first, a), min(last, b))
+    return c
+
+
+def face_to_surface(face) -> "cagd.BSplineSurface":
+    """The face's underlying surface as an engine B-spline surface, cut to the face's
+    parameter box (trimming curves inside that box are ignored)."""
+    surface = face.Surface
+    if not isinstance(surface, (Part.BSplineSurface, Part.BezierSurface)):
+        face = face.toNurbs().Faces[0]
+        surface = face.Surface
+    s = part_surface_to_engine(surface)
+    (a, b), (c, d) = s.domain
+    u0, u1, v0, v1 = face.ParameterRange
+    eps = 1e-12 * max(1.0, abs(a), abs(b), abs(c), abs(d))
+    if u0 > a + eps or u1 < b - eps:
+        s = s.segment("u", max(u0, a), min(u1, b))
+    if v0 > c + eps or v1 < d - eps:
+        s = s.segment("v", max(v0, c), min(v1, d))
+    return s

@@ -1,0 +1,202 @@
+"""Base class of the workbench's FeaturePython objects and property helpers.
+
+Every object is a ``Part::FeaturePython`` whose proxy builds an engine geometry from
+the object's properties (:meth:`Feature.build`) and stores its exact B-spline form as
+the object's Shape. Bad property values raise in ``execute``: the object goes into
+FreeCAD's error state ("Invalid", message in the report view and in the object's
+``Message`` property) and its Shape is emptied, so no stale shape survives.
+"""
+from __future__ import annotations
+
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+
+import FreeCAD as App
+import Part
+
+from . import conversion
+from .conversion import cagd
+
+ROUND = 1e-12          # relative rounding noise when comparing points
+
+
+class Feature:
+    """Proxy base: subclasses set TYPE and DEFAULT_LABEL, add properties in
+    :meth:`setup` and return an engine curve or surface from :meth:`build`."""
+
+    TYPE = "Cagd::Feature"
+    DEFAULT_LABEL = "Cagd"
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        obj.addProperty("App::PropertyString", "Message", "Status", "Result of the last recompute")
+        obj.setEditorMode("Message", 1)
+        self.setup(obj)
+
+    # --- to override ------------------------------------------------------------------------
+    def setup(self, obj) -> None:
+        """Add the object's properties with valid default values."""
+
+    def build(self, obj):
+        """The engine geometry described by the properties (raise on bad values)."""
+        raise NotImplementedError
+
+    # --- FreeCAD protocol -------------------------------------------------------------------
+    def execute(self, obj) -> None:
+        try:
+            geometry = self.build(obj)
+            shape = conversion.to_shape(geometry)
+            if shape.isNull() or not shape.isValid():
+                raise cagd.CagdError("the engine's result does not make a valid OpenCascade shape "
+                                     "(check for coincident poles or a degenerate net)")
+        except Exception as exc:
+            obj.Shape = Part.Shape()
+            message = f"{obj.Label}: {exc}"
+            obj.Message = "error: " + message
+            raise cagd.CagdError(message) from exc
+        placement = obj.Placement
+        obj.Shape = shape
+        obj.Placement = placement
+        obj.Message = "ok"
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+    # --- helpers for the view provider ------------------------------------------------------
+    def control_net(self, obj) -> List[List[App.Vector]]:
+        """Polylines of the control polygon / net of the object's shape (placed)."""
+        lines = []
+        for edge in obj.Shape.Edges if not obj.Shape.Faces else []:
+            curve = edge.Curve
+            if isinstance(curve, (Part.BSplineCurve, Part.BezierCurve)):
+                poles = curve.getPoles()
+                if isinstance(curve, Part.BSplineCurve) and curve.isPeriodic():
+                    poles = poles + poles[:1]
+                lines.append(poles)
+        for face in obj.Shape.Faces:
+            surface = face.Surface
+            if isinstance(surface, (Part.BSplineSurface, Part.BezierSurface)):
+                net = surface.getPoles()
+                lines.extend(list(row) for row in net)
+                lines.extend([row[j] for row in net] for j in range(len(net[0])))
+        return lines
+
+
+def make(feature_class, name: Optional[str] = None, doc=None, **values):
+    """Create a Part::FeaturePython with the given proxy class in ``doc`` (default:
+    the active document, or a new one), set property ``values``, attach the view
+    provider when the GUI is up, and return the object (not yet recomputed)."""
+    doc = doc or App.ActiveDocument or App.newDocument()
+    obj = doc.addObject("Part::FeaturePython", name or feature_class.DEFAULT_LABEL)
+    feature_class(obj)
+    for key, value in values.items():
+        setattr(obj, key, value)
+    if App.GuiUp:
+        from . import viewproviders
+        viewproviders.attach(obj)
+    return obj
+
+
+# --- property helpers -----------------------------------------------------------------------
+def add(obj, kind: str, name: str, group: str, doc: str, value=None) -> None:
+    """obj.addProperty(App::Property<kind>, ...) and set its value."""
+    obj.addProperty("App::Property" + kind, name, group, doc)
+    if value is not None:
+        setattr(obj, name, value)
+
+
+def add_enum(obj, name: str, group: str, doc: str, choices: Sequence[str], value: str) -> None:
+    obj.addProperty("App::PropertyEnumeration", name, group, doc)
+    setattr(obj, name, list(choices))
+    setattr(obj, name, value)
+
+
+def weights_or_none(values: Sequence[float]) -> Optional[np.ndarray]:
+    """An empty weight list means polynomial (None)."""
+    return np.array(values, dtype=float) if len(values) else None
+
+
+def grid(values, count_u: int, name: str = "Poles") -> np.ndarray:
+    """A flat row-major list of vectors (or floats) as an (count_u, n_v, ...) grid."""
+    a = conversion.array(values) if len(values) and isinstance(values[0], App.Vector) else \
+        np.array(values, dtype=float)
+    if count_u < 1 or len(a) % count_u:
+        raise cagd.CagdError(f"CountU: {len(a)} {name} do not form rows of equal length "
+                             f"with {count_u} rows")
+    return a.reshape(count_u, len(a) // count_u, *a.shape[1:])
+
+
+def linked_points(links) -> np.ndarray:
+    """Points of a LinkSubList of vertices (``[(obj, ('Vertex1', ...)), ...]``) in
+    order; whole objects without sub-elements count when their shape is one vertex."""
+    pts = []
+    for obj, subs in links:
+        subs = [s for s in subs if s] if subs else []
+        if not subs:
+            vertexes = obj.Shape.Vertexes
+            if len(vertexes) != 1:
+                raise cagd.CagdError(f"Vertices: {obj.Label} is not a single point; select its vertices")
+            pts.append(vertexes[0].Point)
+            continue
+        for sub in subs:
+            element = obj.Shape.getElement(sub)
+            if element.ShapeType != "Vertex":
+                raise cagd.CagdError(f"Vertices: {obj.Label}.{sub} is a {element.ShapeType}, not a vertex")
+            pts.append(element.Point)
+    return conversion.array(pts)
+
+
+def points_from(obj, points_property: str = "Points") -> np.ndarray:
+    """The points of ``obj``: from its linked Vertices when any (then written back to
+    the points property for display), else the points property itself."""
+    if obj.Vertices:
+        pts = linked_points(obj.Vertices)
+        current = getattr(obj, points_property)
+        if len(current) != len(pts) or np.any(conversion.array(current) != pts):
+            setattr(obj, points_property, conversion.vectors(pts))
+        return pts
+    return conversion.array(getattr(obj, points_property))
+
+
+def linked_edge(link, name: str):
+    """The edge of a LinkSub property value ``(obj, ['Edge2'])`` (or a whole object
+    whose shape has exactly one edge)."""
+    if not link:
+        raise cagd.CagdError(f"{name}: no edge linked")
+    obj, subs = link
+    subs = [s for s in (subs or []) if s]
+    if not subs:
+        edges = obj.Shape.Edges
+        if len(edges) != 1:
+            raise cagd.CagdError(f"{name}: {obj.Label} has {len(edges)} edges; link one edge")
+        return edges[0]
+    element = obj.Shape.getElement(subs[0])
+    if element.ShapeType != "Edge":
+        raise cagd.CagdError(f"{name}: {obj.Label}.{subs[0]} is a {element.ShapeType}, not an edge")
+    return element
+
+
+def linked_edges(links, name: str) -> List[Tuple[str, object]]:
+    """(label, edge) of every edge in a LinkSubList value, in order."""
+    out = []
+    for obj, subs in links:
+        subs = [s for s in (subs or []) if s]
+        if not subs:
+            out.append((obj.Label, linked_edge((obj, []), name)))
+        for sub in subs:
+            out.append((f"{obj.Label}.{sub}", linked_edge((obj, [sub]), name)))
+    return out
+
+
+def vector(v) -> np.ndarray:
+    return np.array([v.x, v.y, v.z], dtype=float)

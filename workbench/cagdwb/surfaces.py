@@ -1,0 +1,244 @@
+"""Parametric surface objects: Bezier and B-spline surfaces from a point grid, Coons
+patch from four linked edges, Bezier triangle and surface of revolution.
+
+Each proxy makes one engine object (cagd.BezierSurface, cagd.BSplineSurface,
+cagd.interpolate_surface, cagd.CoonsPatch, cagd.BezierTriangle, cagd.revolve); the
+shape is the face of its exact B-spline form.
+"""
+from __future__ import annotations
+
+import math
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+import FreeCAD as App
+
+from . import conversion
+from .conversion import cagd
+from .features import Feature, add, grid, linked_edge, linked_edges, make, vector, weights_or_none
+
+V = App.Vector
+
+
+def sample_grid(count_u: int, count_v: int, size: float = 40.0) -> List[App.Vector]:
+    """A wavy (count_u x count_v) grid of points, row-major (default geometry)."""
+    pts = []
+    for i in range(count_u):
+        for j in range(count_v):
+            x, y = size * i / (count_u - 1), size * j / (count_v - 1)
+            pts.append(V(x, y, 6.0 * math.sin(math.pi * i / (count_u - 1)) * math.cos(math.pi * j / (count_v - 1))))
+    return pts
+
+
+class BezierSurface(Feature):
+    """Tensor-product Bezier surface from a (m+1) x (n+1) grid of poles (Farin ch. 15)."""
+
+    TYPE = "Cagd::BezierSurface"
+    DEFAULT_LABEL = "BezierSurface"
+
+    def setup(self, obj) -> None:
+        add(obj, "VectorList", "Poles", "Surface", "Control points, row-major (CountU rows)", sample_grid(4, 4))
+        add(obj, "Integer", "CountU", "Surface", "Number of rows (poles in u)", 4)
+        add(obj, "FloatList", "Weights", "Surface", "Weights, row-major like Poles; empty = polynomial")
+
+    def build(self, obj):
+        W = weights_or_none(obj.Weights)
+        return cagd.BezierSurface(grid(obj.Poles, obj.CountU),
+                                  None if W is None else grid(W, obj.CountU, "Weights"))
+
+
+class BSplineSurface(Feature):
+    """B-spline / NURBS surface from a pole grid, or interpolating the grid
+    (``Interpolate``: Piegl & Tiller 9.2.5 through cagd.interpolate_surface)."""
+
+    TYPE = "Cagd::BSplineSurface"
+    DEFAULT_LABEL = "BSplineSurface"
+
+    def setup(self, obj) -> None:
+        add(obj, "VectorList", "Poles", "Surface", "Control points (or points to interpolate), row-major",
+            sample_grid(5, 5))
+        add(obj, "Integer", "CountU", "Surface", "Number of rows (poles in u)", 5)
+        add(obj, "Integer", "DegreeU", "Surface", "Degree in u", 3)
+        add(obj, "Integer", "DegreeV", "Surface", "Degree in v", 3)
+        add(obj, "FloatList", "KnotsU", "Surface", "Full knot vector in u; empty = clamped uniform")
+        add(obj, "FloatList", "KnotsV", "Surface", "Full knot vector in v; empty = clamped uniform")
+        add(obj, "FloatList", "Weights", "Surface", "Weights, row-major like Poles; empty = polynomial")
+        add(obj, "Bool", "PeriodicU", "Surface", "Periodic in u (KnotsU: one period)", False)
+        add(obj, "Bool", "PeriodicV", "Surface", "Periodic in v (KnotsV: one period)", False)
+        add(obj, "Bool", "Interpolate", "Surface", "Poles are points the surface passes through", False)
+
+    def build(self, obj):
+        P = grid(obj.Poles, obj.CountU)
+        if obj.Interpolate:
+            return cagd.interpolate_surface(P, obj.DegreeU, obj.DegreeV)
+        W = weights_or_none(obj.Weights)
+        ku = np.array(obj.KnotsU) if len(obj.KnotsU) else None
+        kv = np.array(obj.KnotsV) if len(obj.KnotsV) else None
+        if ku is None and obj.PeriodicU:
+            ku = np.linspace(0.0, 1.0, P.shape[0] + 1)
+        if kv is None and obj.PeriodicV:
+            kv = np.linspace(0.0, 1.0, P.shape[1] + 1)
+        return cagd.BSplineSurface(P, obj.DegreeU, obj.DegreeV, ku, kv,
+                                   None if W is None else grid(W, obj.CountU, "Weights"),
+                                   obj.PeriodicU, obj.PeriodicV)
+
+
+def arrange_boundary(curves: Sequence[Tuple[str, "cagd.BSplineCurve"]], tol: float = 1e-7):
+    """Order and orient four boundary curves for cagd.CoonsPatch: the first is c0,
+    the one meeting c0's start is d0, the one meeting its end d1, the last c1; each
+    reversed as needed so that c0(0)=d0(0), c0(1)=d1(0), c1(0)=d0(1), c1(1)=d1(1).
+    Ends "meet" within ``tol`` times the size of the four curves.
+
+    Raises:
+        CagdError: not four curves, or they do not form a closed four-sided loop.
+    """
+    if len(curves) != 4:
+        raise cagd.CagdError(f"Edges: a Coons patch needs exactly 4 edges, got {len(curves)}")
+    ends = [(c(c.domain[0]), c(c.domain[1])) for _, c in curves]
+    pts = np.array([p for e in ends for p in e])
+    eps = tol * max(1.0, float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))))
+
+    def near(a, b):
+        return float(np.linalg.norm(a - b)) <= eps
+
+    c0_name, c0 = curves[0]
+    start, end = ends[0]
+    rest = list(range(1, 4))
+    found = {}
+    for key, corner in (("d0", start), ("d1", end)):
+        for k in rest:
+            if near(ends[k][0], corner) or near(ends[k][1], corner):
+                curve = curves[k][1]
+                found[key] = curve if near(ends[k][0], corner) else curve.reversed()
+                rest.remove(k)
+                break
+        else:
+            raise cagd.CagdError(f"Edges: no other edge meets {c0_name} at its "
+                                 f"{'start' if key == 'd0' else 'end'} (tolerance {eps:.3g})")
+    d0, d1 = found["d0"], found["d1"]
+    name, c1 = curves[rest[0]]
+    a, b = d0(d0.domain[1]), d1(d1.domain[1])
+    e0, e1 = c1(c1.domain[0]), c1(c1.domain[1])
+    if near(e1, a) and near(e0, b):
+        c1 = c1.reversed()
+    elif not (near(e0, a) and near(e1, b)):
+        raise cagd.CagdError(f"Edges: {name} does not join the free ends of the two edges meeting "
+                             f"{c0_name} (tolerance {eps:.3g}); the four edges must form a closed loop")
+    return c0, c1, d0, d1
+
+
+class CoonsPatch(Feature):
+    """Bilinearly blended Coons patch from four linked edges (Farin ch. 22.2); it
+    follows the edges when their objects change or move."""
+
+    TYPE = "Cagd::CoonsPatch"
+    DEFAULT_LABEL = "CoonsPatch"
+
+    def setup(self, obj) -> None:
+        add(obj, "LinkSubList", "Edges", "Surface", "Four edges forming a closed loop, any order and direction")
+        add(obj, "Float", "Tolerance", "Surface", "Relative corner tolerance (times the edges' size)", 1e-7)
+
+    def build(self, obj):
+        named = [(label, conversion.edge_to_curve(e)) for label, e in linked_edges(obj.Edges, "Edges")]
+        c0, c1, d0, d1 = arrange_boundary(named, obj.Tolerance)
+        pts = np.concatenate([c(np.linspace(*c.domain, 3)) for c in (c0, c1, d0, d1)])
+        size = max(1.0, float(np.abs(pts).max()))
+        return cagd.CoonsPatch(c0, c1, d0, d1, tol=obj.Tolerance * size)
+
+
+def triangle_sample(n: int = 3, size: float = 40.0) -> List[App.Vector]:
+    """Control points of a domed degree-n triangle in index_triples order."""
+    pts = []
+    for i in range(n, -1, -1):
+        for j in range(n - i, -1, -1):
+            k = n - i - j
+            x, y = size * (i + 0.5 * j) / n, size * 0.866 * j / n
+            pts.append(V(x, y, 12.0 * (1.0 if min(i, j, k) > 0 else 0.0)))
+    return pts
+
+
+class BezierTriangle(Feature):
+    """Degree-n Bezier triangle (seed 003, 3.1); the shape is its collapsed-edge
+    B-spline form (one degenerate edge)."""
+
+    TYPE = "Cagd::BezierTriangle"
+    DEFAULT_LABEL = "BezierTriangle"
+
+    def setup(self, obj) -> None:
+        add(obj, "VectorList", "Poles", "Surface",
+            "(n+1)(n+2)/2 control points P_ijk, i descending then j descending", triangle_sample())
+        add(obj, "FloatList", "Weights", "Surface", "One positive weight per pole; empty = polynomial")
+
+    def build(self, obj):
+        return self.triangle(obj)
+
+    @staticmethod
+    def triangle(obj) -> "cagd.BezierTriangle":
+        return cagd.BezierTriangle(conversion.array(obj.Poles), weights_or_none(obj.Weights))
+
+    def control_net(self, obj):
+        """The triangular net: rows of constant i, j and k."""
+        tri = self.triangle(obj)
+        n = tri.degree
+        index = {t: k for k, t in enumerate(cagd.triangles.basis.index_triples(n))}
+        P = conversion.vectors(tri.control_points)
+        place = obj.Placement
+        lines = []
+        for fixed in range(3):
+            for value in range(n):
+                row = [t for t in index if t[fixed] == value]
+                lines.append([place.multVec(P[index[t]]) for t in sorted(row)])
+        return lines
+
+
+class Revolution(Feature):
+    """Surface of revolution of a linked profile edge about an axis (Piegl & Tiller A8.1)."""
+
+    TYPE = "Cagd::Revolution"
+    DEFAULT_LABEL = "Revolution"
+
+    def setup(self, obj) -> None:
+        add(obj, "LinkSub", "Profile", "Revolution", "The profile edge")
+        add(obj, "Vector", "AxisPoint", "Revolution", "A point on the axis", V(0, 0, 0))
+        add(obj, "Vector", "AxisDirection", "Revolution", "Axis direction", V(0, 0, 1))
+        add(obj, "Angle", "Angle", "Revolution", "Sweep angle, (0, 360] degrees", 360.0)
+        add(obj, "Angle", "StartAngle", "Revolution", "Start angle in degrees", 0.0)
+
+    def build(self, obj):
+        profile = conversion.edge_to_curve(linked_edge(obj.Profile, "Profile"))
+        return cagd.revolve(profile, vector(obj.AxisPoint), vector(obj.AxisDirection),
+                            math.radians(float(obj.Angle)), math.radians(float(obj.StartAngle)))
+
+
+# --- creation helpers -----------------------------------------------------------------------
+def make_bezier_surface(poles=None, count_u=None, weights=None, doc=None):
+    return _make(BezierSurface, doc, Poles=poles, CountU=count_u, Weights=weights)
+
+
+def make_bspline_surface(poles=None, count_u=None, doc=None, **values):
+    return _make(BSplineSurface, doc, Poles=poles, CountU=count_u, **values)
+
+
+def make_coons(edges, doc=None):
+    """``edges``: a LinkSubList value, e.g. [(obj, 'Edge1'), (obj2, 'Edge1'), ...]."""
+    return _make(CoonsPatch, doc, Edges=edges)
+
+
+def make_bezier_triangle(poles=None, weights=None, doc=None):
+    return _make(BezierTriangle, doc, Poles=poles, Weights=weights)
+
+
+def make_revolution(profile, doc=None, **values):
+    """``profile``: (object, 'EdgeN')."""
+    return _make(Revolution, doc, Profile=profile, **values)
+
+
+def _make(cls, doc, **values):
+    def fix(key, v):
+        if key == "Poles" and isinstance(v, np.ndarray):
+            return conversion.vectors(v.reshape(-1, 3))
+        if key == "Weights" and isinstance(v, np.ndarray):
+            return [float(w) for w in v.ravel()]
+        return v
+    return make(cls, doc=doc, **{k: fix(k, v) for k, v in values.items() if v is not None})

@@ -1,0 +1,305 @@
+"""GUI test macro of the cagd workbench, run by the FreeCAD GUI under Xvfb:
+
+    python3 workbench/install.py     # or set CAGD_WB_ADDON=<repo>/workbench
+    CAGD_WB_OUT=/tmp/out QTWEBENGINE_DISABLE_SANDBOX=1 xvfb-run -a freecad workbench/tests/gui_macro.py
+
+Once the main window is up (QTimer.singleShot) it activates the workbench, runs every
+command on a prepared selection and saves two renderings of the 3-D view per step
+into $CAGD_WB_OUT: ``<step>.png`` with the step's new object shown and
+``<step>-hidden.png`` with it hidden (same camera), so a test can count the model's
+own pixels. Checks that need FreeCAD are made here; the summary goes to
+``$CAGD_WB_OUT/result.json``. The GUI does not exit by itself: ``os._exit`` ends it.
+"""
+import json
+import os
+import sys
+import time
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+try:
+    import cagdwb  # noqa: F401  (the installed addon, see workbench/install.py)
+except ImportError:
+    sys.path.insert(0, os.environ["CAGD_WB_ADDON"])          # or the addon folder named here
+from cagdwb.qt import QtCore, QtWidgets  # noqa: E402
+
+OUT = os.environ.get("CAGD_WB_OUT", "/tmp/cagd-wb-gui")
+os.makedirs(OUT, exist_ok=True)
+LOG = open(os.path.join(OUT, "macro.log"), "w", encoding="utf-8")
+RESULT = {"passed": [], "failed": {}, "screenshots": [], "out": OUT}
+V = App.Vector
+WIDTH, HEIGHT = 480, 360
+
+
+def log(msg):
+    LOG.write(f"{time.strftime('%H:%M:%S')} {msg}\n")
+    LOG.flush()
+
+
+def check(cond, message):
+    if not cond:
+        raise AssertionError(message)
+
+
+def settle(n=5):
+    for _ in range(n):
+        QtWidgets.QApplication.processEvents()
+
+
+def render(name, show, hide_for_reference):
+    """Save <name>.png showing ``show`` objects, then <name>-hidden.png without
+    ``hide_for_reference`` (same camera)."""
+    doc = App.ActiveDocument
+    Gui.Selection.clearSelection()
+    for o in doc.Objects:
+        o.ViewObject.Visibility = o in show
+    view = Gui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    settle()
+    shown = os.path.join(OUT, name + ".png")
+    view.saveImage(shown, WIDTH, HEIGHT, "White")
+    for o in hide_for_reference:
+        o.ViewObject.Visibility = False
+    settle()
+    hidden = os.path.join(OUT, name + "-hidden.png")
+    view.saveImage(hidden, WIDTH, HEIGHT, "White")
+    RESULT["screenshots"].append(name)
+
+
+def new_objects(before):
+    return [o for o in App.ActiveDocument.Objects if o.Name not in before]
+
+
+def run_command(name, selection=()):
+    """Select (obj, sub) pairs, run the command, return the objects it created."""
+    before = {o.Name for o in App.ActiveDocument.Objects}
+    Gui.Selection.clearSelection()
+    for obj, sub in selection:
+        Gui.Selection.addSelection(App.ActiveDocument.Name, obj.Name, sub)
+    check(Gui.isCommandActive(name), f"{name} not active")
+    Gui.runCommand(name, 0)
+    settle()
+    return new_objects(before)
+
+
+def created(name, selection=(), shots=True):
+    objs = run_command(name, selection)
+    check(len(objs) == 1, f"{name} created {len(objs)} objects")
+    obj = objs[0]
+    check(obj.isValid() and obj.Shape.isValid() and not obj.Shape.isNull(), f"{name}: {obj.Message}")
+    check(hasattr(obj.ViewObject, "ShowControlNet"), f"{name}: no CAGD view provider")
+    if shots:
+        render(name, [obj], [obj])
+    return obj
+
+
+STEPS = []
+
+
+def step(fn):
+    STEPS.append(fn)
+    return fn
+
+
+STATE = {}
+
+
+@step
+def workbench_active():
+    Gui.activateWorkbench("CagdWorkbench")
+    settle()
+    check(Gui.activeWorkbench().name() == "CagdWorkbench", "workbench not active")
+    import cagdwb
+    from cagdwb import commands
+    names = [c.NAME for group in (commands.CURVES, commands.SURFACES, commands.TOOLS) for c in group]
+    listed = set(Gui.listCommands())
+    check(all(n in listed for n in names), "commands not registered")
+    for c in (c for group in (commands.CURVES, commands.SURFACES, commands.TOOLS) for c in group):
+        check(os.path.isfile(c.GetResources()["Pixmap"]), f"{c.NAME}: icon missing")
+    bars = {b.windowTitle() for b in Gui.getMainWindow().findChildren(QtWidgets.QToolBar)}
+    check({"CAGD curves", "CAGD surfaces", "CAGD tools"} <= bars, f"toolbars {sorted(bars)}")
+    menus = [a.text() for a in Gui.getMainWindow().menuBar().actions()]
+    check("CAGD" in [m.replace("&", "") for m in menus], f"menu bar {menus}")
+    App.newDocument("GuiTest")
+    settle()
+    log(f"engine at {cagdwb.ensure_engine()}")
+
+
+@step
+def curves_from_vertices():
+    doc = App.ActiveDocument
+    pts = [V(0, 0, 0), V(10, 12, 0), V(20, -4, 6), V(30, 10, 0), V(40, 0, 4)]
+    verts = []
+    for i, p in enumerate(pts):
+        v = doc.addObject("Part::Vertex", f"Point{i}")
+        v.X, v.Y, v.Z = p.x, p.y, p.z
+        verts.append(v)
+    doc.recompute()
+    sel = [(v, "") for v in verts]
+    for name in ("Cagd_BezierCurve", "Cagd_BSplineCurve", "Cagd_InterpolationCurve", "Cagd_CubicSpline"):
+        obj = created(name, sel)
+        check(len(obj.Vertices) == len(verts), f"{name}: linked {len(obj.Vertices)} vertices")
+        STATE[name] = obj
+    obj = created("Cagd_HermiteCurve", sel[:2])
+    check((obj.Shape.Edges[0].valueAt(0) - pts[0]).Length < 1e-9, "Hermite start not at the vertex")
+    # the spline follows a moved vertex
+    spline = STATE["Cagd_CubicSpline"]
+    verts[2].Z = 20.0
+    doc.recompute()
+    check(spline.isValid() and spline.Shape.Edges[0].distToShape(verts[2].Shape)[0] < 1e-9, "spline not following")
+
+
+@step
+def join_two_edges():
+    from cagdwb import curves
+    doc = App.ActiveDocument
+    src = curves.make_bezier_curve([V(45, 5, 0), V(50, 15, 0), V(60, 10, 2), V(70, 0, 0)])
+    doc.recompute()
+    base = STATE["Cagd_BezierCurve"]
+    obj = created("Cagd_Join", [(base, "Edge1"), (src, "Edge1")], shots=False)
+    render("Cagd_Join", [base, obj], [obj])
+    STATE["join"] = (base, obj)
+
+
+@step
+def surfaces_default():
+    for name in ("Cagd_BezierSurface", "Cagd_BSplineSurface", "Cagd_BezierTriangle"):
+        STATE[name] = created(name)
+
+
+@step
+def coons_from_four_edges():
+    from cagdwb import curves
+    doc = App.ActiveDocument
+    a = curves.make_bezier_curve([V(0, 0, 0), V(10, -5, 3), V(20, 5, 0), V(30, 0, 0)])
+    b = curves.make_bspline_curve([V(30, 0, 0), V(35, 10, 5), V(28, 20, 0), V(32, 30, 2)])
+    c = curves.make_bezier_curve([V(32, 30, 2), V(20, 35, 6), V(0, 30, 0)])
+    d = curves.make_cubic_spline([V(0, 0, 0), V(-4, 15, 3), V(0, 30, 0)])
+    doc.recompute()
+    obj = created("Cagd_CoonsPatch", [(a, "Edge1"), (c, "Edge1"), (d, "Edge1"), (b, "Edge1")], shots=False)
+    render("Cagd_CoonsPatch", [a, b, c, d, obj], [obj])
+    mid = obj.Shape.Faces[0].Surface.value(0.5, 0.5)
+    a.Placement = App.Placement(V(0, 0, 10), App.Rotation())
+    for o in (b, c, d):
+        o.Placement = a.Placement
+    doc.recompute()
+    moved = obj.Shape.Faces[0].Surface.value(0.5, 0.5)
+    check(obj.isValid() and (moved - mid - V(0, 0, 10)).Length < 1e-9,
+          f"Coons patch did not follow its edges: {obj.Message}, centre {mid} -> {moved}")
+
+
+@step
+def revolution_of_edge():
+    from cagdwb import curves
+    doc = App.ActiveDocument
+    profile = curves.make_bspline_curve([V(5, 0, 0), V(12, 0, 5), V(4, 0, 10), V(8, 0, 15)])
+    doc.recompute()
+    obj = created("Cagd_Revolution", [(profile, "Edge1")])
+    check(obj.Profile[0] == profile, "profile not linked")
+
+
+@step
+def continuity_check():
+    from cagdwb import commands
+    base, join = STATE["join"]
+    run_command("Cagd_ContinuityCheck", [(base, "Edge1"), (join, "Edge1")])
+    check(commands.LAST_CHECK and commands.LAST_CHECK[-1].report.G2, "continuity check did not report G2")
+    log(commands.LAST_CHECK[-1].text())
+    f1, f2 = STATE["Cagd_BezierSurface"], STATE["Cagd_BSplineSurface"]
+    run_command("Cagd_ContinuityCheck", [(f1, "Face1"), (f2, "Face1")])
+    check(len(commands.LAST_CHECK) == 2, "face continuity not reported")
+    boxes = [w for w in QtWidgets.QApplication.topLevelWidgets() if isinstance(w, QtWidgets.QMessageBox)]
+    check(boxes and any("G2" in b.text() for b in boxes), "no result window")
+    for b in boxes:
+        b.close()
+    render("Cagd_ContinuityCheck", [base, join], [join])
+
+
+@step
+def toggles():
+    obj = STATE["Cagd_CubicSpline"]
+    obj.ViewObject.ShowControlNet = False
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj)
+    Gui.runCommand("Cagd_ToggleComb", 0)
+    settle()
+    check(obj.ViewObject.ShowCurvatureComb, "comb not switched on")
+    render("Cagd_ToggleComb", [obj], [])
+    os.replace(os.path.join(OUT, "Cagd_ToggleComb-hidden.png"), os.path.join(OUT, "Cagd_ToggleComb-unused.png"))
+    obj.ViewObject.ShowCurvatureComb = False
+    settle()
+    Gui.ActiveDocument.ActiveView.saveImage(os.path.join(OUT, "Cagd_ToggleComb-hidden.png"), WIDTH, HEIGHT, "White")
+    os.remove(os.path.join(OUT, "Cagd_ToggleComb-unused.png"))
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj)
+    Gui.runCommand("Cagd_ToggleControlNet", 0)
+    settle()
+    check(obj.ViewObject.ShowControlNet, "control net not switched on")
+    Gui.ActiveDocument.ActiveView.saveImage(os.path.join(OUT, "Cagd_ToggleControlNet.png"), WIDTH, HEIGHT, "White")
+    Gui.runCommand("Cagd_ToggleControlNet", 0)
+    settle()
+    check(not obj.ViewObject.ShowControlNet, "control net not switched off")
+    Gui.ActiveDocument.ActiveView.saveImage(os.path.join(OUT, "Cagd_ToggleControlNet-hidden.png"),
+                                            WIDTH, HEIGHT, "White")
+    RESULT["screenshots"].append("Cagd_ToggleControlNet")
+
+
+@step
+def task_panel_edits():
+    obj = STATE["Cagd_CubicSpline"]
+    before = obj.Shape.Edges[0].valueAt(1.0)
+    Gui.ActiveDocument.setEdit(obj.Name, 0)
+    settle()
+    panel = obj.ViewObject.Proxy.panel
+    check(Gui.Control.activeDialog(), "no task dialog open")
+    check({"EndCondition", "Parametrization", "StartTangent"} <= set(panel.widgets), f"{sorted(panel.widgets)}")
+    panel.widgets["EndCondition"].setCurrentText("virtual")
+    settle()
+    check(obj.EndCondition == "virtual" and obj.isValid(), "combo box did not set EndCondition")
+    check((obj.Shape.Edges[0].valueAt(1.0) - before).Length > 1e-6, "shape unchanged")
+    check(panel.message.text() == "ok", panel.message.text())
+    panel.reject()
+    settle()
+    check(obj.EndCondition == "natural", f"cancel did not undo: {obj.EndCondition}")
+    check(not Gui.Control.activeDialog(), "task dialog still open")
+
+
+@step
+def bad_value_keeps_gui_alive():
+    obj = STATE["Cagd_BSplineSurface"]
+    obj.DegreeU = 9
+    App.ActiveDocument.recompute()
+    settle()
+    check(not obj.isValid() and obj.Shape.isNull() and "degree" in obj.Message.lower(), obj.Message)
+    obj.DegreeU = 3
+    App.ActiveDocument.recompute()
+    check(obj.isValid(), "not valid again")
+
+
+def run():
+    start = time.time()
+    try:
+        for fn in STEPS:
+            try:
+                fn()
+            except Exception as exc:
+                RESULT["failed"][fn.__name__] = f"{type(exc).__name__}: {exc}"
+                log(f"FAIL {fn.__name__}\n{traceback.format_exc()}")
+            else:
+                RESULT["passed"].append(fn.__name__)
+                log(f"ok   {fn.__name__}")
+        import numpy
+        RESULT.update(seconds=round(time.time() - start, 2), freecad=".".join(App.Version()[:3]),
+                      numpy=numpy.__version__)
+        with open(os.path.join(OUT, "result.json"), "w", encoding="utf-8") as f:
+            json.dump(RESULT, f, indent=1)
+    finally:
+        LOG.close()
+        sys.stdout.flush()
+        os._exit(0)
+
+
+QtCore.QTimer.singleShot(500, run)
