@@ -10,7 +10,9 @@ from typing import Iterable, List, Union
 import cadquery as cq
 import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Sewing
+from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
+from OCP.GeomAbs import GeomAbs_Arc
 from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
 from OCP.TopAbs import TopAbs_WIRE
@@ -126,28 +128,35 @@ def _wires(compound) -> list:
     return out
 
 
-def thicken(face: FaceLike, thickness: float) -> cq.Solid:
-    """A solid of the given thickness grown from a surface along its normal (negative:
-    the other side) by OCCT's offset algorithm (BRepOffset_MakeOffset, as
-    ``cq.Face.thicken``). The offset is exact only for planes, spheres and the like;
-    OCCT approximates the offset surface of a free-form B-spline within its
-    tolerance (checked: the result is valid, and its volume is compared with area x
-    thickness in the tests).
+def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: float = 1e-6) -> cq.Solid:
+    """A solid of the given thickness grown from a face, or from faces sewn into one
+    shell (e.g. two patches joined with G1), along the normal (negative: the other
+    side), by OCCT's offset algorithm (BRepOffset_MakeOffset in skin mode with
+    thickening, arc joins). The offset is exact only for planes, spheres and the
+    like; OCCT approximates the offset of a free-form B-spline within its tolerance
+    (the result is checked valid; the tests compare its volume with area x thickness).
+    OCCT's offset needs C1 surfaces as OCCT declares them: a knot of multiplicity =
+    degree (e.g. the rational circle's double knots) makes it fail.
 
     Raises:
-        CagdError: a zero thickness, or OCCT cannot build a valid solid (e.g. the
-            thickness exceeds a radius of curvature).
+        CagdError: a zero or non-finite thickness, faces that do not sew into one
+            shell, or OCCT cannot build a valid solid (e.g. the thickness exceeds a
+            radius of curvature).
     """
     if not thickness or not np.isfinite(thickness):
         raise CagdError(f"thickness: must be finite and non-zero, got {thickness!r}")
-    occ = _occ_faces([face])
-    if len(occ) != 1 or occ[0].ShapeType().name != "TopAbs_FACE":
-        raise CagdError("face: expected exactly one face")
-    try:
-        solid = cq.Face(TopoDS.Face_s(occ[0])).thicken(thickness)
-    except Exception as exc:   # OCCT's Standard_Failure and CadQuery's ValueError
-        raise CagdError(f"thickness: OCCT could not thicken the face by {thickness}: {exc}") from None
-    return _checked(solid)
+    items = list(faces) if isinstance(faces, (list, tuple)) else [faces]
+    occ = _occ_faces(items)
+    shape = occ[0] if len(occ) == 1 and occ[0].ShapeType().name == "TopAbs_FACE" else _sewn(occ, tol).SewedShape()
+    if shape.ShapeType().name not in ("TopAbs_FACE", "TopAbs_SHELL"):
+        raise CagdError(f"faces: they do not sew into one shell with tol={tol:g} ({shape.ShapeType().name})")
+    maker = BRepOffset_MakeOffset()
+    maker.Initialize(shape, float(thickness), tol, BRepOffset_Skin, False, False, GeomAbs_Arc, True)
+    maker.MakeOffsetShape()
+    if not maker.IsDone():
+        raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
+                        f"{maker.Error().name})")
+    return _checked(cq.Shape.cast(maker.Shape()))
 
 
 def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> cq.Face:

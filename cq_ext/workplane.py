@@ -204,12 +204,13 @@ def closeWithCaps(self: T, tol: float = 1e-6) -> T:
     return self.newObject([close_with_caps(faces, tol)])
 
 
-def thickenSurface(self: T, thickness: float) -> T:
-    """Thicken each face on the stack into a solid (see :func:`cq_ext.thicken`)."""
-    faces = [o for o in self.objects if isinstance(o, cq.Face)]
+def thickenSurface(self: T, thickness: float, tol: float = 1e-6) -> T:
+    """Thicken the faces on the stack, sewn into one shell, into a solid (see
+    :func:`cq_ext.thicken`)."""
+    faces = [o for o in self.objects if isinstance(o, (cq.Face, cq.Shell))]
     if not faces:
         raise CagdError("thickenSurface: no face on the stack")
-    return self.newObject([thicken(f, thickness) for f in faces])
+    return self.newObject([thicken(faces, thickness, tol)])
 
 
 METHODS = [cagdCurve, bezierCurve, nurbsCurve, interpCurve, hermiteCurve, joinCurves, cagdSurface, bezierSurface,
