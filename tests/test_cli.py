@@ -1,6 +1,7 @@
 """``cagd demo`` on the built-in model and ``cagd export MODEL.json``: files written,
 read back by OCCT, the report's verdict, exit codes, messages naming the JSON path."""
 import json
+from pathlib import Path
 import re
 
 import numpy as np
@@ -137,3 +138,11 @@ def test_progress_bar_on_stderr(tmp_path, capsys):
     err = capsys.readouterr().err
     lines = [ln for ln in err.splitlines() if ln.startswith("[")]
     assert lines[-1].startswith("[" + "#" * 24 + "]") and re.search(r"(\d+)/\1 ", lines[-1])
+
+
+@pytest.mark.parametrize("model", sorted((Path(__file__).parents[1] / "examples" / "models").glob("*.json")),
+                         ids=lambda p: p.stem)
+def test_example_models_export_and_pass_their_checks(model, tmp_path):
+    assert main(["export", str(model), "-o", str(tmp_path / "m.step"), "--iges", str(tmp_path / "m.igs"),
+                 "--report", str(tmp_path / "r.md"), "--no-progress"]) == 0
+    assert "**all checks passed**" in (tmp_path / "r.md").read_text()
