@@ -99,3 +99,11 @@ def increasing(value, count: int, name: str = "parameters") -> np.ndarray:
         i = int(bad[0])
         raise CagdError(f"{name}: must be strictly increasing ({name}[{i + 1}]={t[i + 1]} <= {name}[{i}]={t[i]})")
     return t
+
+
+def finite_homogeneous(hom: np.ndarray) -> np.ndarray:
+    """The homogeneous control points w P must stay finite (w and P finite can overflow)."""
+    if not np.all(np.isfinite(hom)):
+        raise CagdError("control_points, weights: the products w * P overflow (weights or coordinates "
+                        "too large); scale the model or the weights")
+    return hom

@@ -62,7 +62,7 @@ class BSplineCurve(Curve):
             idx = np.arange(n)
         self.control_points, self.weights, self.degree, self.knots = P, w, p, t
         self.dim = P.shape[1]
-        hom = P if w is None else np.hstack([P * w[:, None], w[:, None]])
+        hom = P if w is None else _checks.finite_homogeneous(np.hstack([P * w[:, None], w[:, None]]))
         self._u = full_u                    # full (unwrapped) knot vector
         self._hom = hom[idx]                # matching (homogeneous) control points
         self._pp: Optional[PPForm] = None

@@ -261,6 +261,9 @@ class CubicSpline(HermiteSpline):
             text = np.concatenate([[t[0] - hv[0]], t, [t[-1] + hv[1]]])
             self.virtual_points = V
             m = _natural_tangents(ext, text)[1:-1]
+        if not np.all(np.isfinite(m)):
+            raise CagdError("parameters: the spline's tangent system overflows (parameter steps of "
+                            f"{float(np.diff(t).min()):.3g} against point spacing; use chord or uniform spacing)")
         super().__init__(P, m, t)
         self.periodic = periodic
 

@@ -74,7 +74,7 @@ class BSplineSurface(Surface):
         self.knots_v, self._v, iv = _direction(knots_v, nv, self.degree_v, self.periodic_v, "knots_v")
         self.control_points, self.weights = P, W
         self.dim = P.shape[2]
-        hom = P if W is None else np.concatenate([P * W[..., None], W[..., None]], axis=2)
+        hom = P if W is None else _checks.finite_homogeneous(np.concatenate([P * W[..., None], W[..., None]], axis=2))
         self._hom = hom[iu][:, iv]            # unwrapped homogeneous net
 
     # --- properties --------------------------------------------------------------------

@@ -57,7 +57,7 @@ class BezierTriangle(Surface):
         W = parse_weights(weights, n, "weights")
         self.degree, self.dim = n, P.shape[1]
         self.control_points, self.weights = P, W
-        self._hom = P if W is None else np.concatenate([P * W[:, None], W[:, None]], axis=1)
+        self._hom = P if W is None else _checks.finite_homogeneous(np.concatenate([P * W[:, None], W[:, None]], axis=1))
         self._net = tb.to_dense(self._hom, n)
 
     index_triples = staticmethod(tb.index_triples)

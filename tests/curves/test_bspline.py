@@ -717,3 +717,9 @@ def test_clamped_ends_interpolate_bit_for_bit(curve):
     ends = curve(np.array([a, b]))
     assert np.array_equal(ends[0], curve.control_points[0])
     assert np.array_equal(ends[1], curve.control_points[-1])
+
+
+def test_weights_times_points_overflowing_is_an_error():
+    # each value finite, their product w * P is not: a clear CagdError, not a curve of infs
+    with pytest.raises(CagdError, match="overflow"):
+        BSplineCurve([[-1e300, 0.0], [1.0, 1.0], [2.0, 0.0]], 2, weights=[1e12, 1.0, 1.0])

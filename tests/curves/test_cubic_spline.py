@@ -354,3 +354,8 @@ def test_periodic_closure_tolerance():
     near[-1, 0] += 1e-9
     with pytest.raises(CagdError, match="points"):
         CubicSpline(near, "periodic")
+
+
+def test_subnormal_parameter_step_is_reported_at_the_parameters():
+    with pytest.raises(CagdError, match="^parameters:"):
+        natural_cubic_spline([[0, 0], [1, 1], [2, 0], [3, 1]], parameters=[0, 5e-324, 3, 4])

@@ -480,3 +480,8 @@ def test_to_nurbs_degree_one_by_hand():
     P = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
     B = BezierTriangle(P).to_bezier_surface()
     np.testing.assert_array_equal(B.control_points, [[P[2], P[1]], [P[0], P[0]]])
+
+
+def test_rational_triangle_overflowing_homogeneous_net_is_an_error():
+    with pytest.raises(CagdError, match="overflow"):
+        BezierTriangle([[-1e300, 0, 0]] + [[1, 1, 1]] * 9, [1e12] + [1] * 9)
