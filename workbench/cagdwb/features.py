@@ -21,7 +21,25 @@ from .conversion import cagd
 ROUND = 1e-12          # relative rounding noise when comparing points
 
 
-class Feature:
+class Stateless:
+    """A FreeCAD proxy that saves no state of its own: everything is in the object's
+    properties, so the document reloads the proxy empty (FreeCAD 0.20 calls
+    __getstate__/__setstate__, 0.21+ dumps/loads)."""
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+
+class Feature(Stateless):
     """Proxy base: subclasses set TYPE and DEFAULT_LABEL, add properties in
     :meth:`setup` and return an engine curve or surface from :meth:`build`."""
 
@@ -59,18 +77,6 @@ class Feature:
         obj.Shape = shape
         obj.Placement = placement
         obj.Message = "ok"
-
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
 
     # --- helpers for the view provider ------------------------------------------------------
     def control_net(self, obj) -> List[List[App.Vector]]:

@@ -14,6 +14,7 @@ import FreeCADGui as Gui
 from pivy import coin
 
 from . import analysis, icon
+from .features import Stateless
 
 ICONS = {
     "Cagd::BezierCurve": "BezierCurve", "Cagd::BSplineCurve": "BSplineCurve",
@@ -48,7 +49,7 @@ def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, 
     return sep
 
 
-class ViewProvider:
+class ViewProvider(Stateless):
     """Proxy of the workbench objects' view objects."""
 
     def __init__(self, vobj, curve: bool):
@@ -133,17 +134,6 @@ class ViewProvider:
         Gui.ActiveDocument.setEdit(vobj.Object, 0)
         return True
 
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
 
 
 def attach(obj) -> None:
