@@ -13,7 +13,9 @@ import cadquery as cq
 
 from .convert import from_shape, placed, to_b3d, to_cq
 from .solids import close_with_caps, free_edges, gap_report, sew_shell, sew_solid, thicken
-from .workplane import METHODS
+from .workplane import (METHODS, bezierCurve, bezierSurface, bezierTriangle, bsplineSurface, cagdCurve, cagdSurface,
+                        closeWithCaps, coonsPatch, hermiteCurve, interpCurve, joinCurves, nurbsCurve, revolveSurface,
+                        sewSolid, thickenSurface)
 
 for _method in METHODS:
     setattr(cq.Workplane, _method.__name__, _method)

@@ -13,9 +13,12 @@ from cagd.surfaces.base import Surface
 
 
 def plane_map(plane: cq.Plane, dim: int):
-    """(A, b) taking a workplane's local coordinates (2-D or 3-D) to global ones."""
-    A = np.column_stack([plane.xDir.toTuple(), plane.yDir.toTuple(), plane.zDir.toTuple()])
-    return A[:, :dim], np.array(plane.origin.toTuple())
+    """(A, b) taking a workplane's local coordinates (2-D or 3-D) to global ones: the
+    images of the unit vectors under ``plane.toWorldCoords``, as CadQuery maps the
+    points of its own ``spline`` (which makes xDir perpendicular to the normal)."""
+    b = np.array(plane.toWorldCoords((0.0, 0.0, 0.0)).toTuple())
+    A = np.column_stack([np.array(plane.toWorldCoords(tuple(e)).toTuple()) - b for e in np.eye(3)])
+    return A[:, :dim], b
 
 
 def placed(obj: Union[Curve, Surface], plane: cq.Plane) -> Union[Curve, Surface]:

@@ -10,7 +10,7 @@ wire with ``makeWire``) for ``close``, ``extrude``, ``revolve``, ``sweep`` and
 from __future__ import annotations
 
 import math
-from typing import Optional, Sequence, TypeVar, Union
+from typing import Mapping, Optional, Sequence, Tuple, TypeVar, Union
 
 import cadquery as cq
 import numpy as np
@@ -37,6 +37,8 @@ def _local_points(wp: cq.Workplane, points, includeCurrent: bool) -> np.ndarray:
 
 
 def _push_curve(wp: T, curve: Curve, forConstruction: bool, makeWire: bool) -> T:
+    if curve.dim not in (2, 3):
+        raise CagdError(f"control_points: a workplane curve needs 2-D or 3-D points, got {curve.dim}-D")
     edge = to_cq(placed(curve, wp.plane))
     if makeWire:
         wire = cq.Wire.assembleEdges([edge])
@@ -154,7 +156,8 @@ def coonsPatch(self: T, *curves: CurveLike, tol: float = 1e-7) -> T:
     return self.newObject([to_cq(cagd.CoonsPatch.from_loop(found, tol))])
 
 
-def bezierTriangle(self: T, control_points, weights=None) -> T:
+def bezierTriangle(self: T, control_points: Union[Mapping[Tuple[int, int, int], Sequence[float]], Sequence],
+                   weights: Optional[Union[Mapping[Tuple[int, int, int], float], Sequence[float]]] = None) -> T:
     """A (rational) Bezier triangle (seed 003, 3): {(i, j, k): point} or the flat list
     in :meth:`cagd.BezierTriangle.index_triples` order; the face is its exact
     collapsed-edge NURBS form."""

@@ -3,10 +3,10 @@ points (seed 000, 5.1.2), revolved about the axis, closed by planar caps and
 shelled with CadQuery's own ``shell``.
 
 Checks: the closed solid is valid; its volume equals pi * integral of x(t)^2 z'(t)
-dt (Pappus; Gauss-Legendre on each spline span) by OCCT (5e-11: OCCT's adaptive
-integration on its surface of revolution) and by the engine's quadrature of the
-NURBS revolution (1e-15); the shelled vase is valid and lighter by about (inner area x wall);
-the profile's exact NURBS revolution survives OCCT, STEP and IGES (cagd.occ.verify).
+dt (Pappus; Gauss-Legendre on each spline span) by OCCT (cagd.occ.volume: 5e-11,
+OCCT's adaptive integration on its own surface of revolution) and by the engine's
+quadrature of the NURBS revolution (1e-15); the shelled vase is valid and lighter
+by about (inner area x wall); the profile's exact NURBS revolution survives OCCT, STEP and IGES (cagd.occ.verify).
 
 Run: python examples/cq_vase.py [OUTDIR]
 """

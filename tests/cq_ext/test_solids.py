@@ -1,0 +1,178 @@
+"""Solid helpers: sew_solid (the ellipsoid's eight rational patches: 4/3 pi a b c; the
+gap report of an open set), booleans with ordinary CadQuery solids (inclusion-exclusion
+of volumes, the half ellipsoid), close_with_caps, thicken; and the two volume
+integrators (cagd.occ.volume's adaptive one vs CadQuery's fixed-order Volume())."""
+import math
+import re
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+cq = pytest.importorskip("cadquery")
+
+import cagd  # noqa: E402
+import cq_ext  # noqa: E402
+from cagd import CagdError  # noqa: E402
+from cagd.occ import area, volume  # noqa: E402
+from OCP.BRep import BRep_Tool  # noqa: E402
+
+from cq_helpers import nurbs_volume  # noqa: E402
+
+A, B, C = 3.0, 2.0, 1.5
+V_ELL = 4 / 3 * math.pi * A * B * C
+
+
+@pytest.fixture(scope="module")
+def ellipsoid():
+    return cq_ext.sew_solid([cq_ext.to_cq(s) for s in cagd.ellipsoid(A, B, C)])
+
+
+def test_sew_ellipsoid(ellipsoid):
+    assert isinstance(ellipsoid, cq.Solid) and ellipsoid.isValid()
+    assert len(ellipsoid.Faces()) == 8
+    assert volume(ellipsoid.wrapped) == pytest.approx(V_ELL, rel=1e-9)          # measured 4e-15
+    # engine surfaces are accepted directly, and so is the Workplane method
+    assert volume(cq_ext.sew_solid(cagd.ellipsoid(A, B, C)).wrapped) == pytest.approx(V_ELL, rel=1e-9)
+    wp = cq.Workplane().add([cq_ext.to_cq(s) for s in cagd.ellipsoid(A, B, C)]).sewSolid()
+    assert volume(wp.val().wrapped) == pytest.approx(V_ELL, rel=1e-9)
+
+
+def test_sew_shell_gives_a_closed_shell():
+    shell = cq_ext.sew_shell([cq_ext.to_cq(s) for s in cagd.ellipsoid(A, B, C)])
+    assert isinstance(shell, cq.Shell) and BRep_Tool.IsClosed_s(shell.wrapped)
+    assert cq_ext.free_edges(cagd.ellipsoid(A, B, C)) == []
+
+
+def quarter_ellipse(a, b):
+    return quad(lambda t: math.hypot(a * math.sin(t), b * math.cos(t)), 0, math.pi / 2, epsabs=0, epsrel=1e-13)[0]
+
+
+def test_sew_seven_of_eight_reports_the_gaps():
+    faces = [cq_ext.to_cq(s) for s in cagd.ellipsoid(A, B, C)]
+    with pytest.raises(CagdError, match="free edge") as info:
+        cq_ext.sew_solid(faces[:7])
+    msg = str(info.value)
+    assert "3 free edge(s)" in msg and "faces" in msg
+    # the missing octant's three quarter-ellipse arcs, by their lengths
+    lengths = sorted(float(x) for x in re.findall(r"length ([0-9.]+)", msg))
+    expected = sorted(quarter_ellipse(p, q) for p, q in ((A, B), (A, C), (B, C)))
+    assert lengths == pytest.approx(expected, rel=1e-5)               # printed with 6 digits
+    assert len(cq_ext.free_edges(faces[:7])) == 3
+
+
+def test_sew_bad_arguments():
+    with pytest.raises(CagdError, match="tol"):
+        cq_ext.sew_solid(cagd.ellipsoid(A, B, C), tol=-1)
+    with pytest.raises(CagdError, match=r"faces\[0\]"):
+        cq_ext.sew_solid(["abc"])
+    with pytest.raises(CagdError, match="faces"):
+        cq.Workplane().sewSolid()
+
+
+@pytest.fixture(scope="module")
+def tilted_box():
+    return cq.Workplane().box(3, 2.5, 2).rotate((0, 0, 0), (1, 1, 0), 25).translate((1.5, 0.7, 0.4)).val()
+
+
+def test_booleans_with_a_box(ellipsoid, tilted_box):
+    VA, VB = volume(ellipsoid.wrapped), volume(tilted_box.wrapped)
+    assert VB == pytest.approx(3 * 2.5 * 2, rel=1e-12)
+    union, diff, inter = ellipsoid.fuse(tilted_box), ellipsoid.cut(tilted_box), ellipsoid.intersect(tilted_box)
+    for s in (union, diff, inter):
+        assert s.isValid() and s.Solids()
+    VU, VD, VI = (volume(s.wrapped) for s in (union, diff, inter))
+    assert 0 < VI < min(VA, VB)
+    assert VU == pytest.approx(VA + VB - VI, rel=1e-6)
+    assert VD == pytest.approx(VA - VI, rel=1e-6)
+
+
+def test_cut_in_half_by_a_box(ellipsoid):
+    """A box over x >= 0 (larger than the ellipsoid elsewhere) keeps exactly half."""
+    box = cq.Workplane().box(5, 8, 8).translate((2.5, 0, 0)).val()
+    half = ellipsoid.cut(box)
+    assert half.isValid()
+    assert volume(half.wrapped) == pytest.approx(V_ELL / 2, rel=1e-9)
+    assert volume(ellipsoid.intersect(box).wrapped) == pytest.approx(V_ELL / 2, rel=1e-9)
+
+
+def test_cadquery_volume_is_less_accurate(ellipsoid):
+    """CadQuery's Solid.Volume() integrates with a fixed low order: ~2e-10 off on the
+    ellipsoid, ~2e-3 off on the rational B-spline cylinder (pi r^2 h is the oracle);
+    cagd.occ.volume is within 1e-12 on both."""
+    assert abs(ellipsoid.Volume() / V_ELL - 1) > 1e-11                     # measured 2.0e-10
+    r, h = 2.0, 3.0
+    cyl = cq.Workplane("XY").revolveSurface(cagd.BSplineCurve(np.array([[r, 0.0], [r, h]]), 1), close=True,
+                                            nurbs=True).val()
+    exact = math.pi * r * r * h
+    assert volume(cyl.wrapped) == pytest.approx(exact, rel=1e-12)
+    assert abs(cyl.Volume() / exact - 1) > 1e-3                              # measured 2.4e-3
+    assert abs(cyl.Volume() / exact - 1) < 1e-2
+
+
+def test_occ_volume_of_an_extruded_spline():
+    pts = [(3, 0), (2, 2), (0, 3), (-2, 1.5), (-3, -1), (0, -2.5), (2, -2)]
+    solid = cq.Workplane("XY").interpCurve(pts, end_condition="periodic").extrude(2.5).val()
+    cap = area(solid.faces("<Z").wrapped)                 # planar face: accurate
+    assert nurbs_volume(solid) == pytest.approx(cap * 2.5, rel=1e-12)
+    assert volume(solid.wrapped) == pytest.approx(cap * 2.5, rel=1e-6)
+
+
+def test_close_with_caps():
+    prof = cagd.natural_cubic_spline(np.array([[2.0, 0], [2.8, 1.5], [2.2, 4], [1.5, 6]]))
+    face = cq.Workplane("XY").revolveSurface(prof).val()
+    solid = cq_ext.close_with_caps([face])
+    assert isinstance(solid, cq.Solid) and solid.isValid()
+    assert sorted(f.geomType() for f in solid.Faces()) == ["PLANE", "PLANE", "REVOLUTION"]
+    # caps are the disks of radius 2 (y = 0) and 1.5 (y = 6)
+    caps = sorted(area(f.wrapped) for f in solid.Faces() if f.geomType() == "PLANE")
+    assert caps == pytest.approx([math.pi * 1.5**2, math.pi * 4], rel=1e-12)
+    same = cq.Workplane("XY").add(face).closeWithCaps().val()
+    assert volume(same.wrapped) == pytest.approx(volume(solid.wrapped), rel=1e-12)
+    with pytest.raises(CagdError, match="faces"):
+        cq.Workplane().closeWithCaps()
+
+
+def test_close_with_caps_refuses_a_non_planar_loop():
+    P = np.array([[(i, j, 0.5 * i * j) for j in range(3)] for i in range(3)], dtype=float)
+    with pytest.raises(CagdError, match="planar|loop"):
+        cq_ext.close_with_caps([cq_ext.to_cq(cagd.BezierSurface(P))])
+
+
+PATCH = np.array([[(i * 10 / 3, j * 10 / 3, 0.5 * math.sin(i) * math.cos(j)) for j in range(4)] for i in range(4)])
+
+
+@pytest.mark.parametrize("t", [0.5, -0.5])
+def test_thicken_bicubic_patch(t):
+    face = cq_ext.to_cq(cagd.BezierSurface(PATCH))
+    solid = cq_ext.thicken(face, t)
+    assert isinstance(solid, cq.Solid) and solid.isValid()
+    # gently curved: volume = area x thickness up to the curvature terms and OCCT's offset
+    # approximation (measured 4e-4)
+    assert volume(solid.wrapped) == pytest.approx(area(face.wrapped) * abs(t), rel=0.02)
+    cut = solid.cut(cq.Workplane().box(3, 3, 5).val())
+    assert cut.isValid()
+    assert volume(cut.wrapped) < volume(solid.wrapped)
+    same = cq.Workplane().bezierSurface(PATCH).thickenSurface(t).val()
+    assert volume(same.wrapped) == pytest.approx(volume(solid.wrapped), rel=1e-12)
+
+
+def test_thicken_plane_is_exact():
+    P = np.array([[(i, j, 0.0) for j in range(2)] for i in range(2)], dtype=float) * 4
+    solid = cq_ext.thicken(cq_ext.to_cq(cagd.BezierSurface(P)), 0.25)
+    assert volume(solid.wrapped) == pytest.approx(16 * 0.25, rel=1e-9)
+
+
+@pytest.mark.parametrize("t", [0, 0.0, float("nan"), float("inf")])
+def test_thicken_bad_thickness(t):
+    with pytest.raises(CagdError, match="thickness"):
+        cq_ext.thicken(cq_ext.to_cq(cagd.BezierSurface(PATCH)), t)
+
+
+def test_thicken_errors():
+    with pytest.raises(CagdError, match="no face"):
+        cq.Workplane().thickenSurface(1.0)
+    with pytest.raises(CagdError, match=r"faces\[0\]"):
+        cq_ext.thicken("abc", 1.0)
+    with pytest.raises(CagdError, match="thickness"):              # thicker than the radius inward
+        cq_ext.thicken(cq_ext.to_cq(cagd.sphere(1.0, (0, 0, 0))), -2.0)
