@@ -45,6 +45,11 @@ def main(argv: Optional[List[str]] = None) -> int:
 def _export(args) -> int:
     from .errors import CagdError
     from .model import ModelError, load_model
+    for option, path in (("--output", args.output), ("--iges", args.iges), ("--report", args.report)):
+        if path is not None and (path.is_dir() or not path.parent.is_dir()):
+            print(f"cagd export: {option} {path}: " + ("is a folder" if path.is_dir() else
+                                                      f"folder {path.parent} does not exist"), file=sys.stderr)
+            return 2
     try:
         model = load_model(args.model)
     except ModelError as exc:

@@ -143,9 +143,11 @@ def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: f
             shell, or OCCT cannot build a valid solid (e.g. the thickness exceeds a
             radius of curvature).
     """
-    if not thickness or not np.isfinite(thickness):
-        raise CagdError(f"thickness: must be finite and non-zero, got {thickness!r}")
-    items = list(faces) if isinstance(faces, (list, tuple)) else [faces]
+    if isinstance(thickness, bool) or not isinstance(thickness, (int, float, np.floating, np.integer)) \
+            or not thickness or not np.isfinite(thickness):
+        raise CagdError(f"thickness: must be a finite non-zero number, got {thickness!r}")
+    single = isinstance(faces, (cq.Shape, Surface, TopoDS_Shape, cq.Workplane))
+    items = [faces] if single else list(faces)
     occ = _occ_faces(items)
     shape = occ[0] if len(occ) == 1 and occ[0].ShapeType().name == "TopAbs_FACE" else _sewn(occ, tol).SewedShape()
     if shape.ShapeType().name not in ("TopAbs_FACE", "TopAbs_SHELL"):

@@ -153,7 +153,7 @@ def occ_knots(knots, periodic: bool) -> Tuple[np.ndarray, np.ndarray, int]:
 
 
 def from_occ_knots(distinct, multiplicities, degree: int, periodic: bool,
-                   name: str = "knots") -> np.ndarray:
+                   name: str = "knots", mult_name: str = "multiplicities") -> np.ndarray:
     """OCCT's (distinct knots, multiplicities) -> the engine's knots: the full vector,
     or for a periodic B-spline one period with t_0 simple and the seam's other copies
     at the end, so that OCCT's poles are the engine's control points unshifted
@@ -161,14 +161,15 @@ def from_occ_knots(distinct, multiplicities, degree: int, periodic: bool,
     non-increasing distinct knots or multiplicities out of [1, degree + 1]."""
     t = finite_array(distinct, name)
     m = np.asarray(multiplicities)
-    if t.ndim != 1 or m.shape != t.shape or t.size < 2:
-        raise CagdError(f"{name}: need at least 2 distinct knots and one multiplicity each, "
-                        f"got {t.shape} knots and {m.shape} multiplicities")
+    if t.ndim != 1 or t.size < 2:
+        raise CagdError(f"{name}: need at least 2 distinct knots, got shape {t.shape}")
+    if m.shape != t.shape:
+        raise CagdError(f"{mult_name}: need one multiplicity per distinct knot ({t.size}), got shape {m.shape}")
     if not np.all(np.diff(t) > 0):
         raise CagdError(f"{name}: distinct knots must be strictly increasing")
-    if not np.array_equal(m, np.round(m)) or m.min() < 1 or m.max() > degree + 1:
-        raise CagdError(f"{name}: multiplicities must be integers in [1, degree + 1 = {degree + 1}], "
-                        f"got {m.tolist()}")
+    if not np.issubdtype(m.dtype, np.number) or not np.array_equal(m, np.round(m)) or m.min() < 1 \
+            or m.max() > degree + 1:
+        raise CagdError(f"{mult_name}: must be integers in [1, degree + 1 = {degree + 1}], got {m.tolist()}")
     m = m.astype(int)
     if periodic:
         if m[0] != m[-1]:

@@ -8,21 +8,22 @@ value at a time (OCP has no buffer access); that is the only per-pole loop.
 """
 from __future__ import annotations
 
-from typing import Union
+from typing import Optional, Union
 
 import numpy as np
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
 from OCP.Geom import (Geom_BezierCurve, Geom_BezierSurface, Geom_BSplineCurve, Geom_BSplineSurface, Geom_Curve,
-                      Geom_RectangularTrimmedSurface, Geom_Surface, Geom_TrimmedCurve)
-from OCP.Geom2d import Geom2d_BSplineCurve, Geom2d_Curve
+                      Geom_OffsetCurve, Geom_OffsetSurface, Geom_RectangularTrimmedSurface, Geom_Surface,
+                      Geom_TrimmedCurve)
+from OCP.Geom2d import Geom2d_BSplineCurve, Geom2d_Curve, Geom2d_OffsetCurve, Geom2d_TrimmedCurve
 from OCP.Geom2dConvert import Geom2dConvert
-from OCP.GeomConvert import GeomConvert
+from OCP.GeomAbs import GeomAbs_C1, GeomAbs_C2
+from OCP.GeomConvert import GeomConvert, GeomConvert_ApproxCurve, GeomConvert_ApproxSurface
 from OCP.gp import gp_Pnt, gp_Pnt2d
-from OCP.Standard import Standard_Failure
 from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
 from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
 from OCP.TopoDS import TopoDS, TopoDS_Shape
 
 from ..curves.base import Curve
@@ -116,8 +117,12 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
             if bezier and isinstance(obj, BezierSurface):
                 return _bezier_surface(obj)
             return _bspline_surface(obj.to_nurbs())
-    except Standard_Failure as exc:
-        raise CagdError(f"obj: OCCT rejected the geometry: {exc}") from None
+    except CagdError:
+        raise
+    except Exception as exc:
+        if not _is_occt_error(exc):
+            raise
+        raise CagdError(f"obj: OCCT rejected the geometry: {type(exc).__name__} {exc}") from None
     raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
 
 
@@ -162,38 +167,61 @@ def _bezier_surface(s: BezierSurface):
 
 
 # --- OCCT -> engine -------------------------------------------------------------------------
-def from_occ(geom, dim: int = 3) -> Union[BSplineCurve, BSplineSurface]:
+def _is_occt_error(exc: Exception) -> bool:
+    """OCP raises OCCT's exceptions (Standard_DomainError, StdFail_NotDone, ...) as
+    plain Exception subclasses from its own modules."""
+    return type(exc).__module__.startswith("OCP")
+
+
+def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], dim: int = 3,
+             oriented: bool = True, approximate: Optional[float] = None) -> Union[BSplineCurve, BSplineSurface]:
     """An engine B-spline from OCCT geometry or a shape.
 
-    Accepts any ``Geom_Curve``/``Geom2d_Curve``/``Geom_Surface`` that GeomConvert can
-    turn into a B-spline (B-spline, Bezier, trimmed conics, trimmed surfaces, ...;
-    the same curve, not an approximation), a ``TopoDS_Edge`` (its 3-D curve on the
-    edge's range) or a ``TopoDS_Face`` (its underlying surface trimmed to the face's UV
-    bounds; a B-spline face trimmed inside its surface gives the surface restricted
-    to the face's UV bounding box: exact for a face bounded by iso-curves, the
-    rectangle around the face otherwise, since the engine has no trimmed
-    surfaces). ``dim=2`` drops z from a curve.
+    Accepts any ``Geom_Curve``/``Geom2d_Curve``/``Geom_Surface`` that GeomConvert
+    turns into the same B-spline (B-spline, Bezier, trimmed conics and lines,
+    trimmed analytic surfaces, surfaces of revolution and extrusion), a
+    ``TopoDS_Edge`` (its 3-D curve on the edge's range) or a ``TopoDS_Face`` (its
+    surface on the face's UV bounds: exact for a face bounded by iso-curves, the
+    rectangle around the face otherwise, since the engine has no trimmed surfaces).
+    With ``oriented`` (default) a REVERSED edge gives the reversed curve (running
+    along the edge) and a REVERSED face the surface with u reversed (its normal
+    S_u x S_v is the face's); ``oriented=False`` keeps OCCT's parametrisation.
+    ``dim=2`` drops z from a curve.
+
+    Offset curves and surfaces have no exact B-spline form: they raise unless
+    ``approximate`` gives a tolerance, and are then approximated
+    (GeomConvert_ApproxCurve / ApproxSurface) within it (OCCT's measured error must
+    not exceed it).
 
     Raises:
-        CagdError: unsupported type, an unbounded curve or surface, or OCCT failed.
+        CagdError: a null shape, an unsupported type, unbounded geometry, an offset
+            without ``approximate``, or OCCT failed (its message is passed on).
     """
     try:
         if isinstance(geom, TopoDS_Shape):
-            return _from_shape(geom, dim)
+            if geom.IsNull():
+                raise CagdError("geom: a null shape")
+            return _from_shape(geom, dim, oriented, approximate)
         if isinstance(geom, Geom2d_Curve):
             return _curve_from_bspline(_as_bspline2d(geom), 2)
         if isinstance(geom, Geom_Curve):
-            return _curve_from_bspline(_as_bspline_curve(geom), dim)
+            return _curve_from_bspline(_as_bspline_curve(geom, approximate), dim)
         if isinstance(geom, Geom_Surface):
-            return _surface_from_bspline(_as_bspline_surface(geom))
-    except Standard_Failure as exc:
-        raise CagdError(f"geom: OCCT could not convert {type(geom).__name__} to a B-spline: {exc}") from None
+            return _surface_from_bspline(_as_bspline_surface(geom, approximate))
+    except CagdError:
+        raise
+    except Exception as exc:
+        if not _is_occt_error(exc):
+            raise
+        raise CagdError(f"geom: OCCT could not convert {type(geom).__name__} to a B-spline: "
+                        f"{type(exc).__name__} {exc}") from None
     raise CagdError(f"geom: expected an OCCT Geom curve/surface, edge or face, got {type(geom).__name__}")
 
 
-def _from_shape(shape, dim: int):
+def _from_shape(shape, dim: int, oriented: bool, approximate: Optional[float]):
     """An edge's curve on the edge's parameter range; a face's surface on the face's
     UV bounding box (the whole surface when that is its natural domain)."""
+    reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
     if shape.ShapeType() == TopAbs_EDGE:
         edge = TopoDS.Edge_s(shape)
         if BRep_Tool.Degenerated_s(edge):
@@ -203,20 +231,27 @@ def _from_shape(shape, dim: int):
             raise CagdError("geom: the edge has no 3-D curve")
         adaptor = BRepAdaptor_Curve(edge)
         first, last = adaptor.FirstParameter(), adaptor.LastParameter()
+        if max(abs(first), abs(last)) > 1e99:
+            raise CagdError(f"geom: the edge is unbounded (range [{first:g}, {last:g}])")
         if isinstance(curve, (Geom_BSplineCurve, Geom_BezierCurve)) and \
                 _covers(curve.FirstParameter(), curve.LastParameter(), first, last):
-            return _curve_from_bspline(_as_bspline_curve(curve), dim)
-        return _curve_from_bspline(_as_bspline_curve(Geom_TrimmedCurve(curve, first, last)), dim)
+            out = _curve_from_bspline(_as_bspline_curve(curve, approximate), dim)
+        else:
+            out = _curve_from_bspline(_as_bspline_curve(Geom_TrimmedCurve(curve, first, last), approximate), dim)
+        return out.reversed() if reversed_ else out
     if shape.ShapeType() == TopAbs_FACE:
         face = TopoDS.Face_s(shape)
         surface = BRep_Tool.Surface_s(face)
         a = BRepAdaptor_Surface(face, True)
         u0, u1, v0, v1 = a.FirstUParameter(), a.LastUParameter(), a.FirstVParameter(), a.LastVParameter()
+        if max(abs(u0), abs(u1), abs(v0), abs(v1)) > 1e99:
+            raise CagdError("geom: the face is unbounded (no boundary edges limit its surface)")
         U0, U1, V0, V1 = surface.Bounds()
         if not (_covers(U0, U1, u0, u1) and _covers(V0, V1, v0, v1)):
             surface = Geom_RectangularTrimmedSurface(surface, u0, u1, v0, v1)
-        return _surface_from_bspline(_as_bspline_surface(surface))
-    raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType()}")
+        out = _surface_from_bspline(_as_bspline_surface(surface, approximate))
+        return out.reversed("u") if reversed_ else out
+    raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 
 def _covers(a: float, b: float, first: float, last: float) -> bool:
@@ -225,9 +260,37 @@ def _covers(a: float, b: float, first: float, last: float) -> bool:
     return abs(first - a) <= tol and abs(last - b) <= tol
 
 
-def _as_bspline_curve(curve) -> Geom_BSplineCurve:
+def _basis(geom):
+    """The geometry under any trimming (Geom_TrimmedCurve, RectangularTrimmedSurface)."""
+    while isinstance(geom, (Geom_TrimmedCurve, Geom_RectangularTrimmedSurface)):
+        geom = geom.BasisCurve() if isinstance(geom, Geom_TrimmedCurve) else geom.BasisSurface()
+    return geom
+
+
+def _tolerance(approximate: Optional[float], what: str) -> float:
+    if approximate is None:
+        raise CagdError(f"geom: {what} has no exact B-spline form; pass approximate=<tolerance> to accept "
+                        "an approximation within it")
+    tol = float(approximate)
+    if not tol > 0 or not np.isfinite(tol):
+        raise CagdError(f"approximate: the tolerance must be finite and > 0, got {approximate!r}")
+    return tol
+
+
+def _checked_approximation(maker, tol: float, what: str):
+    if not maker.HasResult() or maker.MaxError() > tol:
+        error = maker.MaxError() if maker.HasResult() else float("nan")
+        raise CagdError(f"approximate: OCCT could not approximate the {what} within {tol:g} "
+                        f"(reached {error:.3g})")
+    return maker.Curve() if hasattr(maker, "Curve") else maker.Surface()
+
+
+def _as_bspline_curve(curve, approximate: Optional[float] = None) -> Geom_BSplineCurve:
     if isinstance(curve, Geom_BSplineCurve):
         return curve
+    if isinstance(_basis(curve), Geom_OffsetCurve):
+        tol = _tolerance(approximate, "an offset curve")
+        return _checked_approximation(GeomConvert_ApproxCurve(curve, tol, GeomAbs_C2, 1000, 14), tol, "offset curve")
     if not isinstance(curve, (Geom_BezierCurve, Geom_TrimmedCurve)) and not curve.IsPeriodic() and (
             abs(curve.FirstParameter()) > 1e99 or abs(curve.LastParameter()) > 1e99):
         raise CagdError(f"geom: {type(curve).__name__} is unbounded; trim it first (Geom_TrimmedCurve)")
@@ -237,16 +300,26 @@ def _as_bspline_curve(curve) -> Geom_BSplineCurve:
 def _as_bspline2d(curve) -> Geom2d_BSplineCurve:
     if isinstance(curve, Geom2d_BSplineCurve):
         return curve
+    if isinstance(curve, Geom2d_OffsetCurve) or (isinstance(curve, Geom2d_TrimmedCurve)
+                                                 and isinstance(curve.BasisCurve(), Geom2d_OffsetCurve)):
+        raise CagdError("geom: a 2-D offset curve has no exact B-spline form")
+    if not isinstance(curve, Geom2d_TrimmedCurve) and not curve.IsPeriodic() and (
+            abs(curve.FirstParameter()) > 1e99 or abs(curve.LastParameter()) > 1e99):
+        raise CagdError(f"geom: {type(curve).__name__} is unbounded; trim it first (Geom2d_TrimmedCurve)")
     return Geom2dConvert.CurveToBSplineCurve_s(curve)
 
 
-def _as_bspline_surface(surface) -> Geom_BSplineSurface:
+def _as_bspline_surface(surface, approximate: Optional[float] = None) -> Geom_BSplineSurface:
     if isinstance(surface, Geom_BSplineSurface):
         return surface
+    if isinstance(_basis(surface), Geom_OffsetSurface):
+        tol = _tolerance(approximate, "an offset surface")
+        maker = GeomConvert_ApproxSurface(surface, tol, GeomAbs_C1, GeomAbs_C1, 14, 14, 200, 0)
+        return _checked_approximation(maker, tol, "offset surface")
     u0, u1, v0, v1 = surface.Bounds()
     if max(abs(u0), abs(u1), abs(v0), abs(v1)) > 1e99:
         raise CagdError(f"geom: {type(surface).__name__} is unbounded; trim it first "
-                        "(Geom_RectangularTrimmedSurface) or pass the face")
+                        "(Geom_RectangularTrimmedSurface)")
     return GeomConvert.SurfaceToBSplineSurface_s(surface)
 
 

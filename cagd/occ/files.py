@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import io
 import os
+import unicodedata
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, List, Tuple, Union
+from typing import Dict, Iterable, List, Tuple, Union
 
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
@@ -48,6 +50,7 @@ from .shapes import make_edge, make_face, subshapes
 
 _REAL_FORMAT = "%.16E"     # 17 significant digits: every double reads back unchanged
 Item = Union[Curve, Surface, TopoDS_Shape]
+Objects = Union[Item, Iterable[Union[Item, Tuple[str, Item]]], Dict[str, Item]]
 
 
 @dataclass
@@ -59,9 +62,35 @@ class Imported:
     shape: TopoDS_Shape
 
 
+@contextmanager
+def _settings(**values):
+    """Set OCCT's global Interface_Static parameters for one transfer and restore
+    them afterwards (CadQuery's own importers and exporters read the same ones)."""
+    old = {}
+    for key, value in values.items():
+        name = key.replace("__", ".")
+        if isinstance(value, int):
+            old[name] = Interface_Static.IVal_s(name)
+            Interface_Static.SetIVal_s(name, value)
+        else:
+            old[name] = Interface_Static.CVal_s(name)
+            Interface_Static.SetCVal_s(name, value)
+    try:
+        yield
+    finally:
+        for name, value in old.items():
+            if isinstance(value, int):
+                Interface_Static.SetIVal_s(name, value)
+            else:
+                Interface_Static.SetCVal_s(name, value)
+
+
 def _named(objects) -> List[Tuple[str, Item]]:
     if isinstance(objects, (Curve, Surface, TopoDS_Shape)):
         objects = [objects]
+    if objects is None or isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
+        raise CagdError(f"objects: expected engine objects or OCCT shapes (a list, or a dict by name), "
+                        f"got {type(objects).__name__}")
     items = list(objects.items()) if isinstance(objects, dict) else list(objects)
     out = []
     for i, it in enumerate(items):
@@ -71,6 +100,8 @@ def _named(objects) -> List[Tuple[str, Item]]:
         elif isinstance(obj, Surface):
             shape = make_face(obj)
         elif isinstance(obj, TopoDS_Shape):
+            if obj.IsNull():
+                raise CagdError(f"objects[{i}]: a null shape")
             shape = obj
         else:
             raise CagdError(f"objects[{i}]: expected a cagd Curve or Surface or an OCCT shape, "
@@ -81,24 +112,35 @@ def _named(objects) -> List[Tuple[str, Item]]:
     return out
 
 
-def _document(named: List[Tuple[str, TopoDS_Shape]]) -> TDocStd_Document:
+def _document(named: List[Tuple[str, TopoDS_Shape]], unicode: bool) -> TDocStd_Document:
+    """An XCAF document holding the named shapes. STEP takes UTF-8 names; IGES labels
+    are ASCII, so there the names are folded to ASCII (accents dropped)."""
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     XCAFApp_Application.GetApplication_s().InitDocument(doc)
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
     for name, shape in named:
         label = tool.AddShape(shape, False)
-        TDataStd_Name.Set_s(label, TCollection_ExtendedString(name))
+        text = TCollection_ExtendedString(name, True) if unicode else TCollection_ExtendedString(_ascii(name))
+        TDataStd_Name.Set_s(label, text)
     return doc
 
 
+def _ascii(name: str) -> str:
+    return unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode("ascii") or "item"
+
+
 def _target(path) -> str:
+    if not isinstance(path, (str, os.PathLike)):
+        raise CagdError(f"path: expected a file path, got {type(path).__name__}")
     path = Path(path)
+    if path.is_dir():
+        raise CagdError(f"path: {str(path)!r} is a folder; give a file name")
     if not path.parent.is_dir():
         raise CagdError(f"path: folder {str(path.parent)!r} does not exist")
     return os.fspath(path)
 
 
-def write_step(objects, path, schema: str = "AP214IS") -> Path:
+def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "AP214IS") -> Path:
     """Write engine objects (edges for curves, faces with natural bounds for surfaces)
     and OCCT shapes to a STEP file, in mm. ``objects``: a list of items or of
     (name, item) pairs, or a dict name -> item.
@@ -107,30 +149,27 @@ def write_step(objects, path, schema: str = "AP214IS") -> Path:
         CagdError: an unsupported item, a missing folder, or the writer failed.
     """
     named, target = _named(objects), _target(path)
-    Interface_Static.SetCVal_s("write.step.unit", "MM")
-    Interface_Static.SetCVal_s("write.step.schema", schema)
-    Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
     writer = STEPCAFControl_Writer()
     writer.SetNameMode(True)
-    if not writer.Transfer(_document(named), STEPControl_AsIs):
-        raise CagdError(f"path: OCCT could not transfer the objects to STEP for {target!r}")
+    with _settings(write__step__unit="MM", write__step__schema=schema, xstep__cascade__unit="MM"):
+        if not writer.Transfer(_document(named, unicode=True), STEPControl_AsIs):
+            raise CagdError(f"path: OCCT could not transfer the objects to STEP for {target!r}")
     printer = StepData_StepWriter(writer.ChangeWriter().Model())
     printer.FloatWriter().SetFormat(_REAL_FORMAT, True)
     printer.SendModel(StepAP214_Protocol())
     return _print(printer, target, "STEP")
 
 
-def write_iges(objects, path) -> Path:
+def write_iges(objects: Objects, path: Union[str, os.PathLike]) -> Path:
     """Write engine objects and OCCT shapes to an IGES 5.3 file (faces as trimmed
     B-spline surfaces, type 144/128; curves type 126), in mm; see :func:`write_step`."""
     named, target = _named(objects), _target(path)
-    Interface_Static.SetCVal_s("write.iges.unit", "MM")
-    Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
-    writer = IGESCAFControl_Writer()
-    writer.SetNameMode(True)
-    if not writer.Transfer(_document(named)):
-        raise CagdError(f"path: OCCT could not transfer the objects to IGES for {target!r}")
-    writer.ComputeModel()
+    with _settings(write__iges__unit="MM", xstep__cascade__unit="MM"):
+        writer = IGESCAFControl_Writer()
+        writer.SetNameMode(True)
+        if not writer.Transfer(_document(named, unicode=False)):
+            raise CagdError(f"path: OCCT could not transfer the objects to IGES for {target!r}")
+        writer.ComputeModel()
     printer = IGESData_IGESWriter(writer.Model())
     printer.FloatWriter().SetFormat(_REAL_FORMAT, True)
     printer.SendModel(IGESSelect_WorkLibrary.DefineProtocol_s())
@@ -145,15 +184,15 @@ def _print(printer, target: str, kind: str) -> Path:
     return Path(target)
 
 
-def _read(reader, path, kind: str) -> List[Tuple[str, TopoDS_Shape]]:
-    if not Path(path).is_file():
+def _read(reader, path, kind: str, **settings) -> List[Tuple[str, TopoDS_Shape]]:
+    if not isinstance(path, (str, os.PathLike)) or not Path(path).is_file():
         raise CagdError(f"path: no such file {str(path)!r}")
-    Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
     reader.SetNameMode(True)
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     XCAFApp_Application.GetApplication_s().InitDocument(doc)
-    if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone or not reader.Transfer(doc):
-        raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
+    with _settings(xstep__cascade__unit="MM", **settings):
+        if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone or not reader.Transfer(doc):
+            raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
     labels = TDF_LabelSequence()
     tool.GetFreeShapes(labels)
@@ -171,16 +210,19 @@ def _label_name(label: TDF_Label) -> str:
     return ""
 
 
-def read_shapes(path, kind: str = "auto") -> List[Tuple[str, TopoDS_Shape]]:
+def read_shapes(path: Union[str, os.PathLike], kind: str = "auto") -> List[Tuple[str, TopoDS_Shape]]:
     """(name, shape) of every top-level item of a STEP or IGES file (by extension
     unless ``kind`` is "step" or "iges"), lengths converted to mm."""
+    if not isinstance(kind, str):
+        raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
     kind = kind.lower()
     if kind == "auto":
         kind = "iges" if Path(path).suffix.lower() in (".igs", ".iges") else "step"
     if kind == "step":
         return _read(STEPCAFControl_Reader(), path, "STEP")
     if kind == "iges":
-        return _read(IGESCAFControl_Reader(), path, "IGES")
+        # whole B-splines: by default OCCT's IGES reader splits curves at C0 knots into several edges
+        return _read(IGESCAFControl_Reader(), path, "IGES", read__iges__bspline__continuity=0)
     raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
 
 
@@ -206,12 +248,12 @@ def _seen(edge, found) -> bool:
     return any(s.IsSame(edge) for _, s in found)
 
 
-def read_step(path) -> List[Imported]:
+def read_step(path: Union[str, os.PathLike]) -> List[Imported]:
     """Every surface (face) and free curve (edge of no face) of a STEP file as an
     engine B-spline, with its name (see :class:`Imported`)."""
     return _objects(read_shapes(path, "step"))
 
 
-def read_iges(path) -> List[Imported]:
+def read_iges(path: Union[str, os.PathLike]) -> List[Imported]:
     """As :func:`read_step`, for IGES files."""
     return _objects(read_shapes(path, "iges"))

@@ -14,8 +14,7 @@ from OCP.BRepLib import BRepLib
 from OCP.GeomAbs import GeomAbs_SurfaceOfExtrusion
 from OCP.GProp import GProp_GProps
 from OCP.ShapeFix import ShapeFix_Shape
-from OCP.Standard import Standard_Failure
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
 
@@ -26,15 +25,25 @@ from ..surfaces.base import Surface
 from .convert import to_occ
 
 
-def _tolerance(tol: float) -> float:
-    tol = scalar(tol, "tol")
+def _tolerance(tol: float, name: str = "tol") -> float:
+    tol = scalar(tol, name)
     if not tol > 0:
-        raise CagdError(f"tol: must be > 0, got {tol!r}")
+        raise CagdError(f"{name}: must be > 0, got {tol!r}")
     return tol
 
 
-def subshapes(shape: TopoDS_Shape, kind) -> list:
+def _shape(shape, name: str = "shape") -> TopoDS_Shape:
+    """A non-null OCCT shape (OCCT crashes on null shapes in many places)."""
+    if not isinstance(shape, TopoDS_Shape):
+        raise CagdError(f"{name}: expected an OCCT shape, got {type(shape).__name__}")
+    if shape.IsNull():
+        raise CagdError(f"{name}: a null shape")
+    return shape
+
+
+def subshapes(shape: TopoDS_Shape, kind: TopAbs_ShapeEnum) -> list:
     """The sub-shapes of one type (TopAbs_FACE, TopAbs_EDGE, ...), downcast."""
+    _shape(shape)
     cast = {TopAbs_FACE: TopoDS.Face_s, TopAbs_EDGE: TopoDS.Edge_s, TopAbs_SHELL: TopoDS.Shell_s,
             TopAbs_SOLID: TopoDS.Solid_s}[kind]
     out, ex = [], TopExp_Explorer(shape, kind)
@@ -46,6 +55,8 @@ def subshapes(shape: TopoDS_Shape, kind) -> list:
 
 def make_edge(curve: Curve) -> TopoDS_Edge:
     """The edge of an engine curve on its whole domain (its exact OCCT B-spline)."""
+    if not isinstance(curve, Curve):
+        raise CagdError(f"curve: expected a cagd Curve, got {type(curve).__name__}")
     maker = BRepBuilderAPI_MakeEdge(to_occ(curve))
     if not maker.IsDone():
         raise CagdError(f"curve: OCCT could not make an edge (error {maker.Error()})")
@@ -73,22 +84,25 @@ def make_face(surface: Surface, tol: float = 1e-7) -> TopoDS_Face:
     Collapsed boundaries (poles of a revolution, the apex of a triangle's NURBS form)
     become degenerated edges, closed directions a seam edge; ``tol`` is OCCT's
     tolerance for detecting them."""
-    try:
-        maker = BRepBuilderAPI_MakeFace(to_occ(surface), _tolerance(tol))
-    except Standard_Failure as exc:
-        raise CagdError(f"surface: OCCT could not make a face: {exc}") from None
+    if not isinstance(surface, Surface):
+        raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
+    maker = BRepBuilderAPI_MakeFace(to_occ(surface), _tolerance(tol))
     if not maker.IsDone():
         raise CagdError(f"surface: OCCT could not make a face (error {maker.Error()})")
     return maker.Face()
 
 
 def _faces(items: Iterable, tol: float) -> List[TopoDS_Shape]:
+    if isinstance(items, (Surface, TopoDS_Shape)):
+        items = [items]
+    if items is None or isinstance(items, (str, bytes)) or not hasattr(items, "__iter__"):
+        raise CagdError(f"faces: expected cagd surfaces or OCCT shapes, got {type(items).__name__}")
     out = []
     for i, item in enumerate(items):
         if isinstance(item, Surface):
             out.append(make_face(item, min(tol, 1e-7)))
         elif isinstance(item, TopoDS_Shape):
-            out.extend(subshapes(item, TopAbs_FACE))
+            out.extend(subshapes(_shape(item, f"faces[{i}]"), TopAbs_FACE))
         else:
             raise CagdError(f"faces[{i}]: expected a cagd Surface or an OCCT shape, got {type(item).__name__}")
     if not out:
@@ -96,7 +110,7 @@ def _faces(items: Iterable, tol: float) -> List[TopoDS_Shape]:
     return out
 
 
-def sew(faces: Iterable, tol: float = 1e-6) -> TopoDS_Shape:
+def sew(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> TopoDS_Shape:
     """Sew faces (or engine surfaces) whose edges meet within ``tol`` into a shell
     (BRepBuilderAPI_Sewing); returns a shell, or a compound when they form several."""
     tol = _tolerance(tol)
@@ -110,7 +124,7 @@ def sew(faces: Iterable, tol: float = 1e-6) -> TopoDS_Shape:
 def free_edge_count(shape: TopoDS_Shape, tol: float = 1e-6) -> int:
     """Edges of ``shape`` that bound only one face (0 for a closed shell)."""
     sewing = BRepBuilderAPI_Sewing(_tolerance(tol))
-    sewing.Load(shape)
+    sewing.Load(_shape(shape))
     sewing.Perform()
     return sewing.NbFreeEdges()
 
@@ -122,7 +136,7 @@ def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
         CagdError: not exactly one shell, the shell is open (the count of free edges
             is given), or the result is not a valid solid.
     """
-    shells = subshapes(shape, TopAbs_SHELL)
+    shells = subshapes(_shape(shape), TopAbs_SHELL)
     if not shells and shape.ShapeType() == TopAbs_FACE:      # one face closed on itself
         shell = TopoDS_Shell()
         builder = BRep_Builder()
@@ -147,7 +161,7 @@ def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
     return solid
 
 
-def solid_from_surfaces(surfaces: Iterable, tol: float = 1e-6) -> TopoDS_Solid:
+def solid_from_surfaces(surfaces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> TopoDS_Solid:
     """Sew surfaces that bound a volume (the eight ellipsoid patches, a closed
     revolution, ...) and make the solid (see :func:`sew`, :func:`make_solid`)."""
     return make_solid(sew(surfaces, tol), tol)
@@ -155,6 +169,7 @@ def solid_from_surfaces(surfaces: Iterable, tol: float = 1e-6) -> TopoDS_Solid:
 
 def check_valid(shape: TopoDS_Shape) -> bool:
     """OCCT's BRepCheck_Analyzer verdict."""
+    _shape(shape)
     return bool(BRepCheck_Analyzer(shape).IsValid())
 
 
@@ -168,7 +183,7 @@ def _integrated(shape: TopoDS_Shape, eps: float, volume: bool) -> float:
     integrated on its exact NURBS form (BRepBuilderAPI_NurbsConvert);
     others as they are (converting an analytic surface of revolution costs accuracy:
     5e-11 -> 1e-9 on a cylinder)."""
-    eps = _tolerance(eps)
+    eps = _tolerance(eps, "eps")
     if any(BRepAdaptor_Surface(f).GetType() in _CONVERT for f in subshapes(shape, TopAbs_FACE)):
         shape = BRepBuilderAPI_NurbsConvert(shape, True).Shape()
     props = GProp_GProps()

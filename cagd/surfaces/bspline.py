@@ -131,11 +131,13 @@ class BSplineSurface(Surface):
         P = _checks.finite_array(poles, "poles")
         degree_u = _checks.integer(degree_u, "degree_u", 1)
         degree_v = _checks.integer(degree_v, "degree_v", 1)
-        tu = kv.from_occ_knots(knots_u, multiplicities_u, degree_u, periodic_u, "knots_u")
-        tv = kv.from_occ_knots(knots_v, multiplicities_v, degree_v, periodic_v, "knots_v")
+        tu = kv.from_occ_knots(knots_u, multiplicities_u, degree_u, periodic_u, "knots_u", "multiplicities_u")
+        tv = kv.from_occ_knots(knots_v, multiplicities_v, degree_v, periodic_v, "knots_v", "multiplicities_v")
         w = None
         if weights is not None:
             w = _checks.finite_array(weights, "weights")
+            if P.ndim >= 2 and w.shape != P.shape[:2]:
+                raise CagdError(f"weights: expected shape {P.shape[:2]} (one per pole), got {w.shape}")
             if w.size and np.all(w == w.flat[0]) and w.flat[0] > 0:
                 w = None
         return cls(P, degree_u, degree_v, tu, tv, w, periodic_u, periodic_v)

@@ -3,14 +3,14 @@
 area = ∫∫ |S_u × S_v| du dv;  volume = 1/3 ∑ ∫∫ S · (S_u × S_v) du dv over the closed
 set of patches (divergence theorem with div x = 3; positive when the normals
 S_u × S_v point outward). Integrated on the exact NURBS form (``to_nurbs()``), which
-has the same image as the object, span by span, with ``order`` points per span and
-direction; the quadrature error is estimated by comparing with ``order + 8`` points
+has the same image as the object, span by span, with ``nodes`` points per span and
+direction; the quadrature error is estimated by comparing with ``nodes + 8`` points
 and reported. For polynomial patches the volume integrand is a polynomial, so
-order >= (3 (p + q) + 1) / 2 per direction makes it exact to rounding.
+nodes >= (3 (p + q) + 1) / 2 per direction makes it exact to rounding.
 """
 from __future__ import annotations
 
-from typing import Iterable, NamedTuple, Tuple
+from typing import Iterable, NamedTuple, Tuple, Union
 
 import numpy as np
 
@@ -26,13 +26,13 @@ class Integral(NamedTuple):
     error: float
 
 
-def _nodes(breaks: np.ndarray, order: int) -> Tuple[np.ndarray, np.ndarray]:
-    x, w = np.polynomial.legendre.leggauss(order)
+def _gauss_nodes(breaks: np.ndarray, nodes: int) -> Tuple[np.ndarray, np.ndarray]:
+    x, w = np.polynomial.legendre.leggauss(nodes)
     a, b = breaks[:-1, None], breaks[1:, None]
     return ((a + b) / 2 + (b - a) / 2 * x).ravel(), ((b - a) / 2 * w).ravel()
 
 
-def _integrate(surface: Surface, order: int, kind: str) -> float:
+def _integrate(surface: Surface, nodes: int, kind: str) -> float:
     s = surface.to_nurbs()
     if s.dim != 3:
         raise CagdError(f"surface: area and volume need a 3-D surface, got {s.dim}-D")
@@ -41,29 +41,29 @@ def _integrate(surface: Surface, order: int, kind: str) -> float:
     kv = distinct_with_multiplicities(s.knots_v)[0]
     ku = ku[(ku >= u0) & (ku <= u1)]
     kv = kv[(kv >= v0) & (kv <= v1)]
-    us, wu = _nodes(ku, order)
-    vs, wv = _nodes(kv, order)
+    us, wu = _gauss_nodes(ku, nodes)
+    vs, wv = _gauss_nodes(kv, nodes)
     d = s._grid(us, vs, 1, 1)                  # all partials up to S_uv on the node grid
     n = np.cross(d[1, 0], d[0, 1])
     f = np.linalg.norm(n, axis=-1) if kind == "area" else np.einsum("...k,...k", d[0, 0], n) / 3.0
     return float(wu @ f @ wv)
 
 
-def _integral(surfaces: Iterable[Surface], order: int, kind: str) -> Integral:
-    order = integer(order, "order", 2, 64)
+def _integral(surfaces: Iterable[Surface], nodes: int, kind: str) -> Integral:
+    nodes = integer(nodes, "nodes", 2, 64)
     surfaces = list(surfaces)
     if not surfaces or not all(isinstance(s, Surface) for s in surfaces):
         raise CagdError("surfaces: expected one or more cagd surfaces")
-    value = sum(_integrate(s, order, kind) for s in surfaces)
-    finer = sum(_integrate(s, order + 8, kind) for s in surfaces)
+    value = sum(_integrate(s, nodes, kind) for s in surfaces)
+    finer = sum(_integrate(s, nodes + 8, kind) for s in surfaces)
     return Integral(finer, abs(finer - value))
 
 
-def area(surfaces, order: int = 16) -> Integral:
+def area(surfaces: Union[Surface, Iterable[Surface]], nodes: int = 16) -> Integral:
     """Surface area of one surface or the sum over several (see the module doc)."""
-    return _integral([surfaces] if isinstance(surfaces, Surface) else surfaces, order, "area")
+    return _integral([surfaces] if isinstance(surfaces, Surface) else surfaces, nodes, "area")
 
 
-def enclosed_volume(surfaces, order: int = 16) -> Integral:
+def enclosed_volume(surfaces: Union[Surface, Iterable[Surface]], nodes: int = 16) -> Integral:
     """Signed volume bounded by closed patches (positive for outward normals)."""
-    return _integral([surfaces] if isinstance(surfaces, Surface) else surfaces, order, "volume")
+    return _integral([surfaces] if isinstance(surfaces, Surface) else surfaces, nodes, "volume")
