@@ -12,7 +12,7 @@ import pytest
 from wb_runner import ADDON, output_dir, need, report, run_group
 
 TIMEOUT = 240
-STEPS = 10                    # the macro's step count
+STEPS = 11                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,

@@ -45,11 +45,17 @@ def selected_faces() -> List[Link]:
 
 
 def _finish(obj) -> None:
+    """Recompute; report an error state; hide the inputs the new object wholly uses
+    (point objects, single curves; as Part Loft hides its sections)."""
     doc = obj.Document
     doc.recompute()
     Gui.Selection.clearSelection()
     if not obj.isValid():
         App.Console.PrintError(f"{obj.Label}: {obj.Message}\n")
+        return
+    for o in obj.Proxy.consumed(obj):
+        if getattr(o, "ViewObject", None) is not None:
+            o.ViewObject.Visibility = False
 
 
 def _error(message: str) -> None:
@@ -70,11 +76,21 @@ class Command:
         return App.ActiveDocument is not None
 
     def Activated(self) -> None:
-        App.ActiveDocument.openTransaction(self.MENU)
+        """run() in one undo transaction; when it raises, the transaction is aborted
+        (and any object it left behind removed) and the error goes to the report view."""
+        doc = App.ActiveDocument
+        before = {o.Name for o in doc.Objects}
+        doc.openTransaction(self.MENU)
         try:
             self.run()
-        finally:
-            App.ActiveDocument.commitTransaction()
+        except Exception as exc:
+            doc.abortTransaction()
+            for name in [o.Name for o in doc.Objects if o.Name not in before]:
+                doc.removeObject(name)              # undo disabled: remove them ourselves
+            doc.recompute()
+            _error(f"{self.MENU} failed: {type(exc).__name__}: {exc}")
+        else:
+            doc.commitTransaction()
 
     def run(self) -> None:
         raise NotImplementedError
@@ -148,10 +164,7 @@ class JoinCommand(Command):
         edges = selected_edges()
         if len(edges) != 2:
             return _error(f"Join: select two edges, the curve to continue first (got {len(edges)})")
-        obj = curves.make_join(edges[0], edges[1])
-        _finish(obj)
-        if obj.isValid():
-            edges[1][0].ViewObject.Visibility = False
+        _finish(curves.make_join(edges[0], edges[1]))       # hides Source (when a single curve)
 
 
 class ContinuityCommand(Command):

@@ -113,30 +113,52 @@ def _bezier_surface_to_bspline(surface) -> "Part.BSplineSurface":
 
 def edge_to_curve(edge) -> "cagd.BSplineCurve":
     """The edge's geometry (placement applied, trimmed to the edge's parameter range)
-    as an engine curve; lines, circles and other analytic curves through ``toNurbs``."""
+    as an engine curve; lines, circles and other analytic curves through ``toNurbs``.
+
+    An edge on a periodic curve may run across the curve's seam (e.g. the range
+    (3.5, 4.5) of a curve periodic on [0, 4]): its range is taken as is and cut by
+    OCCT's own ``Geom_BSplineCurve::Segment`` (on a copy), which wraps around the
+    period exactly; non-periodic curves are cut by the engine (``segment``).
+    """
     curve = edge.Curve
     first, last = edge.FirstParameter, edge.LastParameter
     if not isinstance(curve, (Part.BSplineCurve, Part.BezierCurve)):
         curve = edge.toNurbs().Edges[0].Curve
         first, last = curve.FirstParameter, curve.LastParameter
+    a, b = curve.FirstParameter, curve.LastParameter
+    eps = 1e-12 * max(1.0, abs(a), abs(b), abs(first), abs(last))
+    whole = abs(first - a) <= eps and abs(last - b) <= eps
+    if isinstance(curve, Part.BSplineCurve) and curve.isPeriodic() and not whole:
+        curve = curve.copy()
+        curve.segment(first, last)          # OCCT wraps the range around the period
+        return part_curve_to_engine(curve)
     c = part_curve_to_engine(curve)
     a, b = c.domain
-    scale = max(1.0, abs(a), abs(b))
-    if first > a + 1e-12 * scale or last < b - 1e-12 * scale:
+    if first > a + eps or last < b - eps:
         c = c.segment(max(first, a), min(last, b))
     return c
 
 
 def face_to_surface(face) -> "cagd.BSplineSurface":
     """The face's underlying surface as an engine B-spline surface, cut to the face's
-    parameter box (trimming curves inside that box are ignored)."""
+    parameter box (trimming curves inside that box are ignored). In a periodic
+    direction the box may run across the seam: the surface is then cut by OCCT's
+    ``Geom_BSplineSurface::Segment`` on a copy (exact, wraps around the period)."""
     surface = face.Surface
     if not isinstance(surface, (Part.BSplineSurface, Part.BezierSurface)):
         face = face.toNurbs().Faces[0]
         surface = face.Surface
+    u0, u1, v0, v1 = face.ParameterRange
+    if isinstance(surface, Part.BSplineSurface) and (surface.isUPeriodic() or surface.isVPeriodic()):
+        a, b, c, d = surface.bounds()
+        eps = 1e-12 * max(1.0, *map(abs, (a, b, c, d, u0, u1, v0, v1)))
+        cut_u = surface.isUPeriodic() and (abs(u0 - a) > eps or abs(u1 - b) > eps)
+        cut_v = surface.isVPeriodic() and (abs(v0 - c) > eps or abs(v1 - d) > eps)
+        if cut_u or cut_v:
+            surface = surface.copy()
+            surface.segment(u0 if cut_u else a, u1 if cut_u else b, v0 if cut_v else c, v1 if cut_v else d)
     s = part_surface_to_engine(surface)
     (a, b), (c, d) = s.domain
-    u0, u1, v0, v1 = face.ParameterRange
     eps = 1e-12 * max(1.0, abs(a), abs(b), abs(c), abs(d))
     if u0 > a + eps or u1 < b - eps:
         s = s.segment("u", max(u0, a), min(u1, b))

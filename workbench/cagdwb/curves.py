@@ -32,6 +32,7 @@ class BezierCurve(Feature):
 
     TYPE = "Cagd::BezierCurve"
     DEFAULT_LABEL = "BezierCurve"
+    LINKS = ("Vertices",)
 
     def setup(self, obj) -> None:
         _poles_and_vertices(obj, [V(0, 0, 0), V(10, 20, 0), V(30, 20, 5), V(40, 0, 0)], "Control points P_0..P_n")
@@ -46,6 +47,7 @@ class BSplineCurve(Feature):
 
     TYPE = "Cagd::BSplineCurve"
     DEFAULT_LABEL = "BSplineCurve"
+    LINKS = ("Vertices",)
 
     def setup(self, obj) -> None:
         _poles_and_vertices(obj, [V(0, 0, 0), V(10, 15, 0), V(20, -5, 5), V(30, 15, 5), V(40, 0, 0),
@@ -69,6 +71,8 @@ class InterpolationCurve(Feature):
 
     TYPE = "Cagd::InterpolationCurve"
     DEFAULT_LABEL = "InterpolationCurve"
+    LINKS = ("Vertices",)
+    POINTS = "Points"
 
     def setup(self, obj) -> None:
         add(obj, "VectorList", "Points", "Curve", "Points the curve passes through",
@@ -86,6 +90,8 @@ class CubicSpline(Feature):
 
     TYPE = "Cagd::CubicSpline"
     DEFAULT_LABEL = "CubicSpline"
+    LINKS = ("Vertices",)
+    POINTS = "Points"
 
     def setup(self, obj) -> None:
         add(obj, "VectorList", "Points", "Curve", "Points the spline passes through",
@@ -120,6 +126,7 @@ class HermiteCurve(Feature):
 
     TYPE = "Cagd::HermiteCurve"
     DEFAULT_LABEL = "HermiteCurve"
+    POINTS = "StartPoint, EndPoint"
 
     def setup(self, obj) -> None:
         add(obj, "Vector", "StartPoint", "Curve", "p0 = C(0)", V(0, 0, 0))
@@ -140,6 +147,8 @@ class JoinCurve(Feature):
 
     TYPE = "Cagd::JoinCurve"
     DEFAULT_LABEL = "JoinCurve"
+    LINKS = ("Base", "Source")
+    POINTS = "Base, Source"
 
     def setup(self, obj) -> None:
         add(obj, "LinkSub", "Base", "Join", "The curve P to continue (at its end)")
@@ -148,6 +157,11 @@ class JoinCurve(Feature):
                  JOIN_CONTINUITIES, "G2")
         add(obj, "Float", "Alpha", "Join", "G1 scale: Q_1 - Q_0 = alpha (P_n - P_(n-1)), alpha > 0", 1.0)
         add(obj, "Float", "Beta", "Join", "G2 shape parameter beta", 0.0)
+
+    def claimed(self, obj) -> list:
+        """Only Source: the join replaces it, while Base stays a curve of its own."""
+        source = obj.Source[0] if obj.Source else None
+        return [source] if source is not None and source is not obj else []
 
     def build(self, obj):
         P = conversion.edge_to_curve(linked_edge(obj.Base, "Base")).to_bezier()[-1]

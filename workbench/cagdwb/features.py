@@ -45,6 +45,8 @@ class Feature(Stateless):
 
     TYPE = "Cagd::Feature"
     DEFAULT_LABEL = "Cagd"
+    LINKS: Tuple[str, ...] = ()      # link properties giving the geometry (global coordinates)
+    POINTS = "Poles"                 # the property named when all control points coincide
 
     def __init__(self, obj):
         obj.Proxy = self
@@ -60,10 +62,65 @@ class Feature(Stateless):
         """The engine geometry described by the properties (raise on bad values)."""
         raise NotImplementedError
 
+    # --- links --------------------------------------------------------------------------------
+    def linked(self, obj) -> bool:
+        """True when the geometry comes from linked vertices or edges: those are in
+        global coordinates, so the object's Placement is kept at the identity (and
+        read-only in the property editor), like Part Loft or Ruled surface follow their
+        inputs; an object without links has an editable Placement."""
+        return any(getattr(obj, name, None) for name in self.LINKS)
+
+    def claimed(self, obj) -> list:
+        """The linked objects (each once, in link order): the view provider claims
+        them as children in the tree."""
+        out = []
+        for name in self.LINKS:
+            value = getattr(obj, name, None)
+            if not value:
+                continue
+            items = value if isinstance(value, list) else [value]
+            for item in items:
+                o = item[0] if isinstance(item, tuple) else item
+                if o is not None and o is not obj and o not in out:
+                    out.append(o)
+        return out
+
+    def consumed(self, obj) -> list:
+        """The claimed objects wholly used as input: their shape is just the linked
+        vertex or edge (a point object, a single curve), so the creating command hides
+        them; a solid whose edges or vertices are linked stays visible."""
+        out = []
+        for o in self.claimed(obj):
+            shape = getattr(o, "Shape", None)
+            if shape is None or shape.isNull():
+                continue
+            if (len(shape.Vertexes) == 1 and not shape.Edges) or \
+                    (len(shape.Edges) == 1 and not shape.Faces):
+                out.append(o)
+        return out
+
+    def sync_placement(self, obj) -> None:
+        """Identity and read-only Placement while linked; editable otherwise."""
+        if "Restore" in obj.State:
+            return
+        linked = self.linked(obj)
+        if linked and not obj.Placement.isIdentity():
+            obj.Placement = App.Placement()
+        obj.setEditorMode("Placement", 1 if linked else 0)
+
+    def onDocumentRestored(self, obj) -> None:
+        obj.setEditorMode("Placement", 1 if self.linked(obj) else 0)
+
+    def onChanged(self, obj, prop: str) -> None:
+        if prop == "Placement" or prop in self.LINKS:
+            if hasattr(obj, "Proxy") and all(hasattr(obj, n) for n in self.LINKS):
+                self.sync_placement(obj)
+
     # --- FreeCAD protocol -------------------------------------------------------------------
     def execute(self, obj) -> None:
         try:
             geometry = self.build(obj)
+            self.check_not_a_point(geometry)
             shape = conversion.to_shape(geometry)
             if shape.isNull() or not shape.isValid():
                 raise cagd.CagdError("the engine's result does not make a valid OpenCascade shape "
@@ -73,10 +130,22 @@ class Feature(Stateless):
             message = f"{obj.Label}: {exc}"
             obj.Message = "error: " + message
             raise cagd.CagdError(message) from exc
+        self.sync_placement(obj)
         placement = obj.Placement
         obj.Shape = shape
         obj.Placement = placement
         obj.Message = "ok"
+
+    def check_not_a_point(self, geometry) -> None:
+        """Raise when all control points of the geometry's NURBS form coincide (the
+        curve or surface is a single point, which OCCT accepts as a valid shape)."""
+        P = np.asarray(geometry.to_nurbs().control_points, dtype=float)
+        P = P.reshape(-1, P.shape[-1])
+        scale = max(1.0, float(np.abs(P).max()))
+        if float(np.ptp(P, axis=0).max()) <= 1e-12 * scale:
+            kind = "curve" if isinstance(geometry, cagd.Curve) else "surface"
+            what = "poles" if self.POINTS == "Poles" else "points"
+            raise cagd.CagdError(f"{self.POINTS}: all {what} coincide: the {kind} is a point")
 
     # --- helpers for the view provider ------------------------------------------------------
     def control_net(self, obj) -> List[List[App.Vector]]:
@@ -107,6 +176,7 @@ def make(feature_class, name: Optional[str] = None, doc=None, **values):
     feature_class(obj)
     for key, value in values.items():
         setattr(obj, key, value)
+    obj.Proxy.sync_placement(obj)
     if App.GuiUp:
         from . import viewproviders
         viewproviders.attach(obj)
@@ -155,7 +225,7 @@ def linked_points(links) -> np.ndarray:
             pts.append(vertexes[0].Point)
             continue
         for sub in subs:
-            element = obj.Shape.getElement(sub)
+            element = _element(obj, sub, "Vertices")
             if element.ShapeType != "Vertex":
                 raise cagd.CagdError(f"Vertices: {obj.Label}.{sub} is a {element.ShapeType}, not a vertex")
             pts.append(element.Point)
@@ -174,6 +244,17 @@ def points_from(obj, points_property: str = "Points") -> np.ndarray:
     return conversion.array(getattr(obj, points_property))
 
 
+def _element(obj, sub: str, name: str):
+    """obj.Shape.getElement(sub), with an error naming the property when the
+    sub-element does not exist (e.g. 'Edge5' of a shape with one edge)."""
+    try:
+        return obj.Shape.getElement(sub)
+    except Exception as exc:
+        shape = obj.Shape
+        counts = f"{len(shape.Vertexes)} vertices, {len(shape.Edges)} edges, {len(shape.Faces)} faces"
+        raise cagd.CagdError(f"{name}: {obj.Label} has no {sub} ({counts}; {exc})") from None
+
+
 def linked_edge(link, name: str):
     """The edge of a LinkSub property value ``(obj, ['Edge2'])`` (or a whole object
     whose shape has exactly one edge)."""
@@ -186,7 +267,7 @@ def linked_edge(link, name: str):
         if len(edges) != 1:
             raise cagd.CagdError(f"{name}: {obj.Label} has {len(edges)} edges; link one edge")
         return edges[0]
-    element = obj.Shape.getElement(subs[0])
+    element = _element(obj, subs[0], name)
     if element.ShapeType != "Edge":
         raise cagd.CagdError(f"{name}: {obj.Label}.{subs[0]} is a {element.ShapeType}, not an edge")
     return element

@@ -8,7 +8,7 @@ shape is the face of its exact B-spline form.
 from __future__ import annotations
 
 import math
-from typing import List, Sequence, Tuple
+from typing import List
 
 import numpy as np
 
@@ -84,67 +84,37 @@ class BSplineSurface(Feature):
                                    obj.PeriodicU, obj.PeriodicV)
 
 
-def arrange_boundary(curves: Sequence[Tuple[str, "cagd.BSplineCurve"]], tol: float = 1e-7):
-    """Order and orient four boundary curves for cagd.CoonsPatch: the first is c0,
-    the one meeting c0's start is d0, the one meeting its end d1, the last c1; each
-    reversed as needed so that c0(0)=d0(0), c0(1)=d1(0), c1(0)=d0(1), c1(1)=d1(1).
-    Ends "meet" within ``tol`` times the size of the four curves.
-
-    Raises:
-        CagdError: not four curves, or they do not form a closed four-sided loop.
-    """
-    if len(curves) != 4:
-        raise cagd.CagdError(f"Edges: a Coons patch needs exactly 4 edges, got {len(curves)}")
-    ends = [(c(c.domain[0]), c(c.domain[1])) for _, c in curves]
-    pts = np.array([p for e in ends for p in e])
-    eps = tol * max(1.0, float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))))
-
-    def near(a, b):
-        return float(np.linalg.norm(a - b)) <= eps
-
-    c0_name, c0 = curves[0]
-    start, end = ends[0]
-    rest = list(range(1, 4))
-    found = {}
-    for key, corner in (("d0", start), ("d1", end)):
-        for k in rest:
-            if near(ends[k][0], corner) or near(ends[k][1], corner):
-                curve = curves[k][1]
-                found[key] = curve if near(ends[k][0], corner) else curve.reversed()
-                rest.remove(k)
-                break
-        else:
-            raise cagd.CagdError(f"Edges: no other edge meets {c0_name} at its "
-                                 f"{'start' if key == 'd0' else 'end'} (tolerance {eps:.3g})")
-    d0, d1 = found["d0"], found["d1"]
-    name, c1 = curves[rest[0]]
-    a, b = d0(d0.domain[1]), d1(d1.domain[1])
-    e0, e1 = c1(c1.domain[0]), c1(c1.domain[1])
-    if near(e1, a) and near(e0, b):
-        c1 = c1.reversed()
-    elif not (near(e0, a) and near(e1, b)):
-        raise cagd.CagdError(f"Edges: {name} does not join the free ends of the two edges meeting "
-                             f"{c0_name} (tolerance {eps:.3g}); the four edges must form a closed loop")
-    return c0, c1, d0, d1
-
-
 class CoonsPatch(Feature):
     """Bilinearly blended Coons patch from four linked edges (Farin ch. 22.2); it
     follows the edges when their objects change or move."""
 
     TYPE = "Cagd::CoonsPatch"
     DEFAULT_LABEL = "CoonsPatch"
+    LINKS = ("Edges",)
+    POINTS = "Edges"
 
     def setup(self, obj) -> None:
         add(obj, "LinkSubList", "Edges", "Surface", "Four edges forming a closed loop, any order and direction")
-        add(obj, "Float", "Tolerance", "Surface", "Relative corner tolerance (times the edges' size)", 1e-7)
+        add(obj, "Float", "Tolerance", "Surface",
+            "Relative corner tolerance (> 0): loop gaps up to Tolerance x the loop's size, corner "
+            "mismatches up to Tolerance x max(1, |coordinates|) (cagd.CoonsPatch.from_loop)", 1e-7)
 
     def build(self, obj):
-        named = [(label, conversion.edge_to_curve(e)) for label, e in linked_edges(obj.Edges, "Edges")]
-        c0, c1, d0, d1 = arrange_boundary(named, obj.Tolerance)
-        pts = np.concatenate([c(np.linspace(*c.domain, 3)) for c in (c0, c1, d0, d1)])
-        size = max(1.0, float(np.abs(pts).max()))
-        return cagd.CoonsPatch(c0, c1, d0, d1, tol=obj.Tolerance * size)
+        tol = float(obj.Tolerance)
+        if not tol > 0.0:                          # also NaN
+            raise cagd.CagdError(f"Tolerance: must be > 0, got {tol:g}")
+        edges = linked_edges(obj.Edges, "Edges")
+        if len(edges) != 4:
+            raise cagd.CagdError(f"Edges: a Coons patch needs exactly 4 edges, got {len(edges)}")
+        curves = [conversion.edge_to_curve(e) for _, e in edges]
+        try:                                       # order and orient the loop: the engine's from_loop
+            return cagd.CoonsPatch.from_loop(curves, tol=tol)
+        except cagd.CagdError as exc:
+            message = str(exc)
+            message = message[len("curves: "):] if message.startswith("curves: ") else message
+            labels = ", ".join(label for label, _ in edges)
+            raise cagd.CagdError(f"Edges: {message} (the loop starts with {edges[0][0]} as curve 0; "
+                                 f"edges: {labels})") from None
 
 
 def triangle_sample(n: int = 3, size: float = 40.0) -> List[App.Vector]:
@@ -197,6 +167,8 @@ class Revolution(Feature):
 
     TYPE = "Cagd::Revolution"
     DEFAULT_LABEL = "Revolution"
+    LINKS = ("Profile",)
+    POINTS = "Profile"
 
     def setup(self, obj) -> None:
         add(obj, "LinkSub", "Profile", "Revolution", "The profile edge")

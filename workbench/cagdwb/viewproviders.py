@@ -23,6 +23,7 @@ ICONS = {
     "Cagd::BSplineSurface": "BSplineSurface", "Cagd::CoonsPatch": "CoonsPatch",
     "Cagd::BezierTriangle": "BezierTriangle", "Cagd::Revolution": "Revolution",
 }
+COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples
 NET_COLOR = (0.85, 0.2, 0.1)
 COMB_COLOR = (0.1, 0.45, 0.9)
 
@@ -60,8 +61,10 @@ class ViewProvider(Stateless):
             vobj.addProperty("App::PropertyBool", "ShowCurvatureComb", "CAGD", "Show the curvature comb")
             vobj.addProperty("App::PropertyFloat", "CombScale", "CAGD",
                              "Tooth length = scale x curvature; 0 = longest tooth a fifth of the curve")
-            vobj.addProperty("App::PropertyInteger", "CombSamples", "CAGD", "Number of comb teeth")
-            vobj.CombSamples = 64
+            lo, hi = COMB_SAMPLES[1], COMB_SAMPLES[2]
+            vobj.addProperty("App::PropertyIntegerConstraint", "CombSamples", "CAGD",
+                             f"Number of comb teeth ({lo}..{hi}; values out of range are clamped)")
+            vobj.CombSamples = COMB_SAMPLES
         self.attach(vobj)
 
     def attach(self, vobj) -> None:
@@ -94,7 +97,7 @@ class ViewProvider(Stateless):
     def comb(self, obj) -> List[List[App.Vector]]:
         """Teeth and the envelope through their tips (placed coordinates)."""
         edge = obj.Shape.Edges[0]
-        samples = max(2, int(self.vobj.CombSamples))
+        samples = min(max(int(self.vobj.CombSamples), COMB_SAMPLES[1]), COMB_SAMPLES[2])
         scale = float(self.vobj.CombScale) or analysis.auto_comb_scale(edge, samples)
         teeth = analysis.curvature_comb(edge, samples, scale)
         return [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
@@ -105,6 +108,12 @@ class ViewProvider(Stateless):
             self.refresh()
 
     def onChanged(self, vobj, prop: str) -> None:
+        if prop == "CombSamples":               # bounds are not saved with a document: clamp here too
+            lo, hi = COMB_SAMPLES[1], COMB_SAMPLES[2]
+            value = int(vobj.CombSamples)
+            if not lo <= value <= hi:
+                vobj.CombSamples = min(max(value, lo), hi)
+                return
         if prop in ("ShowControlNet", "ShowCurvatureComb", "CombScale", "CombSamples", "Visibility"):
             self.refresh()
 
@@ -114,7 +123,11 @@ class ViewProvider(Stateless):
         return icon(name)
 
     def claimChildren(self) -> list:
-        return []
+        """The linked input objects (vertices, edges' objects; a join's Source), so
+        they nest under the new object in the tree like Part features' inputs."""
+        obj = getattr(self, "vobj", None) and self.vobj.Object
+        proxy = getattr(obj, "Proxy", None)
+        return proxy.claimed(obj) if hasattr(proxy, "claimed") else []
 
     def setEdit(self, vobj, mode: int = 0) -> bool:
         if mode != 0:

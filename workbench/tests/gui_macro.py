@@ -85,12 +85,21 @@ def run_command(name, selection=()):
     return new_objects(before)
 
 
-def created(name, selection=(), shots=True):
+def created(name, selection=(), shots=True, inputs=None):
+    """Run the command on the selection; check the one new object. ``inputs``: the
+    objects it must claim as tree children and hide (shown before the command)."""
+    for o in inputs or ():
+        o.ViewObject.Visibility = True
     objs = run_command(name, selection)
     check(len(objs) == 1, f"{name} created {len(objs)} objects")
     obj = objs[0]
     check(obj.isValid() and obj.Shape.isValid() and not obj.Shape.isNull(), f"{name}: {obj.Message}")
     check(hasattr(obj.ViewObject, "ShowControlNet"), f"{name}: no CAGD view provider")
+    if inputs is not None:
+        children = obj.ViewObject.Proxy.claimChildren()
+        check(children == list(inputs), f"{name}: claims {[o.Label for o in children]}")
+        shown = [o.Label for o in inputs if o.ViewObject.Visibility]
+        check(not shown, f"{name}: inputs still shown: {shown}")
     if shots:
         render(name, [obj], [obj])
     return obj
@@ -140,7 +149,7 @@ def curves_from_vertices():
     doc.recompute()
     sel = [(v, "") for v in verts]
     for name in ("Cagd_BezierCurve", "Cagd_BSplineCurve", "Cagd_InterpolationCurve", "Cagd_CubicSpline"):
-        obj = created(name, sel)
+        obj = created(name, sel, inputs=verts)
         check(len(obj.Vertices) == len(verts), f"{name}: linked {len(obj.Vertices)} vertices")
         STATE[name] = obj
     obj = created("Cagd_HermiteCurve", sel[:2])
@@ -159,7 +168,7 @@ def join_two_edges():
     src = curves.make_bezier_curve([V(45, 5, 0), V(50, 15, 0), V(60, 10, 2), V(70, 0, 0)])
     doc.recompute()
     base = STATE["Cagd_BezierCurve"]
-    obj = created("Cagd_Join", [(base, "Edge1"), (src, "Edge1")], shots=False)
+    obj = created("Cagd_Join", [(base, "Edge1"), (src, "Edge1")], shots=False, inputs=[src])
     render("Cagd_Join", [base, obj], [obj])
     STATE["join"] = (base, obj)
 
@@ -179,7 +188,8 @@ def coons_from_four_edges():
     c = curves.make_bezier_curve([V(32, 30, 2), V(20, 35, 6), V(0, 30, 0)])
     d = curves.make_cubic_spline([V(0, 0, 0), V(-4, 15, 3), V(0, 30, 0)])
     doc.recompute()
-    obj = created("Cagd_CoonsPatch", [(a, "Edge1"), (c, "Edge1"), (d, "Edge1"), (b, "Edge1")], shots=False)
+    obj = created("Cagd_CoonsPatch", [(a, "Edge1"), (c, "Edge1"), (d, "Edge1"), (b, "Edge1")], shots=False,
+                  inputs=[a, c, d, b])
     render("Cagd_CoonsPatch", [a, b, c, d, obj], [obj])
     mid = obj.Shape.Faces[0].Surface.value(0.5, 0.5)
     a.Placement = App.Placement(V(0, 0, 10), App.Rotation())
@@ -197,7 +207,7 @@ def revolution_of_edge():
     doc = App.ActiveDocument
     profile = curves.make_bspline_curve([V(5, 0, 0), V(12, 0, 5), V(4, 0, 10), V(8, 0, 15)])
     doc.recompute()
-    obj = created("Cagd_Revolution", [(profile, "Edge1")])
+    obj = created("Cagd_Revolution", [(profile, "Edge1")], inputs=[profile])
     check(obj.Profile[0] == profile, "profile not linked")
 
 
@@ -227,6 +237,12 @@ def toggles():
     Gui.runCommand("Cagd_ToggleComb", 0)
     settle()
     check(obj.ViewObject.ShowCurvatureComb, "comb not switched on")
+    vobj = obj.ViewObject
+    check(vobj.getTypeIdOfProperty("CombSamples") == "App::PropertyIntegerConstraint", "CombSamples type")
+    for value, expected in ((10 ** 9, 5000), (-5, 10), (3, 10), (64, 64)):
+        vobj.CombSamples = value
+        settle()
+        check(vobj.CombSamples == expected, f"CombSamples {value} -> {vobj.CombSamples}, expected {expected}")
     render("Cagd_ToggleComb", [obj], [])
     os.replace(os.path.join(OUT, "Cagd_ToggleComb-hidden.png"), os.path.join(OUT, "Cagd_ToggleComb-unused.png"))
     obj.ViewObject.ShowCurvatureComb = False
@@ -277,6 +293,30 @@ def bad_value_keeps_gui_alive():
     obj.DegreeU = 3
     App.ActiveDocument.recompute()
     check(obj.isValid(), "not valid again")
+
+
+@step
+def failing_command_leaves_nothing():
+    """A command whose run() raises aborts its transaction: no object left, nothing to
+    undo, the error in the status bar (and the report view)."""
+    from cagdwb import commands, surfaces
+    doc = App.ActiveDocument
+    cmd = next(c for c in commands.SURFACES if c.NAME == "Cagd_BezierTriangle")
+
+    def broken():
+        surfaces.make_bezier_triangle()
+        raise RuntimeError("broken on purpose")
+    undo = list(doc.UndoNames)
+    cmd.make = broken
+    try:
+        objs = run_command(cmd.NAME)
+    finally:
+        cmd.make = surfaces.make_bezier_triangle
+    check(objs == [], f"failed command left {[o.Label for o in objs]}")
+    check(list(doc.UndoNames) == undo, f"undo stack changed: {doc.UndoNames} (was {undo})")
+    status = Gui.getMainWindow().statusBar().currentMessage()
+    check("broken on purpose" in status and cmd.MENU in status, f"status bar: {status!r}")
+    check(len(created(cmd.NAME, shots=False).Poles) == 10, "command broken after the failure")
 
 
 def run():

@@ -109,6 +109,87 @@ def test_surface_conversion_roundtrip():
         check(dev <= TOL, f"{name}: Part -> engine deviates {dev:.3g}")
 
 
+def _same_edge(name, edge, c, length_tol=1e-9, reference_length=None):
+    """Engine curve c against FreeCAD's own edge: length (edge.Length within
+    ``length_tol``, and ``reference_length`` within 1e-9 when given), end points and
+    the points at the same parameters, 1e-9 relative."""
+    a, b = c.domain
+    check(abs(a - edge.FirstParameter) <= 1e-12 * max(1, abs(a)) and
+          abs(b - edge.LastParameter) <= 1e-12 * max(1, abs(b)),
+          f"{name}: domain {c.domain} != edge range {edge.ParameterRange}")
+    length = c.arc_length()
+    check(abs(length - edge.Length) <= length_tol * edge.Length, f"{name}: length {length} != edge.Length {edge.Length}")
+    if reference_length is not None:
+        check(abs(length - reference_length) <= 1e-9 * reference_length,
+              f"{name}: length {length} != {reference_length} (FreeCAD, piecewise)")
+    for p, vertex in zip((c(a), c(b)), edge.Vertexes):
+        q = np.array(tuple(vertex.Point))
+        check(np.linalg.norm(p - q) <= 1e-9 * max(1.0, edge.Length), f"{name}: end {p} != vertex {q}")
+    if isinstance(edge.Curve, Part.BSplineCurve):         # the same parametrisation
+        dev = note("roundtrip", exchange.compare_edge(c, edge, 41), name)
+        check(dev <= TOL, f"{name}: valueAt deviates {dev:.3g}")
+    else:                                                  # rational form of a circle: on the edge
+        for p in c(np.linspace(a, b, 13)):
+            d = edge.distToShape(Part.Vertex(V(*map(float, p))))[0]
+            check(d <= 1e-9 * max(1.0, edge.Length), f"{name}: point {p} off the edge by {d:.3g}")
+
+
+@case
+def test_seam_crossing_edges_and_faces():
+    """Edges and faces whose parameter range runs across the seam of a periodic
+    curve or surface are taken whole (not cut at the end of the period)."""
+    poles = [V(10, 0, 0), V(5, 8, 1), V(-5, 8, 0), V(-10, 0, 2)]
+    bc = Part.BSplineCurve()
+    bc.buildFromPolesMultsKnots(poles, [1] * 5, [0, 1, 2, 3, 4], True, 3)
+    edge = bc.toShape(3.5, 4.5)
+    _same_edge("periodic B-spline (3.5, 4.5)", edge, conversion.edge_to_curve(edge))
+    for rng in ((-0.7, 0.6), (2.5, 6.0)):
+        # FreeCAD's edge.Length across the seam is only ~1e-8 accurate (GProp's default
+        # quadrature): 1e-7 there, and 1e-9 against the curve's own length of the pieces
+        # on either side of the seam (Geom_BSplineCurve length at tolerance 1e-13)
+        edge = bc.toShape(*rng)
+        t0, t1 = edge.ParameterRange                  # FreeCAD shifts the range by periods
+        pieces = [(max(t0, k * 4.0), min(t1, (k + 1) * 4.0)) for k in range(-2, 3)]
+        reference = sum(bc.length(lo - 4.0 * k, hi - 4.0 * k, 1e-13)
+                        for k, (lo, hi) in zip(range(-2, 3), pieces) if hi > lo)
+        _same_edge(f"periodic B-spline {rng}", edge, conversion.edge_to_curve(edge), 1e-7, reference)
+    whole = conversion.edge_to_curve(bc.toShape())
+    check(whole.periodic and whole.domain == (0.0, 4.0), f"whole periodic edge: {whole.domain}")
+    circle = Part.Circle(V(1, 2, 3), V(0, 0, 1), 5.0)
+    for rng in ((5.5, 7.0), (-1.0, 1.0)):
+        edge = circle.toShape(*rng)
+        _same_edge(f"circle {rng}", edge, conversion.edge_to_curve(edge))
+    arc = Part.makeCircle(5.0, V(0, 0, 0), V(0, 0, 1), 300, 420)
+    _same_edge("circle arc 300..420 deg", arc, conversion.edge_to_curve(arc))
+    # a face on a surface periodic in u, its u range across the seam
+    ring = [(10 * math.cos(a), 10 * math.sin(a)) for a in np.linspace(0, 2 * math.pi, 6, endpoint=False)]
+    net = [[V(x, y, z + 0.3 * i) for z in (0, 5, 10)] for i, (x, y) in enumerate(ring)]
+    ps = Part.BSplineSurface()
+    ps.buildFromPolesMultsKnots(net, [1] * 7, [3, 3], list(range(7)), [0, 1], True, False, 3, 2)
+    face = ps.toShape(4.5, 7.5, 0.0, 1.0)
+    s = conversion.face_to_surface(face)
+    check(np.allclose(np.ravel(s.domain), face.ParameterRange, rtol=0, atol=1e-12),
+          f"face domain {s.domain} != {face.ParameterRange}")
+    d = exchange.compare_face(s, face, 13)
+    note("roundtrip", d["points"], "seam-crossing face")
+    check(max(d.values()) <= TOL, f"seam-crossing face deviates {d}")
+    area = conversion.surface_to_part(s).toShape().Area
+    check(abs(area - face.Area) <= 1e-6 * face.Area, f"face area {area} != {face.Area}")
+    cyl = Part.Cylinder()
+    cyl.Radius = 5.0
+    face = cyl.toShape(-1.0, 1.0, 0.0, 10.0)
+    s = conversion.face_to_surface(face)
+    (u0, u1), (v0, v1) = s.domain                  # rational form: another parametrisation
+    U, W = np.meshgrid(np.linspace(u0, u1, 9), np.linspace(v0, v1, 5), indexing="ij")
+    P = s(U, W)
+    radius = np.hypot(P[..., 0], P[..., 1])
+    check(np.abs(radius - 5.0).max() <= 1e-9 * 5.0, f"cylinder across the seam: radius {radius}")
+    angles = np.unwrap(np.arctan2(P[:, 0, 1], P[:, 0, 0]))
+    check(np.all(np.diff(angles) > 0) and abs(angles[-1] - angles[0] - 2.0) <= 1e-9,
+          f"cylinder across the seam: angular extent {angles[-1] - angles[0]} (expected 2 rad)")
+    check(abs(P[..., 2].min()) <= 1e-9 and abs(P[..., 2].max() - 10.0) <= 1e-8, "cylinder height")
+
+
 import suite_objects  # noqa: E402,F401  (registers the object cases, in this order)
 
 
@@ -162,17 +243,22 @@ def test_curvature_comb():
 def test_save_and_reload():
     doc = new_doc("saved")
     objs = [curves.make_cubic_spline(doc=doc), surfaces.make_bezier_triangle(doc=doc)]
+    objs.append(curves.make_bezier_curve(vertices=[(objs[0], "Vertex1"), (objs[1], "Vertex2")], doc=doc))
     doc.recompute()
     path = os.path.join(OUT, "saved.FCStd")
     doc.saveAs(path)
     App.closeDocument(doc.Name)
     doc = App.openDocument(path)
+    check("ReadOnly" in doc.Objects[2].getEditorMode("Placement") and "ReadOnly" not in
+          doc.Objects[0].getEditorMode("Placement"), "Placement editor modes not restored")
     for o in doc.Objects:
         o.touch()
     doc.recompute()
     check(len(doc.Objects) == len(objs) and all(o.isValid() and o.Shape.isValid() for o in doc.Objects),
           "reloaded objects do not recompute")
     check(doc.Objects[0].Proxy.__class__.__name__ == "CubicSpline", "proxy class not restored")
+    linked = doc.Objects[2]
+    check(linked.Proxy.claimed(linked) == doc.Objects[:2], "links not restored")
 
 
 def main():

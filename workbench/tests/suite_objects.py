@@ -293,3 +293,139 @@ def test_analytic_and_trimmed_edges():
             vv = s.bounds()[2] + v * (s.bounds()[3] - s.bounds()[2])
             check(abs(s.value(uu, vv).Length - 8.0) < 1e-9, "revolved half circle is not a sphere")
     exported(sphere, compare(sphere))
+
+
+# --- review fixes: links and placement, error messages, Coons loop --------------------------
+def _points_objects(doc, pts):
+    verts = [doc.addObject("Part::Vertex", f"P{i}") for i in range(len(pts))]
+    for v, p in zip(verts, pts):
+        v.X, v.Y, v.Z = p.x, p.y, p.z
+    doc.recompute()
+    return verts
+
+
+def _on_vertices(obj, verts):
+    edge = obj.Shape.Edges[0]
+    for v in verts:
+        d = edge.distToShape(v.Shape)[0]
+        check(d < 1e-9, f"{obj.Label} misses {v.Label} by {d:.3g} (placement {obj.Placement})")
+
+
+@case
+def test_linked_objects_lie_on_their_links_whatever_the_placement():
+    """Objects fed by links (vertices, edges) keep an identity, read-only Placement:
+    their shape lies on the linked geometry (like Part Loft); unlinked objects keep
+    an editable Placement that moves them."""
+    doc = new_doc("placement")
+    pts = [V(0, 0, 0), V(10, 8, 0), V(20, -3, 4), V(30, 6, 0)]
+    verts = _points_objects(doc, pts)
+    obj = curves.make_interpolation_curve(vertices=[(v, "Vertex1") for v in verts], doc=doc)
+    recompute_ok(obj)
+    check("ReadOnly" in obj.getEditorMode("Placement"), f"Placement editor mode {obj.getEditorMode('Placement')}")
+    obj.Placement = App.Placement(V(0, 0, 50), App.Rotation(V(1, 0, 0), 30))
+    doc.recompute()
+    recompute_ok(obj)
+    check(obj.Placement.isIdentity(), f"linked curve kept Placement {obj.Placement}")
+    check((obj.Shape.Edges[0].Vertexes[0].Point - pts[0]).Length < 1e-9, "curve does not start at P0")
+    _on_vertices(obj, verts)
+    check(obj.Proxy.claimed(obj) == verts and obj.Proxy.consumed(obj) == verts, "claimed/consumed vertices")
+    # unlinked: the Placement is the object's own again and moves it
+    obj.Vertices = []
+    check("ReadOnly" not in obj.getEditorMode("Placement"), "unlinked Placement still read-only")
+    obj.Placement = App.Placement(V(0, 0, 50), App.Rotation())
+    doc.recompute()
+    recompute_ok(obj)
+    start = obj.Shape.Edges[0].Vertexes[0].Point
+    check((start - (pts[0] + V(0, 0, 50))).Length < 1e-9, f"unlinked curve not placed: starts at {start}")
+    check(obj.Proxy.claimed(obj) == [], "unlinked curve claims objects")
+    # a Coons patch on a box's top edges: on the box whatever its Placement; the box is
+    # claimed but not consumed (it is more than the edges)
+    box = doc.addObject("Part::Box", "Box")
+    doc.recompute()
+    top = [f"Edge{k}" for k, e in enumerate(box.Shape.Edges, 1)
+           if abs(e.Vertexes[0].Point.z - 10) < 1e-9 and abs(e.Vertexes[-1].Point.z - 10) < 1e-9]
+    coons = surfaces.make_coons([(box, s) for s in top], doc=doc)
+    coons.Placement = App.Placement(V(0, 0, 50), App.Rotation())
+    recompute_ok(coons)
+    bb = coons.Shape.BoundBox
+    check(abs(bb.ZMin - 10) < 1e-9 and abs(bb.ZMax - 10) < 1e-9, f"Coons patch left the box top: {bb}")
+    check(coons.Proxy.claimed(coons) == [box] and coons.Proxy.consumed(coons) == [], "Coons claims")
+    # revolution and join follow their links too; the join claims only Source
+    profile = curves.make_bspline_curve([V(5, 0, 0), V(12, 0, 5), V(4, 0, 10), V(8, 0, 15)], doc=doc)
+    src = curves.make_bezier_curve([V(35, -5, 0), V(40, -10, 0), V(50, -5, 2), V(60, 0, 0)], doc=doc)
+    doc.recompute()
+    rev = surfaces.make_revolution((profile, "Edge1"), doc=doc)
+    join = curves.make_join((profile, "Edge1"), (src, "Edge1"), doc=doc)
+    for o in (rev, join):
+        o.Placement = App.Placement(V(0, 0, 50), App.Rotation())
+        recompute_ok(o)
+        check(o.Placement.isIdentity() and "ReadOnly" in o.getEditorMode("Placement"), f"{o.Label} Placement")
+    check(rev.Shape.distToShape(Part.Vertex(V(5, 0, 0)))[0] < 1e-9, "revolution left its profile")
+    end = profile.Shape.Edges[0].Vertexes[-1].Point
+    check(join.Shape.distToShape(Part.Vertex(end))[0] < 1e-9, "join left the end of Base")
+    check(rev.Proxy.claimed(rev) == [profile] and join.Proxy.claimed(join) == [src], "revolution/join claims")
+
+
+@case
+def test_error_messages_name_the_property():
+    doc = new_doc("errors")
+    profile = curves.make_bspline_curve([V(5, 0, 0), V(12, 0, 5), V(4, 0, 10), V(8, 0, 15)], doc=doc)
+    doc.recompute()
+    rev = surfaces.make_revolution((profile, "Edge1"), doc=doc)
+    recompute_ok(rev)
+    rev.Profile = (profile, ["Edge5"])
+    expect_error(rev, ["Profile:", "Edge5"])
+    rev.Profile = (profile, ["Edge1"])
+    recompute_ok(rev)
+    verts = _points_objects(doc, [V(0, 0, 0), V(10, 8, 0), V(20, -3, 4)])
+    interp = curves.make_interpolation_curve(vertices=[(v, "Vertex1") for v in verts], degree=2, doc=doc)
+    recompute_ok(interp)
+    interp.Vertices = [(verts[0], "Vertex1"), (verts[1], "Vertex3"), (verts[2], "Vertex1")]
+    expect_error(interp, ["Vertices:", "Vertex3"])
+    # Coons tolerance must be positive
+    a = curves.make_bezier_curve([V(0, 0, 0), V(10, 0, 0)], doc=doc)
+    b = curves.make_bezier_curve([V(10, 0, 0), V(10, 10, 0)], doc=doc)
+    c = curves.make_bezier_curve([V(10, 10, 0), V(0, 10, 0)], doc=doc)
+    d = curves.make_bezier_curve([V(0, 10, 0), V(0, 0, 0)], doc=doc)
+    doc.recompute()
+    coons = surfaces.make_coons([(o, "Edge1") for o in (a, b, c, d)], doc=doc)
+    recompute_ok(coons)
+    for bad in (-1e-7, 0.0, float("nan")):
+        coons.Tolerance = bad
+        expect_error(coons, ["Tolerance: must be > 0"])
+    coons.Tolerance = 1e-7
+    recompute_ok(coons)
+    # all poles in one point: an error, for curves and surfaces
+    p = V(1, 2, 3)
+    for obj, kind in ((curves.make_bezier_curve([p] * 4, doc=doc), "curve"),
+                      (curves.make_bspline_curve([p] * 6, doc=doc), "curve"),
+                      (surfaces.make_bezier_surface([p] * 16, 4, doc=doc), "surface"),
+                      (surfaces.make_bspline_surface([p] * 25, 5, doc=doc), "surface"),
+                      (surfaces.make_bezier_triangle([p] * 10, doc=doc), "surface")):
+        expect_error(obj, ["Poles: all poles coincide", f"the {kind} is a point"])
+    weighted = curves.make_bezier_curve([p] * 3, [1.0, 3.0, 1.0], doc=doc)
+    expect_error(weighted, ["Poles: all poles coincide"])
+    nearly = curves.make_bezier_curve([p, p + V(1e-6, 0, 0), p], doc=doc)
+    recompute_ok(nearly)                      # a tiny curve is still a curve
+
+
+@case
+def test_coons_loop_any_order_and_direction():
+    """The engine's CoonsPatch.from_loop orders the edges: every order and direction
+    of the same loop gives a patch through all four edges, equal to the engine's."""
+    doc = new_doc("coonsloop")
+    edges = list(_boundary(doc))
+    import itertools
+    for order in itertools.permutations(range(4)):
+        if order[0] != 0 and order not in ((2, 1, 3, 0), (3, 2, 0, 1)):
+            continue                         # every order with edge a first, and two others
+        obj = surfaces.make_coons([(edges[k], "Edge1") for k in order], doc=doc)
+        recompute_ok(obj)
+        compare(obj)
+        face = obj.Shape.Faces[0]
+        for e in edges:
+            ed = e.Shape.Edges[0]
+            for t in (0.25, 0.5, 0.75):
+                q = ed.valueAt(ed.FirstParameter + t * (ed.LastParameter - ed.FirstParameter))
+                check(face.distToShape(Part.Vertex(q))[0] < 1e-7, f"order {order}: patch misses {e.Label}")
+        doc.removeObject(obj.Name)
