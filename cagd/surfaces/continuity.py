@@ -95,14 +95,15 @@ def _lift(x: np.ndarray) -> np.ndarray:
 def _plane_angles(T: np.ndarray, D1: np.ndarray, D2: np.ndarray, t_floor: float) -> np.ndarray:
     """Angles between the oriented planes T x D1 and T x D2, 2 atan2(|a^ - b^|, |a^ + b^|),
     at the samples where both are well defined: |T| > t_floor and
-    |T x D| > 1e-10 |T| |D| (a vanishing or rounding-noise T, at a collapsed edge,
-    or D along the edge, says nothing about the tangent plane)."""
+    |T x D| > 1e-10 |T| max|D| (a vanishing or rounding-noise T, at a collapsed edge,
+    a cross derivative collapsing at a corner, or D along the edge, says nothing
+    about the tangent plane; max|D| over the edge keeps rounding noise out there)."""
     T, D1, D2 = _lift(T), _lift(D1), _lift(D2)
     a, b = np.cross(T, D1), np.cross(T, D2)
     nt = np.linalg.norm(T, axis=-1)
     na, nb = np.linalg.norm(a, axis=-1), np.linalg.norm(b, axis=-1)
-    ok = (nt > t_floor) & (na > 1e-10 * nt * np.linalg.norm(D1, axis=-1)) \
-        & (nb > 1e-10 * nt * np.linalg.norm(D2, axis=-1))
+    ok = (nt > t_floor) & (na > 1e-10 * nt * np.linalg.norm(D1, axis=-1).max(initial=0.0)) \
+        & (nb > 1e-10 * nt * np.linalg.norm(D2, axis=-1).max(initial=0.0))
     ua, ub = a[ok] / na[ok, None], b[ok] / nb[ok, None]
     return 2.0 * np.arctan2(np.linalg.norm(ua - ub, axis=-1), np.linalg.norm(ua + ub, axis=-1))
 
