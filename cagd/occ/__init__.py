@@ -10,8 +10,8 @@ Only this subpackage imports OCP; ``import cagd`` never does.
 try:
     import OCP  # noqa: F401
 except ImportError as exc:  # pragma: no cover - depends on the installation
-    raise ImportError("cagd.occ needs OCP (OpenCascade for Python): pip install 'cagd[cad]' "
-                      "or pip install cadquery-ocp") from exc
+    raise ModuleNotFoundError("cagd.occ needs OCP (OpenCascade for Python): pip install 'cagd[cad]' "
+                              "or pip install cadquery-ocp", name="OCP") from exc
 
 from OCP.Message import Message, Message_Gravity
 

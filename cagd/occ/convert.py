@@ -108,6 +108,8 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
         CagdError: not an engine curve or surface, more than 3 dimensions, or OCCT
             refuses the data (its message is passed on).
     """
+    if isinstance(obj, (Curve, Surface)) and obj.dim > 3:
+        raise CagdError(f"obj: OCCT geometry is 3-D at most, this {type(obj).__name__} is {obj.dim}-D")
     try:
         if isinstance(obj, Curve):
             if bezier and isinstance(obj, BezierCurve) and not plane:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, Iterable, List, Tuple, Union
 
+import numpy as np
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
 from OCP.IGESSelect import IGESSelect_WorkLibrary
@@ -28,7 +29,8 @@ from OCP.Interface import Interface_Static
 from OCP.STEPCAFControl import STEPCAFControl_Reader, STEPCAFControl_Writer
 from OCP.STEPControl import STEPControl_AsIs
 from OCP.StepAP214 import StepAP214_Protocol
-from OCP.StepData import StepData_StepWriter
+from OCP.StepData import StepData_Logical, StepData_StepWriter
+from OCP.StepGeom import StepGeom_BSplineCurve, StepGeom_BSplineSurface
 from OCP.TCollection import TCollection_ExtendedString
 from OCP.TDataStd import TDataStd_Name
 from OCP.TDF import TDF_Label, TDF_LabelSequence
@@ -96,9 +98,9 @@ def _named(objects) -> List[Tuple[str, Item]]:
     for i, it in enumerate(items):
         name, obj = it if isinstance(it, tuple) else (None, it)
         if isinstance(obj, Curve):
-            shape = make_edge(obj)
+            shape = make_edge(_exchange_form(obj))
         elif isinstance(obj, Surface):
-            shape = make_face(obj)
+            shape = make_face(_exchange_form(obj))
         elif isinstance(obj, TopoDS_Shape):
             if obj.IsNull():
                 raise CagdError(f"objects[{i}]: a null shape")
@@ -110,6 +112,22 @@ def _named(objects) -> List[Tuple[str, Item]]:
     if not out:
         raise CagdError("objects: nothing to write")
     return out
+
+
+def _exchange_form(obj: Union[Curve, Surface]) -> Union[BSplineCurve, BSplineSurface]:
+    """The object's NURBS form with clamped knots (knot insertion: the same curve or
+    surface, same parameters). Files get only that: OCCT's STEP and IGES transfer of
+    unclamped knot vectors and of periodic directions with few poles loses the shape."""
+    nurbs = obj.to_nurbs()
+    if isinstance(nurbs, BSplineCurve):
+        return nurbs if _is_clamped(nurbs.knots, nurbs.degree, nurbs.periodic) else nurbs.clamped()
+    clamped = _is_clamped(nurbs.knots_u, nurbs.degree_u, nurbs.periodic_u) and \
+        _is_clamped(nurbs.knots_v, nurbs.degree_v, nurbs.periodic_v)
+    return nurbs if clamped else nurbs.clamped()
+
+
+def _is_clamped(knots: np.ndarray, degree: int, periodic: bool) -> bool:
+    return not periodic and bool(np.all(knots[:degree + 1] == knots[0]) and np.all(knots[-degree - 1:] == knots[-1]))
 
 
 def _document(named: List[Tuple[str, TopoDS_Shape]], unicode: bool) -> TDocStd_Document:
@@ -154,7 +172,9 @@ def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "A
     with _settings(write__step__unit="MM", write__step__schema=schema, xstep__cascade__unit="MM"):
         if not writer.Transfer(_document(named, unicode=True), STEPControl_AsIs):
             raise CagdError(f"path: OCCT could not transfer the objects to STEP for {target!r}")
-    printer = StepData_StepWriter(writer.ChangeWriter().Model())
+    model = writer.ChangeWriter().Model()
+    _open_closed_flags(model)
+    printer = StepData_StepWriter(model)
     printer.FloatWriter().SetFormat(_REAL_FORMAT, True)
     printer.SendModel(StepAP214_Protocol())
     return _print(printer, target, "STEP")
@@ -174,6 +194,20 @@ def write_iges(objects: Objects, path: Union[str, os.PathLike]) -> Path:
     printer.FloatWriter().SetFormat(_REAL_FORMAT, True)
     printer.SendModel(IGESSelect_WorkLibrary.DefineProtocol_s())
     return _print(printer, target, "IGES")
+
+
+def _open_closed_flags(model) -> None:
+    """Clear the informational closed_curve / u_closed / v_closed flags of the
+    B-splines: OCCT's STEP reader turns a curve flagged closed into a periodic one,
+    which changes a rational curve whose end weights differ (measured: 0.17 off).
+    The knots are clamped, so the flag carries nothing the geometry does not."""
+    for i in range(1, model.NbEntities() + 1):
+        entity = model.Value(i)
+        if isinstance(entity, StepGeom_BSplineCurve):
+            entity.SetClosedCurve(StepData_Logical.StepData_LFalse)
+        elif isinstance(entity, StepGeom_BSplineSurface):
+            entity.SetUClosed(StepData_Logical.StepData_LFalse)
+            entity.SetVClosed(StepData_Logical.StepData_LFalse)
 
 
 def _print(printer, target: str, kind: str) -> Path:

@@ -189,9 +189,14 @@ class _Samples:
 
 
 def _normal_deviation(d1a: np.ndarray, d1b: np.ndarray) -> float:
+    """Max difference of the unit normals where both are defined: |S_u x S_v| above
+    1e-8 |S_u| |S_v| (at a collapsed point or on a surface collapsed to a line the
+    cross product is rounding noise)."""
     na, nb = np.cross(d1a[0], d1a[1]), np.cross(d1b[0], d1b[1])
     la, lb = np.linalg.norm(na, axis=-1), np.linalg.norm(nb, axis=-1)
-    ok = (la > 1e-8 * la.max()) & (lb > 1e-8 * lb.max())       # skip collapsed points
+    scale_a = np.linalg.norm(d1a[0], axis=-1) * np.linalg.norm(d1a[1], axis=-1)
+    scale_b = np.linalg.norm(d1b[0], axis=-1) * np.linalg.norm(d1b[1], axis=-1)
+    ok = (la > 1e-8 * scale_a) & (lb > 1e-8 * scale_b)
     if not ok.any():
         return 0.0
     return float(np.abs(na[ok] / la[ok, None] - nb[ok] / lb[ok, None]).max())
@@ -224,7 +229,9 @@ def verify(obj: Union[Curve, Surface], name: str = "object", samples: int = 41, 
     whether every stage is within its tolerance.
 
     Raises:
-        CagdError: not an engine curve or surface, an unknown stage name.
+        CagdError: not an engine curve or surface, an unknown stage name, bad
+            ``samples``; a file stage raises when OCCT reads back no edge or face
+            (e.g. a surface collapsed to a point has no face).
     """
     if not isinstance(obj, (Curve, Surface)):
         raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")

@@ -1,0 +1,110 @@
+"""STEP and IGES files: names, millimetres, 17 significant digits (bit-exact round
+trips), free curves, solids, errors."""
+import re
+
+import numpy as np
+import pytest
+
+pytest.importorskip("OCP")
+
+from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError, ellipsoid, sphere  # noqa: E402
+from cagd.occ import (read_iges, read_shapes, read_step, solid_from_surfaces, write_iges,  # noqa: E402
+                      write_step)
+
+RNG = np.random.default_rng(11)
+SURFACE = BSplineSurface(RNG.normal(size=(5, 4, 3)) * np.pi, 3, 2, None, None, RNG.uniform(0.3, 3, (5, 4)))
+CURVE = BSplineCurve(RNG.normal(size=(7, 3)) / 3, 3, np.repeat(np.cumsum(RNG.uniform(0.1, 1, 5)), [4, 1, 1, 1, 4]),
+                     RNG.uniform(0.3, 3, 7))
+PERIODIC = BSplineCurve(RNG.normal(size=(7, 3)) / 3, 3, np.cumsum(RNG.uniform(0.1, 1, 8)), periodic=True)
+
+
+def _same(a, b):
+    fa, fb = a.occ_form(), b.occ_form()
+    assert np.array_equal(fa.poles, fb.poles)
+    assert (fa.weights is None) == (fb.weights is None)
+    if fa.weights is not None:
+        assert np.array_equal(fa.weights, fb.weights)
+    for x, y in zip(fa[2:], fb[2:]):
+        assert np.array_equal(np.asarray(x), np.asarray(y))
+
+
+@pytest.mark.parametrize("kind", ["step", "iges"])
+def test_round_trip_is_bit_exact_with_names(kind, tmp_path):
+    path = tmp_path / f"model.{'step' if kind == 'step' else 'igs'}"
+    write, read = (write_step, read_step) if kind == "step" else (write_iges, read_iges)
+    out = write({"wing": SURFACE, "rail": CURVE}, path)
+    assert out == path and path.is_file()
+    back = read(path)
+    names = {i.name: i.object for i in back}
+    assert set(names) == {"wing", "rail"}
+    _same(names["wing"], SURFACE)
+    _same(names["rail"], CURVE)
+
+
+@pytest.mark.parametrize("kind", ["step", "iges"])
+def test_periodic_curve_round_trip(kind, tmp_path):
+    # files hold the clamped exchange form (knot insertion: the same curve, same parameters)
+    path = tmp_path / f"p.{'step' if kind == 'step' else 'igs'}"
+    (write_step if kind == "step" else write_iges)([PERIODIC], path)
+    (back,) = (read_step if kind == "step" else read_iges)(path)
+    c = back.object
+    assert c.domain == PERIODIC.domain
+    t = np.linspace(*PERIODIC.domain, 57)
+    assert np.abs(c(t) - PERIODIC(t)).max() <= 4e-16 * np.abs(PERIODIC.control_points).max() * 4
+    _same(c, PERIODIC.clamped())
+
+
+def test_step_text_names_units_and_digits(tmp_path):
+    path = write_step([("wing", SURFACE), ("rail", CURVE)], tmp_path / "m.step")
+    text = path.read_text()
+    assert "PRODUCT('wing'" in text and "PRODUCT('rail'" in text
+    assert "SI_UNIT(.MILLI.,.METRE.)" in text
+    reals = re.findall(r"-?\d\.\d+E[+-]\d+", text)
+    assert reals and all(len(r.lstrip("-").split("E")[0]) == 18 for r in reals)      # d.dddddddddddddddd
+    # every control point coordinate appears with all its digits
+    x = float(SURFACE.control_points[1, 2, 0])
+    assert f"{x:.16E}" in text
+
+
+def test_iges_text_names_and_units(tmp_path):
+    path = write_iges([("wing", SURFACE)], tmp_path / "m.igs")
+    text = path.read_text()
+    assert "wing" in text
+    assert "2HMM" in text.replace(" ", "") or "MM" in text.splitlines()[1]
+
+
+def test_curves_are_free_edges_and_solids_give_eight_faces(tmp_path):
+    solid = solid_from_surfaces(ellipsoid(1, 2, 3))
+    write_step([("egg", solid), ("arc", BezierCurve([[0, 0, 0], [1, 1, 0], [2, 0, 0]]))], tmp_path / "s.step")
+    back = read_step(tmp_path / "s.step")
+    faces = [i for i in back if i.name.startswith("egg")]
+    curves = [i for i in back if i.name == "arc"]
+    assert len(faces) == 8 and all(isinstance(i.object, BSplineSurface) for i in faces)
+    assert len(curves) == 1 and isinstance(curves[0].object, BSplineCurve)
+    assert len(read_shapes(tmp_path / "s.step")) == 2
+
+
+def test_default_names(tmp_path):
+    write_step([sphere(1.0)], tmp_path / "a.step")
+    assert [i.name for i in read_step(tmp_path / "a.step")] == ["BSplineSurface_1"]
+
+
+def test_errors(tmp_path):
+    with pytest.raises(CagdError, match="does not exist"):
+        write_step([SURFACE], tmp_path / "nowhere" / "x.step")
+    with pytest.raises(CagdError, match="does not exist"):
+        write_iges([SURFACE], tmp_path / "nowhere" / "x.igs")
+    with pytest.raises(CagdError, match="no such file"):
+        read_step(tmp_path / "missing.step")
+    with pytest.raises(CagdError, match="no such file"):
+        read_iges(tmp_path / "missing.igs")
+    with pytest.raises(CagdError, match=r"objects\[1\]"):
+        write_step([SURFACE, "text"], tmp_path / "x.step")
+    with pytest.raises(CagdError, match="nothing to write"):
+        write_step([], tmp_path / "x.step")
+    with pytest.raises(CagdError, match="kind"):
+        read_shapes(tmp_path / "x.step", kind="stl")
+    bad = tmp_path / "junk.step"
+    bad.write_text("not a step file")
+    with pytest.raises(CagdError, match="could not read"):
+        read_step(bad)
