@@ -107,7 +107,7 @@ class ExportResult:
 
 
 def export_model(model, step: Optional[Path] = None, iges: Optional[Path] = None, samples: int = 41,
-                 progress: bool = True, tol: float = 1e-12, file_tol: float = 1e-9,
+                 progress: bool = True, tol: Optional[float] = None, file_tol: float = 1e-9,
                  volume_tol: float = 1e-9) -> ExportResult:
     """Write the exported entries of a loaded model (:func:`cagd.model.load_model`) to
     STEP and/or IGES, verify every object and solid, read the files back.

@@ -125,3 +125,16 @@ def test_non_ascii_names(tmp_path):
     assert [i.name for i in read_step(tmp_path / "n.step")] == ["Träger_ä"]
     write_iges({"Träger_ä": c}, tmp_path / "n.igs")
     assert [i.name for i in read_iges(tmp_path / "n.igs")] == ["Trager_a"]         # IGES labels are ASCII
+
+
+def test_default_tolerance_grows_with_degree_and_weights():
+    from cagd.occ.verify import default_tolerance
+    rng = np.random.default_rng(3)
+    cubic = cagd.BSplineCurve(rng.normal(size=(8, 3)), 3)
+    high = cagd.BSplineCurve(rng.normal(size=(14, 3)), 10, weights=rng.uniform(0.5, 2.0, 14))
+    assert default_tolerance(cubic) == 1e-12
+    w = high.weights
+    assert default_tolerance(high) == pytest.approx(1e-12 * (10 / 3) ** 2 * w.max() / w.min())
+    report = verify(high)
+    assert report.passed, str(report)
+    assert report.stage("occt").tolerance == default_tolerance(high)
