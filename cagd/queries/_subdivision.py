@@ -1,0 +1,357 @@
+"""Bezier decomposition and subdivision machinery shared by the intersection and
+distance queries (private).
+
+An engine curve or surface is cut at its knots into Bezier pieces (Piegl & Tiller
+A5.6/A5.7, knot insertion to multiplicity p); each piece is kept as homogeneous
+control points (w P, w) together with its parameter box. The convex-hull property
+of Bezier pieces with positive weights (seed 000, 5.2.3; Farin ch. 4) makes the
+axis-aligned box of the projected control points a rigorous bound of the piece;
+halving by de Casteljau (Lane & Riesenfeld 1980) is done for all pieces at once.
+Candidates are refined on the whole object by a bounded, projected (clamped)
+Newton iteration with a saddle-free Hessian and backtracking (Nocedal & Wright,
+Numerical Optimization, 3.4 and 16.7), vectorized over all candidates.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple, Tuple
+
+import numpy as np
+
+from ..curves.base import Curve
+from ..errors import CagdError
+from ..surfaces.base import Surface
+
+
+class Pieces(NamedTuple):
+    """Bezier pieces: ``ctrl`` homogeneous control points, shape (M, n+1, D+1) for
+    curve pieces or (M, n+1, m+1, D+1) for surface patches; ``lo``/``hi`` (M, k)
+    the corners of each piece's parameter box (k = 1 or 2)."""
+    ctrl: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @property
+    def k(self) -> int:
+        return self.ctrl.ndim - 2
+
+    def take(self, index) -> "Pieces":
+        return Pieces(self.ctrl[index], self.lo[index], self.hi[index])
+
+
+class Geometry:
+    """An engine curve or surface seen through its exact NURBS form: parameter count
+    ``k``, domain box, periodic flags, Bezier pieces and vectorized derivatives."""
+
+    def __init__(self, obj, name: str):
+        if isinstance(obj, Curve):
+            self.k = 1
+        elif isinstance(obj, Surface):
+            self.k = 2
+        else:
+            raise CagdError(f"{name}: expected a cagd curve or surface, got {type(obj).__name__}")
+        self.obj, self.name = obj, name
+        self.triangle = not getattr(obj, "rectangular", True)
+        self.nurbs = obj.to_nurbs()
+        self.dim = self.nurbs.dim
+        if self.k == 1:
+            d = self.nurbs.domain
+            self.lo, self.hi = np.array([d[0]]), np.array([d[1]])
+            self.periodic = np.array([bool(self.nurbs.periodic)])
+        else:
+            (u0, u1), (v0, v1) = self.nurbs.domain
+            self.lo, self.hi = np.array([u0, v0]), np.array([u1, v1])
+            self.periodic = np.array([bool(self.nurbs.periodic_u), bool(self.nurbs.periodic_v)])
+        self.pieces = decompose(self.nurbs, self.k)
+        pts = project(self.pieces.ctrl).reshape(-1, self.dim)
+        self.size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
+    def clamp(self, x: np.ndarray) -> np.ndarray:
+        """Parameters (N, k) wrapped (periodic directions) or clamped into the domain."""
+        span = self.hi - self.lo
+        wrapped = self.lo + np.mod(x - self.lo, span)
+        return np.where(self.periodic, wrapped, np.clip(x, self.lo, self.hi))
+
+    def derivatives(self, x: np.ndarray, order: int, rows=None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Point (N, D), first derivatives (N, k, D) and, if order == 2, second
+        derivatives (N, k, k, D) at parameters x (N, k) inside the domain."""
+        x = self.clamp(x)
+        if self.k == 1:
+            d = self.nurbs.derivatives(x[:, 0], order)
+            first = d[1][:, None, :] if order >= 1 else None
+            second = d[2][:, None, None, :] if order >= 2 else None
+            return d[0], first, second
+        d = self.nurbs.derivatives(x[:, 0], x[:, 1], order, order)
+        first = np.stack([d[1, 0], d[0, 1]], axis=1) if order >= 1 else None
+        second = None
+        if order >= 2:
+            second = np.stack([np.stack([d[2, 0], d[1, 1]], 1), np.stack([d[1, 1], d[0, 2]], 1)], 1)
+        return d[0, 0], first, second
+
+    def points(self, x: np.ndarray) -> np.ndarray:
+        return self.derivatives(x, 0)[0]
+
+    def user_params(self, x: np.ndarray) -> np.ndarray:
+        """Parameters of the user's object: curves (N,), surfaces (N, 2); a Bezier
+        triangle's collapsed-edge NURBS form S(u, w) = T(u, w (1 - u)) is mapped back."""
+        if self.k == 1:
+            return x[:, 0].copy()
+        if self.triangle:
+            return np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
+        return x.copy()
+
+
+def decompose(nurbs, k: int) -> Pieces:
+    """Bezier pieces of a BSplineCurve (k = 1) or BSplineSurface (k = 2)."""
+    D = nurbs.dim
+    if k == 1:
+        breaks, segs = nurbs.bezier_segments()
+        ctrl = np.stack([_hom(s.control_points, s.weights) for s in segs])
+        return Pieces(ctrl, breaks[:-1, None].copy(), breaks[1:, None].copy())
+    bu, bv, patches = nurbs.bezier_patches()
+    ctrl = np.stack([_hom(p.control_points, p.weights) for row in patches for p in row])
+    iu, iv = np.meshgrid(np.arange(len(bu) - 1), np.arange(len(bv) - 1), indexing="ij")
+    iu, iv = iu.ravel(), iv.ravel()
+    lo = np.stack([bu[iu], bv[iv]], axis=1)
+    hi = np.stack([bu[iu + 1], bv[iv + 1]], axis=1)
+    assert ctrl.shape[-1] == D + 1
+    return Pieces(ctrl, lo, hi)
+
+
+def _hom(P: np.ndarray, w) -> np.ndarray:
+    w = np.ones(P.shape[:-1]) if w is None else np.asarray(w, dtype=float)
+    return np.concatenate([P * w[..., None], w[..., None]], axis=-1)
+
+
+def project(ctrl: np.ndarray) -> np.ndarray:
+    """Cartesian control points of homogeneous ones (same leading shape, last axis D)."""
+    return ctrl[..., :-1] / ctrl[..., -1:]
+
+
+def boxes(ctrl: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Axis-aligned bounding boxes (M, D) low and high corners of each piece's control
+    hull: by the convex-hull property they contain the piece."""
+    pts = project(ctrl).reshape(ctrl.shape[0], -1, ctrl.shape[-1] - 1)
+    return pts.min(axis=1), pts.max(axis=1)
+
+
+def box_gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarray) -> np.ndarray:
+    """Euclidean distance between pairs of axis-aligned boxes (0 when they overlap)."""
+    gap = np.maximum(0.0, np.maximum(lo_a - hi_b, lo_b - hi_a))
+    return np.sqrt(np.einsum("ij,ij->i", gap, gap))
+
+
+def slab_gap(ctrl_a: np.ndarray, ctrl_b: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Lower bound of the distance between pieces from their projections on a unit
+    ``direction`` (M, D) per pair: min_j d.Q_j - max_i d.P_i (or the reverse), >= 0."""
+    n = direction / np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-300)
+    pa = project(ctrl_a).reshape(ctrl_a.shape[0], -1, n.shape[1]) @ n[:, :, None]
+    pb = project(ctrl_b).reshape(ctrl_b.shape[0], -1, n.shape[1]) @ n[:, :, None]
+    pa, pb = pa[..., 0], pb[..., 0]
+    return np.maximum(0.0, np.maximum(pb.min(1) - pa.max(1), pa.min(1) - pb.max(1)))
+
+
+def flatness(ctrl: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """(deviation, extent) per piece: the largest distance of a control point from the
+    (bi)linear interpolant of the corner control points at the Greville abscissae
+    i/n (j/m), and the largest corner-to-corner distance. Small deviation/extent
+    means the piece is close to a linearly parametrized segment (parallelogram)."""
+    P = project(ctrl)
+    if ctrl.ndim == 3:
+        n = P.shape[1] - 1
+        s = (np.arange(n + 1) / n)[None, :, None]
+        lin = (1 - s) * P[:, :1] + s * P[:, -1:]
+        extent = np.linalg.norm(P[:, -1] - P[:, 0], axis=-1)
+    else:
+        n, m = P.shape[1] - 1, P.shape[2] - 1
+        s = (np.arange(n + 1) / n)[None, :, None, None]
+        t = (np.arange(m + 1) / m)[None, None, :, None]
+        c00, c10, c01, c11 = P[:, :1, :1], P[:, -1:, :1], P[:, :1, -1:], P[:, -1:, -1:]
+        lin = (1 - s) * ((1 - t) * c00 + t * c01) + s * ((1 - t) * c10 + t * c11)
+        extent = np.maximum(np.linalg.norm(P[:, -1, -1] - P[:, 0, 0], axis=-1),
+                            np.linalg.norm(P[:, -1, 0] - P[:, 0, -1], axis=-1))
+    dev = np.linalg.norm(P - lin, axis=-1).reshape(P.shape[0], -1).max(axis=1)
+    return dev, extent
+
+
+def halve(ctrl: np.ndarray, axis: int) -> Tuple[np.ndarray, np.ndarray]:
+    """de Casteljau subdivision at the parameter midpoint along control axis ``axis``
+    (1 = t or u, 2 = v) of every piece at once: (left, right) halves."""
+    c = np.moveaxis(ctrl, axis, 0)
+    n = c.shape[0] - 1
+    left, right = [c[0]], [c[n]]
+    cur = c
+    for _ in range(n):
+        cur = 0.5 * (cur[:-1] + cur[1:])
+        left.append(cur[0])
+        right.append(cur[-1])
+    L = np.moveaxis(np.stack(left), 0, axis)
+    R = np.moveaxis(np.stack(right[::-1]), 0, axis)
+    return L, R
+
+
+def split(p: Pieces, directions: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
+    """Halve every piece: curves into 2 children, surfaces into 4 (both directions).
+    Returns the children (grouped child-major: all first children, then all second,
+    ...) and the parent index of each child."""
+    M = p.ctrl.shape[0]
+    parent = np.arange(M)
+    if p.k == 1:
+        L, R = halve(p.ctrl, 1)
+        mid = 0.5 * (p.lo + p.hi)
+        return (Pieces(np.concatenate([L, R]), np.concatenate([p.lo, mid]), np.concatenate([mid, p.hi])),
+                np.concatenate([parent, parent]))
+    L, R = halve(p.ctrl, 1)
+    mu = 0.5 * (p.lo[:, 0] + p.hi[:, 0])
+    parts = []
+    for half, ulo, uhi in ((L, p.lo[:, 0], mu), (R, mu, p.hi[:, 0])):
+        B, T = halve(half, 2)
+        mv = 0.5 * (p.lo[:, 1] + p.hi[:, 1])
+        for c, vlo, vhi in ((B, p.lo[:, 1], mv), (T, mv, p.hi[:, 1])):
+            parts.append((c, np.stack([ulo, vlo], 1), np.stack([uhi, vhi], 1)))
+    ctrl = np.concatenate([q[0] for q in parts])
+    lo = np.concatenate([q[1] for q in parts])
+    hi = np.concatenate([q[2] for q in parts])
+    return Pieces(ctrl, lo, hi), np.tile(parent, 4)
+
+
+def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray
+                ) -> Tuple[Pieces, Pieces, np.ndarray]:
+    """Children of the pairs (a[i], b[i]): a piece flagged in split_a (split_b) is
+    halved, the other kept, and every child of a is paired with every child of b.
+    Returns the new pair arrays and the parent pair index of each new pair."""
+    out_a, out_b, parents = [], [], []
+    for sa in (False, True):
+        for sb in (False, True):
+            sel = np.flatnonzero((split_a == sa) & (split_b == sb))
+            if sel.size == 0:
+                continue
+            pa, pb = a.take(sel), b.take(sel)
+            ca, ia = split(pa) if sa else (pa, np.arange(sel.size))
+            cb, ib = split(pb) if sb else (pb, np.arange(sel.size))
+            # all combinations of the children of the same parent pair
+            na, nb = len(ia) // sel.size, len(ib) // sel.size
+            ja = np.repeat(np.arange(na), nb)
+            jb = np.tile(np.arange(nb), na)
+            idx_a = (ja[:, None] * sel.size + np.arange(sel.size)[None, :]).ravel()
+            idx_b = (jb[:, None] * sel.size + np.arange(sel.size)[None, :]).ravel()
+            out_a.append(ca.take(idx_a))
+            out_b.append(cb.take(idx_b))
+            parents.append(np.tile(sel, na * nb))
+    cat = lambda ps: Pieces(*(np.concatenate([getattr(q, f) for q in ps]) for f in ("ctrl", "lo", "hi")))  # noqa
+    return cat(out_a), cat(out_b), np.concatenate(parents)
+
+
+def monotone(ctrl: np.ndarray) -> np.ndarray:
+    """Curve pieces (M, n+1, D+1) that cannot cross themselves: every control polygon
+    edge has a positive component along the chord, so by variation diminishing
+    (positive weights) the piece is strictly monotone along the chord direction."""
+    P = project(ctrl)
+    chord = P[:, -1] - P[:, 0]
+    steps = np.einsum("mid,md->mi", np.diff(P, axis=1), chord)
+    return np.all(steps > 0, axis=1)
+
+
+# --- local refinement -------------------------------------------------------------------------
+def refine(A: Geometry, B: Geometry, x: np.ndarray, y: np.ndarray, full_hessian: bool,
+           iters: int = 40) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Minimize f = |A(x) - B(y)|^2 / 2 from the starts (x, y) (N, k_a), (N, k_b).
+
+    ``full_hessian`` False: Gauss-Newton H = J^T J (quadratic convergence to a
+    transversal root A(x) = B(y)); True: Newton with the second-order terms
+    r . A_xx, -r . B_yy (quadratic convergence to a regular minimum of the distance,
+    e.g. a tangential contact). Variables at a non-periodic domain bound whose
+    gradient points outwards are held fixed (projected Newton); negative curvature
+    is flipped (|lambda|); steps are halved until f decreases (at most 30 times).
+    Returns (x, y, distance, converged): converged when a step changed no parameter
+    by more than 1e-15 of its domain, f reached 0, or no decrease was possible with
+    a Newton step below 1e-10 of the domain (rounding level).
+    """
+    ka, n = A.k, A.k + B.k
+    z = np.concatenate([x, y], axis=1).astype(float)
+    lo = np.concatenate([A.lo, B.lo])
+    hi = np.concatenate([A.hi, B.hi])
+    per = np.concatenate([A.periodic, B.periodic])
+    span = hi - lo
+
+    def clamp(w):
+        return np.where(per, lo + np.mod(w - lo, span), np.clip(w, lo, hi))
+
+    def residual(w, order, rows):
+        pa, da, ha = A.derivatives(w[:, :ka], order, rows)
+        pb, db, hb = B.derivatives(w[:, ka:], order, rows)
+        return pa - pb, da, db, ha, hb
+
+    z = clamp(z)
+    r = residual(z, 0, None)[0]
+    f = 0.5 * np.einsum("nd,nd->n", r, r)
+    converged = np.zeros(len(z), bool)
+    active = np.ones(len(z), bool)
+    for _ in range(iters):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        zi = z[idx]
+        r, da, db, ha, hb = residual(zi, 2 if full_hessian else 1, idx)
+        J = np.concatenate([da, -db], axis=1)                       # (N, n, D)
+        g = np.einsum("nkd,nd->nk", J, r)
+        H = np.einsum("nkd,nld->nkl", J, J)
+        if full_hessian:
+            H[:, :ka, :ka] += np.einsum("nkld,nd->nkl", ha, r)
+            H[:, ka:, ka:] -= np.einsum("nkld,nd->nkl", hb, r)
+        at_lo = ~per & (zi <= lo + 1e-15 * span) & (g > 0)
+        at_hi = ~per & (zi >= hi - 1e-15 * span) & (g < 0)
+        fixed = at_lo | at_hi
+        g = np.where(fixed, 0.0, g)
+        keep = ~fixed[:, :, None] & ~fixed[:, None, :]
+        H = np.where(keep, H, 0.0) + np.eye(n) * fixed[:, :, None]
+        lam, V = np.linalg.eigh(H)
+        top = np.maximum(np.abs(lam).max(axis=1, keepdims=True), 1e-300)
+        lam = np.maximum(np.abs(lam), 1e-13 * top)
+        step = -np.einsum("nkl,nl->nk", V, np.einsum("nlk,nl->nk", V, g) / lam)
+        f0 = f[idx]
+        alpha = np.ones(idx.size)
+        accepted = np.zeros(idx.size, bool)
+        znew = zi.copy()
+        fnew = f0.copy()
+        for _ in range(30):
+            todo = np.flatnonzero(~accepted)
+            if todo.size == 0:
+                break
+            trial = clamp(zi[todo] + alpha[todo, None] * step[todo])
+            rt = residual(trial, 0, idx[todo])[0]
+            ft = 0.5 * np.einsum("nd,nd->n", rt, rt)
+            ok = ft <= f0[todo]
+            znew[todo[ok]], fnew[todo[ok]] = trial[ok], ft[ok]
+            accepted[todo[ok]] = True
+            alpha[todo[~ok]] *= 0.5
+        moved = np.abs(np.where(per, np.mod(znew - zi + span / 2, span) - span / 2, znew - zi))
+        small = np.all(np.abs(step) <= 1e-10 * span, axis=1)
+        ok = (accepted & np.all(moved <= 1e-15 * span, axis=1)) | (fnew == 0) | (~accepted & small)
+        z[idx], f[idx] = znew, fnew
+        converged[idx[ok]] = True
+        active[idx[ok | ~accepted]] = False
+    return z[:, :ka], z[:, ka:], np.sqrt(2.0 * f), converged
+
+
+class FixedPoints:
+    """A parameterless stand-in for :func:`refine` (k = 0): minimizing
+    |FixedPoints - B(y)| projects the points onto B."""
+    k = 0
+    lo = hi = np.empty(0)
+    periodic = np.empty(0, bool)
+
+    def __init__(self, pts: np.ndarray):
+        self.pts = pts
+
+    def derivatives(self, x: np.ndarray, order: int, rows=None):
+        pts = self.pts if rows is None else self.pts[rows]
+        N, D = pts.shape
+        return pts, np.zeros((N, 0, D)), np.zeros((N, 0, 0, D))
+
+
+def project_onto(B: Geometry, pts: np.ndarray, y0: np.ndarray, iters: int = 30
+                 ) -> Tuple[np.ndarray, np.ndarray]:
+    """Local projection of points (N, D) onto B from the starts y0 (N, k):
+    (parameters (N, k), distances (N,))."""
+    _, y, dist, _ = refine(FixedPoints(pts), B, np.zeros((len(pts), 0)), y0, True, iters)
+    return y, dist

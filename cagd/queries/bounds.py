@@ -1,0 +1,293 @@
+"""Bezier decomposition of any engine curve or surface, with certified bounds per piece.
+
+Every curve and surface converts exactly to NURBS (``to_nurbs()``); knot insertion
+to full multiplicity cuts it into rational Bezier pieces (Piegl & Tiller A5.6, A5.7)
+laid out on a tensor grid of parameter boxes. On a piece with non-negative weights
+the object lies in the convex hull of its control points (Farin, Curves and
+Surfaces for CAGD, 3.3 and 16.2), which gives bounding boxes and spheres; the
+hodograph control points bound the derivatives (see :meth:`BezierPieces.derivative_bounds`).
+These are the ingredients of the global queries (seed 004, ch. 1 §4): closest points,
+minimum distance and intersections discard every piece whose bound cannot matter.
+
+Conventions: a piece is a box ``lower[i] <= x <= upper[i]`` in the object's own
+parameters (k = 1 for curves, 2 for surfaces); pieces are numbered row-major on the
+grid ``shape`` (u index slowest); control points are Euclidean, weights ``None`` for
+polynomial objects.
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from math import comb, factorial
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+from ..curves.base import Curve, rational_derivatives
+from ..errors import CagdError
+from ..surfaces.base import Surface, rational_partials
+
+__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix"]
+
+
+def bernstein_derivatives(degree: int, x: np.ndarray, order: int) -> np.ndarray:
+    """Bernstein polynomials B_{i,p}(x) on [0, 1] and their derivatives up to ``order``:
+    shape (order+1, len(x), p+1); B^(r)_{i,p} = p!/(p-r)! sum_j (-1)^(r-j) C(r, j) B_{i-j,p-r}
+    (Farin 5.3), the lower-degree bases by the recursion B_{i,n} = (1-x) B_{i,n-1} + x B_{i-1,n-1}."""
+    x = np.asarray(x, dtype=np.float64)
+    levels = [np.ones((x.shape[0], 1))]
+    for n in range(1, degree + 1):
+        prev, cur = levels[-1], np.zeros((x.shape[0], n + 1))
+        cur[:, :n] = prev * (1.0 - x)[:, None]
+        cur[:, 1:] += prev * x[:, None]
+        levels.append(cur)
+    out = np.zeros((order + 1, x.shape[0], degree + 1))
+    for r in range(min(order, degree) + 1):
+        b, f = levels[degree - r], factorial(degree) / factorial(degree - r)
+        for j in range(r + 1):
+            out[r, :, j:j + degree - r + 1] += (f * (-1) ** (r - j) * comb(r, j)) * b
+    return out
+
+
+def restriction_matrix(degree: int, start: float, end: float) -> np.ndarray:
+    """(p+1, p+1) matrix R with Q = R @ P the Bezier control points of the restriction
+    of a degree-p Bezier (on [0, 1]) to [start, end]: Q_j = b[start^(p-j), end^j], the
+    blossom by de Casteljau with one argument per level (Farin 4.2; seed 000, 5.2)."""
+    R = np.empty((degree + 1, degree + 1))
+    for j in range(degree + 1):
+        pts = np.eye(degree + 1)
+        for u in [end] * j + [start] * (degree - j):
+            pts = (1.0 - u) * pts[:-1] + u * pts[1:]
+        R[j] = pts[0]
+    return R
+
+
+@dataclass(frozen=True)
+class BezierPieces:
+    """Rational Bezier pieces of a curve (k = 1) or surface (k = 2) on a tensor grid.
+
+    Attributes:
+        control_points: (m, p+1, dim) or (m, p+1, q+1, dim) Euclidean control points.
+        weights: (m, p+1) or (m, p+1, q+1) positive weights, or None (polynomial).
+        breaks: k arrays of breakpoints; piece (i, j) covers [breaks[0][i], breaks[0][i+1]] x ...
+        periodic: k flags (the object is closed in that direction).
+    """
+    control_points: np.ndarray
+    weights: Optional[np.ndarray]
+    breaks: Tuple[np.ndarray, ...]
+    periodic: Tuple[bool, ...]
+
+    # --- shape ------------------------------------------------------------------------
+    @property
+    def k(self) -> int:
+        """Number of parameters: 1 for a curve, 2 for a surface."""
+        return len(self.breaks)
+
+    @property
+    def shape(self) -> Tuple[int, ...]:
+        return tuple(len(b) - 1 for b in self.breaks)
+
+    @property
+    def degrees(self) -> Tuple[int, ...]:
+        return tuple(s - 1 for s in self.control_points.shape[1:1 + self.k])
+
+    @property
+    def dim(self) -> int:
+        return self.control_points.shape[-1]
+
+    @property
+    def domain(self) -> np.ndarray:
+        """(k, 2) parameter domain."""
+        return np.array([[b[0], b[-1]] for b in self.breaks])
+
+    def __len__(self) -> int:
+        return self.control_points.shape[0]
+
+    @property
+    def lower(self) -> np.ndarray:
+        """(m, k) lower corners of the parameter boxes."""
+        return self._corners(0)
+
+    @property
+    def upper(self) -> np.ndarray:
+        """(m, k) upper corners of the parameter boxes."""
+        return self._corners(1)
+
+    def _corners(self, side: int) -> np.ndarray:
+        key = "_corners%d" % side
+        if key not in self.__dict__:
+            grids = np.meshgrid(*[b[side:len(b) - 1 + side] for b in self.breaks], indexing="ij")
+            object.__setattr__(self, key, np.stack([g.ravel() for g in grids], axis=1))
+        return self.__dict__[key]
+
+    @property
+    def homogeneous(self) -> np.ndarray:
+        """(w P, w) control points, or P when polynomial."""
+        if self.weights is None:
+            return self.control_points
+        return np.concatenate([self.control_points * self.weights[..., None], self.weights[..., None]], axis=-1)
+
+    def locate(self, params: np.ndarray) -> np.ndarray:
+        """Flat index of the piece holding each parameter row (N, k) (clamped to the domain)."""
+        params = np.asarray(params, dtype=np.float64).reshape(-1, self.k)
+        index = np.zeros(params.shape[0], dtype=np.intp)
+        for a, b in enumerate(self.breaks):
+            i = np.clip(np.searchsorted(b, params[:, a], side="right") - 1, 0, len(b) - 2)
+            index = index * (len(b) - 1) + i
+        return index
+
+    # --- refinement --------------------------------------------------------------------
+    def subdivided(self, counts) -> "BezierPieces":
+        """Every piece cut into ``counts`` equal parts per direction (an int or one per
+        direction), by restriction matrices on the homogeneous control points."""
+        counts = [int(counts)] * self.k if np.isscalar(counts) else [int(c) for c in counts]
+        if len(counts) != self.k or min(counts) < 1:
+            raise CagdError(f"counts: expected {self.k} positive integers, got {counts}")
+        Rs = [np.stack([restriction_matrix(p, j / c, (j + 1) / c) for j in range(c)])
+              for c, p in zip(counts, self.degrees)]                 # (c, p+1, p+1) each
+        hom = self.homogeneous.reshape(self.shape + self.control_points.shape[1:-1] + (-1,))
+        if self.k == 1:
+            hom = np.einsum("cji,nid->ncjd", Rs[0], hom)
+        else:
+            hom = np.einsum("aik,bjl,uvkld->uavbijd", Rs[0], Rs[1], hom, optimize=True)
+        hom = hom.reshape((-1,) + hom.shape[2 * self.k:])
+        breaks = tuple(np.concatenate([np.linspace(b[i], b[i + 1], c + 1)[:-1] for i in range(len(b) - 1)]
+                                      + [b[-1:]]) for b, c in zip(self.breaks, counts))
+        if self.weights is None:
+            return BezierPieces(hom, None, breaks, self.periodic)
+        w = hom[..., -1]
+        return BezierPieces(hom[..., :-1] / w[..., None], w, breaks, self.periodic)
+
+    # --- bounds ------------------------------------------------------------------------
+    def hull_boxes(self) -> Tuple[np.ndarray, np.ndarray]:
+        """Axis-aligned boxes (lo, hi), each (m, dim), containing each piece (convex hull)."""
+        P = self.control_points.reshape(len(self), -1, self.dim)
+        return P.min(axis=1), P.max(axis=1)
+
+    def hull_spheres(self) -> Tuple[np.ndarray, np.ndarray]:
+        """Spheres (centers (m, dim), radii (m,)) containing each piece: the centre of its
+        bounding box and the largest distance from it to a control point."""
+        lo, hi = self.hull_boxes()
+        c = 0.5 * (lo + hi)
+        P = self.control_points.reshape(len(self), -1, self.dim)
+        return c, np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1))
+
+    def partial_bounds(self, order: int) -> Dict[Tuple[int, ...], np.ndarray]:
+        """Certified bounds B[alpha] (m,) of |d^alpha X| on each piece for every multi-index
+        alpha with |alpha| <= order (alpha = (i,) for curves, (i, j) for surfaces), in the
+        object's own parameters.
+
+        With Q the hull-sphere centre, A = sum w_i (P_i - Q) B_i, so X - Q = A / w and
+        |X - Q| <= R (convex hull). Leibniz on A = w (X - Q) gives
+        d^a X = (d^a A - sum_{b < a} C(a, b) d^(a-b) w d^b X) / w, hence
+        B[a] = (B_A[a] + sum_{b < a} C(a, b) B_w[a-b] B[b]) / min w, B[0] = R, where a
+        derivative of a Bezier piece is bounded by its hodograph control points,
+        |d^a A| <= prod p!/(p-a)! / h^a max |Delta^a A_ij| (Farin 5.3; Piegl & Tiller 3.3).
+        For polynomial pieces (w = 1) this is the hodograph bound alone."""
+        m, k, deg = len(self), self.k, self.degrees
+        Q, R = self.hull_spheres()
+        w = np.ones(self.control_points.shape[:-1]) if self.weights is None else self.weights
+        A = w[..., None] * (self.control_points - Q.reshape((m,) + (1,) * k + (-1,)))
+        h = self.upper - self.lower
+        wmin = w.reshape(m, -1).min(axis=1)
+
+        def hodograph_bound(x, alpha, norm):
+            out, scale = x, np.ones(m)
+            for a, n in enumerate(alpha):
+                for j in range(n):
+                    scale = scale * (deg[a] - j) / h[:, a]
+                out = np.diff(out, n=n, axis=1 + a) if n else out
+            if out.size == 0:
+                return np.zeros(m)
+            mag = np.sqrt((out ** 2).sum(-1)) if norm else np.abs(out)
+            return scale * mag.reshape(m, -1).max(axis=1)
+
+        alphas = sorted((al for al in itertools.product(range(order + 1), repeat=k) if sum(al) <= order), key=sum)
+        B: Dict[Tuple[int, ...], np.ndarray] = {(0,) * k: R}
+        for al in alphas[1:]:
+            acc = hodograph_bound(A, al, True)
+            for be in alphas:
+                if be == al or any(b > a for a, b in zip(al, be)):
+                    continue
+                coef = float(np.prod([comb(a, b) for a, b in zip(al, be)]))
+                diff = tuple(a - b for a, b in zip(al, be))
+                acc = acc + coef * hodograph_bound(w[..., None], diff, True) * B[be]
+            B[al] = acc / wmin
+        return B
+
+    def derivative_bounds(self) -> Tuple[np.ndarray, np.ndarray]:
+        """First and second derivative bounds from :meth:`partial_bounds`: L (m, k) with
+        |d_a X| <= L[:, a], and M (m, k, k) with |d_a d_b X| <= M[:, a, b]."""
+        return _tensors(self.partial_bounds(2), len(self), self.k)[:2]
+
+    def third_derivative_bounds(self) -> np.ndarray:
+        """T (m, k, k, k) with |d_a d_b d_c X| <= T[:, a, b, c]."""
+        return _tensors(self.partial_bounds(3), len(self), self.k)[2]
+
+    # --- evaluation --------------------------------------------------------------------
+    def derivatives(self, index: np.ndarray, params: np.ndarray, order: int) -> np.ndarray:
+        """Euclidean partials up to ``order`` per direction of piece ``index[n]`` at the
+        parameters ``params[n]`` (N, k) (inside that piece's box): curves (order+1, N, dim),
+        surfaces (order+1, order+1, N, dim) (Bernstein form, rational by Piegl & Tiller
+        eq. 4.8 / A4.4)."""
+        index = np.asarray(index, dtype=np.intp)
+        params = np.asarray(params, dtype=np.float64).reshape(-1, self.k)
+        lo, hi = self.lower[index], self.upper[index]
+        h = hi - lo
+        x = (params - lo) / h
+        hom = self._hom_cache()[index]
+        r = np.arange(order + 1)
+        if self.k == 1:
+            B = bernstein_derivatives(self.degrees[0], x[:, 0], order)          # (r, n, p+1)
+            out = np.matmul(B.transpose(1, 0, 2), hom).transpose(1, 0, 2)     # (r, n, D)
+            out /= (h[:, 0][None, :] ** r[:, None])[..., None]
+            return out if self.weights is None else rational_derivatives(out)
+        p, q = self.degrees
+        n, D = len(index), hom.shape[-1]
+        Bu = bernstein_derivatives(p, x[:, 0], order).transpose(1, 0, 2)       # (n, r, p+1)
+        Bv = bernstein_derivatives(q, x[:, 1], order).transpose(1, 0, 2)       # (n, r, q+1)
+        T = np.matmul(Bu, hom.reshape(n, p + 1, (q + 1) * D)).reshape(n, order + 1, q + 1, D)
+        out = np.matmul(Bv[:, None], T).transpose(1, 2, 0, 3)                 # (r, r, n, D)
+        scale = (h[:, 0][None, None, :] ** r[:, None, None]) * (h[:, 1][None, None, :] ** r[None, :, None])
+        out = out / scale[..., None]
+        return out if self.weights is None else rational_partials(out)
+
+    def _hom_cache(self) -> np.ndarray:
+        if "_hom" not in self.__dict__:
+            object.__setattr__(self, "_hom", np.ascontiguousarray(self.homogeneous))
+        return self.__dict__["_hom"]
+
+
+def _tensors(B: Dict[Tuple[int, ...], np.ndarray], m: int, k: int):
+    """Multi-index bounds as symmetric tensors (m, k), (m, k, k), (m, k, k, k)."""
+    out = []
+    for order in (1, 2, 3):
+        T = np.zeros((m,) + (k,) * order)
+        for idx in itertools.product(range(k), repeat=order):
+            al = tuple(idx.count(a) for a in range(k))
+            if al in B:
+                T[(slice(None),) + idx] = B[al]
+        out.append(T)
+    return out
+
+
+def bezier_pieces(obj) -> BezierPieces:
+    """The Bezier decomposition of an engine curve or surface (through ``to_nurbs()``).
+
+    A Bezier triangle decomposes through its collapsed-edge NURBS form, whose
+    parameters (s, t) map to the triangle's by u = s, v = t (1 - s).
+    Raises CagdError for anything else."""
+    if isinstance(obj, Curve):
+        c = obj.to_nurbs()
+        breaks, segs = c.bezier_segments()
+        P = np.stack([s.control_points for s in segs])
+        W = None if not c.is_rational else np.stack([s.weights for s in segs])
+        return BezierPieces(P, W, (np.asarray(breaks, dtype=np.float64),), (bool(c.periodic),))
+    if isinstance(obj, Surface):
+        s = obj.to_nurbs()
+        bu, bv, patches = s.bezier_patches()
+        P = np.stack([p.control_points for row in patches for p in row])
+        W = None if not s.is_rational else np.stack([p.weights for row in patches for p in row])
+        per = (bool(s.periodic_u), bool(s.periodic_v))
+        return BezierPieces(P, W, (np.asarray(bu, dtype=np.float64), np.asarray(bv, dtype=np.float64)), per)
+    raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")

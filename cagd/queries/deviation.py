@@ -1,0 +1,144 @@
+"""Deviation analysis: signed distances from a point cloud (a scan, a manufactured part)
+to its model surface or curve, statistics and a colour-map picture.
+
+The distance of a point X is the global minimum |X - S(x)| from
+:func:`cagd.queries.closest.closest_point` (certified); its sign is that of
+(X - S(x)).n with n = S_u x S_v / |S_u x S_v| the surface normal at the foot (seed 003,
+2.1), positive on the side the normal points to. Plane curves use the left normal
+(-y', x') / |C'| (positive on the left of the direction of travel); space curves have no
+side and give unsigned distances.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Dict, NamedTuple, Optional, Sequence
+
+import numpy as np
+
+from .. import _checks
+from ..curves.base import Curve
+from ..errors import CagdError
+from ..surfaces.base import Surface
+from .closest import closest_point
+
+__all__ = ["Deviation", "deviation", "deviation_map"]
+
+
+class Deviation(NamedTuple):
+    """Signed deviations of N points from an object, with their statistics.
+
+    distances: (N,) signed (or unsigned, see ``signed``) distances; params, feet: the
+    closest points; lower_bounds: certified lower bounds of the unsigned distances;
+    signed: whether a side was defined; max, min, mean, rms, max_abs of the distances;
+    percentiles: {p: value} of the distances."""
+    distances: np.ndarray
+    params: np.ndarray
+    feet: np.ndarray
+    lower_bounds: np.ndarray
+    signed: bool
+    max: float
+    min: float
+    mean: float
+    rms: float
+    max_abs: float
+    percentiles: Dict[float, float]
+
+    def table(self) -> str:
+        """The statistics as a Markdown table."""
+        rows = [("points", f"{len(self.distances)}"), ("signed", "yes" if self.signed else "no")]
+        rows += [(k, f"{getattr(self, k):.6g}") for k in ("max", "min", "mean", "rms", "max_abs")]
+        rows += [(f"percentile {p:g}", f"{v:.6g}") for p, v in self.percentiles.items()]
+        return "\n".join(["| statistic | value |", "|---|---|"] + [f"| {a} | {b} |" for a, b in rows])
+
+
+def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional[np.ndarray]:
+    """+1/-1 per point from the normal at the foot, None where no side exists (space
+    curves). Degenerate normals (a pole, a collapsed edge) count as +1."""
+    if isinstance(obj, Curve):
+        if obj.dim != 2:
+            return None
+        d1 = obj.derivative(params, 1)
+        normal = np.stack([-d1[:, 1], d1[:, 0]], axis=1)
+    else:
+        if obj.dim != 3:
+            return None
+        u, v = params[:, 0], params[:, 1]
+        d = obj.derivatives(u, v, 1, 1)
+        normal = np.cross(d[1, 0], d[0, 1])
+    s = np.sign(np.einsum("nd,nd->n", X - feet, normal))
+    return np.where(s == 0, 1.0, s)
+
+
+def deviation(obj, points, signed: Optional[bool] = None,
+              percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: float = 1e-12) -> Deviation:
+    """Signed distances from ``points`` (N, dim) to a curve or surface, with max, min,
+    mean, RMS, max |d| and percentiles.
+
+    Args:
+        obj: any cagd Curve or Surface.
+        points: (N, dim) point cloud.
+        signed: along the normal (surfaces, plane curves); default: whenever a side is
+            defined; True for a space curve raises CagdError.
+        percentiles: values in [0, 100].
+        tol: passed to closest_point.
+
+    Raises:
+        CagdError: not a curve or surface, empty/NaN points, wrong dimension, bad percentiles.
+    """
+    if not isinstance(obj, (Curve, Surface)):
+        raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
+    pct = _checks.finite_array(percentiles, "percentiles", ndim=1)
+    if np.any((pct < 0) | (pct > 100)):
+        raise CagdError(f"percentiles: must lie in [0, 100], got {pct.tolist()}")
+    r = closest_point(obj, points, tol=tol)
+    X = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    sign = _signs(obj, r.params, r.feet, X) if signed is not False else None
+    if signed and sign is None:
+        raise CagdError(f"signed: a {obj.dim}-D curve has no side; use signed=False")
+    d = r.distances if sign is None else sign * r.distances
+    return Deviation(d, r.params, r.feet, r.lower_bounds, sign is not None, float(d.max()), float(d.min()),
+                     float(d.mean()), float(np.sqrt(np.mean(d * d))), float(np.abs(d).max()),
+                     {float(p): float(v) for p, v in zip(pct, np.percentile(d, pct))})
+
+
+def deviation_map(obj, points, path, result: Optional[Deviation] = None, title: str = "deviation",
+                  samples: int = 40) -> Path:
+    """Write a PNG colour map of the deviations: the points coloured by signed distance
+    (diverging colour map, symmetric about 0) over a wireframe of the surface (or the
+    curve), with a colour bar. Returns the path. matplotlib is imported here only."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    res = deviation(obj, points) if result is None else result
+    X = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    lim = max(res.max_abs, 1e-300)
+    cmap = "coolwarm" if res.signed else "viridis"
+    vmin = -lim if res.signed else 0.0
+    fig = plt.figure(figsize=(6.4, 4.8), dpi=110)
+    if isinstance(obj, Surface) and obj.dim == 3:
+        ax = fig.add_subplot(projection="3d")
+        (u0, u1), (v0, v1) = obj.domain
+        us, vs = np.linspace(u0, u1, samples), np.linspace(v0, v1, samples)
+        if obj.rectangular:
+            G = obj.grid(us, vs)
+        else:                                   # triangle: collapsed-edge sampling
+            U, V = np.meshgrid(us, vs, indexing="ij")
+            G = obj(U, V * (1.0 - U))
+        ax.plot_wireframe(G[..., 0], G[..., 1], G[..., 2], color="0.75", lw=0.4,
+                          rstride=max(1, samples // 20), cstride=max(1, samples // 20))
+        sc = ax.scatter(X[:, 0], X[:, 1], X[:, 2], c=res.distances, cmap=cmap, vmin=vmin, vmax=lim, s=6)
+    else:
+        ax = fig.add_subplot()
+        if isinstance(obj, Curve):
+            C = obj(np.linspace(*obj.domain, 20 * samples))
+            ax.plot(C[:, 0], C[:, 1] if C.shape[1] > 1 else 0 * C[:, 0], color="0.4", lw=1.2)
+        sc = ax.scatter(X[:, 0], X[:, 1] if X.shape[1] > 1 else 0 * X[:, 0], c=res.distances, cmap=cmap,
+                        vmin=vmin, vmax=lim, s=8)
+        ax.set_aspect("equal", adjustable="datalim")
+    fig.colorbar(sc, ax=ax, shrink=0.8, label="signed distance" if res.signed else "distance")
+    ax.set_title(f"{title}: max |d| {res.max_abs:.3g}, RMS {res.rms:.3g}", fontsize=10)
+    path = Path(path)
+    fig.savefig(path)
+    plt.close(fig)
+    return path

@@ -1,0 +1,518 @@
+"""Intersections of curves with curves, surfaces and planes; self-intersections of a
+curve (seed 004, ch. 1 §4, positional relations between shapes).
+
+Method: Bezier decomposition, then recursive midpoint subdivision of all pairs of
+pieces whose control-hull boxes overlap within ``tol`` (Lane & Riesenfeld 1980;
+the subdivision form of Sederberg & Nishita's Bezier clipping, CAD 22, 1990),
+vectorized over the pairs alive at each level. A pair stops when both pieces are
+flat and meet at a clear angle (one root per pair), or when they are tiny; its
+midpoint seeds a Gauss-Newton solve of A(x) = B(y) on the whole objects. Pairs of
+flat, nearly parallel pieces are tested for coincidence (sample points projected
+onto the other object) and become overlap intervals instead of points. Near-
+tangential roots are polished on the regular system r . B' = 0, A' x B' = 0.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import List, NamedTuple, Optional, Tuple
+
+import numpy as np
+
+from .. import _checks
+from ..curves.base import Curve
+from ..errors import CagdError
+from ..surfaces.base import Surface
+from . import _subdivision as sd
+
+_REL_FLAT = 1e-3          # a piece is flat when its deviation <= _REL_FLAT * its extent
+_MIN_SIN = 0.05           # flat pieces meeting at sin(angle) above this hold one root
+_TINY = 1e-7              # pieces smaller than _TINY * model size stop subdividing
+
+
+class IntersectionPoint(NamedTuple):
+    """One intersection: parameters on a and b (floats for curves, (u, v) arrays for
+    surfaces), the point (midpoint of a(x) and b(y)), the residual |a(x) - b(y)| and
+    whether the contact is tangential (sine of the tangent angle <= angle_tol)."""
+    param_a: object
+    param_b: object
+    point: np.ndarray
+    tangential: bool
+    residual: float
+
+
+class Overlap(NamedTuple):
+    """Coincident pieces: ``param_a`` = (s0, s1) on a with s0 < s1, ``param_b`` the
+    parameters on b matching s0 and s1 (decreasing when the directions are opposite)."""
+    param_a: Tuple[float, float]
+    param_b: Tuple[object, object]
+
+
+@dataclass
+class IntersectionResult:
+    """Points, overlaps and (surface queries) intersection curves; ``converged`` is
+    False when the subdivision hit ``max_depth``/``max_pairs`` with pairs still open
+    or a candidate's Newton solve did not settle (``message`` says which)."""
+    points: List[IntersectionPoint]
+    overlaps: List[Overlap]
+    curves: list = field(default_factory=list)
+    tol: float = 1e-9
+    converged: bool = True
+    message: str = ""
+
+    @property
+    def params_a(self) -> np.ndarray:
+        return np.array([p.param_a for p in self.points], dtype=float)
+
+    @property
+    def params_b(self) -> np.ndarray:
+        return np.array([p.param_b for p in self.points], dtype=float)
+
+    @property
+    def coordinates(self) -> np.ndarray:
+        return np.array([p.point for p in self.points], dtype=float)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+
+class Plane(NamedTuple):
+    """The plane through ``origin`` with unit normal ``normal`` (3-D), for
+    :func:`intersect`."""
+    origin: np.ndarray
+    normal: np.ndarray
+
+
+def plane(origin, normal) -> Plane:
+    """A validated :class:`Plane` (the normal is normalized)."""
+    o = _checks.finite_array(origin, "origin", ndim=1)
+    n = _checks.finite_array(normal, "normal", ndim=1)
+    if o.shape != (3,) or n.shape != (3,):
+        raise CagdError(f"origin, normal: expected 3 coordinates each, got {o.shape} and {n.shape}")
+    length = np.linalg.norm(n)
+    if length == 0:
+        raise CagdError("normal: must be a non-zero vector")
+    return Plane(o, n / length)
+
+
+def _tolerance(tol) -> float:
+    tol = _checks.scalar(tol, "tol")
+    if tol <= 0:
+        raise CagdError(f"tol: must be positive, got {tol}")
+    return tol
+
+
+def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_depth: int = 64,
+              max_pairs: int = 20000) -> IntersectionResult:
+    """All intersections of ``a`` and ``b`` (curve–curve in any dimension, curve–surface,
+    curve–plane); ``b`` omitted: the self-intersections of the curve ``a``.
+
+    Points are solved to a residual |a(x) - b(y)| <= ``tol``; a contact is tangential
+    when the sine of the angle between the tangents (curve–curve) or between the curve
+    and the tangent plane (curve–surface) is <= ``angle_tol``. Coincident pieces are
+    returned as :class:`Overlap` intervals. Bounded: at most ``max_depth`` halvings and
+    ``max_pairs`` live pairs; hitting a bound sets ``converged`` False.
+
+    Raises:
+        CagdError: not curves/surfaces/planes, different dimensions, tol <= 0 or NaN,
+            a surface–surface or surface–plane request (not implemented yet).
+    """
+    tol = _tolerance(tol)
+    angle_tol = _checks.scalar(angle_tol, "angle_tol")
+    max_depth = _checks.integer(max_depth, "max_depth", 1, 200)
+    max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
+    opts = dict(tol=tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
+    if b is None:
+        if not isinstance(a, Curve):
+            raise CagdError(f"a: self-intersection needs a cagd curve, got {type(a).__name__}")
+        return _run(sd.Geometry(a, "a"), None, **opts)
+    if isinstance(b, Plane) or isinstance(a, Plane):
+        if isinstance(a, Plane):
+            res = intersect(b, a, tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
+            return _swapped(res)
+        if isinstance(a, Surface):
+            raise CagdError("a: surface-plane sections are not implemented yet")
+        A = sd.Geometry(a, "a")
+        if A.dim != 3:
+            raise CagdError(f"a: a plane lives in 3-D, the curve is {A.dim}-D")
+        return _run(A, _plane_geometry(b, A), **opts)
+    A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")
+    if A.dim != B.dim:
+        raise CagdError(f"a, b: objects of different dimension ({A.dim}-D and {B.dim}-D)")
+    if A.k == 2 and B.k == 1:
+        return _swapped(_run(B, A, **opts))
+    if A.k == 2:
+        raise CagdError("a, b: surface-surface intersection is not implemented yet")
+    return _run(A, B, **opts)
+
+
+def self_intersections(curve, tol: float = 1e-9, **kwargs) -> IntersectionResult:
+    """Points where a curve meets itself (pairs s < t with curve(s) = curve(t)), and
+    pieces where it runs over itself as overlaps; see :func:`intersect`. The closing
+    point of a closed curve (start = end) and cusps are not reported."""
+    return intersect(curve, None, tol, **kwargs)
+
+
+def _swapped(res: IntersectionResult) -> IntersectionResult:
+    pts = [IntersectionPoint(p.param_b, p.param_a, p.point, p.tangential, p.residual) for p in res.points]
+    return IntersectionResult(pts, res.overlaps, res.curves, res.tol, res.converged, res.message)
+
+
+def _plane_geometry(pl: Plane, A: sd.Geometry) -> sd.Geometry:
+    """The plane as a bilinear B-spline patch covering the curve's box (a plane piece
+    larger than anything the curve can reach, so every crossing lies inside)."""
+    from ..surfaces.bspline import BSplineSurface
+    n = pl.normal
+    e1 = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    pts = sd.project(A.pieces.ctrl).reshape(-1, 3)
+    c = pts.mean(axis=0)
+    c = c - np.dot(c - pl.origin, n) * n
+    r = 2.0 * (np.linalg.norm(pts - c, axis=1).max() + 1.0)
+    P = np.array([[c - r * e1 - r * e2, c - r * e1 + r * e2], [c + r * e1 - r * e2, c + r * e1 + r * e2]])
+    return sd.Geometry(BSplineSurface(P, 1, 1), "b")
+
+
+# --- the subdivision ------------------------------------------------------------------------
+def _initial_pairs(A: sd.Geometry, B: Optional[sd.Geometry]):
+    """Pair arrays of all pieces; kind 0 = ordinary, 1 = a piece with itself, 2 = a piece
+    and the next one (self-intersection only)."""
+    Ka = len(A.pieces.ctrl)
+    if B is None:
+        i, j = np.triu_indices(Ka)
+        kind = np.where(i == j, 1, np.where(j == i + 1, 2, 0))
+        return A.pieces.take(i), A.pieces.take(j), kind
+    Kb = len(B.pieces.ctrl)
+    i, j = np.repeat(np.arange(Ka), Kb), np.tile(np.arange(Kb), Ka)
+    return A.pieces.take(i), B.pieces.take(j), np.zeros(len(i), int)
+
+
+def _directions(ctrl: np.ndarray) -> np.ndarray:
+    """Unit chord of curve pieces (k = 1) or unit normal of patches (k = 2)."""
+    P = sd.project(ctrl)
+    if ctrl.ndim == 3:
+        d = P[:, -1] - P[:, 0]
+    else:
+        d = np.cross(P[:, -1, -1] - P[:, 0, 0], P[:, 0, -1] - P[:, -1, 0])
+    return d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+
+
+def _sine(da: np.ndarray, db: np.ndarray, curve_surface: bool) -> np.ndarray:
+    """Sine of the angle between two directions, or between a direction and a plane
+    with unit normal db (curve_surface)."""
+    if curve_surface:
+        return np.abs(np.einsum("nd,nd->n", da, db))
+    cos = np.einsum("nd,nd->n", da, db)
+    return np.sqrt(np.maximum(0.0, 1.0 - cos * cos))
+
+
+def _run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, max_depth: int,
+         max_pairs: int) -> IntersectionResult:
+    self_mode = B is None
+    Bg = A if self_mode else B
+    pa, pb, kind = _initial_pairs(A, B)
+    size = max(A.size, Bg.size)
+    tiny = max(_TINY * size, 10 * tol)
+    curve_surface = Bg.k == 2
+    seeds: List[Tuple[np.ndarray, np.ndarray]] = []
+    frags: List[np.ndarray] = []
+    open_pairs = 0
+    for depth in range(max_depth + 1):
+        if len(kind) == 0:
+            break
+        lo_a, hi_a = sd.boxes(pa.ctrl)
+        lo_b, hi_b = sd.boxes(pb.ctrl)
+        live = (sd.box_gap(lo_a, hi_a, lo_b, hi_b) <= tol) | (kind != 0)
+        if self_mode:
+            live &= ~((kind == 1) & sd.monotone(pa.ctrl))
+            live &= ~((kind == 2) & sd.monotone(np.concatenate([pa.ctrl, pb.ctrl[:, 1:]], axis=1)))
+        dev_a, ext_a = sd.flatness(pa.ctrl)
+        dev_b, ext_b = sd.flatness(pb.ctrl)
+        diag_a = np.linalg.norm(hi_a - lo_a, axis=1)
+        diag_b = np.linalg.norm(hi_b - lo_b, axis=1)
+        flat = (dev_a <= _REL_FLAT * ext_a) & (dev_b <= _REL_FLAT * ext_b)
+        sine = _sine(_directions(pa.ctrl), _directions(pb.ctrl), curve_surface)
+        small = (diag_a <= tiny) & (diag_b <= tiny)
+        live &= ~(small & (kind != 0))                          # only the trivial diagonal is left
+        done = live & (kind == 0) & ((flat & (sine >= _MIN_SIN)) | small)
+        # coincidence is only evidence of an overlap where a tangency could not fake it:
+        # pieces curved well beyond tol, or straight and long
+        evident = (np.maximum(dev_a, dev_b) >= 100 * tol) | (np.minimum(ext_a, ext_b) >= 1e3 * np.sqrt(tol * size))
+        test = (live & (kind == 0) & ~done & (sine < 1e-2) & evident
+                & (dev_a <= 0.05 * ext_a) & (dev_b <= 0.05 * ext_b))
+        if test.any():
+            hit, rows = _coincident(A, Bg, pa.take(test), pb.take(test), tol, self_mode)
+            if len(rows):
+                frags.append(rows)
+            done[np.flatnonzero(test)[hit]] = False
+            live[np.flatnonzero(test)[hit]] = False
+        last = depth == max_depth or np.count_nonzero(live & ~done) * (2 + 2 * Bg.k) > max_pairs
+        if last:
+            open_pairs = int(np.count_nonzero(live & ~done & (kind == 0)))
+            done = live & (kind == 0)
+        if done.any():
+            seeds.append((0.5 * (pa.lo[done] + pa.hi[done]), 0.5 * (pb.lo[done] + pb.hi[done])))
+        if last:
+            break
+        go = np.flatnonzero(live & ~done)
+        if go.size == 0:
+            break
+        pa, pb, kind = pa.take(go), pb.take(go), kind[go]
+        split_a = (diag_a[go] >= 0.5 * diag_b[go]) | (kind != 0)
+        split_b = (diag_b[go] >= 0.5 * diag_a[go]) | (kind != 0)
+        same = kind == 1
+        pa, pb, parent = sd.split_pairs(pa, pb, split_a, split_b)
+        kind = kind[parent]
+        if self_mode:
+            kind = _self_kinds(pa, pb, kind, same[parent])
+            keep = np.flatnonzero(kind != 3)
+            pa, pb, kind = pa.take(keep), pb.take(keep), kind[keep]
+    return _solve(A, Bg, seeds, frags, tol, angle_tol, self_mode, open_pairs, size)
+
+
+def _self_kinds(pa: sd.Pieces, pb: sd.Pieces, kind: np.ndarray, from_same: np.ndarray) -> np.ndarray:
+    """Kinds of the children: halves of one piece -> (L, L) 1, (L, R) 2, (R, L) drop
+    (duplicate, marked 3), (R, R) 1; children of an adjacent pair stay adjacent only
+    where a's end is b's start."""
+    k = np.zeros_like(kind)
+    s0a, s1a, s0b, s1b = pa.lo[:, 0], pa.hi[:, 0], pb.lo[:, 0], pb.hi[:, 0]
+    same_piece = from_same & (s0a == s0b)
+    k[same_piece] = 1
+    adjacent = (kind != 0) & (s1a == s0b)
+    k[adjacent] = 2
+    k[from_same & (s0a > s0b)] = 3
+    return k
+
+
+def _coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
+    """Pairs whose a-piece lies on B or whose b-piece lies on A (5 samples within tol).
+    Returns the hit mask and fragments (s0, s1, t0, t1) (curve pieces only)."""
+    M = len(pa.ctrl)
+    fr = np.linspace(0.0, 1.0, 5)
+    hits = np.zeros(M, bool)
+    rows = []
+    for P, Q, G, H, swap in ((pa, pb, A, B, False), (pb, pa, B, A, True)):
+        if G.k != 1:
+            continue
+        x = (P.lo[:, None, :] + fr[None, :, None] * (P.hi - P.lo)[:, None, :]).reshape(-1, 1)
+        seed = np.repeat(0.5 * (Q.lo + Q.hi), 5, axis=0)
+        y, dist = sd.project_onto(H, G.points(x), seed)
+        if self_mode:                 # the sample itself is no evidence of an overlap
+            dist[np.abs(y[:, 0] - x[:, 0]) <= 1e-7 * (A.hi[0] - A.lo[0])] = np.inf
+        ok = np.all(dist.reshape(M, 5) <= tol, axis=1) & ~hits
+        if ok.any():
+            y = y.reshape(M, 5, -1)
+            s0, s1 = P.lo[ok, 0], P.hi[ok, 0]
+            if H.k == 1:
+                t0, t1 = y[ok, 0, 0], y[ok, -1, 0]
+                rows.append(np.stack([t0, t1, s0, s1] if swap else [s0, s1, t0, t1], axis=1))
+        hits |= ok
+    return hits, (np.concatenate(rows) if rows else np.empty((0, 4)))
+
+
+# --- solving, classification, overlaps -----------------------------------------------------
+def _wrapped_delta(G: sd.Geometry, d: np.ndarray) -> np.ndarray:
+    span = G.hi - G.lo
+    return np.where(G.periodic, np.abs(np.mod(d + span / 2, span) - span / 2), np.abs(d)) / span
+
+
+def _contact(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Signed contact measure: the wedge of the unit tangents (curve-curve; its norm is
+    the sine of the angle) or t . n (curve-surface), shape (N, c)."""
+    _, da, _ = A.derivatives(x, 1)
+    _, db, _ = B.derivatives(y, 1)
+    ta = da[:, 0] / np.maximum(np.linalg.norm(da[:, 0], axis=1, keepdims=True), 1e-300)
+    if B.k == 2:
+        n = np.cross(db[:, 0], db[:, 1])
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+        return np.einsum("nd,nd->n", ta, n)[:, None]
+    tb = db[:, 0] / np.maximum(np.linalg.norm(db[:, 0], axis=1, keepdims=True), 1e-300)
+    i, j = np.triu_indices(ta.shape[1], 1)
+    return ta[:, i] * tb[:, j] - ta[:, j] * tb[:, i]
+
+
+def _polish(A, B, x, y, size: float, iters: int = 8):
+    """Gauss-Newton on R = [A(x) - B(y), size * contact(x, y)] (central differences):
+    regular at a tangential contact of distinct curvature, where |A - B|^2 alone has a
+    degenerate (quartic) minimum."""
+    ka = A.k
+    z = np.concatenate([x, y], axis=1)
+    lo, hi = np.concatenate([A.lo, B.lo]), np.concatenate([A.hi, B.hi])
+    h = 1e-6 * (hi - lo)
+
+    def R(w):
+        w = np.clip(w, lo, hi)
+        r = A.points(w[:, :ka]) - B.points(w[:, ka:])
+        return np.concatenate([r, size * _contact(A, B, w[:, :ka], w[:, ka:])], axis=1)
+
+    for _ in range(iters):
+        r0 = R(z)
+        cols = []
+        for j in range(z.shape[1]):
+            e = np.zeros(z.shape[1])
+            e[j] = h[j]
+            zp, zm = np.clip(z + e, lo, hi), np.clip(z - e, lo, hi)
+            cols.append((R(zp) - R(zm)) / np.maximum(zp[:, j] - zm[:, j], 1e-300)[:, None])
+        J = np.stack(cols, axis=2)                                   # (N, m, n)
+        H = np.einsum("nmk,nml->nkl", J, J)
+        g = np.einsum("nmk,nm->nk", J, r0)
+        lam, V = np.linalg.eigh(H)
+        lam = np.maximum(lam, 1e-14 * np.maximum(lam.max(axis=1, keepdims=True), 1e-300))
+        z = np.clip(z - np.einsum("nkl,nl->nk", V, np.einsum("nlk,nl->nk", V, g) / lam), lo, hi)
+    return z[:, :ka], z[:, ka:]
+
+
+def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> IntersectionResult:
+    overlaps = _overlaps(A, B, frags, tol, self_mode)
+    message = f"{open_pairs} pairs still open at the depth/pair limit" if open_pairs else ""
+    if not seeds:
+        return IntersectionResult([], overlaps, [], tol, not open_pairs, message)
+    x0 = np.concatenate([s[0] for s in seeds])
+    y0 = np.concatenate([s[1] for s in seeds])
+    x, y, dist, _ = sd.refine(A, B, x0, y0, False, 40)
+    sine = np.linalg.norm(_contact(A, B, x, y), axis=1)
+    redo = (dist > tol) | (sine < 1e-3)
+    if redo.any():
+        x2, y2, d2, _ = sd.refine(A, B, x[redo], y[redo], True, 60)
+        better = d2 < dist[redo]
+        idx = np.flatnonzero(redo)[better]
+        x[idx], y[idx], dist[idx] = x2[better], y2[better], d2[better]
+    near = (dist <= tol) & (np.linalg.norm(_contact(A, B, x, y), axis=1) < 1e-3)
+    if near.any():
+        xp, yp = _polish(A, B, x[near], y[near], size)
+        dp = np.linalg.norm(A.points(xp) - B.points(yp), axis=1)
+        moved = np.maximum(_wrapped_delta(A, xp - x[near]).max(1), _wrapped_delta(B, yp - y[near]).max(1))
+        ok = (dp <= tol) & (moved <= 1e-5)
+        idx = np.flatnonzero(near)[ok]
+        x[idx], y[idx], dist[idx] = xp[ok], yp[ok], dp[ok]
+    keep = dist <= tol
+    if self_mode:
+        swap = x[:, 0] > y[:, 0]
+        x[swap], y[swap] = y[swap].copy(), x[swap].copy()
+        keep &= _wrapped_delta(A, x - y)[:, 0] > 1e-7
+        ends = A.points(np.array([A.lo, A.hi]))
+        if np.linalg.norm(ends[0] - ends[1]) <= tol:       # a closed curve's closing point
+            keep &= ~((_wrapped_delta(A, x - A.lo)[:, 0] <= 1e-7) & (_wrapped_delta(A, y - A.hi)[:, 0] <= 1e-7))
+        if keep.any():        # a cusp is no crossing: the arc between s and t must leave the point
+            fr = np.linspace(0.1, 0.9, 9)
+            mid = x[keep] + fr[None, :] * (y[keep] - x[keep])
+            far = np.linalg.norm(A.points(mid.reshape(-1, 1)).reshape(len(mid), 9, -1)
+                                 - A.points(x[keep])[:, None], axis=-1).max(axis=1)
+            keep[np.flatnonzero(keep)[far <= max(1e3 * tol, 1e-7 * size)]] = False
+    x, y, dist = x[keep], y[keep], dist[keep]
+    pts = []
+    P = A.points(x)
+    kept: List[int] = []
+    for i in np.argsort(dist, kind="stable"):
+        if kept:
+            same_x = _wrapped_delta(A, x[kept] - x[i]).max(1) <= 1e-7
+            same_y = _wrapped_delta(B, y[kept] - y[i]).max(1) <= 1e-7
+            close = np.linalg.norm(P[kept] - P[i], axis=1) <= 100 * tol
+            if np.any(same_x & same_y) or np.any((same_x | same_y) & close):
+                continue    # the same root (or one root at a degenerate point, e.g. a pole)
+        if not _inside_overlap(A, B, overlaps, x[i], y[i]):
+            kept.append(i)
+    kept_x, kept_y = x[kept], y[kept]
+    if len(kept_x):
+        pa, pb = A.points(kept_x), B.points(kept_y)
+        sine = np.linalg.norm(_contact(A, B, kept_x, kept_y), axis=1)
+        order = np.lexsort(kept_x.T[::-1])
+        for i in order:
+            pts.append(IntersectionPoint(_param(A, kept_x[i]), _param(B, kept_y[i]), 0.5 * (pa[i] + pb[i]),
+                                         bool(sine[i] <= angle_tol), float(np.linalg.norm(pa[i] - pb[i]))))
+    return IntersectionResult(pts, overlaps, [], tol, not open_pairs, message)
+
+
+def _param(G: sd.Geometry, x: np.ndarray):
+    u = G.user_params(x[None])[0]
+    return float(u) if G.k == 1 else u
+
+
+def _inside_overlap(A, B, overlaps, x, y) -> bool:
+    for ov in overlaps:
+        s0, s1 = ov.param_a
+        m = 1e-6 * (A.hi[0] - A.lo[0])
+        if s0 - m <= x[0] <= s1 + m:
+            return True
+    return False
+
+
+def _overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
+    """Merge coincident fragments (s0, s1, t0, t1) into maximal intervals and move each
+    end out to where the distance to the other curve exceeds tol (bisection)."""
+    if not frags:
+        return []
+    F = np.concatenate(frags)
+    flip = F[:, 0] > F[:, 1]
+    F[flip] = F[flip][:, [1, 0, 3, 2]]
+    F = F[np.argsort(F[:, 0])]
+    ea, eb = 1e-9 * (A.hi[0] - A.lo[0]), 1e-9 * (B.hi[0] - B.lo[0])
+    groups = []
+    for f in F:
+        for g in groups:
+            blo, bhi = min(g[2], g[3]), max(g[2], g[3])
+            if f[0] <= g[1] + ea and min(f[2], f[3]) <= bhi + eb and max(f[2], f[3]) >= blo - eb:
+                if f[1] > g[1]:
+                    g[1], g[3] = f[1], f[3]
+                break
+        else:
+            groups.append(list(f))
+    out = []
+    for s0, s1, t0, t1 in groups:
+        h = 0.25 * (s1 - s0)
+        s0, t0 = _edge(A, B, s0, t0, -1.0, h, tol, self_mode)
+        s1, t1 = _edge(A, B, s1, t1, 1.0, h, tol, self_mode)
+        s0, t0 = _snap(A, B, s0, t0)
+        s1, t1 = _snap(A, B, s1, t1)
+        if self_mode and t0 < s0:
+            continue                  # the same overlap seen from its other side
+        out.append(Overlap((float(s0), float(s1)), (float(t0), float(t1))))
+    return out
+
+
+def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, self_mode: bool):
+    """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
+    still lies within tol of B: march by h, then 60 bisections."""
+    lim = A.hi[0] if sign > 0 else A.lo[0]
+
+    def on(s, t):
+        y, d = sd.project_onto(B, A.points(np.array([[s]])), np.array([[t]]))
+        good = d[0] <= tol and not (self_mode and abs(y[0, 0] - s) <= 1e-7 * (A.hi[0] - A.lo[0]))
+        return good, float(y[0, 0])
+
+    s_out = None
+    for _ in range(16):
+        if s_in == lim:
+            return s_in, t_in
+        s_try = min(s_in + h, lim) if sign > 0 else max(s_in - h, lim)
+        good, t_try = on(s_try, t_in)
+        if not good:
+            s_out = s_try
+            break
+        s_in, t_in = s_try, t_try
+    if s_out is None:
+        return s_in, t_in
+    for _ in range(60):
+        s_mid = 0.5 * (s_in + s_out)
+        if s_mid in (s_in, s_out):
+            break
+        good, t_mid = on(s_mid, t_in)
+        if good:
+            s_in, t_in = s_mid, t_mid
+        else:
+            s_out = s_mid
+    return s_in, t_in
+
+
+def _snap(A, B, s: float, t: float) -> Tuple[float, float]:
+    """An overlap end within 1e-6 of a domain end of B (of A) is put on that end, its
+    partner by projection: the bisection alone stops where the distance reaches tol."""
+    for end in (B.lo[0], B.hi[0]):
+        if abs(t - end) <= 1e-6 * (B.hi[0] - B.lo[0]):
+            x, _ = sd.project_onto(A, B.points(np.array([[end]])), np.array([[s]]))
+            return float(x[0, 0]), float(end)
+    for end in (A.lo[0], A.hi[0]):
+        if abs(s - end) <= 1e-6 * (A.hi[0] - A.lo[0]):
+            y, _ = sd.project_onto(B, A.points(np.array([[end]])), np.array([[t]]))
+            return float(end), float(y[0, 0])
+    return s, t

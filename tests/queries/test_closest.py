@@ -1,0 +1,345 @@
+"""closest_point against analytic distances (circle, sphere, torus, cylinder), a brute-force
+oracle (dense sampling + scipy refinement) and OCCT's GeomAPI_ProjectPointOnCurve/Surf;
+certified lower bounds, point inversion to 1e-12, periodic wrap, bad input."""
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+import cagd
+from cagd import CagdError
+from cagd.queries.closest import ClosestPoints, Projector, closest_point
+
+FAST = settings(max_examples=6, deadline=None, suppress_health_check=list(HealthCheck))
+
+
+def unit_circle(radius=1.0):
+    """Rational quadratic full circle, 9 control points (Piegl & Tiller 7.3)."""
+    w = np.sqrt(0.5)
+    P = radius * np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], float)
+    W = np.array([1, w, 1, w, 1, w, 1, w, 1])
+    return cagd.BSplineCurve(P, 2, np.array([0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4]) / 4, W)
+
+
+def check_bounds(r: ClosestPoints, size: float, slack: float = 1e-9):
+    assert np.all(r.lower_bounds <= r.distances)
+    assert np.all(r.distances - r.lower_bounds <= slack * size)
+
+
+# --- analytic oracles --------------------------------------------------------------------------
+def test_circle_distances_feet_and_bounds():
+    rng = np.random.default_rng(1)
+    X = rng.uniform(-2, 2, (400, 2))
+    X = X[np.linalg.norm(X, axis=1) > 0.05]
+    r = closest_point(unit_circle(), X)
+    R = np.linalg.norm(X, axis=1)
+    assert r.params.shape == (len(X),) and r.feet.shape == (len(X), 2)
+    np.testing.assert_allclose(r.distances, np.abs(R - 1), atol=1e-14)
+    np.testing.assert_allclose(r.feet, X / R[:, None], atol=1e-13)
+    assert r.converged.all()
+    check_bounds(r, 2.0)
+
+
+def test_sphere_distances_and_the_centre_has_many_minima():
+    c = np.array([1.0, -0.5, 0.25])
+    s = cagd.sphere(2.0, c)
+    rng = np.random.default_rng(2)
+    X = c + rng.uniform(-3, 3, (150, 3))
+    r = closest_point(s, X)
+    R = np.linalg.norm(X - c, axis=1)
+    np.testing.assert_allclose(r.distances, np.abs(R - 2), atol=1e-13)
+    np.testing.assert_allclose(r.feet, c + 2 * (X - c) / R[:, None], atol=1e-12)
+    check_bounds(r, 4.0)
+    # on the axis: the pole, reached by a whole edge of parameters
+    r = closest_point(s, c + [0, 0, 0.5])
+    np.testing.assert_allclose(r.distances, [1.5], atol=1e-14)
+    np.testing.assert_allclose(r.feet[0], c + [0, 0, 2], atol=1e-13)
+    # the centre: every point of the sphere is a minimum at distance R
+    r = closest_point(s, c)
+    np.testing.assert_allclose(r.distances, [2.0], atol=1e-14)
+    assert 0 < r.lower_bounds[0] <= 2.0
+    m = closest_point(s, c, all_minima=True)
+    assert len(m.distances) > 50
+    np.testing.assert_allclose(m.distances, 2.0, atol=1e-13)
+    np.testing.assert_allclose(np.linalg.norm(m.feet - c, axis=1), 2.0, atol=1e-13)
+
+
+def test_torus_and_cylinder():
+    rng = np.random.default_rng(3)
+    X = rng.uniform(-5, 5, (150, 3))
+    r = closest_point(cagd.torus(3.0, 1.0), X)
+    rho = np.hypot(X[:, 0], X[:, 1])
+    np.testing.assert_allclose(r.distances, np.abs(np.hypot(rho - 3, X[:, 2]) - 1), atol=1e-13)
+    check_bounds(r, 8.0)
+    # open cylinder 0 <= z <= 2: beyond the rims the closest point is on a rim circle
+    X = rng.uniform(-2, 4, (150, 3))
+    r = closest_point(cagd.cylinder(1.0, 2.0), X)
+    rho = np.hypot(X[:, 0], X[:, 1])
+    expected = np.hypot(rho - 1, X[:, 2] - np.clip(X[:, 2], 0, 2))
+    np.testing.assert_allclose(r.distances, expected, atol=1e-13)
+    check_bounds(r, 2.0)
+
+
+def test_all_minima_of_a_point_inside_an_ellipse():
+    """x^2/4 + y^2 = 1 seen from the origin: minima at (0, +-1), maxima at (+-2, 0)."""
+    e = unit_circle().transformed(np.diag([2.0, 1.0]))
+    m = closest_point(e, [0.0, 0.0], all_minima=True)
+    assert len(m.distances) == 2
+    np.testing.assert_allclose(m.distances, [1.0, 1.0], atol=1e-14)
+    np.testing.assert_allclose(np.sort(m.feet[:, 1]), [-1.0, 1.0], atol=1e-14)
+    # now one global and one local minimum inside, and the end point (2, 0) of the clamped
+    # (non-periodic) curve is a boundary minimum
+    m = closest_point(e, [0.0, 0.3], all_minima=True)
+    np.testing.assert_allclose(m.distances, [0.7, 1.3, np.hypot(2.0, 0.3)], atol=1e-13)
+
+
+# --- inversion of points on the object -----------------------------------------------------------
+@pytest.mark.parametrize("make", [
+    lambda: cagd.BSplineCurve(np.random.default_rng(4).uniform(-1, 1, (9, 3)), 3,
+                              weights=np.random.default_rng(5).uniform(0.5, 2, 9)),
+    lambda: cagd.BezierCurve(np.random.default_rng(6).uniform(-1, 1, (6, 2))),
+    lambda: cagd.HermiteCurve([0, 0, 0], [1, 1, 0], [1, 0, 1], [0, 1, 1]),
+])
+def test_points_on_curves_invert_to_1e_12(make):
+    c = make()
+    a, b = c.domain
+    t = np.linspace(a, b, 101)
+    r = closest_point(c, c(t))
+    assert np.abs(r.params - t).max() <= 1e-12 * (b - a)
+    assert r.distances.max() <= 1e-13 and r.converged.all()
+
+
+def test_points_on_surfaces_invert_to_1e_12():
+    rng = np.random.default_rng(7)
+    P = np.zeros((6, 5, 3))
+    P[..., 0], P[..., 1] = np.meshgrid(np.linspace(0, 1, 6), np.linspace(0, 1, 5), indexing="ij")
+    P[..., 2] = rng.uniform(-0.2, 0.2, (6, 5))
+    s = cagd.BSplineSurface(P, 3, 2, weights=rng.uniform(0.7, 1.5, (6, 5)))
+    uv = rng.uniform(0, 1, (200, 2))
+    uv[:10, 0] = 0.0                                            # boundary and corner points
+    uv[10:20, 1] = 1.0
+    r = closest_point(s, s(uv[:, 0], uv[:, 1]))
+    assert np.abs(r.params - uv).max() <= 1e-12
+    assert r.distances.max() <= 1e-13
+
+
+def test_bezier_triangle_parameters_are_the_triangle_s():
+    rng = np.random.default_rng(8)
+    P = rng.uniform(-1, 1, (10, 3))
+    P[:, 2] *= 0.1
+    T = cagd.BezierTriangle(P)
+    u = rng.uniform(0, 1, 60)
+    v = rng.uniform(0, 1, 60) * (1 - u) * 0.95
+    r = closest_point(T, T(u, v))
+    np.testing.assert_allclose(r.params, np.stack([u, v], axis=1), atol=1e-11)
+    np.testing.assert_allclose(r.feet, T(r.params[:, 0], r.params[:, 1]), atol=1e-13)
+
+
+# --- periodic objects ------------------------------------------------------------------------
+def test_periodic_curve_wraps_across_the_seam():
+    rng = np.random.default_rng(9)
+    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    P = np.stack([np.cos(ang), np.sin(ang)], 1) * rng.uniform(0.8, 1.2, (8, 1))
+    c = cagd.BSplineCurve(P, 3, np.linspace(2.0, 6.0, 9), periodic=True)
+    a, b = c.domain
+    t = np.r_[a, a + 1e-9, b - 1e-9, np.linspace(a, b, 50)]
+    r = closest_point(c, c(t))
+    d = np.abs(r.params - t)
+    assert np.all(np.minimum(d, (b - a) - d) <= 1e-12 * (b - a))
+    assert np.all((r.params >= a) & (r.params <= b))
+    X = 1.3 * c(t)                                              # outside, feet near the seam too
+    r = closest_point(c, X)
+    brute = brute_curve(c, X)
+    assert np.all(r.distances <= brute + 1e-12)
+
+
+def draw_curve(data, strategy):
+    """A drawn curve; the shared cubic-spline strategy can still hit coincident points."""
+    try:
+        return data.draw(strategy)
+    except CagdError:
+        assume(False)
+
+
+# --- brute force oracle ----------------------------------------------------------------------
+def brute_curve(c, X, samples=4000):
+    from scipy.optimize import minimize_scalar
+    a, b = c.domain
+    t = np.linspace(a, b, samples)
+    P = c(t)
+    out = []
+    for x in X:
+        d = np.linalg.norm(P - x, axis=1)
+        best = d.min()
+        for i in np.argsort(d)[:4]:
+            lo, hi = t[max(i - 1, 0)], t[min(i + 1, samples - 1)]
+            res = minimize_scalar(lambda s: np.linalg.norm(c(s) - x), bounds=(lo, hi), method="bounded",
+                                  options={"xatol": 1e-13})
+            best = min(best, res.fun)
+        out.append(best)
+    return np.array(out)
+
+
+def brute_surface(s, X, n=120):
+    from scipy.optimize import minimize
+    (u0, u1), (v0, v1) = s.domain
+    us, vs = np.linspace(u0, u1, n), np.linspace(v0, v1, n)
+    G = s.grid(us, vs).reshape(-1, 3)
+    out = []
+    for x in X:
+        d = np.linalg.norm(G - x, axis=1)
+        best = d.min()
+        for i in np.argsort(d)[:3]:
+            start = [us[i // n], vs[i % n]]
+            res = minimize(lambda p: np.sum((s(p[0], p[1]) - x) ** 2), start, method="L-BFGS-B",
+                           bounds=[(u0, u1), (v0, v1)], options={"ftol": 1e-15, "gtol": 1e-12})
+            best = min(best, float(np.sqrt(res.fun)))
+        out.append(best)
+    return np.array(out)
+
+
+def test_adversarial_nearly_closed_curve_and_spiral():
+    # a 350 degree arc of radius 1 (NURBS) seen from near its centre: the minimum may be anywhere
+    arc = cagd.revolve(cagd.BSplineCurve([[1.0, 0, 0], [1.0, 0, 1e-9]], 1), angle=np.radians(350)).isocurve("v", 0.0)
+    X = np.array([[0.0, 0.0, 0.0], [1e-3, -2e-3, 0.0], [-0.01, 0.02, 0.0], [0.5, -0.05, 0.0]])
+    r = closest_point(arc, X)
+    brute = brute_curve(arc, X)
+    assert np.all(r.distances <= brute + 1e-12)
+    check_bounds(r, 2.0, slack=1e-6)
+    # an Archimedean spiral r = theta / (2 pi) interpolated over 3 turns: many local minima
+    th = np.linspace(0.3, 6 * np.pi, 120)
+    spiral = cagd.interpolate(np.stack([th * np.cos(th), th * np.sin(th)], 1) / (2 * np.pi), 3)
+    rng = np.random.default_rng(10)
+    X = rng.uniform(-2, 2, (25, 2))
+    r = closest_point(spiral, X)
+    brute = brute_curve(spiral, X)
+    assert np.all(r.distances <= brute + 1e-12)
+    check_bounds(r, 6.0)
+
+
+@FAST
+@given(st.data())
+def test_random_curves_against_brute_force(data):
+    from occ_strategies import curves_of_every_family
+    c = draw_curve(data, curves_of_every_family())
+    P = c(np.linspace(*c.domain, 200))
+    lo, hi = P.min(0), P.max(0)
+    pad = 0.2 * (hi - lo).max() + 1e-3
+    X = np.random.default_rng(data.draw(st.integers(0, 99))).uniform(lo - pad, hi + pad, (5, c.dim))
+    r = closest_point(c, X)
+    brute = brute_curve(c, X)
+    size = float(np.ptp(P, axis=0).max())
+    assert np.all(r.distances <= brute + 1e-9 * size)
+    assert np.all(r.lower_bounds <= r.distances)
+    np.testing.assert_allclose(np.linalg.norm(r.feet - X, axis=1), r.distances, rtol=1e-12, atol=1e-14 * size)
+
+
+@settings(max_examples=4, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data())
+def test_random_surfaces_against_brute_force(data):
+    from occ_strategies import bezier_surfaces_3d, bspline_surfaces_3d
+    s = data.draw(st.one_of(bspline_surfaces_3d(max_degree_u=3, max_degree_v=3), bezier_surfaces_3d(max_degree=4)))
+    G = s.grid(np.linspace(*s.domain[0], 30), np.linspace(*s.domain[1], 30)).reshape(-1, 3)
+    lo, hi = G.min(0), G.max(0)
+    X = np.random.default_rng(data.draw(st.integers(0, 99))).uniform(lo, hi, (3, 3))
+    r = closest_point(s, X)
+    brute = brute_surface(s, X)
+    size = float(np.ptp(G, axis=0).max())
+    assert np.all(r.distances <= brute + 1e-9 * size)
+    assert np.all(r.lower_bounds <= r.distances)
+
+
+# --- OCCT oracle -----------------------------------------------------------------------------
+def _occ_curve_distance(geom, x):
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve
+    from OCP.gp import gp_Pnt
+    proj = GeomAPI_ProjectPointOnCurve(gp_Pnt(*x), geom)
+    return proj.LowerDistance() if proj.NbPoints() > 0 else np.inf
+
+
+def _occ_surface_distance(geom, x):
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+    from OCP.gp import gp_Pnt
+    proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*x), geom)
+    return proj.LowerDistance() if proj.NbPoints() > 0 else np.inf
+
+
+def _compare_with_occ(obj, X, distance, size):
+    from cagd.occ import to_occ
+    geom = to_occ(obj)
+    r = closest_point(obj, X)
+    X3 = np.hstack([X, np.zeros((len(X), 3 - X.shape[1]))])
+    occ = np.array([distance(geom, x) for x in X3])
+    assert np.all(r.distances <= occ + 1e-9 * size), (r.distances, occ)
+    assert np.all(r.lower_bounds <= r.distances)
+    missed = occ > r.distances + 1e-9 * size
+    for x, o, e in zip(X[missed], occ[missed], r.distances[missed]):
+        print(f"OCCT missed the global minimum: {type(obj).__name__} point {x}: OCCT {o:.9g}, engine {e:.9g}")
+
+
+@FAST
+@given(st.data())
+def test_curves_of_every_family_against_occt(data):
+    pytest.importorskip("OCP")
+    from occ_strategies import curves_of_every_family
+    c = draw_curve(data, curves_of_every_family())
+    P = c(np.linspace(*c.domain, 200))
+    lo, hi = P.min(0), P.max(0)
+    pad = 0.1 * (hi - lo).max() + 1e-3
+    X = np.random.default_rng(data.draw(st.integers(0, 99))).uniform(lo - pad, hi + pad, (6, c.dim))
+    _compare_with_occ(c, X, _occ_curve_distance, float(np.ptp(P, axis=0).max()))
+
+
+@settings(max_examples=8, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data())
+def test_surfaces_of_every_family_against_occt(data):
+    pytest.importorskip("OCP")
+    import occ_strategies as S
+    s = data.draw(st.one_of(S.bspline_surfaces_3d(max_degree_u=3, max_degree_v=3), S.kinked_surfaces(),
+                            S.bezier_surfaces_3d(max_degree=4), S.revolved_surfaces(), S.quadrics(),
+                            S.coons_patches(), S.lofts(), S.bezier_triangles()))
+    G = s.grid(np.linspace(*s.domain[0], 25), np.linspace(*s.domain[1], 25)).reshape(-1, 3) if s.rectangular \
+        else s(*np.random.default_rng(0).dirichlet((1, 1, 1), 300)[:, :2].T)
+    lo, hi = G.min(0), G.max(0)
+    assume(np.sort(hi - lo)[-2] > 1e-2)        # OCCT's projection onto a collapsed patch takes a minute
+    X = np.random.default_rng(data.draw(st.integers(0, 99))).uniform(lo, hi, (4, 3))
+    _compare_with_occ(s, X, _occ_surface_distance, float(np.ptp(G, axis=0).max()))
+
+
+# --- convergence, bounded work, bad input -------------------------------------------------------
+def test_convergence_flag_and_bounded_iterations():
+    c = cagd.BSplineCurve(np.random.default_rng(11).uniform(-1, 1, (12, 3)), 3)
+    X = np.random.default_rng(12).uniform(-1, 1, (300, 3))
+    one = closest_point(c, X, max_iterations=1, tol=1e-15)
+    assert not one.converged.all()                      # one Newton step cannot reach 1e-15
+    assert np.all(one.lower_bounds <= one.distances)
+    full = closest_point(c, X)
+    assert full.converged.all()
+    assert np.all(full.distances <= one.distances + 1e-15)
+
+
+def test_projector_is_reusable_and_matches_closest_point():
+    s = cagd.torus(2.0, 0.5)
+    p = Projector(s, cells=256)
+    X = np.random.default_rng(13).uniform(-3, 3, (50, 3))
+    np.testing.assert_allclose(p.closest(X).distances, closest_point(s, X).distances, atol=1e-14)
+
+
+@pytest.mark.parametrize("points, kwargs, message", [
+    (np.zeros((0, 3)), {}, "points"),
+    ([[0.0, np.nan, 0.0]], {}, "points"),
+    ([[0.0, 0.0]], {}, "3-D"),
+    ([[0.0, 0.0, 0.0]], {"tol": 0.0}, "tol"),
+    ([[0.0, 0.0, 0.0]], {"tol": -1.0}, "tol"),
+    ([[0.0, 0.0, 0.0]], {"max_iterations": 0}, "max_iterations"),
+    ([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], {"all_minima": True}, "one point"),
+])
+def test_bad_input(points, kwargs, message):
+    c = cagd.BezierCurve([[0, 0, 0], [1, 1, 0], [2, 0, 1]])
+    with pytest.raises(CagdError, match=message):
+        closest_point(c, points, **kwargs)
+
+
+def test_not_a_curve_or_surface():
+    with pytest.raises(CagdError, match="obj"):
+        closest_point(np.zeros((3, 3)), [[0.0, 0.0, 0.0]])
