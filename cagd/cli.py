@@ -1,5 +1,6 @@
-"""The ``cagd`` command: ``cagd demo`` (the main job on the built-in model) and
-``cagd export MODEL.json`` (a model file to STEP/IGES with the round-trip report).
+"""The ``cagd`` command: ``cagd demo`` (the main job on the built-in model),
+``cagd export MODEL.json`` (a model file to STEP/IGES with the round-trip report) and
+``cagd deviation MODEL points.csv`` (a point cloud against the model).
 
 Exit codes: 0 success; 1 a check failed (an oracle, the round trip, a solid);
 2 bad input (an invalid model file: the message names the JSON path).
@@ -26,6 +27,13 @@ def _parser() -> argparse.ArgumentParser:
     export.add_argument("--iges", type=Path, help="also write this IGES file")
     export.add_argument("--report", type=Path, help="write the round-trip report (Markdown) here")
     export.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    dev = sub.add_parser("deviation", help="signed distances of a point cloud (CSV) from a model's surfaces")
+    dev.add_argument("model", type=Path, help="the model: a JSON model file, or a STEP or IGES file")
+    dev.add_argument("points", type=Path, help="CSV of points, one x,y[,z] per line (a header line is allowed)")
+    dev.add_argument("-o", "--output", type=Path, required=True, help="the report to write (Markdown)")
+    dev.add_argument("--png", type=Path, help="the colour map (default: next to the report, .png)")
+    dev.add_argument("--object", action="append", help="measure to this entry only (repeatable; default: "
+                                                       "every exported surface, or every curve if none)")
     return parser
 
 
@@ -39,6 +47,9 @@ def main(argv: Optional[List[str]] = None) -> int:
             from .demo_model import run_model_demo
             ok &= run_model_demo(args.output, plots=not args.no_plots).passed
         return 0 if ok else 1
+    if args.command == "deviation":
+        from .deviation_cli import run_deviation
+        return run_deviation(args)
     return _export(args)
 
 

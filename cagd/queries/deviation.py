@@ -30,7 +30,7 @@ class Deviation(NamedTuple):
     distances: (N,) signed (or unsigned, see ``signed``) distances; params, feet: the
     closest points; lower_bounds: certified lower bounds of the unsigned distances;
     signed: whether a side was defined; max, min, mean, rms, max_abs of the distances;
-    percentiles: {p: value} of the distances."""
+    percentiles: {p: value} of the distances; owner: the nearest object's index."""
     distances: np.ndarray
     params: np.ndarray
     feet: np.ndarray
@@ -42,6 +42,7 @@ class Deviation(NamedTuple):
     rms: float
     max_abs: float
     percentiles: Dict[float, float]
+    owner: Optional[np.ndarray] = None     # (N,) index of the nearest object, for a list of objects
 
     def table(self) -> str:
         """The statistics as a Markdown table."""
@@ -69,13 +70,28 @@ def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional
     return np.where(s == 0, 1.0, s)
 
 
+def _objects(obj) -> list:
+    objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
+    if not objs:
+        raise CagdError("obj: no object given")
+    for k, o in enumerate(objs):
+        if not isinstance(o, (Curve, Surface)):
+            raise CagdError(f"obj: expected a cagd Curve or Surface (or a list of them), item {k} is "
+                            f"{type(o).__name__}")
+    if len({o.dim for o in objs}) > 1:
+        raise CagdError(f"obj: the objects have different dimensions {sorted({o.dim for o in objs})}")
+    return objs
+
+
 def deviation(obj, points, signed: Optional[bool] = None,
               percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: float = 1e-12) -> Deviation:
-    """Signed distances from ``points`` (N, dim) to a curve or surface, with max, min,
-    mean, RMS, max |d| and percentiles.
+    """Signed distances from ``points`` (N, dim) to a curve or surface (or to the nearest
+    of several: the patches of one model), with max, min, mean, RMS, max |d| and
+    percentiles.
 
     Args:
-        obj: any cagd Curve or Surface.
+        obj: a cagd Curve or Surface, or a list of them (each point measured to the
+            nearest; ``params`` are then on that object, see ``owner``).
         points: (N, dim) point cloud.
         signed: along the normal (surfaces, plane curves); default: whenever a side is
             defined; True for a space curve raises CagdError.
@@ -85,54 +101,67 @@ def deviation(obj, points, signed: Optional[bool] = None,
     Raises:
         CagdError: not a curve or surface, empty/NaN points, wrong dimension, bad percentiles.
     """
-    if not isinstance(obj, (Curve, Surface)):
-        raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
+    objs = _objects(obj)
     pct = _checks.finite_array(percentiles, "percentiles", ndim=1)
     if np.any((pct < 0) | (pct > 100)):
         raise CagdError(f"percentiles: must lie in [0, 100], got {pct.tolist()}")
-    r = closest_point(obj, points, tol=tol)
     X = np.atleast_2d(np.asarray(points, dtype=np.float64))
-    sign = _signs(obj, r.params, r.feet, X) if signed is not False else None
-    if signed and sign is None:
-        raise CagdError(f"signed: a {obj.dim}-D curve has no side; use signed=False")
-    d = r.distances if sign is None else sign * r.distances
-    return Deviation(d, r.params, r.feet, r.lower_bounds, sign is not None, float(d.max()), float(d.min()),
+    best = None
+    for k, o in enumerate(objs):
+        r = closest_point(o, points, tol=tol)
+        sign = _signs(o, r.params, r.feet, X) if signed is not False else None
+        if signed and sign is None:
+            raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
+        d = r.distances if sign is None else sign * r.distances
+        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), sign is not None]
+        if best is None:
+            best = fields
+        else:
+            closer = np.abs(d) < np.abs(best[0])
+            for i in range(5):
+                best[i] = np.where(closer.reshape((-1,) + (1,) * (best[i].ndim - 1)), fields[i], best[i])
+            best[5] = best[5] and fields[5]
+    d, params, feet, lower, owner, is_signed = best
+    return Deviation(d, params, feet, lower, is_signed, float(d.max()), float(d.min()),
                      float(d.mean()), float(np.sqrt(np.mean(d * d))), float(np.abs(d).max()),
-                     {float(p): float(v) for p, v in zip(pct, np.percentile(d, pct))})
+                     {float(p): float(v) for p, v in zip(pct, np.percentile(d, pct))}, owner.astype(int))
 
 
 def deviation_map(obj, points, path, result: Optional[Deviation] = None, title: str = "deviation",
                   samples: int = 40) -> Path:
     """Write a PNG colour map of the deviations: the points coloured by signed distance
-    (diverging colour map, symmetric about 0) over a wireframe of the surface (or the
-    curve), with a colour bar. Returns the path. matplotlib is imported here only."""
+    (diverging colour map, symmetric about 0) over a wireframe of the surface(s) (or the
+    curves), with a colour bar. Returns the path. matplotlib is imported here only."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    res = deviation(obj, points) if result is None else result
+    objs = _objects(obj)
+    res = deviation(objs, points) if result is None else result
     X = np.atleast_2d(np.asarray(points, dtype=np.float64))
     lim = max(res.max_abs, 1e-300)
     cmap = "coolwarm" if res.signed else "viridis"
     vmin = -lim if res.signed else 0.0
     fig = plt.figure(figsize=(6.4, 4.8), dpi=110)
-    if isinstance(obj, Surface) and obj.dim == 3:
+    if all(isinstance(o, Surface) for o in objs) and objs[0].dim == 3:
         ax = fig.add_subplot(projection="3d")
-        (u0, u1), (v0, v1) = obj.domain
-        us, vs = np.linspace(u0, u1, samples), np.linspace(v0, v1, samples)
-        if obj.rectangular:
-            G = obj.grid(us, vs)
-        else:                                   # triangle: collapsed-edge sampling
-            U, V = np.meshgrid(us, vs, indexing="ij")
-            G = obj(U, V * (1.0 - U))
-        ax.plot_wireframe(G[..., 0], G[..., 1], G[..., 2], color="0.75", lw=0.4,
-                          rstride=max(1, samples // 20), cstride=max(1, samples // 20))
+        for o in objs:
+            (u0, u1), (v0, v1) = o.domain
+            us, vs = np.linspace(u0, u1, samples), np.linspace(v0, v1, samples)
+            if o.rectangular:
+                G = o.grid(us, vs)
+            else:                                   # triangle: collapsed-edge sampling
+                U, V = np.meshgrid(us, vs, indexing="ij")
+                G = o(U, V * (1.0 - U))
+            ax.plot_wireframe(G[..., 0], G[..., 1], G[..., 2], color="0.75", lw=0.4,
+                              rstride=max(1, samples // 20), cstride=max(1, samples // 20))
         sc = ax.scatter(X[:, 0], X[:, 1], X[:, 2], c=res.distances, cmap=cmap, vmin=vmin, vmax=lim, s=6)
     else:
         ax = fig.add_subplot()
-        if isinstance(obj, Curve):
-            C = obj(np.linspace(*obj.domain, 20 * samples))
-            ax.plot(C[:, 0], C[:, 1] if C.shape[1] > 1 else 0 * C[:, 0], color="0.4", lw=1.2)
+        for o in objs:
+            if isinstance(o, Curve):
+                C = o(np.linspace(*o.domain, 20 * samples))
+                ax.plot(C[:, 0], C[:, 1] if C.shape[1] > 1 else 0 * C[:, 0], color="0.4", lw=1.2)
         sc = ax.scatter(X[:, 0], X[:, 1] if X.shape[1] > 1 else 0 * X[:, 0], c=res.distances, cmap=cmap,
                         vmin=vmin, vmax=lim, s=8)
         ax.set_aspect("equal", adjustable="datalim")
