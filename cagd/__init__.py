@@ -22,7 +22,7 @@ from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPa
                        ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus,
                        EdgeContinuityReport, edge_continuity, interpolate_surface)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
-from .queries import closest_point, deviation, intersect, min_distance, self_intersections
+from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
 
 __version__ = "0.1.0"
 __all__ = [
@@ -35,5 +35,5 @@ __all__ = [
     "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant", "ruled", "loft", "make_compatible",
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
     "EdgeContinuityReport", "edge_continuity", "interpolate_surface",
-    "closest_point", "min_distance", "intersect", "self_intersections", "deviation",
+    "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",
 ]

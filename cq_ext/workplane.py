@@ -20,7 +20,7 @@ from cagd.curves.base import Curve
 from cagd.errors import CagdError
 from cagd.surfaces.base import Surface
 
-from .convert import from_shape, placed, to_cq
+from .convert import from_shape, placed, plane_map, to_cq
 from .solids import close_with_caps, revolution_face, sew_solid, thicken
 
 T = TypeVar("T", bound=cq.Workplane)
@@ -216,5 +216,42 @@ def thickenSurface(self: T, thickness: float, tol: float = 1e-6) -> T:
     return self.newObject([thicken(faces, thickness, tol)])
 
 
+def _stack_faces(wp: cq.Workplane, faces) -> list:
+    found = [f for f in (faces if faces else wp.objects) if isinstance(f, cq.Face)]
+    if faces and len(found) != len(faces):
+        raise CagdError("faces: expected CadQuery faces")
+    return found
+
+
+def projectPoints(self: T, points: Sequence[Sequence[float]], face: Optional[cq.Face] = None) -> T:
+    """The closest points on a face (``face``, or the first face on the stack) to the
+    given points (local coordinates), as vertices on the stack: global, certified
+    minima (:func:`cagd.closest_point` on the face's exact B-spline, any OCCT
+    B-spline-convertible face; the face's UV bounds, not its trimming)."""
+    faces = _stack_faces(self, [face] if face is not None else None)
+    if not faces:
+        raise CagdError("projectPoints: no face given or on the stack")
+    pts = np.atleast_2d(np.asarray(points, dtype=float))
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3):
+        raise CagdError(f"points: expected (N, 2) or (N, 3) local coordinates, got shape {pts.shape}")
+    A, b = plane_map(self.plane, pts.shape[1])
+    feet = cagd.closest_point(from_shape(faces[0]), pts @ A.T + b).feet
+    return self.newObject([cq.Vertex.makeVertex(*map(float, f)) for f in feet])
+
+
+def intersectFaces(self: T, other: Optional[cq.Face] = None, tol: float = 1e-7) -> T:
+    """The intersection curves of two faces (the two faces on the stack, or the first
+    face on the stack and ``other``) as edges on the stack: each branch marched and
+    fitted as a B-spline within ``tol`` of both surfaces (:func:`cagd.intersect`; any
+    OCCT B-spline-convertible faces, over their UV bounds, not their trimming).
+    Isolated touching points are not edges and are left out."""
+    faces = _stack_faces(self, None) + ([other] if other is not None else [])
+    if len(faces) != 2:
+        raise CagdError(f"intersectFaces: need exactly two faces (stack + other), got {len(faces)}")
+    result = cagd.intersect(from_shape(faces[0]), from_shape(faces[1]), tol=tol)
+    return self.newObject([to_cq(branch.curve) for branch in result.curves])
+
+
 METHODS = [cagdCurve, bezierCurve, nurbsCurve, interpCurve, hermiteCurve, joinCurves, cagdSurface, bezierSurface,
-           bsplineSurface, coonsPatch, bezierTriangle, revolveSurface, sewSolid, closeWithCaps, thickenSurface]
+           bsplineSurface, coonsPatch, bezierTriangle, revolveSurface, sewSolid, closeWithCaps, thickenSurface,
+           projectPoints, intersectFaces]

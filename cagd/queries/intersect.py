@@ -130,7 +130,8 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
             res = intersect(b, a, tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
             return _swapped(res)
         if isinstance(a, Surface):
-            raise CagdError("a: surface-plane sections are not implemented yet")
+            from .intersect_surfaces import surface_plane
+            return surface_plane(a, b, tol, angle_tol=angle_tol, max_pairs=max_pairs)
         A = sd.Geometry(a, "a")
         if A.dim != 3:
             raise CagdError(f"a: a plane lives in 3-D, the curve is {A.dim}-D")
@@ -141,7 +142,8 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     if A.k == 2 and B.k == 1:
         return _swapped(_run(B, A, **opts))
     if A.k == 2:
-        raise CagdError("a, b: surface-surface intersection is not implemented yet")
+        from .intersect_surfaces import surface_surface
+        return surface_surface(a, b, tol, angle_tol=angle_tol, max_pairs=max_pairs)
     return _run(A, B, **opts)
 
 

@@ -101,6 +101,9 @@ CALLS = {
     "sewSolid": (lambda: cq.Workplane().add([cq_ext.to_cq(s) for s in _EL]), (), {}, cq.Solid),
     "closeWithCaps": (lambda: cq.Workplane().revolveSurface(_LINE), (), {}, cq.Solid),
     "thickenSurface": (lambda: cq.Workplane().bezierSurface(_P44), (0.2,), {}, cq.Solid),
+    "projectPoints": (lambda: cq.Workplane().sphere(1.0).faces(), ([(2, 0, 0), (0, 0, 3)],), {}, cq.Vertex),
+    "intersectFaces": (lambda: cq.Workplane().sphere(1.0).faces(),
+                       (cq.Face.makePlane(4, 4, (0, 0, 0.5), (0, 0, 1)),), {}, cq.Edge),
 }
 
 

@@ -276,3 +276,37 @@ def test_vase_nurbs_revolution_shell():
 def test_bad_arguments(call, word):
     with pytest.raises(CagdError, match=word):
         call(cq.Workplane("XY"))
+
+
+def test_project_points_onto_native_and_engine_faces():
+    rng = np.random.default_rng(8)
+    pts = rng.normal(size=(40, 3)) * 3
+    sphere = cq.Workplane().sphere(2.0).faces()                     # CadQuery's own spherical face
+    feet = np.array([v.toTuple() for v in sphere.projectPoints(pts).vals()])
+    expected = 2.0 * pts / np.linalg.norm(pts, axis=1)[:, None]     # the radial foot is the closest point
+    assert np.abs(feet - expected).max() < 1e-9
+    # on a workplane the points are local coordinates, like CadQuery's own pushPoints
+    x, y = np.meshgrid([0.0, 1, 2], [0.0, 1, 2], indexing="ij")
+    patch = cq_ext.to_cq(cagd.BezierSurface(np.stack([x, y, np.zeros((3, 3))], axis=-1)))
+    wp = cq.Workplane("XZ").add(patch)
+    (v,) = wp.projectPoints([(0.5, 1.5, 0.0)]).vals()        # local (x, y) of XZ = global (x, z)
+    assert np.allclose(v.toTuple(), (0.5, 0.0, 0.0), atol=1e-12)   # the plane z = 0, foot below (0.5, ., 1.5)
+    with pytest.raises(CagdError):
+        cq.Workplane().projectPoints([(0, 0, 0)])
+
+
+def test_intersect_faces_of_native_shapes():
+    # CadQuery's own cylinder face cut by a tilted plane: an ellipse (every point on both)
+    cyl = cq.Solid.makeCylinder(2.0, 10.0).Faces()
+    lateral = next(f for f in cyl if f.geomType() == "CYLINDER")
+    tilted = cq.Face.makePlane(20, 20, (0, 0, 5), (0.3, 0, 1))
+    edges = cq.Workplane().add(lateral).intersectFaces(tilted, tol=1e-7).vals()
+    assert edges and all(isinstance(e, cq.Edge) for e in edges)
+    pts = np.array([e.positionAt(t, mode="parameter").toTuple()
+                    for e in edges for t in np.linspace(e.paramAt(0), e.paramAt(1), 40)])
+    assert np.abs(np.hypot(pts[:, 0], pts[:, 1]) - 2.0).max() < 1e-6            # on the cylinder
+    assert np.abs(0.3 * pts[:, 0] + (pts[:, 2] - 5.0)).max() < 1e-6            # on the plane
+    assert sum(e.Length() for e in edges) == pytest.approx(
+        4 * 2.0 * np.sqrt(1 + 0.3 ** 2) * __import__("scipy").special.ellipe(0.3 ** 2 / (1 + 0.3 ** 2)), rel=1e-6)
+    with pytest.raises(CagdError, match="two faces"):
+        cq.Workplane().add(lateral).intersectFaces()

@@ -170,8 +170,6 @@ def test_bad_input():
         intersect(sphere(1.0, (0, 0, 0)))
     with pytest.raises(CagdError, match="normal"):
         plane([0, 0, 0], [0, 0, 0])
-    with pytest.raises(CagdError, match="not implemented"):
-        intersect(sphere(1.0, (0, 0, 0)), sphere(1.0, (1, 0, 0)))
 
 
 # --- OCCT ----------------------------------------------------------------------------------

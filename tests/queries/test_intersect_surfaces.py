@@ -1,0 +1,188 @@
+"""Surface–plane sections and surface–surface intersection curves against analytic
+oracles (ellipse, circle, Villarceau circles, Steinmetz ellipses) and OCCT's
+GeomAPI_IntSS; every fitted branch is checked on both objects independently."""
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import cagd
+from cagd import CagdError
+from cagd.queries import closest_point, intersect, plane
+
+TOL = 1e-7
+
+
+def samples(branch, count=801):
+    c = branch.curve
+    return c(np.linspace(*c.domain, count))
+
+
+def test_plane_cylinder_is_an_ellipse():
+    cyl = cagd.cylinder(1.0, 4.0, (0, 0, -2))
+    res = intersect(cyl, plane([0, 0, 0.3], [0, 0.5, 1]), tol=TOL)
+    assert res.converged and len(res.curves) == 1
+    br = res.curves[0]
+    assert br.closed and 0 < br.tolerance <= TOL
+    P = samples(br)
+    # the ellipse x^2 + y^2 = 1, z = 0.3 - 0.5 y; algebraic residuals -> distances
+    assert np.abs(np.hypot(P[:, 0], P[:, 1]) - 1).max() <= br.tolerance * 1.01
+    assert np.abs(P[:, 2] - 0.3 + 0.5 * P[:, 1]).max() / np.hypot(1, 0.5) <= br.tolerance * 1.01
+    assert np.linalg.norm(P[0] - P[-1]) <= 1e-12
+    # it goes all the way round: the angle covers the full circle
+    ang = np.unwrap(np.arctan2(P[:, 1], P[:, 0]))
+    assert abs(abs(ang[-1] - ang[0]) - 2 * np.pi) <= 1e-6
+    # the parameter curve maps onto the same points of the cylinder
+    uv = br.params_a(np.linspace(*br.curve.domain, 101))
+    Q = cyl(np.clip(uv[:, 0], 0, 1), np.mod(uv[:, 1], 1.0))
+    assert np.abs(np.hypot(Q[:, 0], Q[:, 1]) - 1).max() <= 1e-12
+    assert np.linalg.norm(Q - br.curve(np.linspace(*br.curve.domain, 101)), axis=1).max() <= 1e-5
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.floats(0.5, 2.0), st.floats(-0.3, 0.3), st.floats(0, 1.0))
+def test_plane_sphere_is_a_circle(radius, height, angle):
+    # planes kept >= 0.2 radius away from the poles, where the sphere's parametrisation
+    # degenerates (a section through a pole is split there and fitted less accurately)
+    c = np.array([0.3, -0.2, 0.1])
+    n = np.array([np.sin(angle), 0.3, np.cos(angle)])
+    n /= np.linalg.norm(n)
+    res = intersect(cagd.sphere(radius, c), plane(c + height * radius * n, n), tol=TOL)
+    assert res.converged and len(res.curves) == 1
+    br = res.curves[0]
+    assert br.closed and br.tolerance <= TOL
+    P = samples(br)
+    centre, rho = c + height * radius * n, radius * np.sqrt(1 - height ** 2)
+    assert np.abs((P - centre) @ n).max() <= TOL
+    assert np.abs(np.linalg.norm(P - centre, axis=1) - rho).max() <= 2 * TOL
+    # the whole circle: its length
+    assert abs(np.linalg.norm(np.diff(P, axis=0), axis=1).sum() - 2 * np.pi * rho) <= 1e-4 * rho
+
+
+def test_torus_bitangent_plane_gives_two_villarceau_circles():
+    R, r = 3.0, 1.0
+    a = np.arcsin(r / R)
+    n = np.array([np.sin(a), 0.0, -np.cos(a)])
+    res = intersect(cagd.torus(R, r), plane([0, 0, 0], n), tol=TOL)
+    assert res.converged, res.message
+    assert len(res.curves) == 2 and all(b.closed for b in res.curves)
+    centres = np.array([[0, r, 0], [0, -r, 0]], float)
+    which = []
+    for br in res.curves:
+        assert br.tolerance <= TOL
+        P = samples(br, 2001)
+        assert np.abs(P @ n).max() <= TOL                                     # in the plane
+        on_torus = (np.hypot(P[:, 0], P[:, 1]) - R) ** 2 + P[:, 2] ** 2 - r ** 2
+        assert np.abs(on_torus).max() <= 4 * r * TOL * 1.01                   # on the torus
+        d = np.abs(np.linalg.norm(P[:, None] - centres[None], axis=2) - R)    # on a circle of radius R
+        k = int(np.argmin(d.max(axis=0)))
+        # near the two tangent points the distance to both surfaces bounds the distance
+        # to the curve only by sqrt(tol * size)
+        assert d[:, k].max() <= 10 * np.sqrt(TOL * R)
+        assert np.median(d[:, k]) <= 2 * TOL
+        which.append(k)
+    assert sorted(which) == [0, 1]
+    # the two circles cross at the two points where the plane touches the torus
+    t = np.array([R - r * np.sin(a), 0, r * np.cos(a)])     # tube centre - r n
+    for p in (t, -t):
+        for br in res.curves:
+            assert closest_point(br.curve, p).distances[0] <= 1e-5
+
+
+def _ellipse_length(a, b, count=200001):
+    t = np.linspace(0, 2 * np.pi, count)
+    return np.trapz(np.hypot(a * np.sin(t), b * np.cos(t)), t) if hasattr(np, "trapz") else \
+        np.trapezoid(np.hypot(a * np.sin(t), b * np.cos(t)), t)
+
+
+def test_steinmetz_perpendicular_cylinders():
+    c1 = cagd.cylinder(1.0, 4.0, (0, 0, -2))                                  # x^2 + y^2 = 1
+    c2 = c1.transformed(np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0.0]]))      # y^2 + z^2 = 1
+    res = intersect(c1, c2, tol=TOL)
+    assert res.converged, res.message
+    total = 0.0
+    assert len(res.curves) >= 2
+    for br in res.curves:
+        assert br.tolerance <= TOL
+        P = samples(br, 20001)
+        # both cylinder equations; near the crossings (tangential) by sqrt(tol)
+        e1, e2 = np.hypot(P[:, 0], P[:, 1]) - 1, np.hypot(P[:, 1], P[:, 2]) - 1
+        assert np.abs(e1).max() <= 10 * np.sqrt(TOL) and np.abs(e2).max() <= 10 * np.sqrt(TOL)
+        assert np.median(np.abs(e1)) <= TOL and np.median(np.abs(e2)) <= TOL
+        # each branch lies in one of the planes z = x or z = -x
+        assert min(np.abs(P[:, 2] - P[:, 0]).max(), np.abs(P[:, 2] + P[:, 0]).max()) <= 1e-3
+        total += np.linalg.norm(np.diff(P, axis=0), axis=1).sum()
+    exact = 2 * _ellipse_length(np.sqrt(2), 1.0)
+    assert abs(total - exact) <= 1e-5 * exact
+    # the branches cross at (0, +-1, 0), where the normals are parallel
+    for p in ([0, 1, 0], [0, -1, 0]):
+        near = [closest_point(b.curve, p).distances[0] for b in res.curves]
+        assert sum(d <= 1e-5 for d in near) >= 2
+
+
+def test_disjoint_surfaces_and_planes_give_nothing():
+    s = cagd.sphere(1.0)
+    assert intersect(s, plane([0, 0, 2], [0, 0, 1])).curves == []
+    assert intersect(s, cagd.sphere(1.0, (5, 0, 0)), tol=TOL).curves == []
+
+
+def test_bad_input():
+    s = cagd.sphere(1.0)
+    with pytest.raises(CagdError, match="tol"):
+        intersect(s, cagd.sphere(1.0, (1, 0, 0)), tol=0.0)
+    with pytest.raises(CagdError, match="tol"):
+        intersect(s, plane([0, 0, 0], [0, 0, 1]), tol=-1.0)
+    flat = cagd.BSplineSurface(np.random.default_rng(0).random((3, 3, 2)), 2, 2)
+    with pytest.raises(CagdError, match="dimension"):
+        intersect(s, flat)
+
+
+# --- OCCT ----------------------------------------------------------------------------------
+try:                                  # the OCCT oracle needs OCP; the rest of the module does not
+    from cagd import occ
+except ImportError:
+    occ = None
+needs_occ = pytest.mark.skipif(occ is None, reason="OCP (cagd.occ) is not installed")
+
+
+def random_patches(rng, n=5):
+    """Two bicubic height fields, z = f(x, y) and x = g(y, z), which cross."""
+    g = np.linspace(0, 1, n)
+    P = np.zeros((n, n, 3))
+    P[..., 0], P[..., 1] = np.meshgrid(g, g, indexing="ij")
+    P[..., 2] = 0.5 + 0.3 * rng.standard_normal((n, n))
+    Q = np.zeros((n, n, 3))
+    Q[..., 1], Q[..., 2] = np.meshgrid(g, g, indexing="ij")
+    Q[..., 0] = 0.5 + 0.3 * rng.standard_normal((n, n))
+    return cagd.BSplineSurface(P, 3, 3), cagd.BSplineSurface(Q, 3, 3)
+
+
+@needs_occ
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 10 ** 6))
+def test_every_occt_intersection_curve_is_found(seed):
+    from OCP.GeomAPI import GeomAPI_IntSS
+    a, b = random_patches(np.random.default_rng(seed))
+    res = intersect(a, b, tol=TOL)
+    assert res.converged, res.message
+    inter = GeomAPI_IntSS(occ.to_occ(a), occ.to_occ(b), 1e-7)
+    assert inter.IsDone()
+    theirs = []
+    for i in range(1, inter.NbLines() + 1):
+        c = inter.Line(i)
+        for t in np.linspace(c.FirstParameter(), c.LastParameter(), 40):
+            p = c.Value(t)
+            theirs.append([p.X(), p.Y(), p.Z()])
+    theirs = np.array(theirs).reshape(-1, 3)
+    if len(theirs):
+        # OCCT's own distance from the surfaces (its curves are approximations too)
+        dev = np.maximum(closest_point(a, theirs).distances, closest_point(b, theirs).distances)
+        assert res.curves
+        mine = np.min([closest_point(br.curve, theirs).distances for br in res.curves], axis=0)
+        # a point at distance e from both surfaces of a transversal intersection lies
+        # within about e / sin(angle) of the curve
+        assert np.all(mine <= 100 * dev + 10 * TOL), (mine.max(), dev.max())
+    for br in res.curves:                                     # ours lie on both surfaces
+        assert br.tolerance <= TOL
+        P = samples(br, 301)
+        assert closest_point(a, P).distances.max() <= TOL
+        assert closest_point(b, P).distances.max() <= TOL
