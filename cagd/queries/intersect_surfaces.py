@@ -37,21 +37,19 @@ reduce them modulo the period to evaluate the surface.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
+from typing import List, Tuple
 
 import numpy as np
 
 from ..errors import CagdError
 from . import _subdivision as sd
-from .bounds import bezier_pieces
+from ._marching import Marcher, segments_distance
+from ._surface_system import System, newton, unit
 
 __all__ = ["IntersectionCurve", "surface_plane", "surface_surface"]
 
 _SEED_FRACTION = 1.0 / 16      # leaves of the seed subdivision: at most this fraction of the model size
 _REL_FLAT = 2e-2
-_MAX_ANGLE = 0.35              # largest turn of the tangent per step (rad)
-_MAX_STEPS = 20000
-_NEWTON = 12
 
 
 @dataclass
@@ -74,126 +72,6 @@ class IntersectionCurve:
     params_tolerance: float = 0.0
     converged: bool = True
     ends: Tuple[str, str] = ("closed", "closed")
-
-
-# --- the system F(x) = 0 -----------------------------------------------------------------
-def _closed_dirs(G: sd.Geometry) -> np.ndarray:
-    """Directions where the surface is periodic or closes on itself (a seam)."""
-    out = G.periodic.copy()
-    s = np.linspace(0.0, 1.0, 9)
-    for d in range(2):
-        if out[d]:
-            continue
-        o = 1 - d
-        t = G.lo[o] + s * (G.hi[o] - G.lo[o])
-        x0 = np.empty((9, 2))
-        x1 = np.empty((9, 2))
-        x0[:, d], x1[:, d], x0[:, o], x1[:, o] = G.lo[d], G.hi[d], t, t
-        gap = np.linalg.norm(G.points(x0) - G.points(x1), axis=1).max()
-        out[d] = gap <= 1e-11 * G.size
-    return out
-
-
-class _System:
-    def __init__(self, A: sd.Geometry, B: Optional[sd.Geometry], pl=None):
-        self.A, self.B, self.pl = A, B, pl
-        self.n = 4 if B is not None else 2
-        gs = [A] + ([B] if B is not None else [])
-        self.lo = np.concatenate([g.lo for g in gs])
-        self.hi = np.concatenate([g.hi for g in gs])
-        self.per = np.concatenate([_closed_dirs(g) for g in gs])
-        self.span = self.hi - self.lo
-        self.size = max(g.size for g in gs)
-        self.pieces = [bezier_pieces(g.obj) for g in gs]
-
-    def _partials(self, k, x):
-        """Point and first partials (N, 2, 3) of surface k at parameters x (N, 2)."""
-        g, bp = (self.A, self.B)[k], self.pieces[k]
-        x = g.clamp(x)
-        d = bp.derivatives(bp.locate(x), x, 1)
-        return d[0, 0], np.stack([d[1, 0], d[0, 1]], axis=1)
-
-    def wrap(self, x):
-        return np.where(self.per, self.lo + np.mod(x - self.lo, self.span), x)
-
-    def wrapdiff(self, d):
-        return np.where(self.per, np.mod(d + self.span / 2, self.span) - self.span / 2, d)
-
-    def inside(self, x, slack=1e-12):
-        s = slack * self.span
-        return np.all(self.per | ((x >= self.lo - s) & (x <= self.hi + s)), axis=-1)
-
-    def clip(self, x):
-        return np.where(self.per, x, np.clip(x, self.lo, self.hi))
-
-    def eval(self, x):
-        """F (N, m), J (N, m, n), point (N, 3), unit normals of a and b (N, 3)."""
-        xw = self.wrap(x)
-        pa, da = self._partials(0, xw[:, :2])
-        na = _unit(np.cross(da[:, 0], da[:, 1]))
-        if self.B is None:
-            o, nrm = self.pl
-            F = ((pa - o) @ nrm)[:, None]
-            J = (da @ nrm)[:, None, :]
-            nb = np.broadcast_to(nrm, pa.shape)
-        else:
-            pb, db = self._partials(1, xw[:, 2:])
-            F = pa - pb
-            J = np.concatenate([da.transpose(0, 2, 1), -db.transpose(0, 2, 1)], axis=2)
-            nb = _unit(np.cross(db[:, 0], db[:, 1]))
-        return F, J, pa, na, nb, da
-
-
-def _unit(v):
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
-
-
-def _cofactors(J):
-    """Generalized cross product of the m = n - 1 rows of J (N, m, n): the kernel
-    direction c_i = (-1)^i det(J without column i), |c| = product of singular values."""
-    n = J.shape[2]
-    cols = [np.delete(J, i, axis=2) for i in range(n)]
-    return np.stack([(-1) ** i * np.linalg.det(c) for i, c in enumerate(cols)], axis=1)
-
-
-def _velocity(da, c):
-    """3-D velocity of the parameter direction c (first two entries move on a)."""
-    return da[:, 0] * c[:, :1] + da[:, 1] * c[:, 1:2]
-
-
-def _newton(S: _System, x, C=None, g0=None, ftol=1e-12, iters=_NEWTON):
-    """Newton on [F(x); C.(x) - g0] = 0 (C (N, n) one constraint row per point), or the
-    minimum-norm step when C is None. Returns (x, converged)."""
-    x = x.copy()
-    ok = np.zeros(len(x), bool)
-    step_tol = 1e-14 * S.span
-    for _ in range(iters):
-        F, J, *_ = S.eval(x)
-        res = np.linalg.norm(F, axis=1)
-        if C is None:
-            JJ = J @ J.transpose(0, 2, 1)
-            JJ += np.eye(JJ.shape[1]) * 1e-300
-            try:
-                y = np.linalg.solve(JJ, -F[..., None])
-            except np.linalg.LinAlgError:
-                y = np.einsum("nij,njk->nik", np.linalg.pinv(JJ), -F[..., None])
-            dx = (J.transpose(0, 2, 1) @ y)[..., 0]
-        else:
-            M = np.concatenate([J, C[:, None, :]], axis=1)
-            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", C, x) - g0)[:, None]], axis=1)
-            det = np.abs(np.linalg.det(M))
-            good = det > 1e-300
-            dx = np.zeros_like(x)
-            if good.any():
-                dx[good] = np.linalg.solve(M[good], rhs[good][..., None])[..., 0]
-        small = np.all(np.abs(dx) <= step_tol, axis=1)
-        ok = (res <= ftol) & (small | ok)
-        x = S.clip(x + dx)
-        if np.all(ok):
-            break
-    F = S.eval(x)[0]
-    ok = np.linalg.norm(F, axis=1) <= ftol
-    return x, ok
 
 
 # --- seeds -------------------------------------------------------------------------------
@@ -255,167 +133,10 @@ def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):
     return (np.concatenate(seeds) if seeds else np.empty((0, 2))), complete
 
 
-# --- marching ----------------------------------------------------------------------------
-class _Marcher:
-    def __init__(self, S: _System, tol: float):
-        self.S, self.tol = S, tol
-        self.ftol = max(1e-3 * tol, 1e-14 * S.size)
-        self.hmax = S.size / 8
-        self.hmin = max(1e-9 * S.size, 10 * tol * 1e-3)
-        self.sing = 1e-9
-
-    def frame(self, x):
-        """Point, kernel vector c (unnormalized), 3-D unit tangent of c, speed |dP/dc|, sine."""
-        F, J, P, na, nb, da = self.S.eval(x[None])
-        c = _cofactors(J)[0]
-        v = _velocity(da, c[None])[0]
-        speed = np.linalg.norm(v)
-        sine = np.linalg.norm(np.cross(na[0], nb[0]))
-        return P[0], c, v / max(speed, 1e-300), speed, sine
-
-    def step_for(self, kappa):
-        if kappa <= 0:
-            return self.hmax
-        R = 1.0 / kappa
-        theta = np.clip(0.8 * (77.0 * self.tol / R) ** 0.25, 0.01, _MAX_ANGLE / 1.5)
-        return min(self.hmax, theta * R)
-
-    def correct(self, x, t, xp, fix=None):
-        """Corrector from the predictor xp: plane t.(x - xp) = 0, or x_fix = bound."""
-        if fix is None:
-            C, g = t[None], np.array([t @ xp])
-        else:
-            i, val = fix
-            C = np.zeros((1, self.S.n))
-            C[0, i] = 1.0
-            g = np.array([val])
-        y, ok = _newton(self.S, xp[None], C, g, self.ftol)
-        return y[0], bool(ok[0])
-
-    def march(self, x0, sigma):
-        """March from x0 in the direction sigma * c. Returns (xs, end, other_side)."""
-        S = self.S
-        xs = [x0.copy()]
-        P0, c, T, speed, sine = self.frame(x0)
-        if speed <= 1e-14 * S.size or sine <= self.sing:
-            return xs, "singular", None
-        T = sigma * T
-        Ps = [P0]
-        h = self.step_for(0.0) / 4
-        travelled = 0.0
-        x = x0.copy()
-        for _ in range(_MAX_STEPS):
-            tpar = sigma * c / speed
-            xp = x + h * tpar
-            fix = None
-            if not S.inside(xp, 0.0):
-                out = ~S.per & ((xp < S.lo) | (xp > S.hi))
-                bound = np.where(xp < S.lo, S.lo, S.hi)
-                alpha = np.where(out, (bound - x) / np.where(out, xp - x, 1.0), 1.0)
-                i = int(np.argmin(alpha))
-                a = max(float(alpha[i]), 0.0)
-                if a * h <= 1e-12 * S.size:
-                    return xs, "boundary", None
-                xp = x + a * h * tpar
-                fix = (i, bound[i])
-            y, ok = self.correct(x, tpar, xp, fix)
-            if ok and not S.inside(y, 1e-12) and fix is None:
-                out = ~S.per & ((y < S.lo) | (y > S.hi))
-                i = int(np.argmax(out * np.abs(np.where(y < S.lo, S.lo - y, y - S.hi))))
-                bnd = S.lo[i] if y[i] < S.lo[i] else S.hi[i]
-                y, ok = self.correct(x, tpar, np.where(np.arange(S.n) == i, bnd, y), (i, bnd))
-                fix = (i, bnd)
-            if not ok or (fix is not None and not S.inside(y, 1e-9)):
-                h *= 0.5
-                if h < self.hmin:
-                    return xs, "stalled", None
-                continue
-            P1, c1, T1, speed1, sine1 = self.frame(y)
-            dist = np.linalg.norm(P1 - Ps[-1])
-            if dist > 2.0 * h or (dist < 0.1 * h and fix is None):
-                h *= 0.5
-                if h < self.hmin:
-                    return xs, "stalled", None
-                continue
-            T1s = sigma * T1
-            cos = float(T @ T1s)
-            if cos < -np.cos(_MAX_ANGLE) and fix is None:      # the kernel flipped: a crossing
-                end, other = self.crossing(x, y, c)
-                xs.append(end)
-                return xs, "singular", y
-            if cos < np.cos(_MAX_ANGLE) or sine1 <= self.sing:
-                if sine1 <= self.sing and h <= 4 * self.hmin:
-                    xs.append(y)
-                    return xs, "singular", None
-                h *= 0.5
-                if h < self.hmin:
-                    return xs, "stalled", None
-                continue
-            # loop closure: the start lies on the new segment
-            if len(xs) >= 3 and travelled > 2 * h and fix is None:
-                seg = P1 - Ps[-1]
-                w = P0 - Ps[-1]
-                tau = float(w @ seg) / float(seg @ seg)
-                near = np.linalg.norm(w - tau * seg)
-                pd = np.abs(S.wrapdiff(x0 - y)) <= 0.25 * S.span
-                if -0.05 <= tau <= 1.05 and near <= 0.1 * np.linalg.norm(seg) + 10 * self.ftol and pd.all():
-                    xc = x + S.wrapdiff(x0 - x)
-                    if tau < 0.3 and len(xs) > 2:
-                        xs.pop()
-                        xc = xs[-1] + S.wrapdiff(x0 - xs[-1])
-                    xs.append(xc)
-                    return xs, "closed", None
-            travelled += dist
-            angle = np.arccos(np.clip(cos, -1.0, 1.0))
-            kappa = angle / max(dist, 1e-300)
-            xs.append(y)
-            Ps.append(P1)
-            x, c, T, speed = y, c1, T1s, speed1
-            if fix is not None:
-                return xs, "boundary", None
-            h = min(2 * h, self.step_for(kappa))
-        return xs, "limit", None
-
-    def crossing(self, xa, xb, ca):
-        """Bisection for the point between xa and xb where the kernel vector flips."""
-        S = self.S
-        for _ in range(60):
-            Pa, Pb = S.eval(np.stack([xa, xb]))[2]
-            if np.linalg.norm(Pa - Pb) <= max(0.1 * self.tol, 1e-13 * S.size):
-                break
-            d = xb - xa
-            mid = 0.5 * (xa + xb)
-            y, ok = _newton(S, mid[None], d[None], np.array([d @ mid]), self.ftol)
-            if not ok[0]:
-                break
-            cm = self.frame(y[0])[1]
-            if cm @ ca > 0:
-                xa = y[0]
-            else:
-                xb = y[0]
-        return xa, xb
-
-
-def _segments_distance(Q, P):
-    """Distance from points Q (S, 3) to the polyline P (K, 3) and the length of the
-    nearest segment."""
-    if len(P) < 2:
-        d = np.linalg.norm(Q - P[0], axis=1)
-        return d, np.zeros(len(Q))
-    a, b = P[:-1], P[1:]
-    ab = b - a
-    L2 = np.maximum(np.einsum("kd,kd->k", ab, ab), 1e-300)
-    tau = np.clip(np.einsum("skd,kd->sk", Q[:, None] - a[None], ab) / L2, 0.0, 1.0)
-    near = a[None] + tau[..., None] * ab[None]
-    d = np.linalg.norm(Q[:, None] - near, axis=2)
-    k = np.argmin(d, axis=1)
-    return d[np.arange(len(Q)), k], np.sqrt(L2[k])
-
-
 # --- driver ------------------------------------------------------------------------------
-def _trace(S: _System, seeds: np.ndarray, tol: float):
-    M = _Marcher(S, tol)
-    x, ok = _newton(S, seeds, None, None, M.ftol, iters=30)
+def _trace(S: System, seeds: np.ndarray, tol: float):
+    M = Marcher(S, tol)
+    x, ok = newton(S, seeds, None, None, M.ftol, iters=30)
     x = x[ok]
     P = S.eval(x)[2] if len(x) else np.empty((0, 3))
     alive = np.ones(len(x), bool)
@@ -466,12 +187,12 @@ def _trace(S: _System, seeds: np.ndarray, tol: float):
 def _absorbed(Q, branches, ftol):
     hit = np.zeros(len(Q), bool)
     for _, _, Pb in branches:
-        d, L = _segments_distance(Q, Pb)
+        d, L = segments_distance(Q, Pb)
         hit |= d <= 0.1 * L + 10 * ftol
     return hit
 
 
-def _join(S: _System, branches, tol):
+def _join(S: System, branches, tol):
     """Join branch ends meeting at a crossing with opposite tangents."""
     items = [[b[0], list(b[1]), b[2]] for b in branches]
     gap = max(10 * tol, 1e-9 * S.size)
@@ -481,9 +202,9 @@ def _join(S: _System, branches, tol):
         ends = []
         for bi, (xs, e, P) in enumerate(items):
             if e[0] == "singular" and len(P) >= 2:
-                ends.append((bi, 0, P[0], _unit(P[1] - P[0])))
+                ends.append((bi, 0, P[0], unit(P[1] - P[0])))
             if e[1] == "singular" and len(P) >= 2:
-                ends.append((bi, 1, P[-1], _unit(P[-2] - P[-1])))
+                ends.append((bi, 1, P[-1], unit(P[-2] - P[-1])))
         best = None
         for i in range(len(ends)):
             for j in range(i + 1, len(ends)):
@@ -536,7 +257,7 @@ def _thin(xs, P):
     return xs[keep], P[keep]
 
 
-def _fit(S: _System, xs, P, closed, tol, rounds=10):
+def _fit(S: System, xs, P, closed, tol, rounds=10):
     """Cubic interpolation of the branch points and of their parameters (chord-length
     parameters); midpoints (corrected onto the branch) are inserted in segments whose
     samples are off either surface or whose parameter curves are off the 3-D curve
@@ -565,7 +286,7 @@ def _fit(S: _System, xs, P, closed, tol, rounds=10):
         bad = np.flatnonzero(np.maximum(d_s, d_p) > 0.5 * tol)
         mid = 0.5 * (xs[bad] + xs[bad + 1])
         d = xs[bad + 1] - xs[bad]
-        y, ok = _newton(S, mid, d, np.einsum("nk,nk->n", d, mid), max(1e-3 * tol, 1e-14 * S.size))
+        y, ok = newton(S, mid, d, np.einsum("nk,nk->n", d, mid), max(1e-3 * tol, 1e-14 * S.size))
         y, bad = y[ok], bad[ok]
         if len(y) == 0:
             return curve, pa, pb, worst, worst_p
@@ -573,7 +294,7 @@ def _fit(S: _System, xs, P, closed, tol, rounds=10):
         P = S.eval(xs)[2]
 
 
-def _distances(S: _System, curve, pa, pb, t):
+def _distances(S: System, curve, pa, pb, t):
     """Distance of curve(t) from both surfaces (Newton projection seeded by the parameter
     curves) and of the parameter curves' images from curve(t)."""
     C = curve(t)
@@ -591,7 +312,7 @@ def _distances(S: _System, curve, pa, pb, t):
     return np.maximum(dA, dB), np.maximum(dpa, dpb)
 
 
-def _solve(S: _System, seeds, complete, tol, angle_tol):
+def _solve(S: System, seeds, complete, tol, angle_tol):
     from .intersect import IntersectionPoint, IntersectionResult
     branches, isolated, problems, _ = _trace(S, seeds, tol)
     items = _join(S, branches, tol)
@@ -628,7 +349,7 @@ def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 
     if A.dim != 3 or B.dim != 3:
         raise CagdError(f"a, b: surface intersection needs 3-D surfaces, got {A.dim}-D and {B.dim}-D")
     seeds, complete = _seeds_pair(A, B, tol, max_pairs)
-    return _solve(_System(A, B), seeds, complete, tol, angle_tol)
+    return _solve(System(A, B), seeds, complete, tol, angle_tol)
 
 
 def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
@@ -641,4 +362,4 @@ def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 2
         raise CagdError(f"a: a plane lives in 3-D, the surface is {A.dim}-D")
     o, nrm = np.asarray(pl.origin, float), np.asarray(pl.normal, float)
     seeds, complete = _seeds_plane(A, (o, nrm), tol, max_pairs)
-    return _solve(_System(A, None, (o, nrm)), seeds, complete, tol, angle_tol)
+    return _solve(System(A, None, (o, nrm)), seeds, complete, tol, angle_tol)

@@ -1,0 +1,135 @@
+"""The intersection system F(x) = 0 of two surfaces (x = (u, v, s, t), F = A - B) or of a
+surface and a plane (x = (u, v), F = n.(A - o)), its Jacobian, the branch tangent (the
+kernel of J by cofactors) and a minimum-norm Newton corrector; used by the marching of
+:mod:`cagd.queries.intersect_surfaces` (Patrikalakis & Maekawa, "Shape Interrogation
+for CAD/CAM", 5.8)."""
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+
+from . import _subdivision as sd
+from .bounds import bezier_pieces
+
+NEWTON_ITERATIONS = 12
+
+def closed_dirs(G: sd.Geometry) -> np.ndarray:
+    """Directions where the surface is periodic or closes on itself (a seam)."""
+    out = G.periodic.copy()
+    s = np.linspace(0.0, 1.0, 9)
+    for d in range(2):
+        if out[d]:
+            continue
+        o = 1 - d
+        t = G.lo[o] + s * (G.hi[o] - G.lo[o])
+        x0 = np.empty((9, 2))
+        x1 = np.empty((9, 2))
+        x0[:, d], x1[:, d], x0[:, o], x1[:, o] = G.lo[d], G.hi[d], t, t
+        gap = np.linalg.norm(G.points(x0) - G.points(x1), axis=1).max()
+        out[d] = gap <= 1e-11 * G.size
+    return out
+
+
+class System:
+    def __init__(self, A: sd.Geometry, B: Optional[sd.Geometry], pl=None):
+        self.A, self.B, self.pl = A, B, pl
+        self.n = 4 if B is not None else 2
+        gs = [A] + ([B] if B is not None else [])
+        self.lo = np.concatenate([g.lo for g in gs])
+        self.hi = np.concatenate([g.hi for g in gs])
+        self.per = np.concatenate([closed_dirs(g) for g in gs])
+        self.span = self.hi - self.lo
+        self.size = max(g.size for g in gs)
+        self.pieces = [bezier_pieces(g.obj) for g in gs]
+
+    def _partials(self, k, x):
+        """Point and first partials (N, 2, 3) of surface k at parameters x (N, 2)."""
+        g, bp = (self.A, self.B)[k], self.pieces[k]
+        x = g.clamp(x)
+        d = bp.derivatives(bp.locate(x), x, 1)
+        return d[0, 0], np.stack([d[1, 0], d[0, 1]], axis=1)
+
+    def wrap(self, x):
+        return np.where(self.per, self.lo + np.mod(x - self.lo, self.span), x)
+
+    def wrapdiff(self, d):
+        return np.where(self.per, np.mod(d + self.span / 2, self.span) - self.span / 2, d)
+
+    def inside(self, x, slack=1e-12):
+        s = slack * self.span
+        return np.all(self.per | ((x >= self.lo - s) & (x <= self.hi + s)), axis=-1)
+
+    def clip(self, x):
+        return np.where(self.per, x, np.clip(x, self.lo, self.hi))
+
+    def eval(self, x):
+        """F (N, m), J (N, m, n), point (N, 3), unit normals of a and b (N, 3)."""
+        xw = self.wrap(x)
+        pa, da = self._partials(0, xw[:, :2])
+        na = unit(np.cross(da[:, 0], da[:, 1]))
+        if self.B is None:
+            o, nrm = self.pl
+            F = ((pa - o) @ nrm)[:, None]
+            J = (da @ nrm)[:, None, :]
+            nb = np.broadcast_to(nrm, pa.shape)
+        else:
+            pb, db = self._partials(1, xw[:, 2:])
+            F = pa - pb
+            J = np.concatenate([da.transpose(0, 2, 1), -db.transpose(0, 2, 1)], axis=2)
+            nb = unit(np.cross(db[:, 0], db[:, 1]))
+        return F, J, pa, na, nb, da
+
+
+def unit(v):
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
+
+
+def cofactors(J):
+    """Generalized cross product of the m = n - 1 rows of J (N, m, n): the kernel
+    direction c_i = (-1)^i det(J without column i), |c| = product of singular values."""
+    n = J.shape[2]
+    cols = [np.delete(J, i, axis=2) for i in range(n)]
+    return np.stack([(-1) ** i * np.linalg.det(c) for i, c in enumerate(cols)], axis=1)
+
+
+def velocity(da, c):
+    """3-D velocity of the parameter direction c (first two entries move on a)."""
+    return da[:, 0] * c[:, :1] + da[:, 1] * c[:, 1:2]
+
+
+def newton(S: System, x, C=None, g0=None, ftol=1e-12, iters=NEWTON_ITERATIONS):
+    """Newton on [F(x); C.(x) - g0] = 0 (C (N, n) one constraint row per point), or the
+    minimum-norm step when C is None. Returns (x, converged)."""
+    x = x.copy()
+    ok = np.zeros(len(x), bool)
+    step_tol = 1e-14 * S.span
+    for _ in range(iters):
+        F, J, *_ = S.eval(x)
+        res = np.linalg.norm(F, axis=1)
+        if C is None:
+            JJ = J @ J.transpose(0, 2, 1)
+            JJ += np.eye(JJ.shape[1]) * 1e-300
+            try:
+                y = np.linalg.solve(JJ, -F[..., None])
+            except np.linalg.LinAlgError:
+                y = np.einsum("nij,njk->nik", np.linalg.pinv(JJ), -F[..., None])
+            dx = (J.transpose(0, 2, 1) @ y)[..., 0]
+        else:
+            M = np.concatenate([J, C[:, None, :]], axis=1)
+            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", C, x) - g0)[:, None]], axis=1)
+            det = np.abs(np.linalg.det(M))
+            good = det > 1e-300
+            dx = np.zeros_like(x)
+            if good.any():
+                dx[good] = np.linalg.solve(M[good], rhs[good][..., None])[..., 0]
+        small = np.all(np.abs(dx) <= step_tol, axis=1)
+        ok = (res <= ftol) & (small | ok)
+        x = S.clip(x + dx)
+        if np.all(ok):
+            break
+    F = S.eval(x)[0]
+    ok = np.linalg.norm(F, axis=1) <= ftol
+    return x, ok
+
+
