@@ -1,0 +1,134 @@
+"""Overlaps of curves: pieces of one curve lying on the other (within tol) found by
+projecting samples, merged into maximal parameter intervals whose ends are moved
+out by bisection to where the distance exceeds tol, and snapped to the domain ends
+(see :mod:`cagd.queries.intersect`)."""
+from __future__ import annotations
+
+from typing import List, NamedTuple, Tuple
+
+import numpy as np
+
+from . import _subdivision as sd
+
+
+class Overlap(NamedTuple):
+    """Coincident pieces: ``param_a`` = (s0, s1) on a with s0 < s1, ``param_b`` the
+    parameters on b matching s0 and s1 (decreasing when the directions are opposite)."""
+    param_a: Tuple[float, float]
+    param_b: Tuple[object, object]
+
+
+def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
+    """Pairs whose a-piece lies on B or whose b-piece lies on A (5 samples within tol).
+    Returns the hit mask and fragments (s0, s1, t0, t1) (curve pieces only)."""
+    M = len(pa.ctrl)
+    fr = np.linspace(0.0, 1.0, 5)
+    hits = np.zeros(M, bool)
+    rows = []
+    for P, Q, G, H, swap in ((pa, pb, A, B, False), (pb, pa, B, A, True)):
+        if G.k != 1:
+            continue
+        x = (P.lo[:, None, :] + fr[None, :, None] * (P.hi - P.lo)[:, None, :]).reshape(-1, 1)
+        seed = np.repeat(0.5 * (Q.lo + Q.hi), 5, axis=0)
+        y, dist = sd.project_onto(H, G.points(x), seed)
+        if self_mode:                 # the sample itself is no evidence of an overlap
+            dist[np.abs(y[:, 0] - x[:, 0]) <= 1e-7 * (A.hi[0] - A.lo[0])] = np.inf
+        ok = np.all(dist.reshape(M, 5) <= tol, axis=1) & ~hits
+        if ok.any():
+            y = y.reshape(M, 5, -1)
+            s0, s1 = P.lo[ok, 0], P.hi[ok, 0]
+            if H.k == 1:
+                t0, t1 = y[ok, 0, 0], y[ok, -1, 0]
+                rows.append(np.stack([t0, t1, s0, s1] if swap else [s0, s1, t0, t1], axis=1))
+        hits |= ok
+    return hits, (np.concatenate(rows) if rows else np.empty((0, 4)))
+
+
+def inside_overlap(A, B, overlaps, x, y) -> bool:
+    for ov in overlaps:
+        s0, s1 = ov.param_a
+        m = 1e-6 * (A.hi[0] - A.lo[0])
+        if s0 - m <= x[0] <= s1 + m:
+            return True
+    return False
+
+
+def merge_overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
+    """Merge coincident fragments (s0, s1, t0, t1) into maximal intervals and move each
+    end out to where the distance to the other curve exceeds tol (bisection)."""
+    if not frags:
+        return []
+    F = np.concatenate(frags)
+    flip = F[:, 0] > F[:, 1]
+    F[flip] = F[flip][:, [1, 0, 3, 2]]
+    F = F[np.argsort(F[:, 0])]
+    ea, eb = 1e-9 * (A.hi[0] - A.lo[0]), 1e-9 * (B.hi[0] - B.lo[0])
+    groups = []
+    for f in F:
+        for g in groups:
+            blo, bhi = min(g[2], g[3]), max(g[2], g[3])
+            if f[0] <= g[1] + ea and min(f[2], f[3]) <= bhi + eb and max(f[2], f[3]) >= blo - eb:
+                if f[1] > g[1]:
+                    g[1], g[3] = f[1], f[3]
+                break
+        else:
+            groups.append(list(f))
+    out = []
+    for s0, s1, t0, t1 in groups:
+        h = 0.25 * (s1 - s0)
+        s0, t0 = _edge(A, B, s0, t0, -1.0, h, tol, self_mode)
+        s1, t1 = _edge(A, B, s1, t1, 1.0, h, tol, self_mode)
+        s0, t0 = _snap(A, B, s0, t0)
+        s1, t1 = _snap(A, B, s1, t1)
+        if self_mode and t0 < s0:
+            continue                  # the same overlap seen from its other side
+        out.append(Overlap((float(s0), float(s1)), (float(t0), float(t1))))
+    return out
+
+
+def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, self_mode: bool):
+    """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
+    still lies within tol of B: march by h, then 60 bisections."""
+    lim = A.hi[0] if sign > 0 else A.lo[0]
+
+    def on(s, t):
+        y, d = sd.project_onto(B, A.points(np.array([[s]])), np.array([[t]]))
+        good = d[0] <= tol and not (self_mode and abs(y[0, 0] - s) <= 1e-7 * (A.hi[0] - A.lo[0]))
+        return good, float(y[0, 0])
+
+    s_out = None
+    for _ in range(16):
+        if s_in == lim:
+            return s_in, t_in
+        s_try = min(s_in + h, lim) if sign > 0 else max(s_in - h, lim)
+        good, t_try = on(s_try, t_in)
+        if not good:
+            s_out = s_try
+            break
+        s_in, t_in = s_try, t_try
+    if s_out is None:
+        return s_in, t_in
+    for _ in range(60):
+        s_mid = 0.5 * (s_in + s_out)
+        if s_mid in (s_in, s_out):
+            break
+        good, t_mid = on(s_mid, t_in)
+        if good:
+            s_in, t_in = s_mid, t_mid
+        else:
+            s_out = s_mid
+    return s_in, t_in
+
+
+def _snap(A, B, s: float, t: float) -> Tuple[float, float]:
+    """An overlap end within 1e-6 of a domain end of B (of A) is put on that end, its
+    partner by projection: the bisection alone stops where the distance reaches tol."""
+    for end in (B.lo[0], B.hi[0]):
+        if abs(t - end) <= 1e-6 * (B.hi[0] - B.lo[0]):
+            x, _ = sd.project_onto(A, B.points(np.array([[end]])), np.array([[s]]))
+            return float(x[0, 0]), float(end)
+    for end in (A.lo[0], A.hi[0]):
+        if abs(s - end) <= 1e-6 * (A.hi[0] - A.lo[0]):
+            y, _ = sd.project_onto(B, A.points(np.array([[end]])), np.array([[t]]))
+            return float(end), float(y[0, 0])
+    return s, t
