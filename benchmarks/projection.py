@@ -1,9 +1,12 @@
-"""Benchmark: projection of 10^5 points onto a 20 x 20 bicubic B-spline surface.
+"""Benchmark: projection of 10^5 points onto 20 x 20 bicubic B-spline surfaces.
 
-The points are scattered within +-1% of the model size around the surface. Peers
+Three surfaces: control points over the Greville abscissae (x = u, y = v), evenly
+spaced control points on clamped knots (the parametrisation bends near the edges), and
+a rational one (smooth weights in [0.7, 1.3]). The points are scattered within +-1% of the
+model size around each surface. Peers
 measured in the same run, per point on a subsample: OCCT's reused Extrema_ExtPS (its
 faster path) and GeomAPI_ProjectPointOnSurf. Prints throughput and ratios against the
-engine (targets: >= 100,000 points/s, >= 30x the faster OCCT path) and checks that
+engine per surface (targets: >= 100,000 points/s, >= 30x the faster OCCT path) and checks that
 every engine distance is <= OCCT's + 1e-9 relative to the model size; cases where the
 engine is smaller (OCCT missed the global minimum) are counted.
 
@@ -13,7 +16,7 @@ from __future__ import annotations
 
 import argparse
 import time
-from typing import List
+from typing import List, Tuple
 
 import numpy as np
 
@@ -35,6 +38,32 @@ def model_surface(seed: int = 7) -> cagd.BSplineSurface:
     P[..., 2] = 0.05 * np.sin(2 * np.pi * P[..., 0]) * np.cos(3 * np.pi * P[..., 1]) \
         + 0.002 * rng.standard_normal((n, n))
     return cagd.BSplineSurface(P, p, p, knots, knots)
+
+
+def _knots(n: int = 20, p: int = 3) -> np.ndarray:
+    return np.r_[[0.0] * p, np.linspace(0.0, 1.0, n - p + 1), [1.0] * p]
+
+
+def bent_surface(seed: int = 7) -> cagd.BSplineSurface:
+    """As :func:`model_surface` but with evenly spaced control points x = i/19, y = j/19
+    on the clamped uniform knots: x(u) is not u, the spans near the edges are squeezed."""
+    P = np.array(model_surface(seed).control_points)
+    g = np.linspace(0.0, 1.0, P.shape[0])
+    P[..., 0], P[..., 1] = np.meshgrid(g, g, indexing="ij")
+    return cagd.BSplineSurface(P, 3, 3, _knots(), _knots())
+
+
+def rational_surface(seed: int = 7) -> cagd.BSplineSurface:
+    """:func:`model_surface` with smoothly varying weights
+    w_ij = 1 + 0.3 sin(2 pi x_i) sin(2 pi y_j) in [0.7, 1.3] (a rational bicubic)."""
+    P = np.array(model_surface(seed).control_points)
+    W = 1.0 + 0.3 * np.sin(2 * np.pi * P[..., 0]) * np.sin(2 * np.pi * P[..., 1])
+    return cagd.BSplineSurface(P, 3, 3, _knots(), _knots(), weights=W)
+
+
+SURFACES = (("Greville control points (x = u, y = v)", model_surface),
+            ("evenly spaced control points, clamped knots", bent_surface),
+            ("rational (weights 0.7..1.3)", rational_surface))
 
 
 def scattered_points(surface, count: int, spread: float = 0.01, seed: int = 1) -> np.ndarray:
@@ -75,14 +104,9 @@ def _occ_project(geom, X: np.ndarray) -> np.ndarray:
     return out
 
 
-def main(argv: List[str] = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--points", type=int, default=10**5)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--subsample", type=int, default=2000, help="points for the per-point OCCT peers")
-    args = ap.parse_args(argv)
-
-    s = model_surface()
+def run_surface(title: str, s, args) -> Tuple[float, float, bool]:
+    """One surface: prints its table; returns (engine points/s, faster OCCT points/s
+    (nan without OCP), every engine distance <= OCCT's + 1e-9 and converged)."""
     X = scattered_points(s, args.points)
     size = s.size
     t0 = time.perf_counter()
@@ -90,12 +114,11 @@ def main(argv: List[str] = None) -> int:
     prep = time.perf_counter() - t0
     sec, res = best(lambda: closest_point(s, X), args.repeat)
     rows = [("engine closest_point (prepared object)", sec, len(X), None, None)]
-    print(f"20 x 20 bicubic surface, {len(X)} points within +-1% of the model size, best of {args.repeat}; "
-          f"preparation (Bezier cells, bounds, voxel grid) {prep * 1e3:.0f} ms once per object")
+    print(f"\n== {title}: 20 x 20 bicubic, {len(X)} points within +-1% of the model size, best of "
+          f"{args.repeat}; preparation (Bezier cells, bounds, voxel grid) {prep * 1e3:.0f} ms once per object")
     gap = res.distances - res.lower_bounds
     print(f"engine: converged {res.converged.mean() * 100:.2f}%, certified gap distance - lower_bound: "
           f"max {gap.max() / size:.1e}, median {np.median(gap) / size:.1e} (relative to the model size)")
-
     ok = bool(res.converged.all() and np.all(res.lower_bounds <= res.distances))
     sub = np.arange(0, len(X), max(1, len(X) // args.subsample))[:args.subsample]
     try:
@@ -116,10 +139,29 @@ def main(argv: List[str] = None) -> int:
         print("OCP not installed: OCCT peers skipped")
     report(rows, size, engine_label="engine / peer")
     rate = rows[0][2] / rows[0][1]
-    print(f"engine throughput: {rate:,.0f} points/s (target >= 100,000)")
-    if len(rows) > 1:
-        faster = max(r[2] / r[1] for r in rows[1:])
-        print(f"engine / faster OCCT path: {rate / faster:.1f}x (target >= 30)")
+    faster = max((r[2] / r[1] for r in rows[1:]), default=float("nan"))
+    return rate, faster, ok
+
+
+def main(argv: List[str] = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--points", type=int, default=10**5)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--subsample", type=int, default=2000, help="points for the per-point OCCT peers")
+    args = ap.parse_args(argv)
+
+    ok, summary = True, []
+    for title, make in SURFACES:
+        rate, faster, good = run_surface(title, make(), args)
+        ok &= good
+        summary.append((title, rate, faster))
+    print(f"\n{'surface':46s} {'points/s':>10s} {'OCCT ExtPS/s':>13s} {'engine / faster OCCT path':>26s}")
+    for title, rate, faster in summary:
+        print(f"{title:46s} {rate:10,.0f} {faster:13,.0f} {rate / faster:25.1f}x")
+    rate = min(r for _, r, _ in summary)
+    print(f"engine throughput: {rate:,.0f} points/s, slowest surface (target >= 100,000)")
+    if not np.isnan(summary[0][2]):
+        print(f"engine / faster OCCT path: {min(r / f for _, r, f in summary):.1f}x, slowest surface (target >= 30)")
     print("every engine distance <= OCCT's + 1e-9" if ok else "ENGINE DISTANCE ABOVE OCCT's + 1e-9 OR NOT CONVERGED")
     return 0 if ok else 1
 

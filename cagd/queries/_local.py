@@ -12,104 +12,159 @@ _DECREASE = 1e-15     # relative slack when comparing squared distances (roundin
 BLOCK = 2             # cells within this many grid steps of x*'s cell are bounded from x*
 
 
-def _solve(Hf: np.ndarray, Hg: np.ndarray, grad: np.ndarray, fixed: np.ndarray) -> np.ndarray:
-    """Newton step -H^-1 grad on the free coordinates; H the full Hessian where it is
-    positive definite, else the Gauss-Newton matrix 2 J^T J (+ a tiny Levenberg shift)."""
+def _system(R: np.ndarray, Jc: np.ndarray, Hc: np.ndarray):
+    """From component-first arrays R = S - X (dim, n), J (k, dim, n), d2S (k, k, dim, n):
+    grad g = 2 J^T r (k, n) and the upper triangles of Hess g = 2 (J^T J + r.d2S) and of
+    the Gauss-Newton matrix 2 J^T J, as lists [h00] or [h00, h01, h11] of (n,) arrays."""
+    k = Jc.shape[0]
+    grad = 2.0 * np.stack([(R * Jc[a]).sum(0) for a in range(k)])
+    pairs = [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
+    Hg = [2.0 * (Jc[a] * Jc[b]).sum(0) for a, b in pairs]
+    Hf = [hg + 2.0 * (R * Hc[a, b]).sum(0) for hg, (a, b) in zip(Hg, pairs)]
+    return grad, Hf, Hg
+
+
+def _solve(Hf, Hg, grad: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+    """Newton step -H^-1 grad (k, n) on the free coordinates (fixed (k, n)); H the full
+    Hessian where it is positive definite, else the Gauss-Newton matrix 2 J^T J (+ a
+    tiny Levenberg shift). H given by its upper triangle (see :func:`_system`)."""
     g = np.where(fixed, 0.0, grad)
-    if Hf.shape[1] == 1:
-        h = Hf[:, 0, 0]
-        hg = Hg[:, 0, 0] * (1.0 + 1e-12) + 1e-300
+    if len(Hf) == 1:
+        h = Hf[0]
+        hg = Hg[0] * (1.0 + 1e-12) + 1e-300
         h = np.where(h > 0, h, hg)
-        return (-g[:, 0] / h)[:, None]
-    out = None
+        return (-g[0] / h)[None]
+    out, use_gn = None, None             # the shifted (Gauss-Newton) step where the Newton one is not a descent
+    f0, f1 = fixed[0], fixed[1]
+    either = f0 | f1
     for H, shift in ((Hf, 0.0), (Hg, 1e-12)):
-        a, b, c = H[:, 0, 0].copy(), H[:, 0, 1].copy(), H[:, 1, 1].copy()
-        a, c = a + shift * (a + c) + 1e-300, c + shift * (a + c) + 1e-300
-        f0, f1 = fixed[:, 0], fixed[:, 1]
-        b[f0 | f1] = 0.0
-        a[f0], c[f1] = 1.0, 1.0
+        a, b, c = H
+        tr = shift * (a + c)
+        a, c = a + tr + 1e-300, c + tr + 1e-300
+        b = np.where(either, 0.0, b)
+        a, c = np.where(f0, 1.0, a), np.where(f1, 1.0, c)
         det = a * c - b * b
         with np.errstate(divide="ignore", invalid="ignore"):
-            step = -np.stack([(c * g[:, 0] - b * g[:, 1]) / det, (a * g[:, 1] - b * g[:, 0]) / det], axis=1)
-        pd = (a > 0) & (det > 0) & np.all(np.isfinite(step), axis=1)
-        out = step if out is None else np.where(use_gn[:, None], step, out)
+            step = np.stack([(b * g[1] - c * g[0]) / det, (b * g[0] - a * g[1]) / det])
+        pd = (a > 0) & (det > 0) & np.isfinite(step).all(0)
+        out = step if out is None else np.where(use_gn, step, out)
         use_gn = ~pd
     return np.where(np.isfinite(out), out, 0.0)
 
 
 def _place(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, wrap: np.ndarray, a: np.ndarray,
            b: np.ndarray) -> np.ndarray:
-    """Clamp to the box, or wrap into the domain [a, b) in periodic directions."""
-    return np.where(wrap, a + np.mod(x - a, b - a), np.clip(x, lo, hi))
+    """Clamp to the box, or wrap into the domain [a, b) in periodic directions
+    (component-first (k, n) arrays; wrap, a, b of shape (k, 1))."""
+    out = np.minimum(np.maximum(x, lo), hi)
+    if wrap.any():
+        out = np.where(wrap, a + np.mod(x - a, b - a), out)
+    return out
 
 
 def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray,
                      wrap: np.ndarray, max_iterations: int, tol: float):
     """Minimise |S(x) - X[pid]|^2 for every row of x0 inside its box [lo, hi] (wrapped
     instead of clamped along ``wrap``): Newton with an active set at the box faces and
-    step halving (at most 10 halvings) so that g never increases.
-    Returns (x, g, converged, (S, J, H2) at x); converged means the last step was below
-    tol * range."""
-    x = np.array(x0, dtype=np.float64)
-    n = len(x)
-    a, b = proj.domain[:, 0], proj.domain[:, 1]
-    step_tol = tol * proj.width
+    step halving (at most 10 halvings) so that g never increases; a step below
+    tol * range ends the iteration without a further evaluation.
+    Returns (x, g, converged, (S, J, H2, xe)): S, J, H2 at xe, the last point where
+    they were evaluated (x itself or x before its last step, below tol * range);
+    converged means the last step was below tol * range."""
+    xc = np.array(np.asarray(x0, dtype=np.float64).T)                  # (k, n)
+    loc, hic = np.ascontiguousarray(np.asarray(lo, dtype=np.float64).T), \
+        np.ascontiguousarray(np.asarray(hi, dtype=np.float64).T)
+    Xc = np.ascontiguousarray(X.T)
+    k, n = xc.shape
+    a, b = proj.domain[:, 0][:, None], proj.domain[:, 1][:, None]
+    wrapc = np.asarray(wrap, dtype=bool)[:, None]
+    step_tol = (tol * proj.width)[:, None]
+    stall_tol = (1024.0 * np.sqrt(tol) * proj.width)[:, None]
     conv = np.zeros(n, dtype=bool)
-    S, J, H2 = proj.evaluate(x, 2)
-    last = [S.copy(), J.copy(), H2.copy()]
-    r = S - X[pid]
-    g = (r * r).sum(1)
+    S, J, H2 = proj.evaluate(xc.T, 2)
+    xe = xc.copy()                                                     # where S, J, H2 hold
+    Sc, Jc, Hc = np.array(S.T), np.array(J.T), np.array(H2.T)          # the values at x, kept
+    P = Xc if len(pid) == Xc.shape[1] and np.array_equal(pid, np.arange(len(pid))) else Xc[:, pid]
+    R = Sc - P
+    g = (R * R).sum(0)
     floor = (1e-15 * proj.size) ** 2
     act = np.arange(n)
+    Sa, Ja, Ha, Ra, Pa = Sc, Jc, Hc, R, P
     for _ in range(max_iterations):
         if not act.size:
             break
-        xa, la, ha = x[act], lo[act], hi[act]
-        grad = 2.0 * np.einsum("nd,ndk->nk", r, J)
-        JtJ = np.einsum("nda,ndb->nab", J, J)
-        Hf = 2.0 * (JtJ + np.einsum("nd,ndab->nab", r, H2))
-        fixed = ~wrap & (((xa <= la) & (grad > 0)) | ((xa >= ha) & (grad < 0)))
-        step = _solve(Hf, 2.0 * JtJ, grad, fixed)
-        xn = _place(xa + step, la, ha, wrap, a, b)
-        taken = np.where(wrap, step, xn - xa)
-        small = np.all(np.abs(taken) <= step_tol, axis=1)
-        Sn, Jn, H2n = proj.evaluate(xn, 2)
-        rn = Sn - X[pid[act]]
-        gn = (rn * rn).sum(1)
-        # below the rounding level of g the comparison is noise: trust the Newton step
-        tiny = -0.5 * (grad * step).sum(1) <= 1e-12 * g[act] + floor
-        ok = (gn <= g[act] * (1.0 + _DECREASE) + floor) | tiny
-        bad = np.flatnonzero(~ok & ~small)
-        t = 1.0
-        for _ in range(10):
-            if not bad.size:
+        xa, la, ha = xc[:, act], loc[:, act], hic[:, act]
+        grad, Hf, Hg = _system(Ra, Ja, Ha)
+        fixed = ~wrapc & (((xa <= la) & (grad > 0)) | ((xa >= ha) & (grad < 0)))
+        step = _solve(Hf, Hg, grad, fixed)
+        xn = _place(xa + step, la, ha, wrapc, a, b)
+        taken = np.where(wrapc, step, xn - xa)
+        # a step below tol ends the iteration before evaluating: x (and S, J, H2 there)
+        # is kept, within tol of the Newton point
+        small = (np.abs(taken) <= step_tol).all(0)
+        if small.any():
+            # the last (tiny) step is taken when it does not increase g, with a point
+            # evaluation only; S, J, H2 stay those at the previous point (returned as xe)
+            conv[act[small]] = True
+            i = np.flatnonzero(small)
+            gs = ((proj.value(xn[:, i].T).T - Pa[:, i]) ** 2).sum(0)
+            better = gs <= g[act[i]]
+            j = act[i[better]]
+            xc[:, j], g[j] = xn[:, i[better]], gs[better]
+            go = ~small
+            act, xa, la, ha, xn, step, grad, Pa = act[go], xa[:, go], la[:, go], ha[:, go], xn[:, go], \
+                step[:, go], grad[:, go], Pa[:, go]
+            if not act.size:
                 break
-            t *= 0.5
-            xb = _place(xa[bad] + t * step[bad], la[bad], ha[bad], wrap, a, b)
-            gb = ((proj.value(xb) - X[pid[act[bad]]]) ** 2).sum(1)
-            good = gb <= g[act[bad]] * (1.0 + _DECREASE) + floor
-            xn[bad[good]], ok[bad[good]] = xb[good], True
-            bad = bad[~good]
-        redo = np.flatnonzero(ok & (t < 1.0))
-        if redo.size:
-            Sr, Jr, H2r = proj.evaluate(xn[redo], 2)
-            Sn[redo], Jn[redo], H2n[redo] = Sr, Jr, H2r
-            rn[redo] = Sr - X[pid[act[redo]]]
-            gn[redo] = (rn[redo] ** 2).sum(1)
+        Sn, Jn, H2n = proj.evaluate(xn.T, 2)
+        Sn, Jn, H2n = Sn.T, Jn.T, H2n.T
+        rn = Sn - Pa
+        gn = (rn * rn).sum(0)
+        ga = g[act]
+        # below the rounding level of g the comparison is noise: trust the Newton step
+        tiny = -0.5 * (grad * step).sum(0) <= 1e-12 * ga + floor
+        ok = (gn <= ga * (1.0 + _DECREASE) + floor) | tiny
+        bad = np.flatnonzero(~ok)
+        t = 1.0
+        if bad.size:
+            for _ in range(10):
+                if not bad.size:
+                    break
+                t *= 0.5
+                xb = _place(xa[:, bad] + t * step[:, bad], la[:, bad], ha[:, bad], wrapc, a, b)
+                gb = ((proj.value(xb.T).T - Pa[:, bad]) ** 2).sum(0)
+                good = gb <= ga[bad] * (1.0 + _DECREASE) + floor
+                xn[:, bad[good]], ok[bad[good]] = xb[:, good], True
+                bad = bad[~good]
+            redo = np.flatnonzero(ok & (t < 1.0))
+            if redo.size:
+                Sr, Jr, H2r = proj.evaluate(xn[:, redo].T, 2)
+                Sn, Jn, H2n = np.array(Sn), np.array(Jn), np.array(H2n)
+                Sn[:, redo], Jn[..., redo], H2n[..., redo] = Sr.T, Jr.T, H2r.T
+                rn[:, redo] = Sn[:, redo] - Pa[:, redo]
+                gn[redo] = (rn[:, redo] ** 2).sum(0)
         # accept improved steps; a stalled line search ends the iteration for that pair
-        x[act[ok]], g[act[ok]] = xn[ok], gn[ok]
-        for arr, new in zip(last, (Sn, Jn, H2n)):
-            arr[act[ok]] = new[ok]
-        done = small | ~ok | (gn == 0.0)
-        # a line search that cannot decrease g even at 2^-10 of the step is at the
-        # rounding floor of a stationary point when that step is short
-        stalled = ~ok & np.all(np.abs(step) <= 1024.0 * np.sqrt(tol) * proj.width, axis=1)
-        conv[act[done]] = (small | stalled | (ok & (gn == 0.0)))[done]
-        keep = ~done
-        act = act[keep]
-        S, J, H2, r = Sn[keep], Jn[keep], H2n[keep], rn[keep]
-        # pairs whose step was rejected keep their old point (already stored in x, g)
-    return x, g, conv, last
+        if ok.all():
+            xc[:, act], xe[:, act], g[act] = xn, xn, gn
+            Sc[:, act], Jc[..., act], Hc[..., act] = Sn, Jn, H2n
+            done = gn == 0.0
+            conv[act[done]] = True
+        else:
+            ao = act[ok]
+            xc[:, ao], xe[:, ao], g[ao] = xn[:, ok], xn[:, ok], gn[ok]
+            Sc[:, ao], Jc[..., ao], Hc[..., ao] = Sn[:, ok], Jn[..., ok], H2n[..., ok]
+            done = ~ok | (gn == 0.0)
+            # a line search that cannot decrease g even at 2^-10 of the step is at the
+            # rounding floor of a stationary point when that step is short
+            stalled = ~ok & (np.abs(step) <= stall_tol).all(0)
+            conv[act[done]] = (stalled | (ok & (gn == 0.0)))[done]
+        if done.any():
+            keep = ~done
+            act, Pa = act[keep], Pa[:, keep]
+            Sa, Ja, Ha, Ra = Sn[:, keep], Jn[..., keep], H2n[..., keep], rn[:, keep]
+        else:
+            Sa, Ja, Ha, Ra = Sn, Jn, H2n, rn
+    return xc.T.copy(), g, conv, [Sc.T, Jc.T, Hc.T, xe.T]
 
 
 def _sigma_min(J: np.ndarray) -> np.ndarray:
@@ -216,3 +271,175 @@ def split_boxes(pid, cell, lo, hi, lb):
     hi1[np.arange(len(lo)), axis] = mid
     return (np.concatenate([pid, pid]), np.concatenate([cell, cell]), np.concatenate([lo, lo2]),
             np.concatenate([hi1, hi]), np.concatenate([lb, lb]))
+
+
+def _bernstein_to_power(p: int) -> np.ndarray:
+    """(p+1, p+1) matrix C with power coefficients c_a = sum_i C[a, i] P_i of a degree-p
+    Bezier polynomial on [0, 1] written in the centred variable s = 2 t - 1 in [-1, 1]:
+    B_i(t) = C(p, i) 2^-p (1 + s)^i (1 - s)^(p - i)."""
+    from math import comb
+    P = np.polynomial.polynomial
+    C = np.zeros((p + 1, p + 1))
+    for i in range(p + 1):
+        c = P.polymul(P.polypow([1.0, 1.0], i), P.polypow([1.0, -1.0], p - i)) * (comb(p, i) / 2.0 ** p)
+        C[:len(c), i] = c
+    return C
+
+
+def _horner(coef, s, order):
+    """[P, P', P''/2] (up to ``order``) of sum_a coef[a] s^a by Horner's scheme with
+    derivatives; ``coef`` a list of arrays (or a callable giving them), highest last."""
+    n = len(coef) - 1
+    p0 = coef[n]
+    p1 = p2 = None
+    for a in range(n - 1, -1, -1):
+        if order >= 2 and p1 is not None:
+            p2 = p1 if p2 is None else p2 * s + p1
+        if order >= 1:
+            p1 = p0 if p1 is None else p1 * s + p0
+        p0 = p0 * s + coef[a]
+    out = [p0]
+    if order >= 1:
+        out.append(p1 if p1 is not None else np.zeros_like(s))
+    if order >= 2:
+        out.append(p2 if p2 is not None else np.zeros_like(s))
+    return out
+
+
+class PowerTable:
+    """Per Bezier piece, the power coefficients of the (homogeneous) piece in the centred
+    local variables s in [-1, 1] per direction; points and partials up to order 2 by
+    nested Horner with 1-D gathers (the patch-table design of the engine's B-spline
+    surfaces), in cache-sized chunks. Rational pieces by the quotient rule (Piegl &
+    Tiller eq. 4.8, 4.20)."""
+
+    CHUNK = 1 << 14
+
+    def __init__(self, pieces):
+        self.k, self.dim = pieces.k, pieces.dim
+        self.degrees = pieces.degrees
+        self.rational = pieces.weights is not None
+        hom = np.asarray(pieces.homogeneous, dtype=np.float64)           # (m, p+1[, q+1], D)
+        self.D = hom.shape[-1]
+        for a, p in enumerate(self.degrees):
+            hom = np.moveaxis(np.tensordot(_bernstein_to_power(p), hom, axes=([1], [1 + a])), 0, 1 + a)
+        m = hom.shape[0]
+        # rows ((a * (q+1) + b) * D + d), columns the pieces: take() on contiguous rows
+        self.table = np.ascontiguousarray(hom.reshape(m, -1).T)
+        self.breaks = [np.asarray(b, dtype=np.float64) for b in pieces.breaks]
+        self.shape = tuple(len(b) - 1 for b in self.breaks)
+        self.mid = [0.5 * (b[1:] + b[:-1]) for b in self.breaks]
+        self.inv_half = [2.0 / (b[1:] - b[:-1]) for b in self.breaks]
+        self.uniform = []
+        for b in self.breaks:
+            w = b[-1] - b[0]
+            self.uniform.append(bool(np.allclose(np.diff(b), w / (len(b) - 1), rtol=1e-13, atol=0.0)))
+
+    def _local(self, x: np.ndarray):
+        """Flat piece index and local variables s (one array per direction)."""
+        idx = None
+        s = []
+        for a, b in enumerate(self.breaks):
+            t = x[:, a]
+            n = len(b) - 1
+            if self.uniform[a]:
+                j = ((t - b[0]) * (n / (b[-1] - b[0]))).astype(np.intp)
+                np.clip(j, 0, n - 1, out=j)
+            else:
+                j = np.clip(np.searchsorted(b, t, side="right") - 1, 0, n - 1)
+            s.append((t - self.mid[a].take(j)) * self.inv_half[a].take(j))
+            idx = j if idx is None else idx * n + j
+        return idx, s
+
+    def evaluate(self, x: np.ndarray, order: int):
+        """As Projector.evaluate: S (n, dim), and for order >= 1 J (n, dim, k), for order 2
+        the second partials (n, dim, k, k)."""
+        x = np.asarray(x, dtype=np.float64).reshape(-1, self.k)
+        n, k, dim = len(x), self.k, self.dim
+        # component-first storage (contiguous rows per partial and coordinate); the
+        # returned arrays are transposed views with the usual (n, dim[, k, k]) shapes
+        S = np.empty((dim, n))
+        J = np.empty((k, dim, n)) if order >= 1 else None
+        H = np.empty((k, k, dim, n)) if order >= 2 else None
+        for c0 in range(0, n, self.CHUNK):
+            sl = slice(c0, min(n, c0 + self.CHUNK))
+            parts = self._chunk(x[sl], order)
+            self._store(parts, S, J, H, sl, order)
+        if order == 0:
+            return S.T
+        return (S.T, J.T) if order == 1 else (S.T, J.T, H.T)
+
+    def _chunk(self, x, order):
+        """Per homogeneous coordinate, the partials in the object's parameters: curves
+        [C, C', C''], surfaces [S, Su, Sv, Suu, Suv, Svv] (as far as ``order``)."""
+        idx, s = self._local(x)
+        T, D = self.table, self.D
+        out = []
+        if self.k == 1:
+            ih = self.inv_half[0].take(idx)
+            p = self.degrees[0]
+            for d in range(D):
+                r = _horner([T[a * D + d].take(idx) for a in range(p + 1)], s[0], order)
+                if order >= 1:
+                    r[1] = r[1] * ih
+                if order >= 2:
+                    r[2] = 2.0 * r[2] * ih * ih
+                out.append(r)
+            return out
+        p, q = self.degrees
+        nv = self.shape[1]
+        ihu, ihv = self.inv_half[0].take(idx // nv), self.inv_half[1].take(idx % nv)
+        su, sv = s
+        for d in range(D):
+            Q = [_horner([T[(a * (q + 1) + b) * D + d].take(idx) for b in range(q + 1)], sv, order)
+                 for a in range(p + 1)]
+            r0 = _horner([Qa[0] for Qa in Q], su, order)
+            if order == 0:
+                out.append(r0)
+                continue
+            r1 = _horner([Qa[1] for Qa in Q], su, order - 1)
+            res = [r0[0], r0[1] * ihu, r1[0] * ihv]
+            if order >= 2:
+                r2 = _horner([Qa[2] for Qa in Q], su, 0)
+                res += [2.0 * r0[2] * ihu * ihu, r1[1] * (ihu * ihv), 2.0 * r2[0] * ihv * ihv]
+            out.append(res)
+        return out
+
+    def _store(self, parts, S, J, H, sl, order):
+        k, dim = self.k, self.dim
+        if self.rational:
+            w = parts[-1]
+            iw = 1.0 / w[0]
+            cart = []
+            for d in range(dim):
+                A = parts[d]
+                c = [A[0] * iw]
+                if k == 1:
+                    if order >= 1:
+                        c.append((A[1] - w[1] * c[0]) * iw)
+                    if order >= 2:
+                        c.append((A[2] - 2.0 * w[1] * c[1] - w[2] * c[0]) * iw)
+                else:
+                    if order >= 1:
+                        c.append((A[1] - w[1] * c[0]) * iw)
+                        c.append((A[2] - w[2] * c[0]) * iw)
+                    if order >= 2:
+                        c.append((A[3] - 2.0 * w[1] * c[1] - w[3] * c[0]) * iw)
+                        c.append((A[4] - w[1] * c[2] - w[2] * c[1] - w[4] * c[0]) * iw)
+                        c.append((A[5] - 2.0 * w[2] * c[2] - w[5] * c[0]) * iw)
+                cart.append(c)
+            parts = cart
+        for d in range(dim):
+            c = parts[d]
+            S[d, sl] = c[0]
+            if order >= 1:
+                for a in range(k):
+                    J[a, d, sl] = c[1 + a]
+            if order >= 2:
+                if k == 1:
+                    H[0, 0, d, sl] = c[2]
+                else:
+                    H[0, 0, d, sl] = c[3]
+                    H[0, 1, d, sl] = c[4]
+                    H[1, 0, d, sl] = c[4]
+                    H[1, 1, d, sl] = c[5]

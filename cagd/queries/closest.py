@@ -7,12 +7,14 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
    hull sphere (centre c_k, radius r_k), so |S - X| >= |X - c_k| - r_k on the cell;
 2. a voxel grid of cell centres gives every point its nearby cells; the nearest cell
    midpoint seeds a projected Newton iteration on g (clamped to the domain, wrapped
-   in periodic directions);
+   in periodic directions), evaluated from per-piece power-form tables by nested Horner;
 3. branch and bound certifies the result: every cell whose sphere bound is below the
    distance found gets a second-order bound
    g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2, with m a lower bound of the
    Hessian 2 (J^T J + (S - X).d2S) over the cell from the hodograph bounds; cells that
-   may still hold a closer point are refined by box-constrained Newton and split.
+   may still hold a closer point are refined by box-constrained Newton and split. The
+   first round bounds, per point, the parameter box spanned by its nearby cells at once
+   (expanded at x* itself, no evaluation); only points it does not settle go cell by cell.
 
 The minimum of all bounds is ``lower_bounds``: no point of the object is closer than
 it, so ``distances - lower_bounds`` tells how sure the answer is.
@@ -30,7 +32,7 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from .bounds import BezierPieces, bezier_pieces
 from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, pair_distances as _distances, \
-    projected_newton, split_boxes as _split
+    PowerTable, projected_newton, split_boxes as _split
 
 __all__ = ["ClosestPoints", "Projector", "closest_point"]
 
@@ -73,6 +75,9 @@ class Projector:
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
         per = max(2, int(np.ceil((target / m) ** (1.0 / k))))
         self.cells: BezierPieces = self.pieces.subdivided(per)
+        # power-form table for evaluation (the Bernstein path above degree 7, where the
+        # power basis loses accuracy)
+        self._power = PowerTable(self.pieces) if max(self.pieces.degrees) <= 7 else None
         self.k, self.dim = k, self.pieces.dim
         self.domain = self.pieces.domain
         self.width = self.domain[:, 1] - self.domain[:, 0]
@@ -89,6 +94,10 @@ class Projector:
         d = self.cells.derivatives(idx, self.mids, 1)
         self.mid_points = self._lead(d)
         self.mid_jacobians = d[1][:, :, None] if self.k == 1 else np.stack([d[1, 0], d[0, 1]], axis=2)
+        # spheres centred at the cell midpoints' images (convex hull inside): the distance
+        # to the midpoint gives both the seed and the sphere bound
+        Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
+        self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + 1e-12)
         P = self.pieces.control_points.reshape(-1, self.dim)
         self.size = max(float(np.ptp(P, axis=0).max()), 1e-300)
         self._build_grid()
@@ -99,6 +108,8 @@ class Projector:
 
     def evaluate(self, x: np.ndarray, order: int):
         """S, J (n, dim, k) and, for order 2, the second partials (n, dim, k, k) at x (n, k)."""
+        if self._power is not None:
+            return self._power.evaluate(x, order)
         d = self.pieces.derivatives(self.pieces.locate(x), x, order)
         if self.k == 1:
             S, J = d[0], d[1][:, :, None]
@@ -110,16 +121,19 @@ class Projector:
         return S, J, H
 
     def value(self, x: np.ndarray) -> np.ndarray:
+        if self._power is not None:
+            return self._power.evaluate(x, 0)
         return self._lead(self.pieces.derivatives(self.pieces.locate(x), x, 0))
 
     # --- voxel grid of cell centres ----------------------------------------------------------
     def _build_grid(self) -> None:
         """Voxels of side V = median cell radius; voxel Z lists every cell whose sphere
-        comes within T = 3 V of Z. A point in Z with a cell midpoint closer than T therefore sees
+        comes within T = 2 V of Z (points farther than T from every midpoint take the
+        brute-force path). A point in Z with a cell midpoint closer than T therefore sees
         every cell that could hold a point closer than that: the rest are >= T away."""
         r = self.radii
         typical = float(np.median(r))
-        self.T = 3.0 * typical + 1e-12 * self.size
+        self.T = 2.0 * typical + 1e-12 * self.size
         V = max(typical, 1e-9 * self.size)
         origin = self.centers.min(axis=0) - self.T - r.max()
         extent = self.centers.max(axis=0) + self.T + r.max() - origin
@@ -190,7 +204,10 @@ class Projector:
             fp, fc, fU, fs, frest = self._brute(X[far])
             U0[far], seed[far], rest[far] = fU, fs, frest
             pid, cell = np.concatenate([pid, far[fp]]), np.concatenate([cell, fc])
-        lb = _distances(X, pid, self.centers, cell) - self.radii[cell]
+        if far.size:
+            lb = _distances(X, pid, self.centers, cell) - self.radii[cell]
+        else:
+            lb = dm[keep] - self.mid_radii[cell]
         keep = lb < U0[pid]
         np.minimum.at(rest, pid[~keep], lb[~keep])
         return seed, U0, pid[keep], cell[keep], lb[keep], rest
@@ -220,7 +237,7 @@ class Projector:
         N = len(X)
         seed, U0, pid, cell, lb_s, LB = self.candidates(X)
         dom_lo, dom_hi = np.broadcast_to(self.domain[:, 0], (N, self.k)), np.broadcast_to(self.domain[:, 1], (N, self.k))
-        x, d2, conv, (Sx, Jx, Hx) = projected_newton(self, X, np.arange(N), self._start(X, seed), dom_lo, dom_hi,
+        x, d2, conv, (Sx, Jx, Hx, xe) = projected_newton(self, X, np.arange(N), self._start(X, seed), dom_lo, dom_hi,
                                                      self.wrap, max_iterations, tol)
         d = np.sqrt(d2)
         # branch and bound over (point, box) pairs; first round: boxes near x* are bounded
@@ -230,12 +247,26 @@ class Projector:
         keep = lb_s < d[pid] - gap[pid]
         np.minimum.at(LB, pid[~keep], lb_s[~keep])
         pid, cell = pid[keep], cell[keep]
-        lo, hi = self.lo[cell], self.hi[cell]
-        home = self.cells.locate(x)
+        home = self.cells.locate(xe)
         near = np.all(np.abs(self.coords[cell] - self.coords[home[pid]]) <= _BLOCK, axis=1)
+        # one bound per point over the parameter box spanned by its near cells; the
+        # points it closes drop those pairs, the others bound them cell by cell
+        u, ulo, uhi = _union_boxes(pid[near], self.lo[cell[near]], self.hi[cell[near]])
+        if len(u):
+            h = home[u]
+            lu = box_lower_bound(X[u], ulo, uhi, xe[u], Sx[u], Jx[u], Hx[u],
+                                 self.block[0][h], self.block[1][h], self.block[2][h])
+            lu = np.sqrt(np.maximum(lu, 0.0))
+            closed = lu >= d[u] - gap[u]
+            LB[u[closed]] = np.minimum(LB[u[closed]], lu[closed])
+            shut = np.zeros(N, dtype=bool)
+            shut[u[closed]] = True
+            keep = ~(near & shut[pid])
+            pid, cell, near = pid[keep], cell[keep], near[keep]
+        lo, hi = self.lo[cell], self.hi[cell]
         lb = np.empty(len(pid))
         i, h = np.flatnonzero(near), home[pid[near]]
-        lb[i] = box_lower_bound(X[pid[i]], lo[i], hi[i], x[pid[i]], Sx[pid[i]], Jx[pid[i]], Hx[pid[i]],
+        lb[i] = box_lower_bound(X[pid[i]], lo[i], hi[i], xe[pid[i]], Sx[pid[i]], Jx[pid[i]], Hx[pid[i]],
                                 self.block[0][h], self.block[1][h], self.block[2][h])
         i = np.flatnonzero(~near)
         lb[i] = self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i]))
@@ -343,6 +374,18 @@ class Projector:
             x = np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
         params = x[:, 0].copy() if self.k == 1 else x
         return ClosestPoints(params, feet, d, conv.astype(bool), lower)
+
+
+def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+    """Per distinct pid, the box spanning the boxes [lo, hi] of its pairs:
+    (points, lower corners, upper corners)."""
+    if not len(pid):
+        return pid, lo, hi
+    if np.any(pid[1:] < pid[:-1]):
+        order = np.argsort(pid, kind="stable")
+        pid, lo, hi = pid[order], lo[order], hi[order]
+    first = np.flatnonzero(np.r_[True, pid[1:] != pid[:-1]])
+    return pid[first], np.minimum.reduceat(lo, first, axis=0), np.maximum.reduceat(hi, first, axis=0)
 
 
 def _tolerance(tol) -> float:

@@ -343,3 +343,30 @@ def test_bad_input(points, kwargs, message):
 def test_not_a_curve_or_surface():
     with pytest.raises(CagdError, match="obj"):
         closest_point(np.zeros((3, 3)), [[0.0, 0.0, 0.0]])
+
+
+# --- the power-form evaluator against the Bernstein form ---------------------------------------
+@pytest.mark.parametrize("rational", [False, True])
+def test_power_table_matches_the_bernstein_partials(rational):
+    from cagd.queries._local import PowerTable
+    from cagd.queries.bounds import bezier_pieces
+    rng = np.random.default_rng(14)
+    W = rng.uniform(0.5, 2.0, (7, 6)) if rational else None
+    s = cagd.BSplineSurface(rng.uniform(-1, 1, (7, 6, 3)), 3, 2, weights=W)
+    c = cagd.BSplineCurve(rng.uniform(-1, 1, (8, 2)), 4, weights=None if not rational else rng.uniform(0.5, 2, 8))
+    for obj in (s, c):
+        pieces = bezier_pieces(obj)
+        table = PowerTable(pieces)
+        k = pieces.k
+        x = np.stack([rng.uniform(*pieces.domain[a], 500) for a in range(k)], axis=1)
+        d = pieces.derivatives(pieces.locate(x), x, 2)
+        if k == 1:
+            ref = (d[0], d[1][:, :, None], d[2][:, :, None, None])
+        else:
+            ref = (d[0, 0], np.stack([d[1, 0], d[0, 1]], 2),
+                   np.stack([np.stack([d[2, 0], d[1, 1]], 2), np.stack([d[1, 1], d[0, 2]], 2)], 3))
+        for order in (0, 1, 2):
+            got = table.evaluate(x, order)
+            got = (got,) if order == 0 else got
+            for g, r in zip(got, ref):
+                np.testing.assert_allclose(g, r, atol=1e-11 * np.abs(r).max())
