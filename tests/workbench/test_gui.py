@@ -12,14 +12,16 @@ import pytest
 from wb_runner import ADDON, output_dir, need, report, run_group
 
 TIMEOUT = 240
-STEPS = 11                    # the macro's step count
+STEPS = 13                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
     "Cagd_BezierSurface": 5000, "Cagd_BSplineSurface": 5000, "Cagd_BezierTriangle": 5000,
     "Cagd_CoonsPatch": 5000, "Cagd_Revolution": 5000, "Cagd_ContinuityCheck": 200,
-    "Cagd_ToggleComb": 200, "Cagd_ToggleControlNet": 200,
+    "Cagd_ToggleComb": 200, "Cagd_ToggleControlNet": 200, "Cagd_IntersectionCurve": 200,
+    "Cagd_DeviationMap": 1000,
 }
+COLOURED = {"Cagd_DeviationMap": 1000}    # step -> minimum number of coloured (non-grey) model pixels
 
 
 def model_pixels(shown, hidden):
@@ -28,6 +30,15 @@ def model_pixels(shown, hidden):
     a, b = image.imread(shown)[..., :3], image.imread(hidden)[..., :3]
     assert a.shape == b.shape and a.shape[0] > 100 and a.shape[1] > 100, f"{shown}: image size {a.shape}"
     return int((np.abs(a - b).max(axis=-1) > 0.1).sum())
+
+
+def coloured_pixels(shown, hidden):
+    """Model pixels (see model_pixels) that are clearly coloured: chroma (max - min
+    channel) above 0.35, where the render without the object is grey (chroma < 0.1)."""
+    image = pytest.importorskip("matplotlib.image")
+    a, b = image.imread(shown)[..., :3], image.imread(hidden)[..., :3]
+    chroma_a, chroma_b = np.ptp(a, axis=-1), np.ptp(b, axis=-1)
+    return int(((np.abs(a - b).max(axis=-1) > 0.1) & (chroma_a > 0.35) & (chroma_b < 0.1)).sum())
 
 
 def test_gui_commands_and_screenshots(freecad_env):
@@ -55,4 +66,8 @@ def test_gui_commands_and_screenshots(freecad_env):
     print(f"  screenshots in {out}")
     low = {k: v for k, v in counts.items() if v < SCREENSHOTS[k]}
     assert not low, f"screenshots without the model: {low}"
+    coloured = {name: coloured_pixels(out / f"{name}.png", out / f"{name}-hidden.png") for name in COLOURED}
+    print("  coloured model pixels: " + ", ".join(f"{k} {v}" for k, v in coloured.items()))
+    pale = {k: v for k, v in coloured.items() if v < COLOURED[k]}
+    assert not pale, f"deviation map without its coloured points: {pale}"
     assert os.path.getsize(out / "macro.log") > 0

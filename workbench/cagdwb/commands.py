@@ -1,7 +1,9 @@
 """GUI commands of the CAGD workbench. Creation commands use the selection when it
 fits (vertices or point objects -> curve poles/points; four edges -> Coons patch;
 one edge -> revolution; two edges -> join) and otherwise make an editable example
-object; the continuity check measures two selected edges or faces."""
+object; the continuity check measures two selected edges or faces; the query
+commands make the intersection curve of two selected faces and the deviation map of
+a selected Points object (or a CSV file) against selected faces."""
 from __future__ import annotations
 
 from typing import Callable, List, Tuple
@@ -9,7 +11,7 @@ from typing import Callable, List, Tuple
 import FreeCAD as App
 import FreeCADGui as Gui
 
-from . import analysis, curves, icon, surfaces
+from . import analysis, curves, icon, inspection, surfaces
 from .conversion import cagd
 
 Link = Tuple[object, str]
@@ -167,6 +169,50 @@ class JoinCommand(Command):
         _finish(curves.make_join(edges[0], edges[1]))       # hides Source (when a single curve)
 
 
+class IntersectionCommand(Command):
+    NAME, MENU, ICON = "Cagd_IntersectionCurve", "Intersection curve", "IntersectionCurve"
+    TIP = "Parametric intersection curve of two selected faces (updates when they change or move)"
+
+    def run(self) -> None:
+        faces = selected_faces()
+        if len(faces) != 2:
+            return _error(f"Intersection curve: select exactly two faces (got {len(faces)})")
+        obj = inspection.make_intersection(faces[0], faces[1])
+        _finish(obj)
+        if obj.isValid() and obj.Message != "ok" and Gui.getMainWindow() is not None:
+            Gui.getMainWindow().statusBar().showMessage(obj.Message, 8000)    # e.g. no intersection
+
+
+def selected_clouds() -> list:
+    """The selected Points objects (Points::Feature), in selection order."""
+    return [s.Object for s in Gui.Selection.getSelectionEx() if s.Object.isDerivedFrom("Points::Feature")]
+
+
+def ask_csv_file() -> str:
+    """A CSV file of points picked in a file dialog ('' when cancelled)."""
+    from .qt import QtWidgets
+    path, _ = QtWidgets.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Points for the deviation map", "",
+                                                    "Point files (*.csv *.txt *.xyz);;All files (*)")
+    return path or ""
+
+
+class DeviationCommand(Command):
+    NAME, MENU, ICON = "Cagd_DeviationMap", "Deviation map", "DeviationMap"
+    TIP = ("Signed deviations of a point cloud from the selected faces, shown as coloured points: select "
+           "faces and a Points object, or only faces and pick a CSV file")
+
+    def run(self) -> None:
+        faces, clouds = selected_faces(), selected_clouds()
+        if not faces:
+            return _error("Deviation map: select one or more faces (and a Points object, or pick a CSV file)")
+        if len(clouds) > 1:
+            return _error(f"Deviation map: select one Points object (got {len(clouds)})")
+        csv = "" if clouds else ask_csv_file()
+        if not clouds and not csv:
+            return _error("Deviation map: no points (select a Points object or pick a CSV file)")
+        _finish(inspection.make_deviation_map(faces, clouds[0] if clouds else None, csv))
+
+
 class ContinuityCommand(Command):
     NAME, MENU, ICON = "Cagd_ContinuityCheck", "Check continuity", "Continuity"
     TIP = "Measure C0/C1/C2/G1/G2 between two selected edges, or C0/G1/C1 between two faces"
@@ -260,7 +306,7 @@ SURFACES = [
                                   "BezierTriangle", surfaces.make_bezier_triangle),
     RevolutionCommand(),
 ]
-TOOLS = [ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand()]
+TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand()]
 
 
 def register() -> List[List[str]]:

@@ -22,6 +22,7 @@ ICONS = {
     "Cagd::HermiteCurve": "HermiteCurve", "Cagd::JoinCurve": "Join", "Cagd::BezierSurface": "BezierSurface",
     "Cagd::BSplineSurface": "BSplineSurface", "Cagd::CoonsPatch": "CoonsPatch",
     "Cagd::BezierTriangle": "BezierTriangle", "Cagd::Revolution": "Revolution",
+    "Cagd::IntersectionCurve": "IntersectionCurve", "Cagd::DeviationMap": "DeviationMap",
 }
 COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples
 NET_COLOR = (0.85, 0.2, 0.1)
@@ -151,7 +152,144 @@ class ViewProvider(Stateless):
 
 def attach(obj) -> None:
     """Give a workbench object its view provider (GUI only)."""
-    from . import curves
+    from . import curves, inspection
     is_curve = isinstance(obj.Proxy, (curves.BezierCurve, curves.BSplineCurve, curves.InterpolationCurve,
-                                      curves.CubicSpline, curves.HermiteCurve, curves.JoinCurve))
+                                      curves.CubicSpline, curves.HermiteCurve, curves.JoinCurve,
+                                      inspection.IntersectionCurve))
     ViewProvider(obj.ViewObject, is_curve)
+    if isinstance(obj.Proxy, inspection.IntersectionCurve):
+        obj.ViewObject.ShowControlNet = False        # fitted branches: many poles, not a design net
+        obj.ViewObject.LineWidth = 3.0
+        obj.ViewObject.LineColor = (0.9, 0.1, 0.1)
+
+
+# --- deviation map ------------------------------------------------------------------------------
+LEGEND_STEPS = 32
+
+
+class DeviationViewProvider(Stateless):
+    """The deviation map's points coloured by signed distance (blue - green - red from
+    -range to +range, ``ColorRange`` 0 = the largest |distance|), per-vertex colours
+    (SoMaterial + SoMaterialBinding PER_VERTEX on an SoPointSet, unlit), and a legend
+    beside the cloud: a colour bar with the range and zero labelled."""
+
+    def __init__(self, vobj):
+        vobj.addProperty("App::PropertyFloat", "PointSize", "CAGD", "Point size in pixels")
+        vobj.addProperty("App::PropertyFloat", "ColorRange", "CAGD",
+                         "Distances mapped to the ends of the colour scale (mm); 0 = largest |distance|")
+        vobj.addProperty("App::PropertyBool", "ShowLegend", "CAGD", "Show the colour bar")
+        vobj.PointSize, vobj.ShowLegend = 5.0, True
+        vobj.Proxy = self
+        if getattr(self, "root", None) is None:
+            self.attach(vobj)
+
+    def attach(self, vobj) -> None:
+        if getattr(self, "root", None) is not None:
+            return
+        self.vobj = vobj
+        self.root = coin.SoSeparator()
+        vobj.addDisplayMode(self.root, "Deviation")
+        self.refresh()
+
+    def getDisplayModes(self, vobj) -> list:
+        return ["Deviation"]
+
+    def getDefaultDisplayMode(self) -> str:
+        return "Deviation"
+
+    def setDisplayMode(self, mode: str) -> str:
+        return mode
+
+    def limit(self) -> float:
+        obj = self.vobj.Object
+        value = float(getattr(self.vobj, "ColorRange", 0.0) or 0.0)
+        return value if value > 0.0 else max(float(obj.MaxAbs), 1e-12)
+
+    def refresh(self) -> None:
+        """Rebuild the points and the legend from the object's Coordinates and Distances."""
+        root = getattr(self, "root", None)
+        if root is None:
+            return
+        root.removeAllChildren()
+        obj = self.vobj.Object
+        pts, dist = obj.Coordinates, obj.Distances
+        if not pts or len(pts) != len(dist):
+            return
+        from .inspection import colormap
+        limit = self.limit()
+        flat = [(p.x, p.y, p.z) for p in pts]
+        colors = [tuple(map(float, c)) for c in colormap(dist, limit)]
+        pick = coin.SoPickStyle()
+        pick.style = coin.SoPickStyle.UNPICKABLE
+        light = coin.SoLightModel()
+        light.model = coin.SoLightModel.BASE_COLOR
+        style = coin.SoDrawStyle()
+        style.pointSize = float(getattr(self.vobj, "PointSize", 5.0) or 5.0)
+        coords = coin.SoCoordinate3()
+        coords.point.setValues(0, len(flat), flat)
+        material = coin.SoMaterial()
+        material.diffuseColor.setValues(0, len(colors), colors)
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_VERTEX
+        cloud = coin.SoPointSet()
+        cloud.numPoints = len(flat)
+        for node in (pick, light, style, coords, material, binding, cloud):
+            root.addChild(node)
+        if getattr(self.vobj, "ShowLegend", True):
+            root.addChild(self.legend(flat, limit))
+
+    @staticmethod
+    def legend(flat, limit: float) -> coin.SoSeparator:
+        """A vertical colour bar right of the cloud's bounding box (height: half its
+        diagonal), labelled +range, 0 and -range (mm)."""
+        import numpy as np
+        from .inspection import colormap
+        P = np.array(flat)
+        lo, hi = P.min(axis=0), P.max(axis=0)
+        size = max(float(np.linalg.norm(hi - lo)), 1e-9)
+        x0, y0, z0 = hi[0] + 0.12 * size, 0.5 * (lo[1] + hi[1]), lo[2]
+        width, height = 0.05 * size, 0.5 * size
+        values = np.linspace(-limit, limit, LEGEND_STEPS + 1)
+        zs = z0 + height * np.linspace(0.0, 1.0, LEGEND_STEPS + 1)
+        sep = coin.SoSeparator()
+        coords = coin.SoCoordinate3()
+        corners = [(x0 + width * i, y0, float(z)) for z in zs for i in (0, 1)]
+        coords.point.setValues(0, len(corners), corners)
+        material = coin.SoMaterial()
+        colors = [tuple(map(float, c)) for c in colormap(values, limit) for _ in (0, 1)]
+        material.diffuseColor.setValues(0, len(colors), colors)
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_VERTEX
+        mesh = coin.SoQuadMesh()
+        mesh.verticesPerRow = 2
+        mesh.verticesPerColumn = LEGEND_STEPS + 1
+        for node in (coords, material, binding, mesh):
+            sep.addChild(node)
+        for value, z in ((limit, zs[-1]), (0.0, 0.5 * (zs[0] + zs[-1])), (-limit, zs[0])):
+            label = coin.SoSeparator()
+            move = coin.SoTranslation()
+            move.translation = (x0 + 1.5 * width, y0, float(z))
+            color = coin.SoBaseColor()
+            color.rgb = (0.1, 0.1, 0.1)
+            text = coin.SoText2()
+            text.string = f"{value:+.3g} mm" if value else "0"
+            for node in (move, color, text):
+                label.addChild(node)
+            sep.addChild(label)
+        return sep
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop in ("Coordinates", "Distances", "MaxAbs"):
+            self.refresh()
+
+    def onChanged(self, vobj, prop: str) -> None:
+        if prop in ("PointSize", "ColorRange", "ShowLegend"):
+            self.refresh()
+
+    def getIcon(self) -> str:
+        return icon("DeviationMap")
+
+    def claimChildren(self) -> list:
+        obj = getattr(self, "vobj", None) and self.vobj.Object
+        proxy = getattr(obj, "Proxy", None)
+        return proxy.claimed(obj) if hasattr(proxy, "claimed") else []

@@ -284,6 +284,90 @@ def task_panel_edits():
 
 
 @step
+def intersection_of_two_faces():
+    import Part
+    doc = App.ActiveDocument
+    cyl = doc.addObject("Part::Cylinder", "Cyl")
+    cyl.Radius, cyl.Height = 5.0, 20.0
+    cyl.Placement = App.Placement(V(80, 0, 0), App.Rotation())
+    plane = doc.addObject("Part::Feature", "Tilted")
+    shape = Part.makePlane(30.0, 30.0, V(65, -15, 0))
+    shape.rotate(V(80, 0, 0), V(1, 0, 0), 30)
+    shape.translate(V(0, 0, 10))
+    plane.Shape = shape
+    doc.recompute()
+    face = next(f"Face{k + 1}" for k, f in enumerate(cyl.Shape.Faces) if "Cylinder" in f.Surface.TypeId)
+    objs = run_command("Cagd_IntersectionCurve", [(cyl, face), (plane, "Face1")])
+    check(len(objs) == 1, f"created {len(objs)} objects")
+    obj = objs[0]
+    check(obj.isValid() and obj.Message == "ok", obj.Message)
+    check(obj.BranchCount == 1 and obj.ClosedBranches == 1 and obj.AchievedTolerance <= obj.Tolerance,
+          f"{obj.BranchCount} branches, achieved {obj.AchievedTolerance}")
+    check(obj.ViewObject.Proxy.claimChildren() == [] and cyl.ViewObject.Visibility, "inputs claimed or hidden")
+    render("Cagd_IntersectionCurve", [cyl, plane, obj], [obj])
+    cyl.ViewObject.Visibility = plane.ViewObject.Visibility = True
+    plane.Placement = App.Placement(V(0, 0, 5), App.Rotation()).multiply(plane.Placement)
+    doc.recompute()
+    normal = V(0, -0.5, 3 ** 0.5 / 2)                     # the plane now passes through (80, 0, 15)
+    edge = obj.Shape.Edges[0]
+    off = max(abs((edge.valueAt(t) - V(80, 0, 15)).dot(normal)) for t in
+              [edge.FirstParameter + k * (edge.LastParameter - edge.FirstParameter) / 40 for k in range(41)])
+    check(obj.isValid() and off < 1e-6, f"curve did not follow the plane: {obj.Message}, off it by {off:.3g}")
+    log(f"intersection: {obj.BranchCount} branch, achieved tolerance {obj.AchievedTolerance:.3g}")
+
+
+@step
+def deviation_map_of_points():
+    import numpy as np
+    import Points
+    from cagdwb import commands
+    doc = App.ActiveDocument
+    sphere = doc.addObject("Part::Sphere", "Ball")
+    sphere.Radius = 10.0
+    sphere.Placement = App.Placement(V(0, 80, 0), App.Rotation())
+    rng = np.random.default_rng(2)
+    dirs = rng.normal(size=(600, 3))
+    dirs /= np.linalg.norm(dirs, axis=1)[:, None]
+    offsets = rng.uniform(-0.8, 1.2, len(dirs))
+    X = np.array([0.0, 80.0, 0.0]) + dirs * (10.0 + offsets)[:, None]
+    cloud = doc.addObject("Points::Feature", "Scan")
+    kernel = Points.Points()
+    kernel.addPoints([V(*p) for p in X])
+    cloud.Points = kernel
+    doc.recompute()
+    objs = run_command("Cagd_DeviationMap", [(sphere, "Face1"), (cloud, "")])
+    check(len(objs) == 1, f"created {len(objs)} objects")
+    obj = objs[0]
+    check(obj.isValid() and obj.Message == "ok", obj.Message)
+    stored = np.array([tuple(p) for p in cloud.Points.Points])
+    d = np.linalg.norm(stored - np.array([0.0, 80.0, 0.0]), axis=1) - 10.0
+    check(obj.Count == len(X) and abs(obj.MaxAbs - np.abs(d).max()) < 1e-9 and abs(obj.RMS - np.sqrt(np.mean(d * d)))
+          < 1e-9, f"statistics: max|d| {obj.MaxAbs} vs {np.abs(d).max()}")
+    check(obj.ViewObject.Proxy.claimChildren() == [cloud] and not cloud.ViewObject.Visibility, "cloud not claimed")
+    check(obj.ViewObject.DisplayMode == "Deviation", f"display mode {obj.ViewObject.DisplayMode}")
+    render("Cagd_DeviationMap", [sphere, obj], [obj])
+    # faces alone: the command asks for a CSV file (dialog replaced here); cancelled -> nothing
+    path = os.path.join(OUT, "scan.csv")
+    np.savetxt(path, X, delimiter=",", fmt="%.17g")
+    asked = []
+    original = commands.ask_csv_file
+    try:
+        commands.ask_csv_file = lambda: asked.append(1) or ""
+        check(run_command("Cagd_DeviationMap", [(sphere, "Face1")]) == [], "cancelled CSV made an object")
+        commands.ask_csv_file = lambda: asked.append(2) or path
+        objs = run_command("Cagd_DeviationMap", [(sphere, "Face1")])
+    finally:
+        commands.ask_csv_file = original
+    check(asked == [1, 2] and len(objs) == 1, f"CSV not asked for: {asked}, {len(objs)} objects")
+    obj = objs[0]
+    d = np.linalg.norm(X - np.array([0.0, 80.0, 0.0]), axis=1) - 10.0
+    check(obj.isValid() and obj.CsvFile == path and abs(obj.Max - d.max()) < 1e-9 and abs(obj.Min - d.min()) < 1e-9,
+          f"CSV deviation map: {obj.Message}, max {obj.Max} vs {d.max()}")
+    obj.ViewObject.Visibility = False
+    log(f"deviation map: {obj.Count} points, max {obj.Max:.6g}, min {obj.Min:.6g}, RMS {obj.RMS:.6g}")
+
+
+@step
 def bad_value_keeps_gui_alive():
     obj = STATE["Cagd_BSplineSurface"]
     obj.DegreeU = 9

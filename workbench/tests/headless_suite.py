@@ -8,7 +8,8 @@ properties, feeds bad values (error state, empty shape, message), moves linked
 inputs, exports to STEP and IGES and compares the re-imported geometry. The last
 line of output is ``CAGD_WB_RESULT {json}`` with passed/failed counts, the failing
 names and the largest deviations measured. Cases: conversion and analysis here,
-the objects in suite_objects.py, helpers in suite_support.py.
+the objects in suite_objects.py, the query objects
+(intersection curve, deviation map) in suite_queries.py, helpers in suite_support.py.
 """
 import json
 import math
@@ -191,6 +192,7 @@ def test_seam_crossing_edges_and_faces():
 
 
 import suite_objects  # noqa: E402,F401  (registers the object cases, in this order)
+import suite_queries  # noqa: E402,F401  (intersection curve and deviation map cases)
 
 
 # --- analysis -------------------------------------------------------------------------------
