@@ -9,8 +9,8 @@ from .closest import ClosestPoints, Projector, closest_point
 from .deviation import Deviation, deviation, deviation_map
 from .distance import DistanceResult, min_distance
 from .intersect import IntersectionPoint, IntersectionResult, Overlap, Plane, intersect, plane, self_intersections
-from .intersect_surfaces import IntersectionCurve
+from .intersect_surfaces import IntersectionCurve, SurfaceOverlap
 
 __all__ = ["closest_point", "ClosestPoints", "Projector", "min_distance", "DistanceResult", "intersect",
-           "self_intersections", "plane", "Plane", "IntersectionResult", "IntersectionPoint", "Overlap", "IntersectionCurve",
+           "self_intersections", "plane", "Plane", "IntersectionResult", "IntersectionPoint", "Overlap", "IntersectionCurve", "SurfaceOverlap",
            "deviation", "deviation_map", "Deviation", "bezier_pieces", "BezierPieces"]

@@ -13,14 +13,17 @@ from . import _subdivision as sd
 
 class Overlap(NamedTuple):
     """Coincident pieces: ``param_a`` = (s0, s1) on a with s0 < s1, ``param_b`` the
-    parameters on b matching s0 and s1 (decreasing when the directions are opposite)."""
+    parameters on b matching s0 and s1 (decreasing when the directions are opposite).
+    For a curve lying in a surface, ``param_b`` holds the surface's (u, v) arrays at
+    s0 and s1 (with the curve given second, the two fields are swapped)."""
     param_a: Tuple[float, float]
     param_b: Tuple[object, object]
 
 
 def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
     """Pairs whose a-piece lies on B or whose b-piece lies on A (5 samples within tol).
-    Returns the hit mask and fragments (s0, s1, t0, t1) (curve pieces only)."""
+    Returns the hit mask and fragments (s0, s1, y0, y1) (curve pieces; y0, y1 the
+    k_B parameters on B matching s0, s1)."""
     M = len(pa.ctrl)
     fr = np.linspace(0.0, 1.0, 5)
     hits = np.zeros(M, bool)
@@ -40,8 +43,10 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
             if H.k == 1:
                 t0, t1 = y[ok, 0, 0], y[ok, -1, 0]
                 rows.append(np.stack([t0, t1, s0, s1] if swap else [s0, s1, t0, t1], axis=1))
+            elif not swap:                               # a curve piece lying in a surface
+                rows.append(np.concatenate([s0[:, None], s1[:, None], y[ok, 0], y[ok, -1]], axis=1))
         hits |= ok
-    return hits, (np.concatenate(rows) if rows else np.empty((0, 4)))
+    return hits, (np.concatenate(rows) if rows else np.empty((0, 2 + 2 * B.k)))
 
 
 def inside_overlap(A, B, overlaps, x, y) -> bool:
@@ -54,49 +59,65 @@ def inside_overlap(A, B, overlaps, x, y) -> bool:
 
 
 def merge_overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
-    """Merge coincident fragments (s0, s1, t0, t1) into maximal intervals and move each
-    end out to where the distance to the other curve exceeds tol (bisection)."""
+    """Merge coincident fragments (s0, s1, y0, y1) into maximal intervals and move each
+    end out to where the distance to the other object exceeds tol (bisection)."""
     if not frags:
         return []
+    kb = B.k
     F = np.concatenate(frags)
     flip = F[:, 0] > F[:, 1]
-    F[flip] = F[flip][:, [1, 0, 3, 2]]
+    F[flip] = F[flip][:, [1, 0] + list(range(2 + kb, 2 + 2 * kb)) + list(range(2, 2 + kb))]
     F = F[np.argsort(F[:, 0])]
     ea, eb = 1e-9 * (A.hi[0] - A.lo[0]), 1e-9 * (B.hi[0] - B.lo[0])
     groups = []
     for f in F:
         for g in groups:
-            blo, bhi = min(g[2], g[3]), max(g[2], g[3])
-            if f[0] <= g[1] + ea and min(f[2], f[3]) <= bhi + eb and max(f[2], f[3]) >= blo - eb:
+            if kb == 1:
+                blo, bhi = min(g[2], g[3]), max(g[2], g[3])
+                same = f[0] <= g[1] + ea and min(f[2], f[3]) <= bhi + eb and max(f[2], f[3]) >= blo - eb
+            else:                     # a curve in a surface: one interval of the curve
+                same = f[0] <= g[1] + ea
+            if same:
                 if f[1] > g[1]:
-                    g[1], g[3] = f[1], f[3]
+                    g[1], g[2 + kb:] = f[1], f[2 + kb:]
                 break
         else:
             groups.append(list(f))
     out = []
-    for s0, s1, t0, t1 in groups:
+    for g in groups:
+        s0, s1 = g[0], g[1]
+        t0, t1 = np.array(g[2:2 + kb]), np.array(g[2 + kb:])
         h = 0.25 * (s1 - s0)
         s0, t0 = _edge(A, B, s0, t0, -1.0, h, tol, self_mode)
         s1, t1 = _edge(A, B, s1, t1, 1.0, h, tol, self_mode)
         s0, t0 = _snap(A, B, s0, t0)
         s1, t1 = _snap(A, B, s1, t1)
-        if self_mode and t0 < s0:
+        if kb == 2:
+            if out and s0 <= out[-1].param_a[1] + ea:      # grown into the previous one
+                if s1 > out[-1].param_a[1]:
+                    out[-1] = Overlap((out[-1].param_a[0], float(s1)), (out[-1].param_b[0], B.user_params(t1[None])[0]))
+                continue
+            u0, u1 = B.user_params(np.array([t0, t1]))
+            out.append(Overlap((float(s0), float(s1)), (u0, u1)))
+            continue
+        if self_mode and t0[0] < s0:
             continue                  # the same overlap seen from its other side
-        out.append(Overlap((float(s0), float(s1)), (float(t0), float(t1))))
+        out.append(Overlap((float(s0), float(s1)), (float(t0[0]), float(t1[0]))))
     return out
 
 
 def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, self_mode: bool):
     """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
-    still lies within tol of B: march by h, then 60 bisections."""
+    still lies within tol of B: march by steps h, 2h, 4h, ..., then 60 bisections."""
     lim = A.hi[0] if sign > 0 else A.lo[0]
 
     def on(s, t):
-        y, d = sd.project_onto(B, A.points(np.array([[s]])), np.array([[t]]))
+        y, d = sd.project_onto(B, A.points(np.array([[s]])), np.asarray(t, float).reshape(1, -1))
         good = d[0] <= tol and not (self_mode and abs(y[0, 0] - s) <= 1e-7 * (A.hi[0] - A.lo[0]))
-        return good, float(y[0, 0])
+        return good, y[0]
 
     s_out = None
+    t_in = np.asarray(t_in, float)
     for _ in range(16):
         if s_in == lim:
             return s_in, t_in
@@ -106,6 +127,7 @@ def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, sel
             s_out = s_try
             break
         s_in, t_in = s_try, t_try
+        h *= 2.0                      # a small fragment may grow to the whole curve
     if s_out is None:
         return s_in, t_in
     for _ in range(60):
@@ -120,15 +142,16 @@ def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, sel
     return s_in, t_in
 
 
-def _snap(A, B, s: float, t: float) -> Tuple[float, float]:
-    """An overlap end within 1e-6 of a domain end of B (of A) is put on that end, its
-    partner by projection: the bisection alone stops where the distance reaches tol."""
-    for end in (B.lo[0], B.hi[0]):
-        if abs(t - end) <= 1e-6 * (B.hi[0] - B.lo[0]):
+def _snap(A, B, s: float, t: np.ndarray) -> Tuple[float, np.ndarray]:
+    """An overlap end within 1e-6 of a domain end of B (curves) or of A is put on that
+    end, its partner by projection: the bisection alone stops where the distance
+    reaches tol."""
+    for end in ((B.lo[0], B.hi[0]) if B.k == 1 else ()):
+        if abs(t[0] - end) <= 1e-6 * (B.hi[0] - B.lo[0]):
             x, _ = sd.project_onto(A, B.points(np.array([[end]])), np.array([[s]]))
-            return float(x[0, 0]), float(end)
+            return float(x[0, 0]), np.array([end])
     for end in (A.lo[0], A.hi[0]):
         if abs(s - end) <= 1e-6 * (A.hi[0] - A.lo[0]):
-            y, _ = sd.project_onto(B, A.points(np.array([[end]])), np.array([[t]]))
-            return float(end), float(y[0, 0])
+            y, _ = sd.project_onto(B, A.points(np.array([[end]])), t.reshape(1, -1))
+            return float(end), y[0]
     return s, t

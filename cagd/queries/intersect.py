@@ -150,7 +150,8 @@ def self_intersections(curve, tol: float = 1e-9, **kwargs) -> IntersectionResult
 
 def _swapped(res: IntersectionResult) -> IntersectionResult:
     pts = [IntersectionPoint(p.param_b, p.param_a, p.point, p.tangential, p.residual) for p in res.points]
-    return IntersectionResult(pts, res.overlaps, res.curves, res.tol, res.converged, res.message)
+    ovs = [Overlap(o.param_b, o.param_a) for o in res.overlaps]
+    return IntersectionResult(pts, ovs, res.curves, res.tol, res.converged, res.message)
 
 
 def _plane_geometry(pl: Plane, A: sd.Geometry) -> sd.Geometry:
@@ -212,6 +213,7 @@ def _run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float,
     curve_surface = Bg.k == 2
     seeds: List[Tuple[np.ndarray, np.ndarray]] = []
     frags: List[np.ndarray] = []
+    known: List[Overlap] = []
     open_pairs = 0
     for depth in range(max_depth + 1):
         if len(kind) == 0:
@@ -240,8 +242,17 @@ def _run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float,
             hit, rows = coincident(A, Bg, pa.take(test), pb.take(test), tol, self_mode)
             if len(rows):
                 frags.append(rows)
+                if curve_surface:     # grow the overlap now: pieces inside it are settled
+                    known = merge_overlaps(A, Bg, frags, tol, self_mode)
             done[np.flatnonzero(test)[hit]] = False
             live[np.flatnonzero(test)[hit]] = False
+        if known:
+            margin = 1e-9 * (A.hi[0] - A.lo[0])
+            inside = np.zeros(len(live), bool)
+            for ov in known:
+                inside |= (pa.lo[:, 0] >= ov.param_a[0] - margin) & (pa.hi[:, 0] <= ov.param_a[1] + margin)
+            done &= ~inside
+            live &= ~inside
         last = depth == max_depth or np.count_nonzero(live & ~done) * (2 + 2 * Bg.k) > max_pairs
         if last:
             open_pairs = int(np.count_nonzero(live & ~done & (kind == 0)))

@@ -31,22 +31,33 @@ surface–plane x = (u, v), F = n.(A(u, v) - o) (the signed distance, 1 equation
    projection seeded by the parameter curves); points are added at corrected
    midpoints until it is within ``tol`` (at most a few rounds; otherwise reported).
 
+5. Coincident pieces (a surface lying on the other, or in the plane) are found during
+   the seed subdivision by projecting samples (:mod:`cagd.queries._surface_overlaps`)
+   and reported as :class:`SurfaceOverlap` parameter boxes in ``overlaps``.
+6. Collapsed edges (poles, apexes): branch ends meeting there in 3-D with opposite
+   tangents are joined; the 3-D curve counts the point once (chord-length parameters)
+   and the parameter curves run along the collapsed edge (:mod:`._branch_fit`).
+
 Parameter curves of closed (periodic or seam) directions live in the covering space:
-reduce them modulo the period to evaluate the surface.
+reduce them modulo the period to evaluate the surface
+(:meth:`IntersectionCurve.surface_params`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
 from ..errors import CagdError
 from . import _subdivision as sd
+from . import _surface_overlaps as so
+from ._branch_fit import degenerate as _degenerate, fit as _fit
 from ._marching import Marcher, segments_distance
+from ._surface_overlaps import SurfaceOverlap
 from ._surface_system import System, newton, unit
 
-__all__ = ["IntersectionCurve", "surface_plane", "surface_surface"]
+__all__ = ["IntersectionCurve", "SurfaceOverlap", "surface_plane", "surface_surface"]
 
 _SEED_FRACTION = 1.0 / 16      # leaves of the seed subdivision: at most this fraction of the model size
 _REL_FLAT = 2e-2
@@ -63,7 +74,14 @@ class IntersectionCurve:
     params_tolerance: the largest |A(params_a(t)) - curve(t)|, |B(params_b(t)) - curve(t)|
     at the same samples; converged: the march and the fit met their bounds (both
     tolerances <= tol); ends: how each end stopped ('boundary',
-    'singular', 'closed', 'stalled', 'limit')."""
+    'singular', 'closed', 'stalled', 'limit').
+
+    params_a and params_b live in the covering space of closed directions: after
+    crossing a seam (periodic or closed u or v) their values run on past the domain
+    (e.g. v = 1.3 on a domain [0, 1] means v = 0.3); use :meth:`surface_params` for
+    parameters reduced into the domains. Through a collapsed edge (a pole, an apex) the
+    parameter curves run along the edge on a parameter interval of width <= 0.1 tol /
+    length, where the 3-D curve is within 0.1 tol of the degenerate point."""
     curve: object
     params_a: object
     params_b: object
@@ -72,6 +90,24 @@ class IntersectionCurve:
     params_tolerance: float = 0.0
     converged: bool = True
     ends: Tuple[str, str] = ("closed", "closed")
+    domains: Tuple[object, object] = (None, None)
+
+    def surface_params(self, t) -> Tuple[np.ndarray, Optional[np.ndarray]]:
+        """(uv on a (N, 2), st on b (N, 2) or None for a plane) at curve parameters t,
+        reduced into the surfaces' domains: u -> u0 + (u - u0) mod (u1 - u0) in closed
+        directions, clipped to the domain otherwise."""
+        t = np.atleast_1d(np.asarray(t, float))
+        out = []
+        for pc, dom in zip((self.params_a, self.params_b), self.domains):
+            if pc is None:
+                out.append(None)
+                continue
+            x = pc(t)
+            if dom is not None:
+                lo, hi, closed = dom
+                x = np.where(closed, lo + np.mod(x - lo, hi - lo), np.clip(x, lo, hi))
+            out.append(x)
+        return out[0], out[1]
 
 
 # --- seeds -------------------------------------------------------------------------------
@@ -79,16 +115,30 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
     Ka, Kb = len(A.pieces.ctrl), len(B.pieces.ctrl)
     i, j = np.repeat(np.arange(Ka), Kb), np.tile(np.arange(Kb), Ka)
     pa, pb = A.pieces.take(i), B.pieces.take(j)
-    leaf = _SEED_FRACTION * max(A.size, B.size)
+    size = max(A.size, B.size)
+    leaf = _SEED_FRACTION * size
     seeds, complete = [], True
+    cov = ([], [], [], [])            # covered boxes of a, their params on b; the same for b
     for _ in range(40):
         if len(pa.ctrl) == 0:
             break
         lo_a, hi_a = sd.boxes(pa.ctrl)
         lo_b, hi_b = sd.boxes(pb.ctrl)
         live = sd.box_gap(lo_a, hi_a, lo_b, hi_b) <= tol
+        live &= ~so.covered(pa.lo, pa.hi, cov[0]) & ~so.covered(pb.lo, pb.hi, cov[2])
         dev_a, ext_a = sd.flatness(pa.ctrl)
         dev_b, ext_b = sd.flatness(pb.ctrl)
+        # coincident pieces: nearly parallel, flat-ish, too large for a tangency to fake it
+        sine = np.linalg.norm(np.cross(_normal(pa.ctrl), _normal(pb.ctrl)), axis=1)
+        test = np.flatnonzero(live & (sine < 0.05) & (dev_a <= 0.05 * ext_a) & (dev_b <= 0.05 * ext_b)
+                              & (np.minimum(ext_a, ext_b) >= 100 * np.sqrt(tol * size)))
+        if test.size:
+            for P, Q, G, H, k in ((pa, pb, A, B, 0), (pb, pa, B, A, 2)):
+                hit, mid = so.lying_on(G, H, None, P.lo[test], P.hi[test], 0.5 * (Q.lo + Q.hi)[test], tol)
+                if hit.any():
+                    cov[k].append(np.concatenate([P.lo[test][hit], P.hi[test][hit]], axis=1))
+                    cov[k + 1].append(mid[hit])
+            live &= ~so.covered(pa.lo, pa.hi, cov[0]) & ~so.covered(pb.lo, pb.hi, cov[2])
         da = np.linalg.norm(hi_a - lo_a, axis=1)
         db = np.linalg.norm(hi_b - lo_b, axis=1)
         done = live & (dev_a <= _REL_FLAT * ext_a + tol) & (dev_b <= _REL_FLAT * ext_b + tol) \
@@ -104,7 +154,17 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
             break
         pa, pb = pa.take(go), pb.take(go)
         pa, pb, _ = sd.split_pairs(pa, pb, da[go] >= 0.5 * db[go], db[go] >= 0.5 * da[go])
-    return (np.concatenate(seeds) if seeds else np.empty((0, 4))), complete
+    if cov[0]:
+        regions = so.regions(A, B, None, cov[0], cov[1], tol)
+    else:
+        regions = so.regions(B, A, None, cov[2], cov[3], tol, swap=True)
+    return (np.concatenate(seeds) if seeds else np.empty((0, 4))), complete, regions
+
+
+def _normal(ctrl):
+    """Unit normal of patches from their corner control points."""
+    P = sd.project(ctrl)
+    return unit(np.cross(P[:, -1, -1] - P[:, 0, 0], P[:, 0, -1] - P[:, -1, 0]))
 
 
 def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):
@@ -112,12 +172,17 @@ def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):
     p = A.pieces
     leaf = _SEED_FRACTION * A.size
     seeds, complete = [], True
+    cov = []
     for _ in range(40):
         if len(p.ctrl) == 0:
             break
         P = sd.project(p.ctrl).reshape(len(p.ctrl), -1, 3)
         d = (P - o) @ nrm
         live = (d.min(axis=1) <= tol) & (d.max(axis=1) >= -tol)
+        inplane = live & (np.abs(d).max(axis=1) <= tol)       # convex hull: the piece lies in the plane
+        if inplane.any():
+            cov.append(np.concatenate([p.lo[inplane], p.hi[inplane]], axis=1))
+            live &= ~inplane
         dev, ext = sd.flatness(p.ctrl)
         diag = np.linalg.norm(P.max(axis=1) - P.min(axis=1), axis=1)
         done = live & (dev <= _REL_FLAT * ext + tol) & (diag <= leaf)
@@ -130,13 +195,19 @@ def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):
         if go.size == 0:
             break
         p = sd.split(p.take(go))[0]
-    return (np.concatenate(seeds) if seeds else np.empty((0, 2))), complete
+    regions = so.regions(A, None, pl, cov, [], tol)
+    return (np.concatenate(seeds) if seeds else np.empty((0, 2))), complete, regions
 
 
 # --- driver ------------------------------------------------------------------------------
-def _trace(S: System, seeds: np.ndarray, tol: float):
+def _trace(S: System, seeds: np.ndarray, tol: float, regions=()):
     M = Marcher(S, tol)
     x, ok = newton(S, seeds, None, None, M.ftol, iters=30)
+    if regions:                       # roots inside a coincident region are part of the overlap
+        xw = S.wrap(x)
+        ok &= ~so.inside(xw[:, :2], regions, S.A.lo, S.A.hi, 0)
+        if S.B is not None:
+            ok &= ~so.inside(xw[:, 2:], regions, S.B.lo, S.B.hi, 1)
     x = x[ok]
     P = S.eval(x)[2] if len(x) else np.empty((0, 3))
     alive = np.ones(len(x), bool)
@@ -201,10 +272,9 @@ def _join(S: System, branches, tol):
         changed = False
         ends = []
         for bi, (xs, e, P) in enumerate(items):
-            if e[0] == "singular" and len(P) >= 2:
-                ends.append((bi, 0, P[0], unit(P[1] - P[0])))
-            if e[1] == "singular" and len(P) >= 2:
-                ends.append((bi, 1, P[-1], unit(P[-2] - P[-1])))
+            for side, k, k1 in ((0, 0, 1), (1, -1, -2)):
+                if len(P) >= 2 and (e[side] == "singular" or (e[side] == "boundary" and _degenerate(S, xs[k]))):
+                    ends.append((bi, side, P[k], unit(P[k1] - P[k])))
         best = None
         for i in range(len(ends)):
             for j in range(i + 1, len(ends)):
@@ -218,10 +288,12 @@ def _join(S: System, branches, tol):
         if best is None:
             break
         _, a, b = best
+        jump = _degenerate(S, items[a[0]][0][-1 if a[1] else 0])    # a collapsed edge: keep both params
         if a[0] == b[0]:                                   # one branch closes through the crossing
             xs, e, P = items[a[0]]
             xs = xs.copy()
-            xs[-1] = xs[-2] + S.wrapdiff(xs[0] - xs[-2])
+            if not jump:
+                xs[-1] = xs[-2] + S.wrapdiff(xs[0] - xs[-2])
             P = P.copy()
             P[-1] = P[0]
             items[a[0]] = [xs, ["closed", "closed"], P]
@@ -235,86 +307,17 @@ def _join(S: System, branches, tol):
                 xb, Pb, eb = xb[::-1], Pb[::-1], eb[::-1]
             shift = xa[-1] + S.wrapdiff(xb[0] - xa[-1]) - xb[0]
             xb = xb + shift
-            xs = np.concatenate([xa, xb[1:]])
-            P = np.concatenate([Pa, Pb[1:]])
+            k = 0 if jump else 1          # at a collapsed edge the branch runs along it: one 3-D point, two params
+            xs = np.concatenate([xa, xb[k:]])
+            P = np.concatenate([Pa, Pb[k:]])
             items = [it for k, it in enumerate(items) if k not in (ia, ib)] + [[xs, [ea[0], eb[1]], P]]
         changed = True
     return items
 
 
-def _thin(xs, P):
-    """Drop points closer than a quarter of the next segment to the previous kept one."""
-    keep = [0]
-    seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
-    for i in range(1, len(P) - 1):
-        d = np.linalg.norm(P[i] - P[keep[-1]])
-        if d >= 0.25 * max(seg[i], 1e-300):
-            keep.append(i)
-    last = len(P) - 1
-    if len(keep) > 1 and np.linalg.norm(P[last] - P[keep[-1]]) < 0.25 * np.linalg.norm(P[keep[-1]] - P[keep[-2]]):
-        keep.pop()
-    keep.append(last)
-    return xs[keep], P[keep]
-
-
-def _fit(S: System, xs, P, closed, tol, rounds=10):
-    """Cubic interpolation of the branch points and of their parameters (chord-length
-    parameters); midpoints (corrected onto the branch) are inserted in segments whose
-    samples are off either surface or whose parameter curves are off the 3-D curve
-    by more than tol. Returns (curve, params_a, params_b, tolerance, params_tolerance)."""
-    from ..fitting.interpolation import interpolate
-    for r in range(rounds + 1):
-        xs, P = _thin(xs, P)
-        if closed:
-            P[-1] = P[0]
-        chord = np.linalg.norm(np.diff(P, axis=0), axis=1)
-        t = np.concatenate([[0.0], np.cumsum(chord)])
-        t = t / max(t[-1], 1e-300)
-        deg = min(3, len(P) - 1)
-        curve = interpolate(P, deg, t)
-        pa = interpolate(xs[:, :2], deg, t)
-        pb = interpolate(xs[:, 2:], deg, t) if S.n == 4 else None
-        q = (np.arange(1, 8) / 8.0)
-        ts = (t[:-1, None] + q[None] * np.diff(t)[:, None])
-        d_s, d_p = _distances(S, curve, pa, pb, ts.ravel())
-        d_s, d_p = d_s.reshape(ts.shape).max(axis=1), d_p.reshape(ts.shape).max(axis=1)
-        e_s, e_p = _distances(S, curve, pa, pb, t)
-        worst = max(float(d_s.max()) if d_s.size else 0.0, float(e_s.max()))
-        worst_p = max(float(d_p.max()) if d_p.size else 0.0, float(e_p.max()))
-        if (worst <= tol and worst_p <= tol) or r == rounds:
-            return curve, pa, pb, worst, worst_p
-        bad = np.flatnonzero(np.maximum(d_s, d_p) > 0.5 * tol)
-        mid = 0.5 * (xs[bad] + xs[bad + 1])
-        d = xs[bad + 1] - xs[bad]
-        y, ok = newton(S, mid, d, np.einsum("nk,nk->n", d, mid), max(1e-3 * tol, 1e-14 * S.size))
-        y, bad = y[ok], bad[ok]
-        if len(y) == 0:
-            return curve, pa, pb, worst, worst_p
-        xs = np.insert(xs, bad + 1, y, axis=0)
-        P = S.eval(xs)[2]
-
-
-def _distances(S: System, curve, pa, pb, t):
-    """Distance of curve(t) from both surfaces (Newton projection seeded by the parameter
-    curves) and of the parameter curves' images from curve(t)."""
-    C = curve(t)
-    ua = S.wrap(np.concatenate([pa(t), np.zeros((len(t), S.n - 2))], axis=1))[:, :2]
-    ua = np.clip(ua, S.A.lo, S.A.hi)
-    _, dA = sd.project_onto(S.A, C, ua)
-    dpa = np.linalg.norm(S._partials(0, ua)[0] - C, axis=1)
-    if S.B is None:
-        o, nrm = S.pl
-        return np.maximum(dA, np.abs((C - o) @ nrm)), dpa
-    ub = S.wrap(np.concatenate([np.zeros((len(t), 2)), pb(t)], axis=1))[:, 2:]
-    ub = np.clip(ub, S.B.lo, S.B.hi)
-    _, dB = sd.project_onto(S.B, C, ub)
-    dpb = np.linalg.norm(S._partials(1, ub)[0] - C, axis=1)
-    return np.maximum(dA, dB), np.maximum(dpa, dpb)
-
-
-def _solve(S: System, seeds, complete, tol, angle_tol):
+def _solve(S: System, seeds, complete, tol, angle_tol, regions=()):
     from .intersect import IntersectionPoint, IntersectionResult
-    branches, isolated, problems, _ = _trace(S, seeds, tol)
+    branches, isolated, problems, _ = _trace(S, seeds, tol, regions)
     items = _join(S, branches, tol)
     curves = []
     messages = []
@@ -322,7 +325,9 @@ def _solve(S: System, seeds, complete, tol, angle_tol):
         closed = ends[0] == "closed"
         curve, pa, pb, worst, worst_p = _fit(S, xs, P, closed, tol)
         ok = max(worst, worst_p) <= tol and not any(e in ("stalled", "limit") for e in ends)
-        curves.append(IntersectionCurve(curve, pa, pb, closed, worst, worst_p, ok, tuple(ends)))
+        doms = [(S.lo[k:k + 2], S.hi[k:k + 2], S.per[k:k + 2]) for k in range(0, S.n, 2)]
+        curves.append(IntersectionCurve(curve, pa, pb, closed, worst, worst_p, ok, tuple(ends),
+                                        (doms[0], doms[1] if S.n == 4 else None)))
         if max(worst, worst_p) > tol:
             messages.append(f"a branch was fitted within {max(worst, worst_p):.2e} > tol")
     points = []
@@ -337,7 +342,7 @@ def _solve(S: System, seeds, complete, tol, angle_tol):
     if not complete:
         messages.append("seed subdivision hit max_pairs")
     converged = not messages
-    return IntersectionResult(points, [], curves, tol, converged, "; ".join(messages))
+    return IntersectionResult(points, list(regions), curves, tol, converged, "; ".join(messages))
 
 
 def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
@@ -348,8 +353,8 @@ def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 
         raise CagdError("a, b: surface_surface needs two surfaces")
     if A.dim != 3 or B.dim != 3:
         raise CagdError(f"a, b: surface intersection needs 3-D surfaces, got {A.dim}-D and {B.dim}-D")
-    seeds, complete = _seeds_pair(A, B, tol, max_pairs)
-    return _solve(System(A, B), seeds, complete, tol, angle_tol)
+    seeds, complete, regions = _seeds_pair(A, B, tol, max_pairs)
+    return _solve(System(A, B), seeds, complete, tol, angle_tol, regions)
 
 
 def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
@@ -361,5 +366,5 @@ def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 2
     if A.dim != 3:
         raise CagdError(f"a: a plane lives in 3-D, the surface is {A.dim}-D")
     o, nrm = np.asarray(pl.origin, float), np.asarray(pl.normal, float)
-    seeds, complete = _seeds_plane(A, (o, nrm), tol, max_pairs)
-    return _solve(System(A, None, (o, nrm)), seeds, complete, tol, angle_tol)
+    seeds, complete, regions = _seeds_plane(A, (o, nrm), tol, max_pairs)
+    return _solve(System(A, None, (o, nrm)), seeds, complete, tol, angle_tol, regions)

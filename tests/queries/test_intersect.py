@@ -230,3 +230,38 @@ def test_every_occt_curve_surface_point_is_found(seed):
         assert len(mine) and np.linalg.norm(mine - p, axis=1).min() <= 1e-7, (p, mine)
     for p in ours.points:
         assert np.linalg.norm(c(p.param_a) - s(*p.param_b)) <= 1e-9
+
+
+# --- curves lying in surfaces: one overlap, not thousands of points -----------------------------
+@pytest.mark.parametrize("z0, z1, s0, s1", [(-1.0, 1.0, 0.0, 1.0), (-3.0, 3.0, 1 / 6, 5 / 6)])
+def test_line_on_a_cylinder_ruling_is_an_overlap(z0, z1, s0, s1):
+    from cagd import cylinder
+    cyl = cylinder(1.0, 4.0, (0, 0, -2))                     # x^2 + y^2 = 1, -2 <= z <= 2
+    d = np.array([np.cos(0.4), np.sin(0.4)])
+    res = intersect(BezierCurve([[*d, z0], [*d, z1]]), cyl, tol=1e-9)
+    assert res.converged and res.points == [] and len(res.overlaps) == 1
+    ov = res.overlaps[0]
+    assert np.allclose(ov.param_a, (s0, s1), atol=1e-8)
+    line = BezierCurve([[*d, z0], [*d, z1]])
+    for s, uv in zip(ov.param_a, ov.param_b):               # the surface parameters of the ends
+        assert np.linalg.norm(cyl(*uv) - line(s)) <= 1e-8
+    # swapped arguments: the fields swap
+    sw = intersect(cyl, line, tol=1e-9).overlaps[0]
+    assert np.allclose(sw.param_b, ov.param_a)
+
+
+@pytest.mark.parametrize("direction, value", [("u", 0.37), ("v", 0.5), ("v", 0.0)])
+def test_isocurve_lies_in_its_surface(direction, value):
+    rng = np.random.default_rng(0)
+    net = rng.random((5, 6, 3))
+    net[..., 0] += np.arange(5)[:, None]
+    net[..., 1] += np.arange(6)[None]
+    S = BSplineSurface(net, 3, 3)
+    iso = S.isocurve(direction, value)
+    res = intersect(iso, S, tol=1e-9)
+    assert res.converged and res.points == [] and len(res.overlaps) == 1
+    ov = res.overlaps[0]
+    assert np.allclose(ov.param_a, iso.domain, atol=1e-12)
+    fixed = 1 if direction == "u" else 0
+    for s, uv in zip(ov.param_a, ov.param_b):
+        assert abs(uv[fixed] - value) <= 1e-9 and np.linalg.norm(S(*uv) - iso(s)) <= 1e-9

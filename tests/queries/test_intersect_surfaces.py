@@ -186,3 +186,87 @@ def test_every_occt_intersection_curve_is_found(seed):
         P = samples(br, 301)
         assert closest_point(a, P).distances.max() <= TOL
         assert closest_point(b, P).distances.max() <= TOL
+
+
+# --- coincident surfaces, degenerate points, seams ---------------------------------------------
+def test_overlapping_halves_of_one_surface_are_one_overlap():
+    rng = np.random.default_rng(0)
+    net = rng.random((5, 6, 3))
+    net[..., 0] += np.arange(5)[:, None]
+    net[..., 1] += np.arange(6)[None]
+    S = cagd.BSplineSurface(net, 3, 3)
+    A, B = S.segment("u", 0.0, 0.6), S.segment("u", 0.4, 1.0)         # share S on 0.4 <= u <= 0.6
+    res = intersect(A, B, tol=TOL)
+    assert res.converged and res.points == [] and res.curves == [] and len(res.overlaps) == 1
+    ov = res.overlaps[0]
+    for box in (ov.box_a, ov.box_b):
+        assert np.allclose(box, ((0.4, 0.6), (0.0, 1.0)), atol=1e-6)
+    same = intersect(S, S, tol=TOL)
+    assert same.converged and same.points == [] and len(same.overlaps) == 1
+    assert np.allclose(same.overlaps[0].box_a, ((0, 1), (0, 1))) and np.allclose(same.overlaps[0].box_b, ((0, 1), (0, 1)))
+
+
+def test_planar_surface_in_the_plane_is_an_overlap():
+    g = np.stack(list(np.meshgrid(np.linspace(0, 1, 3), np.linspace(0, 2, 3), indexing="ij")) + [np.zeros((3, 3))], -1)
+    g[1, 1, :2] += 0.1
+    res = intersect(cagd.BSplineSurface(g, 2, 2), plane([0, 0, 0], [0, 0, 1]), tol=TOL)
+    assert res.converged and res.curves == [] and res.points == []
+    assert len(res.overlaps) == 1 and np.allclose(res.overlaps[0].box_a, ((0, 1), (0, 1))) and res.overlaps[0].box_b is None
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.3, 1.2, 2.5])
+def test_great_circle_through_both_poles_is_one_closed_branch(angle):
+    R = 1.5
+    n = np.array([np.cos(angle), np.sin(angle), 0.0])
+    res = intersect(cagd.sphere(R), plane([0, 0, 0], n), tol=TOL)
+    assert res.converged, res.message
+    assert len(res.curves) == 1
+    br = res.curves[0]
+    assert br.closed and br.tolerance <= TOL and br.params_tolerance <= TOL
+    P = samples(br, 4001)
+    # the reported tolerance comes from samples: denser ones may find a little more
+    assert np.abs(np.linalg.norm(P, axis=1) - R).max() <= min(TOL, 1.1 * br.tolerance) and np.abs(P @ n).max() <= TOL
+    assert abs(np.linalg.norm(np.diff(P, axis=0), axis=1).sum() - 2 * np.pi * R) <= 1e-5 * R
+    for pole in ([0, 0, R], [0, 0, -R]):                    # it passes through both poles
+        assert closest_point(br.curve, pole).distances[0] <= 1e-6
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.5, 1.0])
+def test_cone_cut_through_its_apex_is_two_lines(angle):
+    cone = cagd.cone(1.0, 2.0)                               # apex (0, 0, 2), base circle z = 0
+    n = np.array([np.cos(angle), np.sin(angle), 0.0])
+    res = intersect(cone, plane([0, 0, 2], n), tol=TOL)
+    assert res.converged, res.message
+    assert len(res.curves) == 2
+    d = np.cross([0, 0, 1.0], n)
+    ends = []
+    for br in res.curves:
+        assert not br.closed and br.tolerance <= TOL
+        P = samples(br, 201)
+        e = P[-1] - P[0]
+        off = P - P[0] - np.outer((P - P[0]) @ e / (e @ e), e)
+        assert np.linalg.norm(off, axis=1).max() <= TOL                # a straight line
+        ends.append(sorted([tuple(np.round(P[0], 6)), tuple(np.round(P[-1], 6))], key=lambda q: q[2]))
+    apex = {e[1] for e in ends}
+    assert apex == {(0.0, 0.0, 2.0)}
+    base = np.array([e[0] for e in ends])
+    assert np.allclose(sorted(base @ d), [-1, 1], atol=1e-6) and np.allclose(base[:, 2], 0, atol=1e-9)
+
+
+def test_torus_section_crossing_both_seams_surface_params():
+    R, r = 3.0, 1.0
+    a = np.arcsin(r / R)
+    n = np.array([np.sin(a), 0.0, -np.cos(a)])
+    tor = cagd.torus(R, r)
+    res = intersect(tor, plane([0, 0, 0], n), tol=TOL)
+    (u0, u1), (v0, v1) = tor.domain
+    raw_out = False
+    for br in res.curves:
+        t = np.linspace(*br.curve.domain, 501)
+        raw = br.params_a(t)
+        raw_out |= bool(np.any((raw < [u0, v0]) | (raw > [u1, v1])))
+        uv, none = br.surface_params(t)
+        assert none is None
+        assert np.all((uv >= [u0, v0]) & (uv <= [u1, v1]))
+        assert np.linalg.norm(tor(uv[:, 0], uv[:, 1]) - br.curve(t), axis=1).max() <= br.params_tolerance * 1.01
+    assert raw_out            # the covering-space parameters do run past a seam

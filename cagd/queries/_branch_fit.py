@@ -1,0 +1,147 @@
+"""Fitting one marched intersection branch (private, for
+:mod:`cagd.queries.intersect_surfaces`): cubic interpolation with chord-length
+parameters (Piegl & Tiller 9.2.1) of the 3-D points and of their parameters, with
+corrected midpoints inserted until both are within tol; points whose 3-D images
+coincide but whose parameters differ (a run along a collapsed edge: a pole, an apex)
+count once in 3-D, and the parameter curves run along the edge there."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _subdivision as sd
+from ._surface_system import System, newton
+
+
+def degenerate(S: System, x) -> bool:
+    """x lies where a surface's parametrization collapses (a pole, an apex, a
+    triangle's collapsed corner): a first partial vanishes there."""
+    xw = S.wrap(np.asarray(x, float)[None])
+    for k, g in enumerate((S.A, S.B)[:S.n // 2]):
+        d = S._partials(k, xw[:, 2 * k:2 * k + 2])[1][0]
+        if np.linalg.norm(d, axis=1).min() <= 1e-8 * g.size:
+            return True
+    return False
+
+
+def _runs(S: System, xs, P, tol):
+    """Index ranges [a, b) of the points between parameter jumps (consecutive points
+    with one 3-D image but different parameters: a run along a collapsed edge)."""
+    gap = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    jump = np.abs(S.wrapdiff(np.diff(xs, axis=0))) / S.span
+    cut = np.flatnonzero((gap <= 1e-3 * tol + 1e-13 * S.size) & (jump.max(axis=1) >= 1e-7)) + 1
+    b = np.concatenate([[0], cut, [len(P)]])
+    return list(zip(b[:-1], b[1:]))
+
+
+def _piecewise(runs_t, runs_x):
+    """One C0 cubic B-spline through the runs: each run interpolated (chord-length
+    parameters given), consecutive runs joined by straight segments (along the
+    collapsed edge) on the short parameter gaps between them."""
+    from ..curves.bspline import BSplineCurve
+    from ..fitting.interpolation import interpolate
+    pieces = []
+    for i, (t, x) in enumerate(zip(runs_t, runs_x)):
+        if i:
+            pieces.append(BSplineCurve(np.array([runs_x[i - 1][-1], x[0]]), 1, [runs_t[i - 1][-1]] * 2 + [t[0]] * 2))
+        if len(t) >= 2:
+            pieces.append(interpolate(x, min(3, len(t) - 1), t) if len(t) > 2 else
+                          BSplineCurve(x, 1, [t[0], t[0], t[1], t[1]]))
+    pieces = [c.elevate(3 - c.degree) if c.degree < 3 else c for c in pieces]
+    ctrl, knots = [pieces[0].control_points], list(pieces[0].knots[:-1])
+    for c in pieces[1:]:
+        ctrl.append(c.control_points[1:])
+        knots += list(c.knots[4:-1])
+    knots.append(pieces[-1].knots[-1])
+    return BSplineCurve(np.concatenate(ctrl), 3, np.array(knots))
+
+
+def _thin(xs, P):
+    """Drop points closer than a quarter of the next segment to the previous kept one."""
+    keep = [0]
+    seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    for i in range(1, len(P) - 1):
+        d = np.linalg.norm(P[i] - P[keep[-1]])
+        if d >= 0.25 * max(seg[i], 1e-300):
+            keep.append(i)
+    last = len(P) - 1
+    if len(keep) > 1 and np.linalg.norm(P[last] - P[keep[-1]]) < 0.25 * np.linalg.norm(P[keep[-1]] - P[keep[-2]]):
+        keep.pop()
+    keep.append(last)
+    return xs[keep], P[keep]
+
+
+def fit(S: System, xs, P, closed, tol, rounds=10):
+    """Cubic interpolation of the branch points and of their parameters (chord-length
+    parameters); midpoints (corrected onto the branch) are inserted in segments whose
+    samples are off either surface or whose parameter curves are off the 3-D curve
+    by more than tol. Returns (curve, params_a, params_b, tolerance, params_tolerance)."""
+    from ..fitting.interpolation import interpolate
+    for r in range(rounds + 1):
+        runs = _runs(S, xs, P, tol)
+        parts = [_thin(xs[a:b], P[a:b]) for a, b in runs]
+        xs = np.concatenate([q[0] for q in parts])
+        P = np.concatenate([q[1] for q in parts])
+        if closed:
+            P[-1] = P[0]
+        starts = np.cumsum([0] + [len(q[1]) for q in parts])[1:-1]      # second point of each jump
+        keep = np.setdiff1d(np.arange(len(P)), starts)                 # one 3-D point per jump
+        chord = np.linalg.norm(np.diff(P[keep], axis=0), axis=1)
+        t = np.concatenate([[0.0], np.cumsum(chord)])
+        L = max(t[-1], 1e-300)
+        t = t / L
+        deg = min(3, len(keep) - 1)
+        curve = interpolate(P[keep], deg, t)
+        if len(parts) == 1:
+            pa = interpolate(xs[:, :2], deg, t)
+            pb = interpolate(xs[:, 2:], deg, t) if S.n == 4 else None
+            seg = np.arange(len(P) - 1)
+        else:                 # the parameter curves run along the collapsed edge on [t - d, t + d]
+            tx = np.empty(len(P))
+            tx[keep] = t
+            d = min(0.1 * tol / L, 0.25 * np.diff(t).min())
+            base = tx[starts - 1].copy()
+            tx[starts - 1] = np.where(starts - 1 == 0, base, base - d)
+            tx[starts] = np.where(starts == len(P) - 1, base, base + d)
+            bounds = np.concatenate([[0], starts, [len(P)]])
+            rt = [tx[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+            pa = _piecewise(rt, [xs[a:b, :2] for a, b in zip(bounds[:-1], bounds[1:])])
+            pb = _piecewise(rt, [xs[a:b, 2:] for a, b in zip(bounds[:-1], bounds[1:])]) if S.n == 4 else None
+            seg = keep[1:] - 1                          # original segment of each 3-D segment
+        xs_all = xs
+        q = (np.arange(1, 8) / 8.0)
+        ts = (t[:-1, None] + q[None] * np.diff(t)[:, None])
+        d_s, d_p = _distances(S, curve, pa, pb, ts.ravel())
+        d_s, d_p = d_s.reshape(ts.shape).max(axis=1), d_p.reshape(ts.shape).max(axis=1)
+        e_s, e_p = _distances(S, curve, pa, pb, t)
+        worst = max(float(d_s.max()) if d_s.size else 0.0, float(e_s.max()))
+        worst_p = max(float(d_p.max()) if d_p.size else 0.0, float(e_p.max()))
+        if (worst <= tol and worst_p <= tol) or r == rounds:
+            return curve, pa, pb, worst, worst_p
+        bad = seg[np.flatnonzero(np.maximum(d_s, d_p) > 0.5 * tol)]
+        xs = xs_all
+        mid = 0.5 * (xs[bad] + xs[bad + 1])
+        d = xs[bad + 1] - xs[bad]
+        y, ok = newton(S, mid, d, np.einsum("nk,nk->n", d, mid), max(1e-3 * tol, 1e-14 * S.size))
+        y, bad = y[ok], bad[ok]
+        if len(y) == 0:
+            return curve, pa, pb, worst, worst_p
+        xs = np.insert(xs, bad + 1, y, axis=0)
+        P = S.eval(xs)[2]
+
+
+def _distances(S: System, curve, pa, pb, t):
+    """Distance of curve(t) from both surfaces (Newton projection seeded by the parameter
+    curves) and of the parameter curves' images from curve(t)."""
+    C = curve(t)
+    ua = S.wrap(np.concatenate([pa(t), np.zeros((len(t), S.n - 2))], axis=1))[:, :2]
+    ua = np.clip(ua, S.A.lo, S.A.hi)
+    _, dA = sd.project_onto(S.A, C, ua)
+    dpa = np.linalg.norm(S._partials(0, ua)[0] - C, axis=1)
+    if S.B is None:
+        o, nrm = S.pl
+        return np.maximum(dA, np.abs((C - o) @ nrm)), dpa
+    ub = S.wrap(np.concatenate([np.zeros((len(t), 2)), pb(t)], axis=1))[:, 2:]
+    ub = np.clip(ub, S.B.lo, S.B.hi)
+    _, dB = sd.project_onto(S.B, C, ub)
+    dpb = np.linalg.norm(S._partials(1, ub)[0] - C, axis=1)
+    return np.maximum(dA, dB), np.maximum(dpa, dpb)

@@ -1,0 +1,174 @@
+"""Coincident pieces of two surfaces (or of a surface and a plane) for
+:mod:`cagd.queries.intersect_surfaces`: during the seed subdivision a piece whose
+samples all project onto the other object within ``tol`` lies on it (like the curve
+overlaps of :mod:`cagd.queries._overlaps`); such pieces are taken out of the
+subdivision, merged into connected parameter boxes whose edges are moved out by
+bisection to where the surfaces separate, and reported as :class:`SurfaceOverlap`."""
+from __future__ import annotations
+
+from typing import List, NamedTuple, Optional, Tuple
+
+import numpy as np
+
+from . import _subdivision as sd
+
+_N = 4                        # samples per direction on a piece
+
+
+class SurfaceOverlap(NamedTuple):
+    """Coincident pieces of two surfaces: ``box_a`` = ((u0, u1), (v0, v1)) on a where
+    a lies on b within tol, ``box_b`` the parameter box of the same piece on b (the
+    bounding box of the projected samples; None for a plane)."""
+    box_a: Tuple[Tuple[float, float], Tuple[float, float]]
+    box_b: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]
+
+
+def _grid(lo: np.ndarray, hi: np.ndarray, n: int = _N) -> np.ndarray:
+    """n x n parameter samples (M, n*n, 2) of the boxes (lo, hi) (M, 2), corners included."""
+    s = np.linspace(0.0, 1.0, n)
+    fu, fv = np.meshgrid(s, s, indexing="ij")
+    f = np.stack([fu.ravel(), fv.ravel()], axis=1)
+    return lo[:, None, :] + f[None] * (hi - lo)[:, None, :]
+
+
+def distances(G: sd.Geometry, H, pl, x: np.ndarray, seed: Optional[np.ndarray]):
+    """Distance of G(x) (x (N, 2)) from H (projection seeded by ``seed``) or from the
+    plane pl; returns (distances (N,), parameters on H (N, 2) or None)."""
+    P = G.points(x)
+    if H is None:
+        o, nrm = pl
+        return np.abs((P - o) @ nrm), None
+    y, d = sd.project_onto(H, P, seed)
+    return d, y
+
+
+def lying_on(G: sd.Geometry, H, pl, lo, hi, seed_mid, tol: float):
+    """Which pieces (boxes lo, hi of G) lie on H (or the plane): all _N x _N samples
+    within tol. Returns the mask and the parameters on H of the piece centres."""
+    M = len(lo)
+    x = _grid(lo, hi).reshape(-1, 2)
+    seed = None if H is None else np.repeat(seed_mid, _N * _N, axis=0)
+    d, y = distances(G, H, pl, x, seed)
+    ok = np.all(d.reshape(M, -1) <= tol, axis=1)
+    mid = None if y is None else y.reshape(M, _N * _N, 2)[:, (_N * _N) // 2]
+    return ok, mid
+
+
+def covered(lo: np.ndarray, hi: np.ndarray, boxes: List[np.ndarray]) -> np.ndarray:
+    """Pieces (lo, hi) inside one of the covered boxes (rows lo0, lo1, hi0, hi1)."""
+    out = np.zeros(len(lo), bool)
+    if boxes:
+        B = np.concatenate(boxes)
+        e = 1e-12
+        for b in np.array_split(B, max(1, len(B) // 256)):
+            out |= np.any(np.all(lo[:, None] >= b[None, :, :2] - e, axis=2)
+                          & np.all(hi[:, None] <= b[None, :, 2:] + e, axis=2), axis=1)
+    return out
+
+
+def _components(B: np.ndarray) -> List[np.ndarray]:
+    """Bounding boxes of the connected components of touching boxes."""
+    n = len(B)
+    parent = list(range(n))
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    e = 1e-12
+    touch = np.all(B[:, None, :2] <= B[None, :, 2:] + e, axis=2) & np.all(B[None, :, :2] <= B[:, None, 2:] + e, axis=2)
+    for i, j in zip(*np.nonzero(np.triu(touch, 1))):
+        parent[find(i)] = find(j)
+    roots = np.array([find(i) for i in range(n)])
+    return [np.concatenate([B[roots == r, :2].min(0), B[roots == r, 2:].max(0)]) for r in np.unique(roots)]
+
+
+def _grow(G, H, pl, box, seed_y, tol):
+    """Move each edge of box (lo0, lo1, hi0, hi1) outwards while the whole edge (9
+    samples) stays within tol of H: steps h, 2h, ... then 40 bisections."""
+    box = box.copy()
+    for side in range(4):
+        d, up = side % 2, side >= 2                 # parameter direction, moving the high edge
+        lim = G.hi[d] if up else G.lo[d]
+        o = 1 - d
+        s = np.linspace(0.0, 1.0, 9)
+
+        def edge_ok(val, seed):
+            x = np.empty((9, 2))
+            x[:, d] = val
+            x[:, o] = box[o] + s * (box[2 + o] - box[o])
+            dist, y = distances(G, H, pl, x, seed)
+            return bool(np.all(dist <= tol)), y
+        cur = box[2 + d] if up else box[d]
+        _, seed = edge_ok(cur, None if H is None else np.repeat(seed_y[None], 9, axis=0))
+        h = 0.25 * (box[2 + d] - box[d])
+        out = None
+        for _ in range(16):
+            if cur == lim:
+                break
+            trial = min(cur + h, lim) if up else max(cur - h, lim)
+            good, y = edge_ok(trial, seed)
+            if not good:
+                out = trial
+                break
+            cur, seed, h = trial, y, 2 * h
+        if out is not None:
+            for _ in range(40):
+                mid = 0.5 * (cur + out)
+                good, y = edge_ok(mid, seed)
+                if good:
+                    cur, seed = mid, y
+                else:
+                    out = mid
+        if up:
+            box[2 + d] = cur
+        else:
+            box[d] = cur
+    return box
+
+
+def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarray], tol: float,
+            swap: bool = False) -> List[SurfaceOverlap]:
+    """Merge the covered boxes of G into connected components, grow each to where the
+    surfaces separate and find the matching box on H."""
+    if not boxes:
+        return []
+    B = np.concatenate(boxes)
+    Y = np.concatenate(seeds) if H is not None else None
+    out, grown = [], []
+    for comp in _components(B):
+        centre = 0.5 * (comp[:2] + comp[2:])
+        y0 = None
+        if H is not None:
+            mids = 0.5 * (B[:, :2] + B[:, 2:])
+            y0 = Y[np.argmin(np.linalg.norm(mids - centre, axis=1))]
+        box = _grow(G, H, pl, comp, y0, tol)
+        if any(np.all(box[:2] >= g[:2] - 1e-12) and np.all(box[2:] <= g[2:] + 1e-12) for g in grown):
+            continue
+        grown.append(box)
+        ba = ((float(box[0]), float(box[2])), (float(box[1]), float(box[3])))
+        bb = None
+        if H is not None:
+            x = _grid(box[None, :2], box[None, 2:], 7)[0]
+            seed = np.repeat(y0[None], len(x), axis=0)
+            y, _ = sd.project_onto(H, G.points(x), seed)
+            lo, hi = y.min(axis=0), y.max(axis=0)
+            bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
+        out.append(SurfaceOverlap(bb, ba) if swap else SurfaceOverlap(ba, bb))
+    return out
+
+
+def inside(x: np.ndarray, regions_: List[SurfaceOverlap], lo: np.ndarray, hi: np.ndarray,
+           which: int) -> np.ndarray:
+    """Points x (N, 2) of surface ``which`` (0 = a, 1 = b) inside one of the overlap boxes
+    (margin 1e-6 of the domain)."""
+    m = 1e-6 * (hi - lo)
+    out = np.zeros(len(x), bool)
+    for r in regions_:
+        box = r.box_a if which == 0 else r.box_b
+        if box is None:
+            continue
+        (u0, u1), (v0, v1) = box
+        out |= (x[:, 0] >= u0 - m[0]) & (x[:, 0] <= u1 + m[0]) & (x[:, 1] >= v0 - m[1]) & (x[:, 1] <= v1 + m[1])
+    return out
