@@ -67,10 +67,12 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
     """Minimise |S(x) - X[pid]|^2 for every row of x0 inside its box [lo, hi] (wrapped
     instead of clamped along ``wrap``): Newton with an active set at the box faces and
     step halving (at most 10 halvings) so that g never increases; a step below
-    tol * range ends the iteration without a further evaluation.
+    tol * range ends the iteration without a further evaluation, and so does a step d_k
+    whose successor, at the quadratic rate of the last two full steps, would be below
+    tol / 1000 (|d_k|^3 / |d_k-1|^2 relative to the range).
     Returns (x, g, converged, (S, J, H2, xe)): S, J, H2 at xe, the last point where
-    they were evaluated (x itself or x before its last step, below tol * range);
-    converged means the last step was below tol * range."""
+    they were evaluated (x itself or x before its last step);
+    converged means the last step met one of those two tests."""
     xc = np.array(np.asarray(x0, dtype=np.float64).T)                  # (k, n)
     loc, hic = np.ascontiguousarray(np.asarray(lo, dtype=np.float64).T), \
         np.ascontiguousarray(np.asarray(hi, dtype=np.float64).T)
@@ -89,7 +91,9 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
     g = (R * R).sum(0)
     floor = (1e-15 * proj.size) ** 2
     act = np.arange(n)
-    Sa, Ja, Ha, Ra, Pa = Sc, Jc, Hc, R, P
+    prev = np.zeros(n)                  # size of the previous step, relative to the range (0: none)
+    width = proj.width[:, None]
+    Ja, Ha, Ra, Pa = Jc, Hc, R, P
     for _ in range(max_iterations):
         if not act.size:
             break
@@ -101,7 +105,12 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
         taken = np.where(wrapc, step, xn - xa)
         # a step below tol ends the iteration before evaluating: x (and S, J, H2 there)
         # is kept, within tol of the Newton point
-        small = (np.abs(taken) <= step_tol).all(0)
+        # a step below tol ends the iteration; so does one whose successor, at the
+        # quadratic rate seen over the last two steps (|d_k+1| ~ |d_k|^3 / |d_k-1|^2), is
+        # below tol / 1000
+        rel = (np.abs(taken) / width).max(0)
+        small = (np.abs(taken) <= step_tol).all(0) | (rel ** 3 <= 1e-3 * tol * prev[act] ** 2)
+        prev[act] = rel
         if small.any():
             # the last (tiny) step is taken when it does not increase g, with a point
             # evaluation only; S, J, H2 stay those at the previous point (returned as xe)
@@ -127,6 +136,8 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
         bad = np.flatnonzero(~ok)
         t = 1.0
         if bad.size:
+            halved = np.zeros(len(ok), dtype=bool)
+            halved[bad] = True
             for _ in range(10):
                 if not bad.size:
                     break
@@ -136,7 +147,8 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
                 good = gb <= ga[bad] * (1.0 + _DECREASE) + floor
                 xn[:, bad[good]], ok[bad[good]] = xb[:, good], True
                 bad = bad[~good]
-            redo = np.flatnonzero(ok & (t < 1.0))
+            redo = np.flatnonzero(ok & halved)
+            prev[act[halved]] = 0.0         # not in the quadratic regime
             if redo.size:
                 Sr, Jr, H2r = proj.evaluate(xn[:, redo].T, 2)
                 Sn, Jn, H2n = np.array(Sn), np.array(Jn), np.array(H2n)
@@ -161,9 +173,9 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
         if done.any():
             keep = ~done
             act, Pa = act[keep], Pa[:, keep]
-            Sa, Ja, Ha, Ra = Sn[:, keep], Jn[..., keep], H2n[..., keep], rn[:, keep]
+            Ja, Ha, Ra = Jn[..., keep], H2n[..., keep], rn[:, keep]
         else:
-            Sa, Ja, Ha, Ra = Sn, Jn, H2n, rn
+            Ja, Ha, Ra = Jn, H2n, rn
     return xc.T.copy(), g, conv, [Sc.T, Jc.T, Hc.T, xe.T]
 
 
@@ -209,32 +221,108 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     delta = the box's reach from c (c need not lie in the box), L, M, T bounds of the
     first, second and third partials valid on the hull of c and the box; S, J, H2 the
     point, first and second partials at c. The quadratic is minimised over the box
-    exactly (it is separable)."""
-    r = S - Xp
-    f = np.sqrt((r * r).sum(1))
-    grad = 2.0 * np.einsum("nd,ndk->nk", r, J)
-    delta = np.maximum(np.abs(c - lo), np.abs(hi - c))
-    D = np.einsum("nab,nb->na", M, delta)
-    dJ = np.sqrt((D ** 2).sum(1))
-    if M.shape[1] == 1:
-        lam = M[:, 0, 0]
+    exactly (it is separable). The bound is taken in the variables y_a = s_a x_a, s_a the
+    power of two nearest the first-derivative bound L_a (at least a quarter of the
+    largest), so that a large second derivative along one direction is weighed against
+    the first derivative along that direction: m bounds the smallest eigenvalue of
+    diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2."""
+    n, dim = S.shape
+    k = c.shape[1]
+    r = [S[:, d] - Xp[:, d] for d in range(dim)]
+    f2 = r[0] * r[0]
+    for d in range(1, dim):
+        f2 = f2 + r[d] * r[d]
+    f = np.sqrt(f2)
+    Jc = [[J[:, d, a] for d in range(dim)] for a in range(k)]
+    grad, sc, si, delta, Sn = [], [], [], [], []
+    for a in range(k):
+        g = r[0] * Jc[a][0]
+        nn = Jc[a][0] * Jc[a][0]
+        for d in range(1, dim):
+            g = g + r[d] * Jc[a][d]
+            nn = nn + Jc[a][d] * Jc[a][d]
+        grad.append(2.0 * g)
+        sc.append(np.sqrt(nn))
+    # scales from the first-derivative bounds over the cell, within a factor 4 of the
+    # largest (degenerate directions, e.g. at a pole)
+    top = L.max(axis=1)
+    top = np.where(top > 0, top, 1.0)
+    for a in range(k):
+        nrm = sc[a]
+        sa = np.exp2(np.round(np.log2(np.maximum(L[:, a], 0.25 * top))))
+        sc[a] = sa
+        si.append(1.0 / sa)
+        Sn.append(nrm / sa)                                            # |S_a(c)| scaled
+        delta.append(np.maximum(np.abs(c[:, a] - lo[:, a]), np.abs(hi[:, a] - c[:, a])) * sa)
+    Jh = [[Jc[a][d] * si[a] for d in range(dim)] for a in range(k)]
+    Mh = [[M[:, a, b] * (si[a] * si[b]) for b in range(k)] for a in range(k)]
+    D = []
+    for a in range(k):
+        v = Mh[a][0] * delta[0]
+        for b in range(1, k):
+            v = v + Mh[a][b] * delta[b]
+        D.append(v)
+    Ld = L[:, 0] * delta[0] * si[0]
+    for a in range(1, k):
+        Ld = Ld + L[:, a] * delta[a] * si[a]
+    if k == 1:
+        dJ = D[0]
+        lam = Mh[0][0]
+        sig = Sn[0]
     else:
-        lam = 0.5 * (M[:, 0, 0] + M[:, 1, 1]) + np.sqrt(0.25 * (M[:, 0, 0] - M[:, 1, 1]) ** 2 + M[:, 0, 1] ** 2)
-    Ld = (L * delta).sum(1)
-    m1 = 2.0 * (np.maximum(_sigma_min(J) - dJ, 0.0) ** 2 - (f + Ld) * lam)
-    half = np.einsum("nda,ndb->nab", J, J) + np.einsum("nd,ndab->nab", r, H2)
-    Sn = np.sqrt((J * J).sum(1))                                   # |S_a(c)|
-    E = (D[:, :, None] * Sn[:, None, :] + Sn[:, :, None] * D[:, None, :] + D[:, :, None] * D[:, None, :]
-         + Ld[:, None, None] * M + f[:, None, None] * np.einsum("nabe,ne->nab", T, delta))
-    scale = np.abs(half).sum((1, 2))
-    m2 = 2.0 * (_lambda_min(half) - np.sqrt((E ** 2).sum((1, 2))) - 1e-12 * scale)
-    m = np.maximum(m1, m2)[:, None]
-    tlo, thi = lo - c, hi - c
-    q = np.minimum(grad * tlo + 0.5 * m * tlo ** 2, grad * thi + 0.5 * m * thi ** 2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ts = np.clip(np.where(m > 0, -grad / m, 0.0), tlo, thi)
-    q = np.minimum(q, grad * ts + 0.5 * m * ts ** 2)
-    return f * f + q.sum(1) - 1e-15 * f * f
+        dJ = np.sqrt(D[0] * D[0] + D[1] * D[1])
+        lam = 0.5 * (Mh[0][0] + Mh[1][1]) + np.sqrt(0.25 * (Mh[0][0] - Mh[1][1]) ** 2 + Mh[0][1] ** 2)
+        u, v = Jh
+        aa, cc = Sn[0] * Sn[0], Sn[1] * Sn[1]
+        bb = u[0] * v[0]
+        for d in range(1, dim):
+            bb = bb + u[d] * v[d]
+        if dim == 3:
+            det = (u[1] * v[2] - u[2] * v[1]) ** 2 + (u[2] * v[0] - u[0] * v[2]) ** 2 + (u[0] * v[1] - u[1] * v[0]) ** 2
+        elif dim == 2:
+            det = (u[0] * v[1] - u[1] * v[0]) ** 2
+        else:
+            det = np.maximum(aa * cc - bb * bb, 0.0)
+        lmax = 0.5 * (aa + cc) + np.sqrt(0.25 * (aa - cc) ** 2 + bb * bb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lmin = np.where(lmax > 0, det / lmax, 0.0)
+        sig = np.sqrt(lmin) * (1.0 - 1e-10)
+    m1 = 2.0 * (np.maximum(sig - dJ, 0.0) ** 2 - (f + Ld) * lam)
+    # half Hessian J^T J + r.d2S at c and the bound E of its change over the box
+    pairs = [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
+    half, E2, scale = {}, 0.0, 0.0
+    for a, b in pairs:
+        jj = Jh[a][0] * Jh[b][0]
+        rh = r[0] * H2[:, 0, a, b]
+        for d in range(1, dim):
+            jj = jj + Jh[a][d] * Jh[b][d]
+            rh = rh + r[d] * H2[:, d, a, b]
+        h = jj + rh * (si[a] * si[b])
+        half[a, b] = h
+        tt = T[:, a, b, 0] * (si[0] * delta[0])
+        for e in range(1, k):
+            tt = tt + T[:, a, b, e] * (si[e] * delta[e])
+        e_ab = D[a] * Sn[b] + Sn[a] * D[b] + D[a] * D[b] + Ld * Mh[a][b] + f * tt * (si[a] * si[b])
+        w = 1.0 if a == b else 2.0
+        E2 = E2 + w * e_ab * e_ab
+        scale = scale + w * np.abs(h)
+    if k == 1:
+        lmin_h = half[0, 0]
+    else:
+        A, B, C = half[0, 0], half[0, 1], half[1, 1]
+        lmin_h = 0.5 * (A + C) - np.sqrt(0.25 * (A - C) ** 2 + B * B)
+    m2 = 2.0 * (lmin_h - np.sqrt(E2) - 1e-12 * scale)
+    m = np.maximum(m1, m2)
+    q = 0.0
+    for a in range(k):
+        ma = m * (sc[a] * sc[a])
+        g = grad[a]
+        tlo, thi = lo[:, a] - c[:, a], hi[:, a] - c[:, a]
+        qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
+        q = q + np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
+    return f2 + q - 1e-15 * f2
 
 
 def pair_distances(X: np.ndarray, pid: np.ndarray, Y: np.ndarray, cell: np.ndarray) -> np.ndarray:
@@ -246,13 +334,13 @@ def pair_distances(X: np.ndarray, pid: np.ndarray, Y: np.ndarray, cell: np.ndarr
     return np.sqrt(acc)
 
 
-def block_max(B: np.ndarray, shape) -> np.ndarray:
-    """Per cell, the maximum of the bounds B over the cells within BLOCK grid steps."""
+def block_max(B: np.ndarray, shape, reach: int = BLOCK) -> np.ndarray:
+    """Per cell, the maximum of the bounds B over the cells within ``reach`` grid steps."""
     G = B.reshape(tuple(shape) + B.shape[1:])
     out = G.copy()
     for a in range(len(shape)):
         src = out.copy()
-        for s in range(1, BLOCK + 1):
+        for s in range(1, reach + 1):
             lo = [slice(None)] * G.ndim
             hi = [slice(None)] * G.ndim
             lo[a], hi[a] = slice(0, -s), slice(s, None)
@@ -335,10 +423,9 @@ class PowerTable:
             w = b[-1] - b[0]
             self.uniform.append(bool(np.allclose(np.diff(b), w / (len(b) - 1), rtol=1e-13, atol=0.0)))
 
-    def _local(self, x: np.ndarray):
-        """Flat piece index and local variables s (one array per direction)."""
-        idx = None
-        s = []
+    def piece_indices(self, x: np.ndarray):
+        """Per direction, the index of the piece that evaluates x (n, k)."""
+        out = []
         for a, b in enumerate(self.breaks):
             t = x[:, a]
             n = len(b) - 1
@@ -347,11 +434,26 @@ class PowerTable:
                 np.clip(j, 0, n - 1, out=j)
             else:
                 j = np.clip(np.searchsorted(b, t, side="right") - 1, 0, n - 1)
-            s.append((t - self.mid[a].take(j)) * self.inv_half[a].take(j))
-            idx = j if idx is None else idx * n + j
+            out.append(j)
+        return out
+
+    def _local(self, x: np.ndarray, index=None):
+        """Flat piece index and local variables s (one array per direction); ``index``:
+        the flat pieces to use (one-sided partials on a piece boundary)."""
+        if index is None:
+            js = self.piece_indices(x)
+        elif self.k == 1:
+            js = [index]
+        else:
+            js = [index // self.shape[1], index % self.shape[1]]
+        idx = None
+        s = []
+        for a, j in enumerate(js):
+            s.append((x[:, a] - self.mid[a].take(j)) * self.inv_half[a].take(j))
+            idx = j if idx is None else idx * self.shape[a] + j
         return idx, s
 
-    def evaluate(self, x: np.ndarray, order: int):
+    def evaluate(self, x: np.ndarray, order: int, index=None):
         """As Projector.evaluate: S (n, dim), and for order >= 1 J (n, dim, k), for order 2
         the second partials (n, dim, k, k)."""
         x = np.asarray(x, dtype=np.float64).reshape(-1, self.k)
@@ -363,16 +465,16 @@ class PowerTable:
         H = np.empty((k, k, dim, n)) if order >= 2 else None
         for c0 in range(0, n, self.CHUNK):
             sl = slice(c0, min(n, c0 + self.CHUNK))
-            parts = self._chunk(x[sl], order)
+            parts = self._chunk(x[sl], order, None if index is None else index[sl])
             self._store(parts, S, J, H, sl, order)
         if order == 0:
             return S.T
         return (S.T, J.T) if order == 1 else (S.T, J.T, H.T)
 
-    def _chunk(self, x, order):
+    def _chunk(self, x, order, index=None):
         """Per homogeneous coordinate, the partials in the object's parameters: curves
         [C, C', C''], surfaces [S, Su, Sv, Suu, Suv, Svv] (as far as ``order``)."""
-        idx, s = self._local(x)
+        idx, s = self._local(x, index)
         T, D = self.table, self.D
         out = []
         if self.k == 1:

@@ -138,21 +138,45 @@ class BezierPieces:
 
     # --- refinement --------------------------------------------------------------------
     def subdivided(self, counts) -> "BezierPieces":
-        """Every piece cut into ``counts`` equal parts per direction (an int or one per
-        direction), by restriction matrices on the homogeneous control points."""
-        counts = [int(counts)] * self.k if np.isscalar(counts) else [int(c) for c in counts]
-        if len(counts) != self.k or min(counts) < 1:
-            raise CagdError(f"counts: expected {self.k} positive integers, got {counts}")
-        Rs = [np.stack([restriction_matrix(p, j / c, (j + 1) / c) for j in range(c)])
-              for c, p in zip(counts, self.degrees)]                 # (c, p+1, p+1) each
-        hom = self.homogeneous.reshape(self.shape + self.control_points.shape[1:-1] + (-1,))
-        if self.k == 1:
-            hom = np.einsum("cji,nid->ncjd", Rs[0], hom)
-        else:
-            hom = np.einsum("aik,bjl,uvkld->uavbijd", Rs[0], Rs[1], hom, optimize=True)
-        hom = hom.reshape((-1,) + hom.shape[2 * self.k:])
-        breaks = tuple(np.concatenate([np.linspace(b[i], b[i + 1], c + 1)[:-1] for i in range(len(b) - 1)]
-                                      + [b[-1:]]) for b, c in zip(self.breaks, counts))
+        """Every piece cut into equal parts per direction, by restriction matrices on the
+        homogeneous control points. ``counts``: an int (all directions), or one entry per
+        direction, each an int or an array giving the parts of every piece index along
+        that direction (pieces stay on a tensor grid)."""
+        k, shape = self.k, self.shape
+        if np.isscalar(counts):
+            counts = [counts] * k
+        counts = list(counts)
+        if len(counts) != k:
+            raise CagdError(f"counts: expected {k} entries (one per direction), got {len(counts)}")
+        per = []
+        for a, c in enumerate(counts):
+            c = np.asarray(c)
+            if c.ndim == 0:
+                c = np.full(shape[a], c)
+            if c.shape != (shape[a],) or not np.all(c == np.round(c)) or c.min() < 1:
+                raise CagdError(f"counts: expected positive integers (one per direction, or {shape[a]} "
+                                f"for direction {a}), got {counts}")
+            per.append(c.astype(np.intp))
+        hom = self.homogeneous.reshape(shape + self.control_points.shape[1:-1] + (-1,))
+        breaks = []
+        for a, (c, p, b) in enumerate(zip(per, self.degrees, self.breaks)):
+            src = np.repeat(np.arange(shape[a]), c)
+            j = np.arange(int(c.sum())) - np.repeat(np.cumsum(c) - c, c)
+            cache: Dict[Tuple[int, int], np.ndarray] = {}
+            for jj, cc in set(zip(j.tolist(), c[src].tolist())):
+                cache[(jj, cc)] = restriction_matrix(p, jj / cc, (jj + 1) / cc)
+            R = np.stack([cache[(jj, cc)] for jj, cc in zip(j.tolist(), c[src].tolist())])
+            h = np.take(hom, src, axis=a)
+            if k == 1:
+                hom = np.einsum("nji,nid->njd", R, h)
+            elif a == 0:
+                hom = np.einsum("uji,uvild->uvjld", R, h)
+            else:
+                hom = np.einsum("vjl,uvild->uvijd", R, h)
+            breaks.append(np.concatenate([np.linspace(b[i], b[i + 1], int(c[i]) + 1)[:-1] for i in range(len(b) - 1)]
+                                         + [b[-1:]]))
+        hom = hom.reshape((-1,) + hom.shape[k:])
+        breaks = tuple(breaks)
         if self.weights is None:
             return BezierPieces(hom, None, breaks, self.periodic)
         w = hom[..., -1]

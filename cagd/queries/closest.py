@@ -3,18 +3,24 @@
 For each query point X the engine minimises g(x) = |S(x) - X|^2 over the parameter
 domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distance):
 
-1. the object is cut into small Bezier cells (:mod:`cagd.queries.bounds`); each has a
-   hull sphere (centre c_k, radius r_k), so |S - X| >= |X - c_k| - r_k on the cell;
-2. a voxel grid of cell centres gives every point its nearby cells; the nearest cell
-   midpoint seeds a projected Newton iteration on g (clamped to the domain, wrapped
-   in periodic directions), evaluated from per-piece power-form tables by nested Horner;
-3. branch and bound certifies the result: every cell whose sphere bound is below the
-   distance found gets a second-order bound
+1. the object is cut into small Bezier cells (:mod:`cagd.queries.bounds`), each Bezier
+   piece into parts of about equal geometric size per row and column of pieces; each
+   cell has a hull sphere (centre c_k, radius r_k), so |S - X| >= |X - c_k| - r_k on it;
+2. a voxel grid lists per voxel the cells whose spheres come near it, ordered by their
+   bound over the voxel; the nearest midpoint among the voxel's first few cells seeds a
+   projected Newton iteration on g (clamped to the domain, wrapped in periodic
+   directions; the start is a second-order step from the midpoint with its precomputed
+   S, J, H), evaluated from per-piece power-form tables by nested Horner;
+3. branch and bound certifies the result: the cells whose sphere bound is below the
+   distance d found (a prefix of the voxel's list) get a second-order bound
    g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2, with m a lower bound of the
    Hessian 2 (J^T J + (S - X).d2S) over the cell from the hodograph bounds; cells that
    may still hold a closer point are refined by box-constrained Newton and split. The
    first round bounds, per point, the parameter box spanned by its nearby cells at once
-   (expanded at x* itself, no evaluation); only points it does not settle go cell by cell.
+   (expanded at x* itself, no evaluation; only cells not across a break where the object
+   is less than C2, found numerically); only points it does not settle go cell by cell,
+   with each cell's own bounds and partials from the cell's own piece (one-sided on a
+   crease).
 
 The minimum of all bounds is ``lower_bounds``: no point of the object is closer than
 it, so ``distances - lower_bounds`` tells how sure the answer is.
@@ -62,7 +68,8 @@ class Projector:
         obj: any engine curve or surface (a Bezier triangle is handled through its
             collapsed-edge NURBS form; parameters are mapped back to the triangle's).
         cells: target number of cells (default: 16 per Bezier piece, at least 64 (curves) or
-            256 (surfaces), at most 512 or 4096).
+            256 (surfaces), at most 512 or 4096); pieces of larger geometric extent get more
+            (see :func:`_cell_counts`).
     """
 
     def __init__(self, obj, cells: Optional[int] = None):
@@ -73,8 +80,7 @@ class Projector:
         k, m = self.pieces.k, len(self.pieces)
         default = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(256, 16 * m))
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
-        per = max(2, int(np.ceil((target / m) ** (1.0 / k))))
-        self.cells: BezierPieces = self.pieces.subdivided(per)
+        self.cells: BezierPieces = self.pieces.subdivided(_cell_counts(self.pieces, target))
         # power-form table for evaluation (the Bernstein path above degree 7, where the
         # power basis loses accuracy)
         self._power = PowerTable(self.pieces) if max(self.pieces.degrees) <= 7 else None
@@ -87,13 +93,33 @@ class Projector:
         self.L, self.M = self.cells.derivative_bounds()
         self.T3 = self.cells.third_derivative_bounds()
         shape = self.cells.shape
-        self.coords = np.stack(np.unravel_index(np.arange(len(self.cells)), shape), axis=1)
-        self.block = [_block_max(B, shape) for B in (self.L, self.M, self.T3)]
+        # per level l = 0..BLOCK: the bounds over the cells within l grid steps
+        self.block = [np.stack([_block_max(B, shape, lv) for lv in range(_BLOCK + 1)])
+                      for B in (self.L, self.M, self.T3)]
         self.mids = 0.5 * (self.lo + self.hi)
         idx = np.arange(len(self.cells))
-        d = self.cells.derivatives(idx, self.mids, 1)
+        d = self.cells.derivatives(idx, self.mids, 2)
         self.mid_points = self._lead(d)
-        self.mid_jacobians = d[1][:, :, None] if self.k == 1 else np.stack([d[1, 0], d[0, 1]], axis=2)
+        if self.k == 1:
+            self.mid_jacobians, self.mid_hessians = d[1][:, :, None], d[2][:, :, None, None]
+        else:
+            self.mid_jacobians = np.stack([d[1, 0], d[0, 1]], axis=2)
+            self.mid_hessians = np.stack([np.stack([d[2, 0], d[1, 1]], axis=2),
+                                          np.stack([d[1, 1], d[0, 2]], axis=2)], axis=3)
+        # the piece of every cell, per direction and flat; per direction the C2-connected
+        # runs of pieces (an expansion at x* holds over cells of its own run only)
+        self._cell_piece_dir = [np.clip(np.searchsorted(b, 0.5 * (c[1:] + c[:-1]), side="right") - 1, 0, len(b) - 2)
+                                for b, c in zip(self.pieces.breaks, self.cells.breaks)]
+        if self.k == 1:
+            self._cell_piece = self._cell_piece_dir[0]
+        else:
+            cu, cv = self._cell_piece_dir
+            self._cell_piece = (cu[:, None] * self.pieces.shape[1] + cv[None, :]).ravel()
+        self._run = [np.r_[0, np.cumsum(~ok)] for ok in _c2_breaks(self.pieces)]
+        self._cell_run = [run[cp] for run, cp in zip(self._run, self._cell_piece_dir)]
+        # component rows (contiguous per coordinate and partial) for 1-D gathers
+        self._mid_rows = (np.ascontiguousarray(self.mid_points.T), np.ascontiguousarray(self.mid_jacobians.T),
+                          np.ascontiguousarray(self.mid_hessians.T))
         # spheres centred at the cell midpoints' images (convex hull inside): the distance
         # to the midpoint gives both the seed and the sphere bound
         Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
@@ -106,11 +132,12 @@ class Projector:
     def _lead(self, d: np.ndarray) -> np.ndarray:
         return d[0] if self.k == 1 else d[0, 0]
 
-    def evaluate(self, x: np.ndarray, order: int):
-        """S, J (n, dim, k) and, for order 2, the second partials (n, dim, k, k) at x (n, k)."""
+    def evaluate(self, x: np.ndarray, order: int, piece: Optional[np.ndarray] = None):
+        """S, J (n, dim, k) and, for order 2, the second partials (n, dim, k, k) at x (n, k);
+        ``piece``: the flat Bezier pieces to evaluate (one-sided partials on a boundary)."""
         if self._power is not None:
-            return self._power.evaluate(x, order)
-        d = self.pieces.derivatives(self.pieces.locate(x), x, order)
+            return self._power.evaluate(x, order, piece)
+        d = self.pieces.derivatives(self.pieces.locate(x) if piece is None else piece, x, order)
         if self.k == 1:
             S, J = d[0], d[1][:, :, None]
             return (S, J) if order == 1 else (S, J, d[2][:, :, None, None])
@@ -128,9 +155,10 @@ class Projector:
     # --- voxel grid of cell centres ----------------------------------------------------------
     def _build_grid(self) -> None:
         """Voxels of side V = median cell radius; voxel Z lists every cell whose sphere
-        comes within T = 2 V of Z (points farther than T from every midpoint take the
-        brute-force path). A point in Z with a cell midpoint closer than T therefore sees
-        every cell that could hold a point closer than that: the rest are >= T away."""
+        comes within T = 2 V of Z, ordered by that sphere's distance from Z (the key). A
+        point in Z at distance d <= T from the object therefore finds every cell that could
+        hold a closer point in the prefix of keys below d: the rest are >= d away (points
+        with d > T take the brute-force path)."""
         r = self.radii
         typical = float(np.median(r))
         self.T = 2.0 * typical + 1e-12 * self.size
@@ -162,16 +190,32 @@ class Projector:
             else:
                 acc = acc + gap ** 2
         keep = acc < reach[cell] ** 2
-        vox, cell = vox[keep], cell[keep]
-        order = np.argsort(vox, kind="stable")
-        self._grid_cells = cell[order]
-        self._grid_start = np.searchsorted(vox[order], np.arange(int(np.prod(dims)) + 1))
+        vox, cell, acc = vox[keep], cell[keep], acc[keep]
+        # per voxel, the cells by their sphere bound over the voxel (key), ties (spheres
+        # meeting the voxel) by the distance of their midpoint from the voxel centre
+        # keys rounded down to T / 2^16 (a rounded-down key is still a lower bound); one
+        # int64 sort key: voxel, key, midpoint distance (rounded)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kq = np.nan_to_num(np.floor(np.clip(np.sqrt(acc) - r[cell], 0.0, self.T) / self.T * 65536.0))
+        kq = np.clip(kq, 0, 65535).astype(np.int64)
+        mid = np.zeros(len(cell))
+        rem = vox.copy()
+        for a in range(self.dim - 1, -1, -1):
+            za = rem % dims[a]
+            rem //= dims[a]
+            mid += (origin[a] + (za + 0.5) * V - self.mid_points[cell, a]) ** 2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mq = np.nan_to_num(np.sqrt(mid) / (4.0 * (self.T + V)) * 2.0 ** 25)
+        mq = np.clip(mq, 0, 2 ** 25 - 1).astype(np.int64)
+        order = np.argsort((vox.astype(np.int64) << 41) | (kq << 25) | mq)
+        vox, cell, kq = vox[order], cell[order], kq[order]
+        self._grid_cells = cell
+        self._grid_start = np.searchsorted(vox, np.arange(int(np.prod(dims)) + 1))
+        self._grid_key = kq * (self.T / 65536.0)    # non-decreasing within each voxel
         self._origin, self._V, self._dims = origin, V, dims
 
-    def candidates(self, X: np.ndarray):
-        """Per point: the seed cell, the upper bound U0 (distance to that cell's midpoint),
-        and the (point, cell) pairs whose sphere bound is below U0; plus the bound of all
-        cells left out, per point."""
+    def _voxels(self, X: np.ndarray):
+        """Voxel index, first grid entry and number of grid entries per point (0 outside)."""
         N = len(X)
         with np.errstate(over="ignore", invalid="ignore"):
             zf = np.floor((X - self._origin) / self._V)
@@ -182,50 +226,72 @@ class Projector:
             vid = vid * self._dims[a] + np.where(inside, z[:, a], 0)
         start = self._grid_start[vid]
         count = np.where(inside, self._grid_start[vid + 1] - start, 0)
-        pid = np.repeat(np.arange(N), count)
-        offs = np.arange(len(pid)) - np.repeat(np.cumsum(count) - count, count)
-        cell = self._grid_cells[start[pid] + offs]
-        dm = _distances(X, pid, self.mid_points, cell)
-        U0 = np.full(N, np.inf)
-        seed = np.zeros(N, dtype=np.intp)
-        has = count > 0
-        if len(pid):
-            first = (np.cumsum(count) - count)[has]
-            U0[has] = np.minimum.reduceat(dm, first)
-            hit = np.flatnonzero(dm == U0[pid])
-            u, i = np.unique(pid[hit], return_index=True)
-            seed[u] = cell[hit[i]]
-        fast = has & (U0 <= self.T)
-        keep = fast[pid]
-        pid, cell = pid[keep], cell[keep]
-        rest = np.where(fast, self.T, np.inf)
-        far = np.flatnonzero(~fast)
-        if far.size:
-            fp, fc, fU, fs, frest = self._brute(X[far])
-            U0[far], seed[far], rest[far] = fU, fs, frest
-            pid, cell = np.concatenate([pid, far[fp]]), np.concatenate([cell, fc])
-        if far.size:
-            lb = _distances(X, pid, self.centers, cell) - self.radii[cell]
-        else:
-            lb = dm[keep] - self.mid_radii[cell]
-        keep = lb < U0[pid]
-        np.minimum.at(rest, pid[~keep], lb[~keep])
-        return seed, U0, pid[keep], cell[keep], lb[keep], rest
+        return vid, start, count
 
-    def _brute(self, X: np.ndarray):
-        """Every cell against every point (chunked): the far path."""
+    SEEDS = 4      # cells per voxel tried for the seed
+
+    def seeds(self, X: np.ndarray, start: np.ndarray, count: np.ndarray) -> np.ndarray:
+        """Per point the seed cell: the nearest midpoint among the first SEEDS cells of its
+        voxel (those meeting the voxel, nearest its centre), or among all cells when the
+        voxel is empty."""
+        N, K = len(X), self.SEEDS
+        k = np.minimum(count, K)
+        pid = np.repeat(np.arange(N), k)
+        offs = np.arange(len(pid)) - np.repeat(np.cumsum(k) - k, k)
+        cell = self._grid_cells[start[pid] + offs]
+        dist = np.full((N, K), np.inf)
+        cells = np.zeros((N, K), dtype=np.intp)
+        dist[pid, offs] = _distances(X, pid, self.mid_points, cell)
+        cells[pid, offs] = cell
+        seed = cells[np.arange(N), dist.argmin(axis=1)]
+        none = np.flatnonzero(k == 0)
         m = len(self.radii)
         chunk = max(1, 2_000_000 // m)
-        out = [[], [], [], [], []]
-        for s in range(0, len(X), chunk):
-            Y = X[s:s + chunk]
-            dm = np.sqrt(((Y[:, None, :] - self.mid_points[None]) ** 2).sum(-1))
-            lb = np.sqrt(((Y[:, None, :] - self.centers[None]) ** 2).sum(-1)) - self.radii[None]
-            U = dm.min(axis=1)
-            i, c = np.nonzero(lb < U[:, None])
-            out[0].append(i + s), out[1].append(c), out[2].append(U), out[3].append(dm.argmin(axis=1))
-            out[4].append(np.where(lb < U[:, None], np.inf, lb).min(axis=1))
-        return tuple(np.concatenate(o) for o in out)
+        for c0 in range(0, len(none), chunk):
+            i = none[c0:c0 + chunk]
+            seed[i] = (((X[i][:, None, :] - self.mid_points[None]) ** 2).sum(-1)).argmin(axis=1)
+        return seed
+
+    def candidates(self, X: np.ndarray, d: np.ndarray, vid: np.ndarray, start: np.ndarray, count: np.ndarray):
+        """The (point, cell) pairs whose sphere bound is below d (the distance found), with
+        those bounds, and per point a lower bound over all cells left out.
+
+        A voxel lists every cell whose sphere comes within T of it, by its bound over the
+        voxel: a point with d <= T takes the prefix of cells with bound below d (the
+        others are >= d away); points with d > T, or outside the grid, every cell."""
+        N = len(X)
+        fast = (count > 0) & (d <= self.T)
+        # per voxel segment, the number of keys <= d (vectorized bisection)
+        q = d * (1.0 + 1e-12) + 1e-15 * self.size
+        ends = start.copy()
+        act = np.flatnonzero(fast)
+        lo, hi, qa = start[act], start[act] + count[act], q[act]
+        key = self._grid_key
+        while act.size:
+            mid = (lo + hi) >> 1
+            le = key[mid] <= qa
+            lo, hi = np.where(le, mid + 1, lo), np.where(le, hi, mid)
+            go = lo < hi
+            ends[act[~go]] = lo[~go]
+            act, lo, hi, qa = act[go], lo[go], hi[go], qa[go]
+        n = np.where(fast, ends - start, 0)
+        pid = np.repeat(np.arange(N), n)
+        offs = np.arange(len(pid)) - np.repeat(np.cumsum(n) - n, n)
+        cell = self._grid_cells[start[pid] + offs]
+        lb = _distances(X, pid, self.mid_points, cell) - self.mid_radii[cell]
+        rest = d.copy()                        # every cell left out is >= d away
+        far = np.flatnonzero(~fast)
+        if far.size:
+            m = len(self.radii)
+            chunk = max(1, 2_000_000 // m)
+            P, C, B = [pid], [cell], [lb]
+            for c0 in range(0, len(far), chunk):
+                i = far[c0:c0 + chunk]
+                lbs = np.sqrt(((X[i][:, None, :] - self.centers[None]) ** 2).sum(-1)) - self.radii[None]
+                a, c = np.nonzero(lbs < d[i][:, None])
+                P.append(i[a]), C.append(c), B.append(lbs[a, c])
+            pid, cell, lb = np.concatenate(P), np.concatenate(C), np.concatenate(B)
+        return pid, cell, lb, rest
 
     # --- queries -----------------------------------------------------------------------------
     def closest(self, points, tol: float = 1e-12, max_iterations: int = 50,
@@ -235,7 +301,8 @@ class Projector:
         tol = _tolerance(tol)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         N = len(X)
-        seed, U0, pid, cell, lb_s, LB = self.candidates(X)
+        vid, vstart, vcount = self._voxels(X)
+        seed = self.seeds(X, vstart, vcount)
         dom_lo, dom_hi = np.broadcast_to(self.domain[:, 0], (N, self.k)), np.broadcast_to(self.domain[:, 1], (N, self.k))
         x, d2, conv, (Sx, Jx, Hx, xe) = projected_newton(self, X, np.arange(N), self._start(X, seed), dom_lo, dom_hi,
                                                      self.wrap, max_iterations, tol)
@@ -244,32 +311,52 @@ class Projector:
         # by the expansion at x* itself (no evaluation), with bounds over the block of cells
         # around x*'s cell
         gap = 1e-10 * d + 1e-13 * self.size
+        pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
         keep = lb_s < d[pid] - gap[pid]
-        np.minimum.at(LB, pid[~keep], lb_s[~keep])
+        _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]
         home = self.cells.locate(xe)
-        near = np.all(np.abs(self.coords[cell] - self.coords[home[pid]]) <= _BLOCK, axis=1)
+        hp = home[pid]
+        if self.k == 1:
+            step = np.abs(cell - hp)                                           # grid steps from home
+        else:
+            nv = self.cells.shape[1]
+            step = np.maximum(np.abs(cell // nv - hp // nv), np.abs(cell % nv - hp % nv))
+        near = step <= _BLOCK
+        # ... and in the C2-connected run of pieces of the piece that evaluated x*
+        ep = self._power.piece_indices(xe) if self._power is not None else \
+            [np.clip(np.searchsorted(b, xe[:, a], side="right") - 1, 0, len(b) - 2)
+             for a, b in enumerate(self.pieces.breaks)]
+        cidx = [cell] if self.k == 1 else [cell // self.cells.shape[1], cell % self.cells.shape[1]]
+        for a in range(self.k):
+            near &= self._cell_run[a][cidx[a]] == self._run[a][ep[a]][pid]
         # one bound per point over the parameter box spanned by its near cells; the
-        # points it closes drop those pairs, the others bound them cell by cell
-        u, ulo, uhi = _union_boxes(pid[near], self.lo[cell[near]], self.hi[cell[near]])
+        # points it closes drop those pairs, the others bound them cell by cell. The
+        # derivative bounds: over the cells within as many grid steps of x*'s cell as the
+        # farthest of those cells (the hull of x* and the box lies in that block)
+        u, ulo, uhi, ustep = _union_boxes(pid[near], self.lo[cell[near]], self.hi[cell[near]], step[near])
         if len(u):
             h = home[u]
-            lu = box_lower_bound(X[u], ulo, uhi, xe[u], Sx[u], Jx[u], Hx[u],
-                                 self.block[0][h], self.block[1][h], self.block[2][h])
+            lu = box_lower_bound(_rows(X, u), ulo, uhi, _rows(xe, u), _rows(Sx, u), _rows(Jx, u), _rows(Hx, u),
+                                 self.block[0][ustep, h], self.block[1][ustep, h], self.block[2][ustep, h])
             lu = np.sqrt(np.maximum(lu, 0.0))
             closed = lu >= d[u] - gap[u]
             LB[u[closed]] = np.minimum(LB[u[closed]], lu[closed])
             shut = np.zeros(N, dtype=bool)
             shut[u[closed]] = True
             keep = ~(near & shut[pid])
-            pid, cell, near = pid[keep], cell[keep], near[keep]
+            pid, cell, near, step = pid[keep], cell[keep], near[keep], step[keep]
         lo, hi = self.lo[cell], self.hi[cell]
         lb = np.empty(len(pid))
-        i, h = np.flatnonzero(near), home[pid[near]]
-        lb[i] = box_lower_bound(X[pid[i]], lo[i], hi[i], xe[pid[i]], Sx[pid[i]], Jx[pid[i]], Hx[pid[i]],
-                                self.block[0][h], self.block[1][h], self.block[2][h])
-        i = np.flatnonzero(~near)
-        lb[i] = self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i]))
+        i = np.flatnonzero(near)
+        h, lv, pi = home[pid[i]], step[i], pid[i]
+        lb[i] = box_lower_bound(_rows(X, pi), lo[i], hi[i], _rows(xe, pi), _rows(Sx, pi), _rows(Jx, pi), _rows(Hx, pi),
+                                self.block[0][lv, h], self.block[1][lv, h], self.block[2][lv, h])
+        # near pairs the block bounds leave open, and the others: each cell's own bounds,
+        # expanded at the cell's point nearest to x*
+        i = np.flatnonzero(~near | (np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid]))
+        lb[i] = np.where(near[i], lb[i], -np.inf)
+        lb[i] = np.maximum(lb[i], self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i])))
         lb = np.sqrt(np.maximum(lb, 0.0))
         for _ in range(max_rounds):
             open_ = lb < d[pid] - gap[pid]
@@ -344,18 +431,45 @@ class Projector:
 
     # --- helpers -----------------------------------------------------------------------------
     def _start(self, X: np.ndarray, seed: np.ndarray) -> np.ndarray:
-        """Newton's start: the seed cell's midpoint m moved by one Gauss-Newton step
-        (J^T J)^-1 J^T (X - S(m)) with the precomputed J(m), kept in the seed cell."""
-        J = self.mid_jacobians[seed]
-        rhs = np.einsum("ndk,nd->nk", J, X - self.mid_points[seed])
-        A = np.einsum("nda,ndb->nab", J, J)
-        A = A + 1e-12 * np.trace(A, axis1=1, axis2=2)[:, None, None] + 1e-300 * np.eye(self.k)
-        step = np.linalg.solve(A, rhs[..., None])[..., 0]
-        return np.clip(self.mids[seed] + step, self.lo[seed], self.hi[seed])
+        """Newton's start from the seed cell's midpoint m with the precomputed S, J, H there
+        (r = X - S(m)): the Gauss-Newton step d1 = (J^T J)^-1 J^T r, then the second-order
+        step d = N^-1 (J^T r - J^T Q(d1)/2 - H[d1]^T J d1), N = J^T J - r.H, Q(d) = d^T H d,
+        from the expansion of the stationarity condition J^T (S - X) = 0 to second order
+        in d (error O(|d|^3 + |r| |d|^2)); kept in the seed cell."""
+        k, dim = self.k, self.dim
+        P0, J0, H0 = self._mid_rows
+        r = [X[:, d] - P0[d].take(seed) for d in range(dim)]
+        J = [[J0[a, d].take(seed) for d in range(dim)] for a in range(k)]
+        H = {(a, b): [H0[b, a, d].take(seed) for d in range(dim)] for a in range(k) for b in range(a, k)}
+
+        def dot(u, v):
+            acc = u[0] * v[0]
+            for d in range(1, dim):
+                acc = acc + u[d] * v[d]
+            return acc
+
+        def sym(A):
+            return np.stack([np.stack([A[min(a, b), max(a, b)] for b in range(k)], axis=1) for a in range(k)], axis=1)
+
+        JtJ = {(a, b): dot(J[a], J[b]) for a in range(k) for b in range(a, k)}
+        rhs = np.stack([dot(J[a], r) for a in range(k)], axis=1)
+        d1 = _solve_sym(sym(JtJ), rhs)
+        Hd = [[sum(H[min(a, b), max(a, b)][d] * d1[:, b] for b in range(k)) for d in range(dim)]
+              for a in range(k)]                                                  # H[d1]
+        Q = [sum(Hd[a][d] * d1[:, a] for a in range(k)) for d in range(dim)]
+        Jd = [sum(J[a][d] * d1[:, a] for a in range(k)) for d in range(dim)]
+        N = {key: JtJ[key] - dot(r, H[key]) for key in JtJ}
+        rhs2 = rhs - np.stack([0.5 * dot(J[a], Q) + dot(Hd[a], Jd) for a in range(k)], axis=1)
+        d2 = _solve_sym(sym(N), rhs2, fallback=d1)
+        # the second-order step only where it is a refinement (small against d1)
+        lo, hi = self.lo[seed], self.hi[seed]
+        use = (np.abs(d2 - d1) <= 0.5 * np.abs(d1) + 1e-3 * (hi - lo)).all(1)
+        step = np.where(use[:, None], d2, d1)
+        return np.clip(self.mids[seed] + step, lo, hi)
 
     def _bound(self, X, pid, cell, lo, hi, c) -> np.ndarray:
         """Second-order lower bound of g over boxes inside their cells, expanded at c."""
-        S, J, H = self.evaluate(c, 2)
+        S, J, H = self.evaluate(c, 2, self._cell_piece[cell])     # the cell's own piece
         return box_lower_bound(X[pid], lo, hi, c, S, J, H, self.L[cell], self.M[cell], self.T3[cell])
 
     def _points(self, points) -> np.ndarray:
@@ -376,16 +490,128 @@ class Projector:
         return ClosestPoints(params, feet, d, conv.astype(bool), lower)
 
 
-def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray):
-    """Per distinct pid, the box spanning the boxes [lo, hi] of its pairs:
-    (points, lower corners, upper corners)."""
+def _c2_breaks(pieces: BezierPieces):
+    """Per direction, for every inner break: the object is C2 across it (all partials up
+    to order 2 of the two neighbouring pieces agree, within 1e-10 of their size, at
+    4 (degree + 1) points along the break on every piece across)."""
+    k, shape = pieces.k, pieces.shape
+    out = []
+    for a in range(k):
+        n = shape[a]
+        if n < 2:
+            out.append(np.zeros(0, dtype=bool))
+            continue
+        b = pieces.breaks[a]
+        if k == 1:
+            left, right = np.arange(n - 1), np.arange(1, n)
+            x = b[1:-1][:, None]
+            d0 = pieces.derivatives(left, x, 2)
+            d1 = pieces.derivatives(right, x, 2)
+            diff = np.abs(d0 - d1).max(axis=(0, 2))
+            scale = np.maximum(np.abs(d0).max(axis=(0, 2)), np.abs(d1).max(axis=(0, 2)))
+            out.append(diff <= 1e-10 * scale + 1e-300)
+            continue
+        o = 1 - a                                   # the other direction
+        q = pieces.degrees[o]
+        t = (np.arange(4 * (q + 1)) + 0.5) / (4 * (q + 1))
+        bo = pieces.breaks[o]
+        i, j, tt = np.meshgrid(np.arange(n - 1), np.arange(shape[o]), t, indexing="ij")
+        i, j, tt = i.ravel(), j.ravel(), tt.ravel()
+        xo = bo[j] + tt * (bo[j + 1] - bo[j])
+        xa = b[i + 1]
+        X = np.stack([xa, xo], 1) if a == 0 else np.stack([xo, xa], 1)
+        if a == 0:
+            left, right = i * shape[1] + j, (i + 1) * shape[1] + j
+        else:
+            left, right = j * shape[1] + i, j * shape[1] + i + 1
+        d0 = pieces.derivatives(left, X, 2)
+        d1 = pieces.derivatives(right, X, 2)
+        mask = np.add.outer(np.arange(3), np.arange(3)) <= 2
+        diff = np.abs(d0 - d1)[mask].max(axis=(0, 2))
+        scale = np.maximum(np.abs(d0)[mask].max(axis=(0, 2)), np.abs(d1)[mask].max(axis=(0, 2)))
+        ok = diff <= 1e-10 * scale + 1e-300
+        out.append(ok.reshape(n - 1, -1).all(axis=1))
+    return out
+
+
+def _rows(A: np.ndarray, i: np.ndarray) -> np.ndarray:
+    """A[i] gathered on the last axis of A.T (component-first storage), returned as the
+    transposed view: per-component columns stay contiguous."""
+    return np.take(A.T, i, axis=-1).T
+
+
+def _min_into(out: np.ndarray, pid: np.ndarray, values: np.ndarray) -> None:
+    """out[p] = min(out[p], values of the pairs of p) (like np.minimum.at; fast when pid
+    is sorted)."""
     if not len(pid):
-        return pid, lo, hi
+        return
+    if np.any(pid[1:] < pid[:-1]):
+        np.minimum.at(out, pid, values)
+        return
+    first = np.flatnonzero(np.r_[True, pid[1:] != pid[:-1]])
+    p = pid[first]
+    out[p] = np.minimum(out[p], np.minimum.reduceat(values, first))
+
+
+def _solve_sym(A: np.ndarray, b: np.ndarray, fallback: Optional[np.ndarray] = None) -> np.ndarray:
+    """x = A^-1 b for symmetric (n, k, k) A, k = 1 or 2, in closed form with a tiny
+    Levenberg shift; rows where A is not positive definite get ``fallback`` (or 0)."""
+    if A.shape[1] == 1:
+        a = A[:, 0, 0]
+        a = a + 1e-12 * np.abs(a) + 1e-300
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = b / a[:, None]
+        pd = (a > 0)[:, None]
+    else:
+        a, bb, c = A[:, 0, 0], A[:, 0, 1], A[:, 1, 1]
+        t = 1e-12 * (np.abs(a) + np.abs(c))
+        a, c = a + t + 1e-300, c + t + 1e-300
+        det = a * c - bb * bb
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = np.stack([(c * b[:, 0] - bb * b[:, 1]) / det, (a * b[:, 1] - bb * b[:, 0]) / det], axis=1)
+        pd = ((a > 0) & (det > 0))[:, None]
+    ok = pd & np.isfinite(x)
+    return np.where(ok, x, 0.0 if fallback is None else fallback)
+
+
+def _cell_counts(pieces: BezierPieces, target: int):
+    """Parts per piece index along each direction so that the cells have about equal
+    geometric extent (the first-derivative bound times the parameter width, the largest
+    over the row or column of pieces): at least the uniform count per = (target / m)^(1/k)
+    (>= 2), at most 8 per, and at most twice the uniform total."""
+    k, shape, m = pieces.k, pieces.shape, len(pieces)
+    per = max(2, int(np.ceil((target / m) ** (1.0 / k))))
+    B = pieces.partial_bounds(1)
+    h = pieces.upper - pieces.lower
+    ext = []
+    for a in range(k):
+        al = tuple(int(b == a) for b in range(k))
+        e = (B[al] * h[:, a]).reshape(shape)
+        ext.append(np.moveaxis(e, a, 0).reshape(shape[a], -1).max(axis=1))
+    allext = np.concatenate(ext)
+    ref = float(np.median(allext[np.isfinite(allext)])) if np.isfinite(allext).any() else 0.0
+    if not np.isfinite(ref) or ref <= 0:
+        return per
+    ext = [np.where(np.isfinite(e), e, ref) for e in ext]
+    step = 1.2 * ref / per                       # cells up to 20% above the median extent / per
+    while True:
+        counts = [np.clip(np.ceil(e / step - 1e-9), per, 8 * per).astype(np.intp) for e in ext]
+        if np.prod([float(c.sum()) for c in counts]) <= 2.0 * m * per ** k:
+            return counts
+        step *= 1.25
+
+
+def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: np.ndarray):
+    """Per distinct pid, the box spanning the boxes [lo, hi] of its pairs and the largest
+    ``step``: (points, lower corners, upper corners, steps)."""
+    if not len(pid):
+        return pid, lo, hi, step
     if np.any(pid[1:] < pid[:-1]):
         order = np.argsort(pid, kind="stable")
-        pid, lo, hi = pid[order], lo[order], hi[order]
+        pid, lo, hi, step = pid[order], lo[order], hi[order], step[order]
     first = np.flatnonzero(np.r_[True, pid[1:] != pid[:-1]])
-    return pid[first], np.minimum.reduceat(lo, first, axis=0), np.maximum.reduceat(hi, first, axis=0)
+    return (pid[first], np.minimum.reduceat(lo, first, axis=0), np.maximum.reduceat(hi, first, axis=0),
+            np.maximum.reduceat(step, first))
 
 
 def _tolerance(tol) -> float:

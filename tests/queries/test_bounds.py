@@ -126,3 +126,39 @@ def test_layout_locate_and_periodic_flags():
 def test_not_a_curve_or_surface():
     with pytest.raises(CagdError, match="obj"):
         bezier_pieces([1, 2, 3])
+
+
+@pytest.mark.parametrize("rational", [False, True])
+def test_subdivided_with_counts_per_piece_index(rational):
+    """Different parts per piece row/column: the cells stay on a tensor grid, their breaks
+    split each piece evenly, and every cell evaluates as the object (engine oracle)."""
+    rng = np.random.default_rng(5)
+    W = rng.uniform(0.5, 2.0, (6, 5)) if rational else None
+    s = cagd.BSplineSurface(rng.uniform(-1, 1, (6, 5, 3)), 3, 2, weights=W)
+    p = bezier_pieces(s)
+    cu = np.arange(1, p.shape[0] + 1)
+    cv = np.array([3, 1, 2])[:p.shape[1]]
+    fine = p.subdivided((cu, cv))
+    assert fine.shape == (int(cu.sum()), int(cv.sum()))
+    for b, bf, c in zip(p.breaks, fine.breaks, (cu, cv)):
+        expect = np.concatenate([np.linspace(b[i], b[i + 1], c[i] + 1)[:-1] for i in range(len(b) - 1)] + [b[-1:]])
+        np.testing.assert_allclose(bf, expect, rtol=0, atol=1e-15)
+    mid = 0.5 * (fine.lower + fine.upper)
+    uv = np.concatenate([mid, fine.lower * 0.7 + fine.upper * 0.3])
+    idx = np.concatenate([np.arange(len(fine))] * 2)
+    got = fine.derivatives(idx, uv, 1)
+    ref = s.derivatives(uv[:, 0], uv[:, 1], 1, 1)
+    for i, j in ((0, 0), (1, 0), (0, 1)):
+        np.testing.assert_allclose(got[i, j], ref[i, j], atol=1e-11 * max(1.0, np.abs(ref[i, j]).max()))
+    # a curve with per-piece counts
+    c = cagd.BSplineCurve(rng.uniform(-1, 1, (7, 2)), 3)
+    pc = bezier_pieces(c)
+    counts = np.arange(1, pc.shape[0] + 1)
+    fc = pc.subdivided([counts])
+    assert len(fc) == counts.sum()
+    t = 0.5 * (fc.lower + fc.upper)
+    np.testing.assert_allclose(fc.derivatives(np.arange(len(fc)), t, 0)[0], c(t[:, 0]), atol=1e-12)
+    with pytest.raises(CagdError, match="counts"):
+        p.subdivided((cu[:-1], cv))
+    with pytest.raises(CagdError, match="counts"):
+        p.subdivided((cu, cv * 0))
