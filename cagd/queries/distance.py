@@ -114,6 +114,10 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
         lower = min(float(bound[alive].min()) if alive.any() else best, floor, best)
         if best - lower <= tol:
             break
+        if not alive.any():            # only pairs dropped at the cap could hold a closer point
+            message = (f"pair cap {max_pairs} reached: the pairs dropped there bound the distance from "
+                       f"below by {floor:.6g}")
+            break
         if depth == max_depth:
             message = (f"depth limit {max_depth} reached with {np.count_nonzero(alive)} pairs alive"
                        + (f" (and pairs dropped at the cap {max_pairs})" if np.isfinite(floor) else ""))
