@@ -109,7 +109,10 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
         # quadratic rate seen over the last two steps (|d_k+1| ~ |d_k|^3 / |d_k-1|^2), is
         # below tol / 1000
         rel = (np.abs(taken) / width).max(0)
-        small = (np.abs(taken) <= step_tol).all(0) | (rel ** 3 <= 1e-3 * tol * prev[act] ** 2)
+        # (only when the steps really contract quadratically: a slow linear rate would
+        # make the extrapolation stop far from the minimum)
+        quadratic = (rel <= 1e-2 * prev[act]) & (rel ** 3 <= 1e-3 * tol * prev[act] ** 2)
+        small = (np.abs(taken) <= step_tol).all(0) | quadratic
         prev[act] = rel
         if small.any():
             # the last (tiny) step is taken when it does not increase g, with a point
@@ -117,7 +120,9 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
             conv[act[small]] = True
             i = np.flatnonzero(small)
             gs = ((proj.value(xn[:, i].T).T - Pa[:, i]) ** 2).sum(0)
-            better = gs <= g[act[i]]
+            # near the minimum g is flat to rounding (a foot error d moves it by ~d^2):
+            # compare with a few ulps of slack, or the last Newton correction is lost
+            better = gs <= g[act[i]] * (1.0 + 1e-14) + floor
             j = act[i[better]]
             xc[:, j], g[j] = xn[:, i[better]], gs[better]
             go = ~small
