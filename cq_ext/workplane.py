@@ -10,6 +10,7 @@ wire with ``makeWire``) for ``close``, ``extrude``, ``revolve``, ``sweep`` and
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Mapping, Optional, Sequence, Tuple, TypeVar, Union
 
 import cadquery as cq
@@ -244,11 +245,20 @@ def intersectFaces(self: T, other: Optional[cq.Face] = None, tol: float = 1e-7) 
     face on the stack and ``other``) as edges on the stack: each branch marched and
     fitted as a B-spline within ``tol`` of both surfaces (:func:`cagd.intersect`; any
     OCCT B-spline-convertible faces, over their UV bounds, not their trimming).
-    Isolated touching points are not edges and are left out."""
+    Isolated touching points are not edges and are left out; coincident faces raise
+    CagdError, and an intersection that did not converge warns (RuntimeWarning)."""
     faces = _stack_faces(self, None) + ([other] if other is not None else [])
     if len(faces) != 2:
         raise CagdError(f"intersectFaces: need exactly two faces (stack + other), got {len(faces)}")
     result = cagd.intersect(from_shape(faces[0]), from_shape(faces[1]), tol=tol)
+    if result.overlaps:
+        raise CagdError(f"faces: they coincide over {len(result.overlaps)} region(s); there is no curve "
+                        "of intersection there")
+    unsure = [k for k, branch in enumerate(result.curves) if not branch.converged]
+    if not result.converged or unsure:
+        warnings.warn(f"intersectFaces: the intersection is not certain: {result.message or ''} "
+                      f"{'branches ' + str(unsure) + ' did not meet tol' if unsure else ''}".strip(),
+                      RuntimeWarning, stacklevel=2)
     return self.newObject([to_cq(branch.curve) for branch in result.curves])
 
 

@@ -106,11 +106,23 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     returned as :class:`Overlap` intervals. Bounded: at most ``max_depth`` halvings and
     ``max_pairs`` live pairs; hitting a bound sets ``converged`` False.
 
+    Surface–plane and surface–surface requests go to
+    :mod:`cagd.queries.intersect_surfaces` (branches in ``curves``).
+
     Raises:
-        CagdError: not curves/surfaces/planes, different dimensions, tol <= 0 or NaN,
-            a surface–surface or surface–plane request (not implemented yet).
+        CagdError: not curves/surfaces/planes, two planes, different dimensions,
+            tol <= 0 or NaN, or tol below 1e-13 of the objects' size (beyond what
+            doubles resolve there: the fitted branches would need ever more points).
     """
     tol = _tolerance(tol)
+    if isinstance(a, Plane) and isinstance(b, Plane):
+        raise CagdError("a, b: two planes: intersect them with their normals (a line or nothing), "
+                        "not with this curve and surface query")
+    sizes = [sd.Geometry(o, name).size for o, name in ((a, "a"), (b, "b")) if o is not None
+             and not isinstance(o, Plane)]
+    if sizes and tol < 1e-13 * max(sizes):
+        raise CagdError(f"tol: {tol:g} is below 1e-13 of the objects' size {max(sizes):.6g}, beyond the "
+                        "precision of doubles there; pass a larger tol")
     angle_tol = _checks.scalar(angle_tol, "angle_tol")
     max_depth = _checks.integer(max_depth, "max_depth", 1, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)

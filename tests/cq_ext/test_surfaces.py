@@ -310,3 +310,10 @@ def test_intersect_faces_of_native_shapes():
         4 * 2.0 * np.sqrt(1 + 0.3 ** 2) * __import__("scipy").special.ellipe(0.3 ** 2 / (1 + 0.3 ** 2)), rel=1e-6)
     with pytest.raises(CagdError, match="two faces"):
         cq.Workplane().add(lateral).intersectFaces()
+
+
+def test_intersect_faces_of_coincident_faces_is_an_error():
+    x, y = np.meshgrid([0.0, 1, 2], [0.0, 1, 2], indexing="ij")
+    patch = cq_ext.to_cq(cagd.BSplineSurface(np.stack([x, y, 0.1 * x * y], axis=-1), 2, 2))
+    with pytest.raises(CagdError, match="coincide"):
+        cq.Workplane().add(patch).intersectFaces(patch)

@@ -265,3 +265,11 @@ def test_isocurve_lies_in_its_surface(direction, value):
     fixed = 1 if direction == "u" else 0
     for s, uv in zip(ov.param_a, ov.param_b):
         assert abs(uv[fixed] - value) <= 1e-9 and np.linalg.norm(S(*uv) - iso(s)) <= 1e-9
+
+
+def test_two_planes_and_a_tolerance_below_double_precision_are_errors():
+    p = plane((0, 0, 0), (0, 0, 1))
+    with pytest.raises(CagdError, match="two planes"):
+        intersect(p, p)
+    with pytest.raises(CagdError, match="^tol: .* below 1e-13"):
+        intersect(sphere(1e6), plane((0, 0, 3e5), (0, 0, 1)), tol=1e-9)      # used to run for minutes
