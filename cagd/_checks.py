@@ -73,6 +73,14 @@ def scalar(value, name: str) -> float:
     return x
 
 
+def positive(value, name: str) -> float:
+    """A finite float > 0 (tolerances, radii)."""
+    x = scalar(value, name)
+    if not x > 0.0:
+        raise CagdError(f"{name}: must be positive, got {x!r}")
+    return x
+
+
 def parameters(t, name: str = "t") -> np.ndarray:
     """Finite float64 parameters of any shape."""
     return finite_array(t, name)

@@ -9,7 +9,7 @@ from typing import Iterable, List, Union
 
 import cadquery as cq
 import numpy as np
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Sewing
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
 from OCP.GeomAbs import GeomAbs_Arc
@@ -21,7 +21,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Shape
 
 from cagd.errors import CagdError
 from cagd.curves.base import Curve
-from cagd.occ import make_edge, make_face, make_solid
+from cagd.occ import make_edge, make_face, make_solid, sewing
 from cagd.surfaces.base import Surface
 
 FaceLike = Union[cq.Face, Surface, cq.Shape]
@@ -46,13 +46,8 @@ def _occ_faces(faces: Iterable[FaceLike]) -> list:
 
 
 def _sewn(faces: Iterable[FaceLike], tol: float):
-    if not tol > 0:
-        raise CagdError(f"tol: must be > 0, got {tol!r}")
-    sewing = BRepBuilderAPI_Sewing(tol)
-    for f in _occ_faces(faces):
-        sewing.Add(f)
-    sewing.Perform()
-    return sewing
+    """cagd.occ's sewing of the faces (CadQuery shapes and engine surfaces)."""
+    return sewing(_occ_faces(faces), tol)
 
 
 def free_edges(faces: Iterable[FaceLike], tol: float = 1e-6) -> List[cq.Edge]:

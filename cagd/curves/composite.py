@@ -14,6 +14,7 @@ import numpy as np
 
 from .. import _checks
 from ..errors import CagdError
+from ..knots.vectors import is_clamped
 from .base import Curve
 from .bspline import BSplineCurve
 
@@ -46,9 +47,7 @@ class CompositeCurve(Curve):
                 raise CagdError(f"curves: curves[{i}] is a {type(c).__name__}, not a cagd Curve")
             if c.dim != pieces[0].dim:
                 raise CagdError(f"curves: curves[{i}] is {c.dim}-D, curves[0] is {pieces[0].dim}-D")
-        self.tol = _checks.scalar(tol, "tol")
-        if self.tol <= 0.0:
-            raise CagdError(f"tol: must be positive, got {self.tol}")
+        self.tol = _checks.positive(tol, "tol")
         self.curves: Tuple[Curve, ...] = pieces
         self.dim = pieces[0].dim
         self.size = curve_size(*pieces)
@@ -144,7 +143,7 @@ class CompositeCurve(Curve):
         to rounding when the pieces meet, and otherwise differs from it near a
         joint by at most half the gap there."""
         nurbs = [c.to_nurbs() for c in self.curves]
-        nurbs = [n.clamped() if (n.periodic or not _is_clamped(n)) else n for n in nurbs]
+        nurbs = [n.clamped() if (n.periodic or not is_clamped(n.full_knots, n.degree)) else n for n in nurbs]
         p = max(n.degree for n in nurbs)
         nurbs = [n.elevate(p - n.degree) for n in nurbs]
         rational = any(n.is_rational for n in nurbs)
@@ -175,6 +174,3 @@ class CompositeCurve(Curve):
         return BSplineCurve(H, p, U)
 
 
-def _is_clamped(c: BSplineCurve) -> bool:
-    u, p = c.full_knots, c.degree
-    return bool(np.all(u[:p + 1] == u[0]) and np.all(u[-p - 1:] == u[-1]))

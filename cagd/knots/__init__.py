@@ -17,11 +17,12 @@ from .vectors import (
     from_multiplicities,
     averaged,
     occ_knots,
+    is_clamped,
     from_occ_knots,
 )
 
 __all__ = [
     "clamped_uniform", "distinct_with_multiplicities", "find_span", "greville",
     "periodic_extend", "uniform", "validate", "validate_period",
-    "from_multiplicities", "averaged", "occ_knots", "from_occ_knots",
+    "from_multiplicities", "averaged", "occ_knots", "from_occ_knots", "is_clamped",
 ]

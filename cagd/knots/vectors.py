@@ -135,6 +135,12 @@ def find_span(knots: np.ndarray, degree: int, t: np.ndarray, count: int) -> np.n
     return span
 
 
+def is_clamped(knots, degree: int) -> bool:
+    """Whether a full knot vector has degree + 1 equal knots at both ends (open, clamped)."""
+    u = np.asarray(knots)
+    return bool(np.all(u[:degree + 1] == u[0]) and np.all(u[-degree - 1:] == u[-1]))
+
+
 def occ_knots(knots, periodic: bool) -> Tuple[np.ndarray, np.ndarray, int]:
     """Engine knots -> OCCT's (distinct knots, multiplicities, pole shift).
 

@@ -45,6 +45,7 @@ from OCP.XCAFDoc import XCAFDoc_DocumentTool
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
+from ..knots.vectors import is_clamped
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from .convert import from_occ
@@ -120,14 +121,10 @@ def _exchange_form(obj: Union[Curve, Surface]) -> Union[BSplineCurve, BSplineSur
     unclamped knot vectors and of periodic directions with few poles loses the shape."""
     nurbs = obj.to_nurbs()
     if isinstance(nurbs, BSplineCurve):
-        return nurbs if _is_clamped(nurbs.knots, nurbs.degree, nurbs.periodic) else nurbs.clamped()
-    clamped = _is_clamped(nurbs.knots_u, nurbs.degree_u, nurbs.periodic_u) and \
-        _is_clamped(nurbs.knots_v, nurbs.degree_v, nurbs.periodic_v)
+        return nurbs if not nurbs.periodic and is_clamped(nurbs.knots, nurbs.degree) else nurbs.clamped()
+    clamped = not (nurbs.periodic_u or nurbs.periodic_v) and is_clamped(nurbs.knots_u, nurbs.degree_u) \
+        and is_clamped(nurbs.knots_v, nurbs.degree_v)
     return nurbs if clamped else nurbs.clamped()
-
-
-def _is_clamped(knots: np.ndarray, degree: int, periodic: bool) -> bool:
-    return not periodic and bool(np.all(knots[:degree + 1] == knots[0]) and np.all(knots[-degree - 1:] == knots[-1]))
 
 
 def _document(named: List[Tuple[str, TopoDS_Shape]], unicode: bool) -> TDocStd_Document:

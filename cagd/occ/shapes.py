@@ -18,18 +18,11 @@ from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, Top
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
 
-from .._checks import scalar
+from .._checks import positive
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .convert import to_occ
-
-
-def _tolerance(tol: float, name: str = "tol") -> float:
-    tol = scalar(tol, name)
-    if not tol > 0:
-        raise CagdError(f"{name}: must be > 0, got {tol!r}")
-    return tol
 
 
 def _shape(shape, name: str = "shape") -> TopoDS_Shape:
@@ -86,7 +79,7 @@ def make_face(surface: Surface, tol: float = 1e-7) -> TopoDS_Face:
     tolerance for detecting them."""
     if not isinstance(surface, Surface):
         raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
-    maker = BRepBuilderAPI_MakeFace(to_occ(surface), _tolerance(tol))
+    maker = BRepBuilderAPI_MakeFace(to_occ(surface), positive(tol, "tol"))
     if not maker.IsDone():
         raise CagdError(f"surface: OCCT could not make a face (error {maker.Error()})")
     return maker.Face()
@@ -110,23 +103,29 @@ def _faces(items: Iterable, tol: float) -> List[TopoDS_Shape]:
     return out
 
 
+def sewing(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> BRepBuilderAPI_Sewing:
+    """OCCT's sewing of faces (or engine surfaces, or the faces of shapes) whose edges
+    meet within ``tol``, performed: ``SewedShape()``, ``NbFreeEdges()``, ``FreeEdge(i)``."""
+    tol = positive(tol, "tol")
+    result = BRepBuilderAPI_Sewing(tol)
+    for f in _faces(faces, tol):
+        result.Add(f)
+    result.Perform()
+    return result
+
+
 def sew(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> TopoDS_Shape:
     """Sew faces (or engine surfaces) whose edges meet within ``tol`` into a shell
     (BRepBuilderAPI_Sewing); returns a shell, or a compound when they form several."""
-    tol = _tolerance(tol)
-    sewing = BRepBuilderAPI_Sewing(tol)
-    for f in _faces(faces, tol):
-        sewing.Add(f)
-    sewing.Perform()
-    return sewing.SewedShape()
+    return sewing(faces, tol).SewedShape()
 
 
 def free_edge_count(shape: TopoDS_Shape, tol: float = 1e-6) -> int:
     """Edges of ``shape`` that bound only one face (0 for a closed shell)."""
-    sewing = BRepBuilderAPI_Sewing(_tolerance(tol))
-    sewing.Load(_shape(shape))
-    sewing.Perform()
-    return sewing.NbFreeEdges()
+    result = BRepBuilderAPI_Sewing(positive(tol, "tol"))
+    result.Load(_shape(shape))
+    result.Perform()
+    return result.NbFreeEdges()
 
 
 def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
@@ -183,7 +182,7 @@ def _integrated(shape: TopoDS_Shape, eps: float, volume: bool) -> float:
     integrated on its exact NURBS form (BRepBuilderAPI_NurbsConvert);
     others as they are (converting an analytic surface of revolution costs accuracy:
     5e-11 -> 1e-9 on a cylinder)."""
-    eps = _tolerance(eps, "eps")
+    eps = positive(eps, "eps")
     if any(BRepAdaptor_Surface(f).GetType() in _CONVERT for f in subshapes(shape, TopAbs_FACE)):
         shape = BRepBuilderAPI_NurbsConvert(shape, True).Shape()
     props = GProp_GProps()

@@ -108,9 +108,7 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
             raise CagdError(f"{name}: must be a cagd Curve, got {type(c).__name__}")
     if c1.dim != c2.dim:
         raise CagdError(f"c2: dimension {c2.dim} differs from c1's {c1.dim}")
-    tol = _checks.scalar(tol, "tol")
-    if tol <= 0.0:
-        raise CagdError(f"tol: must be positive, got {tol}")
+    tol = _checks.positive(tol, "tol")
     t1 = c1.domain[1] if t1 is None else _checks.scalar(t1, "t1")
     t2 = c2.domain[0] if t2 is None else _checks.scalar(t2, "t2")
     D1, D2 = c1.derivatives(t1, 2), c2.derivatives(t2, 2)

@@ -298,7 +298,7 @@ class Projector:
                 max_rounds: int = 40) -> ClosestPoints:
         """The closest point of the object to every row of ``points`` (see :func:`closest_point`)."""
         X = self._points(points)
-        tol = _tolerance(tol)
+        tol = _checks.positive(tol, "tol")
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         N = len(X)
         vid, vstart, vcount = self._voxels(X)
@@ -395,7 +395,7 @@ class Projector:
         X = self._points(point)
         if len(X) != 1:
             raise CagdError(f"points: all_minima needs exactly one point, got {len(X)}")
-        tol = _tolerance(tol)
+        tol = _checks.positive(tol, "tol")
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         m = len(self.radii)
         pid = np.zeros(m, dtype=np.intp)
@@ -612,13 +612,6 @@ def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: np.ndarr
     first = np.flatnonzero(np.r_[True, pid[1:] != pid[:-1]])
     return (pid[first], np.minimum.reduceat(lo, first, axis=0), np.maximum.reduceat(hi, first, axis=0),
             np.maximum.reduceat(step, first))
-
-
-def _tolerance(tol) -> float:
-    tol = _checks.scalar(tol, "tol")
-    if tol <= 0:
-        raise CagdError(f"tol: must be positive, got {tol}")
-    return tol
 
 
 def projector(obj) -> Projector:

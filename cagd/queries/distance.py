@@ -72,9 +72,7 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
     size = max(A.size, B.size)
     if tol is None:
         tol = 1e-9 * size
-    tol = _checks.scalar(tol, "tol")
-    if tol <= 0:
-        raise CagdError(f"tol: must be positive, got {tol}")
+    tol = _checks.positive(tol, "tol")
     max_depth = _checks.integer(max_depth, "max_depth", 0, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
     Ka, Kb = len(A.pieces.ctrl), len(B.pieces.ctrl)

@@ -88,13 +88,6 @@ def plane(origin, normal) -> Plane:
     return Plane(o, n / length)
 
 
-def _tolerance(tol) -> float:
-    tol = _checks.scalar(tol, "tol")
-    if tol <= 0:
-        raise CagdError(f"tol: must be positive, got {tol}")
-    return tol
-
-
 def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_depth: int = 64,
               max_pairs: int = 20000) -> IntersectionResult:
     """All intersections of ``a`` and ``b`` (curve–curve in any dimension, curve–surface,
@@ -114,12 +107,11 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
             tol <= 0 or NaN, or tol below 1e-13 of the objects' size (beyond what
             doubles resolve there: the fitted branches would need ever more points).
     """
-    tol = _tolerance(tol)
+    tol = _checks.positive(tol, "tol")
     if isinstance(a, Plane) and isinstance(b, Plane):
         raise CagdError("a, b: two planes: intersect them with their normals (a line or nothing), "
                         "not with this curve and surface query")
-    sizes = [sd.Geometry(o, name).size for o, name in ((a, "a"), (b, "b")) if o is not None
-             and not isinstance(o, Plane)]
+    sizes = [_extent(o, name) for o, name in ((a, "a"), (b, "b")) if o is not None and not isinstance(o, Plane)]
     if sizes and tol < 1e-13 * max(sizes):
         raise CagdError(f"tol: {tol:g} is below 1e-13 of the objects' size {max(sizes):.6g}, beyond the "
                         "precision of doubles there; pass a larger tol")
@@ -151,6 +143,15 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
         from .intersect_surfaces import surface_surface
         return surface_surface(a, b, tol, angle_tol=angle_tol, max_pairs=max_pairs)
     return _run(A, B, **opts)
+
+
+def _extent(obj, name: str) -> float:
+    """The largest extent of the control net's box (>= the object's own; cheap: no
+    Bezier decomposition, which the query then does once)."""
+    if not isinstance(obj, (Curve, Surface)):
+        raise CagdError(f"{name}: expected a cagd curve or surface, got {type(obj).__name__}")
+    nurbs = obj.to_nurbs()
+    return float(np.ptp(np.asarray(nurbs.control_points).reshape(-1, nurbs.dim), axis=0).max())
 
 
 def self_intersections(curve, tol: float = 1e-9, **kwargs) -> IntersectionResult:

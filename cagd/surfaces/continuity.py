@@ -151,9 +151,7 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
         if e not in EDGES:
             raise CagdError(f"{name}: must be one of {EDGES}, got {e!r}")
     samples = _checks.integer(samples, "samples", 2)
-    tol = _checks.scalar(tol, "tol")
-    if tol <= 0.0:
-        raise CagdError(f"tol: must be positive, got {tol}")
+    tol = _checks.positive(tol, "tol")
     if reverse is not None and not isinstance(reverse, (bool, np.bool_)):
         raise CagdError(f"reverse: must be True, False or None, got {reverse!r}")
     if s1.dim not in (2, 3):
