@@ -10,8 +10,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cagd
-from cagd import BezierCurve, BSplineCurve, natural_cubic_spline
+from cagd import BezierCurve, BSplineCurve
 from cagd.queries import min_distance
+
+from query_families import curve_of
 
 try:                                  # the OCCT oracles need OCP
     from cagd import occ
@@ -20,17 +22,6 @@ except ImportError:
 needs_occ = pytest.mark.skipif(occ is None, reason="OCP (cagd.occ) is not installed")
 
 CURVES = ["bezier", "rational", "periodic", "spline"]
-
-
-def curve_of(kind, rng, shift):
-    P = rng.random((6, 3)) + shift
-    if kind == "bezier":
-        return BezierCurve(P[:4])
-    if kind == "rational":
-        return BSplineCurve(P, 3, weights=rng.uniform(0.5, 2.0, 6))
-    if kind == "periodic":
-        return BSplineCurve(P, 3, np.linspace(0, 1, 7), periodic=True)
-    return natural_cubic_spline(P[:5])
 
 
 def surface_of(kind, rng):
@@ -92,7 +83,7 @@ def compare(res, theirs, label, a=None, b=None, dense=None):
 def test_curve_curve_families(ka, kb, seed):
     from OCP.GeomAPI import GeomAPI_ExtremaCurveCurve
     rng = np.random.default_rng(seed)
-    a, b = curve_of(ka, rng, 0.0), curve_of(kb, rng, [0.9, 0.0, 0.0])
+    a, b = curve_of(ka, rng), curve_of(kb, rng, shift=[0.9, 0.0, 0.0])
     res = min_distance(a, b)
     ext = GeomAPI_ExtremaCurveCurve(occ.to_occ(a), occ.to_occ(b))
     compare(res, ext.LowerDistance() if ext.NbExtrema() else None, f"{ka}/{kb} seed {seed}", a, b, dense_min(a, b))
@@ -105,7 +96,7 @@ def test_curve_curve_families(ka, kb, seed):
 def test_curve_surface_families(kc, ks, seed):
     from OCP.GeomAPI import GeomAPI_ExtremaCurveSurface
     rng = np.random.default_rng(seed)
-    c, s = curve_of(kc, rng, [0.0, 0.0, 1.2]), surface_of(ks, rng)
+    c, s = curve_of(kc, rng, shift=[0.0, 0.0, 1.2]), surface_of(ks, rng)
     res = min_distance(c, s)
     ext = GeomAPI_ExtremaCurveSurface(occ.to_occ(c), occ.to_occ(s))
     compare(res, ext.LowerDistance() if ext.NbExtrema() else None, f"{kc}/{ks} seed {seed}", c, s,

@@ -10,8 +10,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import cagd
-from cagd import BezierCurve, BSplineCurve, natural_cubic_spline
+from cagd import BezierCurve, BSplineCurve
 from cagd.queries import closest_point, intersect
+
+from query_families import curve_of
 
 try:                                  # the OCCT oracles need OCP
     from cagd import occ
@@ -20,18 +22,6 @@ except ImportError:
 needs_occ = pytest.mark.skipif(occ is None, reason="OCP (cagd.occ) is not installed")
 
 SEEDS = st.integers(0, 10 ** 6)
-
-
-def curve_of(kind, rng, dim):
-    """A curve of one family through the unit box."""
-    P = rng.random((6, dim))
-    if kind == "bezier":
-        return BezierCurve(P[:4])
-    if kind == "rational":
-        return BSplineCurve(P, 3, weights=rng.uniform(0.5, 2.0, 6))
-    if kind == "periodic":
-        return BSplineCurve(P, 3, np.linspace(0, 1, 7), periodic=True)
-    return natural_cubic_spline(P[:5])
 
 
 def pt(p):
