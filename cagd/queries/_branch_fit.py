@@ -108,13 +108,9 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
             pb = _piecewise(rt, [xs[a:b, 2:] for a, b in zip(bounds[:-1], bounds[1:])]) if S.n == 4 else None
             seg = keep[1:] - 1                          # original segment of each 3-D segment
         xs_all = xs
-        q = (np.arange(1, 8) / 8.0)
-        ts = (t[:-1, None] + q[None] * np.diff(t)[:, None])
-        d_s, d_p = _distances(S, curve, pa, pb, ts.ravel())
-        d_s, d_p = d_s.reshape(ts.shape).max(axis=1), d_p.reshape(ts.shape).max(axis=1)
-        e_s, e_p = _distances(S, curve, pa, pb, t)
-        worst = max(float(d_s.max()) if d_s.size else 0.0, float(e_s.max()))
-        worst_p = max(float(d_p.max()) if d_p.size else 0.0, float(e_p.max()))
+        d_s, d_p = _span_maxima(S, curve, pa, pb, t)
+        worst = float(d_s.max()) if d_s.size else 0.0
+        worst_p = float(d_p.max()) if d_p.size else 0.0
         if (worst <= tol and worst_p <= tol) or r == rounds:
             return curve, pa, pb, worst, worst_p
         bad = seg[np.flatnonzero(np.maximum(d_s, d_p) > 0.5 * tol)]
@@ -127,6 +123,32 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
             return curve, pa, pb, worst, worst_p
         xs = np.insert(xs, bad + 1, y, axis=0)
         P = S.eval(xs)[2]
+
+
+def _span_maxima(S: System, curve, pa, pb, t, n: int = 8):
+    """Largest distance in each span [t_i, t_i+1] of both error functions of
+    :func:`_distances`: n + 1 samples per span, then the vertex of the parabola through
+    the largest sample and its neighbours (successive parabolic interpolation, Brent
+    1973, ch. 5), evaluated too: the samples alone under-report a smooth bump by up to
+    (pi / 2n)^2 / 2, 2% at n = 8 (6% measured with 7 interior samples)."""
+    if len(t) < 2:
+        e_s, e_p = _distances(S, curve, pa, pb, t)
+        return e_s, e_p
+    q = np.arange(n + 1) / n
+    h = np.diff(t)
+    ts = t[:-1, None] + q[None] * h[:, None]                         # (K, n + 1)
+    vals = [v.reshape(ts.shape) for v in _distances(S, curve, pa, pb, ts.ravel())]
+    out = []
+    for k, f in enumerate(vals):
+        i = np.clip(np.argmax(f, axis=1), 1, n - 1)
+        r = np.arange(len(f))
+        f0, f1, f2 = f[r, i - 1], f[r, i], f[r, i + 1]
+        den = f0 - 2 * f1 + f2
+        off = np.where(den < 0, 0.5 * (f0 - f2) / np.where(den < 0, den, -1.0), 0.0)
+        tv = t[:-1] + (i + np.clip(off, -1.0, 1.0)) / n * h
+        fv = _distances(S, curve, pa, pb, tv)[k]
+        out.append(np.maximum(f.max(axis=1), fv))
+    return out[0], out[1]
 
 
 def _distances(S: System, curve, pa, pb, t):

@@ -56,7 +56,8 @@ class Marcher:
             return xs, "singular", None
         T = sigma * T
         Ps = [P0]
-        h = self.step_for(0.0) / 4
+        h = self.hmax / 64           # grows by at most 2x a step, capped by the measured curvature
+        kappa = None
         travelled = 0.0
         x = x0.copy()
         for _ in range(MAX_STEPS):
@@ -94,9 +95,16 @@ class Marcher:
                 continue
             T1s = sigma * T1
             cos = float(T @ T1s)
-            if cos < -np.cos(MAX_ANGLE) and fix is None:      # the kernel flipped: a crossing
-                end, other = self.crossing(x, y, c)
-                xs.append(end)
+            if cos < -np.cos(MAX_ANGLE) and fix is None:      # the kernel flipped
+                found = None
+                if h <= 4 * self.hmin or (kappa is not None and kappa * h <= 0.2):
+                    found = self.crossing(x, y, c)
+                if found is None:        # a step across a tight turn, not a crossing
+                    h *= 0.25
+                    if h < self.hmin:
+                        return xs, "stalled", None
+                    continue
+                xs.append(found[0])
                 return xs, "singular", y
             if cos < np.cos(MAX_ANGLE) or sine1 <= self.sing:
                 if sine1 <= self.sing and h <= 4 * self.hmin:
@@ -132,7 +140,10 @@ class Marcher:
         return xs, "limit", None
 
     def crossing(self, xa, xb, ca):
-        """Bisection for the point between xa and xb where the kernel vector flips."""
+        """Bisection for the point between xa and xb where the kernel vector flips:
+        (xa, xb) closing on it, or None when it is no crossing (the bisection lost the
+        branch, or the surfaces are not tangent there: n_A x n_B does not vanish, the
+        flip came from a step across a hairpin turn)."""
         S = self.S
         for _ in range(60):
             Pa, Pb = S.eval(np.stack([xa, xb]))[2]
@@ -142,12 +153,17 @@ class Marcher:
             mid = 0.5 * (xa + xb)
             y, ok = newton(S, mid[None], d[None], np.array([d @ mid]), self.ftol)
             if not ok[0]:
-                break
+                return None
             cm = self.frame(y[0])[1]
             if cm @ ca > 0:
                 xa = y[0]
             else:
                 xb = y[0]
+        else:
+            return None
+        # at a simple crossing sine ~ the distance to it / size, here ~ 0.1 tol / size
+        if self.frame(xa)[4] > 1e-4:
+            return None
         return xa, xb
 
 

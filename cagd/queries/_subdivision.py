@@ -90,6 +90,28 @@ class Geometry:
     def points(self, x: np.ndarray) -> np.ndarray:
         return self.derivatives(x, 0)[0]
 
+    @property
+    def closed(self) -> np.ndarray:
+        """Directions (k,) where the object is periodic or closes on itself (a seam: a
+        clamped closed curve's ends, a revolved surface's seam), so that parameters on
+        both sides of the seam name the same points (gap <= 1e-11 of the size)."""
+        if getattr(self, "_closed", None) is None:
+            out = self.periodic.copy()
+            s = np.linspace(0.0, 1.0, 9)
+            for d in range(self.k):
+                if out[d]:
+                    continue
+                x0 = np.empty((9, self.k))
+                if self.k == 2:
+                    o = 1 - d
+                    x0[:, o] = self.lo[o] + s * (self.hi[o] - self.lo[o])
+                x1 = x0.copy()
+                x0[:, d], x1[:, d] = self.lo[d], self.hi[d]
+                gap = np.linalg.norm(self.points(x0) - self.points(x1), axis=1).max()
+                out[d] = gap <= 1e-11 * self.size
+            self._closed = out
+        return self._closed
+
     def user_params(self, x: np.ndarray) -> np.ndarray:
         """Parameters of the user's object: curves (N,), surfaces (N, 2); a Bezier
         triangle's collapsed-edge NURBS form S(u, w) = T(u, w (1 - u)) is mapped back."""
@@ -189,56 +211,75 @@ def halve(ctrl: np.ndarray, axis: int) -> Tuple[np.ndarray, np.ndarray]:
     return L, R
 
 
-def split(p: Pieces, directions: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
-    """Halve every piece: curves into 2 children, surfaces into 4 (both directions).
-    Returns the children (grouped child-major: all first children, then all second,
-    ...) and the parent index of each child."""
+def split_modes(ctrl: np.ndarray) -> np.ndarray:
+    """How to halve each surface patch: 0 both directions, 1 u only, 2 v only. A patch
+    whose control polygon is over twice as long one way as the other (a sliver at a
+    pole or at a triangle's collapsed corner, a long thin strip) is halved across its
+    length only, so that slivers along a collapsed edge do not multiply."""
+    P = project(ctrl)
+    lu = np.linalg.norm(np.diff(P, axis=1), axis=-1).sum(axis=1).max(axis=1)
+    lv = np.linalg.norm(np.diff(P, axis=2), axis=-1).sum(axis=2).max(axis=1)
+    return np.where(lu > 2 * lv, 1, np.where(lv > 2 * lu, 2, 0))
+
+
+def split(p: Pieces, modes: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
+    """Halve every piece: curves into 2 children, surfaces into 4 (both directions) or,
+    where ``modes`` (default :func:`split_modes`) says so, 2 (one direction). Returns
+    the children and the parent index of each child."""
     M = p.ctrl.shape[0]
     parent = np.arange(M)
+    if M == 0:
+        return p, parent
     if p.k == 1:
         L, R = halve(p.ctrl, 1)
         mid = 0.5 * (p.lo + p.hi)
         return (Pieces(np.concatenate([L, R]), np.concatenate([p.lo, mid]), np.concatenate([mid, p.hi])),
                 np.concatenate([parent, parent]))
-    L, R = halve(p.ctrl, 1)
-    mu = 0.5 * (p.lo[:, 0] + p.hi[:, 0])
+    modes = split_modes(p.ctrl) if modes is None else modes
     parts = []
-    for half, ulo, uhi in ((L, p.lo[:, 0], mu), (R, mu, p.hi[:, 0])):
-        B, T = halve(half, 2)
-        mv = 0.5 * (p.lo[:, 1] + p.hi[:, 1])
-        for c, vlo, vhi in ((B, p.lo[:, 1], mv), (T, mv, p.hi[:, 1])):
-            parts.append((c, np.stack([ulo, vlo], 1), np.stack([uhi, vhi], 1)))
-    ctrl = np.concatenate([q[0] for q in parts])
-    lo = np.concatenate([q[1] for q in parts])
-    hi = np.concatenate([q[2] for q in parts])
-    return Pieces(ctrl, lo, hi), np.tile(parent, 4)
+    for mode, axes in ((0, (0, 1)), (1, (0,)), (2, (1,))):
+        sel = np.flatnonzero(modes == mode)
+        if sel.size == 0:
+            continue
+        kids = [(p.ctrl[sel], p.lo[sel], p.hi[sel])]
+        for ax in axes:
+            nxt = []
+            for c, lo, hi in kids:
+                L, R = halve(c, ax + 1)
+                mid = 0.5 * (lo[:, ax] + hi[:, ax])
+                hi_l, lo_r = hi.copy(), lo.copy()
+                hi_l[:, ax], lo_r[:, ax] = mid, mid
+                nxt += [(L, lo, hi_l), (R, lo_r, hi)]
+            kids = nxt
+        parts += [(c, lo, hi, sel) for c, lo, hi in kids]
+    return (Pieces(np.concatenate([q[0] for q in parts]), np.concatenate([q[1] for q in parts]),
+                   np.concatenate([q[2] for q in parts])), np.concatenate([q[3] for q in parts]))
 
 
 def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray
                 ) -> Tuple[Pieces, Pieces, np.ndarray]:
     """Children of the pairs (a[i], b[i]): a piece flagged in split_a (split_b) is
-    halved, the other kept, and every child of a is paired with every child of b.
-    Returns the new pair arrays and the parent pair index of each new pair."""
-    out_a, out_b, parents = [], [], []
-    for sa in (False, True):
-        for sb in (False, True):
-            sel = np.flatnonzero((split_a == sa) & (split_b == sb))
-            if sel.size == 0:
-                continue
-            pa, pb = a.take(sel), b.take(sel)
-            ca, ia = split(pa) if sa else (pa, np.arange(sel.size))
-            cb, ib = split(pb) if sb else (pb, np.arange(sel.size))
-            # all combinations of the children of the same parent pair
-            na, nb = len(ia) // sel.size, len(ib) // sel.size
-            ja = np.repeat(np.arange(na), nb)
-            jb = np.tile(np.arange(nb), na)
-            idx_a = (ja[:, None] * sel.size + np.arange(sel.size)[None, :]).ravel()
-            idx_b = (jb[:, None] * sel.size + np.arange(sel.size)[None, :]).ravel()
-            out_a.append(ca.take(idx_a))
-            out_b.append(cb.take(idx_b))
-            parents.append(np.tile(sel, na * nb))
-    cat = lambda ps: Pieces(*(np.concatenate([getattr(q, f) for q in ps]) for f in ("ctrl", "lo", "hi")))  # noqa
-    return cat(out_a), cat(out_b), np.concatenate(parents)
+    halved (:func:`split`), the other kept, and every child of a is paired with every
+    child of b. Returns the new pair arrays and the parent pair index of each new pair."""
+    def children(p, flag):
+        sel = np.flatnonzero(flag)
+        keep = np.flatnonzero(~flag)
+        kids, par = split(p.take(sel))
+        ctrl = np.concatenate([p.ctrl[keep], kids.ctrl])
+        lo = np.concatenate([p.lo[keep], kids.lo])
+        hi = np.concatenate([p.hi[keep], kids.hi])
+        owner = np.concatenate([keep, sel[par]])
+        order = np.argsort(owner, kind="stable")
+        count = np.bincount(owner, minlength=len(flag))
+        return Pieces(ctrl[order], lo[order], hi[order]), np.cumsum(count) - count, count
+    ca, start_a, na = children(a, np.asarray(split_a, bool))
+    cb, start_b, nb = children(b, np.asarray(split_b, bool))
+    total = na * nb
+    parent = np.repeat(np.arange(len(total)), total)
+    k = np.arange(parent.size) - np.repeat(np.cumsum(total) - total, total)
+    ia = start_a[parent] + k // nb[parent]
+    ib = start_b[parent] + k % nb[parent]
+    return ca.take(ia), cb.take(ib), parent
 
 
 def monotone(ctrl: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _subdivision as sd
 
-_N = 4                        # samples per direction on a piece
+_N = 5                        # samples per direction on a piece (odd: the centre is one)
 
 
 class SurfaceOverlap(NamedTuple):
@@ -42,28 +42,46 @@ def distances(G: sd.Geometry, H, pl, x: np.ndarray, seed: Optional[np.ndarray]):
     return d, y
 
 
-def lying_on(G: sd.Geometry, H, pl, lo, hi, seed_mid, tol: float):
+def grid_seeds(H: sd.Geometry, P: np.ndarray, lo: np.ndarray, hi: np.ndarray, n: int = 6) -> np.ndarray:
+    """Starts (N, 2) for projecting the points P (N, 3) onto H: the nearest of n x n
+    samples of H's parameter boxes (lo, hi) (N, 2) or (1, 2). Robust where one start for
+    a whole piece is not: at poles and apexes, where Newton from a piece's centre can
+    stop far from the foot of a corner."""
+    x = _grid(np.broadcast_to(lo, P.shape[:1] + (2,)) if len(lo) == 1 else lo,
+              np.broadcast_to(hi, P.shape[:1] + (2,)) if len(hi) == 1 else hi, n)      # (N, n*n, 2)
+    Q = H.points(x.reshape(-1, 2)).reshape(len(P), n * n, -1)
+    k = np.argmin(np.einsum("nsd,nsd->ns", Q - P[:, None], Q - P[:, None]), axis=1)
+    return x[np.arange(len(P)), k]
+
+
+def lying_on(G: sd.Geometry, H, pl, lo, hi, lo_h, hi_h, tol: float):
     """Which pieces (boxes lo, hi of G) lie on H (or the plane): all _N x _N samples
-    within tol. Returns the mask and the parameters on H of the piece centres."""
+    within tol, each projected from the nearest sample of H's piece (lo_h, hi_h).
+    Returns the mask and the parameters on H of the piece centres."""
     M = len(lo)
     x = _grid(lo, hi).reshape(-1, 2)
-    seed = None if H is None else np.repeat(seed_mid, _N * _N, axis=0)
+    seed = None
+    if H is not None:
+        seed = grid_seeds(H, G.points(x), np.repeat(lo_h, _N * _N, axis=0), np.repeat(hi_h, _N * _N, axis=0))
     d, y = distances(G, H, pl, x, seed)
     ok = np.all(d.reshape(M, -1) <= tol, axis=1)
-    mid = None if y is None else y.reshape(M, _N * _N, 2)[:, (_N * _N) // 2]
+    mid = None if y is None else y.reshape(M, _N * _N, 2)[:, (_N * _N) // 2]          # the centre
     return ok, mid
 
 
 def covered(lo: np.ndarray, hi: np.ndarray, boxes: List[np.ndarray]) -> np.ndarray:
-    """Pieces (lo, hi) inside one of the covered boxes (rows lo0, lo1, hi0, hi1)."""
-    out = np.zeros(len(lo), bool)
-    if boxes:
-        B = np.concatenate(boxes)
-        e = 1e-12
-        for b in np.array_split(B, max(1, len(B) // 256)):
-            out |= np.any(np.all(lo[:, None] >= b[None, :, :2] - e, axis=2)
-                          & np.all(hi[:, None] <= b[None, :, 2:] + e, axis=2), axis=1)
-    return out
+    """Pieces (lo, hi) inside one of the covered boxes (rows lo0, lo1, hi0, hi1); each
+    distinct piece is tested once (a piece appears in many pairs)."""
+    if not boxes or len(lo) == 0:
+        return np.zeros(len(lo), bool)
+    pieces, where = np.unique(np.concatenate([lo, hi], axis=1), axis=0, return_inverse=True)
+    out = np.zeros(len(pieces), bool)
+    B = np.concatenate(boxes)
+    e = 1e-12
+    for b in np.array_split(B, max(1, len(B) // 256)):
+        out |= np.any(np.all(pieces[:, None, :2] >= b[None, :, :2] - e, axis=2)
+                      & np.all(pieces[:, None, 2:] <= b[None, :, 2:] + e, axis=2), axis=1)
+    return out[np.ravel(where)]
 
 
 def _components(B: np.ndarray) -> List[np.ndarray]:
@@ -151,12 +169,37 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
         bb = None
         if H is not None:
             x = _grid(box[None, :2], box[None, 2:], 7)[0]
-            seed = np.repeat(y0[None], len(x), axis=0)
-            y, _ = sd.project_onto(H, G.points(x), seed)
-            lo, hi = y.min(axis=0), y.max(axis=0)
+            P = G.points(x)
+            y, _ = sd.project_onto(H, P, grid_seeds(H, P, H.lo[None], H.hi[None], 16))
+            lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed)
             bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
         out.append(SurfaceOverlap(bb, ba) if swap else SurfaceOverlap(ba, bb))
     return out
+
+
+def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.ndarray):
+    """Parameter box of a grid of parameters y (n, n, 2) that may cross the seam of a
+    closed direction: neighbours are unwrapped to within half a period, the box starts
+    in the domain and runs past its end when it crosses the seam (the covering-space
+    convention of IntersectionCurve), and is the whole period when it wraps round."""
+    y = y.copy()
+    span = hi - lo
+    for d in np.flatnonzero(closed):
+        c = y[..., d]
+        c[0] = c[0, 0] + np.concatenate([[0.0], np.cumsum(_wrapdiff(np.diff(c[0]), span[d]))])
+        c[1:] = c[:1] + np.cumsum(_wrapdiff(np.diff(c, axis=0), span[d]), axis=0)
+    a, b = y.min(axis=(0, 1)), y.max(axis=(0, 1))
+    for d in np.flatnonzero(closed):
+        if b[d] - a[d] >= span[d] * (1 - 1e-9):
+            a[d], b[d] = lo[d], hi[d]
+        else:
+            shift = np.floor((a[d] - lo[d]) / span[d]) * span[d]
+            a[d], b[d] = a[d] - shift, b[d] - shift
+    return a, b
+
+
+def _wrapdiff(d, span):
+    return np.mod(d + span / 2, span) - span / 2
 
 
 def inside(x: np.ndarray, regions_: List[SurfaceOverlap], lo: np.ndarray, hi: np.ndarray,

@@ -14,23 +14,6 @@ from .bounds import bezier_pieces
 
 NEWTON_ITERATIONS = 12
 
-def closed_dirs(G: sd.Geometry) -> np.ndarray:
-    """Directions where the surface is periodic or closes on itself (a seam)."""
-    out = G.periodic.copy()
-    s = np.linspace(0.0, 1.0, 9)
-    for d in range(2):
-        if out[d]:
-            continue
-        o = 1 - d
-        t = G.lo[o] + s * (G.hi[o] - G.lo[o])
-        x0 = np.empty((9, 2))
-        x1 = np.empty((9, 2))
-        x0[:, d], x1[:, d], x0[:, o], x1[:, o] = G.lo[d], G.hi[d], t, t
-        gap = np.linalg.norm(G.points(x0) - G.points(x1), axis=1).max()
-        out[d] = gap <= 1e-11 * G.size
-    return out
-
-
 class System:
     def __init__(self, A: sd.Geometry, B: Optional[sd.Geometry], pl=None):
         self.A, self.B, self.pl = A, B, pl
@@ -38,7 +21,7 @@ class System:
         gs = [A] + ([B] if B is not None else [])
         self.lo = np.concatenate([g.lo for g in gs])
         self.hi = np.concatenate([g.hi for g in gs])
-        self.per = np.concatenate([closed_dirs(g) for g in gs])
+        self.per = np.concatenate([g.closed for g in gs])
         self.span = self.hi - self.lo
         self.size = max(g.size for g in gs)
         self.pieces = [bezier_pieces(g.obj) for g in gs]

@@ -306,8 +306,10 @@ def _self_kinds(pa: sd.Pieces, pb: sd.Pieces, kind: np.ndarray, from_same: np.nd
 
 # --- solving, classification, overlaps -----------------------------------------------------
 def _wrapped_delta(G: sd.Geometry, d: np.ndarray) -> np.ndarray:
+    """|d| relative to the domain, across the seam in closed directions (periodic, or
+    a clamped closed curve whose t = 0 and t = 1 are one point)."""
     span = G.hi - G.lo
-    return np.where(G.periodic, np.abs(np.mod(d + span / 2, span) - span / 2), np.abs(d)) / span
+    return np.where(G.closed, np.abs(np.mod(d + span / 2, span) - span / 2), np.abs(d)) / span
 
 
 def _contact(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -356,6 +358,34 @@ def _polish(A, B, x, y, size: float, iters: int = 8):
     return z[:, :ka], z[:, ka:]
 
 
+def _split_near_contacts(A, B, x, y, dist, idx, size):
+    """A contact found by _polish with a gap above rounding (1e-13 of the model size)
+    is either a near miss or two crossings close together (a curve dipping just across
+    the other). Refinement from both sides, along a's parameter, at the offset where a
+    curvature of 1/size would put the crossings (sqrt(2 gap size) / speed), tells them
+    apart: two distinct roots with gaps below 1e-3 of the contact's replace it."""
+    idx = idx[dist[idx] > 1e-13 * size]
+    if idx.size == 0:
+        return x, y, dist
+    _, da, _ = A.derivatives(x[idx], 1)
+    speed = np.maximum(np.linalg.norm(da[:, 0], axis=-1), 1e-300)
+    h = (2.0 * np.sqrt(2.0 * dist[idx] * size) / speed)[:, None]
+    sides = []
+    for sign in (-1.0, 1.0):
+        xs = x[idx].copy()
+        xs[:, :1] = A.clamp(xs + sign * h * np.eye(A.k)[0])[:, :1]
+        sides.append(sd.refine(A, B, xs, y[idx], False, 40)[:3])
+    (x1, y1, d1), (x2, y2, d2) = sides
+    apart = _wrapped_delta(A, x1 - x2).max(1) > 1e-12
+    two = (d1 <= 1e-3 * dist[idx]) & (d2 <= 1e-3 * dist[idx]) & apart
+    if not two.any():
+        return x, y, dist
+    i = idx[two]
+    x, y, dist = x.copy(), y.copy(), dist.copy()
+    x[i], y[i], dist[i] = x1[two], y1[two], d1[two]
+    return np.concatenate([x, x2[two]]), np.concatenate([y, y2[two]]), np.concatenate([dist, d2[two]])
+
+
 def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> IntersectionResult:
     overlaps = merge_overlaps(A, B, frags, tol, self_mode)
     message = f"{open_pairs} pairs still open at the depth/pair limit" if open_pairs else ""
@@ -379,6 +409,7 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> I
         ok = (dp <= tol) & (moved <= 1e-5)
         idx = np.flatnonzero(near)[ok]
         x[idx], y[idx], dist[idx] = xp[ok], yp[ok], dp[ok]
+        x, y, dist = _split_near_contacts(A, B, x, y, dist, idx, size)
     keep = dist <= tol
     if self_mode:
         swap = x[:, 0] > y[:, 0]

@@ -38,11 +38,12 @@ def test_plane_cylinder_is_an_ellipse():
     assert np.linalg.norm(Q - br.curve(np.linspace(*br.curve.domain, 101)), axis=1).max() <= 1e-5
 
 
-@settings(max_examples=5, deadline=None)
-@given(st.floats(0.5, 2.0), st.floats(-0.3, 0.3), st.floats(0, 1.0))
+@settings(max_examples=8, deadline=None)
+@given(st.floats(0.5, 2.0), st.floats(-0.3, 0.3) | st.sampled_from([0.99999, -0.99999, 0.999999, 1 - 1e-8]),
+       st.floats(0, 1.0) | st.floats(0.0, 1e-3))
 def test_plane_sphere_is_a_circle(radius, height, angle):
-    # planes kept >= 0.2 radius away from the poles, where the sphere's parametrisation
-    # degenerates (a section through a pole is split there and fitted less accurately)
+    # heights near 1 put a small circle round a pole, where the parametrisation collapses;
+    # angle 0 is the pole's own axis
     c = np.array([0.3, -0.2, 0.1])
     n = np.array([np.sin(angle), 0.3, np.cos(angle)])
     n /= np.linalg.norm(n)
@@ -53,9 +54,14 @@ def test_plane_sphere_is_a_circle(radius, height, angle):
     P = samples(br)
     centre, rho = c + height * radius * n, radius * np.sqrt(1 - height ** 2)
     assert np.abs((P - centre) @ n).max() <= TOL
-    assert np.abs(np.linalg.norm(P - centre, axis=1) - rho).max() <= 2 * TOL
-    # the whole circle: its length
-    assert abs(np.linalg.norm(np.diff(P, axis=0), axis=1).sum() - 2 * np.pi * rho) <= 1e-4 * rho
+    assert np.abs(np.linalg.norm(P - c, axis=1) - radius).max() <= TOL
+    # within tol of both surfaces, which meet at the angle asin(rho / radius): the point
+    # may be tol / sin(angle) off the circle (a small circle round a pole is ill-conditioned)
+    off = 2 * TOL * radius / rho
+    assert np.abs(np.linalg.norm(P - centre, axis=1) - rho).max() <= off
+    # the whole circle once (a branch winding round twice, or split in pieces, fails here)
+    assert abs(br.curve.arc_length() - 2 * np.pi * rho) <= 2 * np.pi * off
+    assert res.points == []
 
 
 def test_torus_bitangent_plane_gives_two_villarceau_circles():
@@ -270,3 +276,93 @@ def test_torus_section_crossing_both_seams_surface_params():
         assert np.all((uv >= [u0, v0]) & (uv <= [u1, v1]))
         assert np.linalg.norm(tor(uv[:, 0], uv[:, 1]) - br.curve(t), axis=1).max() <= br.params_tolerance * 1.01
     assert raw_out            # the covering-space parameters do run past a seam
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(0.3, 1.2), st.floats(0.3, 1.2), st.floats(0.02, 0.98), st.integers(0, 2 ** 32 - 1))
+def test_two_spheres_meet_in_their_circle(r1, r2, where, seed):
+    """|r1 - r2| < d < r1 + r2: one closed branch, the circle of radius rho in the plane
+    x = (d^2 + r1^2 - r2^2) / 2d along the axis; nested or apart: nothing."""
+    rng = np.random.default_rng(seed)
+    c1 = rng.uniform(-0.5, 0.5, 3)
+    axis = rng.standard_normal(3)
+    axis /= np.linalg.norm(axis)
+    lo, hi = abs(r1 - r2), r1 + r2
+    d = lo + where * (hi - lo)
+    res = intersect(cagd.sphere(r1, c1), cagd.sphere(r2, c1 + d * axis), tol=TOL)
+    assert res.converged, res.message
+    x = (d * d + r1 * r1 - r2 * r2) / (2 * d)
+    rho = np.sqrt(r1 * r1 - x * x)
+    assert len(res.curves) == 1 and res.points == [] and res.overlaps == []
+    br = res.curves[0]
+    assert br.closed and br.tolerance <= TOL
+    P = samples(br)
+    assert np.abs((P - c1) @ axis - x).max() <= 2 * TOL
+    assert np.abs(np.linalg.norm(P - c1 - x * axis, axis=1) - rho).max() <= 2 * TOL
+    assert abs(br.curve.arc_length() - 2 * np.pi * rho) <= 2 * np.pi * TOL
+    for apart in (0.5 * lo, hi + 0.1):             # nested, and apart
+        none = intersect(cagd.sphere(r1, c1), cagd.sphere(r2, c1 + apart * axis), tol=TOL)
+        assert none.converged and none.curves == [] and none.points == []
+
+
+def test_nearly_coincident_spheres_stay_within_the_pair_cap():
+    """Two spheres of almost equal radius 0.14 apart cross at a shallow angle along a
+    great circle; the seed subdivision used to hit its pair cap (reported, not converged)."""
+    res = intersect(cagd.sphere(1.025), cagd.sphere(1.027, (0.14, 0.0, 0.0)), tol=TOL)
+    assert res.converged, res.message
+    x = (0.14 ** 2 + 1.025 ** 2 - 1.027 ** 2) / 0.28
+    assert len(res.curves) == 1
+    assert abs(res.curves[0].curve.arc_length() - 2 * np.pi * np.sqrt(1.025 ** 2 - x * x)) <= 1e-6
+
+
+@pytest.mark.parametrize("normal", [(1, 0, 0), (1, 0, 1), (1, 0, 0.2), (1, 1, 3), (0.3, -1, 1)])
+def test_plane_through_a_pole_gives_the_circle_and_no_extra_point(normal):
+    """The pole lies on the circle: a march cannot start from it (the partials vanish),
+    but it is on the branch, so no isolated point is reported beside it."""
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    res = intersect(cagd.sphere(1.0), plane([0, 0, 1.0], n), tol=TOL)
+    assert res.converged and res.points == [] and len(res.curves) == 1
+    rho = np.sqrt(1 - n[2] ** 2)
+    assert abs(res.curves[0].curve.arc_length() - 2 * np.pi * rho) <= 2 * np.pi * TOL
+    assert closest_point(res.curves[0].curve, [0, 0, 1.0]).distances[0] <= TOL
+    touch = intersect(cagd.sphere(1.0), plane([0, 0, 1.0], [0, 0, 1.0]), tol=TOL)   # tangent at the pole
+    assert touch.curves == [] and len(touch.points) == 1 and touch.points[0].tangential
+    assert np.linalg.norm(touch.points[0].point - [0, 0, 1]) <= 1e-6
+
+
+@pytest.mark.parametrize("make", [lambda: cagd.sphere(1.0), lambda: cagd.torus(2.0, 0.5, (0.1, 0, 0))])
+def test_closed_surface_against_itself_is_one_overlap(make):
+    """Poles and seams: pieces there project onto the other copy from the nearest of a
+    grid of its samples (one start for a whole piece missed a pole's corner by 1.0)."""
+    S = make()
+    res = intersect(S, S, tol=TOL)
+    assert res.converged, res.message
+    assert res.curves == [] and res.points == [] and len(res.overlaps) == 1
+    ov = res.overlaps[0]
+    assert np.allclose(ov.box_a, S.domain) and np.allclose(ov.box_b, S.domain)
+
+
+def test_reported_branch_tolerance_is_the_largest_deviation():
+    """tolerance and params_tolerance come from 9 samples a span plus the parabolic vertex
+    of the largest; 20,000 samples find at most 1% (surfaces: 0.1%) more."""
+    from cagd.queries import _branch_fit, _subdivision
+    from cagd.queries._surface_system import System
+    rng = np.random.default_rng(3)
+    g = np.linspace(-1, 1, 5)
+    nets = []
+    for _ in range(2):
+        P = np.zeros((5, 5, 3))
+        P[..., 0], P[..., 1] = np.meshgrid(g, g, indexing="ij")
+        P[..., 2] = 0.3 * rng.standard_normal((5, 5))
+        nets.append(cagd.BSplineSurface(P, 3, 3))
+    cases = [(nets[0], nets[1]), (cagd.sphere(1.0), cagd.torus(1.2, 0.4, (0.2, 0.1, 0.0)))]
+    checked = 0
+    for a, b in cases:
+        res = intersect(a, b, tol=TOL)
+        S = System(_subdivision.Geometry(a, "a"), _subdivision.Geometry(b, "b"))
+        for br in res.curves:
+            t = np.linspace(*br.curve.domain, 20001)
+            d_s, d_p = _branch_fit._distances(S, br.curve, br.params_a, br.params_b, t)
+            assert d_s.max() <= 1.001 * br.tolerance and d_p.max() <= 1.01 * br.params_tolerance
+            checked += 1
+    assert checked >= 3
