@@ -1,9 +1,10 @@
 """Bezier decomposition and subdivision machinery shared by the intersection and
 distance queries (private).
 
-An engine curve or surface is cut at its knots into Bezier pieces (Piegl & Tiller
-A5.6/A5.7, knot insertion to multiplicity p); each piece is kept as homogeneous
-control points (w P, w) together with its parameter box. The convex-hull property
+An engine curve or surface is cut at its knots into Bezier pieces once, by
+:func:`cagd.queries.bounds.bezier_pieces` (Piegl & Tiller A5.6/A5.7, knot insertion
+to multiplicity p); here each piece is kept as homogeneous control points (w P, w)
+together with its parameter box. The convex-hull property
 of Bezier pieces with positive weights (seed 000, 5.2.3; Farin ch. 4) makes the
 axis-aligned box of the projected control points a rigorous bound of the piece;
 halving by de Casteljau (Lane & Riesenfeld 1980) is done for all pieces at once.
@@ -20,6 +21,7 @@ import numpy as np
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
+from .bounds import bezier_pieces
 
 
 class Pieces(NamedTuple):
@@ -40,7 +42,10 @@ class Pieces(NamedTuple):
 
 class Geometry:
     """An engine curve or surface seen through its exact NURBS form: parameter count
-    ``k``, domain box, periodic flags, Bezier pieces and vectorized derivatives."""
+    ``k``, domain box, periodic flags, its Bezier decomposition (``bezier``, the
+    :class:`cagd.queries.bounds.BezierPieces` of the closest-point queries; ``pieces``,
+    the same as homogeneous arrays for the pair subdivision) and vectorized
+    derivatives evaluated on the pieces."""
 
     def __init__(self, obj, name: str):
         if isinstance(obj, Curve):
@@ -61,7 +66,9 @@ class Geometry:
             (u0, u1), (v0, v1) = self.nurbs.domain
             self.lo, self.hi = np.array([u0, v0]), np.array([u1, v1])
             self.periodic = np.array([bool(self.nurbs.periodic_u), bool(self.nurbs.periodic_v)])
-        self.pieces = decompose(self.nurbs, self.k)
+        self.bezier = bezier_pieces(obj)               # one decomposition for bounds and pairs
+        self.pieces = Pieces(_hom(self.bezier.control_points, self.bezier.weights),
+                             self.bezier.lower.copy(), self.bezier.upper.copy())
         pts = project(self.pieces.ctrl).reshape(-1, self.dim)
         self.size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
 
@@ -75,12 +82,11 @@ class Geometry:
         """Point (N, D), first derivatives (N, k, D) and, if order == 2, second
         derivatives (N, k, k, D) at parameters x (N, k) inside the domain."""
         x = self.clamp(x)
+        d = self.bezier.derivatives(self.bezier.locate(x), x, order)
         if self.k == 1:
-            d = self.nurbs.derivatives(x[:, 0], order)
             first = d[1][:, None, :] if order >= 1 else None
             second = d[2][:, None, None, :] if order >= 2 else None
             return d[0], first, second
-        d = self.nurbs.derivatives(x[:, 0], x[:, 1], order, order)
         first = np.stack([d[1, 0], d[0, 1]], axis=1) if order >= 1 else None
         second = None
         if order >= 2:
@@ -120,23 +126,6 @@ class Geometry:
         if self.triangle:
             return np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
         return x.copy()
-
-
-def decompose(nurbs, k: int) -> Pieces:
-    """Bezier pieces of a BSplineCurve (k = 1) or BSplineSurface (k = 2)."""
-    D = nurbs.dim
-    if k == 1:
-        breaks, segs = nurbs.bezier_segments()
-        ctrl = np.stack([_hom(s.control_points, s.weights) for s in segs])
-        return Pieces(ctrl, breaks[:-1, None].copy(), breaks[1:, None].copy())
-    bu, bv, patches = nurbs.bezier_patches()
-    ctrl = np.stack([_hom(p.control_points, p.weights) for row in patches for p in row])
-    iu, iv = np.meshgrid(np.arange(len(bu) - 1), np.arange(len(bv) - 1), indexing="ij")
-    iu, iv = iu.ravel(), iv.ravel()
-    lo = np.stack([bu[iu], bv[iv]], axis=1)
-    hi = np.stack([bu[iu + 1], bv[iv + 1]], axis=1)
-    assert ctrl.shape[-1] == D + 1
-    return Pieces(ctrl, lo, hi)
 
 
 def _hom(P: np.ndarray, w) -> np.ndarray:

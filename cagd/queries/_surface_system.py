@@ -10,7 +10,6 @@ from typing import Optional
 import numpy as np
 
 from . import _subdivision as sd
-from .bounds import bezier_pieces
 
 NEWTON_ITERATIONS = 12
 
@@ -24,7 +23,7 @@ class System:
         self.per = np.concatenate([g.closed for g in gs])
         self.span = self.hi - self.lo
         self.size = max(g.size for g in gs)
-        self.pieces = [bezier_pieces(g.obj) for g in gs]
+        self.pieces = [g.bezier for g in gs]
 
     def _partials(self, k, x):
         """Point and first partials (N, 2, 3) of surface k at parameters x (N, 2)."""

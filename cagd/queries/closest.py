@@ -49,12 +49,19 @@ class ClosestPoints(NamedTuple):
     params: (N,) curve parameters or (N, 2) surface parameters; feet: (N, dim) closest
     points; distances: (N,); converged: (N,) the local Newton refinement met ``tol``
     within ``max_iterations``; lower_bounds: (N,) certified lower bounds on the true
-    distance from the point to the whole object (``lower_bounds <= distances``)."""
+    distance from the point to the whole object (``lower_bounds <= distances``);
+    isolated (``all_minima`` only, else None): (N,) False where the minimum is not
+    isolated: the Hessian of the squared distance has a zero eigenvalue (relative 1e-6)
+    along the free parameters, so the minima form a curve or a region through it (the
+    centre of a sphere, a point on the axis of a surface of revolution); the rows are
+    then samples of that continuum, one per Bezier cell. A foot at a collapsed edge (a
+    pole) is one row, isolated when the distance grows away from it."""
     params: np.ndarray
     feet: np.ndarray
     distances: np.ndarray
     converged: np.ndarray
     lower_bounds: np.ndarray
+    isolated: Optional[np.ndarray] = None
 
 
 _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -415,19 +422,62 @@ class Projector:
         floor = -1e-8 * np.trace(2.0 * JtJ, axis1=1, axis2=2) - 1e-300
         for a in range(self.k):
             good &= fixed[:, a] | (H[:, a, a] >= floor)
+        # a continuum of minima: a zero eigenvalue of H along the free parameters; a
+        # parameter that does not move the point (a collapsed edge: a pole) counts as fixed
+        flat = 1e-6 * np.trace(2.0 * JtJ, axis1=1, axis2=2)
+        speed = np.linalg.norm(J, axis=1)
+        collapsed = speed <= 1e-8 * speed.sum(axis=1, keepdims=True)
+        held = fixed | collapsed
+        degenerate = np.zeros(len(y), bool)
+        for a in range(self.k):
+            alone = ~held[:, a] if self.k == 1 else ~held[:, a] & held[:, 1 - a]
+            degenerate |= alone & (H[:, a, a] <= flat)
         if self.k == 2:
             both = ~fixed[:, 0] & ~fixed[:, 1]
             lmin = 0.5 * (H[:, 0, 0] + H[:, 1, 1]) - np.sqrt(0.25 * (H[:, 0, 0] - H[:, 1, 1]) ** 2 + H[:, 0, 1] ** 2)
             good &= ~both | (lmin >= floor)
-        y, g2, ok = y[good], g2[good], ok[good]
+            degenerate |= ~held[:, 0] & ~held[:, 1] & (lmin <= flat)
+        if self.k == 2:        # a parameter bound that is a collapsed edge (a pole) is no
+            good &= self._pole_minimum(X[0], y, collapsed, g2)      # boundary of the surface
+        y, g2, ok, degenerate = y[good], g2[good], ok[good], degenerate[good]
         order = np.argsort(g2, kind="stable")               # merge duplicates: the closest of
         key = np.round((y[order] - self.domain[:, 0]) / self.width * 1e7).astype(np.int64)   # each 1e-7 bin
         key = np.where(self.wrap, np.mod(key, 10_000_000), key)
         _, first = np.unique(key, axis=0, return_index=True)
         chosen = order[np.sort(first)]
+        # one row per foot point: a pole is one point for a whole edge of parameters, and
+        # Newton stops within ~1e-7 of it there (the distance is flat along the edge)
+        feet, dist = self.value(y[chosen]), np.sqrt(g2[chosen])
+        keep = []
+        for i in range(len(chosen)):
+            if not keep or not np.any((np.linalg.norm(feet[keep] - feet[i], axis=1) <= 1e-6 * self.size)
+                                      & (np.abs(dist[keep] - dist[i]) <= 1e-12 * self.size)):
+                keep.append(i)
+        chosen = chosen[keep]
         d = np.sqrt(g2[chosen])
         lower = self.closest(X, tol, max_iterations).lower_bounds[0]
-        return self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d))
+        res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d))
+        return res._replace(isolated=~degenerate[chosen])
+
+    def _pole_minimum(self, X, y, collapsed, g2, count: int = 16) -> np.ndarray:
+        """Rows at a collapsed edge (at a bound in one parameter, the other not moving the
+        point) are minima only if the surface just off the edge is no closer: samples
+        1e-4 of the domain inside, across the whole edge. (The parametrization is singular
+        there: Newton stops where the meridian through the pole is orthogonal to S - X.)"""
+        out = np.ones(len(y), bool)
+        for a in range(2):
+            edge = (np.abs(y[:, a] - self.domain[a, 0]) <= 1e-9 * self.width[a]) \
+                | (np.abs(y[:, a] - self.domain[a, 1]) <= 1e-9 * self.width[a])
+            rows = np.flatnonzero(edge & collapsed[:, 1 - a])
+            if rows.size == 0:
+                continue
+            inward = np.where(np.isclose(y[rows, a], self.domain[a, 0]), 1.0, -1.0) * 1e-4 * self.width[a]
+            z = np.empty((rows.size, count, 2))
+            z[:, :, a] = (y[rows, a] + inward)[:, None]
+            z[:, :, 1 - a] = np.linspace(*self.domain[1 - a], count)[None]
+            d2 = np.sum((self.value(z.reshape(-1, 2)).reshape(rows.size, count, -1) - X) ** 2, axis=-1)
+            out[rows] = d2.min(axis=1) >= g2[rows] - 1e-12 * self.size ** 2
+        return out
 
     # --- helpers -----------------------------------------------------------------------------
     def _start(self, X: np.ndarray, seed: np.ndarray) -> np.ndarray:

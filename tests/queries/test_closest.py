@@ -59,9 +59,19 @@ def test_sphere_distances_and_the_centre_has_many_minima():
     np.testing.assert_allclose(r.distances, [2.0], atol=1e-14)
     assert 0 < r.lower_bounds[0] <= 2.0
     m = closest_point(s, c, all_minima=True)
-    assert len(m.distances) > 50
+    assert len(m.distances) > 50 and not m.isolated.any()        # samples of a continuum, said so
     np.testing.assert_allclose(m.distances, 2.0, atol=1e-13)
     np.testing.assert_allclose(np.linalg.norm(m.feet - c, axis=1), 2.0, atol=1e-13)
+    # on the axis: the pole is one isolated minimum, not one per parameter along its edge
+    m = closest_point(s, c + [0, 0, 0.5], all_minima=True)
+    assert len(m.distances) == 1 and m.isolated[0]
+    np.testing.assert_allclose(m.feet[0], c + [0, 0, 2], atol=1e-6)
+    # off the axis, inside: one minimum; the poles are no boundary of the sphere, and the
+    # singular parametrization there is no critical point of the distance
+    X = c + [0.0, 0.3, 0.5]
+    m = closest_point(s, X, all_minima=True)
+    np.testing.assert_allclose(m.distances, [2 - np.linalg.norm(X - c)], atol=1e-13)
+    assert m.isolated.all()
 
 
 def test_torus_and_cylinder():
@@ -91,6 +101,10 @@ def test_all_minima_of_a_point_inside_an_ellipse():
     # (non-periodic) curve is a boundary minimum
     m = closest_point(e, [0.0, 0.3], all_minima=True)
     np.testing.assert_allclose(m.distances, [0.7, 1.3, np.hypot(2.0, 0.3)], atol=1e-13)
+    assert m.isolated.all() and closest_point(e, [0.0, 0.3]).isolated is None
+    # the centre of a circle: every point is a minimum
+    m = closest_point(unit_circle(), [0.0, 0.0], all_minima=True)
+    assert len(m.distances) > 8 and not m.isolated.any()
 
 
 # --- inversion of points on the object -----------------------------------------------------------

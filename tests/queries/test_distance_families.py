@@ -118,12 +118,19 @@ def test_surface_surface_families(ka, kb, seed):
             dense_min(a, b, 40))
 
 
-def test_pair_cap_with_nothing_left_alive_reports_instead_of_crashing():
-    # found by the family test: every live pair was dropped at the cap, the next split got no pairs
+def test_triangle_corner_against_a_sphere_converges():
+    # found by the family test: the minimum is at the triangle's corner, the collapsed edge
+    # of its NURBS form; halving slivers along that edge too made the pairs multiply until
+    # the cap (gap 7e-6 reported); slivers are now halved across their length only
     rng = np.random.default_rng(0)
     a = surface_of("triangle", rng)
     b = surface_of("sphere", rng).transformed(np.eye(3), [0.0, 0.0, 2.0])
     res = min_distance(a, b)
-    assert res.lower_bound <= res.distance
+    assert res.converged, res.message
+    assert res.lower_bound <= res.distance <= res.lower_bound + res.tol
     assert res.distance <= dense_min(a, b, 40) + 1e-12
-    assert res.converged or "pair cap" in res.message
+    assert np.allclose(res.params[0], [1.0, 0.0])                   # the corner (1, 0)
+    # the same pair with a cap too small for it reports instead of crashing
+    capped = min_distance(a, b, max_pairs=16)
+    assert capped.lower_bound <= capped.distance
+    assert capped.converged or "pair cap" in capped.message

@@ -65,6 +65,36 @@ def test_parabola_touching_a_line():
     assert np.allclose(res.params_a, [0.25, 0.75], atol=1e-12)
 
 
+@pytest.mark.parametrize("eps", [1e-5, 2e-6, 1e-6])
+@pytest.mark.parametrize("tol", [1e-9, 1e-12])
+def test_two_crossings_close_together_are_not_one_contact(eps, tol):
+    """y = x^2 - eps^2 crosses y = 0 at x = -+eps; the gap at the vertex (eps^2) is below
+    tol, so the pair used to be polished into one tangential contact at tol 1e-9."""
+    parabola = BezierCurve([[-1, 1 - eps * eps], [0, -1 - eps * eps], [1, 1 - eps * eps]])
+    res = intersect(parabola, BezierCurve([[-1, 0], [1, 0]]), tol=tol)
+    assert res.converged
+    assert [p.tangential for p in res.points] == [False, False]
+    x = np.sort([p.point[0] for p in res.points])
+    # the crossings are ill-conditioned (sine 2 eps): position error <= residual / (2 eps)
+    np.testing.assert_allclose(x, [-eps, eps], atol=tol / eps)
+    for p in res.points:
+        assert abs(np.ravel(parabola(p.param_a))[1]) <= tol
+
+
+def test_a_contact_at_both_seams_is_reported_once():
+    """Two closed clamped circles touching where both start and end (t = 0 and t = 1
+    name one point): one tangential contact, not the four parameter combinations."""
+    a = circle((0.0, 0.0), 1.0)
+    outer = BSplineCurve(-a.control_points + [2.0, 0.0], 2, a.knots, a.weights)        # seam at (1, 0)
+    inner = BSplineCurve(-0.5 * a.control_points + [1.5, 0.0], 2, a.knots, a.weights)
+    for b in (outer, inner):
+        assert np.allclose(b(0.0), [1.0, 0.0]) and np.allclose(b(1.0), [1.0, 0.0])
+        res = intersect(a, b, tol=1e-9)
+        assert len(res.points) == 1 and res.points[0].tangential
+        assert np.linalg.norm(res.points[0].point - [1.0, 0.0]) <= 1e-6
+        assert res.points[0].param_a in (0.0, 1.0) and res.points[0].param_b in (0.0, 1.0)
+
+
 def line_sphere_roots(p0, d, r):
     a, b, c = d @ d, 2 * p0 @ d, p0 @ p0 - r * r
     disc = b * b - 4 * a * c
