@@ -39,6 +39,10 @@ class Pieces(NamedTuple):
     def take(self, index) -> "Pieces":
         return Pieces(self.ctrl[index], self.lo[index], self.hi[index])
 
+    @staticmethod
+    def concat(parts) -> "Pieces":
+        return Pieces(*(np.concatenate([getattr(q, f) for q in parts]) for f in ("ctrl", "lo", "hi")))
+
 
 class Geometry:
     """An engine curve or surface seen through its exact NURBS form: parameter count
@@ -240,9 +244,8 @@ def split(p: Pieces, modes: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
                 hi_l[:, ax], lo_r[:, ax] = mid, mid
                 nxt += [(L, lo, hi_l), (R, lo_r, hi)]
             kids = nxt
-        parts += [(c, lo, hi, sel) for c, lo, hi in kids]
-    return (Pieces(np.concatenate([q[0] for q in parts]), np.concatenate([q[1] for q in parts]),
-                   np.concatenate([q[2] for q in parts])), np.concatenate([q[3] for q in parts]))
+        parts += [(Pieces(c, lo, hi), sel) for c, lo, hi in kids]
+    return Pieces.concat([q[0] for q in parts]), np.concatenate([q[1] for q in parts])
 
 
 def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray
@@ -254,13 +257,10 @@ def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray
         sel = np.flatnonzero(flag)
         keep = np.flatnonzero(~flag)
         kids, par = split(p.take(sel))
-        ctrl = np.concatenate([p.ctrl[keep], kids.ctrl])
-        lo = np.concatenate([p.lo[keep], kids.lo])
-        hi = np.concatenate([p.hi[keep], kids.hi])
         owner = np.concatenate([keep, sel[par]])
         order = np.argsort(owner, kind="stable")
         count = np.bincount(owner, minlength=len(flag))
-        return Pieces(ctrl[order], lo[order], hi[order]), np.cumsum(count) - count, count
+        return Pieces.concat([p.take(keep), kids]).take(order), np.cumsum(count) - count, count
     ca, start_a, na = children(a, np.asarray(split_a, bool))
     cb, start_b, nb = children(b, np.asarray(split_b, bool))
     total = na * nb

@@ -137,8 +137,7 @@ def _children(pa: sd.Pieces, pb: sd.Pieces, split_a, split_b, tol: float, chunk:
         keep = ~_separated(ca, cb, tol)
         out_a.append(ca.take(keep))
         out_b.append(cb.take(keep))
-    cat = lambda ps: sd.Pieces(*(np.concatenate([getattr(q, f) for q in ps]) for f in ("ctrl", "lo", "hi")))  # noqa
-    return cat(out_a), cat(out_b)
+    return sd.Pieces.concat(out_a), sd.Pieces.concat(out_b)
 
 
 def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
@@ -303,16 +302,19 @@ def _seed_rows(points, d: int, val: float, H, k: int):
 def _trace(S: System, seeds: np.ndarray, tol: float, regions=()):
     M = Marcher(S, tol)
     x, ok = newton(S, seeds, None, None, M.ftol, iters=30)
+    inside = np.zeros(len(x), bool)
     if regions:                       # roots inside a coincident region are part of the overlap
         xw = S.wrap(x)
-        ok &= ~so.inside(xw[:, :2], regions, S.A.lo, S.A.hi, 0)
+        inside = so.inside(xw[:, :2], regions, S.A.lo, S.A.hi, 0)
         if S.B is not None:
-            ok &= ~so.inside(xw[:, 2:], regions, S.B.lo, S.B.hi, 1)
+            inside |= so.inside(xw[:, 2:], regions, S.B.lo, S.B.hi, 1)
+    touches = _near_misses(S, x[~ok & ~inside], tol)
+    ok &= ~inside
     x = x[ok]
     P = S.eval(x)[2] if len(x) else np.empty((0, 3))
     alive = np.ones(len(x), bool)
     branches = []            # (xs (K, n), ends (start, end), other-side starts)
-    isolated = []
+    isolated = list(touches)
     problems = []
     queue: List[np.ndarray] = []
     order = list(range(len(x)))
@@ -353,6 +355,35 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=()):
             idx = np.flatnonzero(alive)
             alive[idx[_absorbed(P[idx], [branches[-1]], M.ftol)]] = False
     return branches, isolated, problems, ok
+
+
+def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
+    """Seeds where Newton found no root but stopped (Gauss-Newton: at a local minimum of
+    |F|) with |F| <= tol: the surfaces touch within tol without crossing (a miss by less
+    than tol counts as a tangential contact, as for curves). Surface pairs are polished
+    by minimizing the distance (:func:`cagd.queries._subdivision.refine`, second order)."""
+    if len(x) == 0:
+        return np.empty((0, S.n))
+    x = x[np.linalg.norm(S.eval(x)[0], axis=1) <= tol]
+    if len(x) == 0:
+        return x
+    if S.B is not None:
+        xw = S.wrap(x)
+        xa, xb, dist, _ = sd.refine(S.A, S.B, xw[:, :2], xw[:, 2:], True, 40)
+        return np.concatenate([xa, xb], axis=1)[dist <= tol]
+    nrm = S.pl[1]                       # plane: Newton on grad (n . A) = 0, the normal along n
+    for _ in range(20):
+        _, d1, d2 = S.A.derivatives(S.wrap(x), 2)
+        g = d1 @ nrm                                             # (N, 2)
+        H = d2 @ nrm                                             # (N, 2, 2)
+        det = H[:, 0, 0] * H[:, 1, 1] - H[:, 0, 1] ** 2
+        good = np.abs(det) > 1e-300
+        step = np.zeros_like(x)
+        step[good] = -np.linalg.solve(H[good], g[good][..., None])[..., 0]
+        x = S.clip(x + step)
+        if np.all(np.abs(step) <= 1e-14 * S.span):
+            break
+    return x[np.abs(S.eval(x)[0][:, 0]) <= tol]
 
 
 def _absorbed(Q, branches, ftol):
@@ -431,10 +462,14 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=()):
         if max(worst, worst_p) > tol:
             messages.append(f"a branch was fitted within {max(worst, worst_p):.2e} > tol")
     points = []
+    seen = []
     for x in isolated:
         F, J, P, na, nb, _ = S.eval(x[None])
         if items and _absorbed(P, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol)[0]:
             continue          # a degenerate point (a pole) where a march could not start, on a branch
+        if seen and np.linalg.norm(np.array(seen) - P[0], axis=1).min() <= 1e-5 * S.size:
+            continue          # the same contact reached from several seeds
+        seen.append(P[0])
         sine = float(np.linalg.norm(np.cross(na[0], nb[0])))
         pb_ = S.B.user_params(S.wrap(x)[None, 2:])[0] if S.B is not None else None
         points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P[0],

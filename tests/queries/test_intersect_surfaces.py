@@ -366,3 +366,21 @@ def test_reported_branch_tolerance_is_the_largest_deviation():
             assert d_s.max() <= 1.001 * br.tolerance and d_p.max() <= 1.01 * br.params_tolerance
             checked += 1
     assert checked >= 3
+
+
+@pytest.mark.parametrize("gap", [0.0, 1e-9, 5e-8])
+def test_touch_within_tol_is_one_tangential_point(gap):
+    """Surfaces missing each other by less than tol touch (as curves do): one tangential
+    point where the normals agree; missing by more than tol gives nothing."""
+    n = np.array([1.0, 2.0, 2.0]) / 3
+    s = cagd.sphere(1.0)
+    for other, touch in ((plane((1 + gap) * n, n), n), (cagd.sphere(0.5, (1.5 + gap) * n), n)):
+        res = intersect(s, other, tol=TOL)
+        assert res.converged and res.curves == [], res
+        assert len(res.points) == 1 and res.points[0].tangential
+        assert np.linalg.norm(res.points[0].point - touch) <= 1e-6
+        assert res.points[0].residual <= TOL
+    far = intersect(s, plane((1 + 1e-6) * n, n), tol=TOL)
+    assert far.converged and far.points == [] and far.curves == []
+    far = intersect(s, cagd.sphere(0.5, (1.5 + 1e-6) * n), tol=TOL)
+    assert far.converged and far.points == [] and far.curves == []
