@@ -235,15 +235,20 @@ def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):
 
 
 def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, max_pairs: int,
-                    regions=()) -> np.ndarray:
+                    regions=()) -> Tuple[np.ndarray, List[np.ndarray]]:
     """Points where the boundary curves of each surface meet the other object (curve–
     surface subdivision of :mod:`cagd.queries.intersect`, rigorous down to its leaves):
     every branch that is not a closed loop ends on a boundary (or at a singular point),
     so these seeds find small branches cut off by a corner, which a leaf-centre seed of
     the surface subdivision can miss (Barnhill & Kersey 1990: boundary points first).
-    The parts of a boundary inside a coincident region are left out."""
+    The parts of a boundary inside a coincident region are left out.
+
+    A boundary piece lying on the other object (two patches sharing an edge, tangent
+    along it when joined G1, where marching cannot start) comes back as a ready branch:
+    parameter rows along the piece (64 per Bezier span, the other object's parameters
+    by projection). Returns (seeds (N, n), edge branches [(M, n)])."""
     from .intersect import Plane, _plane_geometry, _run
-    out = []
+    out, edges = [], []
     sides = [(A, B, 0)] + ([(B, A, 1)] if B is not None else [])
     for G, H, k in sides:
         for d in range(2):                      # d: the fixed parameter of the boundary
@@ -260,8 +265,23 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                     other = H if H is not None else _plane_geometry(Plane(*pl), Cg)
                     res = _run(Cg, other, tol, 1e-6, 64, max_pairs)
                     out += _seed_rows(res.points, d, val, H, k)
+                    for ov in res.overlaps:
+                        edges.append(_edge_rows(G, H, k, d, val, ov.param_a, len(Cg.pieces.ctrl)))
     n = 4 if B is not None else 2
-    return np.array(out).reshape(-1, n)
+    return np.array(out).reshape(-1, n), edges
+
+
+def _edge_rows(G: sd.Geometry, H, k: int, d: int, val: float, span, pieces: int) -> np.ndarray:
+    """Parameter rows (M, n) along G's boundary (parameter d = val) from span[0] to
+    span[1], where it lies on H (None: a plane): H's parameters by projection."""
+    s = np.linspace(span[0], span[1], 64 * max(pieces, 1) + 1)
+    x = np.empty((len(s), 2))
+    x[:, d], x[:, 1 - d] = val, s
+    if H is None:
+        return x
+    P = G.points(x)
+    y, _ = sd.project_onto(H, P, so.grid_seeds(H, P, H.lo[None], H.hi[None], 16))
+    return np.concatenate([x, y], axis=1) if k == 0 else np.concatenate([y, x], axis=1)
 
 
 def _outside(regions, k: int, d: int, val: float, lo: float, hi: float):
@@ -299,7 +319,7 @@ def _seed_rows(points, d: int, val: float, H, k: int):
 
 
 # --- driver ------------------------------------------------------------------------------
-def _trace(S: System, seeds: np.ndarray, tol: float, regions=()):
+def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
     M = Marcher(S, tol)
     x, ok = newton(S, seeds, None, None, M.ftol, iters=30)
     inside = np.zeros(len(x), bool)
@@ -316,6 +336,13 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=()):
     branches = []            # (xs (K, n), ends (start, end), other-side starts)
     isolated = list(touches)
     problems = []
+    for xs in edges:                  # boundary pieces lying on the other object
+        Pb = S.eval(xs)[2]
+        if branches and _absorbed(Pb[len(Pb) // 2:len(Pb) // 2 + 1], branches, M.ftol)[0]:
+            continue                  # the same shared edge, seen from the other surface
+        branches.append((xs, ["boundary", "boundary"], Pb))
+        if len(x):
+            alive &= ~_absorbed(P, [branches[-1]], M.ftol)
     queue: List[np.ndarray] = []
     order = list(range(len(x)))
     while True:
@@ -446,9 +473,9 @@ def _join(S: System, branches, tol):
     return items
 
 
-def _solve(S: System, seeds, complete, tol, angle_tol, regions=()):
+def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     from .intersect import IntersectionPoint, IntersectionResult
-    branches, isolated, problems, _ = _trace(S, seeds, tol, regions)
+    branches, isolated, problems, _ = _trace(S, seeds, tol, regions, edges)
     items = _join(S, branches, tol)
     curves = []
     messages = []
@@ -491,8 +518,8 @@ def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 
     if A.dim != 3 or B.dim != 3:
         raise CagdError(f"a, b: surface intersection needs 3-D surfaces, got {A.dim}-D and {B.dim}-D")
     seeds, complete, regions = _seeds_pair(A, B, tol, max_pairs)
-    seeds = np.concatenate([_boundary_seeds(A, B, None, tol, max_pairs, regions), seeds])
-    return _solve(System(A, B), seeds, complete, tol, angle_tol, regions)
+    bseeds, edges = _boundary_seeds(A, B, None, tol, max_pairs, regions)
+    return _solve(System(A, B), np.concatenate([bseeds, seeds]), complete, tol, angle_tol, regions, edges)
 
 
 def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
@@ -505,5 +532,6 @@ def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 2
         raise CagdError(f"a: a plane lives in 3-D, the surface is {A.dim}-D")
     o, nrm = np.asarray(pl.origin, float), np.asarray(pl.normal, float)
     seeds, complete, regions = _seeds_plane(A, (o, nrm), tol, max_pairs)
-    seeds = np.concatenate([_boundary_seeds(A, None, (o, nrm), tol, max_pairs, regions), seeds])
-    return _solve(System(A, None, (o, nrm)), seeds, complete, tol, angle_tol, regions)
+    bseeds, edges = _boundary_seeds(A, None, (o, nrm), tol, max_pairs, regions)
+    seeds = np.concatenate([bseeds, seeds])
+    return _solve(System(A, None, (o, nrm)), seeds, complete, tol, angle_tol, regions, edges)

@@ -384,3 +384,38 @@ def test_touch_within_tol_is_one_tangential_point(gap):
     assert far.converged and far.points == [] and far.curves == []
     far = intersect(s, cagd.sphere(0.5, (1.5 + 1e-6) * n), tol=TOL)
     assert far.converged and far.points == [] and far.curves == []
+
+
+def _teapot(i):
+    import json
+    from pathlib import Path
+    data = json.loads((Path(__file__).parents[2] / "examples" / "data" / "teapot.json").read_text())
+    V = np.array(data["vertices"], float)
+    return cagd.BezierSurface(V[np.array(data["patches"][i]) - 1].reshape(4, 4, 3))
+
+
+@pytest.mark.parametrize("pair, shared", [((0, 1), 1), ((0, 4), 1), ((12, 13), 2)])
+def test_patches_sharing_edges_meet_along_them(pair, shared):
+    """Neighbouring teapot patches (G1 across the edge: tangent along it, where marching
+    cannot start) meet along their shared boundary curves: one branch per shared edge,
+    not one isolated point per seed (65 to 250 before)."""
+    a, b = _teapot(pair[0]), _teapot(pair[1])
+    res = intersect(a, b, tol=1e-6)
+    assert res.converged, res.message
+    assert res.points == [] and len(res.curves) == shared
+    edges = [e for e in a.boundaries() if closest_point(b, e(np.linspace(0, 1, 50))).distances.max() <= 1e-12]
+    assert len(edges) == shared
+    for br in res.curves:
+        assert br.tolerance <= 1e-6 and br.params_tolerance <= 1e-6
+        P = samples(br, 401)
+        near = [closest_point(e, P).distances.max() for e in edges]
+        e = edges[int(np.argmin(near))]
+        assert min(near) <= 1e-6
+        assert abs(br.curve.arc_length() - e.arc_length()) <= 1e-5
+    # a surface split in two: the halves meet along the split (C2: tangent there)
+    S = cagd.BSplineSurface(np.random.default_rng(5).random((5, 5, 3)) + np.stack(
+        np.meshgrid(np.arange(5.0), np.arange(5.0), [0.0], indexing="ij"), -1)[..., 0, :], 3, 3)
+    res = intersect(S.segment("u", 0.0, 0.5), S.segment("u", 0.5, 1.0), tol=1e-7)
+    assert res.converged and res.points == [] and len(res.curves) == 1 and res.overlaps == []
+    seam = S.isocurve("v", 0.5)
+    assert closest_point(seam, samples(res.curves[0], 201)).distances.max() <= 1e-7
