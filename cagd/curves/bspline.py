@@ -248,19 +248,24 @@ class BSplineCurve(Curve):
             raise CagdError(f"t: split parameter {t} must lie strictly inside the domain ({a}, {b})")
         return self.segment(a, t), self.segment(t, b)
 
+    def bezier_net(self) -> Tuple[np.ndarray, np.ndarray]:
+        """Breakpoints (m + 1,) and the homogeneous Bezier control points (m, p + 1, D)
+        of the m pieces ((w P, w) when rational), by knot insertion to multiplicity p
+        (Piegl & Tiller A5.6), as arrays: no curve objects."""
+        a, b = self.domain
+        p = self.degree
+        values = np.concatenate([[a], self._breaks_within(a, b), [b]])
+        u, hom = self._with_multiplicity(values, p)
+        k = np.searchsorted(u, values[:-1], side="right") - 1
+        return values, hom[k[:, None] - p + np.arange(p + 1)[None]]
+
     def bezier_segments(self) -> Tuple[np.ndarray, List["BSplineCurve"]]:
         """Breakpoints and the Bezier pieces (each a clamped single-span curve on its
         own interval), by knot insertion to multiplicity p (Piegl & Tiller A5.6)."""
-        a, b = self.domain
+        values, nets = self.bezier_net()
         p = self.degree
-        inner = self._breaks_within(a, b)
-        values = np.concatenate([[a], inner, [b]])
-        u, hom = self._with_multiplicity(values, p)
-        pieces = []
-        for lo, hi in zip(values[:-1], values[1:]):
-            k = int(np.searchsorted(u, lo, side="right")) - 1
-            knots = np.concatenate([np.full(p + 1, lo), np.full(p + 1, hi)])
-            pieces.append(self._rebuild(hom[k - p:k + 1], knots))
+        pieces = [self._rebuild(net, np.concatenate([np.full(p + 1, lo), np.full(p + 1, hi)]))
+                  for net, lo, hi in zip(nets, values[:-1], values[1:])]
         return values, pieces
 
     def to_bezier(self) -> list:

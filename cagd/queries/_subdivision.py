@@ -155,6 +155,22 @@ def box_gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarr
     return np.sqrt(np.einsum("ij,ij->i", gap, gap))
 
 
+def box_pairs(a: Pieces, b: Pieces, tol: float, chunk: int = 1 << 22) -> Tuple[np.ndarray, np.ndarray]:
+    """Index pairs (i, j) of pieces a[i], b[j] whose control-hull boxes come within tol:
+    the broad phase, per piece and not per pair (all pairs of two 27 x 27 patch nets are
+    531,441, of which a few hundred meet), in row blocks of at most ``chunk`` tests."""
+    lo_a, hi_a = boxes(a.ctrl)
+    lo_b, hi_b = boxes(b.ctrl)
+    rows = max(1, chunk // max(len(lo_b), 1))
+    out_i, out_j = [], []
+    for r in range(0, len(lo_a), rows):
+        gap = np.maximum(0.0, np.maximum(lo_a[r:r + rows, None] - hi_b[None], lo_b[None] - hi_a[r:r + rows, None]))
+        i, j = np.nonzero(np.einsum("ijd,ijd->ij", gap, gap) <= tol * tol)
+        out_i.append(i + r)
+        out_j.append(j)
+    return np.concatenate(out_i), np.concatenate(out_j)
+
+
 def slab_gap(ctrl_a: np.ndarray, ctrl_b: np.ndarray, direction: np.ndarray) -> np.ndarray:
     """Lower bound of the distance between pieces from their projections on a unit
     ``direction`` (M, D) per pair: min_j d.Q_j - max_i d.P_i (or the reverse), >= 0."""

@@ -106,8 +106,8 @@ def newton(S: System, x, C=None, g0=None, ftol=1e-12, iters=NEWTON_ITERATIONS):
             if good.any():
                 dx[good] = np.linalg.solve(M[good], rhs[good][..., None])[..., 0]
         small = np.all(np.abs(dx) <= step_tol, axis=1)
-        ok = (res <= ftol) & (small | ok)
-        x = S.clip(x + dx)
+        ok = (res <= ftol) & (small | ok)     # converged: a root, not a point of a tangency's
+        x = S.clip(x + dx)                    # flat valley where |F| <= ftol over a whole patch
         if np.all(ok):
             break
     F = S.eval(x)[0]

@@ -141,7 +141,7 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
         return _swapped(_run(B, A, **opts))
     if A.k == 2:
         from .intersect_surfaces import surface_surface
-        return surface_surface(a, b, tol, angle_tol=angle_tol, max_pairs=max_pairs)
+        return surface_surface(A, B, tol, angle_tol=angle_tol, max_pairs=max_pairs)
     return _run(A, B, **opts)
 
 

@@ -141,8 +141,7 @@ def _children(pa: sd.Pieces, pb: sd.Pieces, split_a, split_b, tol: float, chunk:
 
 
 def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
-    Ka, Kb = len(A.pieces.ctrl), len(B.pieces.ctrl)
-    i, j = np.repeat(np.arange(Ka), Kb), np.tile(np.arange(Kb), Ka)
+    i, j = sd.box_pairs(A.pieces, B.pieces, tol)
     pa, pb = A.pieces.take(i), B.pieces.take(j)
     size = max(A.size, B.size)
     leaf = _SEED_FRACTION * size
@@ -330,7 +329,9 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
             inside |= so.inside(xw[:, 2:], regions, S.B.lo, S.B.hi, 1)
     touches = _near_misses(S, x[~ok & ~inside], tol)
     ok &= ~inside
-    x = x[ok]
+    flat, at = _tangencies(S, x[ok], tol)
+    touches = np.concatenate([touches, at])
+    x = x[ok][~flat]
     P = S.eval(x)[2] if len(x) else np.empty((0, 3))
     alive = np.ones(len(x), bool)
     branches = []            # (xs (K, n), ends (start, end), other-side starts)
@@ -387,18 +388,25 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
 def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
     """Seeds where Newton found no root but stopped (Gauss-Newton: at a local minimum of
     |F|) with |F| <= tol: the surfaces touch within tol without crossing (a miss by less
-    than tol counts as a tangential contact, as for curves). Surface pairs are polished
-    by minimizing the distance (:func:`cagd.queries._subdivision.refine`, second order)."""
+    than tol counts as a tangential contact, as for curves); polished by :func:`_touch`."""
     if len(x) == 0:
         return np.empty((0, S.n))
     x = x[np.linalg.norm(S.eval(x)[0], axis=1) <= tol]
+    y, dist = _touch(S, x)
+    return y[dist <= tol]
+
+
+def _touch(S: System, x: np.ndarray):
+    """The nearest contact of the surfaces from x: surface pairs by minimizing the
+    distance (:func:`cagd.queries._subdivision.refine`, second order), a surface and a
+    plane by Newton on grad (n . A) = 0 (the normal along n). Returns (x, distance)."""
     if len(x) == 0:
-        return x
+        return x, np.empty(0)
     if S.B is not None:
         xw = S.wrap(x)
         xa, xb, dist, _ = sd.refine(S.A, S.B, xw[:, :2], xw[:, 2:], True, 40)
-        return np.concatenate([xa, xb], axis=1)[dist <= tol]
-    nrm = S.pl[1]                       # plane: Newton on grad (n . A) = 0, the normal along n
+        return np.concatenate([xa, xb], axis=1), dist
+    nrm = S.pl[1]
     for _ in range(20):
         _, d1, d2 = S.A.derivatives(S.wrap(x), 2)
         g = d1 @ nrm                                             # (N, 2)
@@ -410,7 +418,27 @@ def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
         x = S.clip(x + step)
         if np.all(np.abs(step) <= 1e-14 * S.span):
             break
-    return x[np.abs(S.eval(x)[0][:, 0]) <= tol]
+    return x, np.abs(S.eval(x)[0][:, 0])
+
+
+def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = 1e-6) -> np.ndarray:
+    """Roots x where the surfaces are nearly tangent (sine < 1e-4) and the nearest
+    contact from there (:func:`_touch`) is a tangency (sine <= ``angle``, within tol):
+    the root lies in the flat valley round a touch point (|F| <= ftol over a cap of
+    radius ~ sqrt(ftol R)), where Newton may stop anywhere and no branch passes; a
+    branch crossing at a small angle keeps its roots. Returns the mask and the touches."""
+    if len(x) == 0:
+        return np.zeros(0, bool), np.empty((0, S.n))
+    _, _, _, na, nb, _ = S.eval(x)
+    weak = np.flatnonzero(np.linalg.norm(np.cross(na, nb), axis=1) < 1e-4)
+    out = np.zeros(len(x), bool)
+    if weak.size == 0:
+        return out, np.empty((0, S.n))
+    y, dist = _touch(S, x[weak])
+    _, _, _, na, nb, _ = S.eval(y)
+    hit = (dist <= tol) & (np.linalg.norm(np.cross(na, nb), axis=1) <= angle)
+    out[weak[hit]] = True
+    return out, y[hit]
 
 
 def _absorbed(Q, branches, ftol):
@@ -512,7 +540,8 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
 def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
     """Intersection curves of two surfaces (see the module docstring); returns an
     :class:`IntersectionResult` whose ``curves`` are :class:`IntersectionCurve` branches."""
-    A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")
+    A = a if isinstance(a, sd.Geometry) else sd.Geometry(a, "a")       # or prepared by intersect
+    B = b if isinstance(b, sd.Geometry) else sd.Geometry(b, "b")
     if A.k != 2 or B.k != 2:
         raise CagdError("a, b: surface_surface needs two surfaces")
     if A.dim != 3 or B.dim != 3:

@@ -329,6 +329,21 @@ class BSplineSurface(Surface):
         return BSplineSurface(self.control_points.transpose(1, 0, 2), self.degree_v, self.degree_u,
                               self.knots_v, self.knots_u, W, self.periodic_v, self.periodic_u)
 
+    def bezier_net(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(breaks_u, breaks_v, nets): the homogeneous Bezier control nets (mu, mv, p + 1,
+        q + 1, D) ((w P, w) when rational) of the patches, by knot insertion to
+        multiplicity p in u for all rows at once, then q in v for all strips at once
+        (Piegl & Tiller A5.7), as arrays: no surface objects."""
+        bu, strips = self._row_curve("u").bezier_net()           # (mu, p + 1, nv * D)
+        mu, p1 = strips.shape[:2]
+        D = self._hom.shape[2]
+        nv = strips.shape[2] // D
+        rows = strips.reshape(mu * p1, nv, D).transpose(1, 0, 2).reshape(nv, -1)
+        bv, cols = BSplineCurve(rows, self.degree_v, self.knots_v, periodic=self.periodic_v).bezier_net()
+        mv, q1 = cols.shape[:2]
+        nets = cols.reshape(mv, q1, mu, p1, D).transpose(2, 0, 3, 1, 4)
+        return bu, bv, nets
+
     def bezier_patches(self):
         """Decomposition into Bezier patches: (breaks_u, breaks_v, patches) with
         patches[i][j] a clamped single-span BSplineSurface (Piegl & Tiller A5.7)."""
