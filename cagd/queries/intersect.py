@@ -184,16 +184,16 @@ def _plane_geometry(pl: Plane, A: sd.Geometry) -> sd.Geometry:
 
 
 # --- the subdivision ------------------------------------------------------------------------
-def _initial_pairs(A: sd.Geometry, B: Optional[sd.Geometry]):
-    """Pair arrays of all pieces; kind 0 = ordinary, 1 = a piece with itself, 2 = a piece
-    and the next one (self-intersection only)."""
+def _initial_pairs(A: sd.Geometry, B: Optional[sd.Geometry], tol: float):
+    """Pair arrays of the pieces (for two objects: those whose boxes come within tol);
+    kind 0 = ordinary, 1 = a piece with itself, 2 = a piece and the next one
+    (self-intersection only)."""
     Ka = len(A.pieces.ctrl)
     if B is None:
         i, j = np.triu_indices(Ka)
         kind = np.where(i == j, 1, np.where(j == i + 1, 2, 0))
         return A.pieces.take(i), A.pieces.take(j), kind
-    Kb = len(B.pieces.ctrl)
-    i, j = np.repeat(np.arange(Ka), Kb), np.tile(np.arange(Kb), Ka)
+    i, j = sd.box_pairs(A.pieces, B.pieces, tol)
     return A.pieces.take(i), B.pieces.take(j), np.zeros(len(i), int)
 
 
@@ -220,7 +220,7 @@ def _run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float,
          max_pairs: int) -> IntersectionResult:
     self_mode = B is None
     Bg = A if self_mode else B
-    pa, pb, kind = _initial_pairs(A, B)
+    pa, pb, kind = _initial_pairs(A, B, tol)
     size = max(A.size, Bg.size)
     tiny = max(_TINY * size, 10 * tol)
     curve_surface = Bg.k == 2
