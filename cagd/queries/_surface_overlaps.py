@@ -117,6 +117,11 @@ def _grow(G, H, pl, box, seed_y, tol):
             x[:, d] = val
             x[:, o] = box[o] + s * (box[2 + o] - box[o])
             dist, y = distances(G, H, pl, x, seed)
+            if H is not None and not np.all(dist <= tol):     # the start may sit across H's
+                P = G.points(x)                                # seam: retry from H's grid
+                d2, y2 = distances(G, H, pl, x, grid_seeds(H, P, H.lo[None], H.hi[None], 12))
+                better = d2 < dist
+                dist, y = np.where(better, d2, dist), np.where(better[:, None], y2, y)
             return bool(np.all(dist <= tol)), y
         cur = box[2 + d] if up else box[d]
         _, seed = edge_ok(cur, None if H is None else np.repeat(seed_y[None], 9, axis=0))
@@ -171,24 +176,43 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
             x = _grid(box[None, :2], box[None, 2:], 7)[0]
             P = G.points(x)
             y, _ = sd.project_onto(H, P, grid_seeds(H, P, H.lo[None], H.hi[None], 16))
-            lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed)
+            speed = np.linalg.norm(H.derivatives(y, 1)[1], axis=-1)               # (49, 2)
+            valid = np.all(speed > 1e-8 * H.size, axis=1).reshape(7, 7)
+            lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed, valid)
             bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
         out.append(SurfaceOverlap(bb, ba) if swap else SurfaceOverlap(ba, bb))
     return out
 
 
-def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.ndarray):
+def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.ndarray,
+                   valid: Optional[np.ndarray] = None):
     """Parameter box of a grid of parameters y (n, n, 2) that may cross the seam of a
-    closed direction: neighbours are unwrapped to within half a period, the box starts
-    in the domain and runs past its end when it crosses the seam (the covering-space
-    convention of IntersectionCurve), and is the whole period when it wraps round."""
+    closed direction: neighbours are unwrapped to within half a period, outwards from
+    the middle row, the box starts in the domain and runs past its end when it crosses
+    the seam (the covering-space convention of IntersectionCurve), and is the whole
+    period when it wraps round. Samples not ``valid`` (at a pole, where the parameter
+    along the collapsed edge is arbitrary) are carried over and left out of the box in
+    the closed directions."""
+    n = y.shape[0]
+    valid = np.ones(y.shape[:2], bool) if valid is None else valid
     y = y.copy()
     span = hi - lo
+    m = n // 2
     for d in np.flatnonzero(closed):
         c = y[..., d]
-        c[0] = c[0, 0] + np.concatenate([[0.0], np.cumsum(_wrapdiff(np.diff(c[0]), span[d]))])
-        c[1:] = c[:1] + np.cumsum(_wrapdiff(np.diff(c, axis=0), span[d]), axis=0)
+        out = c.copy()
+        for j in range(1, n):                                  # the middle row, left to right
+            prev = out[m, j - 1]
+            out[m, j] = prev + _wrapdiff(c[m, j] - prev, span[d]) if valid[m, j] else prev
+        for rows in (range(m + 1, n), range(m - 1, -1, -1)):   # then outwards, column by column
+            for i in rows:
+                prev = out[i - 1] if i > m else out[i + 1]
+                out[i] = np.where(valid[i], prev + _wrapdiff(c[i] - prev, span[d]), prev)
+        y[..., d] = out
     a, b = y.min(axis=(0, 1)), y.max(axis=(0, 1))
+    pick = y[valid] if valid.any() else y.reshape(-1, 2)
+    a = np.where(closed, pick.min(axis=0), a)            # a pole's arbitrary value left out
+    b = np.where(closed, pick.max(axis=0), b)
     for d in np.flatnonzero(closed):
         if b[d] - a[d] >= span[d] * (1 - 1e-9):
             a[d], b[d] = lo[d], hi[d]
@@ -203,15 +227,24 @@ def _wrapdiff(d, span):
 
 
 def inside(x: np.ndarray, regions_: List[SurfaceOverlap], lo: np.ndarray, hi: np.ndarray,
-           which: int) -> np.ndarray:
+           which: int, closed: np.ndarray) -> np.ndarray:
     """Points x (N, 2) of surface ``which`` (0 = a, 1 = b) inside one of the overlap boxes
-    (margin 1e-6 of the domain)."""
+    (margin 1e-6 of the domain); in closed directions a box may run past the domain's
+    end (across the seam), so x + period is tested too."""
     m = 1e-6 * (hi - lo)
     out = np.zeros(len(x), bool)
     for r in regions_:
         box = r.box_a if which == 0 else r.box_b
         if box is None:
             continue
-        (u0, u1), (v0, v1) = box
-        out |= (x[:, 0] >= u0 - m[0]) & (x[:, 0] <= u1 + m[0]) & (x[:, 1] >= v0 - m[1]) & (x[:, 1] <= v1 + m[1])
+        hit = np.ones(len(x), bool)
+        for d in range(2):
+            a, b = box[d]
+            c = x[:, d]
+            ok = (c >= a - m[d]) & (c <= b + m[d])
+            if closed[d]:
+                c2 = c + (hi[d] - lo[d])
+                ok |= (c2 >= a - m[d]) & (c2 <= b + m[d])
+            hit &= ok
+        out |= hit
     return out

@@ -692,7 +692,8 @@ def closest_point(obj, points, all_minima: bool = False, tol: float = 1e-12,
         max_iterations: bound on Newton steps per refinement (non-convergence is reported).
 
     Returns:
-        :class:`ClosestPoints` (params, feet, distances, converged, lower_bounds).
+        :class:`ClosestPoints` (params, feet, distances, converged, lower_bounds; with
+        ``all_minima``, also ``isolated``: False where the minima form a continuum).
 
     Raises:
         CagdError: not a curve or surface, empty or NaN points, wrong dimension, tol <= 0.

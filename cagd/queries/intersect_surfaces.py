@@ -245,29 +245,31 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
     A boundary piece lying on the other object (two patches sharing an edge, tangent
     along it when joined G1, where marching cannot start) comes back as a ready branch:
     parameter rows along the piece (64 per Bezier span, the other object's parameters
-    by projection). Returns (seeds (N, n), edge branches [(M, n)])."""
+    by projection). Returns (seeds (N, n), edge branches [(M, n)], all boundary runs
+    converged)."""
     from .intersect import Plane, _plane_geometry, _run
-    out, edges = [], []
+    out, edges, complete = [], [], True
     sides = [(A, B, 0)] + ([(B, A, 1)] if B is not None else [])
     for G, H, k in sides:
         for d in range(2):                      # d: the fixed parameter of the boundary
-            if G.periodic[d]:
-                continue
+            if G.closed[d]:
+                continue                        # a seam is no boundary: branches cross it
             for val in (G.lo[d], G.hi[d]):
                 C = G.nurbs.isocurve("v" if d == 0 else "u", float(val))
                 net = np.asarray(C.control_points)
                 if np.ptp(net, axis=0).max() <= 1e-12 * G.size:
                     continue                    # a collapsed edge (a pole): a point
-                for t0, t1 in _outside(regions, k, d, val, G.lo[1 - d], G.hi[1 - d]):
+                for t0, t1 in _outside(regions, k, d, val, G.lo[1 - d], G.hi[1 - d], G.closed[1 - d]):
                     piece = C if (t0, t1) == (G.lo[1 - d], G.hi[1 - d]) else C.segment(t0, t1)
                     Cg = sd.Geometry(piece, "a")
                     other = H if H is not None else _plane_geometry(Plane(*pl), Cg)
                     res = _run(Cg, other, tol, 1e-6, 64, max_pairs)
+                    complete &= res.converged
                     out += _seed_rows(res.points, d, val, H, k)
                     for ov in res.overlaps:
                         edges.append(_edge_rows(G, H, k, d, val, ov.param_a, len(Cg.pieces.ctrl)))
     n = 4 if B is not None else 2
-    return np.array(out).reshape(-1, n), edges
+    return np.array(out).reshape(-1, n), edges, complete
 
 
 def _edge_rows(G: sd.Geometry, H, k: int, d: int, val: float, span, pieces: int) -> np.ndarray:
@@ -283,14 +285,18 @@ def _edge_rows(G: sd.Geometry, H, k: int, d: int, val: float, span, pieces: int)
     return np.concatenate([x, y], axis=1) if k == 0 else np.concatenate([y, x], axis=1)
 
 
-def _outside(regions, k: int, d: int, val: float, lo: float, hi: float):
+def _outside(regions, k: int, d: int, val: float, lo: float, hi: float, closed: bool = False):
     """Intervals of [lo, hi] (the free parameter of the boundary where parameter d of
-    surface k is val) outside the overlap regions' boxes, each cut back by 1e-6."""
+    surface k is val) outside the overlap regions' boxes, each cut back by 1e-6; a box
+    running past hi in a closed direction also covers [lo, its end - period]."""
     cuts = []
     for r in regions:
         box = (r.box_a, r.box_b)[k]
         if box is not None and box[d][0] <= val <= box[d][1]:
-            cuts.append(box[1 - d])
+            a, b = box[1 - d]
+            cuts.append((a, min(b, hi)))
+            if closed and b > hi:
+                cuts.append((lo, b - (hi - lo)))
     free, start = [], lo
     m = 1e-6 * (hi - lo)
     for a, b in sorted(cuts):
@@ -324,9 +330,9 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
     inside = np.zeros(len(x), bool)
     if regions:                       # roots inside a coincident region are part of the overlap
         xw = S.wrap(x)
-        inside = so.inside(xw[:, :2], regions, S.A.lo, S.A.hi, 0)
+        inside = so.inside(xw[:, :2], regions, S.A.lo, S.A.hi, 0, S.per[:2])
         if S.B is not None:
-            inside |= so.inside(xw[:, 2:], regions, S.B.lo, S.B.hi, 1)
+            inside |= so.inside(xw[:, 2:], regions, S.B.lo, S.B.hi, 1, S.per[2:])
     touches = _near_misses(S, x[~ok & ~inside], tol)
     ok &= ~inside
     flat, at = _tangencies(S, x[ok], tol)
@@ -382,7 +388,7 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         if alive.any():
             idx = np.flatnonzero(alive)
             alive[idx[_absorbed(P[idx], [branches[-1]], M.ftol)]] = False
-    return branches, isolated, problems, ok
+    return branches, isolated, problems
 
 
 def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
@@ -421,7 +427,7 @@ def _touch(S: System, x: np.ndarray):
     return x, np.abs(S.eval(x)[0][:, 0])
 
 
-def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = 1e-6) -> np.ndarray:
+def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = 1e-6) -> Tuple[np.ndarray, np.ndarray]:
     """Roots x where the surfaces are nearly tangent (sine < 1e-4) and the nearest
     contact from there (:func:`_touch`) is a tangency (sine <= ``angle``, within tol):
     the root lies in the flat valley round a touch point (|F| <= ftol over a cap of
@@ -503,7 +509,7 @@ def _join(S: System, branches, tol):
 
 def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     from .intersect import IntersectionPoint, IntersectionResult
-    branches, isolated, problems, _ = _trace(S, seeds, tol, regions, edges)
+    branches, isolated, problems = _trace(S, seeds, tol, regions, edges)
     items = _join(S, branches, tol)
     curves = []
     messages = []
@@ -529,10 +535,17 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
         pb_ = S.B.user_params(S.wrap(x)[None, 2:])[0] if S.B is not None else None
         points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P[0],
                                         sine <= max(angle_tol, 1e-6), float(np.linalg.norm(F))))
+    if len(points) >= 5:
+        Q = np.array([p.point for p in points])
+        gaps = np.linalg.norm(Q[:, None] - Q[None], axis=-1)
+        np.fill_diagonal(gaps, np.inf)
+        if np.all(gaps.min(axis=1) <= 0.25 * S.size):
+            messages.append(f"{len(points)} contact points lie along a curve (a curve of tangency, "
+                            "which is not traced as a branch)")
     if problems:
         messages.append(f"marching did not converge at {len(problems)} branch end(s) ({', '.join(problems)})")
     if not complete:
-        messages.append("seed subdivision hit max_pairs")
+        messages.append("the seed subdivision (or a boundary curve's) hit max_pairs")
     converged = not messages
     return IntersectionResult(points, list(regions), curves, tol, converged, "; ".join(messages))
 
@@ -547,8 +560,9 @@ def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 
     if A.dim != 3 or B.dim != 3:
         raise CagdError(f"a, b: surface intersection needs 3-D surfaces, got {A.dim}-D and {B.dim}-D")
     seeds, complete, regions = _seeds_pair(A, B, tol, max_pairs)
-    bseeds, edges = _boundary_seeds(A, B, None, tol, max_pairs, regions)
-    return _solve(System(A, B), np.concatenate([bseeds, seeds]), complete, tol, angle_tol, regions, edges)
+    bseeds, edges, done = _boundary_seeds(A, B, None, tol, max_pairs, regions)
+    return _solve(System(A, B), np.concatenate([bseeds, seeds]), complete and done, tol, angle_tol, regions,
+                  edges)
 
 
 def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
@@ -561,6 +575,6 @@ def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 2
         raise CagdError(f"a: a plane lives in 3-D, the surface is {A.dim}-D")
     o, nrm = np.asarray(pl.origin, float), np.asarray(pl.normal, float)
     seeds, complete, regions = _seeds_plane(A, (o, nrm), tol, max_pairs)
-    bseeds, edges = _boundary_seeds(A, None, (o, nrm), tol, max_pairs, regions)
-    seeds = np.concatenate([bseeds, seeds])
+    bseeds, edges, done = _boundary_seeds(A, None, (o, nrm), tol, max_pairs, regions)
+    seeds, complete = np.concatenate([bseeds, seeds]), complete and done
     return _solve(System(A, None, (o, nrm)), seeds, complete, tol, angle_tol, regions, edges)

@@ -419,3 +419,46 @@ def test_patches_sharing_edges_meet_along_them(pair, shared):
     assert res.converged and res.points == [] and len(res.curves) == 1 and res.overlaps == []
     seam = S.isocurve("v", 0.5)
     assert closest_point(seam, samples(res.curves[0], 201)).distances.max() <= 1e-7
+
+
+def test_a_seam_lying_on_the_other_surface_is_no_boundary():
+    """A revolved surface's seam is a parameter line, not an edge: a torus cut by a plane
+    through its seam gives its two closed circles, not a third open branch along the seam."""
+    res = intersect(cagd.torus(3.0, 1.0), plane([0, 0, 0], [0, 1, 0]), tol=TOL)
+    assert res.converged and res.points == [] and len(res.curves) == 2
+    for br in res.curves:
+        assert br.closed and br.ends == ("closed", "closed")
+        assert abs(br.curve.arc_length() - 2 * np.pi) <= 1e-6
+
+
+def test_patch_across_the_seam_of_a_cylinder_is_one_overlap():
+    """A 120-degree patch of a cylinder centred on the full cylinder's seam lies on it:
+    one overlap covering the patch, whose box on the cylinder runs past the seam (the
+    covering-space convention); no branch along the seam inside it."""
+    prof = cagd.BSplineCurve([[1.0, 0, 0], [1.0, 0, 2.0]], 1)
+    full = cagd.revolve(prof)
+    patch = cagd.revolve(prof, angle=2 * np.pi / 3, start_angle=-np.pi / 3)
+    res = intersect(patch, full, tol=TOL)
+    assert res.converged and res.curves == [] and res.points == [] and len(res.overlaps) == 1
+    (u0, u1), (v0, v1) = res.overlaps[0].box_b
+    assert np.allclose(res.overlaps[0].box_a, ((0, 1), (0, 1)), atol=1e-6)
+    assert v0 < 1 < v1                                                          # across the seam
+    ends = full(np.array([0.5, 0.5]), np.array([v0, v1 - 1]))                   # the patch's edges
+    assert np.abs(ends - patch(np.array([0.5, 0.5]), np.array([0.0, 1.0]))).max() <= 1e-6
+    both = intersect(full, patch, tol=TOL)                # from the full side: split at its seam
+    assert both.converged and both.curves == [] and both.points == []
+    angle = 0.0
+    for o in both.overlaps:
+        q = full(np.array([0.5, 0.5]), np.array(o.box_a[1]))
+        angle += abs(np.arctan2(q[1, 1], q[1, 0]) - np.arctan2(q[0, 1], q[0, 0]))
+    assert abs(angle - 2 * np.pi / 3) <= 1e-6
+
+
+def test_a_curve_of_tangency_is_reported_not_hidden():
+    """A sphere inside a cylinder of its radius touches it along the equator: the contact
+    points are on it, and the result says that they form an untraced curve of tangency."""
+    res = intersect(cagd.sphere(1.0), cagd.cylinder(1.0, 2.0, (0, 0, -1)), tol=TOL)
+    assert not res.converged and "curve of tangency" in res.message
+    P = np.array([p.point for p in res.points])
+    assert len(P) >= 5 and np.abs(P[:, 2]).max() <= 1e-6
+    assert np.abs(np.linalg.norm(P, axis=1) - 1).max() <= TOL
