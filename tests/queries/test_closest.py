@@ -72,6 +72,10 @@ def test_sphere_distances_and_the_centre_has_many_minima():
     m = closest_point(s, X, all_minima=True)
     np.testing.assert_allclose(m.distances, [2 - np.linalg.norm(X - c)], atol=1e-13)
     assert m.isolated.all()
+    # nor is the seam (v = 0 = 1 of the clamped closed longitude) a boundary: no second row
+    X = c + [0.6, 0.2, 0.4]
+    m = closest_point(s, X, all_minima=True)
+    np.testing.assert_allclose(m.distances, [2 - np.linalg.norm(X - c)], atol=1e-13)
 
 
 def test_torus_and_cylinder():
@@ -97,10 +101,16 @@ def test_all_minima_of_a_point_inside_an_ellipse():
     assert len(m.distances) == 2
     np.testing.assert_allclose(m.distances, [1.0, 1.0], atol=1e-14)
     np.testing.assert_allclose(np.sort(m.feet[:, 1]), [-1.0, 1.0], atol=1e-14)
-    # now one global and one local minimum inside, and the end point (2, 0) of the clamped
-    # (non-periodic) curve is a boundary minimum
+    # now one global and one local minimum inside; the ends of the clamped closed curve meet
+    # at (2, 0), a seam and not a boundary, so that point (where the distance still falls
+    # along the curve) is no minimum
     m = closest_point(e, [0.0, 0.3], all_minima=True)
-    np.testing.assert_allclose(m.distances, [0.7, 1.3, np.hypot(2.0, 0.3)], atol=1e-13)
+    np.testing.assert_allclose(m.distances, [0.7, 1.3], atol=1e-13)
+    # an open arc of it keeps its ends as boundary minima: the lower half, from (-2, 0)
+    # through (0, -1) to (2, 0), where the distance grows into the arc at both ends
+    arc = e.to_nurbs().segment(0.5, 1.0)
+    m = closest_point(arc, [0.0, 0.3], all_minima=True)
+    np.testing.assert_allclose(m.distances, [1.3, np.hypot(2.0, 0.3), np.hypot(2.0, 0.3)], atol=1e-13)
     assert m.isolated.all() and closest_point(e, [0.0, 0.3]).isolated is None
     # the centre of a circle: every point is a minimum
     m = closest_point(unit_circle(), [0.0, 0.0], all_minima=True)
