@@ -21,7 +21,7 @@ import numpy as np
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import bezier_pieces
+from .bounds import bezier_pieces, closed_directions
 
 
 class Pieces(NamedTuple):
@@ -106,20 +106,7 @@ class Geometry:
         clamped closed curve's ends, a revolved surface's seam), so that parameters on
         both sides of the seam name the same points (gap <= 1e-11 of the size)."""
         if getattr(self, "_closed", None) is None:
-            out = self.periodic.copy()
-            s = np.linspace(0.0, 1.0, 9)
-            for d in range(self.k):
-                if out[d]:
-                    continue
-                x0 = np.empty((9, self.k))
-                if self.k == 2:
-                    o = 1 - d
-                    x0[:, o] = self.lo[o] + s * (self.hi[o] - self.lo[o])
-                x1 = x0.copy()
-                x0[:, d], x1[:, d] = self.lo[d], self.hi[d]
-                gap = np.linalg.norm(self.points(x0) - self.points(x1), axis=1).max()
-                out[d] = gap <= 1e-11 * self.size
-            self._closed = out
+            self._closed = closed_directions(self.points, self.lo, self.hi, self.periodic, self.size)
         return self._closed
 
     def user_params(self, x: np.ndarray) -> np.ndarray:

@@ -321,6 +321,28 @@ def _tensors(B: Dict[Tuple[int, ...], np.ndarray], m: int, k: int):
     return out
 
 
+def closed_directions(value, lo: np.ndarray, hi: np.ndarray, periodic: np.ndarray, size: float,
+                      samples: int = 9) -> np.ndarray:
+    """Directions (k,) where an object with parameter box [lo, hi] and evaluator
+    ``value`` (N, k) -> (N, D) is periodic or closes on itself (a seam: a clamped closed
+    curve's ends, a revolved surface's longitude), so that parameters on both sides of
+    the seam name the same points: S at the two ends agree within 1e-11 of ``size`` at
+    ``samples`` points along the other direction."""
+    k = len(lo)
+    out = np.array(periodic, dtype=bool)
+    s = np.linspace(0.0, 1.0, samples)
+    for d in range(k):
+        if out[d]:
+            continue
+        x0 = np.empty((samples, k))
+        if k == 2:
+            x0[:, 1 - d] = lo[1 - d] + s * (hi[1 - d] - lo[1 - d])
+        x1 = x0.copy()
+        x0[:, d], x1[:, d] = lo[d], hi[d]
+        out[d] = np.linalg.norm(value(x0) - value(x1), axis=1).max() <= 1e-11 * size
+    return out
+
+
 def bezier_pieces(obj) -> BezierPieces:
     """The Bezier decomposition of an engine curve or surface (through ``to_nurbs()``).
 

@@ -36,7 +36,7 @@ from .. import _checks
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import BezierPieces, bezier_pieces
+from .bounds import BezierPieces, bezier_pieces, closed_directions
 from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, pair_distances as _distances, \
     PowerTable, projected_newton, split_boxes as _split
 
@@ -414,9 +414,9 @@ class Projector:
         JtJ = np.einsum("nda,ndb->nab", J, J)
         H = 2.0 * (JtJ + np.einsum("nd,ndab->nab", r, H2))
         scale = 2.0 * (np.sqrt(g2)[:, None] + 1e-9 * self.size) * np.linalg.norm(J, axis=1) * 1e-6 + 1e-300
-        seam = self._seams()                  # a closed direction's ends are no boundary
-        at_lo = (y <= self.domain[:, 0]) & ~self.wrap & ~seam & (grad > scale)
-        at_hi = (y >= self.domain[:, 1]) & ~self.wrap & ~seam & (grad < -scale)
+        open_ = ~self._closed()               # a closed direction's ends are no boundary
+        at_lo = (y <= self.domain[:, 0]) & open_ & (grad > scale)
+        at_hi = (y >= self.domain[:, 1]) & open_ & (grad < -scale)
         fixed = at_lo | at_hi
         good = np.all((np.abs(grad) <= scale) | fixed, axis=1)
         # second order: no descent direction along the free coordinates (not a maximum/saddle)
@@ -460,24 +460,13 @@ class Projector:
         res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d))
         return res._replace(isolated=~degenerate[chosen])
 
-    def _seams(self) -> np.ndarray:
-        """Directions (k,) that are not periodic but close on themselves (a clamped closed
-        curve, a revolved surface's seam): S at the two ends agree within 1e-11 of the size."""
-        if getattr(self, "_seam", None) is None:
-            s = np.linspace(0.0, 1.0, 9)
-            out = np.zeros(self.k, bool)
-            for d in range(self.k):
-                if self.wrap[d]:
-                    continue
-                x0 = np.empty((9, self.k))
-                if self.k == 2:
-                    o = 1 - d
-                    x0[:, o] = self.domain[o, 0] + s * self.width[o]
-                x1 = x0.copy()
-                x0[:, d], x1[:, d] = self.domain[d]
-                out[d] = np.linalg.norm(self.value(x0) - self.value(x1), axis=1).max() <= 1e-11 * self.size
-            self._seam = out
-        return self._seam
+    def _closed(self) -> np.ndarray:
+        """Directions (k,) that are periodic or close on themselves (a seam), where the
+        domain's ends are no boundary of the object."""
+        if getattr(self, "_closed_dirs", None) is None:
+            self._closed_dirs = closed_directions(self.value, self.domain[:, 0], self.domain[:, 1],
+                                                  self.wrap, self.size)
+        return self._closed_dirs
 
     def _pole_minimum(self, X, y, collapsed, g2, count: int = 16) -> np.ndarray:
         """Rows at a collapsed edge (at a bound in one parameter, the other not moving the
