@@ -21,18 +21,17 @@ from .common import best, occ_knots, report
 
 def _occ_curve(curve: cagd.BSplineCurve):
     from OCP.Geom import Geom_BSplineCurve
-    from OCP.TColgp import TColgp_Array1OfPnt
-    from OCP.TColStd import TColStd_Array1OfReal
+    from cagd.occ.compat import Array1OfPnt, Array1OfReal
     from OCP.gp import gp_Pnt
 
     f = curve.occ_form()
-    poles = TColgp_Array1OfPnt(1, len(f.poles))
+    poles = Array1OfPnt(1, len(f.poles))
     for i, p in enumerate(f.poles, 1):
         poles.SetValue(i, gp_Pnt(*map(float, p)))
     knots, mults = occ_knots(f.knots, f.multiplicities)
     if f.weights is None:
         return Geom_BSplineCurve(poles, knots, mults, f.degree, f.periodic)
-    weights = TColStd_Array1OfReal(1, len(f.weights))
+    weights = Array1OfReal(1, len(f.weights))
     for i, w in enumerate(f.weights, 1):
         weights.SetValue(i, float(w))
     return Geom_BSplineCurve(poles, weights, knots, mults, f.degree, f.periodic)

@@ -20,10 +20,10 @@ def best(fn: Callable[[], np.ndarray], repeat: int) -> Tuple[float, np.ndarray]:
 
 def occ_knots(distinct, multiplicities):
     """OCCT 1-based knot and multiplicity arrays."""
-    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
+    from cagd.occ.compat import Array1OfInteger, Array1OfReal
 
-    k = TColStd_Array1OfReal(1, len(distinct))
-    m = TColStd_Array1OfInteger(1, len(distinct))
+    k = Array1OfReal(1, len(distinct))
+    m = Array1OfInteger(1, len(distinct))
     for i, (x, c) in enumerate(zip(distinct, multiplicities), 1):
         k.SetValue(i, float(x))
         m.SetValue(i, int(c))

@@ -25,11 +25,11 @@ from .common import best, occ_knots, report
 
 def _occ_surface(s: cagd.BSplineSurface):
     from OCP.Geom import Geom_BSplineSurface
-    from OCP.TColgp import TColgp_Array2OfPnt
+    from cagd.occ.compat import Array2OfPnt
     from OCP.gp import gp_Pnt
 
     nu, nv, _ = s.control_points.shape
-    poles = TColgp_Array2OfPnt(1, nu, 1, nv)
+    poles = Array2OfPnt(1, nu, 1, nv)
     for i in range(nu):
         for j in range(nv):
             poles.SetValue(i + 1, j + 1, gp_Pnt(*map(float, s.control_points[i, j])))

@@ -17,10 +17,11 @@ from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
 from OCP.TopAbs import TopAbs_WIRE
 from OCP.TopExp import TopExp_Explorer
-from OCP.TopoDS import TopoDS, TopoDS_Shape
+from OCP.TopoDS import TopoDS_Shape
 
 from cagd.errors import CagdError
 from cagd.curves.base import Curve
+from cagd.occ.compat import as_wire
 from cagd.occ import make_edge, make_face, make_solid, sewing
 from cagd.surfaces.base import Surface
 
@@ -118,7 +119,7 @@ def close_with_caps(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Solid:
 def _wires(compound) -> list:
     out, ex = [], TopExp_Explorer(compound, TopAbs_WIRE)
     while ex.More():
-        out.append(TopoDS.Wire_s(ex.Current()))
+        out.append(as_wire(ex.Current()))
         ex.Next()
     return out
 

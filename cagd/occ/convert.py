@@ -21,10 +21,8 @@ from OCP.Geom2dConvert import Geom2dConvert
 from OCP.GeomAbs import GeomAbs_C1, GeomAbs_C2
 from OCP.GeomConvert import GeomConvert, GeomConvert_ApproxCurve, GeomConvert_ApproxSurface
 from OCP.gp import gp_Pnt, gp_Pnt2d
-from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
-from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
-from OCP.TopoDS import TopoDS, TopoDS_Shape
+from OCP.TopoDS import TopoDS_Shape
 
 from ..curves.base import Curve
 from ..curves.bezier import BezierCurve
@@ -33,20 +31,22 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
+from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
+                     as_face)
 
 OccGeometry = Union[Geom_BSplineCurve, Geom_BezierCurve, Geom_BSplineSurface, Geom_BezierSurface]
 
 
 # --- arrays (OCCT arrays are 1-based) ---------------------------------------------------
-def _reals(values) -> TColStd_Array1OfReal:
-    a = TColStd_Array1OfReal(1, len(values))
+def _reals(values) -> Array1OfReal:
+    a = Array1OfReal(1, len(values))
     for i, x in enumerate(values, 1):
         a.SetValue(i, float(x))
     return a
 
 
-def _ints(values) -> TColStd_Array1OfInteger:
-    a = TColStd_Array1OfInteger(1, len(values))
+def _ints(values) -> Array1OfInteger:
+    a = Array1OfInteger(1, len(values))
     for i, x in enumerate(values, 1):
         a.SetValue(i, int(x))
     return a
@@ -54,44 +54,44 @@ def _ints(values) -> TColStd_Array1OfInteger:
 
 def _points(poles: np.ndarray):
     if poles.shape[1] == 2:
-        a = TColgp_Array1OfPnt2d(1, len(poles))
+        a = Array1OfPnt2d(1, len(poles))
         for i, (x, y) in enumerate(poles.tolist(), 1):
             a.SetValue(i, gp_Pnt2d(x, y))
         return a
-    a = TColgp_Array1OfPnt(1, len(poles))
+    a = Array1OfPnt(1, len(poles))
     for i, (x, y, z) in enumerate(poles.tolist(), 1):
         a.SetValue(i, gp_Pnt(x, y, z))
     return a
 
 
-def _net(poles: np.ndarray) -> TColgp_Array2OfPnt:
+def _net(poles: np.ndarray) -> Array2OfPnt:
     nu, nv = poles.shape[:2]
-    a = TColgp_Array2OfPnt(1, nu, 1, nv)
+    a = Array2OfPnt(1, nu, 1, nv)
     for i, row in enumerate(poles.tolist(), 1):
         for j, (x, y, z) in enumerate(row, 1):
             a.SetValue(i, j, gp_Pnt(x, y, z))
     return a
 
 
-def _weight_net(weights: np.ndarray) -> TColStd_Array2OfReal:
+def _weight_net(weights: np.ndarray) -> Array2OfReal:
     nu, nv = weights.shape
-    a = TColStd_Array2OfReal(1, nu, 1, nv)
+    a = Array2OfReal(1, nu, 1, nv)
     for i, row in enumerate(weights.tolist(), 1):
         for j, w in enumerate(row, 1):
             a.SetValue(i, j, w)
     return a
 
 
-def _to_numpy(array, count_dims: int = 3) -> np.ndarray:
-    """TColgp_Array1OfPnt(2d) -> (n, dim) array."""
-    lo, hi = array.Lower(), array.Upper()
-    if count_dims == 2:
-        return np.array([[array.Value(i).X(), array.Value(i).Y()] for i in range(lo, hi + 1)])
-    return np.array([[array.Value(i).X(), array.Value(i).Y(), array.Value(i).Z()] for i in range(lo, hi + 1)])
+def _indexed(get, count: int) -> list:
+    """[get(1), ..., get(count)]: OCCT's indexed accessors (Pole(i), Weight(i), Knot(i)).
+    The array accessors (Poles(), Weights(), Knots()) are not used: on OCCT 8 they
+    return references into the curve that OCP frees a second time (free(): invalid
+    pointer, seen with Geom2d_BSplineCurve.Weights())."""
+    return [get(i) for i in range(1, count + 1)]
 
 
-def _values(array) -> np.ndarray:
-    return np.array([array.Value(i) for i in range(array.Lower(), array.Upper() + 1)])
+def _xyz(p, dim: int) -> tuple:
+    return (p.X(), p.Y()) if dim == 2 else (p.X(), p.Y(), p.Z())
 
 
 # --- engine -> OCCT -------------------------------------------------------------------------
@@ -225,7 +225,7 @@ def _from_shape(shape, dim: int, oriented: bool, approximate: Optional[float]):
     UV bounding box (the whole surface when that is its natural domain)."""
     reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
     if shape.ShapeType() == TopAbs_EDGE:
-        edge = TopoDS.Edge_s(shape)
+        edge = as_edge(shape)
         if BRep_Tool.Degenerated_s(edge):
             raise CagdError("geom: a degenerated edge has no 3-D curve")
         curve = BRep_Tool.Curve_s(edge, 0.0, 0.0)
@@ -242,7 +242,7 @@ def _from_shape(shape, dim: int, oriented: bool, approximate: Optional[float]):
             out = _curve_from_bspline(_as_bspline_curve(Geom_TrimmedCurve(curve, first, last), approximate), dim)
         return out.reversed() if reversed_ else out
     if shape.ShapeType() == TopAbs_FACE:
-        face = TopoDS.Face_s(shape)
+        face = as_face(shape)
         surface = BRep_Tool.Surface_s(face)
         a = BRepAdaptor_Surface(face, True)
         u0, u1, v0, v1 = a.FirstUParameter(), a.LastUParameter(), a.FirstVParameter(), a.LastVParameter()
@@ -327,20 +327,23 @@ def _as_bspline_surface(surface, approximate: Optional[float] = None) -> Geom_BS
 
 def _curve_from_bspline(g, dim: int) -> BSplineCurve:
     planar = isinstance(g, Geom2d_BSplineCurve)
-    poles = _to_numpy(g.Poles(), 2 if planar else 3)
-    weights = _values(g.Weights()) if g.IsRational() else None
-    return BSplineCurve.from_occ_form(poles, weights, _values(g.Knots()), _values(g.Multiplicities()).astype(int),
+    n, k = g.NbPoles(), g.NbKnots()
+    poles = np.array([_xyz(p, 2 if planar else 3) for p in _indexed(g.Pole, n)])
+    weights = np.array(_indexed(g.Weight, n)) if g.IsRational() else None
+    return BSplineCurve.from_occ_form(poles, weights, np.array(_indexed(g.Knot, k)),
+                                      np.array(_indexed(g.Multiplicity, k), dtype=int),
                                       g.Degree(), g.IsPeriodic(), None if planar else dim)
 
 
 def _surface_from_bspline(g: Geom_BSplineSurface) -> BSplineSurface:
     nu, nv = g.NbUPoles(), g.NbVPoles()
-    poles = np.array([[[g.Pole(i, j).X(), g.Pole(i, j).Y(), g.Pole(i, j).Z()] for j in range(1, nv + 1)]
-                      for i in range(1, nu + 1)])
+    poles = np.array([[_xyz(g.Pole(i, j), 3) for j in range(1, nv + 1)] for i in range(1, nu + 1)])
     weights = None
     if g.IsURational() or g.IsVRational():
         weights = np.array([[g.Weight(i, j) for j in range(1, nv + 1)] for i in range(1, nu + 1)])
-    return BSplineSurface.from_occ_form(poles, weights, _values(g.UKnots()), _values(g.VKnots()),
-                                        _values(g.UMultiplicities()).astype(int),
-                                        _values(g.VMultiplicities()).astype(int), g.UDegree(), g.VDegree(),
+    ku, kv = g.NbUKnots(), g.NbVKnots()
+    return BSplineSurface.from_occ_form(poles, weights, np.array(_indexed(g.UKnot, ku)),
+                                        np.array(_indexed(g.VKnot, kv)),
+                                        np.array(_indexed(g.UMultiplicity, ku), dtype=int),
+                                        np.array(_indexed(g.VMultiplicity, kv), dtype=int), g.UDegree(), g.VDegree(),
                                         g.IsUPeriodic(), g.IsVPeriodic())

@@ -33,12 +33,11 @@ from OCP.StepData import StepData_Logical, StepData_StepWriter
 from OCP.StepGeom import StepGeom_BSplineCurve, StepGeom_BSplineSurface
 from OCP.TCollection import TCollection_ExtendedString
 from OCP.TDataStd import TDataStd_Name
-from OCP.TDF import TDF_Label, TDF_LabelSequence
+from OCP.TDF import TDF_Label
 from OCP.TDocStd import TDocStd_Document
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
 from OCP.TopExp import TopExp
 from OCP.TopoDS import TopoDS_Shape
-from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
@@ -48,6 +47,7 @@ from ..errors import CagdError
 from ..knots.vectors import is_clamped
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
+from .compat import IndexedDataMapOfShapeListOfShape, LabelSequence
 from .convert import from_occ
 from .shapes import make_edge, make_face, subshapes
 
@@ -225,7 +225,7 @@ def _read(reader, path, kind: str, **settings) -> List[Tuple[str, TopoDS_Shape]]
         if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone or not reader.Transfer(doc):
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
-    labels = TDF_LabelSequence()
+    labels = LabelSequence()
     tool.GetFreeShapes(labels)
     out = []
     for i in range(1, labels.Length() + 1):
@@ -265,7 +265,7 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]]) -> List[Imported]:
         faces = subshapes(shape, TopAbs_FACE)
         for f in faces:
             found.append((from_occ(f), f))
-        owners = TopTools_IndexedDataMapOfShapeListOfShape()
+        owners = IndexedDataMapOfShapeListOfShape()
         TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, owners)
         for e in subshapes(shape, TopAbs_EDGE):
             if owners.Contains(e) and owners.FindFromKey(e).Size() == 0 and not _seen(e, found):

@@ -16,8 +16,9 @@ from OCP.GProp import GProp_GProps
 from OCP.ShapeFix import ShapeFix_Shape
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
-from OCP.TopoDS import TopoDS, TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
+from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
 
+from .compat import as_edge, as_face, as_shell, as_solid
 from .._checks import positive
 from ..curves.base import Curve
 from ..errors import CagdError
@@ -37,8 +38,8 @@ def _shape(shape, name: str = "shape") -> TopoDS_Shape:
 def subshapes(shape: TopoDS_Shape, kind: TopAbs_ShapeEnum) -> list:
     """The sub-shapes of one type (TopAbs_FACE, TopAbs_EDGE, ...), downcast."""
     _shape(shape)
-    cast = {TopAbs_FACE: TopoDS.Face_s, TopAbs_EDGE: TopoDS.Edge_s, TopAbs_SHELL: TopoDS.Shell_s,
-            TopAbs_SOLID: TopoDS.Solid_s}[kind]
+    cast = {TopAbs_FACE: as_face, TopAbs_EDGE: as_edge, TopAbs_SHELL: as_shell,
+            TopAbs_SOLID: as_solid}[kind]
     out, ex = [], TopExp_Explorer(shape, kind)
     while ex.More():
         out.append(cast(ex.Current()))
@@ -154,7 +155,7 @@ def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
     if not check_valid(solid):
         fixer = ShapeFix_Shape(solid)
         fixer.Perform()
-        solid = TopoDS.Solid_s(subshapes(fixer.Shape(), TopAbs_SOLID)[0])
+        solid = as_solid(subshapes(fixer.Shape(), TopAbs_SOLID)[0])
         if not check_valid(solid):
             raise CagdError("shape: OCCT reports the solid as invalid (BRepCheck), also after ShapeFix")
     return solid

@@ -13,26 +13,25 @@ from strategies import bspline_curves, periodic_knots, point_arrays, positive_we
 OCP = pytest.importorskip("OCP")
 from OCP.Geom import Geom_BSplineCurve  # noqa: E402
 from OCP.gp import gp_Pnt, gp_Vec  # noqa: E402
-from OCP.TColgp import TColgp_Array1OfPnt  # noqa: E402
-from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal  # noqa: E402
+from cagd.occ.compat import Array1OfInteger, Array1OfPnt, Array1OfReal  # noqa: E402
 
 
 def to_occ(form, roll: int = 0):
     """Geom_BSplineCurve(poles, [weights,] knots, mults, degree, periodic); OCCT
     arrays are 1-based. ``roll`` shifts the poles (and weights) for the negative test."""
     poles = np.roll(form.poles, roll, axis=0)
-    P = TColgp_Array1OfPnt(1, len(poles))
+    P = Array1OfPnt(1, len(poles))
     for i, q in enumerate(poles):
         P.SetValue(i + 1, gp_Pnt(*(float(x) for x in q)))
-    K = TColStd_Array1OfReal(1, len(form.knots))
+    K = Array1OfReal(1, len(form.knots))
     for i, k in enumerate(form.knots):
         K.SetValue(i + 1, float(k))
-    M = TColStd_Array1OfInteger(1, len(form.multiplicities))
+    M = Array1OfInteger(1, len(form.multiplicities))
     for i, m in enumerate(form.multiplicities):
         M.SetValue(i + 1, int(m))
     if form.weights is None:
         return Geom_BSplineCurve(P, K, M, int(form.degree), bool(form.periodic))
-    W = TColStd_Array1OfReal(1, len(form.weights))
+    W = Array1OfReal(1, len(form.weights))
     for i, w in enumerate(np.roll(form.weights, roll)):
         W.SetValue(i + 1, float(w))
     return Geom_BSplineCurve(P, W, K, M, int(form.degree), bool(form.periodic))
