@@ -1,5 +1,7 @@
-"""workbench/install.py (link, copy, uninstall into a given Mod folder) and the
-addon's engine lookup, without FreeCAD: both are plain Python."""
+"""workbench/install.py, the checkout's front of cagd/freecad/install.py (link, copy,
+uninstall into a given Mod folder), and the addon's engine lookup, without FreeCAD:
+both are plain Python. The installed wheel's `cagd-freecad` is tested in
+tests/test_packaging.py."""
 import importlib.util
 import os
 import subprocess
@@ -29,33 +31,59 @@ def test_link_install_finds_engine_and_uninstalls(tmp_path):
     mod = tmp_path / "Mod"
     install("--mod-dir", mod)
     target = mod / "CagdWorkbench"
-    assert target.is_symlink() and target.resolve() == ADDON
+    assert target.is_dir() and not target.is_symlink()
+    assert (target / "cagdwb").is_symlink() and (target / "cagdwb").resolve() == ADDON / "cagdwb"
+    assert (target / "engine" / "cagd").resolve() == ROOT / "cagd"
+    assert not (target / "install.py").exists() and not (target / "tests").exists()
     pkg = load_package(target, "cagdwb_linked")
-    assert os.path.realpath(pkg.ensure_engine()) == str(ROOT)
-    install("--mod-dir", mod)                          # re-install replaces the link
-    assert target.is_symlink()
+    assert pkg.ADDON_DIR == str(target)
+    assert pkg.ensure_engine() == str(target / "engine")
+    install("--mod-dir", mod)                          # re-install replaces it
+    assert (target / "engine" / "cagd").is_symlink()
     install("--mod-dir", mod, "--uninstall")
     assert not target.exists() and not target.is_symlink()
 
 
-def test_copy_install_records_engine_path(tmp_path):
+def test_copy_install_carries_the_engine(tmp_path):
     mod = tmp_path / "Mod"
     install("--mod-dir", mod, "--copy")
     target = mod / "CagdWorkbench"
     assert not target.is_symlink() and (target / "InitGui.py").is_file()
-    assert (target / "engine_path.txt").read_text().strip() == str(ROOT)
+    engine = target / "engine" / "cagd"
+    assert not engine.is_symlink() and (engine / "__init__.py").is_file()
+    assert (engine / "curves" / "bspline.py").read_bytes() == (ROOT / "cagd" / "curves" / "bspline.py").read_bytes()
     assert not list(target.rglob("__pycache__"))
     pkg = load_package(target, "cagdwb_copied")
-    assert pkg.ADDON_DIR == str(target.resolve())
-    assert os.path.realpath(pkg.ensure_engine()) == str(ROOT)
-    (target / "engine_path.txt").write_text(str(tmp_path / "nowhere"))
-    assert pkg.engine_candidates()[0] == str(tmp_path / "nowhere")
+    assert pkg.ensure_engine() == str(target / "engine")
+    (target / "engine_path.txt").write_text(str(tmp_path / "nowhere"))     # an older copy's record
+    assert str(tmp_path / "nowhere") in pkg.engine_candidates()
+
+
+def test_an_unrelated_folder_is_not_replaced(tmp_path):
+    target = tmp_path / "Mod" / "CagdWorkbench"
+    target.mkdir(parents=True)
+    (target / "notes.txt").write_text("mine")
+    done = subprocess.run([sys.executable, str(ADDON / "install.py"), "--mod-dir", str(tmp_path / "Mod")],
+                          capture_output=True, text=True)
+    assert done.returncode == 1 and "is not a cagd workbench install" in done.stderr
+    assert (target / "notes.txt").read_text() == "mine"
+
+
+def test_installer_runs_without_numpy(tmp_path):
+    """workbench/install.py loads the installer by path: a python without numpy (here:
+    ``-S``, no site-packages) installs the addon."""
+    probe = subprocess.run([sys.executable, "-S", "-c", "import numpy"], capture_output=True)
+    assert probe.returncode != 0, "python -S still imports numpy"
+    done = subprocess.run([sys.executable, "-S", str(ADDON / "install.py"), "--mod-dir", str(tmp_path / "Mod")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "Mod" / "CagdWorkbench" / "engine" / "cagd").is_symlink()
 
 
 def test_freecad_user_home_is_respected(tmp_path):
     env = {**os.environ, "FREECAD_USER_HOME": str(tmp_path / "fc")}
     subprocess.run([sys.executable, str(ADDON / "install.py")], env=env, check=True, capture_output=True)
-    assert (tmp_path / "fc" / "Mod" / "CagdWorkbench").is_symlink()
+    assert (tmp_path / "fc" / "Mod" / "CagdWorkbench" / "engine" / "cagd").is_symlink()
 
 
 def test_missing_freecad_skips_locally_and_fails_on_ci(monkeypatch):

@@ -3,10 +3,10 @@
 The engine stays in ``cagd`` (pure numpy); this package only converts between the
 engine and FreeCAD's Part API and wires objects, view providers and commands.
 :func:`ensure_engine` makes ``cagd`` importable inside FreeCAD's own Python: the
-addon folder is ``<repo>/workbench`` (the user Mod entry is a link to it, see
-``install.py``), so the engine is the repo root two levels above this file; a
-``CAGD_PATH`` environment variable or an ``engine_path.txt`` next to this package
-(written by ``install.py --copy``) take precedence.
+installer (``cagd-freecad install``, or ``workbench/install.py`` in a checkout) puts
+the engine package into ``<Mod>/CagdWorkbench/engine/cagd``; a ``CAGD_PATH``
+environment variable takes precedence, and the checkout holding ``workbench/`` is
+the last resort.
 """
 from __future__ import annotations
 
@@ -14,8 +14,10 @@ import os
 import sys
 
 PACKAGE_DIR = os.path.dirname(os.path.realpath(__file__))
-ADDON_DIR = os.path.dirname(PACKAGE_DIR)
-ICON_DIR = os.path.join(ADDON_DIR, "icons")
+ICON_DIR = os.path.join(os.path.dirname(PACKAGE_DIR), "icons")
+# the Mod folder entry as FreeCAD sees it (not resolved: an install links cagdwb/ into it)
+ADDON_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ENGINE_DIR = os.path.join(ADDON_DIR, "engine")      # engine/cagd, made by cagd-freecad install
 PATH_FILE = os.path.join(ADDON_DIR, "engine_path.txt")
 
 
@@ -24,10 +26,11 @@ def engine_candidates() -> list:
     found = []
     if os.environ.get("CAGD_PATH"):
         found.append(os.environ["CAGD_PATH"])
-    if os.path.isfile(PATH_FILE):
+    found.append(ENGINE_DIR)
+    if os.path.isfile(PATH_FILE):                 # copies made by older installers
         with open(PATH_FILE, encoding="utf-8") as f:
             found.append(f.read().strip())
-    found.append(os.path.dirname(ADDON_DIR))
+    found.append(os.path.dirname(ADDON_DIR))      # the checkout, for <repo>/workbench itself
     return found
 
 
@@ -50,7 +53,7 @@ def ensure_engine() -> str:
     except ImportError:
         raise ImportError("cagd workbench: the engine package 'cagd' was not found in "
                           f"{engine_candidates()}; set CAGD_PATH to the repository root "
-                          "or run workbench/install.py again") from None
+                          "or run cagd-freecad install again") from None
 
 
 def icon(name: str) -> str:
