@@ -73,8 +73,7 @@ def test_the_installed_cagd_is_under_test():
     if not os.environ.get("CAGD_EXPECT_INSTALLED"):
         pytest.skip("only in the installed-wheel stage (CAGD_EXPECT_INSTALLED)")
     here = Path(cagd.__file__).resolve()
-    assert ROOT not in here.parents, here
-    assert "site-packages" in here.parts
+    assert here.parent != ROOT / "cagd" and "site-packages" in here.parts, here
 
 
 @pytest.fixture(scope="session")
