@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import numbers
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -115,3 +115,48 @@ def finite_homogeneous(hom: np.ndarray) -> np.ndarray:
         raise CagdError("control_points, weights: the products w * P overflow (weights or coordinates "
                         "too large); scale the model or the weights")
     return hom
+
+
+def frozen(value, dtype=None) -> np.ndarray:
+    """A read-only array that owns its data (objects are values, issue 13): ``value``
+    itself when it already is one (frozen arrays are shared between values), else a
+    read-only copy (as ``dtype`` if given), so that the caller's array is neither
+    frozen nor aliased."""
+    if isinstance(value, np.ndarray) and not value.flags.writeable and value.flags.owndata \
+            and (dtype is None or value.dtype == dtype):
+        return value
+    arr = np.array(value, dtype=dtype)
+    arr.setflags(write=False)
+    return arr
+
+
+def pole_index(index, shape: Tuple[int, ...], name: str = "index") -> Tuple[int, ...]:
+    """A control point's position in a net of ``shape``: an int for a sequence (shape
+    (n,)), a tuple of len(shape) ints for a net; negative values count from the end."""
+    if len(shape) == 1 and not isinstance(index, (tuple, list)) and np.ndim(index) == 0:
+        index = (index,)
+    try:
+        parts = tuple(index)
+    except TypeError:
+        parts = ()
+    if len(parts) != len(shape):
+        want = "an int" if len(shape) == 1 else f"a tuple of {len(shape)} ints"
+        raise CagdError(f"{name}: expected {want} for a net of shape {tuple(shape)}, got {index!r}")
+    return tuple(integer(i, name, -n, n - 1) % n for i, n in zip(parts, shape))
+
+
+def point(value, dim: int, name: str = "point") -> np.ndarray:
+    """One finite point of ``dim`` coordinates (a scalar for dim 1)."""
+    p = finite_array(value, name)
+    if p.ndim == 0:
+        p = p[None]
+    if p.shape != (dim,):
+        raise CagdError(f"{name}: expected {dim} coordinates, got shape {p.shape}")
+    return p
+
+
+def same_shape(arr: np.ndarray, expected: Tuple[int, ...], name: str) -> np.ndarray:
+    """``arr`` unless its shape differs from ``expected`` (a modified copy keeps the layout)."""
+    if arr.shape != tuple(expected):
+        raise CagdError(f"{name}: expected shape {tuple(expected)} like the original, got {arr.shape}")
+    return arr

@@ -12,15 +12,17 @@ from typing import Tuple
 import numpy as np
 
 from .._checks import affine_map, integer, parameters
+from .._value import Value
 from ..errors import CagdError
 
 # Gauss-Legendre rule for arc length (Numerical Recipes 4.6; Piegl & Tiller don't cover this)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
 
 
-class Curve:
+class Curve(Value):
     """Base class of all curves. Subclasses set ``dim`` and implement
-    ``domain``, ``_evaluate``, ``to_nurbs`` and ``_affine``."""
+    ``domain``, ``_evaluate``, ``to_nurbs`` and ``_affine``. Curves are values
+    (:class:`cagd._value.Value`): read-only arrays, attributes bound once."""
 
     periodic: bool = False
     dim: int

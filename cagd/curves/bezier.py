@@ -21,14 +21,41 @@ class BezierCurve(Curve):
             or not positive.
     """
 
+    _modified_copy = BSplineCurve._modified_copy
+
     def __init__(self, control_points, weights=None):
         P = _checks.points(control_points, "control_points", min_count=2)
-        self.control_points = P
-        self.weights = _checks.weights(weights, P.shape[0])
-        self.degree = P.shape[0] - 1
-        self.dim = P.shape[1]
-        n = self.degree
-        self._nurbs = BSplineCurve(P, n, np.concatenate([np.zeros(n + 1), np.ones(n + 1)]), self.weights)
+        n = P.shape[0] - 1
+        self._fill(BSplineCurve(P, n, np.concatenate([np.zeros(n + 1), np.ones(n + 1)]), weights))
+
+    def _fill(self, nurbs: BSplineCurve) -> None:
+        """Everything from the single-span NURBS form (which shares its frozen arrays)."""
+        self._nurbs = nurbs
+        self.control_points, self.weights = nurbs.control_points, nurbs.weights
+        self.degree, self.dim = nurbs.degree, nurbs.dim
+
+    # --- modified copies ----------------------------------------------------------------
+    def with_control_points(self, control_points) -> "BezierCurve":
+        """The same degree and weights on new control points of the same shape.
+
+        Raises:
+            CagdError: NaN/inf, a shape other than ``control_points.shape``."""
+        return BezierCurve._unchecked(self._nurbs.with_control_points(control_points))
+
+    def moved_pole(self, index: int, point) -> "BezierCurve":
+        """The curve with control point ``index`` (an int, negative from the end) moved to
+        ``point`` (see :meth:`cagd.BSplineCurve.moved_pole`).
+
+        Raises:
+            CagdError: an index out of range, a bad point."""
+        return BezierCurve._unchecked(self._nurbs.moved_pole(index, point))
+
+    def with_weights(self, weights) -> "BezierCurve":
+        """The same control points with new weights (None: polynomial).
+
+        Raises:
+            CagdError: a count other than degree + 1, weights not positive."""
+        return BezierCurve._unchecked(self._nurbs.with_weights(weights))
 
     @property
     def domain(self) -> Tuple[float, float]:

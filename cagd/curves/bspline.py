@@ -46,27 +46,70 @@ class BSplineCurve(Curve):
             non-positive weights, NaN/inf, degree out of range.
     """
 
+    _modified_copy = "use with_control_points(P), moved_pole(index, point) or with_weights(w)"
+
     def __init__(self, control_points, degree: int, knots=None, weights=None, periodic: bool = False):
         P = _checks.points(control_points, "control_points", min_count=2)
         n = P.shape[0]
-        self.periodic = bool(periodic)
-        p = _checks.integer(degree, "degree", 1, n if self.periodic else n - 1)
+        periodic = bool(periodic)
+        p = _checks.integer(degree, "degree", 1, n if periodic else n - 1)
         w = _checks.weights(weights, n)
-        if self.periodic:
+        if periodic:
             t = np.linspace(0.0, 1.0, n + 1) if knots is None else kv.validate_period(knots, n, p)
             full_u = kv.periodic_extend(t, p)
-            idx = np.concatenate([np.arange(n), np.arange(p)])
         else:
             t = kv.clamped_uniform(n, p) if knots is None else kv.validate(knots, p, n)
-            full_u = t
-            idx = np.arange(n)
-        self.control_points, self.weights, self.degree, self.knots = P, w, p, t
+            full_u = None
+        self._fill(P, w, p, t, full_u, periodic)
+
+    def _fill(self, P: np.ndarray, w: Optional[np.ndarray], p: int, knots: np.ndarray,
+              full_u: Optional[np.ndarray], periodic: bool) -> None:
+        """Bind validated parts, frozen; ``full_u`` is the unwrapped vector of a periodic curve."""
+        self.periodic = periodic
+        self.control_points, self.degree, self.knots = _checks.frozen(P), p, _checks.frozen(knots)
+        self.weights = None if w is None else _checks.frozen(w)
         self.dim = P.shape[1]
-        hom = P if w is None else _checks.finite_homogeneous(np.hstack([P * w[:, None], w[:, None]]))
-        self._u = full_u                    # full (unwrapped) knot vector
-        self._hom = hom[idx]                # matching (homogeneous) control points
+        self._u = _checks.frozen(full_u) if periodic else self.knots      # full (unwrapped) knot vector
+        if w is None and not periodic:
+            self._hom = self.control_points                               # matching (homogeneous) points
+        else:
+            hom = P if w is None else _checks.finite_homogeneous(np.hstack([P * w[:, None], w[:, None]]))
+            self._hom = _checks.frozen(hom[kv.unwrapped_index(len(P), p, periodic)])
         self._pp: Optional[PPForm] = None
         self._derivative_pp: dict = {}
+
+    # --- modified copies (the object itself never changes) --------------------------------
+    def _with(self, P: np.ndarray, w: Optional[np.ndarray]) -> "BSplineCurve":
+        return BSplineCurve._unchecked(P, w, self.degree, self.knots, self._u, self.periodic)
+
+    def with_control_points(self, control_points) -> "BSplineCurve":
+        """The curve with the same degree, knots, weights and periodicity on new control
+        points of the same shape (checked as in the constructor).
+
+        Raises:
+            CagdError: NaN/inf, a shape other than ``control_points.shape``."""
+        P = _checks.points(control_points, "control_points", min_count=2)
+        return self._with(_checks.same_shape(P, self.control_points.shape, "control_points"), self.weights)
+
+    def moved_pole(self, index: int, point) -> "BSplineCurve":
+        """The curve with control point ``index`` (an int, negative from the end; for a
+        periodic curve an index of the distinct points) moved to ``point``, all else
+        kept: the cheap edit for dragging a pole (no knot checks, O(n) copies, the pp
+        form rebuilt on the next evaluation).
+
+        Raises:
+            CagdError: an index out of range, a point of the wrong dimension or NaN/inf."""
+        (i,) = _checks.pole_index(index, self.control_points.shape[:1])
+        P = self.control_points.copy()
+        P[i] = _checks.point(point, self.dim)
+        return self._with(P, self.weights)
+
+    def with_weights(self, weights) -> "BSplineCurve":
+        """The same control points, degree and knots with new weights (None: polynomial).
+
+        Raises:
+            CagdError: a count other than one per control point, weights not positive."""
+        return self._with(self.control_points, _checks.weights(weights, len(self.control_points)))
 
     # --- basic properties ------------------------------------------------------------
     @property
@@ -80,8 +123,8 @@ class BSplineCurve(Curve):
 
     @property
     def full_knots(self) -> np.ndarray:
-        """The full knot vector (unwrapped for a periodic curve)."""
-        return self._u.copy()
+        """The full knot vector (unwrapped for a periodic curve), read-only."""
+        return self._u
 
     def __repr__(self) -> str:
         kind = "NURBS" if self.is_rational else "B-spline"
@@ -148,8 +191,9 @@ class BSplineCurve(Curve):
 
     @property
     def homogeneous_control_points(self) -> np.ndarray:
-        """(w P, w) for NURBS, P otherwise; the unwrapped sequence for periodic curves."""
-        return self._hom.copy()
+        """(w P, w) for NURBS, P otherwise; the unwrapped sequence for periodic curves
+        (read-only)."""
+        return self._hom
 
     # --- knot insertion ----------------------------------------------------------------
     def insert_knot(self, t: float, times: int = 1) -> "BSplineCurve":

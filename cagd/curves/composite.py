@@ -60,8 +60,8 @@ class CompositeCurve(Curve):
                                 f"curves[{i + 1}] exceeds tol * size = {self.tol * self.size:.3g}")
         starts = np.array([c.domain[0] for c in pieces])
         lengths = np.array([c.domain[1] - c.domain[0] for c in pieces])
-        self._starts = starts
-        self._breaks = starts[0] + np.concatenate([[0.0], np.cumsum(lengths)])
+        self._breaks = _checks.frozen(starts[0] + np.concatenate([[0.0], np.cumsum(lengths)]))
+        self._joints = _checks.frozen(self._breaks[1:-1])
 
     # --- basic properties ------------------------------------------------------------
     @property
@@ -70,13 +70,13 @@ class CompositeCurve(Curve):
 
     @property
     def breakpoints(self) -> np.ndarray:
-        """s_0 < s_1 < ... < s_N: where each piece starts, and the end."""
-        return self._breaks.copy()
+        """s_0 < s_1 < ... < s_N: where each piece starts, and the end (read-only)."""
+        return self._breaks
 
     @property
     def joints(self) -> np.ndarray:
-        """The global parameters s_1..s_{N-1} where consecutive pieces meet."""
-        return self._breaks[1:-1].copy()
+        """The global parameters s_1..s_{N-1} where consecutive pieces meet (read-only)."""
+        return self._joints
 
     @property
     def is_rational(self) -> bool:

@@ -230,10 +230,7 @@ class CubicSpline(HermiteSpline):
         t = _checks.increasing(parameters, n + 1) if explicit else \
             np.concatenate([[0.0], np.cumsum(_interval_lengths(chords, parametrization))])
 
-        self.end_condition = end_condition
-        self.parametrization = None if explicit else parametrization
-        self.end_tangents: Optional[np.ndarray] = None
-        self.virtual_points: Optional[np.ndarray] = None
+        ends = V = None
         if end_condition == "natural":
             m = _natural_tangents(P, t)
         elif end_condition == "clamped":
@@ -242,7 +239,6 @@ class CubicSpline(HermiteSpline):
             ends = _checks.points(tangents, "tangents")
             if ends.shape != (2, P.shape[1]):
                 raise CagdError(f"tangents: expected two {P.shape[1]}-D vectors (d0, dn), got shape {ends.shape}")
-            self.end_tangents = ends
             m = _natural_tangents(P, t, ends)
         elif periodic:
             m = _periodic_tangents(P, t)
@@ -259,13 +255,20 @@ class CubicSpline(HermiteSpline):
                 raise CagdError(f"virtual_points: virtual point {i} coincides with the end point it extends")
             hv = np.diff(t)[[0, -1]] if explicit else _interval_lengths(vchords, parametrization)
             text = np.concatenate([[t[0] - hv[0]], t, [t[-1] + hv[1]]])
-            self.virtual_points = V
             m = _natural_tangents(ext, text)[1:-1]
         if not np.all(np.isfinite(m)):
             raise CagdError("parameters: the spline's tangent system overflows (parameter steps of "
                             f"{float(np.diff(t).min()):.3g} against point spacing; use chord or uniform spacing)")
-        super().__init__(P, m, t)
-        self.periodic = periodic
+        self._fill(P, m, t, end_condition, None if explicit else parametrization, ends, V)
+
+    def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray, end_condition: str,
+              parametrization: Optional[str], end_tangents: Optional[np.ndarray],
+              virtual_points: Optional[np.ndarray]) -> None:
+        super()._fill(P, m, t)
+        self.end_condition, self.parametrization = end_condition, parametrization
+        self.periodic = end_condition == "periodic"
+        self.end_tangents = None if end_tangents is None else _checks.frozen(end_tangents)
+        self.virtual_points = None if virtual_points is None else _checks.frozen(virtual_points)
 
     def to_nurbs(self) -> BSplineCurve:
         """The C2 cubic B-spline on the knots t_0 (x4), t_1..t_{n-1}, t_n (x4); for
@@ -283,13 +286,11 @@ class CubicSpline(HermiteSpline):
     def _affine(self, A: np.ndarray, b: np.ndarray) -> "CubicSpline":
         """The spline through the mapped points with the same parameters has the
         knot derivatives A m (the C2 equations are linear), so no new solve."""
-        new = object.__new__(CubicSpline)
-        HermiteSpline.__init__(new, self.points @ A.T + b, self.tangents @ A.T, self.parameters)
-        # the parameters are kept, so they no longer follow from the (mapped) points
-        new.end_condition, new.parametrization, new.periodic = self.end_condition, None, self.periodic
-        new.end_tangents = None if self.end_tangents is None else self.end_tangents @ A.T
-        new.virtual_points = None if self.virtual_points is None else self.virtual_points @ A.T + b
-        return new
+        # the parameters are kept, so they no longer follow from the (mapped) points: no parametrization
+        return CubicSpline._unchecked(self.points @ A.T + b, self.tangents @ A.T, self.parameters,
+                                      self.end_condition, None,
+                                      None if self.end_tangents is None else self.end_tangents @ A.T,
+                                      None if self.virtual_points is None else self.virtual_points @ A.T + b)
 
 
 def natural_cubic_spline(points, end_condition: str = "natural", parametrization: str = "chord",

@@ -50,12 +50,13 @@ class HermiteCurve(Curve):
     """
 
     def __init__(self, p0, p1, t0, t1):
-        self.p0 = _vector(p0, "p0")
-        self.dim = self.p0.shape[0]
-        self.p1 = _vector(p1, "p1", self.dim)
-        self.t0 = _vector(t0, "t0", self.dim)
-        self.t1 = _vector(t1, "t1", self.dim)
-        self._poly = PolynomialCurve((HERMITE_M @ self.geometric_form)[::-1])
+        p0 = _vector(p0, "p0")
+        self.dim = p0.shape[0]
+        B = _checks.frozen(np.stack([p0, _vector(p1, "p1", self.dim), _vector(t0, "t0", self.dim),
+                                     _vector(t1, "t1", self.dim)]))
+        self._geometric = B
+        self.p0, self.p1, self.t0, self.t1 = B          # read-only rows of the geometric form
+        self._poly = PolynomialCurve((HERMITE_M @ B)[::-1])
 
     @classmethod
     def from_directions(cls, p0, p1, direction0, direction1, k0: float, k1: float) -> "HermiteCurve":
@@ -81,8 +82,8 @@ class HermiteCurve(Curve):
 
     @property
     def geometric_form(self) -> np.ndarray:
-        """B = [P0, P1, P0', P1'], shape (4, dim) (seed 004, 1.3 eq. 1-1-5)."""
-        return np.stack([self.p0, self.p1, self.t0, self.t1])
+        """B = [P0, P1, P0', P1'], shape (4, dim) (seed 004, 1.3 eq. 1-1-5), read-only."""
+        return self._geometric
 
     @property
     def domain(self) -> Tuple[float, float]:
@@ -137,9 +138,12 @@ class HermiteSpline(Curve):
             raise CagdError(f"tangents: expected shape {P.shape} (one per point), got {m.shape}")
         n = P.shape[0]
         t = np.arange(n, dtype=np.float64) if parameters is None else _checks.increasing(parameters, n)
-        self.points, self.tangents, self.parameters = P, m, t
+        self._fill(P, m, t)
+
+    def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray) -> None:
+        self.points, self.tangents, self.parameters = _checks.frozen(P), _checks.frozen(m), _checks.frozen(t)
         self.dim = P.shape[1]
-        self._pp = PPForm.from_unit_power(t, self.unit_coefficients())
+        self._pp = PPForm.from_unit_power(self.parameters, self.unit_coefficients())
 
     def unit_coefficients(self) -> np.ndarray:
         """Per-span power coefficients in u = (t - t_j)/h_j: [a0 a1 a2 a3] = reversed

@@ -20,36 +20,30 @@ from .base import Curve
 from .bspline import BSplineCurve
 
 
-def _frozen(rows) -> np.ndarray:
-    m = np.array(rows, dtype=np.float64)
-    m.setflags(write=False)
-    return m
-
-
 #: The Hermite matrix M (seed 004, 1.3; seed 000, 5.1.2 M_h): F = U M with
 #: U = [u^3 u^2 u 1] gives the blending functions F1..F4 (= H0..H3), and the
 #: algebraic coefficients [a3 a2 a1 a0]^T = M [P0 P1 P0' P1']^T.
-HERMITE_M = _frozen([[2, -2, 1, 1],
-                     [-3, 3, -2, -1],
-                     [0, 0, 1, 0],
-                     [1, 0, 0, 0]])
+HERMITE_M = _checks.frozen([[2, -2, 1, 1],
+                            [-3, 3, -2, -1],
+                            [0, 0, 1, 0],
+                            [1, 0, 0, 0]], np.float64)
 
 #: Its inverse as printed in seed 004, 1.3 (and as the coefficient matrix of the
 #: end conditions p(0), p(1), p'(0), p'(1) in seed 000, 5.1.2):
 #: [P0 P1 P0' P1']^T = M^-1 [a3 a2 a1 a0]^T.
-HERMITE_M_INV = _frozen([[0, 0, 0, 1],
-                         [1, 1, 1, 1],
-                         [0, 0, 1, 0],
-                         [3, 2, 1, 0]])
+HERMITE_M_INV = _checks.frozen([[0, 0, 0, 1],
+                                [1, 1, 1, 1],
+                                [0, 0, 1, 0],
+                                [3, 2, 1, 0]], np.float64)
 
 #: Power coefficients (rows: 1, u, u^2, u^3) of the cubic through four points at
 #: u = 0, 1/3, 2/3, 1 (columns: the points): the Lagrange basis on those nodes,
 #: i.e. the inverse of the Vandermonde matrix V[i, k] = u_i^k. All entries are
 #: halves, so the matrix is exact in binary floating point.
-FOUR_POINT_MATRIX = _frozen([[1.0, 0.0, 0.0, 0.0],
-                             [-5.5, 9.0, -4.5, 1.0],
-                             [9.0, -22.5, 18.0, -4.5],
-                             [-4.5, 13.5, -13.5, 4.5]])
+FOUR_POINT_MATRIX = _checks.frozen([[1.0, 0.0, 0.0, 0.0],
+                                    [-5.5, 9.0, -4.5, 1.0],
+                                    [9.0, -22.5, 18.0, -4.5],
+                                    [-4.5, 13.5, -13.5, 4.5]], np.float64)
 
 
 def _domain(value, name: str = "domain") -> Tuple[float, float]:
@@ -77,7 +71,7 @@ class PolynomialCurve(Curve):
 
     def __init__(self, coefficients, domain=(0.0, 1.0)):
         A = _checks.points(coefficients, "coefficients", min_count=1)
-        self.coefficients = A
+        self.coefficients = _checks.frozen(A)
         self.degree = A.shape[0] - 1
         self.dim = A.shape[1]
         self._dom = _domain(domain)

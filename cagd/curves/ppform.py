@@ -16,28 +16,31 @@ from typing import Dict
 
 import numpy as np
 
+from .._checks import frozen
+from .._value import Value
 from ..basis.bspline import basis_derivatives
 
 _CHUNK = 1 << 15
 
 
-class PPForm:
-    """Piecewise polynomial with ``breaks`` (s+1,) and ``coefficients`` (p+1, s, dim)."""
+class PPForm(Value):
+    """Piecewise polynomial with ``breaks`` (s+1,) and ``coefficients`` (p+1, s, dim),
+    a value like the curves it caches for (read-only arrays)."""
 
     def __init__(self, breaks: np.ndarray, coefficients: np.ndarray):
-        self.breaks = np.ascontiguousarray(breaks, dtype=np.float64)
-        self.coefficients = np.ascontiguousarray(coefficients, dtype=np.float64)
+        self.breaks = frozen(np.ascontiguousarray(breaks, dtype=np.float64))
+        self.coefficients = frozen(np.ascontiguousarray(coefficients, dtype=np.float64))
         self.degree = self.coefficients.shape[0] - 1
         self.dim = self.coefficients.shape[2]
         b = self.breaks
-        self._mid = 0.5 * (b[1:] + b[:-1])
-        self._inv_half = 2.0 / (b[1:] - b[:-1])
+        self._mid = frozen(0.5 * (b[1:] + b[:-1]))
+        self._inv_half = frozen(2.0 / (b[1:] - b[:-1]))
         nspan = len(b) - 1
         width = b[-1] - b[0]
         self._uniform = bool(np.allclose(np.diff(b), width / nspan, rtol=1e-13, atol=0.0))
         self._inv_h = nspan / width
         # per-dimension contiguous 1-D tables: take() on 1-D arrays is the fastest gather
-        self._tables = [[np.ascontiguousarray(self.coefficients[k, :, d]) for d in range(self.dim)]
+        self._tables = [[frozen(self.coefficients[k, :, d]) for d in range(self.dim)]
                         for k in range(self.degree + 1)]
         self._derived: Dict[int, "PPForm"] = {}
 

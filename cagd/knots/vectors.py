@@ -113,6 +113,13 @@ def periodic_extend(period: np.ndarray, degree: int) -> np.ndarray:
     return np.concatenate([left, period, right])
 
 
+def unwrapped_index(count: int, degree: int, periodic: bool) -> np.ndarray:
+    """Which of ``count`` control points stand at each place of the sequence that goes
+    with :func:`periodic_extend`: P_0..P_{n-1}, P_0..P_{p-1} when periodic, else
+    P_0..P_{n-1}."""
+    return np.concatenate([np.arange(count), np.arange(degree)]) if periodic else np.arange(count)
+
+
 def greville(knots: np.ndarray, degree: int) -> np.ndarray:
     """Greville abscissae: averages of degree consecutive knots (Piegl & Tiller 9.2)."""
     n = len(knots) - degree - 1

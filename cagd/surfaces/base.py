@@ -13,11 +13,12 @@ from typing import Tuple
 import numpy as np
 
 from .._checks import affine_map, finite_array, integer, parameters
+from .._value import Value
 from ..errors import CagdError
 
 
-class Surface:
-    """Base class of all surfaces."""
+class Surface(Value):
+    """Base class of all surfaces; values like curves (:class:`cagd._value.Value`)."""
 
     periodic_u: bool = False
     periodic_v: bool = False

@@ -25,6 +25,8 @@ class BezierSurface(Surface):
         CagdError: shape, NaN/inf, weights.
     """
 
+    _modified_copy = BSplineSurface._modified_copy
+
     def __init__(self, control_points, weights=None):
         P = _checks.finite_array(control_points, "control_points")
         if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2:
@@ -32,9 +34,36 @@ class BezierSurface(Surface):
         m, n = P.shape[0] - 1, P.shape[1] - 1
         ku = np.concatenate([np.zeros(m + 1), np.ones(m + 1)])
         kv = np.concatenate([np.zeros(n + 1), np.ones(n + 1)])
-        self._nurbs = BSplineSurface(P, m, n, ku, kv, weights)
-        self.control_points, self.weights = self._nurbs.control_points, self._nurbs.weights
-        self.degree_u, self.degree_v, self.dim = m, n, P.shape[2]
+        self._fill(BSplineSurface(P, m, n, ku, kv, weights))
+
+    def _fill(self, nurbs: BSplineSurface) -> None:
+        """Everything from the single-patch NURBS form (which shares its frozen arrays)."""
+        self._nurbs = nurbs
+        self.control_points, self.weights = nurbs.control_points, nurbs.weights
+        self.degree_u, self.degree_v, self.dim = nurbs.degree_u, nurbs.degree_v, nurbs.dim
+
+    # --- modified copies ----------------------------------------------------------------
+    def with_control_points(self, control_points) -> "BezierSurface":
+        """The same degrees and weights on a new control net of the same shape.
+
+        Raises:
+            CagdError: NaN/inf, a shape other than ``control_points.shape``."""
+        return BezierSurface._unchecked(self._nurbs.with_control_points(control_points))
+
+    def moved_pole(self, index: Tuple[int, int], point) -> "BezierSurface":
+        """The patch with control point ``index`` = (i, j) moved to ``point`` (see
+        :meth:`cagd.BSplineSurface.moved_pole`).
+
+        Raises:
+            CagdError: an index that is not two ints in range, a bad point."""
+        return BezierSurface._unchecked(self._nurbs.moved_pole(index, point))
+
+    def with_weights(self, weights) -> "BezierSurface":
+        """The same control net with new (m+1, n+1) weights (None: polynomial).
+
+        Raises:
+            CagdError: a wrong shape, weights not positive."""
+        return BezierSurface._unchecked(self._nurbs.with_weights(weights))
 
     @property
     def domain(self):

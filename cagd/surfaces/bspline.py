@@ -52,30 +52,76 @@ class BSplineSurface(Surface):
         CagdError: shapes, counts, knots, multiplicities, weights, NaN/inf, degrees.
     """
 
+    _modified_copy = "use with_control_points(P), moved_pole((i, j), point) or with_weights(W)"
+
     def __init__(self, control_points, degree_u: int, degree_v: int, knots_u=None, knots_v=None,
                  weights=None, periodic_u: bool = False, periodic_v: bool = False):
         P = _checks.finite_array(control_points, "control_points")
         if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2 or P.shape[2] < 1:
             raise CagdError(f"control_points: expected shape (nu >= 2, nv >= 2, dim), got {P.shape}")
         nu, nv = P.shape[:2]
-        if weights is not None:
-            W = _checks.finite_array(weights, "weights")
-            if W.shape != (nu, nv):
-                raise CagdError(f"weights: expected shape {(nu, nv)} (one per control point), got {W.shape}")
-            if np.any(W <= 0):
-                i = tuple(int(k) for k in np.argwhere(W <= 0)[0])
-                raise CagdError(f"weights: must be positive (weights[{i[0]}, {i[1]}]={W[i]!r})")
-        else:
-            W = None
-        self.periodic_u, self.periodic_v = bool(periodic_u), bool(periodic_v)
-        self.degree_u = _checks.integer(degree_u, "degree_u", 1, nu if self.periodic_u else nu - 1)
-        self.degree_v = _checks.integer(degree_v, "degree_v", 1, nv if self.periodic_v else nv - 1)
-        self.knots_u, self._u, iu = _direction(knots_u, nu, self.degree_u, self.periodic_u, "knots_u")
-        self.knots_v, self._v, iv = _direction(knots_v, nv, self.degree_v, self.periodic_v, "knots_v")
-        self.control_points, self.weights = P, W
+        W = None if weights is None else _weights(weights, (nu, nv))
+        pu, pv = bool(periodic_u), bool(periodic_v)
+        p = _checks.integer(degree_u, "degree_u", 1, nu if pu else nu - 1)
+        q = _checks.integer(degree_v, "degree_v", 1, nv if pv else nv - 1)
+        ku, full_u = _direction(knots_u, nu, p, pu, "knots_u")
+        kvv, full_v = _direction(knots_v, nv, q, pv, "knots_v")
+        self._fill(P, W, (p, ku, full_u, pu), (q, kvv, full_v, pv))
+
+    def _fill(self, P: np.ndarray, W: Optional[np.ndarray], u_dir: tuple, v_dir: tuple) -> None:
+        """Bind validated parts, frozen; per direction (degree, knots, unwrapped knots of a
+        periodic direction, periodic)."""
+        (p, ku, full_u, pu), (q, kvv, full_v, pv) = u_dir, v_dir
+        self.periodic_u, self.periodic_v = pu, pv
+        self.degree_u, self.degree_v = p, q
+        self.knots_u, self.knots_v = _checks.frozen(ku), _checks.frozen(kvv)
+        self._u = _checks.frozen(full_u) if pu else self.knots_u          # full (unwrapped) knot vectors
+        self._v = _checks.frozen(full_v) if pv else self.knots_v
+        self.control_points = _checks.frozen(P)
+        self.weights = None if W is None else _checks.frozen(W)
         self.dim = P.shape[2]
-        hom = P if W is None else _checks.finite_homogeneous(np.concatenate([P * W[..., None], W[..., None]], axis=2))
-        self._hom = hom[iu][:, iv]            # unwrapped homogeneous net
+        if W is None and not (pu or pv):
+            self._hom = self.control_points                     # unwrapped homogeneous net
+        else:
+            hom = P if W is None else _checks.finite_homogeneous(np.concatenate([P * W[..., None], W[..., None]],
+                                                                                axis=2))
+            iu, iv = kv.unwrapped_index(P.shape[0], p, pu), kv.unwrapped_index(P.shape[1], q, pv)
+            self._hom = _checks.frozen(hom[iu][:, iv])
+
+    # --- modified copies (the object itself never changes) --------------------------------
+    def _with(self, P: np.ndarray, W: Optional[np.ndarray]) -> "BSplineSurface":
+        return BSplineSurface._unchecked(P, W, (self.degree_u, self.knots_u, self._u, self.periodic_u),
+                                         (self.degree_v, self.knots_v, self._v, self.periodic_v))
+
+    def with_control_points(self, control_points) -> "BSplineSurface":
+        """The surface with the same degrees, knots, weights and periodicity on a new
+        control net of the same shape (checked as in the constructor).
+
+        Raises:
+            CagdError: NaN/inf, a shape other than ``control_points.shape``."""
+        P = _checks.finite_array(control_points, "control_points")
+        return self._with(_checks.same_shape(P, self.control_points.shape, "control_points"), self.weights)
+
+    def moved_pole(self, index: Tuple[int, int], point) -> "BSplineSurface":
+        """The surface with control point ``index`` = (i, j) (row i in u, column j in v;
+        negative from the end; distinct points in a periodic direction) moved to
+        ``point``, all else kept: the cheap edit for dragging a pole (no knot checks,
+        O(nu nv) copies, evaluation tables rebuilt on the next use).
+
+        Raises:
+            CagdError: an index that is not two ints in range, a bad point."""
+        i, j = _checks.pole_index(index, self.control_points.shape[:2])
+        P = self.control_points.copy()
+        P[i, j] = _checks.point(point, self.dim)
+        return self._with(P, self.weights)
+
+    def with_weights(self, weights) -> "BSplineSurface":
+        """The same control net, degrees and knots with new (nu, nv) weights (None: polynomial).
+
+        Raises:
+            CagdError: a shape other than (nu, nv), weights not positive, NaN/inf."""
+        W = None if weights is None else _weights(weights, self.control_points.shape[:2])
+        return self._with(self.control_points, W)
 
     # --- properties --------------------------------------------------------------------
     @property
@@ -90,7 +136,8 @@ class BSplineSurface(Surface):
 
     @property
     def homogeneous_control_points(self) -> np.ndarray:
-        return self._hom.copy()
+        """The unwrapped homogeneous net (w P, w), or P when polynomial (read-only)."""
+        return self._hom
 
     def __repr__(self) -> str:
         kind = "NURBS" if self.is_rational else "B-spline"
@@ -161,7 +208,7 @@ class BSplineSurface(Surface):
                 cu = pp_u.coefficients.reshape(p + 1, su, nv, D)             # (a, su, j, d)
                 pp_v = PPForm.from_bspline(self._v, q, cu.transpose(2, 0, 1, 3).reshape(nv, -1))
                 cv = pp_v.coefficients.reshape(q + 1, sv, p + 1, su, D)      # (b, sv, a, su, d)
-                tables = [[[np.ascontiguousarray(cv[b, :, a, :, d]).ravel() for d in range(D)]
+                tables = [[[_checks.frozen(np.ascontiguousarray(cv[b, :, a, :, d]).ravel()) for d in range(D)]
                            for b in range(q + 1)] for a in range(p + 1)]
                 self._table = (pp_u, pp_v, tables, su)
         return self._table
@@ -376,10 +423,21 @@ class BSplineSurface(Surface):
         return BSplineCurve(hom, deg, knots, None, periodic)
 
 
+def _weights(weights, shape: Tuple[int, int]) -> np.ndarray:
+    """Positive finite weights, one per control point of the net."""
+    W = _checks.finite_array(weights, "weights")
+    if W.shape != tuple(shape):
+        raise CagdError(f"weights: expected shape {tuple(shape)} (one per control point), got {W.shape}")
+    if np.any(W <= 0):
+        i = tuple(int(k) for k in np.argwhere(W <= 0)[0])
+        raise CagdError(f"weights: must be positive (weights[{i[0]}, {i[1]}]={W[i]!r})")
+    return W
+
+
 def _direction(knots, count: int, degree: int, periodic: bool, name: str):
-    """(given knots, full unwrapped knots, index map of the net) for one direction."""
+    """(given knots, full unwrapped knots) for one direction."""
     if periodic:
         t = np.linspace(0.0, 1.0, count + 1) if knots is None else kv.validate_period(knots, count, degree, name)
-        return t, kv.periodic_extend(t, degree), np.concatenate([np.arange(count), np.arange(degree)])
+        return t, kv.periodic_extend(t, degree)
     t = kv.clamped_uniform(count, degree) if knots is None else kv.validate(knots, degree, count, name)
-    return t, t, np.arange(count)
+    return t, t

@@ -27,12 +27,12 @@ from .bspline import BSplineSurface
 from .loft import compatible_plain, multiplicities, plain, snapped, union_breaks, unit_nurbs
 
 # blend functions h_k: power coefficients (ascending) and Bernstein coefficients
-_LINEAR = (np.array([[1.0, -1.0], [0.0, 1.0]]), np.array([[1.0, 0.0], [0.0, 1.0]]))
+_LINEAR = (_checks.frozen([[1.0, -1.0], [0.0, 1.0]]), _checks.frozen([[1.0, 0.0], [0.0, 1.0]]))
 # the cubic Hermite basis of seed 000, 5.1.2 in the slot order value at 0, derivative at 0,
 # derivative at 1, value at 1, i.e. the seed's H0, H2, H3, H1 (Bernstein: H0 = B0 + B1,
 # H2 = B1 / 3, H3 = -B2 / 3, H1 = B2 + B3)
-_CUBIC = (np.array([[1.0, 0.0, -3.0, 2.0], [0.0, 1.0, -2.0, 1.0], [0.0, 0.0, -1.0, 1.0], [0.0, 0.0, 3.0, -2.0]]),
-          np.array([[1.0, 1.0, 0.0, 0.0], [0.0, 1 / 3, 0.0, 0.0], [0.0, 0.0, -1 / 3, 0.0], [0.0, 0.0, 1.0, 1.0]]))
+_CUBIC = (_checks.frozen([[1.0, 0.0, -3.0, 2.0], [0.0, 1.0, -2.0, 1.0], [0.0, 0.0, -1.0, 1.0], [0.0, 0.0, 3.0, -2.0]]),
+          _checks.frozen([[1.0, 1.0, 0.0, 0.0], [0.0, 1 / 3, 0.0, 0.0], [0.0, 0.0, -1 / 3, 0.0], [0.0, 0.0, 1.0, 1.0]]))
 
 
 def _blend(power: np.ndarray, t: np.ndarray, order: int) -> np.ndarray:
@@ -145,8 +145,8 @@ class _BlendedPatch(Surface):
         if len(dims) > 1:
             raise CagdError(f"{', '.join(n for n, _ in named)}: curves of different dimensions {sorted(dims)}")
         self.dim = dims.pop()
-        self._c = list(c_curves)
-        self._d = list(d_curves)
+        self._c = tuple(c_curves)
+        self._d = tuple(d_curves)
         nb = len(self._order)
         G = np.zeros((nb, nb, self.dim))
         for i in range(nb):
@@ -163,7 +163,7 @@ class _BlendedPatch(Surface):
                                     f"{self._c_names[j]}{pc}({self._corner[i]}) and {self._d_names[i]}{pd}"
                                     f"({self._corner[j]}) differ by {gap:.3g} (tol {self.tol:g})")
                 G[i, j] = 0.5 * (x + y)
-        self._G = G
+        self._G = _checks.frozen(G)
 
     @property
     def domain(self):

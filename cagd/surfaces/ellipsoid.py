@@ -35,12 +35,11 @@ from .bezier import BezierSurface
 _T = 1.0 / 3.0
 # The seed's table, block i = row of the net, entry j = column: coefficients of a, b,
 # c and the weights in the homogeneous coordinates (w x, w y, w z, w).
-SEED_X = np.array([[1, 1, 2 * _T, 0], [1, 1, 2 * _T, 0], [2 * _T, 2 * _T, 4 / 9, 0], [0, 0, 0, 0]])
-SEED_Y = np.array([[0, 0, 0, 0], [2 * _T, 2 * _T, 4 / 9, 0], [4 * _T, 4 * _T, 8 / 9, 0], [2, 2, 4 * _T, 0]])
-SEED_Z = np.array([[0, 2 * _T, 4 * _T, 2], [0, 2 * _T, 4 * _T, 2], [0, 8 / 9, 16 / 9, 8 * _T],
-                   [0, 4 * _T, 8 * _T, 4]])
-SEED_W = np.array([[1, 1, 4 * _T, 2], [1, 1, 4 * _T, 2], [4 * _T, 4 * _T, 16 / 9, 8 * _T],
-                   [2, 2, 8 * _T, 4]])
+SEED_X, SEED_Y, SEED_Z, SEED_W = (_checks.frozen(table, np.float64) for table in (
+    [[1, 1, 2 * _T, 0], [1, 1, 2 * _T, 0], [2 * _T, 2 * _T, 4 / 9, 0], [0, 0, 0, 0]],
+    [[0, 0, 0, 0], [2 * _T, 2 * _T, 4 / 9, 0], [4 * _T, 4 * _T, 8 / 9, 0], [2, 2, 4 * _T, 0]],
+    [[0, 2 * _T, 4 * _T, 2], [0, 2 * _T, 4 * _T, 2], [0, 8 / 9, 16 / 9, 8 * _T], [0, 4 * _T, 8 * _T, 4]],
+    [[1, 1, 4 * _T, 2], [1, 1, 4 * _T, 2], [4 * _T, 4 * _T, 16 / 9, 8 * _T], [2, 2, 8 * _T, 4]]))
 
 
 def _semi_axes(a, b, c) -> np.ndarray:

@@ -51,14 +51,66 @@ class BezierTriangle(Surface):
     """
 
     rectangular = False
+    _modified_copy = "use with_control_points(P), moved_pole((i, j, k), point) or with_weights(w)"
 
     def __init__(self, control_points, weights=None):
         P, n = parse_points(control_points, "control_points")
-        W = parse_weights(weights, n, "weights")
+        self._fill(P, parse_weights(weights, n, "weights"), n)
+
+    def _fill(self, P: np.ndarray, W, n: int) -> None:
+        """Bind validated canonical points and weights (frozen) and the dense net."""
         self.degree, self.dim = n, P.shape[1]
-        self.control_points, self.weights = P, W
-        self._hom = P if W is None else _checks.finite_homogeneous(np.concatenate([P * W[:, None], W[:, None]], axis=1))
-        self._net = tb.to_dense(self._hom, n)
+        self.control_points = _checks.frozen(P)
+        self.weights = None if W is None else _checks.frozen(W)
+        self._hom = self.control_points if W is None else \
+            _checks.frozen(_checks.finite_homogeneous(np.concatenate([P * W[:, None], W[:, None]], axis=1)))
+        self._net = _checks.frozen(tb.to_dense(self._hom, n))
+
+    # --- modified copies (the object itself never changes) --------------------------------
+    def with_control_points(self, control_points) -> "BezierTriangle":
+        """The same degree and weights on new control points, given as the constructor
+        takes them (a mapping {(i, j, k): point} or an (N, dim) array), of the same
+        degree and dimension.
+
+        Raises:
+            CagdError: as the constructor; another degree or dimension."""
+        P, n = parse_points(control_points, "control_points")
+        _checks.same_shape(P, self.control_points.shape, "control_points")
+        return BezierTriangle._unchecked(P, self.weights, n)
+
+    def moved_pole(self, index, point) -> "BezierTriangle":
+        """The triangle with control point ``index`` moved to ``point``: ``index`` is the
+        triple (i, j, k), i + j + k = degree, or the flat position in
+        :meth:`index_triples` order (an int, negative from the end). The cheap edit for
+        dragging a pole (O(N) copies).
+
+        Raises:
+            CagdError: a triple that does not sum to the degree, a position out of
+                range, a bad point."""
+        P = self.control_points.copy()
+        P[self._position(index)] = _checks.point(point, self.dim)
+        return BezierTriangle._unchecked(P, self.weights, self.degree)
+
+    def with_weights(self, weights) -> "BezierTriangle":
+        """The same control points with new weights (mapping or (N,) array; None: polynomial).
+
+        Raises:
+            CagdError: as the constructor's weights."""
+        return BezierTriangle._unchecked(self.control_points, parse_weights(weights, self.degree, "weights"),
+                                         self.degree)
+
+    def _position(self, index) -> int:
+        """The flat position of a triple (i, j, k) or of a flat index."""
+        if not isinstance(index, (tuple, list)) and np.ndim(index) == 0:
+            return _checks.pole_index(index, self.control_points.shape[:1])[0]
+        if len(index) != 3:
+            raise CagdError(f"index: expected a triple (i, j, k) or a flat index, got {index!r}")
+        return self._triple_position(tuple(_checks.integer(x, "index", 0) for x in index), "index")
+
+    def _triple_position(self, t: Tuple[int, int, int], name: str) -> int:
+        if sum(t) != self.degree:
+            raise CagdError(f"{name}: {t} does not sum to the degree {self.degree}")
+        return tb.triple_position(self.degree, t[0], t[1])
 
     index_triples = staticmethod(tb.index_triples)
 
@@ -73,15 +125,13 @@ class BezierTriangle(Surface):
 
     @property
     def homogeneous_control_points(self) -> np.ndarray:
-        """(N, dim+1) rows (w P, w) for a rational triangle, else (N, dim) points."""
-        return self._hom.copy()
+        """(N, dim+1) rows (w P, w) for a rational triangle, else (N, dim) points (read-only)."""
+        return self._hom
 
     def control_point(self, i: int, j: int, k: int) -> np.ndarray:
         """P_ijk (raises CagdError unless i + j + k = degree, all >= 0)."""
         t = tuple(_checks.integer(x, name, 0) for x, name in zip((i, j, k), "ijk"))
-        if sum(t) != self.degree:
-            raise CagdError(f"i, j, k: {t} does not sum to the degree {self.degree}")
-        return self.control_points[tb.triple_position(self.degree, t[0], t[1])].copy()
+        return self.control_points[self._triple_position(t, "i, j, k")].copy()
 
     def as_dict(self) -> Dict[Tuple[int, int, int], np.ndarray]:
         """{(i, j, k): P_ijk}."""
