@@ -1,18 +1,31 @@
-"""Engine objects <-> CadQuery and build123d shapes, through the exact OCCT bridge."""
+"""Engine objects <-> CadQuery and build123d shapes, through the exact OCCT bridge.
+
+Neither library is imported at module level: :func:`to_cq` imports CadQuery,
+:func:`to_b3d` build123d, when called; :func:`from_shape` takes either library's
+shapes (or bare OCCT shapes) by duck typing (:mod:`cagd.occ.wrapped`).
+"""
 from __future__ import annotations
 
-from typing import Union
+from collections import Counter
+from typing import TYPE_CHECKING, Union
 
-import cadquery as cq
 import numpy as np
+from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_WIRE
 
 from cagd.curves.base import Curve
 from cagd.errors import CagdError
-from cagd.occ import from_occ, make_edge, make_face
+from cagd.occ import from_occ, make_edge, make_face, subshapes
+from cagd.occ.wrapped import describe, occ_shapes
 from cagd.surfaces.base import Surface
 
+if TYPE_CHECKING:                               # pragma: no cover
+    import build123d as bd
+    import cadquery as cq
 
-def plane_map(plane: cq.Plane, dim: int):
+_CONTAINERS = (TopAbs_COMPOUND, TopAbs_SHELL, TopAbs_WIRE)
+
+
+def plane_map(plane: "cq.Plane", dim: int):
     """(A, b) taking a workplane's local coordinates (2-D or 3-D) to global ones: the
     images of the unit vectors under ``plane.toWorldCoords``, as CadQuery maps the
     points of its own ``spline`` (which makes xDir perpendicular to the normal)."""
@@ -21,49 +34,73 @@ def plane_map(plane: cq.Plane, dim: int):
     return A[:, :dim], b
 
 
-def placed(obj: Union[Curve, Surface], plane: cq.Plane) -> Union[Curve, Surface]:
+def placed(obj: Union[Curve, Surface], plane: "cq.Plane") -> Union[Curve, Surface]:
     """The engine object moved from the workplane's local coordinates to global ones
     (an affine map of its defining points: exact)."""
     A, b = plane_map(plane, obj.dim)
     return obj.transformed(A, b)
 
 
-def to_cq(obj: Union[Curve, Surface]) -> Union[cq.Edge, cq.Face]:
+def _occ(obj: Union[Curve, Surface]):
+    if isinstance(obj, Curve):
+        return make_edge(obj)
+    if isinstance(obj, Surface):
+        return make_face(obj)
+    raise CagdError(f"obj: expected a cagd Curve or Surface, got {describe(obj)}")
+
+
+def to_cq(obj: Union[Curve, Surface]) -> Union["cq.Edge", "cq.Face"]:
     """A CadQuery ``Edge`` (curves) or ``Face`` with natural bounds (surfaces) holding
     the object's exact OCCT B-spline.
 
     Raises:
         CagdError: not an engine curve or surface, or OCCT refuses it.
     """
-    if isinstance(obj, Curve):
-        return cq.Edge(make_edge(obj))
-    if isinstance(obj, Surface):
-        return cq.Face(make_face(obj))
-    raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
+    shape = _occ(obj)
+    import cadquery as cq
+    return cq.Shape.cast(shape)
 
 
-def to_b3d(obj: Union[Curve, Surface]):
-    """A build123d ``Edge`` or ``Face`` (see :func:`to_cq`)."""
+def to_b3d(obj: Union[Curve, Surface]) -> Union["bd.Edge", "bd.Face"]:
+    """A build123d ``Edge`` or ``Face`` (see :func:`to_cq`); needs build123d only."""
+    shape = _occ(obj)
     import build123d as bd
-    if isinstance(obj, Curve):
-        return bd.Edge(make_edge(obj))
-    if isinstance(obj, Surface):
-        return bd.Face(make_face(obj))
-    raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
+    return bd.Edge(shape) if isinstance(obj, Curve) else bd.Face(shape)
+
+
+def _kinds(shapes) -> str:
+    counts = Counter(s.ShapeType().name[len("TopAbs_"):].lower() for s in shapes)
+    return ", ".join(f"{n} {k}{'s' if n != 1 else ''}" for k, n in sorted(counts.items()))
+
+
+def edge_or_face(shape, name: str = "shape"):
+    """The one OCCT edge or face of a shape of any library: an edge or face itself, or
+    the only face (else the only edge) of a compound, shell, wire, build123d
+    ``Sketch``/``Curve`` or Workplane stack.
+
+    Raises:
+        CagdError: not a shape, or not exactly one edge or face in it.
+    """
+    shapes, found = occ_shapes(shape, name), []
+    for s in shapes:
+        if s.ShapeType() in _CONTAINERS:
+            found += subshapes(s, TopAbs_FACE) or subshapes(s, TopAbs_EDGE)
+        else:
+            found.append(s)
+    if len(found) == 1 and found[0].ShapeType() in (TopAbs_EDGE, TopAbs_FACE):
+        return found[0]
+    plain = len(found) == 1 and found[0] is getattr(shape, "wrapped", shape)     # a solid, a vertex, ...
+    held = "" if plain else f" holding {_kinds(found) or 'no edge or face'}"
+    raise CagdError(f"{name}: expected one edge or a face, got {describe(shape)}{held}")
 
 
 def from_shape(shape, dim: int = 3):
-    """The engine B-spline of a CadQuery or build123d edge or face (or a bare OCCT
-    shape): any geometry OCCT converts to a B-spline, on the edge's range / the face's
-    UV bounds (see :func:`cagd.occ.from_occ`).
+    """The engine B-spline of an edge or face of CadQuery, build123d or OCCT (also a
+    Workplane, compound, wire, build123d ``Sketch``/``Curve`` holding exactly one):
+    any geometry OCCT converts to a B-spline, on the edge's range / the face's UV
+    bounds (see :func:`cagd.occ.from_occ`).
 
     Raises:
-        CagdError: not an edge or face, or geometry OCCT cannot convert.
+        CagdError: not one edge or face, or geometry OCCT cannot convert.
     """
-    wrapped = getattr(shape, "wrapped", shape)
-    if isinstance(shape, cq.Workplane):
-        objs = shape.vals()
-        if len(objs) != 1:
-            raise CagdError(f"shape: the workplane holds {len(objs)} objects, need exactly one edge or face")
-        wrapped = objs[0].wrapped
-    return from_occ(wrapped, dim)
+    return from_occ(edge_or_face(shape), dim)

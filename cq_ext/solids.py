@@ -1,130 +1,134 @@
 """Solid modelling helpers: sew faces into a shell or solid (naming the gaps when it
 fails), close a surface with planar caps (a surface of revolution whose profile
 ends off the axis), thicken a surface into a solid. Every solid returned passes
-CadQuery's ``isValid()`` (OCCT's BRepCheck)."""
+OCCT's BRepCheck.
+
+This module imports neither CadQuery nor build123d: the faces may be engine
+surfaces and the shapes of either library (or bare OCCT shapes, see
+:mod:`cagd.occ.wrapped`), and its functions return OCCT shapes. The functions
+users call, returning CadQuery shapes (``cq_ext.sew_solid``, ...) or build123d
+shapes (``cq_ext.b3d.sew_solid``, ...), are made by :func:`front_end` from a
+library's ``Shape.cast``.
+"""
 from __future__ import annotations
 
 import math
-from typing import Iterable, List, Union
+from typing import Callable, Iterable, List, NamedTuple, Union
 
-import cadquery as cq
 import numpy as np
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+from OCP.BRepAdaptor import BRepAdaptor_Curve
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Sewing
+from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
+from OCP.GCPnts import GCPnts_AbscissaPoint
 from OCP.GeomAbs import GeomAbs_Arc
 from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
-from OCP.TopAbs import TopAbs_WIRE
-from OCP.TopExp import TopExp_Explorer
-from OCP.TopoDS import TopoDS_Shape
+from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_WIRE
+from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Solid
 
-from cagd.errors import CagdError
 from cagd.curves.base import Curve
-from cagd.occ.compat import as_wire
-from cagd.occ import make_edge, make_face, make_solid, sewing
+from cagd.errors import CagdError
+from cagd.occ import check_valid, make_edge, make_solid, sewing, subshapes, volume
+from cagd.occ.shapes import face_list
+from cagd.occ.wrapped import occ_edges
 from cagd.surfaces.base import Surface
 
-FaceLike = Union[cq.Face, Surface, cq.Shape]
+Faces = Union[Surface, object, Iterable[object]]     # surfaces, shapes of any library, or a list of them
+_SIGN_EPS = 1e-3                                     # relative precision enough for the sign of a volume
 
 
-def _occ_faces(faces: Iterable[FaceLike]) -> list:
-    out = []
-    for i, f in enumerate(faces):
-        if isinstance(f, Surface):
-            out.append(make_face(f))
-        elif isinstance(f, cq.Workplane):
-            out += [v.wrapped for v in f.vals() if isinstance(v, cq.Shape)]
-        elif isinstance(f, cq.Shape):
-            out.append(f.wrapped)
-        elif isinstance(f, TopoDS_Shape):
-            out.append(f)
-        else:
-            raise CagdError(f"faces[{i}]: expected a CadQuery face/shape or a cagd Surface, got {type(f).__name__}")
-    if not out:
-        raise CagdError("faces: nothing to sew")
-    return out
+def free_edges_of(sewn: BRepBuilderAPI_Sewing) -> List[TopoDS_Edge]:
+    """The edges a performed sewing left unpaired."""
+    return [sewn.FreeEdge(i) for i in range(1, sewn.NbFreeEdges() + 1)]
 
 
-def _sewn(faces: Iterable[FaceLike], tol: float):
-    """cagd.occ's sewing of the faces (CadQuery shapes and engine surfaces)."""
-    return sewing(_occ_faces(faces), tol)
-
-
-def free_edges(faces: Iterable[FaceLike], tol: float = 1e-6) -> List[cq.Edge]:
+def unpaired_edges(faces: Faces, tol: float = 1e-6) -> List[TopoDS_Edge]:
     """The edges left unpaired after sewing the faces with ``tol`` (empty for a closed
     shell): the gaps and open boundaries."""
-    sewing = _sewn(faces, tol)
-    return [cq.Edge(sewing.FreeEdge(i)) for i in range(1, sewing.NbFreeEdges() + 1)]
+    return free_edges_of(sewing(faces, tol))
 
 
-def gap_report(edges: List[cq.Edge], limit: int = 8) -> str:
-    """One line per free edge: length, midpoint and the distance to the nearest other
-    free edge (a gap narrower than that would have been sewn with a larger tol)."""
+def _length_and_middle(edge) -> tuple:
+    """Arc length and the point at half the arc length (GCPnts_AbscissaPoint)."""
+    curve = BRepAdaptor_Curve(edge)
+    length = GCPnts_AbscissaPoint.Length_s(curve)
+    t = GCPnts_AbscissaPoint(curve, length / 2, curve.FirstParameter()).Parameter()
+    p = curve.Value(t)
+    return length, (p.X(), p.Y(), p.Z())
+
+
+def gap_report(edges: List, limit: int = 8) -> str:
+    """One line per free edge (any library's edges): length, midpoint and the distance
+    to the nearest other free edge (a gap narrower than that would have been sewn with
+    a larger tol)."""
+    occ = [e for i, edge in enumerate(edges) for e in occ_edges(edge, f"edges[{i}]")]
     lines = []
-    for i, e in enumerate(edges[:limit]):
-        mid = e.positionAt(0.5)
-        others = [o for j, o in enumerate(edges) if j != i]
-        near = min((e.distance(o) for o in others), default=float("nan"))
-        lines.append(f"  free edge {i}: length {e.Length():.6g} at ({mid.x:.6g}, {mid.y:.6g}, {mid.z:.6g}), "
+    for i, e in enumerate(occ[:limit]):
+        length, (x, y, z) = _length_and_middle(e)
+        near = min((BRepExtrema_DistShapeShape(e, o).Value() for j, o in enumerate(occ) if j != i),
+                   default=float("nan"))
+        lines.append(f"  free edge {i}: length {length:.6g} at ({x:.6g}, {y:.6g}, {z:.6g}), "
                      f"nearest other free edge {near:.3g} away")
-    if len(edges) > limit:
-        lines.append(f"  ... and {len(edges) - limit} more")
+    if len(occ) > limit:
+        lines.append(f"  ... and {len(occ) - limit} more")
     return "\n".join(lines)
 
 
-def sew_shell(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Shape:
-    """Sew faces (CadQuery faces or engine surfaces) whose edges meet within ``tol``:
-    a ``cq.Shell`` when they form one piece, else a compound."""
-    return cq.Shape.cast(_sewn(faces, tol).SewedShape())
+def shell_of(faces: Faces, tol: float = 1e-6) -> TopoDS_Shape:
+    """The faces sewn where their edges meet within ``tol``: a shell when they form one
+    piece, else a compound."""
+    return sewing(faces, tol).SewedShape()
 
 
-def sew_solid(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Solid:
-    """Sew faces into a closed shell and make the solid.
+def solid_of(faces: Faces, tol: float = 1e-6) -> TopoDS_Solid:
+    """The solid bounded by the faces sewn into a closed shell.
 
     Raises:
         CagdError: the faces do not close within ``tol``; the message lists the free
             edges (length, position, nearest other free edge) to show the gaps.
     """
-    faces = list(faces)
-    sewing = _sewn(faces, tol)
-    if sewing.NbFreeEdges():
-        edges = [cq.Edge(sewing.FreeEdge(i)) for i in range(1, sewing.NbFreeEdges() + 1)]
+    sewn = sewing(faces, tol)
+    if sewn.NbFreeEdges():
+        edges = free_edges_of(sewn)
         raise CagdError(f"faces: the shell is not closed with tol={tol:g}: {len(edges)} free edge(s)\n"
                         + gap_report(edges))
-    return _checked(cq.Solid(make_solid(sewing.SewedShape(), tol)))
+    return _checked(make_solid(sewn.SewedShape(), tol))
 
 
-def close_with_caps(faces: Iterable[FaceLike], tol: float = 1e-6) -> cq.Solid:
-    """Close an open shell by a planar face on each open boundary loop, then make the
-    solid: a surface of revolution whose profile ends off the axis gets two disks.
+def capped_solid(faces: Faces, tol: float = 1e-6) -> TopoDS_Solid:
+    """The faces sewn, a planar face on each open boundary loop, and the solid.
 
     Raises:
         CagdError: an open boundary that is not a closed planar loop.
     """
-    faces = _occ_faces(faces)
-    sewn = _sewn(faces, tol).SewedShape()
+    sewn = shell_of(faces, tol)
     bounds = ShapeAnalysis_FreeBounds(sewn, False, False)      # free bounds of the sewn (shared-edge) shell
+    if _wires(bounds.GetOpenWires()):
+        raise CagdError("faces: an open boundary does not form a closed loop")
     caps = []
     for wire in _wires(bounds.GetClosedWires()):
         maker = BRepBuilderAPI_MakeFace(wire, True)
         if not maker.IsDone():
             raise CagdError("faces: an open boundary loop is not planar; cannot cap it with a plane")
         caps.append(maker.Face())
-    if _wires(bounds.GetOpenWires()):
-        raise CagdError("faces: an open boundary does not form a closed loop")
-    return sew_solid([cq.Shape.cast(f) for f in faces + caps], tol)
+    return solid_of([sewn] + caps, tol)
 
 
 def _wires(compound) -> list:
-    out, ex = [], TopExp_Explorer(compound, TopAbs_WIRE)
-    while ex.More():
-        out.append(as_wire(ex.Current()))
-        ex.Next()
-    return out
+    """The wires of a free-bounds compound (a null shape when there are none)."""
+    return [] if compound.IsNull() else subshapes(compound, TopAbs_WIRE)
 
 
-def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: float = 1e-6) -> cq.Solid:
+def _thickness(thickness) -> float:
+    if isinstance(thickness, bool) or not isinstance(thickness, (int, float, np.floating, np.integer)) \
+            or not thickness or not np.isfinite(thickness):
+        raise CagdError(f"thickness: must be a finite non-zero number, got {thickness!r}")
+    return float(thickness)
+
+
+def thickened(faces: Faces, thickness: float, tol: float = 1e-6) -> TopoDS_Shape:
     """A solid of the given thickness grown from a face, or from faces sewn into one
     shell (e.g. two patches joined with G1), along the normal (negative: the other
     side), by OCCT's offset algorithm (BRepOffset_MakeOffset in skin mode with
@@ -139,25 +143,22 @@ def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: f
             shell, or OCCT cannot build a valid solid (e.g. the thickness exceeds a
             radius of curvature).
     """
-    if isinstance(thickness, bool) or not isinstance(thickness, (int, float, np.floating, np.integer)) \
-            or not thickness or not np.isfinite(thickness):
-        raise CagdError(f"thickness: must be a finite non-zero number, got {thickness!r}")
-    single = isinstance(faces, (cq.Shape, Surface, TopoDS_Shape, cq.Workplane))
-    items = [faces] if single else list(faces)
-    occ = _occ_faces(items)
-    shape = occ[0] if len(occ) == 1 and occ[0].ShapeType().name == "TopAbs_FACE" else _sewn(occ, tol).SewedShape()
-    if shape.ShapeType().name not in ("TopAbs_FACE", "TopAbs_SHELL"):
-        raise CagdError(f"faces: they do not sew into one shell with tol={tol:g} ({shape.ShapeType().name})")
+    thickness = _thickness(thickness)
+    occ = face_list(faces, tol)
+    shape = occ[0] if len(occ) == 1 else shell_of(occ, tol)
+    if shape.ShapeType() not in (TopAbs_FACE, TopAbs_SHELL):
+        raise CagdError(f"faces: they do not sew into one shell with tol={tol:g} ({shape.ShapeType().name}, "
+                        f"{len(subshapes(shape, TopAbs_SHELL))} shells)")
     maker = BRepOffset_MakeOffset()
-    maker.Initialize(shape, float(thickness), tol, BRepOffset_Skin, False, False, GeomAbs_Arc, True)
+    maker.Initialize(shape, thickness, tol, BRepOffset_Skin, False, False, GeomAbs_Arc, True)
     maker.MakeOffsetShape()
     if not maker.IsDone():
         raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
                         f"{maker.Error().name})")
-    return _checked(cq.Shape.cast(maker.Shape()))
+    return _checked(maker.Shape())
 
 
-def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> cq.Face:
+def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> TopoDS_Face:
     """OCCT's surface of revolution (Geom_SurfaceOfRevolution, BRepPrimAPI_MakeRevol)
     of the exact B-spline edge of an engine profile: the same surface as
     :func:`cagd.revolve`, parametrised by the angle.
@@ -172,15 +173,81 @@ def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: f
         raise CagdError(f"angle: must be finite and non-zero, got {angle_degrees!r}")
     axis = gp_Ax1(gp_Pnt(*map(float, axis_point)), gp_Dir(*map(float, d)))
     maker = BRepPrimAPI_MakeRevol(make_edge(profile), axis, math.radians(angle_degrees), True)
-    faces = cq.Shape.cast(maker.Shape()).Faces()
+    faces = subshapes(maker.Shape(), TopAbs_FACE)
     if len(faces) != 1:
         raise CagdError(f"profile: OCCT made {len(faces)} faces from the revolution, expected 1")
     return faces[0]
 
 
-def _checked(solid: cq.Shape) -> cq.Solid:
-    if not solid.isValid():
+def _checked(solid: TopoDS_Shape) -> TopoDS_Shape:
+    if not check_valid(solid):
         raise CagdError("the resulting solid is not valid (BRepCheck)")
-    if solid.Volume() < 0:
+    if volume(solid, _SIGN_EPS) < 0:
         raise CagdError("the resulting solid has negative volume (inside out)")
     return solid
+
+
+class FrontEnd(NamedTuple):
+    """The solid helpers returning one library's shapes."""
+    sew_shell: Callable
+    sew_solid: Callable
+    close_with_caps: Callable
+    thicken: Callable
+    free_edges: Callable
+
+
+def front_end(cast: Callable[[TopoDS_Shape], object], library: str, module: str) -> FrontEnd:
+    """The user-facing solid helpers for one library: the functions above with their
+    results passed through ``cast`` (the library's ``Shape.cast``), documented as
+    returning that library's shapes and listed under ``module``."""
+    def sew_shell(faces: Faces, tol: float = 1e-6):
+        """Sew faces (engine surfaces, CadQuery or build123d faces, shells, solids,
+        compounds, Workplanes, sketches, parts, or OCCT shapes) whose edges meet within
+        ``tol``: a {lib} Shell when they form one piece, else a Compound."""
+        return cast(shell_of(faces, tol))
+
+    def sew_solid(faces: Faces, tol: float = 1e-6):
+        """Sew faces (as :func:`sew_shell` takes them) into a closed shell and make the
+        {lib} Solid.
+
+        Raises:
+            CagdError: the faces do not close within ``tol``; the message lists the
+                free edges (length, position, nearest other free edge) to show the gaps.
+        """
+        return cast(solid_of(faces, tol))
+
+    def close_with_caps(faces: Faces, tol: float = 1e-6):
+        """Close an open shell by a planar face on each open boundary loop, then make
+        the {lib} Solid: a surface of revolution whose profile ends off the axis gets
+        two disks.
+
+        Raises:
+            CagdError: an open boundary that is not a closed planar loop.
+        """
+        return cast(capped_solid(faces, tol))
+
+    def thicken(faces: Faces, thickness: float, tol: float = 1e-6):
+        """The {lib} Solid of the given thickness grown from a face, or from faces
+        sewn into one shell, along the normal (negative: the other side); see
+        :func:`cq_ext.solids.thickened` (OCCT's offset, its limits).
+
+        Raises:
+            CagdError: a zero or non-finite thickness, faces that do not sew into one
+                shell, or OCCT cannot build a valid solid.
+        """
+        return cast(thickened(faces, thickness, tol))
+
+    def free_edges(faces: Faces, tol: float = 1e-6) -> list:
+        """The {lib} Edges left unpaired after sewing the faces with ``tol`` (empty
+        for a closed shell): the gaps and open boundaries."""
+        return [cast(e) for e in unpaired_edges(faces, tol)]
+
+    made = FrontEnd(sew_shell, sew_solid, close_with_caps, thicken, free_edges)
+    for fn in made:
+        fn.__doc__ = fn.__doc__.format(lib=library)
+        fn.__module__, fn.__qualname__ = module, fn.__name__
+    return made
+
+
+__all__ = ["Faces", "FrontEnd", "front_end", "unpaired_edges", "gap_report", "shell_of", "solid_of",
+           "capped_solid", "thickened", "revolution_face"]

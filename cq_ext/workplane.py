@@ -2,10 +2,22 @@
 plain functions taking the Workplane as ``self``, attached to ``cq.Workplane``).
 
 Engine geometry given by numbers is in the workplane's local coordinates (2-D or
-3-D), like the points of CadQuery's own ``spline``; CadQuery shapes are taken as
-they are (global). Curves go on the stack as edges, queued as pending edges (or a
-wire with ``makeWire``) for ``close``, ``extrude``, ``revolve``, ``sweep`` and
-``loft``; surfaces as faces.
+3-D; tuples, arrays, CadQuery or build123d ``Vector``s), like the points of
+CadQuery's own ``spline``; shapes of any library are taken as they are (global).
+
+The stack, as CadQuery's own methods use it (:mod:`cq_ext.stack`):
+
+- curves go on the stack as edges, replacing it, and are queued as pending edges
+  (or a wire with ``makeWire``) for ``close``, ``extrude``, ``revolve``, ``sweep``
+  and ``loft``, and for ``coonsPatch``, ``loftSurface`` and ``ruledSurface``, which
+  consume them;
+- surfaces are faces ADDED to the faces and shells already on the stack (like
+  ``Workplane.add``): ``cagdSurface(a).cagdSurface(b)`` holds both, the new face
+  last;
+- consumers (``sewSolid``, ``closeWithCaps``, ``thickenSurface``,
+  ``projectPoints``, ``intersectFaces``) take the faces, shells, compounds and
+  sketches on the stack and replace the stack with their result (the solid is not
+  combined with solids earlier in the chain: use ``union``).
 """
 from __future__ import annotations
 
@@ -18,28 +30,27 @@ import numpy as np
 
 import cagd
 from cagd.curves.base import Curve
+from cagd.curves.cubic_spline import PARAMETRIZATIONS
 from cagd.errors import CagdError
+from cagd.occ import from_occ
+from cagd.occ.wrapped import describe, occ_faces
 from cagd.surfaces.base import Surface
 
-from .convert import from_shape, placed, plane_map, to_cq
-from .solids import close_with_caps, revolution_face, sew_solid, thicken
+from .convert import placed, plane_map, to_cq
+from .cq_api import close_with_caps, sew_solid, thicken
+from .solids import revolution_face
+from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
+from .stack import points as as_points
 
 T = TypeVar("T", bound=cq.Workplane)
-CurveLike = Union[Curve, cq.Edge]
+CurveLike = Union[Curve, cq.Edge, object]        # engine curves, edges of CadQuery, build123d or OCCT
+FaceLike = Union[cq.Face, object]                # faces of CadQuery, build123d or OCCT
+Points = Union[Sequence, np.ndarray]             # tuples, lists, arrays, CadQuery or build123d Vectors
 
 
-def _local_points(wp: cq.Workplane, points, includeCurrent: bool) -> np.ndarray:
-    pts = np.asarray(points, dtype=float)
-    if includeCurrent:
-        cur = wp._findFromPoint(True)
-        first = np.array(cur.toTuple()[:pts.shape[-1]]) if pts.ndim == 2 else None
-        pts = np.vstack([first, pts])
-    return pts
-
-
-def _push_curve(wp: T, curve: Curve, forConstruction: bool, makeWire: bool) -> T:
+def _push_curve(wp: T, curve: Curve, forConstruction: bool, makeWire: bool, name: str = "control_points") -> T:
     if curve.dim not in (2, 3):
-        raise CagdError(f"control_points: a workplane curve needs 2-D or 3-D points, got {curve.dim}-D")
+        raise CagdError(f"{name}: a workplane curve needs 2-D or 3-D points, got {curve.dim}-D")
     edge = to_cq(placed(curve, wp.plane))
     if makeWire:
         wire = cq.Wire.assembleEdges([edge])
@@ -54,53 +65,79 @@ def _push_curve(wp: T, curve: Curve, forConstruction: bool, makeWire: bool) -> T
 def cagdCurve(self: T, curve: Curve, forConstruction: bool = False, makeWire: bool = False) -> T:
     """Any engine curve (in local coordinates) as an edge on the stack."""
     if not isinstance(curve, Curve):
-        raise CagdError(f"curve: expected a cagd Curve, got {type(curve).__name__}")
-    return _push_curve(self, curve, forConstruction, makeWire)
+        raise CagdError(f"curve: expected a cagd Curve, got {describe(curve)}")
+    return _push_curve(self, curve, forConstruction, makeWire, "curve")
 
 
-def bezierCurve(self: T, control_points: Sequence, weights: Optional[Sequence[float]] = None,
+def bezierCurve(self: T, control_points: Points, weights: Optional[Sequence[float]] = None,
                 includeCurrent: bool = False, forConstruction: bool = False, makeWire: bool = False) -> T:
     """A (rational) Bezier curve on its control points (seed 000, 5.2)."""
-    pts = _local_points(self, control_points, includeCurrent)
+    pts = local_points(self, control_points, includeCurrent, "control_points")
     return _push_curve(self, cagd.BezierCurve(pts, weights), forConstruction, makeWire)
 
 
-def nurbsCurve(self: T, control_points: Sequence, degree: int = 3, knots: Optional[Sequence[float]] = None,
-               weights: Optional[Sequence[float]] = None, periodic: bool = False,
-               forConstruction: bool = False, makeWire: bool = False) -> T:
+def nurbsCurve(self: T, control_points: Points, degree: int = 3, knots: Optional[Sequence[float]] = None,
+               weights: Optional[Sequence[float]] = None, periodic: bool = False, forConstruction: bool = False,
+               makeWire: bool = False, includeCurrent: bool = False) -> T:
     """A B-spline or NURBS curve (knots as :class:`cagd.BSplineCurve`: the full vector,
     or one period when periodic; default clamped uniform)."""
-    curve = cagd.BSplineCurve(control_points, degree, knots, weights, periodic)
+    pts = local_points(self, control_points, includeCurrent, "control_points")
+    curve = cagd.BSplineCurve(pts, degree, knots, weights, periodic)
     return _push_curve(self, curve, forConstruction, makeWire)
 
 
-def interpCurve(self: T, points: Sequence, end_condition: str = "natural", parametrization: str = "chord",
-                tangents: Optional[Sequence] = None, includeCurrent: bool = False,
-                forConstruction: bool = False, makeWire: bool = False) -> T:
+def _parameters(parameters, parametrization: Optional[str]):
+    """``parameters`` (a method name or explicit values), honouring the deprecated
+    ``parametrization`` keyword."""
+    if parametrization is not None:
+        warnings.warn("interpCurve: parametrization= is renamed parameters= (same values); "
+                      "parametrization= goes in the next release", DeprecationWarning, stacklevel=3)
+        if not (isinstance(parameters, str) and parameters == "chord"):
+            raise CagdError("parameters: give parameters= only (parametrization= is its deprecated name)")
+        parameters = parametrization
+    if isinstance(parameters, str) and parameters not in PARAMETRIZATIONS:
+        raise CagdError(f"parameters: unknown method {parameters!r}; expected one of {PARAMETRIZATIONS} "
+                        "or the values")
+    return parameters
+
+
+def interpCurve(self: T, points: Points, end_condition: str = "natural",
+                parameters: Union[str, Sequence[float]] = "chord", tangents: Optional[Points] = None,
+                includeCurrent: bool = False, forConstruction: bool = False, makeWire: bool = False,
+                parametrization: Optional[str] = None) -> T:
     """The C2 cubic spline through the points (seed 000, 5.1.2): end conditions
     'natural', 'clamped' (with ``tangents`` = start and end tangent), 'periodic'
     (the first point need not be repeated at the end; the result is a closed wire);
-    parameters 'chord', 'centripetal' or 'uniform'."""
-    pts = _local_points(self, points, includeCurrent)
-    if end_condition == "periodic" and len(pts) > 1 and not np.array_equal(pts[0], pts[-1]):
+    ``parameters`` 'chord', 'centripetal', 'uniform' or the values t_0 < ... < t_n
+    (``parametrization=`` is its deprecated name)."""
+    method = _parameters(parameters, parametrization)
+    pts = local_points(self, points, includeCurrent, "points")
+    if end_condition == "periodic" and pts.ndim == 2 and len(pts) > 1 and not np.array_equal(pts[0], pts[-1]):
         pts = np.vstack([pts, pts[:1]])           # CadQuery's spline(periodic=True) convention
-    curve = cagd.natural_cubic_spline(pts, end_condition, parametrization, tangents=tangents)
-    return _push_curve(self, curve, forConstruction, makeWire or end_condition == "periodic")
+    tan = None if tangents is None else as_points(tangents, "tangents")
+    if isinstance(method, str):
+        curve = cagd.natural_cubic_spline(pts, end_condition, method, tangents=tan)
+    else:
+        curve = cagd.natural_cubic_spline(pts, end_condition, tangents=tan, parameters=method)
+    return _push_curve(self, curve, forConstruction, makeWire or end_condition == "periodic", "points")
 
 
-def hermiteCurve(self: T, p0: Sequence[float], p1: Sequence[float], t0: Sequence[float], t1: Sequence[float],
+def hermiteCurve(self: T, p0: Points, p1: Points, t0: Points, t1: Points,
                  forConstruction: bool = False, makeWire: bool = False) -> T:
     """The cubic Hermite curve from p0 to p1 with end derivatives t0, t1 (seed 004, 1.3)."""
-    return _push_curve(self, cagd.HermiteCurve(p0, p1, t0, t1), forConstruction, makeWire)
+    ends = [as_points(v, n) for v, n in ((p0, "p0"), (p1, "p1"), (t0, "t0"), (t1, "t1"))]
+    return _push_curve(self, cagd.HermiteCurve(*ends), forConstruction, makeWire)
 
 
-def joinCurves(self: T, first: Union[Sequence, cagd.BezierCurve], continuity: str = "G2", alpha: float = 1.0,
-               beta: float = 0.0, rest_points: Optional[Sequence] = None, forConstruction: bool = False) -> T:
+def joinCurves(self: T, first: Union[Points, cagd.BezierCurve], continuity: str = "G2", alpha: float = 1.0,
+               beta: float = 0.0, rest_points: Optional[Points] = None, forConstruction: bool = False) -> T:
     """A Bezier curve (control points or a BezierCurve) and the Bezier curve joined to
     its end with G1 or G2 continuity (seed 000, 5.2.5: alpha scales the end tangent,
     beta the curvature term); both go on the stack as edges, in order."""
-    first = first if isinstance(first, cagd.BezierCurve) else cagd.BezierCurve(first)
-    second = cagd.join(first, rest_points, continuity, alpha, beta)
+    if not isinstance(first, cagd.BezierCurve):
+        first = cagd.BezierCurve(as_points(first, "control_points"))
+    rest = None if rest_points is None else as_points(rest_points, "rest_points")
+    second = cagd.join(first, rest, continuity, alpha, beta)
     edges = [to_cq(placed(c, self.plane)) for c in (first, second)]
     if not forConstruction:
         for e in edges:
@@ -109,69 +146,97 @@ def joinCurves(self: T, first: Union[Sequence, cagd.BezierCurve], continuity: st
 
 
 def cagdSurface(self: T, surface: Surface) -> T:
-    """Any engine surface (local coordinates) as a face with natural bounds."""
+    """Any engine surface (local coordinates) as a face with natural bounds, added to
+    the faces on the stack."""
     if not isinstance(surface, Surface):
-        raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
-    return self.newObject([to_cq(placed(surface, self.plane))])
+        raise CagdError(f"surface: expected a cagd Surface, got {describe(surface)}")
+    return with_face(self, to_cq(placed(surface, self.plane)))
 
 
-def bezierSurface(self: T, points: Sequence, weights: Optional[Sequence] = None) -> T:
+def bezierSurface(self: T, points: Points, weights: Optional[Sequence] = None) -> T:
     """A (rational) tensor-product Bezier patch on an (m+1) x (n+1) grid of control points."""
-    return cagdSurface(self, cagd.BezierSurface(points, weights))
+    return cagdSurface(self, cagd.BezierSurface(as_points(points, "control_points"), weights))
 
 
-def bsplineSurface(self: T, points: Sequence, degree_u: int = 3, degree_v: int = 3, interpolate: bool = False,
+def bsplineSurface(self: T, points: Points, degree_u: int = 3, degree_v: int = 3, interpolate: bool = False,
                    knots_u: Optional[Sequence[float]] = None, knots_v: Optional[Sequence[float]] = None,
                    weights: Optional[Sequence] = None, periodic_u: bool = False, periodic_v: bool = False) -> T:
     """A B-spline/NURBS surface from a grid of points: the control net, or with
     ``interpolate=True`` the surface through the points (averaged chord parameters)."""
+    grid = as_points(points, "control_points")
     if interpolate:
-        surface = cagd.interpolate_surface(points, degree_u, degree_v)
+        surface = cagd.interpolate_surface(grid, degree_u, degree_v)
     else:
-        surface = cagd.BSplineSurface(points, degree_u, degree_v, knots_u, knots_v, weights, periodic_u, periodic_v)
+        surface = cagd.BSplineSurface(grid, degree_u, degree_v, knots_u, knots_v, weights, periodic_u, periodic_v)
     return cagdSurface(self, surface)
-
-
-def _curves(wp: cq.Workplane, curves) -> list:
-    """Engine curves (local, placed here) and CadQuery edges (global), or the edges
-    on the stack when none are given."""
-    items = list(curves) if curves else [o for o in wp.objects if isinstance(o, cq.Edge)]
-    out = []
-    for i, c in enumerate(items):
-        if isinstance(c, Curve):
-            out.append(placed(c, wp.plane))
-        elif isinstance(c, cq.Edge):
-            out.append(from_shape(c))
-        else:
-            raise CagdError(f"curves[{i}]: expected a cagd Curve or a CadQuery Edge, got {type(c).__name__}")
-    return out
 
 
 def coonsPatch(self: T, *curves: CurveLike, tol: float = 1e-7) -> T:
     """The bilinearly blended Coons patch (Farin 22.2) bounded by four curves given in
-    any order and direction that form a loop: CadQuery edges or engine curves, or,
-    with no arguments, the four edges on the stack (e.g. ``.edges()`` of a face)."""
-    found = _curves(self, curves)
+    any order and direction that form a loop: edges of any library or engine curves
+    (local coordinates), or, with no arguments, the four pending edges of the curve
+    methods before it (consumed), else the pending wires' edges, else the edges on
+    the stack (e.g. ``.edges()`` of a face)."""
+    found, source, consume = queued_curves(self, curves, one_per_wire=False)
     if len(found) != 4:
-        raise CagdError(f"curves: a Coons patch needs 4 boundary curves, got {len(found)}")
-    return self.newObject([to_cq(cagd.CoonsPatch.from_loop(found, tol))])
+        raise CagdError(f"curves: a Coons patch needs 4 boundary curves, got {len(found)} ({source})")
+    face = to_cq(cagd.CoonsPatch.from_loop(found, tol))
+    consume()
+    return with_face(self, face)
 
 
-def bezierTriangle(self: T, control_points: Union[Mapping[Tuple[int, int, int], Sequence[float]], Sequence],
+def loftSurface(self: T, *curves: CurveLike, degree_v: int = 3,
+                parameters: Union[str, Sequence[float]] = "chord") -> T:
+    """The skinned surface through section curves (Piegl & Tiller 10.3,
+    :func:`cagd.loft`: S(u, v_k) is section k): the given curves (engine curves in
+    local coordinates, edges of any library), or the pending edges (consumed), else
+    one curve per pending wire, else the edges on the stack. ``degree_v`` needs at
+    least degree_v + 1 sections; ``parameters`` 'chord', 'centripetal', 'uniform' or
+    the values v_k."""
+    found, source, consume = queued_curves(self, curves, one_per_wire=True)
+    if len(found) < 2:
+        raise CagdError(f"curves: a loft needs at least 2 section curves, got {len(found)} ({source})")
+    face = to_cq(cagd.loft(found, degree_v, parameters))
+    consume()
+    return with_face(self, face)
+
+
+def ruledSurface(self: T, c0: Optional[CurveLike] = None, c1: Optional[CurveLike] = None) -> T:
+    """The ruled surface between two curves (Piegl & Tiller 8.4, :func:`cagd.ruled`:
+    S(u, 0) = c0, S(u, 1) = c1): both given (engine curves in local coordinates, edges
+    of any library), or neither: then the two pending edges (consumed), else the two
+    pending wires, else the two edges on the stack."""
+    if (c0 is None) != (c1 is None):
+        raise CagdError(f"{'c1' if c1 is None else 'c0'}: give both curves or neither")
+    if c0 is not None:
+        found, consume = [curve_of(c, self.plane, n) for c, n in ((c0, "c0"), (c1, "c1"))], (lambda: None)
+    else:
+        found, source, consume = queued_curves(self, (), one_per_wire=True)
+        if len(found) != 2:
+            raise CagdError(f"curves: a ruled surface needs 2 curves, got {len(found)} ({source})")
+    face = to_cq(cagd.ruled(*found))
+    consume()
+    return with_face(self, face)
+
+
+def bezierTriangle(self: T, control_points: Union[Mapping[Tuple[int, int, int], Sequence[float]], Points],
                    weights: Optional[Union[Mapping[Tuple[int, int, int], float], Sequence[float]]] = None) -> T:
     """A (rational) Bezier triangle (seed 003, 3): {(i, j, k): point} or the flat list
     in :meth:`cagd.BezierTriangle.index_triples` order; the face is its exact
     collapsed-edge NURBS form."""
+    if not isinstance(control_points, Mapping):
+        control_points = as_points(control_points, "control_points")
     return cagdSurface(self, cagd.BezierTriangle(control_points, weights))
 
 
 def revolveSurface(self: T, profile: CurveLike, angleDegrees: float = 360.0,
-                   axisStart: Sequence[float] = (0.0, 0.0, 0.0), axisEnd: Sequence[float] = (0.0, 1.0, 0.0),
+                   axisStart: Points = (0.0, 0.0, 0.0), axisEnd: Points = (0.0, 1.0, 0.0),
                    close: bool = False, nurbs: bool = False) -> T:
     """The surface of revolution of a profile (an engine curve in local coordinates, or
-    a CadQuery edge) about the axis from ``axisStart`` to ``axisEnd`` (local; default
-    the local y axis, as CadQuery's ``revolve``). ``close=True`` gives the solid,
-    closed by planar caps where the profile ends off the axis.
+    an edge of any library) about the axis from ``axisStart`` to ``axisEnd`` (local;
+    default the local y axis, as CadQuery's ``revolve``), added to the faces on the
+    stack. ``close=True`` gives the solid instead, closed by planar caps where the
+    profile ends off the axis.
 
     By default the face is OCCT's own surface of revolution of the profile's exact
     B-spline, the kind CadQuery's ``revolve`` makes, which OCCT's offsets
@@ -179,78 +244,79 @@ def revolveSurface(self: T, profile: CurveLike, angleDegrees: float = 360.0,
     form (:func:`cagd.revolve`) in the face instead: the same surface, parametrised
     by the rational circle; OCCT declares it C0 at the circle's double knots and its
     offset algorithm then fails, so keep it for export and exact NURBS exchange."""
-    if isinstance(profile, cq.Edge):
-        curve = from_shape(profile)
-    elif isinstance(profile, Curve):
-        curve = placed(profile, self.plane)
-    else:
-        raise CagdError(f"profile: expected a cagd Curve or a CadQuery Edge, got {type(profile).__name__}")
+    curve = curve_of(profile, self.plane, "profile")
     if curve.dim == 2:
         curve = curve.transformed(np.eye(3)[:, :2])
-    a = np.array(self.plane.toWorldCoords(tuple(axisStart)).toTuple())
-    b = np.array(self.plane.toWorldCoords(tuple(axisEnd)).toTuple())
+    a, b = (_global_point(self.plane, p, n) for p, n in ((axisStart, "axisStart"), (axisEnd, "axisEnd")))
     if nurbs:
         face = to_cq(cagd.revolve(curve, a, b - a, math.radians(angleDegrees)))
     else:
-        face = revolution_face(curve, a, b - a, angleDegrees)
-    return self.newObject([close_with_caps([face]) if close else face])
+        face = cq.Face(revolution_face(curve, a, b - a, angleDegrees))
+    return self.newObject([close_with_caps([face])]) if close else with_face(self, face)
+
+
+def _global_point(plane: cq.Plane, value, name: str) -> np.ndarray:
+    p = as_points(value, name)
+    if p.shape not in ((2,), (3,)):
+        raise CagdError(f"{name}: expected a 2-D or 3-D point, got shape {p.shape}")
+    A, b = plane_map(plane, p.shape[0])
+    return A @ p + b
 
 
 def sewSolid(self: T, tol: float = 1e-6) -> T:
-    """Sew the faces on the stack into a closed solid (the error lists the gaps)."""
-    faces = [o for o in self.objects if isinstance(o, cq.Face)]
-    return self.newObject([sew_solid(faces, tol)])
+    """Sew the faces and shells on the stack into a closed solid (the error lists the
+    gaps)."""
+    return self.newObject([sew_solid(surface_objects(self, "sewSolid"), tol)])
 
 
 def closeWithCaps(self: T, tol: float = 1e-6) -> T:
-    """Close the faces on the stack with planar caps on their open loops: a solid."""
-    faces = [o for o in self.objects if isinstance(o, cq.Face)]
-    return self.newObject([close_with_caps(faces, tol)])
+    """Close the faces and shells on the stack with planar caps on their open loops: a
+    solid."""
+    return self.newObject([close_with_caps(surface_objects(self, "closeWithCaps"), tol)])
 
 
 def thickenSurface(self: T, thickness: float, tol: float = 1e-6) -> T:
-    """Thicken the faces on the stack, sewn into one shell, into a solid (see
-    :func:`cq_ext.thicken`)."""
-    faces = [o for o in self.objects if isinstance(o, (cq.Face, cq.Shell))]
-    if not faces:
-        raise CagdError("thickenSurface: no face on the stack")
-    return self.newObject([thicken(faces, thickness, tol)])
+    """Thicken the faces and shells on the stack, sewn into one shell, into a solid
+    (see :func:`cq_ext.thicken`)."""
+    return self.newObject([thicken(surface_objects(self, "thickenSurface"), thickness, tol)])
 
 
-def _stack_faces(wp: cq.Workplane, faces) -> list:
-    found = [f for f in (faces if faces else wp.objects) if isinstance(f, cq.Face)]
-    if faces and len(found) != len(faces):
-        raise CagdError("faces: expected CadQuery faces")
-    return found
+def _engine_faces(objects, name: str) -> list:
+    return [from_occ(f) for i, o in enumerate(objects) for f in occ_faces(o, f"{name}[{i}]")]
 
 
-def projectPoints(self: T, points: Sequence[Sequence[float]], face: Optional[cq.Face] = None) -> T:
-    """The closest points on a face (``face``, or the first face on the stack) to the
-    given points (local coordinates), as vertices on the stack: global, certified
-    minima (:func:`cagd.closest_point` on the face's exact B-spline, any OCCT
-    B-spline-convertible face; the face's UV bounds, not its trimming)."""
-    faces = _stack_faces(self, [face] if face is not None else None)
-    if not faces:
-        raise CagdError("projectPoints: no face given or on the stack")
-    pts = np.atleast_2d(np.asarray(points, dtype=float))
+def projectPoints(self: T, points: Points, face: Optional[FaceLike] = None) -> T:
+    """The closest points to the given points (local coordinates) on a face (``face``,
+    of any library, or the faces on the stack: each point's nearest), as vertices on
+    the stack: global, certified minima (:func:`cagd.closest_point` on the faces'
+    exact B-splines, any OCCT B-spline-convertible face; their UV bounds, not their
+    trimming)."""
+    surfaces = _engine_faces(faces_given_or_stacked(self, face, "projectPoints"), "face")
+    pts = np.atleast_2d(as_points(points, "points"))
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
         raise CagdError(f"points: expected (N, 2) or (N, 3) local coordinates, got shape {pts.shape}")
     A, b = plane_map(self.plane, pts.shape[1])
-    feet = cagd.closest_point(from_shape(faces[0]), pts @ A.T + b).feet
+    query = pts @ A.T + b
+    results = [cagd.closest_point(s, query) for s in surfaces]
+    best = np.argmin(np.stack([r.distances for r in results]), axis=0)
+    feet = np.stack([r.feet for r in results])[best, np.arange(len(query))]
     return self.newObject([cq.Vertex.makeVertex(*map(float, f)) for f in feet])
 
 
-def intersectFaces(self: T, other: Optional[cq.Face] = None, tol: float = 1e-7) -> T:
-    """The intersection curves of two faces (the two faces on the stack, or the first
-    face on the stack and ``other``) as edges on the stack: each branch marched and
-    fitted as a B-spline within ``tol`` of both surfaces (:func:`cagd.intersect`; any
-    OCCT B-spline-convertible faces, over their UV bounds, not their trimming).
-    Isolated touching points are not edges and are left out; coincident faces raise
-    CagdError, and an intersection that did not converge warns (RuntimeWarning)."""
-    faces = _stack_faces(self, None) + ([other] if other is not None else [])
+def intersectFaces(self: T, other: Optional[FaceLike] = None, tol: float = 1e-7) -> T:
+    """The intersection curves of two faces (the two faces on the stack, or the face on
+    the stack and ``other``, of any library) as edges on the stack: each branch
+    marched and fitted as a B-spline within ``tol`` of both surfaces
+    (:func:`cagd.intersect`; any OCCT B-spline-convertible faces, over their UV
+    bounds, not their trimming). Isolated touching points are not edges and are left
+    out; coincident faces raise CagdError, and an intersection that did not converge
+    warns (RuntimeWarning)."""
+    on_stack = [o for o in self.objects if isinstance(o, (cq.Face, cq.Shell, cq.Compound))]
+    faces = _engine_faces(on_stack, "stack") + (_engine_faces([other], "other") if other is not None else [])
     if len(faces) != 2:
-        raise CagdError(f"intersectFaces: need exactly two faces (stack + other), got {len(faces)}")
-    result = cagd.intersect(from_shape(faces[0]), from_shape(faces[1]), tol=tol)
+        raise CagdError(f"intersectFaces: need exactly two faces (on the stack and other), got {len(faces)} "
+                        f"(the stack holds {', '.join(describe(o) for o in self.objects) or 'nothing'})")
+    result = cagd.intersect(faces[0], faces[1], tol=tol)
     if result.overlaps:
         raise CagdError(f"faces: they coincide over {len(result.overlaps)} region(s); there is no curve "
                         "of intersection there")
@@ -263,5 +329,5 @@ def intersectFaces(self: T, other: Optional[cq.Face] = None, tol: float = 1e-7) 
 
 
 METHODS = [cagdCurve, bezierCurve, nurbsCurve, interpCurve, hermiteCurve, joinCurves, cagdSurface, bezierSurface,
-           bsplineSurface, coonsPatch, bezierTriangle, revolveSurface, sewSolid, closeWithCaps, thickenSurface,
-           projectPoints, intersectFaces]
+           bsplineSurface, coonsPatch, loftSurface, ruledSurface, bezierTriangle, revolveSurface, sewSolid,
+           closeWithCaps, thickenSurface, projectPoints, intersectFaces]

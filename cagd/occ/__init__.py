@@ -2,7 +2,8 @@
 
 Every engine curve and surface goes to OCCT B-spline geometry through its exact
 NURBS form (``to_nurbs().occ_form()``) and comes back from any geometry OCCT can
-convert to a B-spline; shapes (edges, wires, faces, shells, solids), STEP and IGES
+convert to a B-spline; shapes (edges, wires, faces, shells, solids; CadQuery's and
+build123d's shapes are taken wherever a shape is, see :mod:`.wrapped`), STEP and IGES
 files, and :func:`verify`, the round-trip proof (engine vs OCCT, vs STEP, vs IGES).
 
 Only this subpackage imports OCP; ``import cagd`` never does.
@@ -23,9 +24,10 @@ from .shapes import (area, check_valid, free_edge_count, make_edge, make_face, m
                      make_wire, sew, sewing, solid_from_surfaces, subshapes, volume)
 from .files import Imported, read_iges, read_shapes, read_step, write_iges, write_step  # noqa: E402
 from .verify import STAGES, StageResult, VerifyReport, verify  # noqa: E402
+from .wrapped import occ_shape  # noqa: E402
 
 __all__ = [
     "to_occ", "from_occ", "make_edge", "make_wire", "make_face", "sew", "sewing", "make_solid", "solid_from_surfaces",
     "check_valid", "free_edge_count", "subshapes", "area", "volume", "write_step", "read_step", "write_iges",
-    "read_iges", "read_shapes", "Imported", "verify", "VerifyReport", "StageResult", "STAGES",
+    "read_iges", "read_shapes", "Imported", "verify", "VerifyReport", "StageResult", "STAGES", "occ_shape",
 ]

@@ -50,6 +50,7 @@ from ..surfaces.bspline import BSplineSurface
 from .compat import IndexedDataMapOfShapeListOfShape, LabelSequence
 from .convert import from_occ
 from .shapes import make_edge, make_face, subshapes
+from .wrapped import describe, is_shape, occ_shape
 
 _REAL_FORMAT = "%.16E"     # 17 significant digits: every double reads back unchanged
 Item = Union[Curve, Surface, TopoDS_Shape]
@@ -89,7 +90,7 @@ def _settings(**values):
 
 
 def _named(objects) -> List[Tuple[str, Item]]:
-    if isinstance(objects, (Curve, Surface, TopoDS_Shape)):
+    if isinstance(objects, (Curve, Surface)) or is_shape(objects):
         objects = [objects]
     if objects is None or isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
         raise CagdError(f"objects: expected engine objects or OCCT shapes (a list, or a dict by name), "
@@ -102,13 +103,11 @@ def _named(objects) -> List[Tuple[str, Item]]:
             shape = make_edge(_exchange_form(obj))
         elif isinstance(obj, Surface):
             shape = make_face(_exchange_form(obj))
-        elif isinstance(obj, TopoDS_Shape):
-            if obj.IsNull():
-                raise CagdError(f"objects[{i}]: a null shape")
-            shape = obj
+        elif is_shape(obj):
+            shape = occ_shape(obj, f"objects[{i}]")
         else:
-            raise CagdError(f"objects[{i}]: expected a cagd Curve or Surface or an OCCT shape, "
-                            f"got {type(obj).__name__}")
+            raise CagdError(f"objects[{i}]: expected a cagd Curve or Surface, a CadQuery or build123d shape "
+                            f"or a TopoDS_Shape, got {describe(obj)}")
         out.append((str(name) if name is not None else f"{type(obj).__name__}_{i + 1}", shape))
     if not out:
         raise CagdError("objects: nothing to write")
@@ -157,8 +156,9 @@ def _target(path) -> str:
 
 def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "AP214IS") -> Path:
     """Write engine objects (edges for curves, faces with natural bounds for surfaces)
-    and OCCT shapes to a STEP file, in mm. ``objects``: a list of items or of
-    (name, item) pairs, or a dict name -> item.
+    and shapes (OCCT's, CadQuery's, build123d's: :mod:`cagd.occ.wrapped`) to a STEP
+    file, in mm. ``objects``: a list of items or of (name, item) pairs, or a dict
+    name -> item.
 
     Raises:
         CagdError: an unsupported item, a missing folder, or the writer failed.

@@ -1,8 +1,11 @@
 """OCCT shapes from engine geometry: edges, wires, faces with natural bounds, sewn
-shells, closed solids; validity (BRepCheck) and mass properties (BRepGProp)."""
+shells, closed solids; validity (BRepCheck) and mass properties (BRepGProp). Every
+function taking shapes takes CadQuery and build123d shapes too (:mod:`.wrapped`)."""
 from __future__ import annotations
 
 from typing import Iterable, List, Sequence, Union
+
+import numpy as np
 
 from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeSolid,
@@ -14,32 +17,32 @@ from OCP.BRepLib import BRepLib
 from OCP.GeomAbs import GeomAbs_SurfaceOfExtrusion
 from OCP.GProp import GProp_GProps
 from OCP.ShapeFix import ShapeFix_Shape
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_ShapeEnum
+from OCP.TopAbs import (TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_VERTEX, TopAbs_WIRE,
+                        TopAbs_ShapeEnum)
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
 
-from .compat import as_edge, as_face, as_shell, as_solid
+from .compat import as_edge, as_face, as_shell, as_solid, as_vertex, as_wire
 from .._checks import positive
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .convert import to_occ
+from .wrapped import describe, is_shape, occ_faces, occ_shape
 
 
 def _shape(shape, name: str = "shape") -> TopoDS_Shape:
-    """A non-null OCCT shape (OCCT crashes on null shapes in many places)."""
-    if not isinstance(shape, TopoDS_Shape):
-        raise CagdError(f"{name}: expected an OCCT shape, got {type(shape).__name__}")
-    if shape.IsNull():
-        raise CagdError(f"{name}: a null shape")
-    return shape
+    """A non-null OCCT shape (OCCT crashes on null shapes in many places): a
+    TopoDS_Shape, or the one inside a CadQuery or build123d object (see
+    :mod:`cagd.occ.wrapped`)."""
+    return occ_shape(shape, name)
 
 
 def subshapes(shape: TopoDS_Shape, kind: TopAbs_ShapeEnum) -> list:
     """The sub-shapes of one type (TopAbs_FACE, TopAbs_EDGE, ...), downcast."""
-    _shape(shape)
-    cast = {TopAbs_FACE: as_face, TopAbs_EDGE: as_edge, TopAbs_SHELL: as_shell,
-            TopAbs_SOLID: as_solid}[kind]
+    shape = _shape(shape)
+    cast = {TopAbs_FACE: as_face, TopAbs_EDGE: as_edge, TopAbs_SHELL: as_shell, TopAbs_SOLID: as_solid,
+            TopAbs_WIRE: as_wire, TopAbs_VERTEX: as_vertex}[kind]
     out, ex = [], TopExp_Explorer(shape, kind)
     while ex.More():
         out.append(cast(ex.Current()))
@@ -86,19 +89,24 @@ def make_face(surface: Surface, tol: float = 1e-7) -> TopoDS_Face:
     return maker.Face()
 
 
-def _faces(items: Iterable, tol: float) -> List[TopoDS_Shape]:
-    if isinstance(items, (Surface, TopoDS_Shape)):
-        items = [items]
-    if items is None or isinstance(items, (str, bytes)) or not hasattr(items, "__iter__"):
-        raise CagdError(f"faces: expected cagd surfaces or OCCT shapes, got {type(items).__name__}")
+def face_list(items: Iterable, tol: float = 1e-6) -> List[TopoDS_Shape]:
+    """The OCCT faces of engine surfaces (faces with natural bounds, OCCT tolerance
+    min(tol, 1e-7)) and of shapes of any library (their faces; see :mod:`.wrapped`).
+
+    Raises:
+        CagdError: an item that is neither, an item holding no face, nothing at all.
+    """
+    if isinstance(items, (Surface, str, bytes, np.ndarray)) or is_shape(items) or not hasattr(items, "__iter__"):
+        items = [items]                                      # one item
     out = []
     for i, item in enumerate(items):
         if isinstance(item, Surface):
             out.append(make_face(item, min(tol, 1e-7)))
-        elif isinstance(item, TopoDS_Shape):
-            out.extend(subshapes(_shape(item, f"faces[{i}]"), TopAbs_FACE))
+        elif is_shape(item):
+            out.extend(occ_faces(item, f"faces[{i}]"))
         else:
-            raise CagdError(f"faces[{i}]: expected a cagd Surface or an OCCT shape, got {type(item).__name__}")
+            raise CagdError(f"faces[{i}]: expected a cagd Surface, a CadQuery or build123d shape or a "
+                            f"TopoDS_Shape, got {describe(item)}")
     if not out:
         raise CagdError("faces: nothing to sew")
     return out
@@ -109,7 +117,7 @@ def sewing(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> 
     meet within ``tol``, performed: ``SewedShape()``, ``NbFreeEdges()``, ``FreeEdge(i)``."""
     tol = positive(tol, "tol")
     result = BRepBuilderAPI_Sewing(tol)
-    for f in _faces(faces, tol):
+    for f in face_list(faces, tol):
         result.Add(f)
     result.Perform()
     return result
@@ -136,7 +144,8 @@ def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
         CagdError: not exactly one shell, the shell is open (the count of free edges
             is given), or the result is not a valid solid.
     """
-    shells = subshapes(_shape(shape), TopAbs_SHELL)
+    shape = _shape(shape)
+    shells = subshapes(shape, TopAbs_SHELL)
     if not shells and shape.ShapeType() == TopAbs_FACE:      # one face closed on itself
         shell = TopoDS_Shell()
         builder = BRep_Builder()
@@ -169,8 +178,7 @@ def solid_from_surfaces(surfaces: Iterable[Union[Surface, TopoDS_Shape]], tol: f
 
 def check_valid(shape: TopoDS_Shape) -> bool:
     """OCCT's BRepCheck_Analyzer verdict."""
-    _shape(shape)
-    return bool(BRepCheck_Analyzer(shape).IsValid())
+    return bool(BRepCheck_Analyzer(_shape(shape)).IsValid())
 
 
 _CONVERT = (GeomAbs_SurfaceOfExtrusion,)        # their NURBS form is exact (offsets' would not be)
@@ -183,7 +191,7 @@ def _integrated(shape: TopoDS_Shape, eps: float, volume: bool) -> float:
     integrated on its exact NURBS form (BRepBuilderAPI_NurbsConvert);
     others as they are (converting an analytic surface of revolution costs accuracy:
     5e-11 -> 1e-9 on a cylinder)."""
-    eps = positive(eps, "eps")
+    eps, shape = positive(eps, "eps"), _shape(shape)
     if any(BRepAdaptor_Surface(f).GetType() in _CONVERT for f in subshapes(shape, TopAbs_FACE)):
         shape = BRepBuilderAPI_NurbsConvert(shape, True).Shape()
     props = GProp_GProps()

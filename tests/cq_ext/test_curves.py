@@ -174,7 +174,7 @@ PTS = np.array([(0.0, 0.0), (1.0, 2.0), (3.0, 2.5), (4.0, 0.0), (6.0, 1.0)])
 
 @pytest.mark.parametrize("par", ["chord", "centripetal", "uniform"])
 def test_interp_parameters_and_points(par):
-    e = cq.Workplane("XY").interpCurve(PTS, parametrization=par).val()
+    e = cq.Workplane("XY").interpCurve(PTS, parameters=par).val()
     d = np.linalg.norm(np.diff(PTS, axis=0), axis=1)
     step = {"chord": d, "centripetal": np.sqrt(d), "uniform": np.ones_like(d)}[par]
     t = np.concatenate([[0.0], np.cumsum(step)])
@@ -251,7 +251,7 @@ def test_join_curves_g1_is_not_g2():
     (lambda w: w.nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1)], knots=[0, 0, 1]), "knots"),
     (lambda w: w.nurbsCurve([(0, 0), (1, 1)], degree=3), "degree"),
     (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], end_condition="foo"), "end_condition"),
-    (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], parametrization="foo"), "parametrization"),
+    (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], parameters="foo"), "parameters"),
     (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], end_condition="clamped"), "tangents"),
     (lambda w: w.cagdCurve("abc"), "curve"),
     (lambda w: w.cagdCurve(cagd.sphere(1.0, (0, 0, 0))), "curve"),

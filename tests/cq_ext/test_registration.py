@@ -96,6 +96,8 @@ CALLS = {
     "bezierSurface": (cq.Workplane, (_P44,), {}, cq.Face),
     "bsplineSurface": (cq.Workplane, (_P44,), {"interpolate": True}, cq.Face),
     "coonsPatch": (_box_top_edges, (), {}, cq.Face),
+    "loftSurface": (cq.Workplane, (_LINE, _LINE.transformed(np.eye(2), (1.0, 0.5))), {"degree_v": 1}, cq.Face),
+    "ruledSurface": (cq.Workplane, (_LINE, _LINE.transformed(np.eye(2), (1.0, 0.5))), {}, cq.Face),
     "bezierTriangle": (cq.Workplane, ([(0, 0, 0), (1, 0, 0), (0, 1, 0)],), {}, cq.Face),
     "revolveSurface": (cq.Workplane, (_LINE,), {}, cq.Face),
     "sewSolid": (lambda: cq.Workplane().add([cq_ext.to_cq(s) for s in _EL]), (), {}, cq.Solid),
