@@ -101,7 +101,7 @@ def _named(objects) -> List[Tuple[str, Item]]:
         if isinstance(obj, Curve):
             shape = make_edge(_exchange_form(obj))
         elif isinstance(obj, Surface):
-            shape = make_face(_exchange_form(obj))
+            shape = make_face(_exchange_form(obj), nurbs=True)
         elif isinstance(obj, TopoDS_Shape):
             if obj.IsNull():
                 raise CagdError(f"objects[{i}]: a null shape")
