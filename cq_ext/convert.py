@@ -28,9 +28,12 @@ def placed(obj: Union[Curve, Surface], plane: cq.Plane) -> Union[Curve, Surface]
     return obj.transformed(A, b)
 
 
-def to_cq(obj: Union[Curve, Surface]) -> Union[cq.Edge, cq.Face]:
+def to_cq(obj: Union[Curve, Surface], nurbs: bool = False) -> Union[cq.Edge, cq.Face]:
     """A CadQuery ``Edge`` (curves) or ``Face`` with natural bounds (surfaces) holding
-    the object's exact OCCT B-spline.
+    the object's exact OCCT B-spline; spheres, tori, cylinders, cones and other
+    surfaces of revolution get OCCT's analytic surface (the same point set, by angle;
+    what CadQuery's ``shell`` and :func:`cq_ext.thicken` need) unless ``nurbs=True``
+    (see :func:`cagd.occ.make_face`).
 
     Raises:
         CagdError: not an engine curve or surface, or OCCT refuses it.
@@ -38,17 +41,17 @@ def to_cq(obj: Union[Curve, Surface]) -> Union[cq.Edge, cq.Face]:
     if isinstance(obj, Curve):
         return cq.Edge(make_edge(obj))
     if isinstance(obj, Surface):
-        return cq.Face(make_face(obj))
+        return cq.Face(make_face(obj, nurbs=nurbs))
     raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
 
 
-def to_b3d(obj: Union[Curve, Surface]):
+def to_b3d(obj: Union[Curve, Surface], nurbs: bool = False):
     """A build123d ``Edge`` or ``Face`` (see :func:`to_cq`)."""
     import build123d as bd
     if isinstance(obj, Curve):
         return bd.Edge(make_edge(obj))
     if isinstance(obj, Surface):
-        return bd.Face(make_face(obj))
+        return bd.Face(make_face(obj, nurbs=nurbs))
     raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
 
 

@@ -11,19 +11,18 @@ import cadquery as cq
 import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin
-from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
 from OCP.GeomAbs import GeomAbs_Arc
-from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
-from OCP.TopAbs import TopAbs_WIRE
+from OCP.TopAbs import TopAbs_FACE, TopAbs_WIRE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS_Shape
 
 from cagd.errors import CagdError
 from cagd.curves.base import Curve
 from cagd.occ.compat import as_wire
-from cagd.occ import make_edge, make_face, make_solid, sewing
+from cagd.occ import make_face, make_solid, sewing, subshapes
 from cagd.surfaces.base import Surface
+from cagd.surfaces.revolution import revolve
 
 FaceLike = Union[cq.Face, Surface, cq.Shape]
 
@@ -132,12 +131,15 @@ def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: f
     like; OCCT approximates the offset of a free-form B-spline within its tolerance
     (the result is checked valid; the tests compare its volume with area x thickness).
     OCCT's offset needs C1 surfaces as OCCT declares them: a knot of multiplicity =
-    degree (e.g. the rational circle's double knots) makes it fail.
+    degree (e.g. the rational circle's double knots) makes it fail. Engine spheres,
+    tori, cylinders, cones and revolutions become OCCT's analytic faces
+    (:func:`cagd.occ.make_face`), which it offsets exactly.
 
     Raises:
         CagdError: a zero or non-finite thickness, faces that do not sew into one
             shell, or OCCT cannot build a valid solid (e.g. the thickness exceeds a
-            radius of curvature).
+            radius of curvature: OCCT then drops the collapsed offset face, and a
+            result with fewer than twice the faces given is refused).
     """
     if isinstance(thickness, bool) or not isinstance(thickness, (int, float, np.floating, np.integer)) \
             or not thickness or not np.isfinite(thickness):
@@ -154,28 +156,27 @@ def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: f
     if not maker.IsDone():
         raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
                         f"{maker.Error().name})")
+    given, made = len(subshapes(shape, TopAbs_FACE)), len(subshapes(maker.Shape(), TopAbs_FACE))
+    if made < 2 * given:
+        raise CagdError(f"thickness: {thickness} collapses the offset of the surface ({given} face(s) given, "
+                        f"{made} in OCCT's result: the thickness reaches a radius of curvature)")
     return _checked(cq.Shape.cast(maker.Shape()))
 
 
 def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> cq.Face:
-    """OCCT's surface of revolution (Geom_SurfaceOfRevolution, BRepPrimAPI_MakeRevol)
-    of the exact B-spline edge of an engine profile: the same surface as
-    :func:`cagd.revolve`, parametrised by the angle.
+    """The face of :func:`cagd.revolve` (``angle_degrees`` < 0 turns clockwise) as
+    :func:`cagd.occ.make_face` makes it: OCCT's surface of revolution of the
+    profile's exact B-spline (Geom_SurfaceOfRevolution), the same surface as the
+    engine's NURBS form, parametrised by the angle; its normal is the engine's.
 
     Raises:
-        CagdError: a zero axis direction, a zero angle, or OCCT fails.
+        CagdError: a zero axis direction, an angle of 0 or beyond a full turn, or OCCT fails.
     """
-    d = np.asarray(axis_direction, dtype=float)
-    if not np.isfinite(d).all() or np.linalg.norm(d) == 0:
-        raise CagdError(f"axis_direction: must be a finite non-zero vector, got {d.tolist()}")
     if not angle_degrees or not np.isfinite(angle_degrees):
         raise CagdError(f"angle: must be finite and non-zero, got {angle_degrees!r}")
-    axis = gp_Ax1(gp_Pnt(*map(float, axis_point)), gp_Dir(*map(float, d)))
-    maker = BRepPrimAPI_MakeRevol(make_edge(profile), axis, math.radians(angle_degrees), True)
-    faces = cq.Shape.cast(maker.Shape()).Faces()
-    if len(faces) != 1:
-        raise CagdError(f"profile: OCCT made {len(faces)} faces from the revolution, expected 1")
-    return faces[0]
+    d = np.asarray(axis_direction, dtype=float)
+    surface = revolve(profile, axis_point, d if angle_degrees > 0 else -d, math.radians(abs(angle_degrees)))
+    return cq.Face(make_face(surface))
 
 
 def _checked(solid: cq.Shape) -> cq.Solid:

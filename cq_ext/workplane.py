@@ -190,7 +190,7 @@ def revolveSurface(self: T, profile: CurveLike, angleDegrees: float = 360.0,
     a = np.array(self.plane.toWorldCoords(tuple(axisStart)).toTuple())
     b = np.array(self.plane.toWorldCoords(tuple(axisEnd)).toTuple())
     if nurbs:
-        face = to_cq(cagd.revolve(curve, a, b - a, math.radians(angleDegrees)))
+        face = to_cq(cagd.revolve(curve, a, b - a, math.radians(angleDegrees)), nurbs=True)
     else:
         face = revolution_face(curve, a, b - a, angleDegrees)
     return self.newObject([close_with_caps([face]) if close else face])

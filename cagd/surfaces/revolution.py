@@ -29,6 +29,7 @@ from .bspline import BSplineSurface
 
 _TWO_PI = 2.0 * np.pi
 _ANGLE_TOL = 1e-14
+_OCCT_PERIODIC_TOL = 1e-9       # OCCT's Precision::PConfusion(), as ElCLib::AdjustPeriodic uses it
 SIMILARITY_TOL = 1e-12
 """Relative: a 3 x 3 matrix A with |A^T A - s^2 I| <= SIMILARITY_TOL s^2 counts as a
 rigid motion times the uniform scaling s; the records survive only such maps."""
@@ -250,11 +251,23 @@ class RevolvedSurface(BSplineSurface):
         """(U, V) of S(u, v) in the analytic surface's angle parametrisation: the
         primitive's (:meth:`Primitive.analytic_parameters`), else that of a surface of
         revolution of the profile (OCCT's Geom_SurfaceOfRevolution, FreeCAD's
-        Part.SurfaceOfRevolution): U = theta(v), V = u."""
+        Part.SurfaceOfRevolution): U = theta(v) - 2 pi k, V = u, k the whole turns
+        in ``start_angle`` (U starts in [0, 2 pi) as in OCCT's periodic ranges)."""
         if self.primitive is not None:
             return self.primitive.analytic_parameters(u, v)
-        U, V = np.broadcast_arrays(self.revolution.angle_at(v), np.asarray(u, dtype=float))
+        U, V = np.broadcast_arrays(self.revolution.angle_at(v) - self._whole_turns, np.asarray(u, dtype=float))
         return U.copy(), V.copy()
+
+    @property
+    def _whole_turns(self) -> float:
+        """2 pi k for the whole turns k in ``start_angle``, as OCCT takes a periodic
+        range to start in [0, 2 pi) (ElCLib::AdjustPeriodic: within its
+        Precision::PConfusion() below 2 pi counts as 0)."""
+        start = self.revolution.start_angle
+        k = np.floor(start / _TWO_PI)
+        if _TWO_PI - (start - _TWO_PI * k) < _OCCT_PERIODIC_TOL:
+            k += 1
+        return _TWO_PI * k
 
     @property
     def analytic_bounds(self) -> Tuple[float, float, float, float]:
@@ -263,7 +276,8 @@ class RevolvedSurface(BSplineSurface):
             return self.primitive.analytic_bounds
         r = self.revolution
         (u0, u1), _ = self.domain
-        return r.start_angle, r.start_angle + r.angle, u0, u1
+        U0 = r.start_angle - self._whole_turns
+        return U0, U0 + r.angle, u0, u1
 
 
 def _axis(axis_point, axis_direction) -> Tuple[np.ndarray, np.ndarray]:

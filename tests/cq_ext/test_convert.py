@@ -108,13 +108,13 @@ def check_surface(surface, generated=True):
     U, V = a + S * (b - a), c + T * (d - c)
     expected = surface(U, V).reshape(-1, 3)
     tol = EXACT * scale(surface)
-    f = cq_ext.to_cq(surface)
+    f = cq_ext.to_cq(surface, nurbs=True)      # the NURBS face: the engine's own parametrisation
     assert isinstance(f, cq.Face)
     bounds = f._uvBounds()
     assert np.allclose(bounds, (a, b, c, d), rtol=0, atol=1e-12 * max(1.0, *map(abs, (a, b, c, d))))
     got = np.array([f.positionAt(u, v).toTuple() for u, v in zip(U.ravel(), V.ravel())])
     assert np.abs(got - expected).max() <= tol
-    g = cq_ext.to_b3d(surface)
+    g = cq_ext.to_b3d(surface, nurbs=True)
     assert isinstance(g, bd.Face)
     got = np.array([tuple(g.position_at(x, y)) for x, y in zip(S.ravel(), T.ravel())])
     # build123d maps the normalised (x, y) to u = a + x (b - a): one rounding more
