@@ -138,8 +138,8 @@ def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: f
     Raises:
         CagdError: a zero or non-finite thickness, faces that do not sew into one
             shell, or OCCT cannot build a valid solid (e.g. the thickness exceeds a
-            radius of curvature: OCCT then drops the collapsed offset face, and a
-            result with fewer than twice the faces given is refused).
+            radius of curvature: OCCT then leaves out the collapsed offset face and
+            returns a valid solid without it, which is refused).
     """
     if isinstance(thickness, bool) or not isinstance(thickness, (int, float, np.floating, np.integer)) \
             or not thickness or not np.isfinite(thickness):
@@ -156,27 +156,26 @@ def thicken(faces: Union[FaceLike, Iterable[FaceLike]], thickness: float, tol: f
     if not maker.IsDone():
         raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
                         f"{maker.Error().name})")
-    given, made = len(subshapes(shape, TopAbs_FACE)), len(subshapes(maker.Shape(), TopAbs_FACE))
-    if made < 2 * given:
-        raise CagdError(f"thickness: {thickness} collapses the offset of the surface ({given} face(s) given, "
-                        f"{made} in OCCT's result: the thickness reaches a radius of curvature)")
+    lost = [i for i, f in enumerate(subshapes(shape, TopAbs_FACE)) if maker.Generated(f).Size() == 0]
+    if lost:
+        raise CagdError(f"thickness: {thickness} collapses the offset of face(s) {lost}: OCCT left them out "
+                        "(the thickness reaches a radius of curvature)")
     return _checked(cq.Shape.cast(maker.Shape()))
 
 
 def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> cq.Face:
-    """The face of :func:`cagd.revolve` (``angle_degrees`` < 0 turns clockwise) as
-    :func:`cagd.occ.make_face` makes it: OCCT's surface of revolution of the
-    profile's exact B-spline (Geom_SurfaceOfRevolution), the same surface as the
-    engine's NURBS form, parametrised by the angle; its normal is the engine's.
+    """The face of :func:`cagd.revolve` as :func:`cagd.occ.make_face` makes it: OCCT's
+    surface of revolution of the profile's exact B-spline (Geom_SurfaceOfRevolution),
+    the same surface as the engine's NURBS form, parametrised by the angle; its normal
+    is the engine's. A negative angle sweeps from ``angle_degrees`` up to 0.
 
     Raises:
         CagdError: a zero axis direction, an angle of 0 or beyond a full turn, or OCCT fails.
     """
     if not angle_degrees or not np.isfinite(angle_degrees):
         raise CagdError(f"angle: must be finite and non-zero, got {angle_degrees!r}")
-    d = np.asarray(axis_direction, dtype=float)
-    surface = revolve(profile, axis_point, d if angle_degrees > 0 else -d, math.radians(abs(angle_degrees)))
-    return cq.Face(make_face(surface))
+    angle = math.radians(angle_degrees)
+    return cq.Face(make_face(revolve(profile, axis_point, axis_direction, abs(angle), min(angle, 0.0))))
 
 
 def _checked(solid: cq.Shape) -> cq.Solid:

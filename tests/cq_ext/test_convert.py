@@ -153,6 +153,26 @@ def test_the_sphere_and_a_triangle_through_their_nurbs_forms():
     assert np.abs(face_points(face, u, v) - N(u, v).reshape(-1, 3)).max() <= EXACT * 2
 
 
+@pytest.mark.parametrize("make, kind", [(lambda: cagd.sphere(2.0, (1.0, -1.0, 0.5)), "SPHERE"),
+                                        (lambda: cagd.torus(3.0, 1.0), "TORUS"),
+                                        (lambda: cagd.cylinder(1.0, 2.0), "CYLINDER"),
+                                        (lambda: cagd.cone(1.0, 2.0), "CONE"),
+                                        (lambda: cagd.revolve(cagd.BezierCurve([[1, 0, 0], [2, 0, 1.0], [1, 0, 2]])),
+                                         "REVOLUTION")])
+def test_primitives_become_analytic_faces(make, kind):
+    """to_cq / to_b3d of an engine surface of revolution: OCCT's analytic surface, the
+    engine's points on it (BRepExtrema); nurbs=True the B-spline face."""
+    s = make()
+    f, g = cq_ext.to_cq(s), cq_ext.to_b3d(s)
+    assert f.geomType() == kind and g.geom_type.name == kind and f.isValid()
+    (u0, u1), (v0, v1) = s.domain
+    u, v = np.meshgrid(np.linspace(u0, u1, 5), np.linspace(v0, v1, 7), indexing="ij")
+    points = s(u, v).reshape(-1, 3)
+    assert distance_to_shape(f, points).max() <= EXACT * scale(s)
+    assert cq_ext.to_cq(s, nurbs=True).geomType() == "BSPLINE"
+    assert cq_ext.to_b3d(s, nurbs=True).geom_type.name == "BSPLINE"
+
+
 # --- from_shape of CadQuery's and build123d's own shapes ------------------------------------
 def samples(curve, n=41):
     return curve(np.linspace(*curve.domain, n))
