@@ -224,6 +224,12 @@ def test_revolve_partial_angle_area():
     for nurbs in (False, True):
         part = cq.Workplane("XY").revolveSurface(PROFILE, angleDegrees=100, nurbs=nurbs).val()
         assert area(part.wrapped) == pytest.approx(full * 100 / 360, rel=1e-9)
+    back = cq.Workplane("XY").revolveSurface(PROFILE, angleDegrees=-100).val()   # from -100 degrees up to 0
+    assert area(back.wrapped) == pytest.approx(full * 100 / 360, rel=1e-9)
+    u0, u1, v0, v1 = back._uvBounds()
+    P = face_points(back, *uv_grid(((u0, u1), (v0, v1)), 7))
+    turned = np.arctan2(-P[:, 2], P[:, 0])             # the angle about +y of each point (the profile is at 0)
+    assert turned.min() == pytest.approx(-math.radians(100), abs=1e-12) and turned.max() <= 1e-12
 
 
 def test_revolve_of_a_cadquery_edge_and_other_axis():
