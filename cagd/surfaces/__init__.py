@@ -10,7 +10,8 @@ from .loft import loft, loft_parameters, make_compatible, ruled
 from .continuity import EdgeContinuityReport, edge_continuity
 from .fitting import interpolate_surface, surface_parameters
 
-__all__ = ["Surface", "BSplineSurface", "BezierSurface", "RevolvedSurface", "Revolution", "Primitive", "revolve", "sphere", "torus", "cylinder", "cone",
+__all__ = ["Surface", "BSplineSurface", "BezierSurface", "RevolvedSurface", "Revolution", "Primitive",
+           "revolve", "sphere", "torus", "cylinder", "cone",
            "ellipsoid", "ellipsoid_octant", "CoonsPatch", "HermiteCoonsPatch", "ruled", "loft",
            "loft_parameters", "make_compatible", "EdgeContinuityReport", "edge_continuity",
            "interpolate_surface", "surface_parameters"]

@@ -111,7 +111,7 @@ def revolution_wall_volume(profile, t: float, angle: float = 2 * np.pi) -> float
     def f(u):
         uu = np.array([u])
         d = profile.derivatives(uu, 2)
-        (x, _, z), (dx, _, dz), (ddx, _, ddz) = d[0][0], d[1][0], d[2][0]
+        (x, _, _), (dx, _, dz), (ddx, _, ddz) = d[0][0], d[1][0], d[2][0]
         L = math.hypot(dx, dz)
         nx, nz = -dz / L, dx / L
         dnx = -ddz / L - nx * (dx * ddx + dz * ddz) / L ** 2

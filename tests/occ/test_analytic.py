@@ -16,10 +16,11 @@ pytest.importorskip("OCP")
 from OCP.BRep import BRep_Tool  # noqa: E402
 from OCP.BRepAdaptor import BRepAdaptor_Surface  # noqa: E402
 from OCP.BRepLProp import BRepLProp_SLProps  # noqa: E402
+from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin  # noqa: E402
 from OCP.BRepTools import BRepTools  # noqa: E402
 from OCP.Geom import Geom_BSplineSurface, Geom_RectangularTrimmedSurface  # noqa: E402
-from OCP.GeomAbs import (GeomAbs_BSplineSurface, GeomAbs_Cone, GeomAbs_Cylinder, GeomAbs_Sphere,  # noqa: E402
-                         GeomAbs_SurfaceOfRevolution, GeomAbs_Torus)
+from OCP.GeomAbs import (GeomAbs_Arc, GeomAbs_BSplineSurface, GeomAbs_Cone, GeomAbs_Cylinder,  # noqa: E402
+                         GeomAbs_Sphere, GeomAbs_SurfaceOfRevolution, GeomAbs_Torus)
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf  # noqa: E402
 from OCP.gp import gp_Pnt  # noqa: E402
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED  # noqa: E402
@@ -199,3 +200,29 @@ def test_solids_from_either_form(nurbs, kind):
         assert check_valid(solid) and len(faces) == 1
         assert BRepAdaptor_Surface(faces[0]).GetType() in (kind, GeomAbs_Torus if not nurbs else kind)
         assert volume(solid) == pytest.approx(exact, rel=1e-9)
+
+
+def thickened(face, t: float):
+    """OCCT's offset in skin mode with thickening (what cq_ext.thicken runs), or None."""
+    maker = BRepOffset_MakeOffset()
+    maker.Initialize(face, t, 1e-6, BRepOffset_Skin, False, False, GeomAbs_Arc, True)
+    maker.MakeOffsetShape()
+    return maker.Shape() if maker.IsDone() else None
+
+
+@pytest.mark.parametrize("name, wall", [
+    ("sphere", lambda t: 4 / 3 * math.pi * ((r + t) ** 3 - r ** 3)),
+    ("mirrored torus", lambda t: 2 * math.pi ** 2 * (1.7 * R) * ((1.7 * r) ** 2 - (1.7 * r - t) ** 2)),  # normal in
+    ("cylinder", lambda t: math.pi * ((r + t) ** 2 - r ** 2) * H),
+    ("revolution", None)])
+def test_occt_offsets_the_analytic_face_not_the_nurbs_face(name, wall):
+    """BRepOffset_MakeOffset (on OCCT 7.9 and 8.0) thickens the analytic face along the
+    engine's normal (outwards; inwards on the mirrored torus, whose S_u x S_v the
+    reflection turned in) into a valid solid of the closed-form volume, and refuses the
+    NURBS face (C0 knots)."""
+    s, t = CASES[name][0], 0.2
+    solid = thickened(make_face(s), t)
+    assert solid is not None and check_valid(solid)
+    if wall is not None:
+        assert volume(solid) == pytest.approx(wall(t), rel=1e-6)
+    assert thickened(make_face(s, nurbs=True), t) is None
