@@ -14,7 +14,7 @@ tan((theta - m) / 2) = (2 s - 1) tan(d / 4)), and V the profile's parameter u
 (revolutions) or the primitive's latitude / tube angle / height / slant distance
 (:meth:`cagd.Primitive.analytic_parameters`; for a reflected primitive U = 2 pi - theta).
 Measured in tests/occ/test_analytic.py: engine points lie on the OCCT surface within
-1e-15 of its size, and back.
+about 1e-15 of its size, and back (the tests require 1e-12).
 
 OCCT's offset algorithm (BRepOffset_MakeOffset: thickening, shelling) accepts these
 surfaces; the NURBS form has the rational circle's double knots, which OCCT declares
@@ -22,7 +22,6 @@ C0, and fails there (BRepOffset_C0Geometry).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Optional, Tuple
 
@@ -40,9 +39,10 @@ class AnalyticForm:
 
     ``surface`` is the whole analytic surface (unbounded in V for a cylinder or cone),
     ``bounds`` = (U0, U1, V0, V1) the engine surface's range on it, and ``reversed``
-    says that its natural normal D_U x D_V is the opposite of the engine's S_u x S_v
-    (always for ``Geom_SurfaceOfRevolution``, whose U turns and V runs the other way
-    round; for a primitive after a reflection), so a face on it must be reversed."""
+    says that its natural normal D_U x D_V is the opposite of the engine's S_u x S_v,
+    so a face on it must be reversed: always for ``Geom_SurfaceOfRevolution`` (its U
+    is the engine's v, its V the engine's u: the order swapped), for a primitive
+    after a reflection (``turn`` = -1)."""
     surface: Geom_Surface
     bounds: Tuple[float, float, float, float]
     reversed: bool
@@ -81,7 +81,6 @@ def analytic_form(surface: Surface) -> Optional[AnalyticForm]:
         geom = Geom_ToroidalSurface(frame, p.radius, p.minor_radius)
     elif p.kind == "cylinder":
         geom = Geom_CylindricalSurface(frame, p.radius)
-    else:                                    # the radius shrinks to 0 at the apex, height along the axis
-        geom = Geom_ConicalSurface(frame, -math.atan2(p.radius, p.height), p.radius)
+    else:
+        geom = Geom_ConicalSurface(frame, p.semi_angle, p.radius)
     return AnalyticForm(geom, p.analytic_bounds, p.turn < 0)
-

@@ -63,9 +63,10 @@ def _arc_count(angle: float) -> int:
 def arc_angle(t, start: float, angle: float) -> np.ndarray:
     """The angle of the point at t in [0, 1] of the circle of :func:`arc_parameters`.
     On arc j (t in [j / n, (j + 1) / n], local s = n t - j in [0, 1]) the rational
-    quadratic with end weights 1 and middle weight cos(d/2) is the stereographic
-    parametrisation: tan((theta - m_j) / 2) = (2 s - 1) tan(d / 4), m_j = start +
-    (j + 1/2) d the arc's midpoint (Farin, Curves and Surfaces for CAGD, 13.5)."""
+    quadratic with end weights 1 and middle weight cos(d/2) (Piegl & Tiller 7.3) is the
+    stereographic parametrisation: tan((theta - m_j) / 2) = (2 s - 1) tan(d / 4),
+    m_j = start + (j + 1/2) d the arc's midpoint (checked against the NURBS circle in
+    tests/surfaces/test_revolution.py)."""
     t = np.asarray(t, dtype=float)
     n = _arc_count(angle)
     d = angle / n
@@ -136,9 +137,6 @@ class Revolution:
                           _unit(sign * (A @ self.axis_direction)), self.angle, self.start_angle)
 
 
-PRIMITIVE_KINDS = ("sphere", "torus", "cylinder", "cone")
-
-
 @dataclass(frozen=True, eq=False)
 class Primitive:
     """What a primitive surface is, in the frame (``center``; ``x_direction``,
@@ -174,6 +172,17 @@ class Primitive:
     @property
     def _slant(self) -> float:
         return float(np.hypot(self.radius, self.height)) if self.kind == "cone" else 0.0
+
+    @property
+    def y_direction(self) -> np.ndarray:
+        """axis x x_direction: the frame's third direction (right-handed)."""
+        return _frozen_vector(np.cross(self.axis, self.x_direction))
+
+    @property
+    def semi_angle(self) -> Optional[float]:
+        """The cone's signed semi-angle as OCCT's gp_Cone (and Part.Cone) take it:
+        -atan(radius / height), negative as the radius shrinks along ``axis``."""
+        return -float(np.arctan2(self.radius, self.height)) if self.kind == "cone" else None
 
     def analytic_parameters(self, u, v) -> Tuple[np.ndarray, np.ndarray]:
         """(U, V) of the point S(u, v) in the angle parametrisation of OCCT's

@@ -276,6 +276,7 @@ def primitive_point(p, U, V):
     """The closed-form angle parametrisation of a primitive record (OCCT's gp_Sphere,
     gp_Torus, gp_Cylinder, gp_Cone formulas) in its right-handed frame."""
     x, z = p.x_direction, p.axis
+    assert np.array_equal(p.y_direction, np.cross(z, x))
     radial = np.cos(U)[..., None] * x + np.sin(U)[..., None] * np.cross(z, x)
     if p.kind == "sphere":
         return p.center + p.radius * (np.cos(V)[..., None] * radial + np.sin(V)[..., None] * z)
@@ -285,6 +286,7 @@ def primitive_point(p, U, V):
     if p.kind == "cylinder":
         return p.center + p.radius * radial + V[..., None] * z
     slant = math.hypot(p.radius, p.height)                    # the cone: V along the slant from the base rim
+    assert p.semi_angle == pytest.approx(-math.atan(p.radius / p.height), abs=1e-15)
     return p.center + (p.radius * (1 - V / slant))[..., None] * radial + (p.height * V / slant)[..., None] * z
 
 

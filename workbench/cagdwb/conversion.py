@@ -21,7 +21,6 @@ that OCCT declares C0.
 """
 from __future__ import annotations
 
-import math
 from typing import Optional, Tuple, Union
 
 import numpy as np
@@ -101,11 +100,10 @@ def analytic_surface(surface: "cagd.Surface") -> Optional[Tuple[object, Tuple[fl
     elif p.kind == "cylinder":
         geom = Part.Cylinder()
         geom.Radius = p.radius
-    else:                                   # the radius shrinks to 0 at the apex, height along the axis
+    else:
         geom = Part.Cone()
-        geom.Radius, geom.SemiAngle = p.radius, -math.atan2(p.radius, p.height)
-    x, z = p.x_direction, p.axis
-    frame = np.column_stack([x, np.cross(z, x), z, p.center])
+        geom.Radius, geom.SemiAngle = p.radius, p.semi_angle
+    frame = np.column_stack([p.x_direction, p.y_direction, p.axis, p.center])
     geom.transform(App.Matrix(*map(float, frame.ravel()), 0.0, 0.0, 0.0, 1.0))
     return geom, p.analytic_bounds, p.turn < 0
 
