@@ -18,9 +18,9 @@ from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
 from .operations import ContinuityReport, continuity, join, join_bezier
 from .surfaces.bspline import SurfaceOccForm
-from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Surface, cone, cylinder,
-                       ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus,
-                       EdgeContinuityReport, edge_continuity, interpolate_surface)
+from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Primitive, Revolution,
+                       RevolvedSurface, Surface, cone, cylinder, ellipsoid, ellipsoid_octant, loft, make_compatible,
+                       revolve, ruled, sphere, torus, EdgeContinuityReport, edge_continuity, interpolate_surface)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
 
@@ -31,8 +31,9 @@ __all__ = [
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
     "ContinuityReport", "continuity", "join", "join_bezier",
-    "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "revolve", "sphere",
-    "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant", "ruled", "loft", "make_compatible",
+    "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "RevolvedSurface",
+    "Revolution", "Primitive", "revolve", "sphere", "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant",
+    "ruled", "loft", "make_compatible",
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
     "EdgeContinuityReport", "edge_continuity", "interpolate_surface",
     "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",

@@ -41,29 +41,32 @@ def placed(obj: Union[Curve, Surface], plane: "cq.Plane") -> Union[Curve, Surfac
     return obj.transformed(A, b)
 
 
-def _occ(obj: Union[Curve, Surface]):
+def _occ(obj: Union[Curve, Surface], nurbs: bool = False):
     if isinstance(obj, Curve):
         return make_edge(obj)
     if isinstance(obj, Surface):
-        return make_face(obj)
+        return make_face(obj, nurbs=nurbs)
     raise CagdError(f"obj: expected a cagd Curve or Surface, got {describe(obj)}")
 
 
-def to_cq(obj: Union[Curve, Surface]) -> Union["cq.Edge", "cq.Face"]:
+def to_cq(obj: Union[Curve, Surface], nurbs: bool = False) -> Union["cq.Edge", "cq.Face"]:
     """A CadQuery ``Edge`` (curves) or ``Face`` with natural bounds (surfaces) holding
-    the object's exact OCCT B-spline.
+    the object's exact OCCT B-spline; spheres, tori, cylinders, cones and other
+    surfaces of revolution get OCCT's analytic surface (the same point set, by angle;
+    what CadQuery's ``shell`` and :func:`cq_ext.thicken` need) unless ``nurbs=True``
+    (see :func:`cagd.occ.make_face`).
 
     Raises:
         CagdError: not an engine curve or surface, or OCCT refuses it.
     """
-    shape = _occ(obj)
+    shape = _occ(obj, nurbs)
     import cadquery as cq
     return cq.Shape.cast(shape)
 
 
-def to_b3d(obj: Union[Curve, Surface]) -> Union["bd.Edge", "bd.Face"]:
+def to_b3d(obj: Union[Curve, Surface], nurbs: bool = False) -> Union["bd.Edge", "bd.Face"]:
     """A build123d ``Edge`` or ``Face`` (see :func:`to_cq`); needs build123d only."""
-    shape = _occ(obj)
+    shape = _occ(obj, nurbs)
     import build123d as bd
     return bd.Edge(shape) if isinstance(obj, Curve) else bd.Face(shape)
 

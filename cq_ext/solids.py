@@ -20,20 +20,19 @@ from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Sewing
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.BRepOffset import BRepOffset_MakeOffset, BRepOffset_Skin
-from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
 from OCP.GCPnts import GCPnts_AbscissaPoint
 from OCP.GeomAbs import GeomAbs_Arc
-from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
 from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_WIRE
 from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Solid
 
 from cagd.curves.base import Curve
 from cagd.errors import CagdError
-from cagd.occ import check_valid, make_edge, make_solid, sewing, subshapes, volume
+from cagd.occ import check_valid, make_face, make_solid, sewing, subshapes, volume
 from cagd.occ.shapes import face_list
 from cagd.occ.wrapped import occ_edges
 from cagd.surfaces.base import Surface
+from cagd.surfaces.revolution import revolve
 
 Faces = Union[Surface, object, Iterable[object]]     # surfaces, shapes of any library, or a list of them
 _SIGN_EPS = 1e-3                                     # relative precision enough for the sign of a volume
@@ -136,12 +135,15 @@ def thickened(faces: Faces, thickness: float, tol: float = 1e-6) -> TopoDS_Shape
     like; OCCT approximates the offset of a free-form B-spline within its tolerance
     (the result is checked valid; the tests compare its volume with area x thickness).
     OCCT's offset needs C1 surfaces as OCCT declares them: a knot of multiplicity =
-    degree (e.g. the rational circle's double knots) makes it fail.
+    degree (e.g. the rational circle's double knots) makes it fail. Engine spheres,
+    tori, cylinders, cones and revolutions become OCCT's analytic faces
+    (:func:`cagd.occ.make_face`), which it offsets exactly.
 
     Raises:
         CagdError: a zero or non-finite thickness, faces that do not sew into one
             shell, or OCCT cannot build a valid solid (e.g. the thickness exceeds a
-            radius of curvature).
+            radius of curvature: OCCT then leaves out the collapsed offset face and
+            returns a valid solid without it, which is refused).
     """
     thickness = _thickness(thickness)
     occ = face_list(faces, tol)
@@ -155,28 +157,26 @@ def thickened(faces: Faces, thickness: float, tol: float = 1e-6) -> TopoDS_Shape
     if not maker.IsDone():
         raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
                         f"{maker.Error().name})")
+    lost = [i for i, f in enumerate(subshapes(shape, TopAbs_FACE)) if maker.Generated(f).Size() == 0]
+    if lost:
+        raise CagdError(f"thickness: {thickness} collapses the offset of face(s) {lost}: OCCT left them out "
+                        "(the thickness reaches a radius of curvature)")
     return _checked(maker.Shape())
 
 
 def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> TopoDS_Face:
-    """OCCT's surface of revolution (Geom_SurfaceOfRevolution, BRepPrimAPI_MakeRevol)
-    of the exact B-spline edge of an engine profile: the same surface as
-    :func:`cagd.revolve`, parametrised by the angle.
+    """The face of :func:`cagd.revolve` as :func:`cagd.occ.make_face` makes it: OCCT's
+    surface of revolution of the profile's exact B-spline (Geom_SurfaceOfRevolution),
+    the same surface as the engine's NURBS form, parametrised by the angle; its normal
+    is the engine's. A negative angle sweeps from ``angle_degrees`` up to 0.
 
     Raises:
-        CagdError: a zero axis direction, a zero angle, or OCCT fails.
+        CagdError: a zero axis direction, an angle of 0 or beyond a full turn, or OCCT fails.
     """
-    d = np.asarray(axis_direction, dtype=float)
-    if not np.isfinite(d).all() or np.linalg.norm(d) == 0:
-        raise CagdError(f"axis_direction: must be a finite non-zero vector, got {d.tolist()}")
     if not angle_degrees or not np.isfinite(angle_degrees):
         raise CagdError(f"angle: must be finite and non-zero, got {angle_degrees!r}")
-    axis = gp_Ax1(gp_Pnt(*map(float, axis_point)), gp_Dir(*map(float, d)))
-    maker = BRepPrimAPI_MakeRevol(make_edge(profile), axis, math.radians(angle_degrees), True)
-    faces = subshapes(maker.Shape(), TopAbs_FACE)
-    if len(faces) != 1:
-        raise CagdError(f"profile: OCCT made {len(faces)} faces from the revolution, expected 1")
-    return faces[0]
+    angle = math.radians(angle_degrees)
+    return make_face(revolve(profile, axis_point, axis_direction, abs(angle), min(angle, 0.0)))
 
 
 def _checked(solid: TopoDS_Shape) -> TopoDS_Shape:

@@ -249,7 +249,7 @@ def revolveSurface(self: T, profile: CurveLike, angleDegrees: float = 360.0,
         curve = curve.transformed(np.eye(3)[:, :2])
     a, b = (_global_point(self.plane, p, n) for p, n in ((axisStart, "axisStart"), (axisEnd, "axisEnd")))
     if nurbs:
-        face = to_cq(cagd.revolve(curve, a, b - a, math.radians(angleDegrees)))
+        face = to_cq(cagd.revolve(curve, a, b - a, math.radians(angleDegrees)), nurbs=True)
     else:
         face = cq.Face(revolution_face(curve, a, b - a, angleDegrees))
     return self.newObject([close_with_caps([face])]) if close else with_face(self, face)

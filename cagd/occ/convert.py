@@ -31,6 +31,7 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
+from .analytic import analytic_form
 from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
                      as_face)
 
@@ -95,14 +96,20 @@ def _xyz(p, dim: int) -> tuple:
 
 
 # --- engine -> OCCT -------------------------------------------------------------------------
-def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False):
+def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False, analytic: bool = False):
     """The exact OCCT geometry of an engine curve or surface.
 
     Curves give ``Geom_BSplineCurve`` (2-D curves with z = 0; ``plane=True`` gives a
-    ``Geom2d_BSplineCurve`` instead), surfaces ``Geom_BSplineSurface``; with
-    ``bezier=True`` a BezierCurve/BezierSurface gives ``Geom_BezierCurve/Surface``.
-    A Bezier triangle goes through its collapsed-edge NURBS form (a different
-    parametrisation: T(u, v) = S(u, v / (1 - u))).
+    ``Geom2d_BSplineCurve`` instead), surfaces ``Geom_BSplineSurface``: the same
+    poles, weights and knots, so the same parametrisation. With ``bezier=True`` a
+    BezierCurve/BezierSurface gives ``Geom_BezierCurve/Surface``. A Bezier triangle
+    goes through its collapsed-edge NURBS form (a different parametrisation:
+    T(u, v) = S(u, v / (1 - u))). With ``analytic=True`` a surface of revolution that
+    remembers its construction (:class:`cagd.RevolvedSurface`) gives OCCT's analytic
+    surface instead (Geom_SphericalSurface, ..., Geom_SurfaceOfRevolution; trimmed to
+    the engine's range by a Geom_RectangularTrimmedSurface unless that is the whole
+    surface): the same point set, parametrised by the angle
+    (:mod:`cagd.occ.analytic`); every other surface still gives its B-spline.
 
     Raises:
         CagdError: not an engine curve or surface, more than 3 dimensions, or OCCT
@@ -116,6 +123,9 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
                 return _bezier_curve(obj)
             return _bspline_curve(obj.to_nurbs(), plane)
         if isinstance(obj, Surface):
+            form = analytic_form(obj) if analytic else None
+            if form is not None:
+                return form.bounded()
             if bezier and isinstance(obj, BezierSurface):
                 return _bezier_surface(obj)
             return _bspline_surface(obj.to_nurbs())

@@ -1,6 +1,7 @@
 """``cagd export``: a model (cagd.model) to STEP and IGES, with the round-trip report.
 
-Curves become edges, surfaces faces with natural bounds, and entries marked
+Curves become edges, surfaces faces with natural bounds (the exact NURBS form:
+``make_face(nurbs=True)``, as the files get it), and entries marked
 ``"solid": true`` are sewn into closed solids (BRepBuilderAPI_Sewing, then
 BRepCheck). Every object is put through :func:`cagd.occ.verify`; every solid's
 volume by OCCT is compared with the engine's own quadrature
@@ -123,7 +124,7 @@ def export_model(model, step: Optional[Path] = None, iges: Optional[Path] = None
     items, faces, curves = [], 0, 0
     for e in entries:
         if e.solid:
-            solid = solid_from_surfaces(e.objects)
+            solid = solid_from_surfaces(e.objects, nurbs=True)
             vol = enclosed_volume(e.objects)
             result.solids.append(SolidCheck(e.name, len(subshapes(solid, TopAbs_FACE)), check_valid(solid),
                                             volume(solid), vol.value, vol.error, closed_form_volume(e)))
@@ -131,7 +132,7 @@ def export_model(model, step: Optional[Path] = None, iges: Optional[Path] = None
             faces += len(e.objects)
         else:
             for label, obj in e.labels():
-                items.append((label, make_edge(obj) if e.kind == "curve" else make_face(obj)))
+                items.append((label, make_edge(obj) if e.kind == "curve" else make_face(obj, nurbs=True)))
                 faces, curves = faces + (e.kind != "curve"), curves + (e.kind == "curve")
         work.step(f"shape {e.name}")
     result.expected = (faces, curves)

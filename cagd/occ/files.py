@@ -102,7 +102,7 @@ def _named(objects) -> List[Tuple[str, Item]]:
         if isinstance(obj, Curve):
             shape = make_edge(_exchange_form(obj))
         elif isinstance(obj, Surface):
-            shape = make_face(_exchange_form(obj))
+            shape = make_face(_exchange_form(obj), nurbs=True)
         elif is_shape(obj):
             shape = occ_shape(obj, f"objects[{i}]")
         else:

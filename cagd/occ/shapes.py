@@ -27,6 +27,7 @@ from .._checks import positive
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
+from .analytic import analytic_form
 from .convert import to_occ
 from .wrapped import describe, is_shape, occ_faces, occ_shape
 
@@ -76,22 +77,37 @@ def make_wire(curves: Sequence[Union[Curve, TopoDS_Edge]]) -> TopoDS_Shape:
     return maker.Wire()
 
 
-def make_face(surface: Surface, tol: float = 1e-7) -> TopoDS_Face:
+def make_face(surface: Surface, tol: float = 1e-7, *, nurbs: bool = False) -> TopoDS_Face:
     """The face of an engine surface bounded by its natural (parameter-domain) boundary.
-    Collapsed boundaries (poles of a revolution, the apex of a triangle's NURBS form)
-    become degenerated edges, closed directions a seam edge; ``tol`` is OCCT's
-    tolerance for detecting them."""
+    Collapsed boundaries (poles of a revolution, the apex of a cone or of a triangle's
+    NURBS form) become degenerated edges, closed directions a seam edge; ``tol`` is
+    OCCT's tolerance for detecting them.
+
+    A surface of revolution that remembers its construction (:func:`cagd.sphere`,
+    :func:`cagd.torus`, :func:`cagd.cylinder`, :func:`cagd.cone`, :func:`cagd.revolve`)
+    gets OCCT's own analytic surface (:mod:`cagd.occ.analytic`: the same point set,
+    parametrised by the angle), bounded to the engine's range, the face oriented so
+    that its normal is the engine's S_u x S_v: OCCT's offsets (thickening, shelling)
+    work on it. ``nurbs=True`` gives the face of the exact B-spline instead (the same
+    parametrisation as the engine: the exchange form STEP and IGES files get)."""
     if not isinstance(surface, Surface):
         raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
-    maker = BRepBuilderAPI_MakeFace(to_occ(surface), positive(tol, "tol"))
+    tol = positive(tol, "tol")
+    form = None if nurbs else analytic_form(surface)
+    if form is None:
+        maker = BRepBuilderAPI_MakeFace(to_occ(surface), tol)
+    else:
+        maker = BRepBuilderAPI_MakeFace(form.surface, *form.bounds, tol)
     if not maker.IsDone():
         raise CagdError(f"surface: OCCT could not make a face (error {maker.Error()})")
-    return maker.Face()
+    face = maker.Face()
+    return as_face(face.Reversed()) if form is not None and form.reversed else face
 
 
-def face_list(items: Iterable, tol: float = 1e-6) -> List[TopoDS_Shape]:
-    """The OCCT faces of engine surfaces (faces with natural bounds, OCCT tolerance
-    min(tol, 1e-7)) and of shapes of any library (their faces; see :mod:`.wrapped`).
+def face_list(items: Iterable, tol: float = 1e-6, *, nurbs: bool = False) -> List[TopoDS_Shape]:
+    """The OCCT faces of engine surfaces (:func:`make_face`, ``nurbs`` as there; OCCT
+    tolerance min(tol, 1e-7)) and of shapes of any library (their faces; see
+    :mod:`.wrapped`).
 
     Raises:
         CagdError: an item that is neither, an item holding no face, nothing at all.
@@ -101,7 +117,7 @@ def face_list(items: Iterable, tol: float = 1e-6) -> List[TopoDS_Shape]:
     out = []
     for i, item in enumerate(items):
         if isinstance(item, Surface):
-            out.append(make_face(item, min(tol, 1e-7)))
+            out.append(make_face(item, min(tol, 1e-7), nurbs=nurbs))
         elif is_shape(item):
             out.extend(occ_faces(item, f"faces[{i}]"))
         else:
@@ -112,21 +128,23 @@ def face_list(items: Iterable, tol: float = 1e-6) -> List[TopoDS_Shape]:
     return out
 
 
-def sewing(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> BRepBuilderAPI_Sewing:
+def sewing(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6, *,
+           nurbs: bool = False) -> BRepBuilderAPI_Sewing:
     """OCCT's sewing of faces (or engine surfaces, or the faces of shapes) whose edges
-    meet within ``tol``, performed: ``SewedShape()``, ``NbFreeEdges()``, ``FreeEdge(i)``."""
+    meet within ``tol``, performed: ``SewedShape()``, ``NbFreeEdges()``, ``FreeEdge(i)``.
+    Engine surfaces become faces by :func:`make_face` (``nurbs`` as there)."""
     tol = positive(tol, "tol")
     result = BRepBuilderAPI_Sewing(tol)
-    for f in face_list(faces, tol):
+    for f in face_list(faces, tol, nurbs=nurbs):
         result.Add(f)
     result.Perform()
     return result
 
 
-def sew(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> TopoDS_Shape:
+def sew(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6, *, nurbs: bool = False) -> TopoDS_Shape:
     """Sew faces (or engine surfaces) whose edges meet within ``tol`` into a shell
     (BRepBuilderAPI_Sewing); returns a shell, or a compound when they form several."""
-    return sewing(faces, tol).SewedShape()
+    return sewing(faces, tol, nurbs=nurbs).SewedShape()
 
 
 def free_edge_count(shape: TopoDS_Shape, tol: float = 1e-6) -> int:
@@ -170,10 +188,11 @@ def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:
     return solid
 
 
-def solid_from_surfaces(surfaces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6) -> TopoDS_Solid:
+def solid_from_surfaces(surfaces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6, *,
+                        nurbs: bool = False) -> TopoDS_Solid:
     """Sew surfaces that bound a volume (the eight ellipsoid patches, a closed
     revolution, ...) and make the solid (see :func:`sew`, :func:`make_solid`)."""
-    return make_solid(sew(surfaces, tol), tol)
+    return make_solid(sew(surfaces, tol, nurbs=nurbs), tol)
 
 
 def check_valid(shape: TopoDS_Shape) -> bool:

@@ -3,14 +3,15 @@ the seed's rational ellipsoid, Coons patches, ruled surfaces and lofts."""
 from .base import Surface
 from .bspline import BSplineSurface
 from .bezier import BezierSurface
-from .revolution import cone, cylinder, revolve, sphere, torus
+from .revolution import Primitive, Revolution, RevolvedSurface, cone, cylinder, revolve, sphere, torus
 from .ellipsoid import ellipsoid, ellipsoid_octant
 from .coons import CoonsPatch, HermiteCoonsPatch
 from .loft import loft, loft_parameters, make_compatible, ruled
 from .continuity import EdgeContinuityReport, edge_continuity
 from .fitting import interpolate_surface, surface_parameters
 
-__all__ = ["Surface", "BSplineSurface", "BezierSurface", "revolve", "sphere", "torus", "cylinder", "cone",
+__all__ = ["Surface", "BSplineSurface", "BezierSurface", "RevolvedSurface", "Revolution", "Primitive",
+           "revolve", "sphere", "torus", "cylinder", "cone",
            "ellipsoid", "ellipsoid_octant", "CoonsPatch", "HermiteCoonsPatch", "ruled", "loft",
            "loft_parameters", "make_compatible", "EdgeContinuityReport", "edge_continuity",
            "interpolate_surface", "surface_parameters"]

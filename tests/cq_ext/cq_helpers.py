@@ -1,5 +1,6 @@
 """Independent oracles for the cq_ext tests: OCCT evaluation of shapes (BRepAdaptor),
-areas by Green's theorem with scipy's quad over the engine curve's spans, volumes.
+areas by Green's theorem with scipy's quad over the engine curve's spans, volumes
+(the wall of a thickened surface of revolution by Pappus over its meridian strip).
 
 Volumes: ``cagd.occ.volume`` (BRepGProp adaptive integration) is accurate on B-spline
 faces (~1e-15 on the ellipsoid) but converges falsely on OCCT's extrusion faces
@@ -9,6 +10,8 @@ to its exact B-spline form first (BRepBuilderAPI_NurbsConvert), which makes the 
 integration accurate.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.integrate import quad
@@ -96,3 +99,23 @@ def green_area(curve) -> float:
 def size(points) -> float:
     P = np.asarray(points, dtype=float).reshape(-1, np.shape(points)[-1])
     return max(float(np.abs(P).max()), 1.0)
+
+
+def revolution_wall_volume(profile, t: float, angle: float = 2 * np.pi) -> float:
+    """Volume of {p + s n : p on the revolution of ``profile`` (a curve in the xz-plane,
+    turned about the z-axis through ``angle``), 0 <= s <= t}, n the unit normal
+    S_u x S_v (in the meridian plane: (-z', x') / |p'|): Pappus on the strip
+    (u, s) -> q = p(u) + s n(u), angle * int int rho(q) |det dq/d(u, s)| ds du, with
+    det = |p'| + s det(n', n) linear in s (no focal point within t), so the s-integral
+    is closed form and the u-integral scipy's quad span by span."""
+    def f(u):
+        uu = np.array([u])
+        d = profile.derivatives(uu, 2)
+        (x, _, _), (dx, _, dz), (ddx, _, ddz) = d[0][0], d[1][0], d[2][0]
+        L = math.hypot(dx, dz)
+        nx, nz = -dz / L, dx / L
+        dnx = -ddz / L - nx * (dx * ddx + dz * ddz) / L ** 2
+        dnz = ddx / L - nz * (dx * ddx + dz * ddz) / L ** 2
+        j1 = dnx * nz - dnz * nx
+        return x * L * t + (x * j1 + nx * L) * t ** 2 / 2 + nx * j1 * t ** 3 / 3
+    return abs(angle * span_quad(f, profile))

@@ -108,13 +108,13 @@ def check_surface(surface, generated=True):
     U, V = a + S * (b - a), c + T * (d - c)
     expected = surface(U, V).reshape(-1, 3)
     tol = EXACT * scale(surface)
-    f = cq_ext.to_cq(surface)
+    f = cq_ext.to_cq(surface, nurbs=True)      # the NURBS face: the engine's own parametrisation
     assert isinstance(f, cq.Face)
     bounds = f._uvBounds()
     assert np.allclose(bounds, (a, b, c, d), rtol=0, atol=1e-12 * max(1.0, *map(abs, (a, b, c, d))))
     got = np.array([f.positionAt(u, v).toTuple() for u, v in zip(U.ravel(), V.ravel())])
     assert np.abs(got - expected).max() <= tol
-    g = cq_ext.to_b3d(surface)
+    g = cq_ext.to_b3d(surface, nurbs=True)
     assert isinstance(g, bd.Face)
     got = np.array([tuple(g.position_at(x, y)) for x, y in zip(S.ravel(), T.ravel())])
     # build123d maps the normalised (x, y) to u = a + x (b - a): one rounding more
@@ -151,6 +151,26 @@ def test_the_sphere_and_a_triangle_through_their_nurbs_forms():
     N = tri.to_nurbs()
     u, v = np.meshgrid(np.linspace(0, 0.9, 5), np.linspace(0, 1, 5), indexing="ij")
     assert np.abs(face_points(face, u, v) - N(u, v).reshape(-1, 3)).max() <= EXACT * 2
+
+
+@pytest.mark.parametrize("make, kind", [(lambda: cagd.sphere(2.0, (1.0, -1.0, 0.5)), "SPHERE"),
+                                        (lambda: cagd.torus(3.0, 1.0), "TORUS"),
+                                        (lambda: cagd.cylinder(1.0, 2.0), "CYLINDER"),
+                                        (lambda: cagd.cone(1.0, 2.0), "CONE"),
+                                        (lambda: cagd.revolve(cagd.BezierCurve([[1, 0, 0], [2, 0, 1.0], [1, 0, 2]])),
+                                         "REVOLUTION")])
+def test_primitives_become_analytic_faces(make, kind):
+    """to_cq / to_b3d of an engine surface of revolution: OCCT's analytic surface, the
+    engine's points on it (BRepExtrema); nurbs=True the B-spline face."""
+    s = make()
+    f, g = cq_ext.to_cq(s), cq_ext.to_b3d(s)
+    assert f.geomType() == kind and g.geom_type.name == kind and f.isValid()
+    (u0, u1), (v0, v1) = s.domain
+    u, v = np.meshgrid(np.linspace(u0, u1, 5), np.linspace(v0, v1, 7), indexing="ij")
+    points = s(u, v).reshape(-1, 3)
+    assert distance_to_shape(f, points).max() <= EXACT * scale(s)
+    assert cq_ext.to_cq(s, nurbs=True).geomType() == "BSPLINE"
+    assert cq_ext.to_b3d(s, nurbs=True).geom_type.name == "BSPLINE"
 
 
 # --- from_shape of CadQuery's and build123d's own shapes ------------------------------------

@@ -1,7 +1,8 @@
 """The surface methods on the stack: faces from engine surfaces, Bezier/B-spline
 grids, Bezier triangles, Coons patches (from a box face's edges, from engine curves in
 any order and direction) and surfaces of revolution (OCCT's own and the engine's
-NURBS form: the same surface; Pappus' closed forms; CadQuery's shell())."""
+NURBS form: the same surface; Pappus' closed forms; CadQuery's shell() and thickening
+of the default face, which the NURBS form's C0-declared knots prevent)."""
 import math
 
 import numpy as np
@@ -15,7 +16,7 @@ from cagd import CagdError  # noqa: E402
 from cagd.occ import area, volume  # noqa: E402
 from OCP.StdFail import StdFail_NotDone  # noqa: E402
 
-from cq_helpers import distance_to_shape, face_points  # noqa: E402
+from cq_helpers import distance_to_shape, face_points, revolution_wall_volume  # noqa: E402
 
 GRID = np.array([[(i, j, 0.3 * math.sin(i) * math.cos(j)) for j in range(4)] for i in range(5)], dtype=float)
 
@@ -223,6 +224,12 @@ def test_revolve_partial_angle_area():
     for nurbs in (False, True):
         part = cq.Workplane("XY").revolveSurface(PROFILE, angleDegrees=100, nurbs=nurbs).val()
         assert area(part.wrapped) == pytest.approx(full * 100 / 360, rel=1e-9)
+    back = cq.Workplane("XY").revolveSurface(PROFILE, angleDegrees=-100).val()   # from -100 degrees up to 0
+    assert area(back.wrapped) == pytest.approx(full * 100 / 360, rel=1e-9)
+    u0, u1, v0, v1 = back._uvBounds()
+    P = face_points(back, *uv_grid(((u0, u1), (v0, v1)), 7))
+    turned = np.arctan2(-P[:, 2], P[:, 0])             # the angle about +y of each point (the profile is at 0)
+    assert turned.min() == pytest.approx(-math.radians(100), abs=1e-12) and turned.max() <= 1e-12
 
 
 def test_revolve_of_a_cadquery_edge_and_other_axis():
@@ -251,6 +258,19 @@ def test_vase_native_revolution_shells():
     wall = volume(shelled.wrapped)
     assert wall < V
     assert wall == pytest.approx(kept * 0.2, rel=0.1)                    # thin wall: area x thickness
+
+
+@pytest.mark.parametrize("t", [0.2, -0.2])
+def test_revolve_surface_thickens(t):
+    """The default face (OCCT's surface of revolution of the profile) thickens; the wall
+    against Pappus over the meridian strip (the profile turned into the xz-plane, the
+    local y axis onto z by a rotation, which keeps the normals)."""
+    solid = cq.Workplane("XY").revolveSurface(PROFILE).thickenSurface(t).val()
+    assert solid.isValid()
+    xz = PROFILE.transformed(np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 1.0]]))
+    assert volume(solid.wrapped) == pytest.approx(revolution_wall_volume(xz, t), rel=1e-6)
+    with pytest.raises(CagdError, match="thickness"):
+        cq.Workplane("XY").revolveSurface(PROFILE, nurbs=True).thickenSurface(t)
 
 
 @pytest.mark.xfail(strict=True, raises=StdFail_NotDone,

@@ -7,8 +7,12 @@ import pytest
 
 pytest.importorskip("OCP")
 
+from OCP.BRepAdaptor import BRepAdaptor_Surface  # noqa: E402
+from OCP.GeomAbs import GeomAbs_BSplineSurface  # noqa: E402
+from OCP.TopAbs import TopAbs_FACE  # noqa: E402
+
 from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError, ellipsoid, sphere  # noqa: E402
-from cagd.occ import (read_iges, read_shapes, read_step, solid_from_surfaces, write_iges,  # noqa: E402
+from cagd.occ import (read_iges, read_shapes, read_step, solid_from_surfaces, subshapes, write_iges,  # noqa: E402
                       write_step)
 
 RNG = np.random.default_rng(11)
@@ -85,8 +89,11 @@ def test_curves_are_free_edges_and_solids_give_eight_faces(tmp_path):
 
 
 def test_default_names(tmp_path):
+    """The engine class names the item (a sphere is a RevolvedSurface); the file gets its NURBS face."""
     write_step([sphere(1.0)], tmp_path / "a.step")
-    assert [i.name for i in read_step(tmp_path / "a.step")] == ["BSplineSurface_1"]
+    back = read_step(tmp_path / "a.step")
+    assert [i.name for i in back] == ["RevolvedSurface_1"]
+    assert BRepAdaptor_Surface(subshapes(back[0].shape, TopAbs_FACE)[0]).GetType() == GeomAbs_BSplineSurface
 
 
 def test_errors(tmp_path):

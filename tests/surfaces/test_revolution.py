@@ -1,7 +1,11 @@
 """Exact surfaces of revolution (seed 003, 2.4; Piegl & Tiller A8.1): points on the
 implicit equations of sphere, torus, cylinder and cone, the profile reproduced, the
 isocurves are circle arcs about the axis (checked with an independent Rodrigues
-rotation), partial angles, arbitrary axes, radial sphere normals, errors."""
+rotation), partial angles, arbitrary axes, radial sphere normals, errors; the
+construction records (the rational circle's angle, the primitives' angle
+parametrisations against their closed forms, records moved by similarities and
+dropped by every other map or operation)."""
+import dataclasses
 import math
 
 import numpy as np
@@ -10,8 +14,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError
-from cagd.surfaces.revolution import arc_parameters, cone, cylinder, revolve, sphere, torus
+from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError, RevolvedSurface
+from cagd.surfaces.revolution import (SIMILARITY_TOL, arc_angle, arc_parameter, arc_parameters, cone, cylinder,
+                                      revolve, sphere, torus)
 
 from strategies import bspline_curves
 
@@ -248,3 +253,172 @@ def test_profile_and_helper_errors():
 def test_full_turn_accepts_exactly_two_pi():
     S = revolve(BezierCurve([[1.0, 0.0, 0.0], [1.0, 0.0, 1.0]]), angle=2 * np.pi)
     assert S.control_points.shape[1] == 9
+
+
+# --- construction records -------------------------------------------------------------------
+@SETTINGS
+@given(st.floats(-7.0, 7.0), st.floats(0.1, 2 * np.pi))
+def test_arc_angle_is_the_angle_of_the_rational_circle(start, angle):
+    """arc_angle(t) is the polar angle of the circle of arc_parameters at t (oracle: the
+    NURBS circle evaluated, atan2), and arc_parameter inverts it."""
+    c, s, w, knots = arc_parameters(start, angle)
+    t = np.linspace(0.0, 1.0, 401)
+    P = BSplineCurve(np.stack([c, s], axis=1), 2, knots, w)(t)
+    polar = np.unwrap(np.arctan2(P[:, 1], P[:, 0]))
+    polar += 2 * np.pi * np.round((start - polar[0]) / (2 * np.pi))
+    theta = arc_angle(t, start, angle)
+    assert np.abs(theta - polar).max() <= 1e-13 * max(1.0, abs(start) + angle)
+    assert np.all(np.diff(theta) > 0) and theta[0] == pytest.approx(start, abs=1e-14 * (1 + abs(start)))
+    assert np.abs(arc_parameter(theta, start, angle) - t).max() <= 1e-13 * max(1.0, abs(start) + angle)
+
+
+def primitive_point(p, U, V):
+    """The closed-form angle parametrisation of a primitive record (OCCT's gp_Sphere,
+    gp_Torus, gp_Cylinder, gp_Cone formulas) in its right-handed frame."""
+    x, z = p.x_direction, p.axis
+    assert np.array_equal(p.y_direction, np.cross(z, x))
+    radial = np.cos(U)[..., None] * x + np.sin(U)[..., None] * np.cross(z, x)
+    if p.kind == "sphere":
+        return p.center + p.radius * (np.cos(V)[..., None] * radial + np.sin(V)[..., None] * z)
+    if p.kind == "torus":
+        return (p.center + (p.radius + p.minor_radius * np.cos(V))[..., None] * radial
+                + p.minor_radius * np.sin(V)[..., None] * z)
+    if p.kind == "cylinder":
+        return p.center + p.radius * radial + V[..., None] * z
+    slant = math.hypot(p.radius, p.height)                    # the cone: V along the slant from the base rim
+    assert p.semi_angle == pytest.approx(-math.atan(p.radius / p.height), abs=1e-15)
+    return p.center + (p.radius * (1 - V / slant))[..., None] * radial + (p.height * V / slant)[..., None] * z
+
+
+def outward(p, points):
+    """The outward unit normal of the primitive at points on it (closed forms)."""
+    x = points - p.center
+    h = x @ p.axis
+    radial = x - h[..., None] * p.axis
+    radial /= np.linalg.norm(radial, axis=-1, keepdims=True)
+    if p.kind == "sphere":
+        return x / p.radius
+    if p.kind == "torus":
+        y = x - p.radius * radial
+        return y / np.linalg.norm(y, axis=-1, keepdims=True)
+    if p.kind == "cylinder":
+        return radial
+    n = p.height * radial + p.radius * p.axis
+    return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+
+PRIMITIVES = {"sphere": lambda: sphere(2.0, (1.0, -2.0, 0.5)), "torus": lambda: torus(3.0, 1.2, (0.0, 1.0, -1.0)),
+              "cylinder": lambda: cylinder(1.5, 4.0, (2.0, 0.0, 1.0)), "cone": lambda: cone(1.5, 2.5, (0.0, 0.0, 3.0))}
+KIND_DATA = {"sphere": (2.0, None, None), "torus": (3.0, 1.2, None), "cylinder": (1.5, None, 4.0),
+             "cone": (1.5, None, 2.5)}
+
+
+def similarity(seed: int, scale: float, reflect: bool) -> np.ndarray:
+    M = scale * Rotation.random(random_state=seed).as_matrix()
+    return M @ np.diag([1.0, 1.0, -1.0]) if reflect else M
+
+
+@pytest.mark.parametrize("kind", list(PRIMITIVES))
+def test_primitive_records(kind):
+    s = PRIMITIVES[kind]()
+    p = s.primitive
+    assert isinstance(s, RevolvedSurface) and type(s).__mro__[1] is BSplineSurface
+    assert p.kind == kind and (p.radius, p.minor_radius, p.height) == KIND_DATA[kind] and p.turn == 1
+    assert np.array_equal(p.axis, [0, 0, 1]) and np.array_equal(p.x_direction, [1, 0, 0])
+    r = s.revolution
+    assert r.full_turn and r.start_angle == 0.0 and np.array_equal(r.axis_direction, [0, 0, 1])
+    assert np.array_equal(r.axis_point, p.center)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        p.radius = 1.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.angle = 1.0
+    for a in (p.center, p.axis, p.x_direction, r.axis_point, r.axis_direction):
+        with pytest.raises(ValueError):
+            a[0] = 1.0
+
+
+@SETTINGS
+@given(st.sampled_from(list(PRIMITIVES)), st.integers(0, 10 ** 6), st.floats(0.1, 10.0), st.booleans(), centers)
+def test_primitive_records_follow_a_similarity(kind, seed, scale, reflect, offset):
+    """After x -> M x + t (M a rotation times a scale, possibly reflecting) the moved
+    record's closed-form parametrisation at analytic_parameters(u, v) is S(u, v), and
+    ``turn`` says whether S_u x S_v is the outward normal."""
+    M = similarity(seed, scale, reflect)
+    s = PRIMITIVES[kind]().transformed(M, offset)
+    assert isinstance(s, RevolvedSurface)
+    p = s.primitive
+    assert p.turn == (-1 if reflect else 1)
+    assert p.radius == pytest.approx(scale * KIND_DATA[kind][0], rel=1e-14)
+    assert abs(p.axis @ p.x_direction) <= 1e-15
+    u, v = RU[:300], RV[:300]
+    U, V = s.analytic_parameters(u, v)
+    bounds = p.analytic_bounds
+    assert U.min() >= bounds[0] and U.max() <= bounds[1] and V.min() >= bounds[2] - 1e-15 and V.max() <= bounds[3]
+    P = s(u, v)
+    size = s.size
+    assert np.abs(primitive_point(p, U, V) - P).max() <= 1e-13 * size
+    keep = np.linalg.norm(np.cross(*s.derivatives(u, v, 1, 1)[[1, 0], [0, 1]]), axis=-1) > 1e-6 * size ** 2
+    n = s.normal(u[keep], v[keep])
+    assert np.abs(np.einsum("ij,ij->i", n, outward(p, P[keep])) - p.turn).max() <= 1e-12
+
+
+@SETTINGS
+@given(bspline_curves(dims=(3, 3), max_degree=4), centers, unit_vectors(), st.floats(0.3, 2 * np.pi),
+       st.floats(-4.0, 4.0), st.integers(0, 10 ** 6), st.floats(0.1, 10.0), st.booleans())
+def test_revolution_record_describes_the_surface_after_a_similarity(C, a, d, angle, start, seed, scale, reflect):
+    """S(u, v) is the record's profile(u) turned by angle_at(v) about its axis (oracle:
+    Rodrigues), before and after a similarity; analytic_parameters is (angle_at(v), u)."""
+    M = similarity(seed, scale, reflect)
+    t = np.array([0.5, -1.0, 2.0])
+    for s in (revolve(C, a, d, angle, start), revolve(C, a, d, angle, start).transformed(M, t)):
+        r = s.revolution
+        assert isinstance(s, RevolvedSurface) and s.primitive is None
+        lo, hi = C.domain
+        u, v = lo + (hi - lo) * RU[:200], RV[:200]
+        expected = rodrigues(r.profile(u), r.axis_point, r.axis_direction, r.angle_at(v))
+        assert np.abs(s(u, v) - expected).max() <= 1e-12 * (s.size + np.abs(r.axis_point).max())
+        U, V = s.analytic_parameters(u, v)
+        turns = 2 * np.pi * math.floor(start / (2 * np.pi) + 1e-9 / (2 * np.pi))   # as OCCT: U0 in [0, 2 pi)
+        assert np.array_equal(U, r.angle_at(v) - turns) and np.array_equal(V, u)
+        assert s.analytic_bounds == (start - turns, start - turns + angle, lo, hi)
+        assert -1e-9 < s.analytic_bounds[0] < 2 * np.pi - 1e-9
+        assert np.abs(r.parameter_at(U + turns) - v).max() <= 1e-12
+
+
+SHEAR = np.array([[1.0, 0.3, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+
+
+@pytest.mark.parametrize("matrix", [SHEAR, np.diag([1.0, 1.0, 2.0]), np.eye(3)[:2],
+                                    np.eye(3) + 100 * SIMILARITY_TOL * np.outer([1, 0, 0], [0, 1, 0])],
+                         ids=["shear", "stretch", "projection", "nearly-rigid"])
+def test_other_affine_maps_drop_the_records(matrix):
+    for s in [sphere(1.0), revolve(BezierCurve([[1.0, 0, 0], [2.0, 0, 1.0]]))]:
+        moved = s.transformed(matrix)
+        assert type(moved) is BSplineSurface
+        assert np.array_equal(moved.control_points, s.control_points @ matrix.T)
+
+
+def test_new_surfaces_are_plain_bspline_surfaces():
+    """Every operation that makes a new net gives a plain BSplineSurface (the record
+    would be false or would not match the parametrisation); to_nurbs keeps the object."""
+    s = torus(3.0, 1.0)
+    assert s.to_nurbs() is s
+    made = [s.insert_knot("u", 0.3), s.refine("v", [0.1, 0.2]), s.elevate("u"), s.segment("v", 0.0, 0.5),
+            *s.split("u", 0.5), s.clamped(), s.reversed("u"), s.reversed("v"), s.reparametrized((0, 2), None),
+            s.swapped(), s.bezier_patches()[2][0][0],
+            RevolvedSurface.from_occ_form(*s.occ_form())]
+    for name in ("with_control_points", "moved_pole"):        # the immutable-objects API, where present
+        if hasattr(s, name) and name == "with_control_points":
+            made.append(s.with_control_points(s.control_points * 1.5))
+        elif hasattr(s, name):
+            made.append(s.moved_pole(0, 0, np.ones(3)))
+    assert all(type(m) is BSplineSurface for m in made), [type(m).__name__ for m in made]
+
+
+def test_revolved_surface_errors():
+    s = sphere(1.0)
+    with pytest.raises(CagdError, match="revolution"):
+        RevolvedSurface(s.control_points, 2, 2, s.knots_u, s.knots_v, s.weights, revolution=None)
+    with pytest.raises(CagdError, match="primitive"):
+        RevolvedSurface(s.control_points, 2, 2, s.knots_u, s.knots_v, s.weights, revolution=s.revolution,
+                        primitive="sphere")

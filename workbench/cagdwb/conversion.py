@@ -1,4 +1,5 @@
-"""Engine <-> FreeCAD Part conversion through OCCT's exact B-spline form.
+"""Engine <-> FreeCAD Part conversion through OCCT's exact B-spline form, and FreeCAD's
+own analytic surfaces for the engine's surfaces of revolution.
 
 Engine -> Part: ``geometry.to_nurbs().occ_form()`` gives exactly the arguments of
 ``Part.BSplineCurve().buildFromPolesMultsKnots(poles, mults, knots, periodic,
@@ -8,10 +9,19 @@ umults, vmults, uknots, vknots, uperiodic, vperiodic, udegree, vdegree, weights)
 / getMultiplicities / Degree / isPeriodic into ``BSplineCurve.from_occ_form`` and
 ``BSplineSurface.from_occ_form``; Part Bezier geometry and any other edge or face
 geometry first become B-splines (``toBSpline`` / ``toNurbs``).
+
+A :class:`cagd.RevolvedSurface` (a Revolution object, cagd.sphere, torus, cylinder,
+cone) becomes, unless ``nurbs=True``, a face on Part.Sphere, Part.Toroid,
+Part.Cylinder, Part.Cone or Part.SurfaceOfRevolution of the profile's exact
+B-spline (:func:`analytic_surface`): the same point set as the engine's NURBS form,
+parametrised by the angle (the relation is :meth:`cagd.RevolvedSurface.analytic_parameters`,
+the same as OCCT's in :mod:`cagd.occ.analytic`). Part's Offset and Thickness accept
+those faces; they refuse the NURBS form, whose rational circles have double knots
+that OCCT declares C0.
 """
 from __future__ import annotations
 
-from typing import Union
+from typing import Optional, Tuple, Union
 
 import numpy as np
 
@@ -66,12 +76,52 @@ def surface_to_part(surface: "cagd.Surface") -> "Part.BSplineSurface":
     return bs
 
 
-def to_shape(geometry: EngineGeometry) -> "Part.Shape":
-    """An edge for an engine curve, a face for an engine surface."""
+def analytic_surface(surface: "cagd.Surface") -> Optional[Tuple[object, Tuple[float, float, float, float], bool]]:
+    """(Part surface, (U0, U1, V0, V1), reversed) for a :class:`cagd.RevolvedSurface`,
+    else None: Part.Sphere / Toroid / Cylinder / Cone of its primitive record, placed
+    in the record's right-handed frame (x_direction, axis x x_direction, axis), or
+    Part.SurfaceOfRevolution of the profile's exact B-spline; the bounds are the
+    engine's range on it, and ``reversed`` says that the surface's own normal is the
+    opposite of the engine's S_u x S_v (a face on it must be reversed)."""
+    if not isinstance(surface, cagd.RevolvedSurface):
+        return None
+    p = surface.primitive
+    if p is None:
+        r = surface.revolution
+        geom = Part.SurfaceOfRevolution(curve_to_part(r.profile), App.Vector(*map(float, r.axis_point)),
+                                        App.Vector(*map(float, r.axis_direction)))
+        return geom, surface.analytic_bounds, True
+    if p.kind == "sphere":
+        geom = Part.Sphere()
+        geom.Radius = p.radius
+    elif p.kind == "torus":
+        geom = Part.Toroid()
+        geom.MajorRadius, geom.MinorRadius = p.radius, p.minor_radius
+    elif p.kind == "cylinder":
+        geom = Part.Cylinder()
+        geom.Radius = p.radius
+    else:
+        geom = Part.Cone()
+        geom.Radius, geom.SemiAngle = p.radius, p.semi_angle
+    frame = np.column_stack([p.x_direction, p.y_direction, p.axis, p.center])
+    geom.transform(App.Matrix(*map(float, frame.ravel()), 0.0, 0.0, 0.0, 1.0))
+    return geom, p.analytic_bounds, p.turn < 0
+
+
+def to_shape(geometry: EngineGeometry, nurbs: bool = False) -> "Part.Shape":
+    """An edge for an engine curve, a face for an engine surface: the face of its
+    exact B-spline, or for a surface of revolution with a construction record the
+    face of FreeCAD's analytic surface (:func:`analytic_surface`), oriented so that
+    its normal is the engine's, unless ``nurbs=True``."""
     if isinstance(geometry, cagd.Curve):
         return curve_to_part(geometry).toShape()
     if isinstance(geometry, cagd.Surface):
-        return surface_to_part(geometry).toShape()
+        form = None if nurbs else analytic_surface(geometry)
+        if form is None:
+            return surface_to_part(geometry).toShape()
+        geom, bounds, reversed_ = form
+        face = geom.toShape(*bounds)
+        return face.reversed() if reversed_ else face
     raise TypeError(f"geometry: expected a cagd Curve or Surface, got {type(geometry).__name__}")
 
 

@@ -7,6 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
+import FreeCAD as App
 import Part
 
 from .conversion import cagd
@@ -65,18 +66,35 @@ def surface_params(surface: "cagd.Surface", count: int = 9):
     return U.ravel(), W.ravel()
 
 
+def face_parameters(surface: "cagd.Surface", face, U: np.ndarray, W: np.ndarray):
+    """(the face's surface parameters matching the engine's (U, W), the sign taking
+    its surface normal to the face's): the same parameters and +1 on a B-spline or
+    Bezier face (the engine's own parametrisation); on an analytic face (Part.Sphere,
+    ..., Part.SurfaceOfRevolution) the projections of the engine's points
+    (Surface.parameter) and the face's orientation: the analytic parametrisation is
+    the angle (:meth:`cagd.RevolvedSurface.analytic_parameters` for the workbench's
+    own faces; a STEP or IGES round trip may turn it round), so the comparison is of
+    point sets and face normals there."""
+    if isinstance(face.Surface, (Part.BSplineSurface, Part.BezierSurface)):
+        return U, W, 1.0
+    geom = face.Surface
+    found = np.array([geom.parameter(App.Vector(*map(float, p))) for p in np.atleast_2d(surface(U, W))])
+    return found[:, 0], found[:, 1], -1.0 if face.Orientation == "Reversed" else 1.0
+
+
 def compare_face(surface: "cagd.Surface", face, count: int = 9) -> dict:
     """Relative deviation of the face's surface points (and unit normals away from
-    degenerate points) from the engine's S(u, v), n(u, v) at the same (u, v); a
-    Bezier triangle is compared through its NURBS (collapsed-edge) form, every other
-    surface directly (so the engine's own evaluation, e.g. of a Coons patch, is the
-    reference)."""
+    degenerate points) from the engine's S(u, v), n(u, v) at the matching parameters
+    (:func:`face_parameters`); a Bezier triangle is compared through its NURBS
+    (collapsed-edge) form, every other surface directly (so the engine's own
+    evaluation, e.g. of a Coons patch, is the reference)."""
     nurbs = surface.to_nurbs()
     src = surface if getattr(surface, "rectangular", True) else nurbs
     U, W = surface_params(nurbs, count)
     ref = np.atleast_2d(src(U, W))
     geom = face.Surface
-    got = np.array([tuple(geom.value(float(u), float(v))) for u, v in zip(U, W)])
+    FU, FW, sign = face_parameters(surface, face, U, W)
+    got = np.array([tuple(geom.value(float(u), float(v))) for u, v in zip(FU, FW)])
     out = {"points": relative_deviation(ref, got)}
     normal_dev = 0.0
     d = src.derivatives(U, W, 1, 1)
@@ -84,9 +102,9 @@ def compare_face(surface: "cagd.Surface", face, count: int = 9) -> dict:
     length = np.linalg.norm(cross, axis=-1)
     (u0, u1), (v0, v1) = nurbs.domain
     floor = 1e-6 * nurbs.size ** 2 / ((u1 - u0) * (v1 - v0))     # away from degenerate points
-    for u, v, n, ok in zip(U, W, cross / np.maximum(length, 1e-300)[:, None], length > floor):
+    for u, v, n, ok in zip(FU, FW, cross / np.maximum(length, 1e-300)[:, None], length > floor):
         if ok:
-            m = np.array(tuple(geom.normal(float(u), float(v))))
+            m = sign * np.array(tuple(geom.normal(float(u), float(v))))
             normal_dev = max(normal_dev, float(np.abs(m - n).max()))
     out["normals"] = normal_dev
     return out

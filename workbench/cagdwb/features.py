@@ -121,7 +121,7 @@ class Feature(Stateless):
         try:
             geometry = self.build(obj)
             self.check_not_a_point(geometry)
-            shape = conversion.to_shape(geometry)
+            shape = conversion.to_shape(geometry, nurbs=bool(getattr(obj, "Nurbs", False)))
             if shape.isNull() or not shape.isValid():
                 raise cagd.CagdError("the engine's result does not make a valid OpenCascade shape "
                                      "(check for coincident poles or a degenerate net)")
@@ -162,8 +162,12 @@ class Feature(Stateless):
             surface = face.Surface
             if isinstance(surface, (Part.BSplineSurface, Part.BezierSurface)):
                 net = surface.getPoles()
-                lines.extend(list(row) for row in net)
-                lines.extend([row[j] for row in net] for j in range(len(net[0])))
+            else:                         # an analytic face: the net of the engine's exact NURBS form
+                place = obj.Placement
+                net = [[place.multVec(p) for p in row] for row in
+                       conversion.vectors(self.build(obj).to_nurbs().control_points)]
+            lines.extend(list(row) for row in net)
+            lines.extend([row[j] for row in net] for j in range(len(net[0])))
         return lines
 
 

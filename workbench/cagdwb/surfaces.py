@@ -1,9 +1,14 @@
 """Parametric surface objects: Bezier and B-spline surfaces from a point grid, Coons
-patch from four linked edges, Bezier triangle and surface of revolution.
+patch from four linked edges, Bezier triangle, surface of revolution and the
+primitives (sphere, torus, cylinder, cone).
 
 Each proxy makes one engine object (cagd.BezierSurface, cagd.BSplineSurface,
-cagd.interpolate_surface, cagd.CoonsPatch, cagd.BezierTriangle, cagd.revolve); the
-shape is the face of its exact B-spline form.
+cagd.interpolate_surface, cagd.CoonsPatch, cagd.BezierTriangle, cagd.revolve,
+cagd.sphere / torus / cylinder / cone); the shape is the face of its exact B-spline
+form, except for the revolution and the primitives: FreeCAD's own analytic surface
+(Part.SurfaceOfRevolution of the profile's exact B-spline, Part.Sphere, ...), the
+same surface, which Part's Offset and Thickness accept; their ``Nurbs`` property
+gives the exact NURBS face instead (see conversion.analytic_surface).
 """
 from __future__ import annotations
 
@@ -16,7 +21,7 @@ import FreeCAD as App
 
 from . import conversion
 from .conversion import cagd
-from .features import Feature, add, grid, linked_edge, linked_edges, make, vector, weights_or_none
+from .features import Feature, add, add_enum, grid, linked_edge, linked_edges, make, vector, weights_or_none
 
 V = App.Vector
 
@@ -162,8 +167,13 @@ class BezierTriangle(Feature):
         return lines
 
 
+NURBS_DOC = ("The face holds the engine's exact NURBS form (the engine's parametrisation) instead of "
+             "FreeCAD's analytic surface (the same surface, by angle), which Part Offset / Thickness need")
+
+
 class Revolution(Feature):
-    """Surface of revolution of a linked profile edge about an axis (Piegl & Tiller A8.1)."""
+    """Surface of revolution of a linked profile edge about an axis (Piegl & Tiller A8.1);
+    the face is Part.SurfaceOfRevolution of the profile's exact B-spline unless Nurbs."""
 
     TYPE = "Cagd::Revolution"
     DEFAULT_LABEL = "Revolution"
@@ -176,11 +186,46 @@ class Revolution(Feature):
         add(obj, "Vector", "AxisDirection", "Revolution", "Axis direction", V(0, 0, 1))
         add(obj, "Angle", "Angle", "Revolution", "Sweep angle, (0, 360] degrees", 360.0)
         add(obj, "Angle", "StartAngle", "Revolution", "Start angle in degrees", 0.0)
+        add(obj, "Bool", "Nurbs", "Revolution", NURBS_DOC, False)
 
     def build(self, obj):
         profile = conversion.edge_to_curve(linked_edge(obj.Profile, "Profile"))
         return cagd.revolve(profile, vector(obj.AxisPoint), vector(obj.AxisDirection),
                             math.radians(float(obj.Angle)), math.radians(float(obj.StartAngle)))
+
+
+PRIMITIVE_KINDS = ("Sphere", "Torus", "Cylinder", "Cone")
+
+
+class Primitive(Feature):
+    """Sphere, torus, cylinder or cone of the engine (cagd.sphere, torus, cylinder,
+    cone: exact NURBS surfaces of revolution about the local z axis, placed by the
+    Placement); the face is Part.Sphere / Toroid / Cylinder / Cone unless Nurbs."""
+
+    TYPE = "Cagd::Primitive"
+    DEFAULT_LABEL = "Primitive"
+    POINTS = "Radius"
+
+    def setup(self, obj) -> None:
+        add_enum(obj, "Kind", "Primitive", "Sphere, Torus, Cylinder or Cone", PRIMITIVE_KINDS, "Sphere")
+        add(obj, "Length", "Radius", "Primitive",
+            "Radius (sphere, cylinder; base radius of the cone; major radius of the torus)", 10.0)
+        add(obj, "Length", "MinorRadius", "Primitive", "Tube radius of the torus", 3.0)
+        add(obj, "Length", "Height", "Primitive", "Height of the cylinder or cone (apex up)", 20.0)
+        add(obj, "Bool", "Nurbs", "Primitive", NURBS_DOC, False)
+
+    def build(self, obj):
+        kind = str(obj.Kind)
+        used = ("Radius",) + {"Sphere": (), "Torus": ("MinorRadius",)}.get(kind, ("Height",))
+        for name in used:                      # named by property (the engine says radius, R, r, height)
+            if not float(getattr(obj, name)) > 0.0:
+                raise cagd.CagdError(f"{name}: must be positive, got {float(getattr(obj, name)):g}")
+        r = float(obj.Radius)
+        if kind == "Sphere":
+            return cagd.sphere(r)
+        if kind == "Torus":
+            return cagd.torus(r, float(obj.MinorRadius))
+        return (cagd.cylinder if kind == "Cylinder" else cagd.cone)(r, float(obj.Height))
 
 
 # --- creation helpers -----------------------------------------------------------------------
@@ -204,6 +249,11 @@ def make_bezier_triangle(poles=None, weights=None, doc=None):
 def make_revolution(profile, doc=None, **values):
     """``profile``: (object, 'EdgeN')."""
     return _make(Revolution, doc, Profile=profile, **values)
+
+
+def make_primitive(kind: str = "Sphere", doc=None, **values):
+    """``kind``: Sphere, Torus, Cylinder or Cone; ``values``: Radius, MinorRadius, Height, Nurbs."""
+    return _make(Primitive, doc, Kind=kind, **values)
 
 
 def _make(cls, doc, **values):

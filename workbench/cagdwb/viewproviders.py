@@ -22,6 +22,7 @@ ICONS = {
     "Cagd::HermiteCurve": "HermiteCurve", "Cagd::JoinCurve": "Join", "Cagd::BezierSurface": "BezierSurface",
     "Cagd::BSplineSurface": "BSplineSurface", "Cagd::CoonsPatch": "CoonsPatch",
     "Cagd::BezierTriangle": "BezierTriangle", "Cagd::Revolution": "Revolution",
+    "Cagd::Primitive": "Revolution",
     "Cagd::IntersectionCurve": "IntersectionCurve", "Cagd::DeviationMap": "DeviationMap",
 }
 COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples

@@ -1,9 +1,12 @@
 """Headless cases: every parametric object type (see headless_suite.py)."""
+import math
+
 import FreeCAD as App
+import numpy as np
 import Part
 
-from suite_support import (V, analysis, case, check, compare, curves, expect_error, exported, new_doc,
-                           recompute_ok, standard, surfaces)
+from suite_support import (TOL, V, analysis, case, check, compare, curves, exchange, expect_error, exported,
+                           new_doc, note, recompute_ok, standard, surfaces)
 
 
 # --- parametric objects ---------------------------------------------------------------------
@@ -293,6 +296,109 @@ def test_analytic_and_trimmed_edges():
             vv = s.bounds()[2] + v * (s.bounds()[3] - s.bounds()[2])
             check(abs(s.value(uu, vv).Length - 8.0) < 1e-9, "revolved half circle is not a sphere")
     exported(sphere, compare(sphere))
+
+
+# --- analytic faces of the engine's surfaces of revolution: Part's offsets accept them ------
+def _refused_as_nurbs(obj):
+    """With Nurbs the face is the exact B-spline (the engine's parametrisation), which
+    Part's offset refuses (the rational circle's double knots: C0 to OCCT)."""
+    obj.Nurbs = True
+    recompute_ok(obj)
+    compare(obj)
+    face = obj.Shape.Faces[0]
+    check(isinstance(face.Surface, Part.BSplineSurface), f"{obj.Label}: Nurbs face is {type(face.Surface).__name__}")
+    try:
+        face.makeOffsetShape(0.5, 1e-7)
+    except Part.OCCError:
+        pass
+    else:
+        raise AssertionError(f"{obj.Label}: OCCT offset the NURBS form (expected it to refuse the C0 knots)")
+    obj.Nurbs = False
+    recompute_ok(obj)
+
+
+def _angle_relation(obj):
+    """The face's surface at analytic_parameters(u, v) is the engine's S(u, v)."""
+    geom = obj.Proxy.build(obj)
+    (u0, u1), (v0, v1) = geom.domain
+    u, v = np.meshgrid(np.linspace(u0, u1, 7), np.linspace(v0, v1, 9), indexing="ij")
+    U, W = geom.analytic_parameters(u.ravel(), v.ravel())
+    surface = obj.Shape.Faces[0].Surface
+    got = np.array([tuple(surface.value(float(a), float(b))) for a, b in zip(U, W)])
+    dev = note("freecad", exchange.relative_deviation(geom(u.ravel(), v.ravel()), got), obj.Label)
+    check(dev <= TOL, f"{obj.Label}: the angle relation is off by {dev:.3g}")
+
+
+@case
+def test_primitives_are_analytic_and_thicken():
+    """Sphere, torus, cylinder and cone objects hold Part.Sphere / Toroid / Cylinder /
+    Cone faces equal to the engine surface (compare: the angle relation), through the
+    edit / bad value / STEP and IGES cycle; Part's offset thickens them: the sphere's
+    and torus's walls (offset face, the solid between) 4/3 pi ((r+t)^3 - r^3) and
+    2 pi^2 R ((r+t)^2 - r^2), the cylinder's tube (Offset with fill) and cup (Part
+    Thickness of the capped cylinder, top removed), 1e-6 relative."""
+    doc = new_doc("primitives")
+    r, t, R, h = 8.0, 0.5, 20.0, 30.0
+    kinds = {"Sphere": Part.Sphere, "Torus": Part.Toroid, "Cylinder": Part.Cylinder, "Cone": Part.Cone}
+    objs = {}
+    for kind, part_type in kinds.items():
+        obj = surfaces.make_primitive(kind, doc=doc, Radius=R if kind == "Torus" else r, MinorRadius=r, Height=h)
+        standard(obj, lambda o: setattr(o, "Radius", o.Radius * 1.5), lambda o: setattr(o, "Radius", 0.0),
+                 ["radius"], lambda o: setattr(o, "Radius", R if kind == "Torus" else r))
+        face = obj.Shape.Faces[0]
+        check(isinstance(face.Surface, part_type), f"{kind}: face on {type(face.Surface).__name__}")
+        check(len(obj.Proxy.control_net(obj)) > 0, f"{kind}: no control net (the engine's NURBS net)")
+        _angle_relation(obj)
+        objs[kind] = obj
+    _refused_as_nurbs(objs["Sphere"])
+    for kind, closed_form in (("Sphere", 4 / 3 * math.pi * ((r + t) ** 3 - r ** 3)),
+                              ("Torus", 2 * math.pi ** 2 * R * ((r + t) ** 2 - r ** 2))):
+        face = objs[kind].Shape.Faces[0]
+        outer = face.makeOffsetShape(t, 1e-7)
+        check(isinstance(outer.Faces[0].Surface, kinds[kind]), f"{kind}: offset is {outer.Faces[0].Surface}")
+        wall = Part.Solid(Part.Shell(outer.Faces)).cut(Part.Solid(Part.Shell([face])))
+        check(wall.isValid() and len(wall.Solids) == 1, f"{kind}: wall not a valid solid")
+        check(abs(wall.Volume - closed_form) <= 1e-6 * closed_form, f"{kind} wall: {wall.Volume} != {closed_form}")
+    side = objs["Cylinder"].Shape.Faces[0]
+    tube = side.makeOffsetShape(t, 1e-7, fill=True)
+    exact = math.pi * ((r + t) ** 2 - r ** 2) * h
+    check(tube.isValid() and abs(tube.Volume - exact) <= 1e-6 * exact, f"tube: {tube.Volume} != {exact}")
+    caps = [Part.Face(Part.Wire([e])) for e in side.Edges if isinstance(e.Curve, Part.Circle)]
+    closed = Part.Solid(Part.Shell([side] + caps))
+    closed.fix(1e-7, 1e-7, 1e-7)                         # the caps' orientation
+    check(closed.isValid() and abs(closed.Volume - math.pi * r * r * h) <= 1e-9 * closed.Volume, "capped cylinder")
+    holder = doc.addObject("Part::Feature", "Capped")
+    holder.Shape = closed
+    top = next(f"Face{i}" for i, f in enumerate(closed.Faces, 1)
+               if isinstance(f.Surface, Part.Plane) and abs(f.CenterOfMass.z - h) < 1e-9)
+    cup = doc.addObject("Part::Thickness", "Cup")
+    cup.Faces, cup.Value = (holder, [top]), -t
+    doc.recompute()
+    exact = math.pi * (r * r * h - (r - t) ** 2 * (h - t))
+    check(cup.isValid() and cup.Shape.isValid(), f"Part Thickness failed: {cup.getStatusString()}")
+    check(abs(cup.Shape.Volume - exact) <= 1e-6 * exact, f"cup: {cup.Shape.Volume} != {exact}")
+
+
+@case
+def test_revolution_face_thickens():
+    """A Revolution holds Part.SurfaceOfRevolution of the profile's exact B-spline;
+    the revolved segment parallel to the axis (a cylinder wall, its normal towards the
+    axis: the profile runs along it) thickens by Part's Offset with fill into the tube
+    pi (r^2 - (r - t)^2) h; the NURBS form is refused."""
+    doc = new_doc("revolution_offset")
+    r, h, t = 5.0, 10.0, 0.5
+    profile = curves.make_bspline_curve([V(r, 0, 0), V(r, 0, h)], degree=1, doc=doc)
+    doc.recompute()
+    obj = surfaces.make_revolution((profile, "Edge1"), doc=doc)
+    recompute_ok(obj)
+    compare(obj)
+    _angle_relation(obj)
+    face = obj.Shape.Faces[0]
+    check(isinstance(face.Surface, Part.SurfaceOfRevolution), f"revolution face on {type(face.Surface).__name__}")
+    tube = face.makeOffsetShape(t, 1e-7, fill=True)
+    exact = math.pi * (r ** 2 - (r - t) ** 2) * h
+    check(tube.isValid() and abs(tube.Volume - exact) <= 1e-6 * exact, f"tube: {tube.Volume} != {exact}")
+    _refused_as_nurbs(obj)
 
 
 # --- review fixes: links and placement, error messages, Coons loop --------------------------
