@@ -33,13 +33,13 @@ from ._symmetry import FIT_RTOL, Flat, fit_flats, flat_gap
 
 ISOLATION_RTOL = 1e-6     # degenerate: growth of |A - B|^2 below this share of the curvature terms
 HESSIAN_FLOOR = 1e-12     # ... or below this share of the squared lengths moved (rounding level)
+COLLAPSED_RTOL = 1e-16    # parameter directions moving a point by under 1e-8 of the fastest one do not move it
 STATIONARY_RTOL = 1e-8    # |dA.r| <= this * |dA| |r|: the parameter is stationary (r normal to A)
 NORMAL_RTOL = 1e-12       # ... and for a normal line to feed the fit (its angle error, radians)
 FIT_WINDOW = 1e-10        # minima within min(tol, FIT_WINDOW * size) of the best feed the fit
 POOL_SIZE = 64            # normal lines kept for the fit
 MAX_FLATS = 4             # centres and axes tried per call
 ANISOTROPY = 1e-3         # a patch is halved one way only where its phi coefficients vary this much less the other way
-EDGE_RTOL = 1e-12         # a parameter this close (share of the domain) to a bound is on it
 _PHI4 = 1.1673039782614187   # x^5 = x + 1: the spread starts' fractions j / _PHI4^i mod 1 in their pairs'
 _SPREAD = _PHI4 ** -np.arange(1.0, 5.0)  # boxes, i = 1..4 over the parameters (Roberts' R_4 sequence)
 
@@ -159,25 +159,23 @@ def _isolated(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, touc
     """Whether the minimum at (x, y) is non-degenerate (see :class:`DistanceResult`):
     the smallest eigenvalue of the Hessian J J^T + S of |A - B|^2 / 2 over the free
     parameters, in the metric G of the points' displacements (|dA|^2 + |dB|^2), exceeds
-    ISOLATION_RTOL |S|_G + HESSIAN_FLOOR; where the objects are ``touching`` (distance
-    <= tol) and that fails, the order of contact decides (:func:`_point_contact`)."""
+    ISOLATION_RTOL |S|_G + HESSIAN_FLOOR. A parameter is held (not free) where the
+    gradient along it is not zero (STATIONARY_RTOL): at a minimum that is a domain bound
+    or a crease (a seam closed only C0), where the distance grows at first order; and
+    directions that do not move the points (COLLAPSED_RTOL: along a pole, at a point
+    where a surface's partials are parallel) are left out. Where the objects are
+    ``touching`` (distance <= tol: no gradient to tell) no parameter is held by its
+    gradient and, if the Hessian is flat, the order of contact decides
+    (:func:`_point_contact`)."""
     r, J, T, S = (v[0] for v in _jet(A, B, x[None], y[None], 2))
-    z = np.concatenate([x, y])
-    lo, hi = np.concatenate([A.lo, B.lo]), np.concatenate([A.hi, B.hi])
-    open_ = ~np.concatenate([A.closed, B.closed])
-    g = J @ r
-    moving = ~_stationary(r[None], J[None])[0]
-    edge = EDGE_RTOL * (hi - lo)
-    held = open_ & moving & (((z <= lo + edge) & (g > 0)) | ((z >= hi - edge) & (g < 0)))
-    speed = np.linalg.norm(J, axis=1)
-    owner = np.r_[np.zeros(A.k, int), np.ones(B.k, int)]
-    held |= speed <= 1e-8 * np.bincount(owner, speed)[owner]          # a collapsed edge (pole)
-    free = np.flatnonzero(~held)
-    if free.size == 0:
-        return True
+    free = np.arange(len(J)) if touching else np.flatnonzero(_stationary(r[None], J[None])[0])
+    owner = np.r_[np.zeros(A.k, int), np.ones(B.k, int)][free]
     Jf = J[free]
-    lam, U = np.linalg.eigh((Jf @ Jf.T) * (owner[free][:, None] == owner[free][None, :]))
-    Linv = U.T / np.sqrt(np.maximum(lam, 1e-14 * lam.max() + 1e-300))[:, None]   # G^(-1/2) up to a rotation
+    lam, U = np.linalg.eigh((Jf @ Jf.T) * (owner[:, None] == owner[None, :]))
+    moves = lam > COLLAPSED_RTOL * max(float(lam.max(initial=0.0)), 1e-300)   # not along a pole or
+    if not moves.any():                                                     # a degenerate point
+        return True
+    Linv = U[:, moves].T / np.sqrt(lam[moves])[:, None]       # G^(-1/2) on the directions that move a point
     Sn = Linv @ S[np.ix_(free, free)] @ Linv.T
     lam, V = np.linalg.eigh(Linv @ Jf @ Jf.T @ Linv.T + Sn)
     flat = lam <= ISOLATION_RTOL * float(np.abs(np.linalg.eigvalsh(Sn)).max()) + HESSIAN_FLOOR
