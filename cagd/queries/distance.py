@@ -33,6 +33,7 @@ from ._symmetry import FIT_RTOL, Flat, fit_flats, flat_gap
 
 ISOLATION_RTOL = 1e-6     # degenerate: growth of |A - B|^2 below this share of the curvature terms
 HESSIAN_FLOOR = 1e-12     # ... or below this share of the squared lengths moved (rounding level)
+TOUCH_RTOL = 1e-12        # objects closer than this share of their size touch (the contact order decides)
 COLLAPSED_RTOL = 1e-16    # parameter directions moving a point by under 1e-8 of the fastest one do not move it
 STATIONARY_RTOL = 1e-8    # |dA.r| <= this * |dA| |r|: the parameter is stationary (r normal to A)
 NORMAL_RTOL = 1e-12       # ... and for a normal line to feed the fit (its angle error, radians)
@@ -53,21 +54,24 @@ class DistanceResult:
     within the depth/pair limits (``message`` says which).
 
     ``isolated`` is False when the minimum found is not isolated to second order: along
-    some direction of the free parameters (those not held at a domain bound, where a
-    seam is no bound, nor at a collapsed edge such as a pole) |A(s) - B(t)|^2 grows by
-    at most ISOLATION_RTOL (1e-6) of what the curvature terms alone would give, plus
-    HESSIAN_FLOOR (1e-12) times |dA|^2 + |dB|^2, the squared lengths the two points
-    move: the Hessian of |A - B|^2 / 2 over those parameters, in the metric of the
-    points' displacements, has a zero eigenvalue. The minimum distance is then attained
-    along a curve or a region of parameter pairs through ``params``, which is one of
-    them: concentric spheres or arcs, coaxial cylinders, parallel planes, a torus and a
-    sphere at its centre (or a nearly concentric case the test cannot tell apart at
-    that precision). Where the objects touch (distance <= ``tol``) and that Hessian is
-    flat, the order of contact decides: a touch at one point (a sphere on a plane or on
-    a sphere) is isolated, a line of contact (a cylinder on a plane) or surfaces crossing
-    along a curve are not. Separate minima of equal distance (two spheres placed
-    symmetrically about a third, a circle inside a concentric ellipse) are isolated:
-    each is a strict local minimum, and ``params`` is one of them."""
+    some direction of the free parameters (those along which the distance is
+    stationary, so not held at a domain bound or a C0 seam, less the directions that
+    move neither point, along a pole) |A(s) - B(t)|^2 grows by at most ISOLATION_RTOL
+    (1e-6) of what the curvature terms alone would give, plus HESSIAN_FLOOR (1e-12)
+    times |dA|^2 + |dB|^2, the squared lengths the two points move; that is, the
+    Hessian of |A - B|^2 / 2 over those parameters, in the metric of the points'
+    displacements, has a zero eigenvalue. The minimum distance is then attained along a
+    curve or a region of parameter pairs through ``params``, which is one of them:
+    concentric spheres or arcs, coaxial cylinders, parallel planes, a torus and a
+    sphere at its centre (or a nearly concentric case that the test cannot tell apart
+    at that precision). Where the objects touch (distance <= TOUCH_RTOL = 1e-12 of
+    their size) and that Hessian is flat, the order of contact decides, with the domain
+    bounds left out: a touch at one point (a sphere on a plane or on a sphere) is
+    isolated, a line of contact (a cylinder on a plane) or surfaces crossing along a
+    curve are not (nor is an edge resting on a surface). Separate minima of equal
+    distance (two spheres placed symmetrically about a third, a circle inside a
+    concentric ellipse) are isolated: each is a strict local minimum, and ``params`` is
+    one of them."""
     distance: float
     params: tuple
     points: tuple
@@ -164,7 +168,7 @@ def _isolated(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, touc
     or a crease (a seam closed only C0), where the distance grows at first order; and
     directions that do not move the points (COLLAPSED_RTOL: along a pole, at a point
     where a surface's partials are parallel) are left out. Where the objects are
-    ``touching`` (distance <= tol: no gradient to tell) no parameter is held by its
+    ``touching`` (distance <= TOUCH_RTOL * size: no gradient to tell) no parameter is held by its
     gradient and, if the Hessian is flat, the order of contact decides
     (:func:`_point_contact`)."""
     r, J, T, S = (v[0] for v in _jet(A, B, x[None], y[None], 2))
@@ -314,7 +318,7 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
             best, bx, by = float(dist[k]), x[k], y[k]
             if best > 0:
                 direction = B.points(by[None])[0] - A.points(bx[None])[0]
-            degenerate = not _isolated(A, B, bx, by, best <= tol)
+            degenerate = not _isolated(A, B, bx, by, best <= TOUCH_RTOL * size)
 
     def learn(x, y, dist):
         """Pool the normal lines of the minima near the best; fit centres and axes to them."""
