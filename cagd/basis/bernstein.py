@@ -48,3 +48,15 @@ def elevation_matrix(n: int, r: int = 1) -> np.ndarray:
         for j in range(max(0, i - r), min(n, i) + 1):
             E[i, j] = comb(n, j) * comb(r, i - j) / comb(n + r, i)
     return E
+
+
+def product_matrix(p: int, q: int) -> np.ndarray:
+    """(p+1, q+1, p+q+1) tensor T of the product of Bernstein polynomials,
+    BEZ_{i,p} BEZ_{j,q} = T[i, j, i+j] BEZ_{i+j,p+q} with T[i, j, i+j] = C(p,i) C(q,j) / C(p+q,i+j)
+    (Farin, Curves and Surfaces for CAGD, 5th ed., 5.10): the product of f = sum f_i BEZ_{i,p}
+    and g = sum g_j BEZ_{j,q} has the coefficients h_k = sum_{i+j=k} T[i, j, k] f_i g_j."""
+    T = np.zeros((p + 1, q + 1, p + q + 1))
+    for i in range(p + 1):
+        for j in range(q + 1):
+            T[i, j, i + j] = comb(p, i) * comb(q, j) / comb(p + q, i + j)
+    return T

@@ -251,21 +251,22 @@ def split(p: Pieces, modes: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
     return Pieces.concat([q[0] for q in parts]), np.concatenate([q[1] for q in parts])
 
 
-def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray
-                ) -> Tuple[Pieces, Pieces, np.ndarray]:
+def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray, modes_a: np.ndarray = None,
+                modes_b: np.ndarray = None) -> Tuple[Pieces, Pieces, np.ndarray]:
     """Children of the pairs (a[i], b[i]): a piece flagged in split_a (split_b) is
-    halved (:func:`split`), the other kept, and every child of a is paired with every
+    halved (:func:`split`, surface patches as ``modes_a`` (``modes_b``) say per pair,
+    default :func:`split_modes`), the other kept, and every child of a is paired with every
     child of b. Returns the new pair arrays and the parent pair index of each new pair."""
-    def children(p, flag):
+    def children(p, flag, modes):
         sel = np.flatnonzero(flag)
         keep = np.flatnonzero(~flag)
-        kids, par = split(p.take(sel))
+        kids, par = split(p.take(sel), None if modes is None else np.asarray(modes)[sel])
         owner = np.concatenate([keep, sel[par]])
         order = np.argsort(owner, kind="stable")
         count = np.bincount(owner, minlength=len(flag))
         return Pieces.concat([p.take(keep), kids]).take(order), np.cumsum(count) - count, count
-    ca, start_a, na = children(a, np.asarray(split_a, bool))
-    cb, start_b, nb = children(b, np.asarray(split_b, bool))
+    ca, start_a, na = children(a, np.asarray(split_a, bool), modes_a)
+    cb, start_b, nb = children(b, np.asarray(split_b, bool), modes_b)
     total = na * nb
     parent = np.repeat(np.arange(len(total)), total)
     k = np.arange(parent.size) - np.repeat(np.cumsum(total) - total, total)

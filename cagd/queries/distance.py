@@ -3,47 +3,91 @@ with a certified lower bound (seed 004, ch. 1 §4, positional relations: minimum
 distance).
 
 Branch and bound over pairs of Bezier pieces (Piegl & Tiller A5.6/A5.7 decomposition,
-de Casteljau halving): a pair's lower bound is the larger of the distance between
-the axis-aligned boxes of the two control hulls and the gap of their projections
-on the current best direction and on the centre-to-centre direction (both valid by
-the convex-hull property, positive weights). Upper bounds come from piece corners
-(points of the objects) and from projected Newton refinement of the most promising
-pairs. Pairs whose lower bound exceeds the best distance are pruned; the smallest
-bound of the pairs still alive (and of any dropped at the pair cap) is reported as
-``lower_bound``, so the true minimum lies in [lower_bound, distance].
+de Casteljau halving): a pair's lower bound is the largest of the distance between
+the axis-aligned boxes of the two control hulls, the gap of their projections on the
+current best direction and on the centre-to-centre direction (all valid by the
+convex-hull property, positive weights) and, once the minimum is found to be
+degenerate, the gap of the distances from a centre or an axis fitted to the common
+normals of the minima (:mod:`cagd.queries._symmetry`; 1-Lipschitz, so valid for any
+centre or axis, and exact along a continuum of minima of concentric, coaxial or
+parallel objects, where box and slab bounds only improve as O(h^2) and no
+subdivision could reach 1e-9). Upper bounds come from piece corners (points of the
+objects) and from projected Newton refinement of the most promising pairs (and, at a
+degenerate minimum, of pairs spread over those alive). A pair whose bound is at least
+the best distance minus ``tol`` cannot hold a point closer by more than ``tol``: it is
+settled, not split; the smallest bound of the pairs alive, settled or dropped at the
+pair cap is reported as ``lower_bound``, so the true minimum lies in
+[lower_bound, distance].
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
 from .. import _checks
 from ..errors import CagdError
 from . import _subdivision as sd
+from ._symmetry import FIT_RTOL, Flat, fit_flats, flat_gap
+
+ISOLATION_RTOL = 1e-6     # degenerate: growth of |A - B|^2 below this share of the curvature terms
+HESSIAN_FLOOR = 1e-12     # ... or below this share of the squared lengths moved (rounding level)
+TOUCH_RTOL = 1e-12        # objects closer than this share of their size touch (the contact order decides)
+COLLAPSED_RTOL = 1e-16    # parameter directions moving a point by under 1e-8 of the fastest one do not move it
+STATIONARY_RTOL = 1e-8    # |dA.r| <= this * |dA| |r|: the parameter is stationary (r normal to A)
+NORMAL_RTOL = 1e-12       # ... and for a normal line to feed the fit (its angle error, radians)
+FIT_WINDOW = 1e-10        # minima within min(tol, FIT_WINDOW * size) of the best feed the fit
+POOL_SIZE = 64            # normal lines kept for the fit
+MAX_FLATS = 4             # centres and axes tried per call
+ANISOTROPY = 1e-3         # a patch is halved one way only where its phi coefficients vary this much less the other way
+_PHI4 = 1.1673039782614187   # x^5 = x + 1: the spread starts' fractions j / _PHI4^i mod 1 in their pairs'
+_SPREAD = _PHI4 ** -np.arange(1.0, 5.0)  # boxes, i = 1..4 over the parameters (Roberts' R_4 sequence)
 
 
-@dataclass
+@dataclass(frozen=True)
 class DistanceResult:
     """``distance`` attained at ``params`` = (parameter on a, parameter on b) and
     ``points`` = (a point, b point); the global minimum is certified to be at least
-    ``lower_bound``. ``converged`` is False when the gap distance - lower_bound did not
-    reach ``tol`` within the depth/pair limits (``message`` says which)."""
+    ``lower_bound``. ``tol`` is the absolute distance (model units) the gap
+    ``distance - lower_bound`` was to reach; ``converged`` is False when it did not
+    within the depth/pair limits (``message`` says which).
+
+    ``isolated`` is False when the minimum found is not isolated to second order: along
+    some direction of the free parameters (those along which the distance is
+    stationary, so not held at a domain bound or a C0 seam, less the directions that
+    move neither point, along a pole) |A(s) - B(t)|^2 grows by at most ISOLATION_RTOL
+    (1e-6) of what the curvature terms alone would give, plus HESSIAN_FLOOR (1e-12)
+    times |dA|^2 + |dB|^2, the squared lengths the two points move; that is, the
+    Hessian of |A - B|^2 / 2 over those parameters, in the metric of the points'
+    displacements, has a zero eigenvalue. The minimum distance is then attained along a
+    curve or a region of parameter pairs through ``params``, which is one of them:
+    concentric spheres or arcs, coaxial cylinders, parallel planes, a torus and a
+    sphere at its centre (or a nearly concentric case that the test cannot tell apart
+    at that precision). Where the objects touch (distance <= TOUCH_RTOL = 1e-12 of
+    their size) and that Hessian is flat, the order of contact decides, with the domain
+    bounds left out: a touch at one point (a sphere on a plane or on a sphere) is
+    isolated, a line of contact (a cylinder on a plane) or surfaces crossing along a
+    curve are not (nor is an edge resting on a surface). Separate minima of equal
+    distance (two spheres placed symmetrically about a third, a circle inside a
+    concentric ellipse) are isolated: each is a strict local minimum, and ``params`` is
+    one of them."""
     distance: float
     params: tuple
     points: tuple
     lower_bound: float
     tol: float
     converged: bool
+    isolated: bool = True
     message: str = ""
 
     @property
     def gap(self) -> float:
+        """distance - lower_bound: how far the true minimum may lie below ``distance``."""
         return self.distance - self.lower_bound
 
 
-def _corners(ctrl: np.ndarray) -> np.ndarray:
+def _corners(ctrl: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """Corner control points (points of the object: clamped Bezier pieces interpolate
     them) with their local corner parameters in {0, 1}^k."""
     P = sd.project(ctrl)
@@ -53,18 +97,199 @@ def _corners(ctrl: np.ndarray) -> np.ndarray:
             np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]))
 
 
+def _bounds(pa: sd.Pieces, pb: sd.Pieces, direction, flats):
+    """Lower bounds (M,) of the distance within each pair, and how to split each pair:
+    (bound, split_a, split_b, modes_a, modes_b). The larger piece by box diagonal is
+    halved (both when comparable); where a flat gives the bound, the piece with the
+    wider range of phi, across the parameter along which its coefficients vary (a
+    continuum along a parallel of a surface of revolution is halved across it only)."""
+    lo_a, hi_a = sd.boxes(pa.ctrl)
+    lo_b, hi_b = sd.boxes(pb.ctrl)
+    bound = sd.box_gap(lo_a, hi_a, lo_b, hi_b)
+    centre = 0.5 * (lo_b + hi_b) - 0.5 * (lo_a + hi_a)
+    bound = np.maximum(bound, sd.slab_gap(pa.ctrl, pb.ctrl, centre))
+    if direction is not None:
+        bound = np.maximum(bound, sd.slab_gap(pa.ctrl, pb.ctrl, np.broadcast_to(direction, centre.shape)))
+    da, db = np.linalg.norm(hi_a - lo_a, axis=1), np.linalg.norm(hi_b - lo_b, axis=1)
+    split_a, split_b = da >= 0.5 * db, db >= 0.5 * da
+    modes_a = modes_b = None
+    for flat in flats:
+        fg = flat_gap(pa.ctrl, pb.ctrl, flat)
+        wins = fg.gap > bound
+        bound = np.maximum(bound, fg.gap)
+        if wins.any():
+            sa, sb = fg.width_a >= 0.5 * fg.width_b, fg.width_b >= 0.5 * fg.width_a
+            both_exact = ~sa & ~sb
+            split_a = np.where(wins & ~both_exact, sa, split_a)
+            split_b = np.where(wins & ~both_exact, sb, split_b)
+            modes_a = _modes(pa, modes_a, wins, fg.variation_a)
+            modes_b = _modes(pb, modes_b, wins, fg.variation_b)
+    return bound, split_a, split_b, modes_a, modes_b
+
+
+def _modes(p: sd.Pieces, modes, wins: np.ndarray, variation: np.ndarray):
+    """Split modes (:func:`sd.split_modes`) of surface patches, across u only (1) or v
+    only (2) where ``wins`` and the coefficients vary ANISOTROPY times less the other way."""
+    if p.k == 1:
+        return None
+    modes = sd.split_modes(p.ctrl) if modes is None else modes
+    vu, vv = variation[:, 0], variation[:, 1]
+    flat_way = np.where(vv <= ANISOTROPY * vu, 1, np.where(vu <= ANISOTROPY * vv, 2, modes))
+    return np.where(wins, flat_way, modes)
+
+
+def _jet(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, order: int):
+    """r = A(x) - B(y) (N, D), J = d r / d(x, y) (N, k, D) and, if order == 2, the second
+    derivatives T = d2 r (N, k, k, D) and the curvature part S = r . T (N, k, k) of the
+    Hessian J J^T + S of |r|^2 / 2 (else None, None)."""
+    pa, da, ha = A.derivatives(x, order)
+    pb, db, hb = B.derivatives(y, order)
+    r, J = pa - pb, np.concatenate([da, -db], axis=1)
+    if order < 2:
+        return r, J, None, None
+    k, ka = J.shape[1], A.k
+    T = np.zeros((len(r), k, k, r.shape[1]))
+    T[:, :ka, :ka], T[:, ka:, ka:] = ha, -hb
+    return r, J, T, np.einsum("nijd,nd->nij", T, r)
+
+
+def _stationary(r: np.ndarray, J: np.ndarray, rtol: float = STATIONARY_RTOL) -> np.ndarray:
+    """(N, k): r . dr/dz_i is zero to ``rtol`` of |dr/dz_i| |r| (r normal to the object there)."""
+    g = np.einsum("nkd,nd->nk", J, r)
+    return np.abs(g) <= rtol * np.linalg.norm(J, axis=2) * np.linalg.norm(r, axis=1)[:, None]
+
+
+def _isolated(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, touching: bool) -> bool:
+    """Whether the minimum at (x, y) is non-degenerate (see :class:`DistanceResult`):
+    the smallest eigenvalue of the Hessian J J^T + S of |A - B|^2 / 2 over the free
+    parameters, in the metric G of the points' displacements (|dA|^2 + |dB|^2), exceeds
+    ISOLATION_RTOL |S|_G + HESSIAN_FLOOR. A parameter is held (not free) where the
+    gradient along it is not zero (STATIONARY_RTOL): at a minimum that is a domain bound
+    or a crease (a seam closed only C0), where the distance grows at first order; and
+    directions that do not move the points (COLLAPSED_RTOL: along a pole, at a point
+    where a surface's partials are parallel) are left out. Where the objects are
+    ``touching`` (distance <= TOUCH_RTOL * size: no gradient to tell) no parameter is held by its
+    gradient and, if the Hessian is flat, the order of contact decides
+    (:func:`_point_contact`)."""
+    r, J, T, S = (v[0] for v in _jet(A, B, x[None], y[None], 2))
+    free = np.arange(len(J)) if touching else np.flatnonzero(_stationary(r[None], J[None])[0])
+    owner = np.r_[np.zeros(A.k, int), np.ones(B.k, int)][free]
+    Jf = J[free]
+    lam, U = np.linalg.eigh((Jf @ Jf.T) * (owner[:, None] == owner[None, :]))
+    moves = lam > COLLAPSED_RTOL * max(float(lam.max(initial=0.0)), 1e-300)   # not along a pole or
+    if not moves.any():                                                     # a degenerate point
+        return True
+    Linv = U[:, moves].T / np.sqrt(lam[moves])[:, None]       # G^(-1/2) on the directions that move a point
+    Sn = Linv @ S[np.ix_(free, free)] @ Linv.T
+    lam, V = np.linalg.eigh(Linv @ Jf @ Jf.T @ Linv.T + Sn)
+    flat = lam <= ISOLATION_RTOL * float(np.abs(np.linalg.eigvalsh(Sn)).max()) + HESSIAN_FLOOR
+    if not flat.any():
+        return True
+    if not touching:
+        return False
+    Tn = np.einsum("ai,bj,ijd->abd", Linv, Linv, T[np.ix_(free, free)])
+    return _point_contact(Linv @ Jf, Tn, V[:, flat])
+
+
+def _point_contact(M: np.ndarray, T: np.ndarray, N: np.ndarray) -> bool:
+    """At a touch (r = 0), with first derivatives M (k, D) and second derivatives
+    T (k, k, D) of r in metric-normalized parameters and the flat directions N (k, m):
+    the contact is one point when the second-order term Q(v) = P T[v, v] (P: projection
+    across the span of M, the common tangent space) vanishes on no flat direction v:
+    |Q(v)| > ISOLATION_RTOL |T| for m = 1, a definite form on N for m = 2 with one
+    normal direction (a sphere resting on a plane or on a sphere); otherwise the touch is
+    a curve (a cylinder on a plane, surfaces crossing) or more."""
+    U, sv, _ = np.linalg.svd(M.T)
+    rank = int(np.count_nonzero(sv > 1e-6 * max(float(sv.max()), 1e-300)))
+    normals = U[:, rank:]                                     # (D, D - rank)
+    scale = ISOLATION_RTOL * max(float(np.abs(T).max()), 1e-300)
+    Q = np.einsum("ijd,ia,jb,dc->abc", T, N, N, normals)     # (m, m, D - rank)
+    if N.shape[1] == 1:
+        return bool(np.linalg.norm(Q[0, 0]) > scale)
+    if N.shape[1] == 2 and normals.shape[1] == 1:
+        e = np.linalg.eigvalsh(Q[..., 0])
+        return bool(e[0] * e[1] > 0 and np.abs(e).min() > scale)
+    return False
+
+
+def _normal_lines(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, keep: np.ndarray,
+                  steps: int = 3):
+    """Points on a (m, D), unit normals towards b and the mask (N,) of the candidates
+    ``keep`` that are stationary in every parameter to NORMAL_RTOL at a positive
+    distance (r normal to both objects there), after ``steps`` Newton steps on the
+    gradient J r = 0 with the pseudo-inverse of the Hessian (eigenvalues below 1e-8 of
+    the largest dropped: the directions along the continuum). :func:`sd.refine` stops
+    near 1e-9 (relative gradient) on a continuum, where the decrease of |r|^2 that it
+    requires is lost in rounding; a line that far off would miss the centre by 1e-9."""
+    ka = A.k
+    for _ in range(steps):
+        r, J, _, S = _jet(A, B, x, y, 2)
+        g = np.einsum("nkd,nd->nk", J, r)
+        lam, V = np.linalg.eigh(np.einsum("nkd,nld->nkl", J, J) + S)
+        big = np.abs(lam) > 1e-8 * np.abs(lam).max(axis=1, keepdims=True)
+        inv = np.where(big, 1.0 / np.where(big, lam, 1.0), 0.0)
+        step = np.einsum("nkl,nl->nk", V, inv * np.einsum("nlk,nl->nk", V, g))
+        x, y = A.clamp(x - step[:, :ka]), B.clamp(y - step[:, ka:])
+    r, J, _, _ = _jet(A, B, x, y, 1)
+    d = np.linalg.norm(r, axis=1)
+    ok = keep & (d > 0) & np.all(_stationary(r, J, NORMAL_RTOL), axis=1)
+    return A.points(x[ok]), -r[ok] / d[ok, None], ok
+
+
+def _same_flat(f: Flat, g: Flat, size: float) -> bool:
+    return bool(np.abs(f.projector - g.projector).max() <= 1e-9
+                and np.linalg.norm((f.origin - g.origin) @ f.projector) <= 10 * FIT_RTOL * size)
+
+
+def _children(pa: sd.Pieces, pb: sd.Pieces, split_a, split_b, modes_a, modes_b) -> np.ndarray:
+    """Number of child pairs (M,) that :func:`sd.split_pairs` makes of each pair."""
+    def count(p, flag, modes):
+        if p.k == 1:
+            return np.where(flag, 2, 1)
+        modes = sd.split_modes(p.ctrl) if modes is None else modes
+        return np.where(flag, np.where(modes == 0, 4, 2), 1)
+    return count(pa, split_a, modes_a) * count(pb, split_b, modes_b)
+
+
+def _first_pairs(a: sd.Pieces, b: sd.Pieces, max_pairs: int, chunk: int = 1 << 20):
+    """Index pairs (i, j) of the Bezier pieces to start from: all of them, or the
+    ``max_pairs`` whose boxes are nearest, with the smallest box gap of those dropped
+    (inf if none), in row blocks of at most ``chunk`` pairs (bounded memory)."""
+    Ka, Kb = len(a.ctrl), len(b.ctrl)
+    if Ka * Kb <= max_pairs:
+        return np.repeat(np.arange(Ka), Kb), np.tile(np.arange(Kb), Ka), np.inf
+    lo_a, hi_a = sd.boxes(a.ctrl)
+    lo_b, hi_b = sd.boxes(b.ctrl)
+    rows = max(1, chunk // Kb)
+    ia, ib, gap, floor = np.empty(0, int), np.empty(0, int), np.empty(0), np.inf
+    for r in range(0, Ka, rows):
+        i = np.repeat(np.arange(r, min(r + rows, Ka)), Kb)
+        j = np.tile(np.arange(Kb), len(i) // Kb)
+        ia, ib = np.concatenate([ia, i]), np.concatenate([ib, j])
+        gap = np.concatenate([gap, sd.box_gap(lo_a[i], hi_a[i], lo_b[j], hi_b[j])])
+        if len(gap) > max_pairs:
+            order = np.argpartition(gap, max_pairs)
+            floor = min(floor, float(gap[order[max_pairs:]].min()))
+            ia, ib, gap = ia[order[:max_pairs]], ib[order[:max_pairs]], gap[order[:max_pairs]]
+    return ia, ib, floor
+
+
 def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_pairs: int = 20000,
                  refine_per_level: int = 8) -> DistanceResult:
     """The global minimum distance between ``a`` and ``b`` (engine curves or surfaces of
     the same dimension), with a certified lower bound.
 
-    Stops when distance - lower_bound <= ``tol`` (default 1e-9 times the size of the
-    objects), after ``max_depth`` halvings, or when more than ``max_pairs`` pairs are
-    alive (then the pairs with the largest bounds are dropped, their bounds kept in
-    the certificate). Returns a :class:`DistanceResult`.
+    Stops when distance - lower_bound <= ``tol``, an absolute distance in model units
+    (default 1e-9 times the size of the objects), after ``max_depth`` halvings, or when
+    splitting the pairs alive would make more than ``max_pairs`` pairs (then the pairs
+    with the largest bounds are dropped, their bounds kept in the certificate; at most
+    ``max_pairs`` pairs exist at once). ``refine_per_level`` pairs are refined by Newton
+    per level. Returns a :class:`DistanceResult`; a continuum of minima (concentric,
+    coaxial, parallel objects) is certified through a fitted centre or axis and
+    reported with ``isolated=False``.
 
     Raises:
-        CagdError: not curves/surfaces, different dimensions, tol <= 0 or NaN.
+        CagdError: not curves/surfaces, different dimensions, tol <= 0 or NaN, bad limits.
     """
     A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")
     if A.dim != B.dim:
@@ -75,41 +300,71 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
     tol = _checks.positive(tol, "tol")
     max_depth = _checks.integer(max_depth, "max_depth", 0, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
-    Ka, Kb = len(A.pieces.ctrl), len(B.pieces.ctrl)
-    pa = A.pieces.take(np.repeat(np.arange(Ka), Kb))
-    pb = B.pieces.take(np.tile(np.arange(Kb), Ka))
+    refine_per_level = _checks.integer(refine_per_level, "refine_per_level", 1, 4096)
+    ia, ib, floor = _first_pairs(A.pieces, B.pieces, max_pairs)   # floor: bounds of pairs dropped at the cap
+    pa, pb = A.pieces.take(ia), B.pieces.take(ib)
     best, bx, by = np.inf, None, None
-    floor = np.inf                 # smallest bound among pairs dropped at the cap
-    direction = None
-    lower = 0.0
-    message = ""
+    settled = np.inf               # smallest bound among pairs settled (bound >= best - tol)
+    direction, flats, degenerate = None, [], False
+    pool_p, pool_n, pool_d = np.empty((0, A.dim)), np.empty((0, A.dim)), np.empty(0)
+    frac = np.mod(np.arange(1, refine_per_level + 1)[:, None] * _SPREAD[:A.k + B.k], 1.0)
+    spread_a, spread_b = frac[:, :A.k], frac[:, A.k:]
+    message = "" if not np.isfinite(floor) else f"pair cap {max_pairs} reached at the start; pairs beyond it dropped"
+
+    def improve(x, y, dist):
+        nonlocal best, bx, by, direction, degenerate
+        k = int(np.argmin(dist))
+        if dist[k] < best:
+            best, bx, by = float(dist[k]), x[k], y[k]
+            if best > 0:
+                direction = B.points(by[None])[0] - A.points(bx[None])[0]
+            degenerate = not _isolated(A, B, bx, by, best <= TOUCH_RTOL * size)
+
+    def learn(x, y, dist):
+        """Pool the normal lines of the minima near the best; fit centres and axes to them."""
+        nonlocal pool_p, pool_n, pool_d, flats
+        near = min(tol, FIT_WINDOW * size)
+        p, n, ok = _normal_lines(A, B, x, y, dist <= best + near)
+        keep = pool_d <= best + near
+        pool_p = np.concatenate([pool_p[keep], p])[-POOL_SIZE:]
+        pool_n = np.concatenate([pool_n[keep], n])[-POOL_SIZE:]
+        pool_d = np.concatenate([pool_d[keep], dist[ok]])[-POOL_SIZE:]
+        new = [f for f in fit_flats(pool_p, pool_n, size) if not any(_same_flat(f, g, size) for g in flats)]
+        flats = flats + new[:MAX_FLATS - len(flats)]
+
     for depth in range(max_depth + 1):
-        lo_a, hi_a = sd.boxes(pa.ctrl)
-        lo_b, hi_b = sd.boxes(pb.ctrl)
-        bound = sd.box_gap(lo_a, hi_a, lo_b, hi_b)
-        centre = 0.5 * (lo_b + hi_b) - 0.5 * (lo_a + hi_a)
-        bound = np.maximum(bound, sd.slab_gap(pa.ctrl, pb.ctrl, centre))
-        if direction is not None:
-            bound = np.maximum(bound, sd.slab_gap(pa.ctrl, pb.ctrl, np.broadcast_to(direction, centre.shape)))
+        bound, split_a, split_b, modes_a, modes_b = _bounds(pa, pb, direction, flats)
         # upper bounds: corners, then Newton from the most promising pairs
         ca, la = _corners(pa.ctrl)
         cb, lb = _corners(pb.ctrl)
         d = np.linalg.norm(ca[:, :, None] - cb[:, None, :], axis=-1).reshape(len(ca), -1)
         m = int(np.argmin(d.min(axis=1)))
-        if d[m].min() < best:
-            i, j = divmod(int(np.argmin(d[m])), cb.shape[1])
-            bx = pa.lo[m] + la[i] * (pa.hi[m] - pa.lo[m])
-            by = pb.lo[m] + lb[j] * (pb.hi[m] - pb.lo[m])
-            best = float(d[m].min())
+        i, j = divmod(int(np.argmin(d[m])), cb.shape[1])
+        improve((pa.lo[m] + la[i] * (pa.hi[m] - pa.lo[m]))[None], (pb.lo[m] + lb[j] * (pb.hi[m] - pb.lo[m]))[None],
+                d[m, i * cb.shape[1] + j][None])
         pick = np.argsort(bound)[:refine_per_level]
-        x, y, dist, _ = sd.refine(A, B, 0.5 * (pa.lo[pick] + pa.hi[pick]), 0.5 * (pb.lo[pick] + pb.hi[pick]), True, 20)
-        k = int(np.argmin(dist))
-        if dist[k] < best:
-            best, bx, by = float(dist[k]), x[k], y[k]
-        if best > 0:
-            direction = B.points(by[None])[0] - A.points(bx[None])[0]
-        alive = bound <= best
-        lower = min(float(bound[alive].min()) if alive.any() else best, floor, best)
+        xs, ys = 0.5 * (pa.lo[pick] + pa.hi[pick]), 0.5 * (pb.lo[pick] + pb.hi[pick])
+        x, y, dist, _ = sd.refine(A, B, xs, ys, True, 20)
+        improve(x, y, dist)
+        known = len(flats)
+        if degenerate and best > 0:
+            # a continuum of minima: fit a centre or an axis to the normal lines of the minima, at
+            # first also of minima from points spread over the pairs that may hold the minimum
+            learn(x, y, dist)
+            open_ = np.flatnonzero(bound < best - tol)
+            if not flats and open_.size:
+                pick = open_[np.linspace(0, open_.size - 1, refine_per_level).astype(int)]
+                xs = pa.lo[pick] + spread_a * (pa.hi[pick] - pa.lo[pick])
+                ys = pb.lo[pick] + spread_b * (pb.hi[pick] - pb.lo[pick])
+                x, y, dist, _ = sd.refine(A, B, xs, ys, True, 20)
+                improve(x, y, dist)
+                learn(x, y, dist)
+            if len(flats) > known:
+                bound, split_a, split_b, modes_a, modes_b = _bounds(pa, pb, direction, flats)
+        alive = bound < best - tol
+        if not alive.all():
+            settled = min(settled, float(bound[~alive].min()))
+        lower = min(float(bound[alive].min()) if alive.any() else np.inf, floor, settled, best)
         if best - lower <= tol:
             break
         if not alive.any():            # only pairs dropped at the cap could hold a closer point
@@ -121,22 +376,32 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
                        + (f" (and pairs dropped at the cap {max_pairs})" if np.isfinite(floor) else ""))
             break
         go = np.flatnonzero(alive)
-        # split the larger piece of every pair (both when comparable)
-        da = np.linalg.norm(hi_a[go] - lo_a[go], axis=1)
-        db = np.linalg.norm(hi_b[go] - lo_b[go], axis=1)
-        pa, pb, parent = sd.split_pairs(pa.take(go), pb.take(go), da >= 0.5 * db, db >= 0.5 * da)
-        if len(parent) > max_pairs:
-            order = np.argsort(bound[go][parent], kind="stable")
-            floor = min(floor, float(bound[go][parent][order[max_pairs]]))
-            keep = order[:max_pairs]
-            pa, pb = pa.take(keep), pb.take(keep)
+        go = go[np.argsort(bound[go], kind="stable")]          # at most max_pairs children, nearest first
+        modes_a = None if modes_a is None else modes_a[go]
+        modes_b = None if modes_b is None else modes_b[go]
+        count = _children(pa.take(go), pb.take(go), split_a[go], split_b[go], modes_a, modes_b)
+        fits = np.cumsum(count) <= max_pairs
+        if not fits.all():
+            floor = min(floor, float(bound[go[~fits]].min()))
             message = f"pair cap {max_pairs} reached; pairs beyond it dropped with their bounds kept"
+        go = go[fits]
+        pa, pb, _ = sd.split_pairs(pa.take(go), pb.take(go), split_a[go], split_b[go],
+                                   None if modes_a is None else modes_a[fits],
+                                   None if modes_b is None else modes_b[fits])
+    # polish the best point (the Hessian test wants a stationary point)
+    x, y, dist, _ = sd.refine(A, B, bx[None], by[None], True, 20)
+    improve(x, y, dist)
+    lower = min(lower, best)
     converged = best - lower <= tol
     pA, pB = A.points(bx[None])[0], B.points(by[None])[0]
+    pA.flags.writeable = pB.flags.writeable = False
     return DistanceResult(float(np.linalg.norm(pA - pB)), (_param(A, bx), _param(B, by)), (pA, pB),
-                          float(min(lower, best)), tol, bool(converged), "" if converged else message)
+                          float(lower), tol, bool(converged), not degenerate, "" if converged else message)
 
 
 def _param(G: sd.Geometry, x: np.ndarray):
     u = G.user_params(x[None])[0]
-    return float(u) if G.k == 1 else u
+    if G.k == 1:
+        return float(u)
+    u.flags.writeable = False
+    return u

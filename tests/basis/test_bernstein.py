@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from numpy.polynomial import polynomial as npoly
 
 from cagd.basis import (bernstein, bernstein_to_power, bezier_matrix, elevation_matrix,
-                        power_to_bernstein)
+                        power_to_bernstein, product_matrix)
 
 DEGREES = range(0, 16)
 T = np.linspace(0.0, 1.0, 201)
@@ -122,3 +122,15 @@ def test_elevation_matrix_degree_1_to_2():
     """Farin 6.1 worked case: Q = (P0, (P0+P1)/2, P1)."""
     np.testing.assert_allclose(elevation_matrix(1), [[1, 0], [0.5, 0.5], [0, 1]])
     np.testing.assert_allclose(elevation_matrix(2), [[1, 0, 0], [1 / 3, 2 / 3, 0], [0, 2 / 3, 1 / 3], [0, 0, 1]])
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 7), st.integers(0, 7), st.integers(0, 10 ** 6))
+def test_product_matrix_multiplies_bernstein_polynomials(p, q, seed):
+    # (sum f_i B_i,p)(sum g_j B_j,q) = sum h_k B_k,p+q, h = T contracted with f, g (Farin 5.10)
+    rng = np.random.default_rng(seed)
+    f, g = rng.normal(size=p + 1), rng.normal(size=q + 1)
+    h = np.einsum("ijk,i,j->k", product_matrix(p, q), f, g)
+    np.testing.assert_allclose(bernstein(p + q, T) @ h, (bernstein(p, T) @ f) * (bernstein(q, T) @ g),
+                               rtol=0, atol=1e-12 * (1 + np.abs(f).sum() * np.abs(g).sum()))
+    np.testing.assert_allclose(product_matrix(p, q).sum(axis=(0, 1)), 1.0, rtol=1e-14)   # 1 * 1 = 1
