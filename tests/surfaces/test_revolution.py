@@ -406,12 +406,9 @@ def test_new_surfaces_are_plain_bspline_surfaces():
     made = [s.insert_knot("u", 0.3), s.refine("v", [0.1, 0.2]), s.elevate("u"), s.segment("v", 0.0, 0.5),
             *s.split("u", 0.5), s.clamped(), s.reversed("u"), s.reversed("v"), s.reparametrized((0, 2), None),
             s.swapped(), s.bezier_patches()[2][0][0],
-            RevolvedSurface.from_occ_form(*s.occ_form())]
-    for name in ("with_control_points", "moved_pole"):        # the immutable-objects API, where present
-        if hasattr(s, name) and name == "with_control_points":
-            made.append(s.with_control_points(s.control_points * 1.5))
-        elif hasattr(s, name):
-            made.append(s.moved_pole(0, 0, np.ones(3)))
+            RevolvedSurface.from_occ_form(*s.occ_form()),
+            s.with_control_points(s.control_points * 1.5), s.moved_pole((0, 0), np.ones(3)),
+            s.with_control_points(s.control_points), s.with_weights(s.weights * 2.0)]
     assert all(type(m) is BSplineSurface for m in made), [type(m).__name__ for m in made]
 
 
