@@ -12,6 +12,7 @@ from typing import Tuple
 import numpy as np
 
 from .._checks import affine_map, integer, parameters
+from .._periodic import wrap
 from ..errors import CagdError
 
 # Gauss-Legendre rule for arc length (Numerical Recipes 4.6; Piegl & Tiller don't cover this)
@@ -47,7 +48,7 @@ class Curve:
         flat = t.ravel()
         a, b = self.domain
         if self.periodic:
-            flat = a + np.mod(flat - a, b - a)
+            flat = wrap(flat, a, b - a)
         else:
             tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
             if flat.size and (flat.min() < a - tol or flat.max() > b + tol):

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _periodic as periodic
+
 _DECREASE = 1e-15     # relative slack when comparing squared distances (rounding)
 BLOCK = 2             # cells within this many grid steps of x*'s cell are bounded from x*
 
@@ -58,7 +60,7 @@ def _place(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, wrap: np.ndarray, a: n
     (component-first (k, n) arrays; wrap, a, b of shape (k, 1))."""
     out = np.minimum(np.maximum(x, lo), hi)
     if wrap.any():
-        out = np.where(wrap, a + np.mod(x - a, b - a), out)
+        out = np.where(wrap, periodic.wrap(x, a, b - a), out)
     return out
 
 

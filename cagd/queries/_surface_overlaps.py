@@ -10,6 +10,7 @@ from typing import List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
+from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
 
 _N = 5                        # samples per direction on a piece (odd: the centre is one)
@@ -203,11 +204,11 @@ def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.nda
         out = c.copy()
         for j in range(1, n):                                  # the middle row, left to right
             prev = out[m, j - 1]
-            out[m, j] = prev + _wrapdiff(c[m, j] - prev, span[d]) if valid[m, j] else prev
+            out[m, j] = prev + wrapped_difference(c[m, j], prev, span[d]) if valid[m, j] else prev
         for rows in (range(m + 1, n), range(m - 1, -1, -1)):   # then outwards, column by column
             for i in rows:
                 prev = out[i - 1] if i > m else out[i + 1]
-                out[i] = np.where(valid[i], prev + _wrapdiff(c[i] - prev, span[d]), prev)
+                out[i] = np.where(valid[i], prev + wrapped_difference(c[i], prev, span[d]), prev)
         y[..., d] = out
     a, b = y.min(axis=(0, 1)), y.max(axis=(0, 1))
     pick = y[valid] if valid.any() else y.reshape(-1, 2)
@@ -217,13 +218,9 @@ def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.nda
         if b[d] - a[d] >= span[d] * (1 - 1e-9):
             a[d], b[d] = lo[d], hi[d]
         else:
-            shift = np.floor((a[d] - lo[d]) / span[d]) * span[d]
+            shift = a[d] - wrap(a[d], lo[d], span[d])
             a[d], b[d] = a[d] - shift, b[d] - shift
     return a, b
-
-
-def _wrapdiff(d, span):
-    return np.mod(d + span / 2, span) - span / 2
 
 
 def inside(x: np.ndarray, regions_: List[SurfaceOverlap], lo: np.ndarray, hi: np.ndarray,

@@ -32,7 +32,7 @@ import weakref
 
 import numpy as np
 
-from .. import _checks
+from .. import _checks, _periodic as periodic
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
@@ -443,7 +443,7 @@ class Projector:
         y, g2, ok, degenerate = y[good], g2[good], ok[good], degenerate[good]
         order = np.argsort(g2, kind="stable")               # merge duplicates: the closest of
         key = np.round((y[order] - self.domain[:, 0]) / self.width * 1e7).astype(np.int64)   # each 1e-7 bin
-        key = np.where(self.wrap, np.mod(key, 10_000_000), key)
+        key = np.where(self.wrap, periodic.wrap(key, 0, 10_000_000), key)
         _, first = np.unique(key, axis=0, return_index=True)
         chosen = order[np.sort(first)]
         # one row per foot point: a pole is one point for a whole edge of parameters, and

@@ -19,6 +19,7 @@ from typing import List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from .. import _checks
+from .._periodic import wrapped_difference
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
@@ -309,7 +310,7 @@ def _wrapped_delta(G: sd.Geometry, d: np.ndarray) -> np.ndarray:
     """|d| relative to the domain, across the seam in closed directions (periodic, or
     a clamped closed curve whose t = 0 and t = 1 are one point)."""
     span = G.hi - G.lo
-    return np.where(G.closed, np.abs(np.mod(d + span / 2, span) - span / 2), np.abs(d)) / span
+    return np.abs(np.where(G.closed, wrapped_difference(d, 0.0, span), d)) / span
 
 
 def _contact(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -49,6 +49,7 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+from .._periodic import wrap
 from ..errors import CagdError
 from . import _subdivision as sd
 from . import _surface_overlaps as so
@@ -107,7 +108,7 @@ class IntersectionCurve:
             x = pc(t)
             if dom is not None:
                 lo, hi, closed = dom
-                x = np.where(closed, lo + np.mod(x - lo, hi - lo), np.clip(x, lo, hi))
+                x = np.where(closed, wrap(x, lo, hi - lo), np.clip(x, lo, hi))
             out.append(x)
         return out[0], out[1]
 
