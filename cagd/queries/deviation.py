@@ -54,7 +54,8 @@ class Deviation(NamedTuple):
 
 def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional[np.ndarray]:
     """+1/-1 per point from the normal at the foot, None where no side exists (space
-    curves). Degenerate normals (a pole, a collapsed edge) count as +1."""
+    curves). Where the normal is undefined (:meth:`cagd.Surface.normals`: a pole, a
+    collapsed edge) the point counts as +1."""
     if isinstance(obj, Curve):
         if obj.dim != 2:
             return None
@@ -63,9 +64,7 @@ def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional
     else:
         if obj.dim != 3:
             return None
-        u, v = params[:, 0], params[:, 1]
-        d = obj.derivatives(u, v, 1, 1)
-        normal = np.cross(d[1, 0], d[0, 1])
+        normal, _ = obj.normals(params[:, 0], params[:, 1])      # zero where undefined
     s = np.sign(np.einsum("nd,nd->n", X - feet, normal))
     return np.where(s == 0, 1.0, s)
 
