@@ -23,6 +23,7 @@ from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPa
                        EdgeContinuityReport, edge_continuity, interpolate_surface)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
+from .analysis import CurvatureComb, curvature_comb
 
 __version__ = "0.1.0"
 __all__ = [
@@ -36,4 +37,5 @@ __all__ = [
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
     "EdgeContinuityReport", "edge_continuity", "interpolate_surface",
     "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",
+    "CurvatureComb", "curvature_comb",
 ]

@@ -83,23 +83,21 @@ def check_shapes(shape1, shape2, tol: float = 1e-9) -> JointCheck:
     raise cagd.CagdError(f"selection: need two edges or two faces, got {kinds[0]} and {kinds[1]}")
 
 
+def _comb(edge, samples: int):
+    """The engine's curvature comb of the edge's curve (cagd.analysis.curvature_comb:
+    per knot span, both limits at a knot), at least ``samples`` teeth, scale 1."""
+    return cagd.analysis.curvature_comb(conversion.edge_to_curve(edge), samples=samples, scale=1.0)
+
+
 def curvature_comb(edge, samples: int = 64, scale: float = 1.0) -> List[Tuple[App.Vector, App.Vector]]:
     """Teeth (foot, tip) of the curvature comb: tip = C(t) - scale * kappa(t) N(t)
-    with kappa N = (C'' - (C''.T) T) / |C'|^2 the curvature vector (Farin 10.1), so
-    the teeth point away from the centre of curvature; t uniform in the domain."""
-    curve = conversion.edge_to_curve(edge)
-    t = np.linspace(*curve.domain, samples)
-    D = curve.derivatives(t, 2)
-    d1, d2 = D[1], D[2]
-    s2 = np.einsum("ij,ij->i", d1, d1)
-    s2 = np.where(s2 > 0.0, s2, np.inf)
-    k = (d2 - (np.einsum("ij,ij->i", d2, d1) / s2)[:, None] * d1) / s2[:, None]
-    tips = D[0] - scale * k
-    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(D[0], tips)]
+    with kappa N the curvature vector (Farin 10.1), so the teeth point away from the
+    centre of curvature; at least ``samples`` teeth, placed per knot span."""
+    comb = _comb(edge, samples).scaled(scale)
+    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(comb.base, comb.tips)]
 
 
 def auto_comb_scale(edge, samples: int = 64, fraction: float = 0.2) -> float:
     """A comb scale making the longest tooth ``fraction`` of the edge length."""
-    teeth = curvature_comb(edge, samples, 1.0)
-    longest = max((a - b).Length for a, b in teeth)
+    longest = float(_comb(edge, samples).curvature.max())
     return fraction * edge.Length / longest if longest > 0.0 else 1.0

@@ -1,0 +1,22 @@
+"""Results are values: frozen dataclasses whose numpy arrays are read-only."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+
+def readonly(value):
+    """``value`` with its write flag cleared when it is a numpy array (the one place results
+    make their arrays read-only); anything else is returned unchanged."""
+    if isinstance(value, np.ndarray):
+        value.setflags(write=False)
+    return value
+
+
+class ReadOnlyArrays:
+    """Mixin for frozen dataclasses: every array field is made read-only on creation."""
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            readonly(getattr(self, f.name))
