@@ -12,11 +12,12 @@ from .. import (BezierCurve, BezierSurface, BezierTriangle, BSplineCurve, BSplin
                 CoonsPatch, HermiteCurve, PolynomialCurve, cone, cylinder, ellipsoid, interpolate,
                 interpolate_surface, join, loft, natural_cubic_spline, revolve, ruled, sphere, torus)
 from ..curves.base import Curve
-from ..curves.cubic_spline import END_CONDITIONS, PARAMETRIZATIONS
+from .._deprecation import deprecated
+from ..curves.cubic_spline import END_CONDITIONS
+from ..fitting.parameters import PARAMETERS
 from . import _read as R
 from ._read import ModelError
 
-METHODS = ("chord", "centripetal", "uniform")
 CONTINUITIES = ("G0", "G1", "G2", "C0", "C1", "C2")
 FULL_TURN_TOL = 1e-14     # relative; as cagd.revolve, which closes the seam exactly within it
 SOLID_TOL = 1e-9          # relative: a revolve profile end lies on the axis within SOLID_TOL * size
@@ -66,11 +67,11 @@ class TypeSpec:
         return self.required + self.optional
 
 
-def _method_or(values: Callable) -> Callable:
-    """A reader for a ``parameters`` field: a method name or explicit values."""
+def _name_or(values: Callable) -> Callable:
+    """A reader for a ``parameters`` field: a parametrisation name or explicit values."""
     def read(value, path):
         if isinstance(value, str):
-            return R.choice(value, path, METHODS)
+            return R.choice(value, path, PARAMETERS)
         return values(value, path)
     return read
 
@@ -81,10 +82,11 @@ def _numbers(value, path):
 
 def _surface_parameters(value, path):
     if isinstance(value, str):
-        return R.choice(value, path, METHODS)
+        return R.choice(value, path, PARAMETERS)
     pair = R.array(value, path, "parameter arrays")
     if len(pair) != 2:
-        raise ModelError(path, f"expected a method name or a pair [params_u, params_v], got {len(pair)} arrays")
+        raise ModelError(path, f"expected a parametrisation name or a pair [params_u, params_v], "
+                               f"got {len(pair)} arrays")
     return tuple(_numbers(x, f"{path}[{i}]") for i, x in enumerate(pair))
 
 
@@ -115,17 +117,23 @@ def _hermite_curve(f: Fields):
 def _cubic_spline(f: Fields):
     P = f.req("points", R.points, 2)
     two = (2, (P.shape[1],), 2)           # min_count, dims, count
-    return natural_cubic_spline(
-        P, f.opt("end_condition", R.choice, END_CONDITIONS, default="natural"),
-        f.opt("parametrization", R.choice, PARAMETRIZATIONS, default="chord"),
-        f.opt("tangents", R.points, *two), f.opt("virtual_points", R.points, *two),
-        f.opt("parameters", _numbers))
+    end = f.opt("end_condition", R.choice, END_CONDITIONS, default="natural")
+    old = f.opt("parametrization", R.choice, PARAMETERS)       # the key before "parameters"
+    parameters = f.opt("parameters", _name_or(_numbers), default=old or "chord")
+    if old is not None:
+        if isinstance(f.values["parameters"], str) and "parameters" in f.obj:
+            raise ModelError(f.at("parametrization"), "give the parametrisation once, as \"parameters\" "
+                                                      "(\"parametrization\" is its old name)")
+        deprecated("cagd model", f"{f.at('parametrization')}: the key \"parametrization\" is deprecated; "
+                                 f"use \"parameters\"")
+    return natural_cubic_spline(P, end, parameters, f.opt("tangents", R.points, *two),
+                                f.opt("virtual_points", R.points, *two))
 
 
 def _interpolate(f: Fields):
     P = f.req("points", R.points, 2)
     return interpolate(P, f.opt("degree", R.integer, default=3),
-                       f.opt("parameters", _method_or(_numbers), default="chord"), f.opt("knots", R.knots))
+                       f.opt("parameters", _name_or(_numbers), default="chord"), f.opt("knots", R.knots))
 
 
 def _join(f: Fields):
@@ -202,7 +210,7 @@ def _ruled(f: Fields):
 def _loft(f: Fields):
     sections = f.curves("sections", 2)
     return loft(sections, f.opt("degree_v", R.integer, default=3),
-                f.opt("parameters", _method_or(_numbers), default="chord"))
+                f.opt("parameters", _name_or(_numbers), default="chord"))
 
 
 def _bezier_triangle(f: Fields):
@@ -247,7 +255,7 @@ TYPES: Dict[str, TypeSpec] = {
     "polynomial_curve": TypeSpec("curve", ("coefficients",), ("domain",), _polynomial_curve, "PolynomialCurve"),
     "hermite_curve": TypeSpec("curve", ("p0", "p1", "t0", "t1"), (), _hermite_curve, "HermiteCurve"),
     "cubic_spline": TypeSpec("curve", ("points",),
-                             ("end_condition", "parametrization", "tangents", "virtual_points", "parameters"),
+                             ("end_condition", "parameters", "tangents", "virtual_points", "parametrization"),
                              _cubic_spline, "natural_cubic_spline"),
     "interpolate": TypeSpec("curve", ("points",), ("degree", "parameters", "knots"), _interpolate, "interpolate"),
     "join": TypeSpec("curve", ("curve",), ("continuity", "alpha", "beta", "rest_points"), _join, "join",
