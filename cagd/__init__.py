@@ -16,7 +16,7 @@ from .curves.hermite import HermiteCurve, HermiteSpline, hermite_basis
 from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
-from .operations import ContinuityReport, continuity, join, join_bezier
+from .operations import ContinuityReport, continuity, join, join_bezier, join_control_points
 from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Surface, cone, cylinder,
                        ellipsoid, ellipsoid_octant, loft, make_compatible, revolve, ruled, sphere, torus,
@@ -31,7 +31,7 @@ __all__ = [
     "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
-    "ContinuityReport", "continuity", "join", "join_bezier",
+    "ContinuityReport", "continuity", "join", "join_bezier", "join_control_points",
     "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "revolve", "sphere",
     "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant", "ruled", "loft", "make_compatible",
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
