@@ -18,16 +18,19 @@ def _outside_level() -> int:
     return level
 
 
-def renamed(func: str, old: str, new: str, value, current, default):
+RELATIVE = "it is relative (to the size), and tol means a distance in model units in cagd"
+
+
+def renamed(func: str, old: str, new: str, value, current, default, why: str = ""):
     """The value for keyword ``new`` of ``func`` when the deprecated ``old`` was given as
     ``value`` (``current`` is what ``new`` received, ``default`` its default): warns
-    with a DeprecationWarning and returns ``value``.
+    with a DeprecationWarning (giving ``why``) and returns ``value``.
 
     Raises:
         CagdError: both keywords were given."""
     if current is not default:
         raise CagdError(f"{old}: {func} got both {old}= (deprecated) and {new}=; pass {new}= only")
-    deprecated(func, f"the keyword {old}= is deprecated; use {new}=")
+    deprecated(func, f"the keyword {old}= is deprecated; use {new}=" + (f" ({why})" if why else ""))
     return value
 
 

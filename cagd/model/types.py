@@ -13,7 +13,9 @@ from .. import (BezierCurve, BezierSurface, BezierTriangle, BSplineCurve, BSplin
                 interpolate_surface, join, loft, natural_cubic_spline, revolve, ruled, sphere, torus)
 from ..curves.base import Curve
 from .._deprecation import deprecated
+from ..curves.composite import GAP_TOL
 from ..curves.cubic_spline import END_CONDITIONS
+from ..surfaces.coons import CORNER_TOL
 from ..fitting.parameters import PARAMETERS
 from . import _read as R
 from ._read import ModelError
@@ -143,8 +145,21 @@ def _join(f: Fields):
                 f.opt("alpha", R.number, default=1.0), f.opt("beta", R.number, default=0.0))
 
 
+def _rel_tol(f: Fields, default: float) -> float:
+    """The ``rel_tol`` field (relative to the size), or its old name ``tol`` (one release,
+    with a DeprecationWarning)."""
+    rel, old = f.opt("rel_tol", R.positive), f.opt("tol", R.positive)
+    if old is None:
+        return default if rel is None else rel
+    if rel is not None:
+        raise ModelError(f.at("tol"), "give the tolerance once, as \"rel_tol\" (\"tol\" is its old name)")
+    deprecated("cagd model", f"{f.at('tol')}: the key \"tol\" is deprecated here; use \"rel_tol\" (it is "
+                             f"relative, and tol means a distance in model units in cagd)")
+    return old
+
+
 def _composite(f: Fields):
-    return CompositeCurve(f.curves("curves", 1), f.opt("tol", R.positive, default=1e-9))
+    return CompositeCurve(f.curves("curves", 1), _rel_tol(f, GAP_TOL))
 
 
 # --- surfaces -----------------------------------------------------------------------------
@@ -200,7 +215,7 @@ def _ellipsoid(f: Fields):
 
 def _coons(f: Fields):
     c0, c1, d0, d1 = (f.curve(k) for k in ("c0", "c1", "d0", "d1"))
-    return CoonsPatch(c0, c1, d0, d1, f.opt("tol", R.positive, default=1e-9))
+    return CoonsPatch(c0, c1, d0, d1, _rel_tol(f, CORNER_TOL))
 
 
 def _ruled(f: Fields):
@@ -260,7 +275,7 @@ TYPES: Dict[str, TypeSpec] = {
     "interpolate": TypeSpec("curve", ("points",), ("degree", "parameters", "knots"), _interpolate, "interpolate"),
     "join": TypeSpec("curve", ("curve",), ("continuity", "alpha", "beta", "rest_points"), _join, "join",
                      {"P": "curve"}),
-    "composite": TypeSpec("curve", ("curves",), ("tol",), _composite, "CompositeCurve"),
+    "composite": TypeSpec("curve", ("curves",), ("rel_tol", "tol"), _composite, "CompositeCurve"),
     "bezier_surface": TypeSpec("surface", ("control_points",), ("weights",), _bezier_surface, "BezierSurface"),
     "bspline_surface": TypeSpec("surface", ("control_points", "degree_u", "degree_v"),
                                 ("knots_u", "knots_v", "weights", "periodic_u", "periodic_v"),
@@ -274,7 +289,7 @@ TYPES: Dict[str, TypeSpec] = {
     "cylinder": TypeSpec("surface", ("radius", "height"), ("center",), _cylinder, "cylinder"),
     "cone": TypeSpec("surface", ("radius", "height"), ("center",), _cone, "cone"),
     "ellipsoid": TypeSpec("surface", ("a", "b", "c"), (), _ellipsoid, "ellipsoid", solid=_closed),
-    "coons": TypeSpec("surface", ("c0", "c1", "d0", "d1"), ("tol",), _coons, "CoonsPatch"),
+    "coons": TypeSpec("surface", ("c0", "c1", "d0", "d1"), ("rel_tol", "tol"), _coons, "CoonsPatch"),
     "ruled": TypeSpec("surface", ("c0", "c1"), (), _ruled, "ruled"),
     "loft": TypeSpec("surface", ("sections",), ("degree_v", "parameters"), _loft, "loft",
                      {"curves": "sections"}),

@@ -105,7 +105,7 @@ def test_g2_join_property(n, m, alpha, beta, data):
     TQ, NQ, BQ = Q.frenet(0.0)
     for u, v in ((TP, TQ), (NP, NQ), (BP, BQ)):
         assert np.abs(u - v).max() <= 1e-8
-    r = continuity(P, Q, tol=1e-8)
+    r = continuity(P, Q, rel_tol=1e-8)
     assert r.G2 and r.derivative_ratio == pytest.approx(m * alpha / n, rel=1e-12)
     if m == n:
         assert np.allclose(Q.control_points[2], seed_q2(P, alpha, beta), rtol=0,
@@ -128,7 +128,7 @@ def test_rational_g2_join(n, alpha, beta, data):
     assert np.allclose(Q.control_points[1] - Q.control_points[0], alpha * w[-2] / w[-1] * a_n,
                        rtol=1e-12, atol=1e-12)
     assert Q.curvature(0.0) == pytest.approx(P.curvature(1.0), rel=1e-8)
-    assert continuity(P, Q, tol=1e-8).G2
+    assert continuity(P, Q, rel_tol=1e-8).G2
 
 
 def test_c1_c2_joins():
