@@ -4,20 +4,27 @@ out by bisection to where the distance exceeds tol, and snapped to the domain en
 (see :mod:`cagd.queries.intersect`)."""
 from __future__ import annotations
 
-from typing import List, NamedTuple, Tuple
+from dataclasses import dataclass
+from typing import List, Tuple
 
 import numpy as np
 
+from .._results import ReadOnlyArrays
 from . import _subdivision as sd
 
 
-class Overlap(NamedTuple):
+@dataclass(frozen=True)
+class Overlap(ReadOnlyArrays):
     """Coincident pieces: ``param_a`` = (s0, s1) on a with s0 < s1, ``param_b`` the
     parameters on b matching s0 and s1 (decreasing when the directions are opposite).
     For a curve lying in a surface, ``param_b`` holds the surface's (u, v) arrays at
-    s0 and s1 (with the curve given second, the two fields are swapped)."""
+    s0 and s1 (with the curve given second, the two fields are swapped). The ends are
+    where the distance to the other object reaches tol (``converged``; ``message`` says
+    otherwise)."""
     param_a: Tuple[float, float]
     param_b: Tuple[object, object]
+    converged: bool = True
+    message: str = ""
 
 
 def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):

@@ -6,7 +6,8 @@ subdivision, merged into connected parameter boxes whose edges are moved out by
 bisection to where the surfaces separate, and reported as :class:`SurfaceOverlap`."""
 from __future__ import annotations
 
-from typing import List, NamedTuple, Optional, Tuple
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -16,12 +17,16 @@ from . import _subdivision as sd
 _N = 5                        # samples per direction on a piece (odd: the centre is one)
 
 
-class SurfaceOverlap(NamedTuple):
+@dataclass(frozen=True)
+class SurfaceOverlap:
     """Coincident pieces of two surfaces: ``box_a`` = ((u0, u1), (v0, v1)) on a where
     a lies on b within tol, ``box_b`` the parameter box of the same piece on b (the
-    bounding box of the projected samples; None for a plane)."""
+    bounding box of the projected samples; None for a plane). The boxes are grown until
+    the distance reaches tol (``converged``; ``message`` says otherwise)."""
     box_a: Tuple[Tuple[float, float], Tuple[float, float]]
     box_b: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]
+    converged: bool = True
+    message: str = ""
 
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int = _N) -> np.ndarray:

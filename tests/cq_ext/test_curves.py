@@ -251,7 +251,7 @@ def test_join_curves_g1_is_not_g2():
     (lambda w: w.nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1)], knots=[0, 0, 1]), "knots"),
     (lambda w: w.nurbsCurve([(0, 0), (1, 1)], degree=3), "degree"),
     (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], end_condition="foo"), "end_condition"),
-    (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], parametrization="foo"), "parametrization"),
+    (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], parametrization="foo"), "parametrisation 'foo'"),
     (lambda w: w.interpCurve([(0, 0), (1, 1), (2, 0)], end_condition="clamped"), "tangents"),
     (lambda w: w.cagdCurve("abc"), "curve"),
     (lambda w: w.cagdCurve(cagd.sphere(1.0, (0, 0, 0))), "curve"),
