@@ -70,6 +70,15 @@ class ContinuityReport:
                 f"(rel_tol {self.rel_tol:g} x size {self.size:.3g}, angle_tol {self.angle_tol:g} rad)")
 
 
+def tolerances(func: str, rel_tol, angle_tol, tol):
+    """(rel_tol, angle_tol) of a continuity test ``func``, validated: ``angle_tol``
+    defaults to ``rel_tol`` (radians); ``tol`` is the deprecated name of ``rel_tol``."""
+    if tol is not None:
+        rel_tol = renamed(func, "tol", "rel_tol", tol, rel_tol, CONTINUITY_TOL, RELATIVE)
+    rel_tol = _checks.positive(rel_tol, "rel_tol")
+    return rel_tol, (rel_tol if angle_tol is None else _checks.angle(angle_tol))
+
+
 def curve_size(*curves: Curve, samples: int = 33) -> float:
     """Diagonal of the bounding box of ``samples`` points on each curve (a length
     scale for relative tolerances; 1 for curves collapsed to a point)."""
@@ -124,12 +133,7 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
             raise CagdError(f"{name}: must be a cagd Curve, got {type(c).__name__}")
     if c1.dim != c2.dim:
         raise CagdError(f"c2: dimension {c2.dim} differs from c1's {c1.dim}")
-    if tol is not None:
-        rel_tol = renamed("continuity", "tol", "rel_tol", tol, rel_tol, CONTINUITY_TOL, RELATIVE)
-    rel_tol = _checks.positive(rel_tol, "rel_tol")
-    angle_tol = rel_tol if angle_tol is None else _checks.scalar(angle_tol, "angle_tol")
-    if angle_tol < 0:
-        raise CagdError(f"angle_tol: an angle in radians >= 0, got {angle_tol!r}")
+    rel_tol, angle_tol = tolerances("continuity", rel_tol, angle_tol, tol)
     t1 = c1.domain[1] if t1 is None else _checks.scalar(t1, "t1")
     t2 = c2.domain[0] if t2 is None else _checks.scalar(t2, "t2")
     D1, D2 = c1.derivatives(t1, 2), c2.derivatives(t2, 2)

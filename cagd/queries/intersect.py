@@ -133,9 +133,7 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     if sizes and tol < 1e-13 * max(sizes):
         raise CagdError(f"tol: {tol:g} is below 1e-13 of the objects' size {max(sizes):.6g}, beyond the "
                         "precision of doubles there; pass a larger tol")
-    angle_tol = _checks.scalar(angle_tol, "angle_tol")
-    if angle_tol < 0:
-        raise CagdError(f"angle_tol: an angle in radians >= 0, got {angle_tol!r}")
+    angle_tol = _checks.angle(angle_tol)
     max_depth = _checks.integer(max_depth, "max_depth", 1, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
     opts = dict(tol=tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)

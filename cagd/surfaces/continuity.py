@@ -17,8 +17,8 @@ from typing import Optional, Tuple
 import numpy as np
 
 from .. import _checks
-from .._deprecation import RELATIVE, deprecated, renamed
-from ..operations.continuity import CONTINUITY_TOL
+from .._deprecation import deprecated
+from ..operations.continuity import CONTINUITY_TOL, tolerances
 from ..errors import CagdError
 from .base import Surface
 
@@ -165,12 +165,7 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
         if e not in EDGES:
             raise CagdError(f"{name}: must be one of {EDGES}, got {e!r}")
     samples = _checks.integer(samples, "samples", 2)
-    if tol is not None:
-        rel_tol = renamed("edge_continuity", "tol", "rel_tol", tol, rel_tol, CONTINUITY_TOL, RELATIVE)
-    rel_tol = _checks.positive(rel_tol, "rel_tol")
-    angle_tol = rel_tol if angle_tol is None else _checks.scalar(angle_tol, "angle_tol")
-    if angle_tol < 0:
-        raise CagdError(f"angle_tol: an angle in radians >= 0, got {angle_tol!r}")
+    rel_tol, angle_tol = tolerances("edge_continuity", rel_tol, angle_tol, tol)
     if reverse is not None and not isinstance(reverse, (bool, np.bool_)):
         raise CagdError(f"reverse: must be True, False or None, got {reverse!r}")
     if s1.dim not in (2, 3):
