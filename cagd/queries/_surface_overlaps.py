@@ -110,8 +110,10 @@ def _components(B: np.ndarray) -> List[np.ndarray]:
 
 def _grow(G, H, pl, box, seed_y, tol):
     """Move each edge of box (lo0, lo1, hi0, hi1) outwards while the whole edge (9
-    samples) stays within tol of H: steps h, 2h, ... then 40 bisections."""
-    box = box.copy()
+    samples) stays within tol of H: steps h, 2h, ... then 40 bisections. Returns (box,
+    found): found is False when an edge neither left H in 16 steps nor reached the
+    domain's end."""
+    box, found = box.copy(), True
     for side in range(4):
         d, up = side % 2, side >= 2                 # parameter direction, moving the high edge
         lim = G.hi[d] if up else G.lo[d]
@@ -142,6 +144,7 @@ def _grow(G, H, pl, box, seed_y, tol):
                 out = trial
                 break
             cur, seed, h = trial, y, 2 * h
+        found &= out is not None or cur == lim
         if out is not None:
             for _ in range(40):
                 mid = 0.5 * (cur + out)
@@ -154,7 +157,7 @@ def _grow(G, H, pl, box, seed_y, tol):
             box[2 + d] = cur
         else:
             box[d] = cur
-    return box
+    return box, found
 
 
 def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarray], tol: float,
@@ -172,7 +175,7 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
         if H is not None:
             mids = 0.5 * (B[:, :2] + B[:, 2:])
             y0 = Y[np.argmin(np.linalg.norm(mids - centre, axis=1))]
-        box = _grow(G, H, pl, comp, y0, tol)
+        box, found = _grow(G, H, pl, comp, y0, tol)
         if any(np.all(box[:2] >= g[:2] - 1e-12) and np.all(box[2:] <= g[2:] + 1e-12) for g in grown):
             continue
         grown.append(box)
@@ -186,7 +189,9 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
             valid = np.all(speed > 1e-8 * H.size, axis=1).reshape(7, 7)
             lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed, valid)
             bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
-        out.append(SurfaceOverlap(bb, ba) if swap else SurfaceOverlap(ba, bb))
+        end = {} if found else {"converged": False, "message": "an edge of the box was not located: the overlap "
+                                                                "may extend further"}
+        out.append(SurfaceOverlap(bb, ba, **end) if swap else SurfaceOverlap(ba, bb, **end))
     return out
 
 

@@ -315,7 +315,7 @@ class Projector:
         return pid, cell, lb, rest
 
     # --- queries -----------------------------------------------------------------------------
-    def stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]):
+    def _stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]):
         """(tol, param_tol) validated: ``tol`` a distance (default CLOSEST_TOL * size when
         neither is given), ``param_tol`` relative to the parameter range; None: unused."""
         if tol is None and param_tol is None:
@@ -328,7 +328,7 @@ class Projector:
         """The closest point of the object to every row of ``points`` (see :func:`closest_point`)."""
         if tol is not None:
             changed("Projector.closest", TOL_CHANGED)
-        return self._closest(points, *self.stop_tolerances(tol, param_tol), max_iterations, max_rounds)
+        return self._closest(points, *self._stop_tolerances(tol, param_tol), max_iterations, max_rounds)
 
     def _closest(self, points, tol, param_tol, max_iterations: int = 50, max_rounds: int = 40) -> ClosestPoints:
         X = self._points(points)
@@ -428,7 +428,7 @@ class Projector:
         boundary), duplicates merged; sorted by distance."""
         if tol is not None:
             changed("Projector.local_minima", TOL_CHANGED)
-        return self._local_minima(point, *self.stop_tolerances(tol, param_tol), max_iterations)
+        return self._local_minima(point, *self._stop_tolerances(tol, param_tol), max_iterations)
 
     def _local_minima(self, point, tol, param_tol, max_iterations: int = 50) -> ClosestPoints:
         X = self._points(point)
@@ -756,14 +756,14 @@ def closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = 
     """
     if tol is not None:
         changed("closest_point", TOL_CHANGED)
-    return closest_points(obj, points, all_minima, tol, param_tol, max_iterations)
+    return _closest_point(obj, points, all_minima, tol, param_tol, max_iterations)
 
 
-def closest_points(obj, points, all_minima: bool = False, tol: Optional[float] = None,
+def _closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = None,
                    param_tol: Optional[float] = None, max_iterations: int = 50) -> ClosestPoints:
     """:func:`closest_point` without the notice on ``tol`` (for the engine's own callers)."""
     p = projector(obj) if isinstance(obj, (Curve, Surface)) else Projector(obj)
-    stop = p.stop_tolerances(tol, param_tol)
+    stop = p._stop_tolerances(tol, param_tol)
     if all_minima:
         return p._local_minima(points, *stop, max_iterations)
     return p._closest(points, *stop, max_iterations)

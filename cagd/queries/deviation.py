@@ -17,12 +17,12 @@ from typing import Dict, Optional, Sequence
 import numpy as np
 
 from .. import _checks
+from .._deprecation import changed
 from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .._deprecation import changed
-from .closest import TOL_CHANGED, closest_points
+from .closest import TOL_CHANGED, _closest_point
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
 
@@ -122,7 +122,7 @@ def deviation(obj, points, signed: Optional[bool] = None,
     X = np.atleast_2d(np.asarray(points, dtype=np.float64))
     best = None
     for k, o in enumerate(objs):
-        r = closest_points(o, points, tol=tol, param_tol=param_tol)
+        r = _closest_point(o, points, tol=tol, param_tol=param_tol)
         sign = _signs(o, r.params, r.feet, X) if signed is not False else None
         if signed and sign is None:
             raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
