@@ -117,9 +117,9 @@ def run_surface(title: str, s, args) -> Tuple[float, float, bool]:
     print(f"\n== {title}: 20 x 20 bicubic, {len(X)} points within +-1% of the model size, best of "
           f"{args.repeat}; preparation (Bezier cells, bounds, voxel grid) {prep * 1e3:.0f} ms once per object")
     gap = res.distances - res.lower_bounds
-    print(f"engine: converged {res.converged.mean() * 100:.2f}%, certified gap distance - lower_bound: "
+    print(f"engine: converged {res.point_converged.mean() * 100:.2f}%, certified gap distance - lower_bound: "
           f"max {gap.max() / size:.1e}, median {np.median(gap) / size:.1e} (relative to the model size)")
-    ok = bool(res.converged.all() and np.all(res.lower_bounds <= res.distances))
+    ok = bool(res.converged and np.all(res.lower_bounds <= res.distances))
     sub = np.arange(0, len(X), max(1, len(X) // args.subsample))[:args.subsample]
     try:
         from cagd.occ import to_occ

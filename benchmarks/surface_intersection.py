@@ -66,7 +66,7 @@ def main(argv: List[str] = None) -> int:
     sec, res = best(lambda: intersect(a, b, tol=args.tol), args.repeat)
     mine = [br.curve(np.linspace(*br.curve.domain, 400)) for br in res.curves]
     dev = max_distance(mine, a, b)
-    reported = max((br.tolerance for br in res.curves), default=float("nan"))
+    reported = max((br.max_distance for br in res.curves), default=float("nan"))
     print(f"two {args.size} x {args.size} bicubic patches, tol {args.tol:g}, best of {args.repeat}")
     print(f"{'implementation':34s} {'seconds':>9s} {'branches':>9s} {'max distance':>13s}")
     print(f"{'engine intersect':34s} {sec:9.4f} {len(res.curves):9d} {dev:13.2e}   (reported {reported:.2e})")

@@ -16,13 +16,14 @@ from .curves.hermite import HermiteCurve, HermiteSpline, hermite_basis
 from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
 from .fitting import approximate, bezier_through_points, interpolate, parametrize
-from .operations import ContinuityReport, continuity, join, join_bezier
+from .operations import ContinuityReport, continuity, join, join_bezier, join_control_points
 from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Primitive, Revolution,
                        RevolvedSurface, Surface, cone, cylinder, ellipsoid, ellipsoid_octant, loft, make_compatible,
                        revolve, ruled, sphere, torus, EdgeContinuityReport, edge_continuity, interpolate_surface)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
+from .analysis import CurvatureComb, curvature_comb
 
 __version__ = "0.1.0"
 __all__ = [
@@ -30,11 +31,12 @@ __all__ = [
     "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
-    "ContinuityReport", "continuity", "join", "join_bezier",
+    "ContinuityReport", "continuity", "join", "join_bezier", "join_control_points",
     "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "RevolvedSurface",
     "Revolution", "Primitive", "revolve", "sphere", "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant",
     "ruled", "loft", "make_compatible",
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
     "EdgeContinuityReport", "edge_continuity", "interpolate_surface",
     "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",
+    "CurvatureComb", "curvature_comb",
 ]

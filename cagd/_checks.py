@@ -81,6 +81,14 @@ def positive(value, name: str) -> float:
     return x
 
 
+def angle(value, name: str = "angle_tol") -> float:
+    """An angle tolerance in radians: a finite float >= 0."""
+    x = scalar(value, name)
+    if x < 0.0:
+        raise CagdError(f"{name}: an angle in radians >= 0, got {x!r}")
+    return x
+
+
 def parameters(t, name: str = "t") -> np.ndarray:
     """Finite float64 parameters of any shape."""
     return finite_array(t, name)

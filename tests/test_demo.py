@@ -2,10 +2,8 @@
 import numpy as np
 import pytest
 
-from cagd import BSplineCurve
 from cagd.cli import main
 from cagd.demo import EXAMPLES, run_demo
-from cagd.plotting import curvature_comb
 
 
 def test_every_example_meets_its_tolerance(tmp_path, capsys):
@@ -34,13 +32,3 @@ def test_cli_rejects_unknown_command():
     with pytest.raises(SystemExit) as exc:
         main(["nope"])
     assert exc.value.code == 2
-
-
-def test_curvature_comb_of_circle_points_outward_by_curvature():
-    s = np.sqrt(0.5)
-    P = [[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]]
-    circle = BSplineCurve(P, 2, [0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1], [1, s, 1, s, 1, s, 1, s, 1])
-    base, tips = curvature_comb(circle, samples=50, scale=0.5)
-    # curvature 1 everywhere: every tooth has length 0.5 and points away from the centre
-    assert np.allclose(np.linalg.norm(base, axis=1), 1.0, atol=1e-14)
-    assert np.allclose(np.linalg.norm(tips, axis=1), 1.5, atol=1e-12)

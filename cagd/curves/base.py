@@ -7,16 +7,19 @@ curvature, torsion, Frenet frame, arc length) is shared here.
 """
 from __future__ import annotations
 
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
-from .._checks import affine_map, integer, parameters
+from .._checks import affine_map, integer, parameters, positive
+from .._deprecation import changed
+from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
 
 # Gauss-Legendre rule for arc length (Numerical Recipes 4.6; Piegl & Tiller don't cover this)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
+ARC_LENGTH_TOL = 1e-12      # default error bound of arc_length, relative to the length
 
 
 class Curve(Value):
@@ -49,7 +52,7 @@ class Curve(Value):
         flat = t.ravel()
         a, b = self.domain
         if self.periodic:
-            flat = a + np.mod(flat - a, b - a)
+            flat = wrap(flat, a, b - a)
         else:
             tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
             if flat.size and (flat.min() < a - tol or flat.max() > b + tol):
@@ -122,10 +125,21 @@ class Curve(Value):
         B = _unit(np.cross(d[1], d[2]), "t", "the curvature vanishes (no principal normal)")
         return T, np.cross(B, T), B
 
-    def arc_length(self, start: float = None, end: float = None, tol: float = 1e-12) -> float:
+    def arc_length(self, start: float = None, end: float = None, tol: Optional[float] = None, *,
+                   rel_tol: Optional[float] = None) -> float:
         """Length of the curve between two parameters by adaptive Gauss-Legendre
         quadrature of |C'(t)| (10 points per interval; intervals split in halves
-        until the two halves agree with the whole within ``tol`` relative)."""
+        until the two halves agree with the whole, on every interval, within its share
+        (its parameter length over end - start) of the error bound).
+
+        The bound is ``tol``, a length in model units, or ``rel_tol`` times the length
+        (default ARC_LENGTH_TOL = 1e-12 relative). Until cagd 0.1 ``tol`` was relative
+        (now ``rel_tol``); passing ``tol`` warns (FutureWarning) for one release."""
+        if tol is not None:
+            changed("arc_length", "tol is a length in model units now (the error bound of the quadrature); "
+                                  "it was relative to the length, which is rel_tol= now")
+            tol = positive(tol, "tol")
+        rel_tol = ARC_LENGTH_TOL if rel_tol is None else positive(rel_tol, "rel_tol")
         a, b = self.domain
         start = a if start is None else float(start)
         end = b if end is None else float(end)
@@ -135,12 +149,12 @@ class Curve(Value):
         edges = np.unique(np.concatenate([[start, end], self._breaks_within(start, end)]))
         lo, hi = edges[:-1], edges[1:]
         whole = self._gl(lo, hi)
-        scale = max(abs(whole.sum()), 1e-300)
+        bound = tol if tol is not None else rel_tol * max(abs(whole.sum()), 1e-300)
         total = 0.0
         for _ in range(40):
             mid = 0.5 * (lo + hi)
             left, right = self._gl(lo, mid), self._gl(mid, hi)
-            done = np.abs(left + right - whole) <= tol * scale * (hi - lo) / (end - start)
+            done = np.abs(left + right - whole) <= bound * (hi - lo) / (end - start)
             total += (left + right)[done].sum()
             if done.all():
                 return sign * total

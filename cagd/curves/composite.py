@@ -8,15 +8,19 @@ used (right limits), at the end the last piece.
 """
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .. import _checks
+from .._deprecation import RELATIVE, deprecated, renamed
 from ..errors import CagdError
 from ..knots.vectors import is_clamped
 from .base import Curve
 from .bspline import BSplineCurve
+
+
+GAP_TOL = 1e-9       # default relative gap between consecutive pieces
 
 
 class CompositeCurve(Curve):
@@ -25,16 +29,18 @@ class CompositeCurve(Curve):
     Args:
         curves: a non-empty sequence of :class:`cagd.Curve` of one dimension,
             each starting where the previous one ends.
-        tol: relative gap tolerance: |C_{i+1}(a_{i+1}) - C_i(b_i)| <= tol * size,
-            size the bounding-box diagonal of all pieces.
+        rel_tol: relative gap tolerance: |C_{i+1}(a_{i+1}) - C_i(b_i)| <= rel_tol * size,
+            size the bounding-box diagonal of all pieces (default GAP_TOL = 1e-9).
+        tol: the deprecated name of ``rel_tol`` (one release; ``tol`` is a distance in
+            cagd).
 
     Raises:
         CagdError: empty ``curves``, an element that is not a Curve, mixed
             dimensions, a gap above the tolerance (naming the index and the gap),
-            tol not positive.
+            rel_tol not positive.
     """
 
-    def __init__(self, curves: Sequence[Curve], tol: float = 1e-9):
+    def __init__(self, curves: Sequence[Curve], rel_tol: float = GAP_TOL, *, tol: Optional[float] = None):
         from ..operations.continuity import curve_size
         try:
             pieces = tuple(curves)
@@ -47,7 +53,9 @@ class CompositeCurve(Curve):
                 raise CagdError(f"curves: curves[{i}] is a {type(c).__name__}, not a cagd Curve")
             if c.dim != pieces[0].dim:
                 raise CagdError(f"curves: curves[{i}] is {c.dim}-D, curves[0] is {pieces[0].dim}-D")
-        self.tol = _checks.positive(tol, "tol")
+        if tol is not None:
+            rel_tol = renamed("CompositeCurve", "tol", "rel_tol", tol, rel_tol, GAP_TOL, RELATIVE)
+        self.rel_tol = _checks.positive(rel_tol, "rel_tol")
         self.curves: Tuple[Curve, ...] = pieces
         self.dim = pieces[0].dim
         self.size = curve_size(*pieces)
@@ -55,9 +63,9 @@ class CompositeCurve(Curve):
             end = pieces[i](pieces[i].domain[1])
             start = pieces[i + 1](pieces[i + 1].domain[0])
             gap = float(np.linalg.norm(start - end))
-            if gap > self.tol * self.size:
+            if gap > self.rel_tol * self.size:
                 raise CagdError(f"curves: gap of {gap:.6g} between the end of curves[{i}] and the start of "
-                                f"curves[{i + 1}] exceeds tol * size = {self.tol * self.size:.3g}")
+                                f"curves[{i + 1}] exceeds rel_tol * size = {self.rel_tol * self.size:.3g}")
         starts = np.array([c.domain[0] for c in pieces])
         lengths = np.array([c.domain[1] - c.domain[0] for c in pieces])
         self._breaks = _checks.frozen(starts[0] + np.concatenate([[0.0], np.cumsum(lengths)]))
@@ -118,15 +126,24 @@ class CompositeCurve(Curve):
         return u[(u > start) & (u < end)]
 
     def _affine(self, A: np.ndarray, b: np.ndarray) -> "CompositeCurve":
-        return CompositeCurve([c._affine(A, b) for c in self.curves], self.tol)
+        return CompositeCurve([c._affine(A, b) for c in self.curves], self.rel_tol)
+
+    @property
+    def tol(self) -> float:
+        """Deprecated name of :attr:`rel_tol`."""
+        deprecated("CompositeCurve.tol", "use rel_tol (the same relative gap tolerance)")
+        return self.rel_tol
 
     # --- analysis --------------------------------------------------------------------
-    def continuity_at_joints(self, tol: float = None) -> List:
+    def continuity_at_joints(self, rel_tol: Optional[float] = None, *, tol: Optional[float] = None) -> List:
         """A :class:`cagd.operations.continuity.ContinuityReport` for each joint
-        (piece i end -> piece i+1 start); ``tol`` defaults to the curve's."""
+        (piece i end -> piece i+1 start); ``rel_tol`` defaults to the curve's (``tol`` is
+        its deprecated name)."""
         from ..operations.continuity import continuity
-        tol = self.tol if tol is None else tol
-        return [continuity(self.curves[i], self.curves[i + 1], tol=tol) for i in range(len(self.curves) - 1)]
+        if tol is not None:
+            rel_tol = renamed("CompositeCurve.continuity_at_joints", "tol", "rel_tol", tol, rel_tol, None, RELATIVE)
+        rel_tol = self.rel_tol if rel_tol is None else rel_tol
+        return [continuity(self.curves[i], self.curves[i + 1], rel_tol=rel_tol) for i in range(len(self.curves) - 1)]
 
     # --- NURBS form ----------------------------------------------------------------
     def to_nurbs(self) -> BSplineCurve:

@@ -20,12 +20,13 @@ import numpy as np
 
 from .. import _checks
 from ..errors import CagdError
+from .._deprecation import deprecated
+from ..fitting.parameters import chords as _chords, interval_lengths, option, rule, spline_parameters  # noqa: F401
 from ..knots.vectors import periodic_extend
 from .bspline import BSplineCurve
 from .hermite import HermiteSpline, _blossom_control_points
 
 END_CONDITIONS = ("natural", "clamped", "periodic", "virtual")
-PARAMETRIZATIONS = ("uniform", "chord", "centripetal")
 
 
 # --- banded solvers -------------------------------------------------------------------------
@@ -102,38 +103,6 @@ def solve_cyclic_tridiagonal(lower, diag, upper, rhs) -> np.ndarray:
     return x[:, 0] if vec else x
 
 
-# --- parametrisation ------------------------------------------------------------------------
-def _interval_lengths(chords: np.ndarray, parametrization: str) -> np.ndarray:
-    if parametrization == "uniform":
-        return np.ones_like(chords)
-    if parametrization == "chord":
-        return chords.copy()
-    if parametrization == "centripetal":
-        return np.sqrt(chords)
-    raise CagdError(f"parametrization: unknown name {parametrization!r}; expected one of {PARAMETRIZATIONS}")
-
-
-def spline_parameters(points, parametrization: str = "chord") -> np.ndarray:
-    """Parameters t_0 = 0, t_{i+1} = t_i + h_i with h_i = 1 ("uniform"),
-    |p_{i+1} - p_i| ("chord", chord length) or its square root ("centripetal",
-    Lee 1989; Piegl & Tiller 9.2.1). Not normalised to [0, 1].
-
-    Raises:
-        CagdError: coincident consecutive points (zero chord), an unknown name.
-    """
-    P = _checks.points(points, "points", min_count=2)
-    chords = _chords(P, "points")
-    return np.concatenate([[0.0], np.cumsum(_interval_lengths(chords, parametrization))])
-
-
-def _chords(P: np.ndarray, name: str) -> np.ndarray:
-    chords = np.linalg.norm(np.diff(P, axis=0), axis=1)
-    if np.any(chords == 0.0):
-        i = int(np.argmax(chords == 0.0))
-        raise CagdError(f"{name}: consecutive points {i} and {i + 1} coincide (zero chord)")
-    return chords
-
-
 # --- the spline ---------------------------------------------------------------------------------
 def _natural_tangents(P: np.ndarray, t: np.ndarray, ends=None) -> np.ndarray:
     """Knot derivatives of the C2 spline: S''(t_0) = S''(t_n) = 0 ("natural",
@@ -182,31 +151,34 @@ class CubicSpline(HermiteSpline):
                 2 p_n - p_{n-1}) make every p_i an interior point. Implemented as:
                 the natural spline through p_{-1}, p_0, ..., p_n, p_{n+1} (C2 at all
                 of p_0..p_n, S'' = 0 at the virtual points) restricted to
-                [t_0, t_n]. The virtual intervals follow ``parametrization``
-                (with explicit ``parameters`` they copy h_0 and h_{n-1}).
-        parametrization: "uniform", "chord" (default) or "centripetal", see
-            :func:`spline_parameters`; ignored when ``parameters`` is given.
-        parameters: explicit strictly increasing t_0..t_n.
+                [t_0, t_n]. The virtual intervals follow the ``parameters`` rule
+                (with explicit parameters they copy h_0 and h_{n-1}).
+        parameters: one of :data:`cagd.fitting.PARAMETERS`, "uniform", "chord"
+            (default) or "centripetal" (see :func:`spline_parameters`), or explicit
+            strictly increasing t_0..t_n.
+        parametrization: deprecated name of ``parameters`` (one release); so is
+            passing explicit parameters as the sixth positional argument.
 
     Attributes: ``points``, ``tangents`` (the solved knot derivatives m_i),
-    ``parameters``, ``end_condition``, ``parametrization`` (None when the
-    parameters were given, or kept through ``transformed``), ``end_tangents``,
-    ``virtual_points``, ``periodic``.
+    ``parameters`` (the values t_i), ``end_condition``, ``parametrization`` (the rule
+    they came from, None when they were given, or kept through ``transformed``),
+    ``end_tangents``, ``virtual_points``, ``periodic``.
 
     Raises:
         CagdError: too few points, NaN/inf, coincident consecutive points, an
-            unknown end condition or parametrization, a missing/misshapen
+            unknown end condition or parametrisation, a missing/misshapen
             ``tangents`` or ``virtual_points`` (or one given for another end
             condition), non-increasing or miscounted parameters, an open point
             list for "periodic".
     """
 
-    def __init__(self, points, end_condition: str = "natural", parametrization: str = "chord",
-                 tangents=None, virtual_points=None, parameters=None):
+    def __init__(self, points, end_condition: str = "natural", parameters="chord",
+                 tangents=None, virtual_points=None, *old, parametrization=None):
+        parameters = _parameters_option(parameters, old, parametrization, type(self).__name__)
+        explicit = not isinstance(parameters, str)
         if end_condition not in END_CONDITIONS:
             raise CagdError(f"end_condition: unknown name {end_condition!r}; expected one of {END_CONDITIONS}")
-        if parameters is None and parametrization not in PARAMETRIZATIONS:
-            raise CagdError(f"parametrization: unknown name {parametrization!r}; expected one of {PARAMETRIZATIONS}")
+        kind = None if explicit else rule(parameters)
         periodic = end_condition == "periodic"
         P = _checks.points(points, "points", min_count=2)
         if periodic and P.shape[0] < 4:
@@ -226,9 +198,8 @@ class CubicSpline(HermiteSpline):
             P[-1] = P[0]
         n = P.shape[0] - 1
         chords = _chords(P, "points")
-        explicit = parameters is not None
         t = _checks.increasing(parameters, n + 1) if explicit else \
-            np.concatenate([[0.0], np.cumsum(_interval_lengths(chords, parametrization))])
+            np.concatenate([[0.0], np.cumsum(interval_lengths(chords, kind))])
 
         ends = V = None
         if end_condition == "natural":
@@ -253,13 +224,13 @@ class CubicSpline(HermiteSpline):
             if np.any(vchords == 0.0):
                 i = int(np.argmax(vchords == 0.0))
                 raise CagdError(f"virtual_points: virtual point {i} coincides with the end point it extends")
-            hv = np.diff(t)[[0, -1]] if explicit else _interval_lengths(vchords, parametrization)
+            hv = np.diff(t)[[0, -1]] if explicit else interval_lengths(vchords, kind)
             text = np.concatenate([[t[0] - hv[0]], t, [t[-1] + hv[1]]])
             m = _natural_tangents(ext, text)[1:-1]
         if not np.all(np.isfinite(m)):
             raise CagdError("parameters: the spline's tangent system overflows (parameter steps of "
                             f"{float(np.diff(t).min()):.3g} against point spacing; use chord or uniform spacing)")
-        self._fill(P, m, t, end_condition, None if explicit else parametrization, ends, V)
+        self._fill(P, m, t, end_condition, kind, ends, V)
 
     def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray, end_condition: str,
               parametrization: Optional[str], end_tangents: Optional[np.ndarray],
@@ -293,11 +264,25 @@ class CubicSpline(HermiteSpline):
                                       None if self.virtual_points is None else self.virtual_points @ A.T + b)
 
 
-def natural_cubic_spline(points, end_condition: str = "natural", parametrization: str = "chord",
-                         tangents=None, virtual_points=None, parameters=None) -> CubicSpline:
+def natural_cubic_spline(points, end_condition: str = "natural", parameters="chord",
+                         tangents=None, virtual_points=None, *old, parametrization=None) -> CubicSpline:
     """The interpolating C2 cubic spline (seed 000, 5.1.2); see :class:`CubicSpline`.
 
     Raises:
         CagdError: as :class:`CubicSpline`.
     """
-    return CubicSpline(points, end_condition, parametrization, tangents, virtual_points, parameters)
+    parameters = _parameters_option(parameters, old, parametrization, "natural_cubic_spline")
+    return CubicSpline(points, end_condition, parameters, tangents, virtual_points)
+
+
+def _parameters_option(parameters, old: tuple, parametrization, func: str):
+    """``parameters`` of the splines, with the old forms for one release: the keyword
+    ``parametrization=`` and explicit parameters as the sixth positional argument
+    (points, end_condition, parametrization, tangents, virtual_points, parameters)."""
+    if len(old) > 1:
+        raise CagdError(f"{func}: takes at most 6 positional arguments, got {5 + len(old)}")
+    if old and old[0] is not None:
+        deprecated(func, "explicit parameters as the sixth positional argument are deprecated; "
+                         "pass them as parameters=")
+        return old[0]
+    return option(parameters, {"parametrization": parametrization}, func, "chord")

@@ -124,20 +124,27 @@ class HermiteSpline(Curve):
     Args:
         points: (n+1, dim) points, n >= 1.
         tangents: (n+1, dim) derivatives with respect to the global parameter t.
-        parameters: n+1 strictly increasing values; default 0, 1, ..., n.
+        parameters: n+1 strictly increasing values, or one of
+            :data:`cagd.fitting.PARAMETERS` (:func:`cagd.fitting.spline_parameters`:
+            t_0 = 0 and steps 1, the chord or its square root); default "uniform",
+            0, 1, ..., n.
 
     Raises:
         CagdError: fewer than 2 points, NaN/inf, mismatched counts or dimensions,
-            parameters not strictly increasing.
+            parameters not strictly increasing, an unknown parametrisation name.
     """
 
-    def __init__(self, points, tangents, parameters=None):
+    def __init__(self, points, tangents, parameters="uniform"):
         P = _checks.points(points, "points", min_count=2)
         m = _checks.points(tangents, "tangents")
         if m.shape != P.shape:
             raise CagdError(f"tangents: expected shape {P.shape} (one per point), got {m.shape}")
         n = P.shape[0]
-        t = np.arange(n, dtype=np.float64) if parameters is None else _checks.increasing(parameters, n)
+        if parameters is None or isinstance(parameters, str):
+            from ..fitting.parameters import spline_parameters
+            t = spline_parameters(P, "uniform" if parameters is None else parameters)
+        else:
+            t = _checks.increasing(parameters, n)
         self._fill(P, m, t)
 
     def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray) -> None:

@@ -15,46 +15,32 @@ from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
+from .parameters import averaged_parameters, option
 
 ParameterSpec = Union[str, np.ndarray, list, tuple]
 
-_METHODS = ("uniform", "chord", "centripetal")
 
-
-def parametrize(points, method: ParameterSpec = "chord") -> np.ndarray:
+def parametrize(points, parameters: ParameterSpec = "chord", *, method=None) -> np.ndarray:
     """Parameters u_0 = 0 < u_1 < ... < u_n = 1 for the points Q_0..Q_n
-    (Piegl & Tiller 9.2.1):
+    (Piegl & Tiller 9.2.1), ``parameters`` one of :data:`cagd.fitting.PARAMETERS`:
 
     * ``"uniform"``: u_k = k/n (equally spaced, eq. 9.3);
     * ``"chord"``: u_k = u_{k-1} + |Q_k - Q_{k-1}| / d, d the total chord length (eq. 9.5);
     * ``"centripetal"``: the same with |Q_k - Q_{k-1}|^(1/2) (eq. 9.6).
 
-    An array is returned as given after checking it is strictly increasing.
+    Explicit values are returned as given after checking they are strictly increasing.
+    ``method=`` is the deprecated name of ``parameters=`` (one release).
 
     Raises:
-        CagdError: fewer than 2 points, an unknown method, coincident consecutive
+        CagdError: fewer than 2 points, an unknown name, coincident consecutive
             points (chord/centripetal), explicit parameters of the wrong length or
             not strictly increasing.
     """
+    parameters = option(parameters, {"method": method}, "parametrize", "chord")
     Q = _checks.points(points, "points", min_count=2)
-    n = Q.shape[0] - 1
-    if isinstance(method, str):
-        if method not in _METHODS:
-            raise CagdError(f"parameters: unknown method {method!r}; use one of {_METHODS} or an array")
-        if method == "uniform":
-            return np.arange(n + 1, dtype=np.float64) / n
-        d = np.linalg.norm(np.diff(Q, axis=0), axis=1)
-        if method == "centripetal":
-            d = np.sqrt(d)
-        if np.any(d <= 0.0):
-            k = int(np.argmax(d <= 0.0))
-            raise CagdError(f"points: points[{k}] and points[{k + 1}] coincide; "
-                            f"{method} parameters need distinct consecutive points")
-        u = np.concatenate([[0.0], np.cumsum(d)])
-        u /= u[-1]
-        u[-1] = 1.0
-        return u
-    return _checks.increasing(method, n + 1, "parameters")
+    if isinstance(parameters, str):
+        return averaged_parameters(Q[:, None, :], parameters, "points", "points")
+    return _checks.increasing(parameters, Q.shape[0], "parameters")
 
 
 def bezier_through_points(points, parameters: ParameterSpec = "uniform") -> BezierCurve:

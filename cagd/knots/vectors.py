@@ -1,11 +1,12 @@
 """Knot vector algorithms (Piegl & Tiller ch. 2, 9; seed 000, 5.3.2 knot types)."""
 from __future__ import annotations
 
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
 from .._checks import finite_array
+from .._deprecation import renamed
 from ..errors import CagdError
 
 
@@ -35,10 +36,19 @@ def from_multiplicities(distinct, multiplicities) -> np.ndarray:
     return np.repeat(np.asarray(distinct, float), np.asarray(multiplicities, int))
 
 
-def distinct_with_multiplicities(knots, tol: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
-    """Distinct knot values and their multiplicities (values closer than ``tol`` merge)."""
+KNOT_TOL = 0.0      # default of distinct_with_multiplicities: only equal knots merge
+
+
+def distinct_with_multiplicities(knots, param_tol: float = KNOT_TOL, *,
+                                 tol: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray]:
+    """Distinct knot values and their multiplicities: consecutive values at most
+    ``param_tol`` apart (absolute, in parameter units) merge. ``tol`` is the deprecated
+    name of ``param_tol`` (one release; ``tol`` is a distance in model units in cagd)."""
+    if tol is not None:
+        param_tol = renamed("distinct_with_multiplicities", "tol", "param_tol", tol, param_tol, KNOT_TOL,
+                            "a knot tolerance is in parameter space")
     knots = np.asarray(knots, dtype=np.float64)
-    new = np.concatenate([[True], np.diff(knots) > tol])
+    new = np.concatenate([[True], np.diff(knots) > param_tol])
     starts = np.flatnonzero(new)
     mults = np.diff(np.append(starts, len(knots)))
     return knots[starts].copy(), mults

@@ -12,11 +12,14 @@ from .. import (BezierCurve, BezierSurface, BezierTriangle, BSplineCurve, BSplin
                 CoonsPatch, HermiteCurve, PolynomialCurve, cone, cylinder, ellipsoid, interpolate,
                 interpolate_surface, join, loft, natural_cubic_spline, revolve, ruled, sphere, torus)
 from ..curves.base import Curve
-from ..curves.cubic_spline import END_CONDITIONS, PARAMETRIZATIONS
+from .._deprecation import deprecated
+from ..curves.composite import GAP_TOL
+from ..curves.cubic_spline import END_CONDITIONS
+from ..surfaces.coons import CORNER_TOL
+from ..fitting.parameters import PARAMETERS
 from . import _read as R
 from ._read import ModelError
 
-METHODS = ("chord", "centripetal", "uniform")
 CONTINUITIES = ("G0", "G1", "G2", "C0", "C1", "C2")
 FULL_TURN_TOL = 1e-14     # relative; as cagd.revolve, which closes the seam exactly within it
 SOLID_TOL = 1e-9          # relative: a revolve profile end lies on the axis within SOLID_TOL * size
@@ -66,11 +69,11 @@ class TypeSpec:
         return self.required + self.optional
 
 
-def _method_or(values: Callable) -> Callable:
-    """A reader for a ``parameters`` field: a method name or explicit values."""
+def _name_or(values: Callable) -> Callable:
+    """A reader for a ``parameters`` field: a parametrisation name or explicit values."""
     def read(value, path):
         if isinstance(value, str):
-            return R.choice(value, path, METHODS)
+            return R.choice(value, path, PARAMETERS)
         return values(value, path)
     return read
 
@@ -81,10 +84,11 @@ def _numbers(value, path):
 
 def _surface_parameters(value, path):
     if isinstance(value, str):
-        return R.choice(value, path, METHODS)
+        return R.choice(value, path, PARAMETERS)
     pair = R.array(value, path, "parameter arrays")
     if len(pair) != 2:
-        raise ModelError(path, f"expected a method name or a pair [params_u, params_v], got {len(pair)} arrays")
+        raise ModelError(path, f"expected a parametrisation name or a pair [params_u, params_v], "
+                               f"got {len(pair)} arrays")
     return tuple(_numbers(x, f"{path}[{i}]") for i, x in enumerate(pair))
 
 
@@ -115,17 +119,23 @@ def _hermite_curve(f: Fields):
 def _cubic_spline(f: Fields):
     P = f.req("points", R.points, 2)
     two = (2, (P.shape[1],), 2)           # min_count, dims, count
-    return natural_cubic_spline(
-        P, f.opt("end_condition", R.choice, END_CONDITIONS, default="natural"),
-        f.opt("parametrization", R.choice, PARAMETRIZATIONS, default="chord"),
-        f.opt("tangents", R.points, *two), f.opt("virtual_points", R.points, *two),
-        f.opt("parameters", _numbers))
+    end = f.opt("end_condition", R.choice, END_CONDITIONS, default="natural")
+    old = f.opt("parametrization", R.choice, PARAMETERS)       # the key before "parameters"
+    parameters = f.opt("parameters", _name_or(_numbers), default=old or "chord")
+    if old is not None:
+        if isinstance(f.values["parameters"], str) and "parameters" in f.obj:
+            raise ModelError(f.at("parametrization"), "give the parametrisation once, as \"parameters\" "
+                                                      "(\"parametrization\" is its old name)")
+        deprecated("cagd model", f"{f.at('parametrization')}: the key \"parametrization\" is deprecated; "
+                                 f"use \"parameters\"")
+    return natural_cubic_spline(P, end, parameters, f.opt("tangents", R.points, *two),
+                                f.opt("virtual_points", R.points, *two))
 
 
 def _interpolate(f: Fields):
     P = f.req("points", R.points, 2)
     return interpolate(P, f.opt("degree", R.integer, default=3),
-                       f.opt("parameters", _method_or(_numbers), default="chord"), f.opt("knots", R.knots))
+                       f.opt("parameters", _name_or(_numbers), default="chord"), f.opt("knots", R.knots))
 
 
 def _join(f: Fields):
@@ -135,8 +145,21 @@ def _join(f: Fields):
                 f.opt("alpha", R.number, default=1.0), f.opt("beta", R.number, default=0.0))
 
 
+def _rel_tol(f: Fields, default: float) -> float:
+    """The ``rel_tol`` field (relative to the size), or its old name ``tol`` (one release,
+    with a DeprecationWarning)."""
+    rel, old = f.opt("rel_tol", R.positive), f.opt("tol", R.positive)
+    if old is None:
+        return default if rel is None else rel
+    if rel is not None:
+        raise ModelError(f.at("tol"), "give the tolerance once, as \"rel_tol\" (\"tol\" is its old name)")
+    deprecated("cagd model", f"{f.at('tol')}: the key \"tol\" is deprecated here; use \"rel_tol\" (it is "
+                             f"relative, and tol means a distance in model units in cagd)")
+    return old
+
+
 def _composite(f: Fields):
-    return CompositeCurve(f.curves("curves", 1), f.opt("tol", R.positive, default=1e-9))
+    return CompositeCurve(f.curves("curves", 1), _rel_tol(f, GAP_TOL))
 
 
 # --- surfaces -----------------------------------------------------------------------------
@@ -192,7 +215,7 @@ def _ellipsoid(f: Fields):
 
 def _coons(f: Fields):
     c0, c1, d0, d1 = (f.curve(k) for k in ("c0", "c1", "d0", "d1"))
-    return CoonsPatch(c0, c1, d0, d1, f.opt("tol", R.positive, default=1e-9))
+    return CoonsPatch(c0, c1, d0, d1, _rel_tol(f, CORNER_TOL))
 
 
 def _ruled(f: Fields):
@@ -202,7 +225,7 @@ def _ruled(f: Fields):
 def _loft(f: Fields):
     sections = f.curves("sections", 2)
     return loft(sections, f.opt("degree_v", R.integer, default=3),
-                f.opt("parameters", _method_or(_numbers), default="chord"))
+                f.opt("parameters", _name_or(_numbers), default="chord"))
 
 
 def _bezier_triangle(f: Fields):
@@ -247,12 +270,12 @@ TYPES: Dict[str, TypeSpec] = {
     "polynomial_curve": TypeSpec("curve", ("coefficients",), ("domain",), _polynomial_curve, "PolynomialCurve"),
     "hermite_curve": TypeSpec("curve", ("p0", "p1", "t0", "t1"), (), _hermite_curve, "HermiteCurve"),
     "cubic_spline": TypeSpec("curve", ("points",),
-                             ("end_condition", "parametrization", "tangents", "virtual_points", "parameters"),
+                             ("end_condition", "parameters", "tangents", "virtual_points", "parametrization"),
                              _cubic_spline, "natural_cubic_spline"),
     "interpolate": TypeSpec("curve", ("points",), ("degree", "parameters", "knots"), _interpolate, "interpolate"),
     "join": TypeSpec("curve", ("curve",), ("continuity", "alpha", "beta", "rest_points"), _join, "join",
                      {"P": "curve"}),
-    "composite": TypeSpec("curve", ("curves",), ("tol",), _composite, "CompositeCurve"),
+    "composite": TypeSpec("curve", ("curves",), ("rel_tol", "tol"), _composite, "CompositeCurve"),
     "bezier_surface": TypeSpec("surface", ("control_points",), ("weights",), _bezier_surface, "BezierSurface"),
     "bspline_surface": TypeSpec("surface", ("control_points", "degree_u", "degree_v"),
                                 ("knots_u", "knots_v", "weights", "periodic_u", "periodic_v"),
@@ -266,7 +289,7 @@ TYPES: Dict[str, TypeSpec] = {
     "cylinder": TypeSpec("surface", ("radius", "height"), ("center",), _cylinder, "cylinder"),
     "cone": TypeSpec("surface", ("radius", "height"), ("center",), _cone, "cone"),
     "ellipsoid": TypeSpec("surface", ("a", "b", "c"), (), _ellipsoid, "ellipsoid", solid=_closed),
-    "coons": TypeSpec("surface", ("c0", "c1", "d0", "d1"), ("tol",), _coons, "CoonsPatch"),
+    "coons": TypeSpec("surface", ("c0", "c1", "d0", "d1"), ("rel_tol", "tol"), _coons, "CoonsPatch"),
     "ruled": TypeSpec("surface", ("c0", "c1"), (), _ruled, "ruled"),
     "loft": TypeSpec("surface", ("sections",), ("degree_v", "parameters"), _loft, "loft",
                      {"curves": "sections"}),

@@ -39,7 +39,7 @@ from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..operations.continuity import curve_size
-from ..surfaces.base import Surface
+from ..surfaces.base import Surface, unit_normals
 from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
 from .convert import from_occ, to_occ
@@ -187,22 +187,21 @@ class _Samples:
             scale = max(float(np.linalg.norm(ref[key], axis=-1).max()), self.size / self.length ** k)
             dev[key] = float(np.abs(other[key] - ref[key]).max() / scale)
         if not self.curve:
-            dev["normals"] = _normal_deviation(ref["d1"], other["d1"])
+            dev["normals"] = _normal_deviation(ref["d1"], other["d1"], self.size / self.length)
         return dev
 
 
-def _normal_deviation(d1a: np.ndarray, d1b: np.ndarray) -> float:
-    """Max difference of the unit normals where both are defined: |S_u x S_v| above
-    1e-8 |S_u| |S_v| (at a collapsed point or on a surface collapsed to a line the
-    cross product is rounding noise)."""
-    na, nb = np.cross(d1a[0], d1a[1]), np.cross(d1b[0], d1b[1])
-    la, lb = np.linalg.norm(na, axis=-1), np.linalg.norm(nb, axis=-1)
-    scale_a = np.linalg.norm(d1a[0], axis=-1) * np.linalg.norm(d1a[1], axis=-1)
-    scale_b = np.linalg.norm(d1b[0], axis=-1) * np.linalg.norm(d1b[1], axis=-1)
-    ok = (la > 1e-8 * scale_a) & (lb > 1e-8 * scale_b)
+def _normal_deviation(d1a: np.ndarray, d1b: np.ndarray, scale: float) -> float:
+    """Max difference of the unit normals where both are defined
+    (:func:`cagd.surfaces.base.unit_normals`, partials of typical size ``scale``: at a
+    collapsed point or on a surface collapsed to a line the cross product is rounding
+    noise)."""
+    na, ok_a = unit_normals(d1a[0], d1a[1], scale, scale)
+    nb, ok_b = unit_normals(d1b[0], d1b[1], scale, scale)
+    ok = ok_a & ok_b
     if not ok.any():
         return 0.0
-    return float(np.abs(na[ok] / la[ok, None] - nb[ok] / lb[ok, None]).max())
+    return float(np.abs(na[ok] - nb[ok]).max())
 
 
 # --- the stages ------------------------------------------------------------------------------

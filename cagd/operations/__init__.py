@@ -1,5 +1,5 @@
 """Operations on curves: Bezier joins and continuity analysis at joints."""
 from .continuity import ContinuityReport, continuity, curve_size
-from .join import join, join_bezier
+from .join import join, join_bezier, join_control_points
 
-__all__ = ["ContinuityReport", "continuity", "curve_size", "join", "join_bezier"]
+__all__ = ["ContinuityReport", "continuity", "curve_size", "join", "join_bezier", "join_control_points"]

@@ -14,8 +14,12 @@ from typing import Optional
 import numpy as np
 
 from .. import _checks
+from .._deprecation import RELATIVE, deprecated, renamed
 from ..curves.base import Curve
 from ..errors import CagdError
+
+
+CONTINUITY_TOL = 1e-9      # default relative tolerance of the continuity tests
 
 
 @dataclass(frozen=True)
@@ -25,8 +29,9 @@ class ContinuityReport:
     gap: |c2(t2) - c1(t1)|; tangent_angle: angle between c1'(t1) and c2'(t2) in
     radians (nan if either vanishes); derivative_ratio: |c2'| / |c1'|;
     curvature_difference: |kappa2 - kappa1|; second_derivative_gap: |c2'' - c1''|;
-    tol: the relative tolerance used; size: the length scale (bounding-box
-    diagonal of both curves) that makes it relative.
+    rel_tol: the relative tolerance used; size: the length scale (bounding-box
+    diagonal of both curves) that makes it relative; angle_tol: the G1 angle bound
+    (radians). ``tol`` is the deprecated name of ``rel_tol`` (one release).
     """
     t1: float
     t2: float
@@ -40,8 +45,15 @@ class ContinuityReport:
     C2: bool
     G1: bool
     G2: bool
-    tol: float
+    rel_tol: float
     size: float
+    angle_tol: float = CONTINUITY_TOL
+
+    @property
+    def tol(self) -> float:
+        """Deprecated name of :attr:`rel_tol`."""
+        deprecated("ContinuityReport.tol", "use rel_tol (the same relative tolerance)")
+        return self.rel_tol
 
     @property
     def level(self) -> str:
@@ -55,7 +67,16 @@ class ContinuityReport:
         return (f"{self.level}: gap {self.gap:.3g}, tangent angle {self.tangent_angle:.3g} rad, "
                 f"|c2'|/|c1'| {self.derivative_ratio:.6g}, curvature difference "
                 f"{self.curvature_difference:.3g}, |c2''-c1''| {self.second_derivative_gap:.3g} "
-                f"(tol {self.tol:g} x size {self.size:.3g})")
+                f"(rel_tol {self.rel_tol:g} x size {self.size:.3g}, angle_tol {self.angle_tol:g} rad)")
+
+
+def tolerances(func: str, rel_tol, angle_tol, tol):
+    """(rel_tol, angle_tol) of a continuity test ``func``, validated: ``angle_tol``
+    defaults to ``rel_tol`` (radians); ``tol`` is the deprecated name of ``rel_tol``."""
+    if tol is not None:
+        rel_tol = renamed(func, "tol", "rel_tol", tol, rel_tol, CONTINUITY_TOL, RELATIVE)
+    rel_tol = _checks.positive(rel_tol, "rel_tol")
+    return rel_tol, (rel_tol if angle_tol is None else _checks.angle(angle_tol))
 
 
 def curve_size(*curves: Curve, samples: int = 33) -> float:
@@ -87,28 +108,32 @@ def _angle(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[float] = None,
-               tol: float = 1e-9) -> ContinuityReport:
+               rel_tol: float = CONTINUITY_TOL, *, angle_tol: Optional[float] = None,
+               tol: Optional[float] = None) -> ContinuityReport:
     """Continuity of the joint c1(t1) -> c2(t2) (default: end of c1, start of c2).
 
     With size the bounding-box diagonal of both curves and L1, L2 their domain
-    lengths, the tests are
-    C0: gap <= tol size;
-    C1: C0 and |c2' - c1'| <= tol max(|c1'|, |c2'|, size / L);
-    C2: C1 and |c2'' - c1''| <= tol max(|c1''|, |c2''|, v^2 / size, size / L^2), v = max(|c1'|, |c2'|);
-    G1: C0, both derivatives non-zero (above 1e-12 size / L) and tangent_angle <= tol;
-    G2: G1 and |k2 - k1| <= tol max(|k1|, |k2|, 1 / size) for the curvature vectors k.
+    lengths, the tests (``rel_tol`` relative, ``angle_tol`` in radians, default
+    ``rel_tol``) are
+    C0: gap <= rel_tol size;
+    C1: C0 and |c2' - c1'| <= rel_tol max(|c1'|, |c2'|, size / L);
+    C2: C1 and |c2'' - c1''| <= rel_tol max(|c1''|, |c2''|, v^2 / size, size / L^2), v = max(|c1'|, |c2'|);
+    G1: C0, both derivatives non-zero (above 1e-12 size / L) and tangent_angle <= angle_tol;
+    G2: G1 and |k2 - k1| <= rel_tol max(|k1|, |k2|, 1 / size) for the curvature vectors k.
     The derivatives are taken in each curve's own parameter (one-sided at the ends).
+    ``tol`` is the deprecated name of ``rel_tol`` (one release; ``tol`` is a distance in
+    cagd).
 
     Raises:
-        CagdError: c1 or c2 not a Curve, different dimensions, tol not positive,
-            t1/t2 outside the domains.
+        CagdError: c1 or c2 not a Curve, different dimensions, rel_tol not positive,
+            angle_tol negative, t1/t2 outside the domains.
     """
     for name, c in (("c1", c1), ("c2", c2)):
         if not isinstance(c, Curve):
             raise CagdError(f"{name}: must be a cagd Curve, got {type(c).__name__}")
     if c1.dim != c2.dim:
         raise CagdError(f"c2: dimension {c2.dim} differs from c1's {c1.dim}")
-    tol = _checks.positive(tol, "tol")
+    rel_tol, angle_tol = tolerances("continuity", rel_tol, angle_tol, tol)
     t1 = c1.domain[1] if t1 is None else _checks.scalar(t1, "t1")
     t2 = c2.domain[0] if t2 is None else _checks.scalar(t2, "t2")
     D1, D2 = c1.derivatives(t1, 2), c2.derivatives(t2, 2)
@@ -124,14 +149,14 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
     k1, k2 = _curvature_vector(D1[1], D1[2]), _curvature_vector(D2[1], D2[2])
     kn1, kn2 = float(np.linalg.norm(k1)), float(np.linalg.norm(k2))
 
-    C0 = gap <= tol * size
-    C1 = C0 and dgap1 <= tol * max(v, size / span)
-    C2 = C1 and dgap2 <= tol * max(np.linalg.norm(D1[2]), np.linalg.norm(D2[2]), v * v / size, size / span ** 2)
+    C0 = gap <= rel_tol * size
+    C1 = C0 and dgap1 <= rel_tol * max(v, size / span)
+    C2 = C1 and dgap2 <= rel_tol * max(np.linalg.norm(D1[2]), np.linalg.norm(D2[2]), v * v / size, size / span ** 2)
     tiny = 1e-12 * size / span           # a first derivative below this is rounding noise
-    G1 = bool(C0 and n1 > tiny and n2 > tiny and angle <= tol)
-    G2 = bool(G1 and np.linalg.norm(k2 - k1) <= tol * max(kn1, kn2, 1.0 / size))
+    G1 = bool(C0 and n1 > tiny and n2 > tiny and angle <= angle_tol)
+    G2 = bool(G1 and np.linalg.norm(k2 - k1) <= rel_tol * max(kn1, kn2, 1.0 / size))
     ratio = n2 / n1 if n1 > tiny else (float("inf") if n2 > tiny else float("nan"))
     if n2 <= tiny and n1 > tiny:
         ratio = 0.0
     return ContinuityReport(float(t1), float(t2), gap, angle, ratio, abs(kn2 - kn1), dgap2,
-                            bool(C0), bool(C1), bool(C2), G1, G2, tol, size)
+                            bool(C0), bool(C1), bool(C2), G1, G2, rel_tol, size, float(angle_tol))

@@ -34,6 +34,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _checks
+from .._deprecation import deprecated
 from ..curves.base import rational_derivatives
 from ..curves.bezier import BezierCurve
 from ..errors import CagdError
@@ -61,8 +62,8 @@ def _end_derivatives(P: BezierCurve) -> tuple:
     return P.control_points[-1].copy(), d[1], d[2]
 
 
-def join_bezier(P: BezierCurve, continuity: str = "G1", alpha: float = 1.0, beta: float = 0.0,
-                degree: Optional[int] = None) -> np.ndarray:
+def join_control_points(P: BezierCurve, continuity: str = "G1", alpha: float = 1.0, beta: float = 0.0,
+                        degree: Optional[int] = None) -> np.ndarray:
     """The leading control points Q_0..Q_c (c = 0, 1, 2 for G0/C0, G1/C1, G2/C2) of a
     degree-``degree`` (default: P's degree) Bezier curve Q that continues P with the
     requested continuity; see the module docstring for the formulas (seed 000, 5.2.5).
@@ -101,14 +102,23 @@ def join_bezier(P: BezierCurve, continuity: str = "G1", alpha: float = 1.0, beta
     return np.array(Q)
 
 
+def join_bezier(P: BezierCurve, continuity: str = "G1", alpha: float = 1.0, beta: float = 0.0,
+                degree: Optional[int] = None) -> np.ndarray:
+    """Deprecated (one release): the leading control points, now
+    :func:`join_control_points`; the joined curve itself is :func:`join`."""
+    deprecated("join_bezier", "join_bezier is deprecated: use join_control_points (the same leading control "
+                              "points) or join (the joined BezierCurve, like every other constructor)")
+    return join_control_points(P, continuity, alpha, beta, degree)
+
+
 def join(P: BezierCurve, rest_points=None, continuity: str = "G1", alpha: float = 1.0,
          beta: float = 0.0) -> BezierCurve:
     """The Bezier curve Q continuing P: its leading control points from
-    :func:`join_bezier`, followed by ``rest_points`` (the user's free points
+    :func:`join_control_points`, followed by ``rest_points`` (the user's free points
     Q_{c+1}..Q_m); Q has degree m = c + len(rest_points).
 
     Raises:
-        CagdError: as :func:`join_bezier`; ``rest_points`` of another dimension
+        CagdError: as :func:`join_control_points`; ``rest_points`` of another dimension
             than P; too few points for Q (fewer than 2 in all, or m < 2 for G2).
     """
     if not isinstance(P, BezierCurve):
@@ -124,5 +134,5 @@ def join(P: BezierCurve, rest_points=None, continuity: str = "G1", alpha: float 
     if m < max(1, c):
         raise CagdError(f"rest_points: a {key} join needs at least {max(1, c) - c} further point(s) "
                         f"so that Q has degree >= {max(1, c)}, got {rest.shape[0]}")
-    lead = join_bezier(P, key, alpha, beta, degree=m)
+    lead = join_control_points(P, key, alpha, beta, degree=m)
     return BezierCurve(np.vstack([lead, rest]))

@@ -73,7 +73,7 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
     """Cubic interpolation of the branch points and of their parameters (chord-length
     parameters); midpoints (corrected onto the branch) are inserted in segments whose
     samples are off either surface or whose parameter curves are off the 3-D curve
-    by more than tol. Returns (curve, params_a, params_b, tolerance, params_tolerance)."""
+    by more than tol. Returns (curve, params_a, params_b, max_distance, params_max_distance)."""
     from ..fitting.interpolation import interpolate
     for r in range(rounds + 1):
         runs = _runs(S, xs, P, tol)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _periodic as periodic
+
 _DECREASE = 1e-15     # relative slack when comparing squared distances (rounding)
 BLOCK = 2             # cells within this many grid steps of x*'s cell are bounded from x*
 
@@ -58,21 +60,23 @@ def _place(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, wrap: np.ndarray, a: n
     (component-first (k, n) arrays; wrap, a, b of shape (k, 1))."""
     out = np.minimum(np.maximum(x, lo), hi)
     if wrap.any():
-        out = np.where(wrap, a + np.mod(x - a, b - a), out)
+        out = np.where(wrap, periodic.wrap(x, a, b - a), out)
     return out
 
 
 def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-                     wrap: np.ndarray, max_iterations: int, tol: float):
+                     wrap: np.ndarray, max_iterations: int, tol, param_tol=None):
     """Minimise |S(x) - X[pid]|^2 for every row of x0 inside its box [lo, hi] (wrapped
     instead of clamped along ``wrap``): Newton with an active set at the box faces and
-    step halving (at most 10 halvings) so that g never increases; a step below
-    tol * range ends the iteration without a further evaluation, and so does a step d_k
-    whose successor, at the quadratic rate of the last two full steps, would be below
-    tol / 1000 (|d_k|^3 / |d_k-1|^2 relative to the range).
+    step halving (at most 10 halvings) so that g never increases. A step d ends the
+    iteration without a further evaluation when it moves the foot by |J d| <= ``tol``
+    (a distance) or, with ``param_tol``, when every |d_i| <= param_tol * range_i; so does
+    a step d_k whose successor, at the quadratic rate of the last two full steps, would
+    be below a thousandth of that (|d_k|^3 / |d_k-1|^2 in the same measure). Either
+    tolerance may be None (not used), not both.
     Returns (x, g, converged, (S, J, H2, xe)): S, J, H2 at xe, the last point where
     they were evaluated (x itself or x before its last step);
-    converged means the last step met one of those two tests."""
+    converged means the last step met one of those tests."""
     xc = np.array(np.asarray(x0, dtype=np.float64).T)                  # (k, n)
     loc, hic = np.ascontiguousarray(np.asarray(lo, dtype=np.float64).T), \
         np.ascontiguousarray(np.asarray(hi, dtype=np.float64).T)
@@ -80,8 +84,6 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
     k, n = xc.shape
     a, b = proj.domain[:, 0][:, None], proj.domain[:, 1][:, None]
     wrapc = np.asarray(wrap, dtype=bool)[:, None]
-    step_tol = (tol * proj.width)[:, None]
-    stall_tol = (1024.0 * np.sqrt(tol) * proj.width)[:, None]
     conv = np.zeros(n, dtype=bool)
     S, J, H2 = proj.evaluate(xc.T, 2)
     xe = xc.copy()                                                     # where S, J, H2 hold
@@ -92,6 +94,7 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
     floor = (1e-15 * proj.size) ** 2
     act = np.arange(n)
     prev = np.zeros(n)                  # size of the previous step, relative to the range (0: none)
+    prev_move = np.zeros(n)             # how far it moved the foot
     width = proj.width[:, None]
     Ja, Ha, Ra, Pa = Jc, Hc, R, P
     for _ in range(max_iterations):
@@ -103,17 +106,24 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
         step = _solve(Hf, Hg, grad, fixed)
         xn = _place(xa + step, la, ha, wrapc, a, b)
         taken = np.where(wrapc, step, xn - xa)
-        # a step below tol ends the iteration before evaluating: x (and S, J, H2 there)
-        # is kept, within tol of the Newton point
-        # a step below tol ends the iteration; so does one whose successor, at the
-        # quadratic rate seen over the last two steps (|d_k+1| ~ |d_k|^3 / |d_k-1|^2), is
-        # below tol / 1000
+        # a small step ends the iteration before evaluating: x (and S, J, H2 there) is
+        # kept, within the tolerance of the Newton point; so does one whose successor, at
+        # the quadratic rate seen over the last two steps (|d_k+1| ~ |d_k|^3 / |d_k-1|^2),
+        # is a thousandth of the tolerance (only when the steps really contract
+        # quadratically: a slow linear rate would make the extrapolation stop far from
+        # the minimum)
         rel = (np.abs(taken) / width).max(0)
-        # (only when the steps really contract quadratically: a slow linear rate would
-        # make the extrapolation stop far from the minimum)
-        quadratic = (rel <= 1e-2 * prev[act]) & (rel ** 3 <= 1e-3 * tol * prev[act] ** 2)
-        small = (np.abs(taken) <= step_tol).all(0) | quadratic
-        prev[act] = rel
+        move = _foot_move(Ja, taken)
+        step_move = _foot_move(Ja, step)
+        small = np.zeros(len(act), dtype=bool)
+        if tol is not None:
+            pm = prev_move[act]
+            small |= (move <= tol) | ((move <= 1e-2 * pm) & (move ** 3 <= 1e-3 * tol * pm ** 2))
+        if param_tol is not None:
+            pr = prev[act]
+            small |= (np.abs(taken) <= param_tol * width).all(0) | \
+                ((rel <= 1e-2 * pr) & (rel ** 3 <= 1e-3 * param_tol * pr ** 2))
+        prev[act], prev_move[act] = rel, move
         if small.any():
             # the last (tiny) step is taken when it does not increase g, with a point
             # evaluation only; S, J, H2 stay those at the previous point (returned as xe)
@@ -128,6 +138,7 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
             go = ~small
             act, xa, la, ha, xn, step, grad, Pa = act[go], xa[:, go], la[:, go], ha[:, go], xn[:, go], \
                 step[:, go], grad[:, go], Pa[:, go]
+            step_move = step_move[go]
             if not act.size:
                 break
         Sn, Jn, H2n = proj.evaluate(xn.T, 2)
@@ -153,7 +164,7 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
                 xn[:, bad[good]], ok[bad[good]] = xb[:, good], True
                 bad = bad[~good]
             redo = np.flatnonzero(ok & halved)
-            prev[act[halved]] = 0.0         # not in the quadratic regime
+            prev[act[halved]] = prev_move[act[halved]] = 0.0        # not in the quadratic regime
             if redo.size:
                 Sr, Jr, H2r = proj.evaluate(xn[:, redo].T, 2)
                 Sn, Jn, H2n = np.array(Sn), np.array(Jn), np.array(H2n)
@@ -173,7 +184,12 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
             done = ~ok | (gn == 0.0)
             # a line search that cannot decrease g even at 2^-10 of the step is at the
             # rounding floor of a stationary point when that step is short
-            stalled = ~ok & (np.abs(step) <= stall_tol).all(0)
+            stalled = np.zeros(len(ok), dtype=bool)
+            if tol is not None:
+                stalled |= step_move <= 1024.0 * np.sqrt(tol * proj.size)
+            if param_tol is not None:
+                stalled |= (np.abs(step) <= 1024.0 * np.sqrt(param_tol) * width).all(0)
+            stalled &= ~ok
             conv[act[done]] = (stalled | (ok & (gn == 0.0)))[done]
         if done.any():
             keep = ~done
@@ -182,6 +198,14 @@ def projected_newton(proj, X: np.ndarray, pid: np.ndarray, x0: np.ndarray, lo: n
         else:
             Ja, Ha, Ra = Jn, H2n, rn
     return xc.T.copy(), g, conv, [Sc.T, Jc.T, Hc.T, xe.T]
+
+
+def _foot_move(Jc: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """|J d| per column: how far the parameter step d (k, n) moves the point, to first
+    order, from component-first partials J (k, dim, n)."""
+    with np.errstate(over="ignore", invalid="ignore"):      # a wild step (at a centre of curvature)
+        v = (Jc * d[:, None, :]).sum(0)
+        return np.sqrt((v * v).sum(0))
 
 
 def _sigma_min(J: np.ndarray) -> np.ndarray:

@@ -4,20 +4,30 @@ out by bisection to where the distance exceeds tol, and snapped to the domain en
 (see :mod:`cagd.queries.intersect`)."""
 from __future__ import annotations
 
-from typing import List, NamedTuple, Tuple
+from dataclasses import dataclass
+from typing import List, Tuple
 
 import numpy as np
 
+from .._results import ReadOnlyArrays
 from . import _subdivision as sd
 
 
-class Overlap(NamedTuple):
+UNSETTLED = "an end was not located: the overlap may extend further"
+
+
+@dataclass(frozen=True)
+class Overlap(ReadOnlyArrays):
     """Coincident pieces: ``param_a`` = (s0, s1) on a with s0 < s1, ``param_b`` the
     parameters on b matching s0 and s1 (decreasing when the directions are opposite).
     For a curve lying in a surface, ``param_b`` holds the surface's (u, v) arrays at
-    s0 and s1 (with the curve given second, the two fields are swapped)."""
+    s0 and s1 (with the curve given second, the two fields are swapped). The ends are
+    where the distance to the other object reaches tol (``converged``; ``message`` says
+    otherwise)."""
     param_a: Tuple[float, float]
     param_b: Tuple[object, object]
+    converged: bool = True
+    message: str = ""
 
 
 def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
@@ -88,27 +98,31 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
         s0, s1 = g[0], g[1]
         t0, t1 = np.array(g[2:2 + kb]), np.array(g[2 + kb:])
         h = 0.25 * (s1 - s0)
-        s0, t0 = _edge(A, B, s0, t0, -1.0, h, tol, self_mode)
-        s1, t1 = _edge(A, B, s1, t1, 1.0, h, tol, self_mode)
+        s0, t0, found0 = _edge(A, B, s0, t0, -1.0, h, tol, self_mode)
+        s1, t1, found1 = _edge(A, B, s1, t1, 1.0, h, tol, self_mode)
+        end = {} if found0 and found1 else {"converged": False, "message": UNSETTLED}
         s0, t0 = _snap(A, B, s0, t0)
         s1, t1 = _snap(A, B, s1, t1)
         if kb == 2:
             if out and s0 <= out[-1].param_a[1] + ea:      # grown into the previous one
                 if s1 > out[-1].param_a[1]:
-                    out[-1] = Overlap((out[-1].param_a[0], float(s1)), (out[-1].param_b[0], B.user_params(t1[None])[0]))
+                    out[-1] = Overlap((out[-1].param_a[0], float(s1)), (out[-1].param_b[0], B.user_params(t1[None])[0]),
+                                      **end)
                 continue
             u0, u1 = B.user_params(np.array([t0, t1]))
-            out.append(Overlap((float(s0), float(s1)), (u0, u1)))
+            out.append(Overlap((float(s0), float(s1)), (u0, u1), **end))
             continue
         if self_mode and t0[0] < s0:
             continue                  # the same overlap seen from its other side
-        out.append(Overlap((float(s0), float(s1)), (float(t0[0]), float(t1[0]))))
+        out.append(Overlap((float(s0), float(s1)), (float(t0[0]), float(t1[0])), **end))
     return out
 
 
 def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, self_mode: bool):
     """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
-    still lies within tol of B: march by steps h, 2h, 4h, ..., then 60 bisections."""
+    still lies within tol of B: march by steps h, 2h, 4h, ..., then 60 bisections.
+    Returns (s, t, found): found is False when 16 steps neither left B nor reached the
+    domain's end (the overlap may go on)."""
     lim = A.hi[0] if sign > 0 else A.lo[0]
 
     def on(s, t):
@@ -120,7 +134,7 @@ def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, sel
     t_in = np.asarray(t_in, float)
     for _ in range(16):
         if s_in == lim:
-            return s_in, t_in
+            return s_in, t_in, True
         s_try = min(s_in + h, lim) if sign > 0 else max(s_in - h, lim)
         good, t_try = on(s_try, t_in)
         if not good:
@@ -129,7 +143,7 @@ def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, sel
         s_in, t_in = s_try, t_try
         h *= 2.0                      # a small fragment may grow to the whole curve
     if s_out is None:
-        return s_in, t_in
+        return s_in, t_in, s_in == lim
     for _ in range(60):
         s_mid = 0.5 * (s_in + s_out)
         if s_mid in (s_in, s_out):
@@ -139,7 +153,7 @@ def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, sel
             s_in, t_in = s_mid, t_mid
         else:
             s_out = s_mid
-    return s_in, t_in
+    return s_in, t_in, True
 
 
 def _snap(A, B, s: float, t: np.ndarray) -> Tuple[float, np.ndarray]:

@@ -18,6 +18,7 @@ from typing import NamedTuple, Tuple
 
 import numpy as np
 
+from .._periodic import wrap, wrapped_difference
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
@@ -79,7 +80,7 @@ class Geometry:
     def clamp(self, x: np.ndarray) -> np.ndarray:
         """Parameters (N, k) wrapped (periodic directions) or clamped into the domain."""
         span = self.hi - self.lo
-        wrapped = self.lo + np.mod(x - self.lo, span)
+        wrapped = wrap(x, self.lo, span)
         return np.where(self.periodic, wrapped, np.clip(x, self.lo, self.hi))
 
     def derivatives(self, x: np.ndarray, order: int, rows=None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -308,7 +309,7 @@ def refine(A: Geometry, B: Geometry, x: np.ndarray, y: np.ndarray, full_hessian:
     span = hi - lo
 
     def clamp(w):
-        return np.where(per, lo + np.mod(w - lo, span), np.clip(w, lo, hi))
+        return np.where(per, wrap(w, lo, span), np.clip(w, lo, hi))
 
     def residual(w, order, rows):
         pa, da, ha = A.derivatives(w[:, :ka], order, rows)
@@ -358,7 +359,7 @@ def refine(A: Geometry, B: Geometry, x: np.ndarray, y: np.ndarray, full_hessian:
             znew[todo[ok]], fnew[todo[ok]] = trial[ok], ft[ok]
             accepted[todo[ok]] = True
             alpha[todo[~ok]] *= 0.5
-        moved = np.abs(np.where(per, np.mod(znew - zi + span / 2, span) - span / 2, znew - zi))
+        moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
         small = np.all(np.abs(step) <= 1e-10 * span, axis=1)
         ok = (accepted & np.all(moved <= 1e-15 * span, axis=1)) | (fnew == 0) | (~accepted & small)
         z[idx], f[idx] = znew, fnew

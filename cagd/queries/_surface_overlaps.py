@@ -6,21 +6,27 @@ subdivision, merged into connected parameter boxes whose edges are moved out by
 bisection to where the surfaces separate, and reported as :class:`SurfaceOverlap`."""
 from __future__ import annotations
 
-from typing import List, NamedTuple, Optional, Tuple
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
 
 import numpy as np
 
+from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
 
 _N = 5                        # samples per direction on a piece (odd: the centre is one)
 
 
-class SurfaceOverlap(NamedTuple):
+@dataclass(frozen=True)
+class SurfaceOverlap:
     """Coincident pieces of two surfaces: ``box_a`` = ((u0, u1), (v0, v1)) on a where
     a lies on b within tol, ``box_b`` the parameter box of the same piece on b (the
-    bounding box of the projected samples; None for a plane)."""
+    bounding box of the projected samples; None for a plane). The boxes are grown until
+    the distance reaches tol (``converged``; ``message`` says otherwise)."""
     box_a: Tuple[Tuple[float, float], Tuple[float, float]]
     box_b: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]
+    converged: bool = True
+    message: str = ""
 
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int = _N) -> np.ndarray:
@@ -104,8 +110,10 @@ def _components(B: np.ndarray) -> List[np.ndarray]:
 
 def _grow(G, H, pl, box, seed_y, tol):
     """Move each edge of box (lo0, lo1, hi0, hi1) outwards while the whole edge (9
-    samples) stays within tol of H: steps h, 2h, ... then 40 bisections."""
-    box = box.copy()
+    samples) stays within tol of H: steps h, 2h, ... then 40 bisections. Returns (box,
+    found): found is False when an edge neither left H in 16 steps nor reached the
+    domain's end."""
+    box, found = box.copy(), True
     for side in range(4):
         d, up = side % 2, side >= 2                 # parameter direction, moving the high edge
         lim = G.hi[d] if up else G.lo[d]
@@ -136,6 +144,7 @@ def _grow(G, H, pl, box, seed_y, tol):
                 out = trial
                 break
             cur, seed, h = trial, y, 2 * h
+        found &= out is not None or cur == lim
         if out is not None:
             for _ in range(40):
                 mid = 0.5 * (cur + out)
@@ -148,7 +157,7 @@ def _grow(G, H, pl, box, seed_y, tol):
             box[2 + d] = cur
         else:
             box[d] = cur
-    return box
+    return box, found
 
 
 def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarray], tol: float,
@@ -166,7 +175,7 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
         if H is not None:
             mids = 0.5 * (B[:, :2] + B[:, 2:])
             y0 = Y[np.argmin(np.linalg.norm(mids - centre, axis=1))]
-        box = _grow(G, H, pl, comp, y0, tol)
+        box, found = _grow(G, H, pl, comp, y0, tol)
         if any(np.all(box[:2] >= g[:2] - 1e-12) and np.all(box[2:] <= g[2:] + 1e-12) for g in grown):
             continue
         grown.append(box)
@@ -180,7 +189,9 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
             valid = np.all(speed > 1e-8 * H.size, axis=1).reshape(7, 7)
             lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed, valid)
             bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
-        out.append(SurfaceOverlap(bb, ba) if swap else SurfaceOverlap(ba, bb))
+        end = {} if found else {"converged": False, "message": "an edge of the box was not located: the overlap "
+                                                                "may extend further"}
+        out.append(SurfaceOverlap(bb, ba, **end) if swap else SurfaceOverlap(ba, bb, **end))
     return out
 
 
@@ -203,11 +214,11 @@ def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.nda
         out = c.copy()
         for j in range(1, n):                                  # the middle row, left to right
             prev = out[m, j - 1]
-            out[m, j] = prev + _wrapdiff(c[m, j] - prev, span[d]) if valid[m, j] else prev
+            out[m, j] = prev + wrapped_difference(c[m, j], prev, span[d]) if valid[m, j] else prev
         for rows in (range(m + 1, n), range(m - 1, -1, -1)):   # then outwards, column by column
             for i in rows:
                 prev = out[i - 1] if i > m else out[i + 1]
-                out[i] = np.where(valid[i], prev + _wrapdiff(c[i] - prev, span[d]), prev)
+                out[i] = np.where(valid[i], prev + wrapped_difference(c[i], prev, span[d]), prev)
         y[..., d] = out
     a, b = y.min(axis=(0, 1)), y.max(axis=(0, 1))
     pick = y[valid] if valid.any() else y.reshape(-1, 2)
@@ -217,13 +228,9 @@ def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.nda
         if b[d] - a[d] >= span[d] * (1 - 1e-9):
             a[d], b[d] = lo[d], hi[d]
         else:
-            shift = np.floor((a[d] - lo[d]) / span[d]) * span[d]
+            shift = a[d] - wrap(a[d], lo[d], span[d])
             a[d], b[d] = a[d] - shift, b[d] - shift
     return a, b
-
-
-def _wrapdiff(d, span):
-    return np.mod(d + span / 2, span) - span / 2
 
 
 def inside(x: np.ndarray, regions_: List[SurfaceOverlap], lo: np.ndarray, hi: np.ndarray,

@@ -9,6 +9,7 @@ from typing import Optional
 
 import numpy as np
 
+from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
 
 NEWTON_ITERATIONS = 12
@@ -33,10 +34,10 @@ class System:
         return d[0, 0], np.stack([d[1, 0], d[0, 1]], axis=1)
 
     def wrap(self, x):
-        return np.where(self.per, self.lo + np.mod(x - self.lo, self.span), x)
+        return np.where(self.per, wrap(x, self.lo, self.span), x)
 
     def wrapdiff(self, d):
-        return np.where(self.per, np.mod(d + self.span / 2, self.span) - self.span / 2, d)
+        return np.where(self.per, wrapped_difference(d, 0.0, self.span), d)
 
     def inside(self, x, slack=1e-12):
         s = slack * self.span

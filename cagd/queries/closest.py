@@ -27,12 +27,15 @@ it, so ``distances - lower_bounds`` tells how sure the answer is.
 """
 from __future__ import annotations
 
-from typing import NamedTuple, Optional
+from dataclasses import dataclass, replace
+from typing import Optional
 import weakref
 
 import numpy as np
 
-from .. import _checks
+from .. import _checks, _periodic as periodic
+from .._deprecation import changed
+from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
@@ -40,17 +43,26 @@ from .bounds import BezierPieces, bezier_pieces, closed_directions
 from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, pair_distances as _distances, \
     PowerTable, projected_newton, split_boxes as _split
 
-__all__ = ["ClosestPoints", "Projector", "closest_point"]
+__all__ = ["ClosestPoints", "Projector", "closest_point", "CLOSEST_TOL"]
+
+CLOSEST_TOL = 1e-12     # default tol of closest_point, relative to the object's size
+TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
+               "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
+               "is param_tol= now")
 
 
-class ClosestPoints(NamedTuple):
+@dataclass(frozen=True)
+class ClosestPoints(ReadOnlyArrays):
     """Result of :func:`closest_point` for N points (or N local minima of one point).
 
     params: (N,) curve parameters or (N, 2) surface parameters; feet: (N, dim) closest
-    points; distances: (N,); converged: (N,) the local Newton refinement met ``tol``
-    within ``max_iterations``; lower_bounds: (N,) certified lower bounds on the true
-    distance from the point to the whole object (``lower_bounds <= distances``);
-    isolated (``all_minima`` only, else None): (N,) False where the minimum is not
+    points (the feet of the perpendiculars); distances: (N,); point_converged: (N,)
+    the local Newton refinement met ``tol`` (or ``param_tol``) within
+    ``max_iterations`` at that point; converged: at every point, and ``message`` names
+    the points where it did not; lower_bounds: (N,) certified lower bounds on the true
+    distance from the point to the whole object (``lower_bounds <= distances``, whether
+    or not Newton converged); isolated (``all_minima`` only, else None): (N,) False
+    where the minimum is not
     isolated: the Hessian of the squared distance has a zero eigenvalue (relative 1e-6)
     along the free parameters, so the minima form a curve or a region through it (the
     centre of a sphere, a point on the axis of a surface of revolution); the rows are
@@ -59,9 +71,11 @@ class ClosestPoints(NamedTuple):
     params: np.ndarray
     feet: np.ndarray
     distances: np.ndarray
-    converged: np.ndarray
+    point_converged: np.ndarray
     lower_bounds: np.ndarray
     isolated: Optional[np.ndarray] = None
+    converged: bool = True
+    message: str = ""
 
 
 _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -301,18 +315,30 @@ class Projector:
         return pid, cell, lb, rest
 
     # --- queries -----------------------------------------------------------------------------
-    def closest(self, points, tol: float = 1e-12, max_iterations: int = 50,
-                max_rounds: int = 40) -> ClosestPoints:
+    def _stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]):
+        """(tol, param_tol) validated: ``tol`` a distance (default CLOSEST_TOL * size when
+        neither is given), ``param_tol`` relative to the parameter range; None: unused."""
+        if tol is None and param_tol is None:
+            return CLOSEST_TOL * self.size, None
+        return (None if tol is None else _checks.positive(tol, "tol"),
+                None if param_tol is None else _checks.positive(param_tol, "param_tol"))
+
+    def closest(self, points, tol: Optional[float] = None, max_iterations: int = 50, max_rounds: int = 40, *,
+                param_tol: Optional[float] = None) -> ClosestPoints:
         """The closest point of the object to every row of ``points`` (see :func:`closest_point`)."""
+        if tol is not None:
+            changed("Projector.closest", TOL_CHANGED)
+        return self._closest(points, *self._stop_tolerances(tol, param_tol), max_iterations, max_rounds)
+
+    def _closest(self, points, tol, param_tol, max_iterations: int = 50, max_rounds: int = 40) -> ClosestPoints:
         X = self._points(points)
-        tol = _checks.positive(tol, "tol")
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         N = len(X)
         vid, vstart, vcount = self._voxels(X)
         seed = self.seeds(X, vstart, vcount)
         dom_lo, dom_hi = np.broadcast_to(self.domain[:, 0], (N, self.k)), np.broadcast_to(self.domain[:, 1], (N, self.k))
         x, d2, conv, (Sx, Jx, Hx, xe) = projected_newton(self, X, np.arange(N), self._start(X, seed), dom_lo, dom_hi,
-                                                     self.wrap, max_iterations, tol)
+                                                     self.wrap, max_iterations, tol, param_tol)
         d = np.sqrt(d2)
         # branch and bound over (point, box) pairs; first round: boxes near x* are bounded
         # by the expansion at x* itself (no evaluation), with bounds over the block of cells
@@ -372,7 +398,7 @@ class Projector:
             if not len(pid):
                 break
             y, g2, ok, _ = projected_newton(self, X, pid, np.clip(x[pid], lo, hi), lo, hi, np.zeros(self.k, bool),
-                                         max_iterations, tol)
+                                         max_iterations, tol, param_tol)
             dy = np.sqrt(g2)
             order = np.lexsort((dy, pid))                # best local result per point
             first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
@@ -395,19 +421,24 @@ class Projector:
         LB = np.minimum(LB * (1.0 - 1e-13), d)
         return self._result(x, d, conv, LB)
 
-    def local_minima(self, point, tol: float = 1e-12, max_iterations: int = 50) -> ClosestPoints:
+    def local_minima(self, point, tol: Optional[float] = None, max_iterations: int = 50, *,
+                     param_tol: Optional[float] = None) -> ClosestPoints:
         """Every local minimum of the distance from one point: box-constrained Newton in
         every cell, kept where the gradient vanishes (or points into the domain at its
         boundary), duplicates merged; sorted by distance."""
+        if tol is not None:
+            changed("Projector.local_minima", TOL_CHANGED)
+        return self._local_minima(point, *self._stop_tolerances(tol, param_tol), max_iterations)
+
+    def _local_minima(self, point, tol, param_tol, max_iterations: int = 50) -> ClosestPoints:
         X = self._points(point)
         if len(X) != 1:
             raise CagdError(f"points: all_minima needs exactly one point, got {len(X)}")
-        tol = _checks.positive(tol, "tol")
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         m = len(self.radii)
         pid = np.zeros(m, dtype=np.intp)
         y, g2, ok, _ = projected_newton(self, X, pid, self.mids.copy(), self.lo, self.hi, np.zeros(self.k, bool),
-                                     max_iterations, tol)
+                                     max_iterations, tol, param_tol)
         S, J, H2 = self.evaluate(y, 2)
         r = S - X[0]
         grad = 2.0 * np.einsum("nd,ndk->nk", r, J)
@@ -443,7 +474,7 @@ class Projector:
         y, g2, ok, degenerate = y[good], g2[good], ok[good], degenerate[good]
         order = np.argsort(g2, kind="stable")               # merge duplicates: the closest of
         key = np.round((y[order] - self.domain[:, 0]) / self.width * 1e7).astype(np.int64)   # each 1e-7 bin
-        key = np.where(self.wrap, np.mod(key, 10_000_000), key)
+        key = np.where(self.wrap, periodic.wrap(key, 0, 10_000_000), key)
         _, first = np.unique(key, axis=0, return_index=True)
         chosen = order[np.sort(first)]
         # one row per foot point: a pole is one point for a whole edge of parameters, and
@@ -456,9 +487,9 @@ class Projector:
                 keep.append(i)
         chosen = chosen[keep]
         d = np.sqrt(g2[chosen])
-        lower = self.closest(X, tol, max_iterations).lower_bounds[0]
+        lower = self._closest(X, tol, param_tol, max_iterations).lower_bounds[0]
         res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d))
-        return res._replace(isolated=~degenerate[chosen])
+        return replace(res, isolated=~degenerate[chosen])
 
     def _closed(self) -> np.ndarray:
         """Directions (k,) that are periodic or close on themselves (a seam), where the
@@ -546,8 +577,13 @@ class Projector:
         feet = self.value(x)
         if self.triangle:                                   # (s, t) -> (u, v) = (s, t (1 - s))
             x = np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
-        params = x[:, 0].copy() if self.k == 1 else x
-        return ClosestPoints(params, feet, d, conv.astype(bool), lower)
+        params = x[:, 0].copy() if self.k == 1 else x.copy()
+        conv = np.array(conv, dtype=bool)
+        bad = np.flatnonzero(~conv)
+        message = "" if not bad.size else (
+            f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
+            f"their distances are the best found, lower_bounds still hold")
+        return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
 
 
 def _c2_breaks(pieces: BezierPieces):
@@ -689,8 +725,8 @@ def projector(obj) -> Projector:
     return p
 
 
-def closest_point(obj, points, all_minima: bool = False, tol: float = 1e-12,
-                  max_iterations: int = 50) -> ClosestPoints:
+def closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = None,
+                  max_iterations: int = 50, *, param_tol: Optional[float] = None) -> ClosestPoints:
     """Closest points of an engine curve or surface to N points, global and certified.
 
     Args:
@@ -698,19 +734,36 @@ def closest_point(obj, points, all_minima: bool = False, tol: float = 1e-12,
             returned in the triangle's (u, v), u = s, v = t (1 - s) of the NURBS form).
         points: (N, dim) points (one point may be given as (dim,)).
         all_minima: return every local minimum of the distance from one point instead.
-        tol: Newton stops when a step is below ``tol`` times the parameter range.
+        tol: a distance in model units: Newton stops when a step moves the foot by less
+            than ``tol`` (default CLOSEST_TOL = 1e-12 times the object's size, when
+            ``param_tol`` is not given either). Until cagd 0.1 ``tol`` was a step relative
+            to the parameter range (now ``param_tol``); passing ``tol`` warns
+            (FutureWarning) for one release.
+        param_tol: relative, in parameter space: Newton also stops when every component of
+            a step is below ``param_tol`` times that parameter's range (None: not used).
         max_iterations: bound on Newton steps per refinement (non-convergence is reported).
 
     Returns:
-        :class:`ClosestPoints` (params, feet, distances, converged, lower_bounds; with
-        ``all_minima``, also ``isolated``: False where the minima form a continuum).
+        :class:`ClosestPoints` (params, feet, distances, lower_bounds, point_converged,
+        converged, message; with ``all_minima``, also ``isolated``: False where the
+        minima form a continuum).
 
     Raises:
-        CagdError: not a curve or surface, empty or NaN points, wrong dimension, tol <= 0.
+        CagdError: not a curve or surface, empty or NaN points, wrong dimension, tol or
+            param_tol <= 0.
 
     Piegl & Tiller 6.1 (point inversion by Newton); seed 004, ch. 1 §4 (minimum distance).
     """
+    if tol is not None:
+        changed("closest_point", TOL_CHANGED)
+    return _closest_point(obj, points, all_minima, tol, param_tol, max_iterations)
+
+
+def _closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = None,
+                   param_tol: Optional[float] = None, max_iterations: int = 50) -> ClosestPoints:
+    """:func:`closest_point` without the notice on ``tol`` (for the engine's own callers)."""
     p = projector(obj) if isinstance(obj, (Curve, Surface)) else Projector(obj)
+    stop = p._stop_tolerances(tol, param_tol)
     if all_minima:
-        return p.local_minima(points, tol, max_iterations)
-    return p.closest(points, tol, max_iterations)
+        return p._local_minima(points, *stop, max_iterations)
+    return p._closest(points, *stop, max_iterations)

@@ -10,27 +10,33 @@ side and give unsigned distances.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, NamedTuple, Optional, Sequence
+from typing import Dict, Optional, Sequence
 
 import numpy as np
 
 from .. import _checks
+from .._deprecation import changed
+from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .closest import closest_point
+from .closest import TOL_CHANGED, _closest_point
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
 
 
-class Deviation(NamedTuple):
+@dataclass(frozen=True)
+class Deviation(ReadOnlyArrays):
     """Signed deviations of N points from an object, with their statistics.
 
     distances: (N,) signed (or unsigned, see ``signed``) distances; params, feet: the
-    closest points; lower_bounds: certified lower bounds of the unsigned distances;
-    signed: whether a side was defined; max, min, mean, rms, max_abs of the distances;
-    percentiles: {p: value} of the distances; owner: the nearest object's index."""
+    closest points (as :class:`cagd.queries.ClosestPoints`); lower_bounds: certified
+    lower bounds of the unsigned distances; signed: whether a side was defined; max,
+    min, mean, rms, max_abs of the distances; percentiles: {p: value} of the distances;
+    owner: the nearest object's index; converged: the closest points converged at every
+    point (``message`` says where not)."""
     distances: np.ndarray
     params: np.ndarray
     feet: np.ndarray
@@ -43,6 +49,8 @@ class Deviation(NamedTuple):
     max_abs: float
     percentiles: Dict[float, float]
     owner: Optional[np.ndarray] = None     # (N,) index of the nearest object, for a list of objects
+    converged: bool = True
+    message: str = ""
 
     def table(self) -> str:
         """The statistics as a Markdown table."""
@@ -54,7 +62,8 @@ class Deviation(NamedTuple):
 
 def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional[np.ndarray]:
     """+1/-1 per point from the normal at the foot, None where no side exists (space
-    curves). Degenerate normals (a pole, a collapsed edge) count as +1."""
+    curves). Where the normal is undefined (:meth:`cagd.Surface.normals`: a pole, a
+    collapsed edge) the point counts as +1."""
     if isinstance(obj, Curve):
         if obj.dim != 2:
             return None
@@ -63,9 +72,7 @@ def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional
     else:
         if obj.dim != 3:
             return None
-        u, v = params[:, 0], params[:, 1]
-        d = obj.derivatives(u, v, 1, 1)
-        normal = np.cross(d[1, 0], d[0, 1])
+        normal, _ = obj.normals(params[:, 0], params[:, 1])      # zero where undefined
     s = np.sign(np.einsum("nd,nd->n", X - feet, normal))
     return np.where(s == 0, 1.0, s)
 
@@ -84,7 +91,8 @@ def _objects(obj) -> list:
 
 
 def deviation(obj, points, signed: Optional[bool] = None,
-              percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: float = 1e-12) -> Deviation:
+              percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: Optional[float] = None, *,
+              param_tol: Optional[float] = None) -> Deviation:
     """Signed distances from ``points`` (N, dim) to a curve or surface (or to the nearest
     of several: the patches of one model), with max, min, mean, RMS, max |d| and
     percentiles.
@@ -96,11 +104,17 @@ def deviation(obj, points, signed: Optional[bool] = None,
         signed: along the normal (surfaces, plane curves); default: whenever a side is
             defined; True for a space curve raises CagdError.
         percentiles: values in [0, 100].
-        tol: passed to closest_point.
+        tol, param_tol: the closest points' stopping rule (:func:`closest_point`): ``tol`` a
+            distance in model units (the foot moves by less; default 1e-12 times each
+            object's size), ``param_tol`` a step relative to the parameter range. ``tol``
+            was relative until cagd 0.1 (now ``param_tol``); passing it warns for one release.
 
     Raises:
-        CagdError: not a curve or surface, empty/NaN points, wrong dimension, bad percentiles.
+        CagdError: not a curve or surface, empty/NaN points, wrong dimension, bad percentiles,
+            tol or param_tol <= 0.
     """
+    if tol is not None:
+        changed("deviation", TOL_CHANGED)
     objs = _objects(obj)
     pct = _checks.finite_array(percentiles, "percentiles", ndim=1)
     if np.any((pct < 0) | (pct > 100)):
@@ -108,23 +122,27 @@ def deviation(obj, points, signed: Optional[bool] = None,
     X = np.atleast_2d(np.asarray(points, dtype=np.float64))
     best = None
     for k, o in enumerate(objs):
-        r = closest_point(o, points, tol=tol)
+        r = _closest_point(o, points, tol=tol, param_tol=param_tol)
         sign = _signs(o, r.params, r.feet, X) if signed is not False else None
         if signed and sign is None:
             raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
         d = r.distances if sign is None else sign * r.distances
-        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), sign is not None]
+        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged, sign is not None]
         if best is None:
             best = fields
         else:
             closer = np.abs(d) < np.abs(best[0])
-            for i in range(5):
+            for i in range(6):
                 best[i] = np.where(closer.reshape((-1,) + (1,) * (best[i].ndim - 1)), fields[i], best[i])
-            best[5] = best[5] and fields[5]
-    d, params, feet, lower, owner, is_signed = best
+            best[6] = best[6] and fields[6]
+    d, params, feet, lower, owner, conv, is_signed = best
+    bad = np.flatnonzero(~conv)
+    message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "
+                                       f"(first: index {int(bad[0])})")
     return Deviation(d, params, feet, lower, is_signed, float(d.max()), float(d.min()),
                      float(d.mean()), float(np.sqrt(np.mean(d * d))), float(np.abs(d).max()),
-                     {float(p): float(v) for p, v in zip(pct, np.percentile(d, pct))}, owner.astype(int))
+                     {float(p): float(v) for p, v in zip(pct, np.percentile(d, pct))}, owner.astype(int),
+                     not bad.size, message)
 
 
 def deviation_map(obj, points, path, result: Optional[Deviation] = None, title: str = "deviation",

@@ -13,12 +13,14 @@ tangential roots are polished on the regular system r . B' = 0, A' x B' = 0.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from typing import List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from .. import _checks
+from .._results import ReadOnlyArrays
+from .._periodic import wrapped_difference
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
@@ -30,28 +32,39 @@ _MIN_SIN = 0.05           # flat pieces meeting at sin(angle) above this hold on
 _TINY = 1e-7              # pieces smaller than _TINY * model size stop subdividing
 
 
-class IntersectionPoint(NamedTuple):
+@dataclass(frozen=True)
+class IntersectionPoint(ReadOnlyArrays):
     """One intersection: parameters on a and b (floats for curves, (u, v) arrays for
     surfaces), the point (midpoint of a(x) and b(y)), the residual |a(x) - b(y)| and
-    whether the contact is tangential (sine of the tangent angle <= angle_tol)."""
+    whether the contact is tangential (the angle between the tangents, or between the
+    curve and the tangent plane, or between the tangent planes, is at most angle_tol);
+    ``converged``: the residual is within tol and the point is isolated (``message``
+    says why not)."""
     param_a: object
     param_b: object
     point: np.ndarray
     tangential: bool
     residual: float
+    converged: bool = True
+    message: str = ""
 
 
-@dataclass
+@dataclass(frozen=True)
 class IntersectionResult:
-    """Points, overlaps and (surface queries) intersection curves; ``converged`` is
-    False when the subdivision hit ``max_depth``/``max_pairs`` with pairs still open
-    or a candidate's Newton solve did not settle (``message`` says which)."""
-    points: List[IntersectionPoint]
-    overlaps: List[Overlap]
-    curves: list = field(default_factory=list)
+    """Points, overlaps and (surface queries) intersection curves, as tuples; ``tol`` the
+    distance asked for; ``converged`` is False when the subdivision hit
+    ``max_depth``/``max_pairs`` with pairs still open, a candidate's Newton solve did
+    not settle, or a branch or point did not converge (``message`` says which)."""
+    points: Tuple[IntersectionPoint, ...]
+    overlaps: tuple
+    curves: tuple = ()
     tol: float = 1e-9
     converged: bool = True
     message: str = ""
+
+    def __post_init__(self):
+        for name in ("points", "overlaps", "curves"):
+            object.__setattr__(self, name, tuple(getattr(self, name)))
 
     @property
     def params_a(self) -> np.ndarray:
@@ -93,11 +106,15 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     """All intersections of ``a`` and ``b`` (curve–curve in any dimension, curve–surface,
     curve–plane); ``b`` omitted: the self-intersections of the curve ``a``.
 
-    Points are solved to a residual |a(x) - b(y)| <= ``tol``; a contact is tangential
-    when the sine of the angle between the tangents (curve–curve) or between the curve
-    and the tangent plane (curve–surface) is <= ``angle_tol``. Coincident pieces are
-    returned as :class:`Overlap` intervals. Bounded: at most ``max_depth`` halvings and
-    ``max_pairs`` live pairs; hitting a bound sets ``converged`` False.
+    ``tol`` is a distance in model units: points are solved to a residual
+    |a(x) - b(y)| <= ``tol``, pieces closer than ``tol`` are candidates, and an overlap
+    is where one object stays within ``tol`` of the other; surface branches are fitted
+    within ``tol`` of both surfaces. A contact is tangential when the angle between the
+    tangents (curve–curve), between the curve and the tangent plane (curve–surface) or
+    between the tangent planes (surface–surface) is at most ``angle_tol`` radians.
+    Coincident pieces are returned as :class:`Overlap` intervals. Bounded: at most
+    ``max_depth`` halvings and ``max_pairs`` live pairs; hitting a bound sets
+    ``converged`` False.
 
     Surface–plane and surface–surface requests go to
     :mod:`cagd.queries.intersect_surfaces` (branches in ``curves``).
@@ -105,7 +122,8 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     Raises:
         CagdError: not curves/surfaces/planes, two planes, different dimensions,
             tol <= 0 or NaN, or tol below 1e-13 of the objects' size (beyond what
-            doubles resolve there: the fitted branches would need ever more points).
+            doubles resolve there: the fitted branches would need ever more points),
+            angle_tol < 0.
     """
     tol = _checks.positive(tol, "tol")
     if isinstance(a, Plane) and isinstance(b, Plane):
@@ -115,7 +133,7 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     if sizes and tol < 1e-13 * max(sizes):
         raise CagdError(f"tol: {tol:g} is below 1e-13 of the objects' size {max(sizes):.6g}, beyond the "
                         "precision of doubles there; pass a larger tol")
-    angle_tol = _checks.scalar(angle_tol, "angle_tol")
+    angle_tol = _checks.angle(angle_tol)
     max_depth = _checks.integer(max_depth, "max_depth", 1, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
     opts = dict(tol=tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
@@ -156,15 +174,22 @@ def _extent(obj, name: str) -> float:
 
 def self_intersections(curve, tol: float = 1e-9, **kwargs) -> IntersectionResult:
     """Points where a curve meets itself (pairs s < t with curve(s) = curve(t)), and
-    pieces where it runs over itself as overlaps; see :func:`intersect`. The closing
-    point of a closed curve (start = end) and cusps are not reported."""
+    pieces where it runs over itself as overlaps; ``tol`` a distance in model units, as
+    for :func:`intersect`. The closing point of a closed curve (start = end) and cusps
+    are not reported."""
     return intersect(curve, None, tol, **kwargs)
 
 
+def sine_of(angle_tol: float) -> float:
+    """The sine bound of an angle tolerance in radians (angles up to pi/2 between
+    directions and planes)."""
+    return float(np.sin(min(angle_tol, 0.5 * np.pi)))
+
+
 def _swapped(res: IntersectionResult) -> IntersectionResult:
-    pts = [IntersectionPoint(p.param_b, p.param_a, p.point, p.tangential, p.residual) for p in res.points]
-    ovs = [Overlap(o.param_b, o.param_a) for o in res.overlaps]
-    return IntersectionResult(pts, ovs, res.curves, res.tol, res.converged, res.message)
+    pts = [replace(p, param_a=p.param_b, param_b=p.param_a) for p in res.points]
+    ovs = [replace(o, param_a=o.param_b, param_b=o.param_a) for o in res.overlaps]
+    return replace(res, points=pts, overlaps=ovs)
 
 
 def _plane_geometry(pl: Plane, A: sd.Geometry) -> sd.Geometry:
@@ -309,7 +334,7 @@ def _wrapped_delta(G: sd.Geometry, d: np.ndarray) -> np.ndarray:
     """|d| relative to the domain, across the seam in closed directions (periodic, or
     a clamped closed curve whose t = 0 and t = 1 are one point)."""
     span = G.hi - G.lo
-    return np.where(G.closed, np.abs(np.mod(d + span / 2, span) - span / 2), np.abs(d)) / span
+    return np.abs(np.where(G.closed, wrapped_difference(d, 0.0, span), d)) / span
 
 
 def _contact(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -444,7 +469,7 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> I
         order = np.lexsort(kept_x.T[::-1])
         for i in order:
             pts.append(IntersectionPoint(_param(A, kept_x[i]), _param(B, kept_y[i]), 0.5 * (pa[i] + pb[i]),
-                                         bool(sine[i] <= angle_tol), float(np.linalg.norm(pa[i] - pb[i]))))
+                                         bool(sine[i] <= sine_of(angle_tol)), float(np.linalg.norm(pa[i] - pb[i]))))
     return IntersectionResult(pts, overlaps, [], tol, not open_pairs, message)
 
 

@@ -44,11 +44,14 @@ reduce them modulo the period to evaluate the surface
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import List, Optional, Tuple
 
 import numpy as np
 
+from .._deprecation import deprecated
+from .._periodic import wrap
+from .._results import ReadOnlyArrays
 from ..errors import CagdError
 from . import _subdivision as sd
 from . import _surface_overlaps as so
@@ -63,20 +66,21 @@ _SEED_FRACTION = 1.0 / 16      # leaves of the seed subdivision: at most this fr
 _REL_FLAT = 2e-2
 
 
-@dataclass
-class IntersectionCurve:
+@dataclass(frozen=True)
+class IntersectionCurve(ReadOnlyArrays):
     """One branch of a surface–surface or surface–plane intersection.
 
     curve: 3-D BSplineCurve through the marched points (chord-length parameters);
     params_a, params_b: 2-D BSplineCurves (same parameter) on a and b (params_b is None
-    for a plane); closed: the branch is a loop; tolerance: the largest distance of the
-    curve from both surfaces (Newton projection), measured at 9 samples per span and at
-    the parabolic vertex of each span's largest (within 0.1% of 20,000 samples per
-    branch on 72 test branches); params_tolerance: the largest
+    for a plane); closed: the branch is a loop; max_distance: the largest distance of
+    the curve from both surfaces (Newton projection), measured at 9 samples per span
+    and at the parabolic vertex of each span's largest (within 0.1% of 20,000 samples
+    per branch on 72 test branches); params_max_distance: the largest
     |A(params_a(t)) - curve(t)|, |B(params_b(t)) - curve(t)|, measured the same way
-    (within 1%); converged: the march and the fit met their bounds (both
-    tolerances <= tol); ends: how each end stopped ('boundary',
-    'singular', 'closed', 'stalled', 'limit').
+    (within 1%); converged: the march and the fit met their bounds (both distances
+    <= tol), ``message`` says why not; ends: how each end stopped ('boundary',
+    'singular', 'closed', 'stalled', 'limit'). ``tolerance`` and
+    ``params_tolerance`` are the deprecated names of the two distances (one release).
 
     params_a and params_b live in the covering space of closed directions: after
     crossing a seam (periodic or closed u or v) their values run on past the domain
@@ -88,11 +92,25 @@ class IntersectionCurve:
     params_a: object
     params_b: object
     closed: bool
-    tolerance: float
-    params_tolerance: float = 0.0
+    max_distance: float
+    params_max_distance: float = 0.0
     converged: bool = True
     ends: Tuple[str, str] = ("closed", "closed")
     domains: Tuple[object, object] = (None, None)
+    message: str = ""
+
+    @property
+    def tolerance(self) -> float:
+        """Deprecated name of :attr:`max_distance`."""
+        deprecated("IntersectionCurve.tolerance", "use max_distance (the same value: the largest distance "
+                                                  "of the curve from the surfaces)")
+        return self.max_distance
+
+    @property
+    def params_tolerance(self) -> float:
+        """Deprecated name of :attr:`params_max_distance`."""
+        deprecated("IntersectionCurve.params_tolerance", "use params_max_distance (the same value)")
+        return self.params_max_distance
 
     def surface_params(self, t) -> Tuple[np.ndarray, Optional[np.ndarray]]:
         """(uv on a (N, 2), st on b (N, 2) or None for a plane) at curve parameters t,
@@ -107,7 +125,7 @@ class IntersectionCurve:
             x = pc(t)
             if dom is not None:
                 lo, hi, closed = dom
-                x = np.where(closed, lo + np.mod(x - lo, hi - lo), np.clip(x, lo, hi))
+                x = np.where(closed, wrap(x, lo, hi - lo), np.clip(x, lo, hi))
             out.append(x)
         return out[0], out[1]
 
@@ -508,7 +526,7 @@ def _join(S: System, branches, tol):
 
 
 def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
-    from .intersect import IntersectionPoint, IntersectionResult
+    from .intersect import IntersectionPoint, IntersectionResult, sine_of
     branches, isolated, problems = _trace(S, seeds, tol, regions, edges)
     items = _join(S, branches, tol)
     curves = []
@@ -516,10 +534,11 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     for xs, ends, P in items:
         closed = ends[0] == "closed"
         curve, pa, pb, worst, worst_p = _fit(S, xs, P, closed, tol)
-        ok = max(worst, worst_p) <= tol and not any(e in ("stalled", "limit") for e in ends)
+        why = [f"fitted within {max(worst, worst_p):.2e} > tol"] if max(worst, worst_p) > tol else []
+        why += [f"the march {e} at an end" for e in ends if e in ("stalled", "limit")]
         doms = [(S.lo[k:k + 2], S.hi[k:k + 2], S.per[k:k + 2]) for k in range(0, S.n, 2)]
-        curves.append(IntersectionCurve(curve, pa, pb, closed, worst, worst_p, ok, tuple(ends),
-                                        (doms[0], doms[1] if S.n == 4 else None)))
+        curves.append(IntersectionCurve(curve, pa, pb, closed, worst, worst_p, not why, tuple(ends),
+                                        (doms[0], doms[1] if S.n == 4 else None), "; ".join(why)))
         if max(worst, worst_p) > tol:
             messages.append(f"a branch was fitted within {max(worst, worst_p):.2e} > tol")
     points = []
@@ -533,21 +552,25 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
         seen.append(P[0])
         sine = float(np.linalg.norm(np.cross(na[0], nb[0])))
         pb_ = S.B.user_params(S.wrap(x)[None, 2:])[0] if S.B is not None else None
+        residual = float(np.linalg.norm(F))
         points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P[0],
-                                        sine <= max(angle_tol, 1e-6), float(np.linalg.norm(F))))
+                                        sine <= sine_of(max(angle_tol, 1e-6)), residual, residual <= tol,
+                                        "" if residual <= tol else f"residual {residual:.3g} above tol"))
     if len(points) >= 5:
         Q = np.array([p.point for p in points])
         gaps = np.linalg.norm(Q[:, None] - Q[None], axis=-1)
         np.fill_diagonal(gaps, np.inf)
         if np.all(gaps.min(axis=1) <= 0.25 * S.size):
-            messages.append(f"{len(points)} contact points lie along a curve (a curve of tangency, "
-                            "which is not traced as a branch)")
+            text = (f"{len(points)} contact points lie along a curve (a curve of tangency, "
+                    "which is not traced as a branch)")
+            messages.append(text)
+            points = [replace(p, converged=False, message=text) for p in points]
     if problems:
         messages.append(f"marching did not converge at {len(problems)} branch end(s) ({', '.join(problems)})")
     if not complete:
         messages.append("the seed subdivision (or a boundary curve's) hit max_pairs")
     converged = not messages
-    return IntersectionResult(points, list(regions), curves, tol, converged, "; ".join(messages))
+    return IntersectionResult(points, regions, curves, tol, converged, "; ".join(messages))
 
 
 def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):

@@ -13,8 +13,35 @@ from typing import Tuple
 import numpy as np
 
 from .._checks import affine_map, finite_array, integer, parameters
+from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
+
+NORMAL_TOL = 1e-8    # relative cut-off of "the normal is defined", see unit_normals
+
+
+def unit_normals(su, sv, scale_u: float = 0.0, scale_v: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+    """The unit normal n = (S_u x S_v) / |S_u x S_v| where it is defined (seed 003, 2.1),
+    and where that is: ``(n, defined)``, n of shape (..., 3) (2-D partials lifted to
+    z = 0) and zero where undefined.
+
+    Defined where |S_u x S_v| > NORMAL_TOL max(|S_u|, scale_u) max(|S_v|, scale_v),
+    ``scale_u``, ``scale_v`` the typical sizes of the partials (the surface's size over
+    the parameter length of each direction): the partials are not parallel (a patch
+    collapsed to a curve) and neither is rounding noise against its scale (a pole, a
+    cone's apex, where a whole edge collapses to a point). Rounding of about 1e-16 of
+    the scales in the partials then moves n by at most ~1e-16 / NORMAL_TOL = 1e-8; a
+    smaller cut-off would call normals "defined" that are mostly rounding next to a
+    pole (1e-12: errors up to 1e-4).
+    """
+    su, sv = _as3(np.asarray(su, dtype=np.float64)), _as3(np.asarray(sv, dtype=np.float64))
+    n = np.cross(su, sv)
+    length = np.linalg.norm(n, axis=-1)
+    ref = np.maximum(np.linalg.norm(su, axis=-1), scale_u) * np.maximum(np.linalg.norm(sv, axis=-1), scale_v)
+    defined = length > NORMAL_TOL * ref
+    with np.errstate(divide="ignore", invalid="ignore"):
+        n = np.where(defined[..., None], n / length[..., None], 0.0)
+    return n, defined
 
 
 class Surface(Value):
@@ -46,7 +73,7 @@ class Surface(Value):
     def _wrap(self, x: np.ndarray, which: int, periodic: bool, name: str) -> np.ndarray:
         a, b = self.domain[which]
         if periodic:
-            return a + np.mod(x - a, b - a)
+            return wrap(x, a, b - a)
         tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
         if x.size and (x.min() < a - tol or x.max() > b + tol):
             bad = x[(x < a - tol) | (x > b + tol)][0]
@@ -88,18 +115,21 @@ class Surface(Value):
         return self._grid(us, vs, du, dv)[-1, -1]
 
     # --- differential geometry -------------------------------------------------------------
-    def normal(self, u, v) -> np.ndarray:
-        """Unit normal (S_u x S_v)/|S_u x S_v| (seed 003, 2.1); CagdError where it is undefined."""
+    def normals(self, u, v) -> Tuple[np.ndarray, np.ndarray]:
+        """(n, defined): the unit normal (S_u x S_v)/|S_u x S_v| where it is defined and a
+        mask of where that is (:func:`unit_normals`, with the scales size / (u1 - u0) and
+        size / (v1 - v0)); n is zero elsewhere (a pole, an apex, a collapsed patch)."""
         d = self.derivatives(u, v, 1, 1)
-        n = np.cross(_as3(d[1, 0]), _as3(d[0, 1]))
-        length = np.linalg.norm(n, axis=-1, keepdims=True)
-        # degenerate where |S_u x S_v| is rounding noise against the surface's own scale
-        # (size / Lu) (size / Lv), e.g. at a pole where a whole edge collapses to a point
         (u0, u1), (v0, v1) = self.domain
-        floor = 1e-12 * self.size ** 2 / ((u1 - u0) * (v1 - v0))
-        if np.any(length <= floor):
+        return unit_normals(d[1, 0], d[0, 1], self.size / (u1 - u0), self.size / (v1 - v0))
+
+    def normal(self, u, v) -> np.ndarray:
+        """Unit normal (S_u x S_v)/|S_u x S_v| (seed 003, 2.1); CagdError where it is
+        undefined (see :meth:`normals`)."""
+        n, defined = self.normals(u, v)
+        if not np.all(defined):
             raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
-        return n / length
+        return n
 
     @property
     def size(self) -> float:

@@ -17,6 +17,8 @@ from typing import Optional, Tuple
 import numpy as np
 
 from .. import _checks
+from .._deprecation import deprecated
+from ..operations.continuity import CONTINUITY_TOL, tolerances
 from ..errors import CagdError
 from .base import Surface
 
@@ -33,9 +35,10 @@ class EdgeContinuityReport:
     cross_derivative_mismatch: max |D2 - D1| of the cross-boundary derivatives, D1
     leaving the first patch and D2 entering the second, each in its patch's own
     parameter (C1); reversed: whether the second edge runs against the first;
-    tol: the relative tolerance used; size: the length scale (bounding-box diagonal
+    rel_tol: the relative tolerance used; size: the length scale (bounding-box diagonal
     of both patches' samples); derivative_scale: max(|D1|, |D2|, size / span) that
-    makes the C1 test relative.
+    makes the C1 test relative; angle_tol: the G1 angle bound (radians). ``tol`` is the
+    deprecated name of ``rel_tol`` (one release).
     """
     edge1: str
     edge2: str
@@ -46,10 +49,17 @@ class EdgeContinuityReport:
     C0: bool
     G1: bool
     C1: bool
-    tol: float
+    rel_tol: float
     size: float
     derivative_scale: float
     samples: int
+    angle_tol: float = CONTINUITY_TOL
+
+    @property
+    def tol(self) -> float:
+        """Deprecated name of :attr:`rel_tol`."""
+        deprecated("EdgeContinuityReport.tol", "use rel_tol (the same relative tolerance)")
+        return self.rel_tol
 
     @property
     def level(self) -> str:
@@ -63,8 +73,8 @@ class EdgeContinuityReport:
         direction = "opposite" if self.reversed else "same"
         return (f"{self.level} across {self.edge1}/{self.edge2} ({direction} direction): gap {self.gap:.3g}, "
                 f"normal angle {self.normal_angle:.3g} rad, cross-derivative mismatch "
-                f"{self.cross_derivative_mismatch:.3g} (tol {self.tol:g}, size {self.size:.3g}, "
-                f"{self.samples} samples)")
+                f"{self.cross_derivative_mismatch:.3g} (rel_tol {self.rel_tol:g}, size {self.size:.3g}, "
+                f"angle_tol {self.angle_tol:g} rad, {self.samples} samples)")
 
 
 def _edge_frame(s: Surface, edge: str, t: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -109,14 +119,15 @@ def _plane_angles(T: np.ndarray, D1: np.ndarray, D2: np.ndarray, t_floor: float)
 
 
 def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: int = 33,
-                    tol: float = 1e-9, reverse: Optional[bool] = None) -> EdgeContinuityReport:
+                    rel_tol: float = CONTINUITY_TOL, reverse: Optional[bool] = None, *,
+                    angle_tol: Optional[float] = None, tol: Optional[float] = None) -> EdgeContinuityReport:
     """Continuity of two patches across the edge ``edge1`` of s1 = ``edge2`` of s2.
 
     Edges: "u0" (u = u_min, running in v), "u1" (u = u_max), "v0" (v = v_min,
     running in u), "v1" (v = v_max). Both edges are sampled at ``samples`` equally
     spaced fractions t of their domains; the second at t (``reverse`` False) or at
     1 - t (True). With ``reverse`` None the same direction is kept if it is C0
-    (gap <= tol size), otherwise the direction with the smaller gap is taken.
+    (gap <= rel_tol size), otherwise the direction with the smaller gap is taken.
     Points are compared at corresponding fractions, so an edge curve that is
     reparametrised non-affinely between the patches shows as a gap.
 
@@ -125,19 +136,22 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
     along-edge derivative of s1, size the bounding-box diagonal of both patches'
     samples and L the longer cross-parameter span:
 
-    * C0: max |S2 - S1| <= tol size;
-    * G1: C0 and max angle(T x D1, T x D2) <= tol, the angle between the tangent
-      planes oriented across the edge (samples where T or T x D vanishes up to
-      rounding, e.g. on an edge collapsed to a point, are skipped; none left gives
-      nan and no G1);
-    * C1: C0 and max |D2 - D1| <= tol max(|D1|, |D2|, size / L): the seed's
+    * C0: max |S2 - S1| <= rel_tol size;
+    * G1: C0 and max angle(T x D1, T x D2) <= angle_tol (radians, default rel_tol),
+      the angle between the tangent planes oriented across the edge (samples where T
+      or T x D vanishes up to rounding, e.g. on an edge collapsed to a point, are
+      skipped; none left gives nan and no G1);
+    * C1: C0 and max |D2 - D1| <= rel_tol max(|D1|, |D2|, size / L): the seed's
       "difference vectors match" (seed 003, 2.2.3), e.g. for Bezier patches of
       equal degree m, P_1j - P_0j of the second = P_mj - P_(m-1)j of the first.
 
+    ``tol`` is the deprecated name of ``rel_tol`` (one release; ``tol`` is a distance
+    in cagd).
+
     Raises:
         CagdError: s1/s2 not rectangular Surfaces (triangles: see triangle_continuity), different dimensions, a surface that is not
-            2-D or 3-D, an unknown edge name, samples < 2, tol not positive,
-            reverse not True/False/None.
+            2-D or 3-D, an unknown edge name, samples < 2, rel_tol not positive,
+            angle_tol negative, reverse not True/False/None.
     """
     for name, s in (("s1", s1), ("s2", s2)):
         if not isinstance(s, Surface):
@@ -151,7 +165,7 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
         if e not in EDGES:
             raise CagdError(f"{name}: must be one of {EDGES}, got {e!r}")
     samples = _checks.integer(samples, "samples", 2)
-    tol = _checks.positive(tol, "tol")
+    rel_tol, angle_tol = tolerances("edge_continuity", rel_tol, angle_tol, tol)
     if reverse is not None and not isinstance(reverse, (bool, np.bool_)):
         raise CagdError(f"reverse: must be True, False or None, got {reverse!r}")
     if s1.dim not in (2, 3):
@@ -168,7 +182,7 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
     if reverse is None:
         gap_f = np.linalg.norm(forward[0] - p1, axis=-1).max()
         gap_b = np.linalg.norm(backward[0] - p1, axis=-1).max()
-        reverse = bool(gap_f > tol * size and gap_b < gap_f)
+        reverse = bool(gap_f > rel_tol * size and gap_b < gap_f)
     p2, _, inward2 = backward if reverse else forward
     leaving1 = -inward1
     span = max(_cross_span(s1, edge1), _cross_span(s2, edge2))
@@ -181,11 +195,11 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
     angles = _plane_angles(along, leaving1, inward2, 1e-10 * size / along_span)
     angle = float(angles.max()) if angles.size else float("nan")
 
-    C0 = gap <= tol * size
-    G1 = bool(C0 and angles.size > 0 and angle <= tol)
-    C1 = bool(C0 and mismatch <= tol * dscale)
+    C0 = gap <= rel_tol * size
+    G1 = bool(C0 and angles.size > 0 and angle <= angle_tol)
+    C1 = bool(C0 and mismatch <= rel_tol * dscale)
     return EdgeContinuityReport(edge1, edge2, bool(reverse), gap, angle, mismatch, bool(C0), G1, C1,
-                                float(tol), size, dscale, samples)
+                                float(rel_tol), size, dscale, samples, float(angle_tol))
 
 
 def _cross_span(s: Surface, edge: str) -> float:

@@ -19,6 +19,7 @@ from typing import List, Optional, Tuple
 import numpy as np
 
 from .. import _checks
+from .._deprecation import RELATIVE, deprecated, renamed
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -27,6 +28,8 @@ from .bspline import BSplineSurface
 from .loft import compatible_plain, multiplicities, plain, snapped, union_breaks, unit_nurbs
 
 # blend functions h_k: power coefficients (ascending) and Bernstein coefficients
+CORNER_TOL = 1e-9     # default relative corner tolerance of the Coons patches
+
 _LINEAR = (_checks.frozen([[1.0, -1.0], [0.0, 1.0]]), _checks.frozen([[1.0, 0.0], [0.0, 1.0]]))
 # the cubic Hermite basis of seed 000, 5.1.2 in the slot order value at 0, derivative at 0,
 # derivative at 1, value at 1, i.e. the seed's H0, H2, H3, H1 (Bernstein: H0 = B0 + B1,
@@ -132,10 +135,12 @@ class _BlendedPatch(Surface):
     _order: Tuple[int, ...]                  # derivative order of each slot
     _corner: Tuple[int, ...]                 # the parameter (0 or 1) of each slot
 
-    def _setup(self, c_curves, d_curves, tol) -> None:
-        self.tol = _checks.scalar(tol, "tol")
-        if self.tol < 0:
-            raise CagdError(f"tol: must be non-negative, got {self.tol}")
+    def _setup(self, c_curves, d_curves, rel_tol, tol=None) -> None:
+        if tol is not None:
+            rel_tol = renamed(type(self).__name__, "tol", "rel_tol", tol, rel_tol, CORNER_TOL, RELATIVE)
+        self.rel_tol = _checks.scalar(rel_tol, "rel_tol")
+        if self.rel_tol < 0:
+            raise CagdError(f"rel_tol: must be non-negative, got {self.rel_tol}")
         named = [(n, c) for n, c in zip(self._c_names + self._d_names, list(c_curves) + list(d_curves))
                  if c is not None]
         for name, c in named:
@@ -157,17 +162,23 @@ class _BlendedPatch(Surface):
                 x = _unit_derivatives(C, np.array([float(self._corner[i])]), self._order[i])[-1, 0]
                 y = _unit_derivatives(D, np.array([float(self._corner[j])]), self._order[j])[-1, 0]
                 gap = float(np.linalg.norm(x - y))
-                if gap > self.tol * max(1.0, float(np.abs(x).max()), float(np.abs(y).max())):
+                if gap > self.rel_tol * max(1.0, float(np.abs(x).max()), float(np.abs(y).max())):
                     pc, pd = "'" * self._order[i], "'" * self._order[j]
                     raise CagdError(f"corner ({self._corner[i]},{self._corner[j]}): "
                                     f"{self._c_names[j]}{pc}({self._corner[i]}) and {self._d_names[i]}{pd}"
-                                    f"({self._corner[j]}) differ by {gap:.3g} (tol {self.tol:g})")
+                                    f"({self._corner[j]}) differ by {gap:.3g} (rel_tol {self.rel_tol:g})")
                 G[i, j] = 0.5 * (x + y)
         self._G = _checks.frozen(G)
 
     @property
     def domain(self):
         return (0.0, 1.0), (0.0, 1.0)
+
+    @property
+    def tol(self) -> float:
+        """Deprecated name of :attr:`rel_tol`."""
+        deprecated(f"{type(self).__name__}.tol", "use rel_tol (the same relative corner tolerance)")
+        return self.rel_tol
 
     def _evaluate(self, u, v, du, dv):
         hu, hv = _blend(self._power, u, du), _blend(self._power, v, dv)
@@ -241,36 +252,42 @@ class CoonsPatch(_BlendedPatch):
               - [(1-u)(1-v) P00 + u(1-v) P10 + (1-u) v P01 + u v P11]
     with the corners P00 = c0(0) = d0(0), P10 = c0(1) = d1(0), P01 = c1(0) = d0(1),
     P11 = c1(1) = d1(1) (the mean of the two curves' ends). S interpolates all four
-    boundary curves (within half a corner gap accepted by ``tol``); :meth:`to_nurbs` is
-    exact for polynomial and rational curves.
+    boundary curves (within half a corner gap accepted by ``rel_tol``); :meth:`to_nurbs`
+    is exact for polynomial and rational curves.
 
     Args:
         c0, c1, d0, d1: engine curves of one dimension (see the module docstring).
-        tol: the two curve ends at a corner may differ by tol * max(1, |coordinates|).
+        rel_tol: the two curve ends at a corner may differ by
+            rel_tol * max(1, |coordinates|) (default CORNER_TOL = 1e-9).
+        tol: the deprecated name of ``rel_tol`` (one release; ``tol`` is a distance in cagd).
 
     Raises:
         CagdError: a non-curve, mixed dimensions, a corner mismatch (naming the corner,
-            the two curves and the gap), a negative tol.
+            the two curves and the gap), a negative rel_tol.
     """
 
     _power, _bern = _LINEAR
     _c_names, _d_names = ("c0", "c1"), ("d0", "d1")
     _order, _corner = (0, 0), (0, 1)
 
-    def __init__(self, c0, c1, d0, d1, tol: float = 1e-9):
-        self._setup([c0, c1], [d0, d1], tol)
+    def __init__(self, c0, c1, d0, d1, rel_tol: float = CORNER_TOL, *, tol: Optional[float] = None):
+        self._setup([c0, c1], [d0, d1], rel_tol, tol)
 
     @classmethod
-    def from_loop(cls, curves, tol: float = 1e-9) -> "CoonsPatch":
+    def from_loop(cls, curves, rel_tol: float = CORNER_TOL, *, tol: Optional[float] = None) -> "CoonsPatch":
         """The Coons patch bounded by four curves in any order and direction that form
         a closed loop (the edges of a wire, say): ``curves[0]`` becomes c0, its end
         the corner P10, and the others are chained end to end, reversed where needed
-        (exact reversal of the NURBS form, :meth:`cagd.BSplineCurve.reversed`).
+        (exact reversal of the NURBS form, :meth:`cagd.BSplineCurve.reversed`). The
+        ends must meet within ``rel_tol`` times the loop's size (at least 1), the
+        corners as for :class:`CoonsPatch`; ``tol`` is the deprecated name of ``rel_tol``.
 
         Raises:
             CagdError: not four curves, or they do not chain into one loop within
-                ``tol`` relative to the loop's size.
+                ``rel_tol`` relative to the loop's size.
         """
+        if tol is not None:
+            rel_tol = renamed("CoonsPatch.from_loop", "tol", "rel_tol", tol, rel_tol, CORNER_TOL, RELATIVE)
         curves = list(curves)
         if len(curves) != 4 or not all(isinstance(c, Curve) for c in curves):
             raise CagdError(f"curves: need four cagd curves forming a loop, got {len(curves)} items")
@@ -280,23 +297,23 @@ class CoonsPatch(_BlendedPatch):
         for k in range(3):
             gaps = [(min(np.linalg.norm(ends[i][0] - point), np.linalg.norm(ends[i][1] - point)), i) for i in rest]
             gap, i = min(gaps)
-            if gap > tol * size:
+            if gap > rel_tol * size:
                 raise CagdError(f"curves: no curve starts or ends where curve {k} of the loop ends "
-                                f"(nearest gap {gap:.3g}, tolerance {tol * size:.3g})")
+                                f"(nearest gap {gap:.3g}, allowed rel_tol * size = {rel_tol * size:.3g})")
             rest.remove(i)
             forward = np.linalg.norm(ends[i][0] - point) <= np.linalg.norm(ends[i][1] - point)
             chain.append(curves[i] if forward else curves[i].to_nurbs().reversed())
             point = ends[i][1] if forward else ends[i][0]
-        if np.linalg.norm(point - ends[0][0]) > tol * size:
+        if np.linalg.norm(point - ends[0][0]) > rel_tol * size:
             raise CagdError(f"curves: the loop does not close (gap {np.linalg.norm(point - ends[0][0]):.3g})")
         c0, d1, c1_rev, d0_rev = chain
-        return cls(c0, c1_rev.to_nurbs().reversed(), d0_rev.to_nurbs().reversed(), d1, tol=tol)
+        return cls(c0, c1_rev.to_nurbs().reversed(), d0_rev.to_nurbs().reversed(), d1, rel_tol)
 
     def __repr__(self) -> str:
         return f"<bilinearly blended Coons patch, {self.dim}-D>"
 
     def _affine(self, A, b) -> "CoonsPatch":
-        return CoonsPatch(*(c.transformed(A, b) for c in self._c + self._d), tol=self.tol)
+        return CoonsPatch(*(c.transformed(A, b) for c in self._c + self._d), rel_tol=self.rel_tol)
 
 
 class HermiteCoonsPatch(_BlendedPatch):
@@ -319,20 +336,22 @@ class HermiteCoonsPatch(_BlendedPatch):
 
     Raises:
         CagdError: a non-curve, mixed dimensions, only some ribbons given, an
-            incompatible corner (naming it, the two curves and the gap), a negative tol.
+            incompatible corner (naming it, the two curves and the gap), a negative
+            rel_tol (relative, as for :class:`CoonsPatch`; ``tol`` its deprecated name).
     """
 
     _power, _bern = _CUBIC
     _c_names, _d_names = ("c0", "c0_v", "c1_v", "c1"), ("d0", "d0_u", "d1_u", "d1")
     _order, _corner = (0, 1, 1, 0), (0, 0, 1, 1)
 
-    def __init__(self, c0, c1, d0, d1, c0_v=None, c1_v=None, d0_u=None, d1_u=None, tol: float = 1e-9):
+    def __init__(self, c0, c1, d0, d1, c0_v=None, c1_v=None, d0_u=None, d1_u=None, rel_tol: float = CORNER_TOL,
+                 *, tol: Optional[float] = None):
         ribbons = (c0_v, c1_v, d0_u, d1_u)
         given = sum(r is not None for r in ribbons)
         if given not in (0, 4):
             raise CagdError("c0_v, c1_v, d0_u, d1_u: give all four cross-boundary derivative curves or none")
         self.has_ribbons = given == 4
-        self._setup([c0, c0_v, c1_v, c1], [d0, d0_u, d1_u, d1], tol)
+        self._setup([c0, c0_v, c1_v, c1], [d0, d0_u, d1_u, d1], rel_tol, tol)
 
     def __repr__(self) -> str:
         kind = "with tangent ribbons" if self.has_ribbons else "positions only"
@@ -344,4 +363,4 @@ class HermiteCoonsPatch(_BlendedPatch):
         d0, d0u, d1u, d1 = self._d
         lin = [None if r is None else r.transformed(A, zero) for r in (c0v, c1v, d0u, d1u)]
         return HermiteCoonsPatch(c0.transformed(A, b), c1.transformed(A, b), d0.transformed(A, b),
-                                 d1.transformed(A, b), *lin, tol=self.tol)
+                                 d1.transformed(A, b), *lin, rel_tol=self.rel_tol)

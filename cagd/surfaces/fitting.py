@@ -10,39 +10,39 @@ import numpy as np
 from .. import _checks
 from ..errors import CagdError
 from ..fitting.interpolation import interpolate, parametrize
+from ..fitting.parameters import averaged_parameters, option
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
-
-_METHODS = ("uniform", "chord", "centripetal")
 
 SurfaceParameters = Union[str, Tuple[np.ndarray, np.ndarray]]
 
 
-def surface_parameters(points, method: SurfaceParameters = "chord") -> Tuple[np.ndarray, np.ndarray]:
+def surface_parameters(points, parameters: SurfaceParameters = "chord", *,
+                       method=None) -> Tuple[np.ndarray, np.ndarray]:
     """Parameters (ubar_0..ubar_n, vbar_0..vbar_m) for an (n+1, m+1, dim) grid Q_kl
     (Piegl & Tiller 9.2.5, eq. 9.8-9.10 averaged): for every column l the chord
     parameters of Q_0l..Q_nl as for curves (:func:`cagd.fitting.parametrize`, eq. 9.5;
     with ``"centripetal"`` the square roots of the chords, eq. 9.6), then
     ubar_k = mean over the columns of those; columns of zero total length (a
     collapsed row, e.g. a pole) are left out of the mean. Likewise vbar over the
-    rows. ``"uniform"`` gives k/n and l/m; a pair of arrays is checked (strictly
-    increasing, one value per row/column) and returned.
+    rows. ``"uniform"`` gives k/n and l/m (the names: :data:`cagd.fitting.PARAMETERS`);
+    a pair of arrays is checked (strictly increasing, one value per row/column) and
+    returned. ``method=`` is the deprecated name of ``parameters=`` (one release).
 
     Raises:
         CagdError: points not an (n+1 >= 2, m+1 >= 2, dim) finite array, an unknown
-            method, every column (row) of zero length, averaged parameters not
+            name, every column (row) of zero length, averaged parameters not
             strictly increasing, explicit parameters of the wrong length or order.
     """
+    parameters = option(parameters, {"method": method}, "surface_parameters", "chord")
     Q = _grid(points)
-    if isinstance(method, str):
-        if method not in _METHODS:
-            raise CagdError(f"parameters: unknown method {method!r}; use one of {_METHODS} or a pair of arrays")
-        return (averaged_chord_parameters(Q, method, "points", "rows"),
-                averaged_chord_parameters(Q.transpose(1, 0, 2), method, "points", "columns"))
-    if not isinstance(method, (tuple, list)) or len(method) != 2:
-        raise CagdError("parameters: expected a method name or a pair (params_u, params_v)")
-    pu = parametrize(Q[:, 0], method[0])           # checks length and strict increase
-    pv = parametrize(Q[0], method[1])
+    if isinstance(parameters, str):
+        return (averaged_parameters(Q, parameters, "points", "rows"),
+                averaged_parameters(Q.transpose(1, 0, 2), parameters, "points", "columns"))
+    if not isinstance(parameters, (tuple, list)) or len(parameters) != 2:
+        raise CagdError("parameters: expected a parametrisation name or a pair (params_u, params_v)")
+    pu = parametrize(Q[:, 0], parameters[0])           # checks length and strict increase
+    pv = parametrize(Q[0], parameters[1])
     return pu, pv
 
 
@@ -81,36 +81,3 @@ def _grid(points) -> np.ndarray:
     if Q.ndim != 3 or Q.shape[0] < 2 or Q.shape[1] < 2 or Q.shape[2] < 1:
         raise CagdError(f"points: expected a grid of shape (nu >= 2, nv >= 2, dim), got {Q.shape}")
     return Q
-
-
-def averaged_chord_parameters(Q: np.ndarray, method: str, name: str = "points", item: str = "rows") -> np.ndarray:
-    """Parameters 0 = t_0 < ... < t_n = 1 of the n+1 entries along axis 0 of Q (shape
-    (n+1, columns, dim)): the chord-length ("chord") or square-root chord
-    ("centripetal") parameters of every column, averaged over the columns (Piegl &
-    Tiller eq. 9.9-9.10, 10.8); columns of zero total length (a pole, a common apex)
-    are left out; "uniform" gives k/n. Shared by surface interpolation (grid rows)
-    and lofting (sections).
-
-    Raises:
-        CagdError: naming ``name`` when every column has zero length or two
-            consecutive ``item`` coincide in every column.
-    """
-    n = Q.shape[0] - 1
-    if method == "uniform":
-        return np.arange(n + 1, dtype=np.float64) / n
-    d = np.linalg.norm(np.diff(Q, axis=0), axis=-1)            # (n, columns)
-    if method == "centripetal":
-        d = np.sqrt(d)
-    total = d.sum(axis=0)
-    used = total > 0.0
-    if not used.any():
-        raise CagdError(f"{name}: all {item} coincide; no {method} parameters")
-    u = np.concatenate([np.zeros((1, int(used.sum()))), np.cumsum(d[:, used], axis=0)]) / total[used]
-    u = u.mean(axis=1)
-    u[0], u[-1] = 0.0, 1.0
-    bad = np.flatnonzero(np.diff(u) <= 0.0)
-    if bad.size:
-        k = int(bad[0])
-        raise CagdError(f"{name}: {item}[{k}] and {item}[{k + 1}] coincide; "
-                        f"{method} parameters need distinct consecutive {item}")
-    return u

@@ -18,10 +18,9 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
-from .fitting import averaged_chord_parameters
+from ..fitting.parameters import averaged_parameters, rule
 
 _SNAP = 64 * np.finfo(float).eps     # knots this close (on [0, 1]) are the same knot
-_METHODS = ("uniform", "chord", "centripetal")
 
 
 # --- compatibility ----------------------------------------------------------------------
@@ -158,11 +157,11 @@ def loft_parameters(sections, parameters: Union[str, Sequence[float]] = "chord")
     """Parameters v_0 = 0 < ... < v_K = 1 of the sections (Piegl & Tiller eq. 10.8):
     for "chord" ("centripetal") the chord-length (square-root chord) parameters of
     every column of the compatible control nets, averaged over the columns (columns
-    whose points all coincide, e.g. a common apex, are skipped); "uniform" k/K; an
-    array is checked and returned.
+    whose points all coincide, e.g. a common apex, are skipped); "uniform" k/K (the
+    names: :data:`cagd.fitting.PARAMETERS`); an array is checked and returned.
 
     Raises:
-        CagdError: fewer than 2 sections, an unknown method, coincident consecutive
+        CagdError: fewer than 2 sections, an unknown name, coincident consecutive
             sections, explicit parameters of the wrong length, not increasing, or not
             from 0 to 1.
     """
@@ -175,12 +174,10 @@ def loft_parameters(sections, parameters: Union[str, Sequence[float]] = "chord")
         if np.any(np.diff(v) <= 0) or v[0] != 0.0 or v[-1] != 1.0:
             raise CagdError(f"parameters: must increase strictly from 0 to 1, got {v.tolist()}")
         return v
-    if parameters not in _METHODS:
-        raise CagdError(f"parameters: unknown method {parameters!r}; use one of {_METHODS} or an array")
-    if parameters == "uniform":
+    if rule(parameters) == "uniform":
         return np.arange(K + 1) / K
     Q = np.stack([c.control_points for c in cs])                 # (K+1, n, dim)
-    return averaged_chord_parameters(Q, parameters, "sections", "sections")
+    return averaged_parameters(Q, parameters, "sections", "sections")
 
 
 def loft(sections, degree_v: int = 3, parameters: Union[str, Sequence[float]] = "chord") -> BSplineSurface:

@@ -25,6 +25,8 @@ from typing import Optional, Tuple
 import numpy as np
 
 from .. import _checks
+from .._deprecation import RELATIVE, renamed
+from ..operations.continuity import CONTINUITY_TOL
 from ..errors import CagdError
 from . import basis as tb
 from ._input import _key
@@ -74,15 +76,23 @@ class TriangleContinuity:
     derivative_deviations: Tuple[float, ...]
     scale: float
 
-    def is_continuous(self, r: int, tol: float = 1e-9) -> bool:
-        """C^r within tol * scale (control point conditions)."""
+    def is_continuous(self, r: int, rel_tol: float = CONTINUITY_TOL, *, tol: Optional[float] = None) -> bool:
+        """C^r within rel_tol * scale (control point conditions); ``tol`` is the deprecated
+        name of ``rel_tol`` (one release)."""
+        if tol is not None:
+            rel_tol = renamed("TriangleContinuity.is_continuous", "tol", "rel_tol", tol, rel_tol, CONTINUITY_TOL,
+                              RELATIVE)
         r = _checks.integer(r, "r", 0, self.order)
-        return all(d <= tol * self.scale for d in self.control_deviations[:r + 1])
+        return all(d <= rel_tol * self.scale for d in self.control_deviations[:r + 1])
 
-    def continuity_order(self, tol: float = 1e-9) -> int:
-        """The largest r <= order with C^r within tol * scale; -1 if not even C0."""
+    def continuity_order(self, rel_tol: float = CONTINUITY_TOL, *, tol: Optional[float] = None) -> int:
+        """The largest r <= order with C^r within rel_tol * scale; -1 if not even C0
+        (``tol``: the deprecated name of ``rel_tol``)."""
+        if tol is not None:
+            rel_tol = renamed("TriangleContinuity.continuity_order", "tol", "rel_tol", tol, rel_tol,
+                              CONTINUITY_TOL, RELATIVE)
         r = -1
-        while r < self.order and self.is_continuous(r + 1, tol):
+        while r < self.order and self.is_continuous(r + 1, rel_tol):
             r += 1
         return r
 

@@ -19,4 +19,4 @@ def test_benchmark_points_lie_within_one_percent():
     X = projection.scattered_points(s, 500)
     r = projection.closest_point(s, X)
     assert np.all(r.distances <= 0.01 * np.sqrt(3) * s.size + 1e-15)
-    assert r.converged.all()
+    assert r.converged and r.point_converged.all()

@@ -19,6 +19,6 @@ def test_surface_intersection_benchmark_runs(capsys):
 def test_model_patches_cross():
     a, b = bench.model_patches(6)
     res = bench.intersect(a, b, tol=1e-6)
-    assert res.curves and all(br.tolerance <= 1e-6 for br in res.curves)
+    assert res.curves and all(br.max_distance <= 1e-6 for br in res.curves)
     P = np.concatenate([br.curve(np.linspace(*br.curve.domain, 50)) for br in res.curves])
     assert bench.max_distance([P], a, b) <= 1e-6

@@ -266,6 +266,21 @@ def test_unit_circle(form):
     assert circle.arc_length(0.0, k) == pytest.approx(2 * math.pi * k, abs=1e-13)
 
 
+@pytest.mark.parametrize("bound", [1e-2, 1e-5, 1e-9])
+def test_arc_length_tol_is_a_length(bound):
+    """tol bounds the quadrature error in model units, rel_tol relative to the length;
+    an explicit tol announces its new meaning (FutureWarning, one release). Oracle: the
+    circumference 2 pi R of a circle of radius 100 (exact rational form)."""
+    circle = BSplineCurve(**CIRCLE9).transformed(100.0 * np.eye(2))
+    exact = 200 * math.pi
+    with pytest.warns(FutureWarning, match="rel_tol"):
+        assert abs(circle.arc_length(tol=bound) - exact) <= bound
+    assert abs(circle.arc_length(rel_tol=bound) - exact) <= bound * exact
+    assert abs(circle.arc_length() - exact) <= 1e-12 * exact
+    with pytest.raises(CagdError, match="rel_tol"):
+        circle.arc_length(rel_tol=0.0)
+
+
 # --- periodic curves -------------------------------------------------------------------------
 
 @SETTINGS

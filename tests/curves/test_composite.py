@@ -131,7 +131,7 @@ def test_continuity_at_joints_levels():
     comp = CompositeCurve([P, Q, R])
     levels = [r.level for r in comp.continuity_at_joints()]
     assert levels == ["G2", "C0"]
-    assert comp.continuity_at_joints()[0].tol == comp.tol
+    assert comp.continuity_at_joints()[0].rel_tol == comp.rel_tol
 
 
 def test_arc_length_and_transform():
@@ -152,9 +152,15 @@ def test_gap_rejected():
     C = BezierCurve([[2.0, 1.001], [3.0, 1.0]])
     with pytest.raises(CagdError, match=r"curves: gap of 0.001 between the end of curves\[1\] and the start of curves\[2\]"):
         CompositeCurve([A, B, C])
-    comp = CompositeCurve([A, B, C], tol=1e-3)               # size ~3.2: accepted
+    comp = CompositeCurve([A, B, C], rel_tol=1e-3)           # size ~3.2: accepted
     n = comp.to_nurbs()                                      # the joint point is the mean of the two ends
     assert np.allclose(n(2.0), [2.0, 1.0005], rtol=0, atol=1e-15)
+    with pytest.warns(DeprecationWarning, match="rel_tol") as rec:   # the old keyword, one release
+        old = CompositeCurve([A, B, C], tol=1e-3)
+    assert rec[0].filename == __file__ and old.rel_tol == comp.rel_tol
+    with pytest.warns(DeprecationWarning, match="rel_tol"):
+        assert old.tol == 1e-3
+    np.testing.assert_array_equal(old(np.linspace(0, 3, 7)), comp(np.linspace(0, 3, 7)))
 
 
 @pytest.mark.parametrize("curves, match", [
@@ -166,7 +172,7 @@ def test_gap_rejected():
 def test_errors(curves, match):
     with pytest.raises(CagdError, match=match):
         CompositeCurve(curves)
-    with pytest.raises(CagdError, match="tol: must be positive"):
-        CompositeCurve([BezierCurve([[0, 0], [1, 0]])], tol=-1)
+    with pytest.raises(CagdError, match="rel_tol: must be positive"):
+        CompositeCurve([BezierCurve([[0, 0], [1, 0]])], rel_tol=-1)
     with pytest.raises(CagdError, match="outside the domain"):
         CompositeCurve([BezierCurve([[0, 0], [1, 0]])])(1.5)

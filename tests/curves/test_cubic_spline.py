@@ -137,7 +137,7 @@ def test_spline_parameters():
 
 def test_natural_spline_through_collinear_points_is_the_line():
     P = np.outer(np.arange(6.0), [1.0, 2.0, -2.0])
-    s = CubicSpline(P, parametrization="uniform")
+    s = CubicSpline(P, parameters="uniform")
     t = np.linspace(0, 5, 41)
     np.testing.assert_allclose(s(t), np.outer(t, [1.0, 2.0, -2.0]), atol=1e-14)
     assert s.arc_length() == pytest.approx(15.0, rel=1e-12)
@@ -324,7 +324,7 @@ SQUARE = np.vstack([P4, P4[:1]])
 
 @pytest.mark.parametrize("kwargs, pattern", [
     (dict(points=P4, end_condition="free"), "end_condition.*'free'"),
-    (dict(points=P4, parametrization="arc"), "parametrization.*'arc'"),
+    (dict(points=P4, parameters="arc"), "parameters.*'arc'"),
     (dict(points=P4[:1]), "points.*at least 2"),
     (dict(points=[[0, 0], [np.nan, 1]]), "points.*NaN"),
     (dict(points=np.vstack([P4[:2], P4[1:]])), "points.*1 and 2 coincide"),

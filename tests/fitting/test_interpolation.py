@@ -28,7 +28,7 @@ def test_parametrize_by_hand():
 
 
 @pytest.mark.parametrize("bad, word", [
-    ("spline", "unknown method"),
+    ("spline", "unknown parametrisation"),
     ([0.0, 1.0], "expected 3"),
     ([0.0, 0.5, 0.5], "strictly increasing"),
 ])

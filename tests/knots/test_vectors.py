@@ -130,9 +130,13 @@ def test_multiplicities_round_trip(data, degree):
 
 
 def test_distinct_with_tolerance():
-    v, m = distinct_with_multiplicities([0, 1e-12, 0.5, 1, 1 + 1e-13], tol=1e-9)
+    v, m = distinct_with_multiplicities([0, 1e-12, 0.5, 1, 1 + 1e-13], param_tol=1e-9)
     np.testing.assert_array_equal(m, [2, 1, 2])
     np.testing.assert_array_equal(v, [0, 0.5, 1])
+    with pytest.warns(DeprecationWarning, match="param_tol"):          # the old keyword, one release
+        old = distinct_with_multiplicities([0, 1e-12, 0.5, 1, 1 + 1e-13], tol=1e-9)
+    np.testing.assert_array_equal(old[0], v)
+    np.testing.assert_array_equal(old[1], m)
 
 
 # --- periodic extension -----------------------------------------------------------------

@@ -68,3 +68,21 @@ def test_file_and_dict_give_the_same_model(tmp_path):
     for x, y in zip(a.entries, b.entries):
         assert x.name == y.name and x.path == y.path
         same(x.objects[0], y.objects[0])
+
+
+def test_relative_tolerance_key_and_its_old_name():
+    """composite and coons: "rel_tol" (relative to the size); the old key "tol" is still
+    read with a DeprecationWarning and gives the same object; both together is an error."""
+    from cagd.model import ModelError
+    a = {"type": "bezier_curve", "control_points": [[0, 0], [1, 0]]}
+    b = {"type": "bezier_curve", "control_points": [[1, 2e-4], [2, 1]]}         # gap 2e-4, size ~1.4
+    new = load_model(doc(entry("X", "composite", curves=[a, b], rel_tol=1e-3)))["X"].objects[0]
+    assert new.rel_tol == 1e-3
+    with pytest.warns(DeprecationWarning, match="rel_tol"):
+        old = load_model(doc(entry("X", "composite", curves=[a, b], tol=1e-3)))["X"].objects[0]
+    assert old.rel_tol == new.rel_tol
+    with pytest.raises(ModelError) as err:
+        load_model(doc(entry("X", "composite", curves=[a, b], tol=1e-3, rel_tol=1e-3)))
+    assert err.value.path == "$.objects[0].tol"
+    with pytest.raises(ModelError):                    # the default rel_tol 1e-9 rejects the gap
+        load_model(doc(entry("X", "composite", curves=[a, b])))

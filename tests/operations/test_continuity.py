@@ -80,9 +80,9 @@ def test_gap_is_measured():
     r = continuity(A, B)
     assert r.gap == pytest.approx(5e-4, rel=1e-12)
     assert not r.C0 and r.level == "none"
-    loose = continuity(A, B, tol=1e-3)                     # size ~2.2, so 5e-4 <= 1e-3 * 2.2
-    assert loose.C0 and loose.tol == 1e-3
-    assert "tol 0.001" in str(loose) and str(loose).startswith("C0")
+    loose = continuity(A, B, rel_tol=1e-3)                 # size ~2.2, so 5e-4 <= 1e-3 * 2.2
+    assert loose.C0 and loose.rel_tol == 1e-3
+    assert "rel_tol 0.001" in str(loose) and str(loose).startswith("C0")
 
 
 def test_tolerance_is_relative_to_size():
@@ -121,7 +121,7 @@ def test_report_fields():
     r = continuity(P, P.translated([4.0, 0.0]))
     assert isinstance(r, ContinuityReport)
     assert set(["gap", "tangent_angle", "derivative_ratio", "curvature_difference", "second_derivative_gap",
-                "C0", "C1", "C2", "G1", "G2", "tol"]) <= set(r.__dataclass_fields__)
+                "C0", "C1", "C2", "G1", "G2", "rel_tol", "angle_tol"]) <= set(r.__dataclass_fields__)
     assert r.level in str(r)
 
 
@@ -131,7 +131,34 @@ def test_errors():
         continuity(A, BezierCurve([[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]))
     with pytest.raises(CagdError, match="c1: must be a cagd Curve"):
         continuity(np.zeros((2, 2)), A)
-    with pytest.raises(CagdError, match="tol: must be positive"):
-        continuity(A, A, tol=0.0)
+    with pytest.raises(CagdError, match="rel_tol: must be positive"):
+        continuity(A, A, rel_tol=0.0)
+    with pytest.raises(CagdError, match="angle_tol"):
+        continuity(A, A, angle_tol=-1e-3)
     with pytest.raises(CagdError, match="outside the domain"):
         continuity(A, A, t1=2.0)
+
+
+def test_angle_tol_is_an_angle_in_radians():
+    """Two segments meeting at 1e-6 rad: G1 with angle_tol = 2e-6, not with 5e-7; the
+    gap test keeps its own rel_tol."""
+    A = BezierCurve([[0.0, 0.0], [1.0, 0.0]])
+    B = BezierCurve([[1.0, 0.0], [2.0, np.tan(1e-6)]])
+    assert continuity(A, B, rel_tol=1e-12, angle_tol=2e-6).G1
+    r = continuity(A, B, rel_tol=1e-12, angle_tol=5e-7)
+    assert r.C0 and not r.G1 and r.angle_tol == 5e-7
+    assert continuity(A, B).angle_tol == continuity(A, B).rel_tol == 1e-9      # default: rel_tol
+
+
+def test_old_tol_keyword_warns_and_gives_the_same_report():
+    A = BezierCurve([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    B = BezierCurve([[1.0, 3e-4, 4e-4], [1.0, 2.0, 0.0]])
+    new = continuity(A, B, rel_tol=1e-3)
+    with pytest.warns(DeprecationWarning, match="rel_tol") as rec:
+        old = continuity(A, B, tol=1e-3)
+    assert rec[0].filename == __file__
+    assert old == new
+    with pytest.warns(DeprecationWarning, match="rel_tol"):
+        assert old.tol == old.rel_tol
+    with pytest.raises(CagdError, match="both"):
+        continuity(A, B, rel_tol=1e-3, tol=1e-3)

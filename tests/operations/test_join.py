@@ -5,8 +5,9 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+import cagd
 from cagd import BezierCurve, BSplineCurve, CagdError
-from cagd.operations import continuity, join, join_bezier
+from cagd.operations import continuity, join, join_bezier, join_control_points
 from strategies import point_arrays, positive_weights
 
 SETTINGS = settings(max_examples=50, deadline=None)
@@ -28,16 +29,16 @@ def non_degenerate_end(P):
 
 
 def test_g0_g1_by_the_seed():
-    Q = join_bezier(P3, "G0")
+    Q = join_control_points(P3, "G0")
     assert Q.shape == (1, 3) and np.array_equal(Q[0], P3.control_points[-1])
-    Q = join_bezier(P3, "G1", alpha=0.6)
+    Q = join_control_points(P3, "G1", alpha=0.6)
     a_n = P3.control_points[-1] - P3.control_points[-2]
     assert np.allclose(Q[1] - Q[0], 0.6 * a_n, rtol=0, atol=1e-15)     # b_1 = alpha a_n
 
 
 @pytest.mark.parametrize("alpha, beta", [(1.0, 0.0), (0.5, 0.0), (2.0, -1.5), (0.3, 4.0)])
 def test_g2_equals_seed_formula(alpha, beta):
-    Q = join_bezier(P3, "G2", alpha, beta)
+    Q = join_control_points(P3, "G2", alpha, beta)
     assert Q.shape == (3, 3)
     assert np.allclose(Q[2], seed_q2(P3, alpha, beta), rtol=0, atol=1e-13)
     # the seed's rewritten form: Q2 - Pn = (a^2 + 2a + b/(n-1)) a_n - a^2 a_(n-1)
@@ -76,7 +77,7 @@ def test_g1_join_measured():
 def test_g2_coplanar_and_same_side():
     """Seed 000, 5.2.5: P_{n-2}, P_{n-1}, P_n = Q_0, Q_1, Q_2 coplanar, and P_{n-2}
     and Q_2 on the same side of the line P_{n-1} Q_1."""
-    Q = join_bezier(P3, "G2", alpha=1.3, beta=-0.4)
+    Q = join_control_points(P3, "G2", alpha=1.3, beta=-0.4)
     C = P3.control_points
     five = np.vstack([C[-3:], Q[1:]])
     s = np.linalg.svd(five - five.mean(axis=0), compute_uv=False)
@@ -104,7 +105,7 @@ def test_g2_join_property(n, m, alpha, beta, data):
     TQ, NQ, BQ = Q.frenet(0.0)
     for u, v in ((TP, TQ), (NP, NQ), (BP, BQ)):
         assert np.abs(u - v).max() <= 1e-8
-    r = continuity(P, Q, tol=1e-8)
+    r = continuity(P, Q, rel_tol=1e-8)
     assert r.G2 and r.derivative_ratio == pytest.approx(m * alpha / n, rel=1e-12)
     if m == n:
         assert np.allclose(Q.control_points[2], seed_q2(P, alpha, beta), rtol=0,
@@ -127,7 +128,7 @@ def test_rational_g2_join(n, alpha, beta, data):
     assert np.allclose(Q.control_points[1] - Q.control_points[0], alpha * w[-2] / w[-1] * a_n,
                        rtol=1e-12, atol=1e-12)
     assert Q.curvature(0.0) == pytest.approx(P.curvature(1.0), rel=1e-8)
-    assert continuity(P, Q, tol=1e-8).G2
+    assert continuity(P, Q, rel_tol=1e-8).G2
 
 
 def test_c1_c2_joins():
@@ -156,9 +157,9 @@ def test_planar_join():
     (dict(continuity="G2", degree=1), "degree"),
     (dict(continuity="G1", alpha=float("nan")), "alpha: must be finite"),
 ])
-def test_join_bezier_errors(kwargs, match):
+def test_join_control_points_errors(kwargs, match):
     with pytest.raises(CagdError, match=match):
-        join_bezier(P3, **kwargs)
+        join_control_points(P3, **kwargs)
 
 
 def test_join_errors():
@@ -170,3 +171,15 @@ def test_join_errors():
         join(P3, None, "G0")
     line = join(P3, None, "G1", alpha=2.0)            # Q fully determined: a line segment
     assert line.degree == 1 and continuity(P3, line).G1
+
+
+def test_join_bezier_is_the_deprecated_join_control_points():
+    """join_bezier keeps returning the leading control points for one release, warning
+    that they are join_control_points (and the curve is join)."""
+    with pytest.warns(DeprecationWarning, match="join_control_points") as rec:
+        old = join_bezier(P3, "G2", 1.3, -0.4)
+    assert rec[0].filename == __file__
+    np.testing.assert_array_equal(old, join_control_points(P3, "G2", 1.3, -0.4))
+    curve = join(P3, [P3.control_points[-1] + 1.0], "G2", 1.3, -0.4)
+    assert isinstance(curve, cagd.BezierCurve)
+    np.testing.assert_array_equal(curve.control_points[:3], old)

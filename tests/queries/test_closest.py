@@ -36,7 +36,7 @@ def test_circle_distances_feet_and_bounds():
     assert r.params.shape == (len(X),) and r.feet.shape == (len(X), 2)
     np.testing.assert_allclose(r.distances, np.abs(R - 1), atol=1e-14)
     np.testing.assert_allclose(r.feet, X / R[:, None], atol=1e-13)
-    assert r.converged.all()
+    assert r.converged and r.point_converged.all() and r.message == ""
     check_bounds(r, 2.0)
 
 
@@ -130,7 +130,7 @@ def test_points_on_curves_invert_to_1e_12(make):
     t = np.linspace(a, b, 101)
     r = closest_point(c, c(t))
     assert np.abs(r.params - t).max() <= 1e-12 * (b - a)
-    assert r.distances.max() <= 1e-13 and r.converged.all()
+    assert r.distances.max() <= 1e-13 and r.converged
 
 
 def test_points_on_surfaces_invert_to_1e_12():
@@ -334,11 +334,12 @@ def test_surfaces_of_every_family_against_occt(data):
 def test_convergence_flag_and_bounded_iterations():
     c = cagd.BSplineCurve(np.random.default_rng(11).uniform(-1, 1, (12, 3)), 3)
     X = np.random.default_rng(12).uniform(-1, 1, (300, 3))
-    one = closest_point(c, X, max_iterations=1, tol=1e-15)
-    assert not one.converged.all()                      # one Newton step cannot reach 1e-15
+    one = closest_point(c, X, max_iterations=1, param_tol=1e-15)
+    assert not one.point_converged.all() and not one.converged   # one Newton step cannot reach 1e-15
+    assert "did not converge" in one.message
     assert np.all(one.lower_bounds <= one.distances)
     full = closest_point(c, X)
-    assert full.converged.all()
+    assert full.converged and full.point_converged.all()
     assert np.all(full.distances <= one.distances + 1e-15)
 
 

@@ -151,7 +151,7 @@ def test_overlapping_pieces_of_one_curve():
 def test_coincident_curves_are_one_overlap():
     c = interpolate(np.random.default_rng(5).random((7, 3)))
     res = intersect(c, c)
-    assert res.points == [] and len(res.overlaps) == 1
+    assert res.points == () and len(res.overlaps) == 1
     assert np.allclose(res.overlaps[0].param_a, (0, 1)) and np.allclose(res.overlaps[0].param_b, (0, 1))
 
 
@@ -168,7 +168,7 @@ def test_figure_eight():
     t = np.linspace(0, 2 * np.pi, 17)[:-1]
     pts = np.c_[np.sin(t), np.sin(t) * np.cos(t)]
     pts = np.vstack([pts, pts[:1]])
-    eight = natural_cubic_spline(pts, end_condition="periodic", parametrization="uniform")
+    eight = natural_cubic_spline(pts, end_condition="periodic", parameters="uniform")
     res = intersect(eight)
     assert len(res.points) == 1 and not res.overlaps
     p = res.points[0]
@@ -178,13 +178,13 @@ def test_figure_eight():
 
 
 def test_cusp_is_no_self_intersection():
-    assert intersect(BezierCurve([[0, 0], [1, 1], [0, 1], [1, 0]])).points == []   # cusp at t = 1/2
+    assert intersect(BezierCurve([[0, 0], [1, 1], [0, 1], [1, 0]])).points == ()   # cusp at t = 1/2
 
 
 def test_simple_curve_has_no_self_intersection():
     c = interpolate(np.c_[np.linspace(0, 1, 9), np.sin(np.linspace(0, 3, 9))])
-    assert intersect(c).points == []
-    assert intersect(circle((0, 0), 1.0)).points == []      # closed: meets itself only at the seam
+    assert intersect(c).points == ()
+    assert intersect(circle((0, 0), 1.0)).points == ()      # closed: meets itself only at the seam
 
 
 def test_bad_input():
@@ -269,7 +269,7 @@ def test_line_on_a_cylinder_ruling_is_an_overlap(z0, z1, s0, s1):
     cyl = cylinder(1.0, 4.0, (0, 0, -2))                     # x^2 + y^2 = 1, -2 <= z <= 2
     d = np.array([np.cos(0.4), np.sin(0.4)])
     res = intersect(BezierCurve([[*d, z0], [*d, z1]]), cyl, tol=1e-9)
-    assert res.converged and res.points == [] and len(res.overlaps) == 1
+    assert res.converged and res.points == () and len(res.overlaps) == 1
     ov = res.overlaps[0]
     assert np.allclose(ov.param_a, (s0, s1), atol=1e-8)
     line = BezierCurve([[*d, z0], [*d, z1]])
@@ -289,7 +289,7 @@ def test_isocurve_lies_in_its_surface(direction, value):
     S = BSplineSurface(net, 3, 3)
     iso = S.isocurve(direction, value)
     res = intersect(iso, S, tol=1e-9)
-    assert res.converged and res.points == [] and len(res.overlaps) == 1
+    assert res.converged and res.points == () and len(res.overlaps) == 1
     ov = res.overlaps[0]
     assert np.allclose(ov.param_a, iso.domain, atol=1e-12)
     fixed = 1 if direction == "u" else 0

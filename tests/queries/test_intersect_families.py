@@ -179,7 +179,7 @@ def test_surface_surface_families(seed, pair):
         mine = np.min([closest_point(br.curve, theirs).distances for br in res.curves], axis=0)
         assert np.all(mine <= 100 * dev + 10 * tol), (mine.max(), dev.max())
     for br in res.curves:
-        assert br.tolerance <= tol
+        assert br.max_distance <= tol
         P = br.curve(np.linspace(*br.curve.domain, 101))
         assert closest_point(a, P).distances.max() <= tol and closest_point(b, P).distances.max() <= tol
 

@@ -159,8 +159,10 @@ def test_gap(delta):
     np.testing.assert_allclose(r.gap, delta, rtol=1e-12)
     assert not r.C0 and not r.G1 and not r.C1 and r.level == "none"
     # a gap below the tolerance counts as C0
-    r2 = edge_continuity(s1, moved, "u1", "u0", tol=2 * delta / r.size)
-    assert r2.C0 and r2.tol == 2 * delta / r.size
+    r2 = edge_continuity(s1, moved, "u1", "u0", rel_tol=2 * delta / r.size)
+    assert r2.C0 and r2.rel_tol == 2 * delta / r.size
+    with pytest.warns(DeprecationWarning, match="rel_tol"):          # the old name, one release
+        assert edge_continuity(s1, moved, "u1", "u0", tol=2 * delta / r.size) == r2
     assert "gap" in str(r)
 
 
@@ -209,10 +211,12 @@ def test_errors():
         edge_continuity(s, s, "u1", "left")
     with pytest.raises(CagdError, match="samples"):
         edge_continuity(s, s, "u1", "u0", samples=1)
-    with pytest.raises(CagdError, match="tol"):
-        edge_continuity(s, s, "u1", "u0", tol=0.0)
-    with pytest.raises(CagdError, match="tol"):
-        edge_continuity(s, s, "u1", "u0", tol=np.nan)
+    with pytest.raises(CagdError, match="rel_tol"):
+        edge_continuity(s, s, "u1", "u0", rel_tol=0.0)
+    with pytest.raises(CagdError, match="rel_tol"):
+        edge_continuity(s, s, "u1", "u0", rel_tol=np.nan)
+    with pytest.raises(CagdError, match="angle_tol"):
+        edge_continuity(s, s, "u1", "u0", angle_tol=-1.0)
     with pytest.raises(CagdError, match="reverse"):
         edge_continuity(s, s, "u1", "u0", reverse="yes")
     with pytest.raises(CagdError, match="s1"):

@@ -181,7 +181,9 @@ def test_corner_mismatch_names_the_corner_and_gap(which, message):
     with pytest.raises(CagdError) as info:
         HermiteCoonsPatch(*curves)
     assert message in str(info.value)
-    CoonsPatch(*curves, tol=0.1)                          # within tolerance: accepted
+    CoonsPatch(*curves, rel_tol=0.1)                      # within tolerance: accepted
+    with pytest.warns(DeprecationWarning, match="rel_tol"):       # the old keyword, one release
+        assert CoonsPatch(*curves, tol=0.1).rel_tol == 0.1
 
 
 def test_argument_errors():
@@ -191,8 +193,8 @@ def test_argument_errors():
     flat = BezierCurve([[0, 0], [1.0, 0]])
     with pytest.raises(CagdError, match="different dimensions"):
         CoonsPatch(c, c, flat, c)
-    with pytest.raises(CagdError, match="tol"):
-        CoonsPatch(c, c, c, c, tol=-1.0)
+    with pytest.raises(CagdError, match="rel_tol"):
+        CoonsPatch(c, c, c, c, rel_tol=-1.0)
     with pytest.raises(CagdError, match="c0_v, c1_v, d0_u, d1_u"):
         HermiteCoonsPatch(c, c, c, c, c0_v=c)
 

@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from cagd import BezierSurface, BSplineCurve, BSplineSurface, CagdError, Surface
-from cagd.surfaces.base import rational_partials
+import cagd
+from cagd.surfaces.base import NORMAL_TOL, rational_partials, unit_normals
 
 from surface_strategies import (bezier_surfaces, bspline_surfaces, domain_parameters, interior_parameters,
                                 min_span, net_size, regular, relative, scipy_homogeneous_grid,
@@ -224,6 +225,72 @@ def test_normal_errors():
     flat = BezierSurface(np.zeros((2, 2, 3)))              # collapsed to a point
     with pytest.raises(CagdError, match="normal"):
         flat.normal(0.5, 0.5)
+
+
+# --- the normal where it is defined (unit_normals, NORMAL_TOL) --------------------------------------------------
+
+def test_normal_cut_off_is_the_sine_between_the_partials():
+    """Partials of unit length: defined iff sin(angle) > NORMAL_TOL (both sides of the cut)."""
+    su = np.array([1.0, 0.0, 0.0])
+    for theta, defined in ((2 * NORMAL_TOL, True), (0.5 * NORMAL_TOL, False), (np.pi / 2, True), (0.0, False)):
+        n, ok = unit_normals(su, np.array([np.cos(theta), np.sin(theta), 0.0]))
+        assert bool(ok) == defined
+        np.testing.assert_array_equal(n, [0, 0, 1.0] if defined else [0, 0, 0])
+
+
+def test_normal_cut_off_scales_the_partials_from_below():
+    """A partial that is rounding noise against its scale (a pole) leaves the normal
+    undefined even when it points somewhere: the test is relative to max(|S_u|, scale_u)."""
+    noise, sv = np.array([1e-17, 3e-18, 0.0]), np.array([0.0, 2.0, 0.0])
+    assert unit_normals(noise, sv)[1]                                # no scale: the sine alone
+    assert not unit_normals(noise, sv, scale_u=1.0, scale_v=1.0)[1]
+
+
+def test_sphere_pole_has_no_normal_and_the_rest_is_radial():
+    s = cagd.sphere(2.0, center=(1.0, -1.0, 0.5))
+    (u0, u1), (v0, v1) = s.domain
+    v = np.linspace(v0, v1, 7)
+    for pole in (u0, u1):                                 # each edge u = const collapses to a pole
+        n, ok = s.normals(np.full_like(v, pole), v)
+        assert not ok.any() and np.all(n == 0)
+        with pytest.raises(CagdError, match="normal is undefined"):
+            s.normal(pole, v[3])
+    u, vv = np.meshgrid(np.linspace(u0, u1, 9)[1:-1], v, indexing="ij")
+    n, ok = s.normals(u, vv)
+    assert ok.all()
+    radial = (s(u, vv) - [1.0, -1.0, 0.5]) / 2.0
+    np.testing.assert_allclose(np.abs(np.einsum("...k,...k", n, radial)), 1.0, atol=1e-13)
+
+
+def test_cone_apex_has_no_normal_and_the_side_is_perpendicular_to_its_generators():
+    c = cagd.cone(1.0, 2.0)                               # apex (0, 0, 2) on the edge u = u0
+    (u0, u1), (v0, v1) = c.domain
+    v = np.linspace(v0, v1, 5)
+    n, ok = c.normals(np.full_like(v, u0), v)
+    assert not ok.any()
+    u = np.linspace(u0, u1, 6)[1:]
+    U, V = np.meshgrid(u, v, indexing="ij")
+    n, ok = c.normals(U, V)
+    assert ok.all()
+    generator = c(U, V) - [0.0, 0.0, 2.0]
+    np.testing.assert_allclose(np.einsum("...k,...k", n, generator), 0.0, atol=1e-13)
+    # half-angle alpha = atan(r / h) at the apex: n makes the angle pi/2 - alpha with the axis
+    np.testing.assert_allclose(np.abs(n[..., 2]), np.sin(np.arctan(0.5)), rtol=1e-13)
+
+
+def test_degenerate_patches_have_no_normal():
+    """A patch collapsed to a segment (S_u parallel to S_v everywhere) and a triangle-like
+    patch whose edge v = 0 collapses to a corner point."""
+    line = np.array([[[0, 0, 0], [1, 1, 1]], [[2, 2, 2], [3, 3, 3]]], float)
+    n, ok = BezierSurface(line).normals(*np.meshgrid(T2, T2, indexing="ij"))
+    assert not ok.any()
+    P = np.array([[[0, 0, 0], [0, 1, 0], [0, 2, 0]], [[0, 0, 0], [1, 1, 0], [1, 2, 0]],
+                  [[0, 0, 0], [2, 1, 0], [2, 2, 0]]], float)
+    fan = BezierSurface(P)                                # S(u, 0) = (0, 0, 0) for every u
+    _, ok = fan.normals(T2, np.zeros_like(T2))
+    assert not ok.any()
+    n, ok = fan.normals(T2[1:, None], T2[None, 1:])
+    assert ok.all() and np.allclose(np.abs(n[..., 2]), 1.0)
 
 
 # --- curves on the surface, transforms ------------------------------------------------------------

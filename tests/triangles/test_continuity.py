@@ -92,6 +92,8 @@ def test_seed_quadratic_conditions():
     assert np.abs(t1.blossom(D, D) - t2.blossom(D @ to2, D @ to2)).max() > 1
     r = triangle_continuity(t1, t2, 0, D, order=2)
     assert r.continuity_order() == 1 and r.is_continuous(1) and not r.is_continuous(2)
+    with pytest.warns(DeprecationWarning, match="rel_tol"):       # the old keyword, one release
+        assert r.is_continuous(1, tol=1e-9) and r.continuity_order(tol=1e-9) == 1
 
 
 @SETTINGS
@@ -150,7 +152,7 @@ def test_pieces_of_a_subdivision_join_with_full_continuity(t, p):
     r = triangle_continuity(T0, T1.relabeled((1, 2, 0)), edge=1, apex=apex, order=t.degree)
     ref = scale(t) * (1 if t.weights is None else 4.0)
     assert max(r.control_deviations) <= 1e-9 * ref * 10 ** t.degree
-    assert r.continuity_order(tol=1e-9 * 10 ** t.degree) == t.degree
+    assert r.continuity_order(rel_tol=1e-9 * 10 ** t.degree) == t.degree
 
 
 def test_rational_neighbor_and_free_weights():

@@ -38,11 +38,11 @@ def _ends(curve) -> Tuple[np.ndarray, np.ndarray]:
     return curve(a), curve(b)
 
 
-def edges_continuity(edge1, edge2, tol: float = 1e-9) -> JointCheck:
+def edges_continuity(edge1, edge2, rel_tol: float = 1e-9) -> JointCheck:
     """Continuity where two edges meet: the pair of end points closest to each other
     is the joint; the curves are reversed so that the joint is the end of the first
     and the start of the second, then measured by cagd.continuity (derivatives in each
-    curve's own parameter)."""
+    curve's own parameter; ``rel_tol`` relative to the edges' size)."""
     c1, c2 = conversion.edge_to_curve(edge1), conversion.edge_to_curve(edge2)
     e1, e2 = _ends(c1), _ends(c2)
     i, j = min(((i, j) for i in range(2) for j in range(2)),
@@ -51,13 +51,13 @@ def edges_continuity(edge1, edge2, tol: float = 1e-9) -> JointCheck:
         c1 = c1.reversed()
     if j == 1:
         c2 = c2.reversed()
-    report = cagd.continuity(c1, c2, tol=tol)
+    report = cagd.continuity(c1, c2, rel_tol=rel_tol)
     where = (f"joint: {'start' if i == 0 else 'end'} of edge 1 -> {'start' if j == 0 else 'end'} of edge 2 "
              f"at {tuple(round(float(x), 6) for x in e1[i])}")
     return JointCheck(report, where)
 
 
-def faces_continuity(face1, face2, tol: float = 1e-9, samples: int = 33) -> JointCheck:
+def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> JointCheck:
     """Continuity across the common boundary of two faces (their untrimmed surfaces):
     the pair of boundary edges ('u0', 'u1', 'v0', 'v1') with the smallest gap is the
     shared edge, measured by cagd.edge_continuity."""
@@ -65,41 +65,39 @@ def faces_continuity(face1, face2, tol: float = 1e-9, samples: int = 33) -> Join
     best = None
     for e1 in ("u0", "u1", "v0", "v1"):
         for e2 in ("u0", "u1", "v0", "v1"):
-            r = cagd.edge_continuity(s1, s2, e1, e2, samples=9, tol=tol)
+            r = cagd.edge_continuity(s1, s2, e1, e2, samples=9, rel_tol=rel_tol)
             if best is None or r.gap < best[0]:
                 best = (r.gap, e1, e2)
     _, e1, e2 = best
-    report = cagd.edge_continuity(s1, s2, e1, e2, samples=samples, tol=tol)
+    report = cagd.edge_continuity(s1, s2, e1, e2, samples=samples, rel_tol=rel_tol)
     return JointCheck(report, f"shared boundary: {e1} of face 1 = {e2} of face 2")
 
 
-def check_shapes(shape1, shape2, tol: float = 1e-9) -> JointCheck:
+def check_shapes(shape1, shape2, rel_tol: float = 1e-9) -> JointCheck:
     """Two edges or two faces (e.g. the selected sub-elements)."""
     kinds = (shape1.ShapeType, shape2.ShapeType)
     if kinds == ("Edge", "Edge"):
-        return edges_continuity(shape1, shape2, tol)
+        return edges_continuity(shape1, shape2, rel_tol)
     if kinds == ("Face", "Face"):
-        return faces_continuity(shape1, shape2, tol)
+        return faces_continuity(shape1, shape2, rel_tol)
     raise cagd.CagdError(f"selection: need two edges or two faces, got {kinds[0]} and {kinds[1]}")
+
+
+def _comb(edge, samples: int):
+    """The engine's curvature comb of the edge's curve (cagd.analysis.curvature_comb:
+    per knot span, both limits at a knot), at least ``samples`` teeth, scale 1."""
+    return cagd.analysis.curvature_comb(conversion.edge_to_curve(edge), samples=samples, scale=1.0)
 
 
 def curvature_comb(edge, samples: int = 64, scale: float = 1.0) -> List[Tuple[App.Vector, App.Vector]]:
     """Teeth (foot, tip) of the curvature comb: tip = C(t) - scale * kappa(t) N(t)
-    with kappa N = (C'' - (C''.T) T) / |C'|^2 the curvature vector (Farin 10.1), so
-    the teeth point away from the centre of curvature; t uniform in the domain."""
-    curve = conversion.edge_to_curve(edge)
-    t = np.linspace(*curve.domain, samples)
-    D = curve.derivatives(t, 2)
-    d1, d2 = D[1], D[2]
-    s2 = np.einsum("ij,ij->i", d1, d1)
-    s2 = np.where(s2 > 0.0, s2, np.inf)
-    k = (d2 - (np.einsum("ij,ij->i", d2, d1) / s2)[:, None] * d1) / s2[:, None]
-    tips = D[0] - scale * k
-    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(D[0], tips)]
+    with kappa N the curvature vector (Farin 10.1), so the teeth point away from the
+    centre of curvature; at least ``samples`` teeth, placed per knot span."""
+    comb = _comb(edge, samples).scaled(scale)
+    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(comb.base, comb.tips)]
 
 
 def auto_comb_scale(edge, samples: int = 64, fraction: float = 0.2) -> float:
     """A comb scale making the longest tooth ``fraction`` of the edge length."""
-    teeth = curvature_comb(edge, samples, 1.0)
-    longest = max((a - b).Length for a, b in teeth)
+    longest = float(_comb(edge, samples).curvature.max())
     return fraction * edge.Length / longest if longest > 0.0 else 1.0

@@ -224,7 +224,7 @@ class ContinuityCommand(Command):
             return _error("Continuity: select two edges or two faces")
         shapes = [o.Shape.getElement(s) for o, s in pick]
         try:
-            result = analysis.check_shapes(*shapes, tol=1e-7)
+            result = analysis.check_shapes(*shapes, rel_tol=1e-7)
         except cagd.CagdError as exc:
             return _error(f"Continuity: {exc}")
         LAST_CHECK.append(result)

@@ -16,7 +16,7 @@ from .conversion import cagd
 from .features import Feature, add, add_enum, linked_edge, make, points_from, vector, weights_or_none
 
 V = App.Vector
-PARAMETRIZATIONS = ("chord", "centripetal", "uniform")
+PARAMETERS = cagd.fitting.PARAMETERS        # the engine's parameters= names (property "Parametrization")
 END_CONDITIONS = ("natural", "clamped", "periodic", "virtual")
 JOIN_CONTINUITIES = ("G1", "G2", "C1", "C2")
 
@@ -79,10 +79,10 @@ class InterpolationCurve(Feature):
             [V(0, 0, 0), V(10, 10, 0), V(20, 0, 5), V(30, 10, 5), V(40, 0, 0)])
         add(obj, "LinkSubList", "Vertices", "Curve", "Vertices giving the points; when set, Points follow them")
         add(obj, "Integer", "Degree", "Curve", "Degree p, 1 <= p < number of points", 3)
-        add_enum(obj, "Parametrization", "Curve", "Parameters of the points", PARAMETRIZATIONS, "chord")
+        add_enum(obj, "Parametrization", "Curve", "Parameters of the points", PARAMETERS, "chord")
 
     def build(self, obj):
-        return cagd.interpolate(points_from(obj), obj.Degree, obj.Parametrization)
+        return cagd.interpolate(points_from(obj), obj.Degree, parameters=obj.Parametrization)
 
 
 class CubicSpline(Feature):
@@ -100,7 +100,7 @@ class CubicSpline(Feature):
         add_enum(obj, "EndCondition", "Curve", "natural: S''=0 at the ends; clamped: end tangents; "
                  "periodic: closed C2 (the first point is appended when the list is open); "
                  "virtual: extra points beyond the ends", END_CONDITIONS, "natural")
-        add_enum(obj, "Parametrization", "Curve", "Parameters of the points", PARAMETRIZATIONS, "chord")
+        add_enum(obj, "Parametrization", "Curve", "Parameters of the points", PARAMETERS, "chord")
         add(obj, "Vector", "StartTangent", "Clamped", "S'(t_0) for EndCondition clamped", V(1, 1, 0))
         add(obj, "Vector", "EndTangent", "Clamped", "S'(t_n) for EndCondition clamped", V(1, -1, 0))
         add(obj, "Bool", "ReflectedVirtualPoints", "Virtual",
@@ -118,7 +118,7 @@ class CubicSpline(Feature):
             kwargs["tangents"] = np.array([vector(obj.StartTangent), vector(obj.EndTangent)])
         if kind == "virtual" and not obj.ReflectedVirtualPoints:
             kwargs["virtual_points"] = np.array([vector(obj.StartVirtualPoint), vector(obj.EndVirtualPoint)])
-        return cagd.natural_cubic_spline(P, kind, obj.Parametrization, **kwargs)
+        return cagd.natural_cubic_spline(P, kind, parameters=obj.Parametrization, **kwargs)
 
 
 class HermiteCurve(Feature):

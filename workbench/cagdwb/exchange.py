@@ -97,12 +97,8 @@ def compare_face(surface: "cagd.Surface", face, count: int = 9) -> dict:
     got = np.array([tuple(geom.value(float(u), float(v))) for u, v in zip(FU, FW)])
     out = {"points": relative_deviation(ref, got)}
     normal_dev = 0.0
-    d = src.derivatives(U, W, 1, 1)
-    cross = np.cross(d[1, 0], d[0, 1])
-    length = np.linalg.norm(cross, axis=-1)
-    (u0, u1), (v0, v1) = nurbs.domain
-    floor = 1e-6 * nurbs.size ** 2 / ((u1 - u0) * (v1 - v0))     # away from degenerate points
-    for u, v, n, ok in zip(FU, FW, cross / np.maximum(length, 1e-300)[:, None], length > floor):
+    normals, defined = src.normals(U, W)                  # away from degenerate points
+    for u, v, n, ok in zip(FU, FW, normals, defined):
         if ok:
             m = sign * np.array(tuple(geom.normal(float(u), float(v))))
             normal_dev = max(normal_dev, float(np.abs(m - n).max()))

@@ -19,6 +19,7 @@ properties, the table in the report view; the view provider colours the points.
 """
 from __future__ import annotations
 
+import dataclasses
 from typing import List, Sequence, Tuple
 
 import numpy as np
@@ -126,7 +127,7 @@ class IntersectionCurve(Feature):
             raise cagd.CagdError(message) from exc
         self.sync_placement(obj)
         curves = result.curves
-        achieved = max((float(c.tolerance) for c in curves), default=0.0)
+        achieved = max((float(c.max_distance) for c in curves), default=0.0)
         obj.Shape = shape
         obj.AchievedTolerance = achieved
         obj.BranchCount = len(curves)
@@ -214,9 +215,9 @@ def signed_deviation(faces: Sequence[Tuple[str, object]], points: np.ndarray):
         return dev
     d = dev.distances * flip[dev.owner]
     pct = list(dev.percentiles)
-    return dev._replace(distances=d, max=float(d.max()), min=float(d.min()), mean=float(d.mean()),
-                        rms=float(np.sqrt(np.mean(d * d))), max_abs=float(np.abs(d).max()),
-                        percentiles={p: float(v) for p, v in zip(pct, np.percentile(d, pct))})
+    return dataclasses.replace(dev, distances=d, max=float(d.max()), min=float(d.min()), mean=float(d.mean()),
+                               rms=float(np.sqrt(np.mean(d * d))), max_abs=float(np.abs(d).max()),
+                               percentiles={p: float(v) for p, v in zip(pct, np.percentile(d, pct))})
 
 
 class DeviationMap(Stateless):

@@ -113,7 +113,7 @@ class CoonsPatch(Feature):
             raise cagd.CagdError(f"Edges: a Coons patch needs exactly 4 edges, got {len(edges)}")
         curves = [conversion.edge_to_curve(e) for _, e in edges]
         try:                                       # order and orient the loop: the engine's from_loop
-            return cagd.CoonsPatch.from_loop(curves, tol=tol)
+            return cagd.CoonsPatch.from_loop(curves, rel_tol=tol)
         except cagd.CagdError as exc:
             message = str(exc)
             message = message[len("curves: "):] if message.startswith("curves: ") else message

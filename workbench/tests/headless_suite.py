@@ -209,12 +209,12 @@ def test_continuity_faces():
     s1 = surfaces.make_bezier_surface(P, 4, doc=doc)
     s2 = surfaces.make_bezier_surface(Q, 4, doc=doc)
     doc.recompute()
-    r = analysis.check_shapes(s1.Shape.Faces[0], s2.Shape.Faces[0], tol=1e-7)
+    r = analysis.check_shapes(s1.Shape.Faces[0], s2.Shape.Faces[0], rel_tol=1e-7)
     check(r.level == "C1" and "u1" in r.where and "u0" in r.where, f"C1 faces: {r.text()}")
     Q[1] = 2 * P[3] - P[2] + np.array([0, 0, 1.0])
     s2.Poles = conversion.vectors(Q.reshape(-1, 3))
     doc.recompute()
-    r = analysis.check_shapes(s1.Shape.Faces[0], s2.Shape.Faces[0], tol=1e-7)
+    r = analysis.check_shapes(s1.Shape.Faces[0], s2.Shape.Faces[0], rel_tol=1e-7)
     check(r.level == "C0", f"C0 faces: {r.text()}")
 
 
@@ -222,10 +222,10 @@ def test_continuity_faces():
 def test_continuity_edges_orientation():
     a = Part.makeCircle(10.0, V(0, 0, 0), V(0, 0, 1), 0, 90)
     b = Part.makeCircle(10.0, V(0, 0, 0), V(0, 0, 1), 90, 200)
-    r = analysis.check_shapes(b, a, tol=1e-7)          # joint: start of b, end of a
+    r = analysis.check_shapes(b, a, rel_tol=1e-7)          # joint: start of b, end of a
     check(r.report.G2 and r.report.gap < 1e-9, f"circle arcs: {r.text()}")
     line = Part.makeLine(V(10, 0, 0), V(10, -10, 0))
-    r = analysis.check_shapes(a, line, tol=1e-7)
+    r = analysis.check_shapes(a, line, rel_tol=1e-7)
     check(r.report.G1 and not r.report.G2, f"arc + tangent line: {r.text()}")
 
 

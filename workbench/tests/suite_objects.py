@@ -243,20 +243,20 @@ def test_join_g1_g2():
     obj = curves.make_join((base, "Edge1"), (src, "Edge1"), "G2", 1.5, 2.0, doc=doc)
     recompute_ok(obj)
     compare(obj)
-    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], tol=1e-7)
+    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], rel_tol=1e-7)
     check(r.report.G2 and not r.report.C1, f"G2 join measured {r.level}: {r.report}")
     obj.Continuity = "C2"
     recompute_ok(obj)
-    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], tol=1e-7)
+    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], rel_tol=1e-7)
     check(r.report.C2, f"C2 join measured {r.level}")
     obj.Continuity = "G1"
     standard(obj, lambda o: setattr(o, "Alpha", 0.5), lambda o: setattr(o, "Alpha", -1.0), ["alpha"],
              lambda o: setattr(o, "Alpha", 2.0))
-    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], tol=1e-7)
+    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], rel_tol=1e-7)
     check(r.report.G1 and abs(r.report.derivative_ratio - 2.0) < 1e-9, f"G1 alpha=2: {r.report}")
     base.Poles = base.Poles[:-1] + [V(30, 5, 0)]
     doc.recompute()
-    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], tol=1e-7)
+    r = analysis.edges_continuity(base.Shape.Edges[0], obj.Shape.Edges[0], rel_tol=1e-7)
     check(r.report.G1, "join did not follow the moved base curve")
 
 

@@ -1,0 +1,27 @@
+"""Results are values: frozen dataclasses whose numpy arrays are read-only."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+
+def readonly(value):
+    """``value`` with its write flag cleared when it is a numpy array, or with the arrays
+    in it when it is a tuple (the one place results make their arrays read-only);
+    anything else is returned unchanged."""
+    if isinstance(value, np.ndarray):
+        value.setflags(write=False)
+    elif isinstance(value, tuple):
+        for item in value:
+            readonly(item)
+    return value
+
+
+class ReadOnlyArrays:
+    """Mixin for frozen dataclasses: every array field (and array in a tuple field) is
+    made read-only on creation."""
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            readonly(getattr(self, f.name))
