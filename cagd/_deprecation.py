@@ -1,6 +1,6 @@
 """Keywords that changed name or meaning: accepted for one release with a warning that
 says what to use (DeprecationWarning for a new name, FutureWarning for a new meaning),
-attributed to the caller's line outside cagd."""
+attributed to the caller's line outside cagd (and cq_ext, which uses them too)."""
 from __future__ import annotations
 
 import sys
@@ -9,11 +9,14 @@ import warnings
 from .errors import CagdError
 
 
+_OURS = ("cagd", "cq_ext")
+
+
 def _outside_level() -> int:
-    """The stacklevel of the first frame outside the cagd package (for warnings.warn
-    called from the function that calls this one)."""
+    """The stacklevel of the first frame outside the cagd package and its front end
+    cq_ext (for warnings.warn called from the function that calls this one)."""
     level, frame = 2, sys._getframe(2)
-    while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] == "cagd":
+    while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] in _OURS:
         level, frame = level + 1, frame.f_back
     return level
 

@@ -30,7 +30,7 @@ import numpy as np
 
 import cagd
 from cagd.curves.base import Curve
-from cagd.curves.cubic_spline import PARAMETRIZATIONS
+from cagd._deprecation import RELATIVE, renamed
 from cagd.errors import CagdError
 from cagd.occ import from_occ
 from cagd.occ.wrapped import describe, occ_faces
@@ -41,6 +41,10 @@ from .cq_api import close_with_caps, sew_solid, thicken
 from .solids import revolution_face
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
 from .stack import points as as_points
+
+# OCCT edges meet within its confusion tolerance (1e-7), so Coons corners of edges are
+# checked that loosely (relative to the curves' size); engine curves use cagd's 1e-9
+EDGE_CORNER_TOL = 1e-7
 
 T = TypeVar("T", bound=cq.Workplane)
 CurveLike = Union[Curve, cq.Edge, object]        # engine curves, edges of CadQuery, build123d or OCCT
@@ -86,21 +90,6 @@ def nurbsCurve(self: T, control_points: Points, degree: int = 3, knots: Optional
     return _push_curve(self, curve, forConstruction, makeWire)
 
 
-def _parameters(parameters, parametrization: Optional[str]):
-    """``parameters`` (a method name or explicit values), honouring the deprecated
-    ``parametrization`` keyword."""
-    if parametrization is not None:
-        warnings.warn("interpCurve: parametrization= is renamed parameters= (same values); "
-                      "parametrization= goes in the next release", DeprecationWarning, stacklevel=3)
-        if not (isinstance(parameters, str) and parameters == "chord"):
-            raise CagdError("parameters: give parameters= only (parametrization= is its deprecated name)")
-        parameters = parametrization
-    if isinstance(parameters, str) and parameters not in PARAMETRIZATIONS:
-        raise CagdError(f"parameters: unknown method {parameters!r}; expected one of {PARAMETRIZATIONS} "
-                        "or the values")
-    return parameters
-
-
 def interpCurve(self: T, points: Points, end_condition: str = "natural",
                 parameters: Union[str, Sequence[float]] = "chord", tangents: Optional[Points] = None,
                 includeCurrent: bool = False, forConstruction: bool = False, makeWire: bool = False,
@@ -110,15 +99,13 @@ def interpCurve(self: T, points: Points, end_condition: str = "natural",
     (the first point need not be repeated at the end; the result is a closed wire);
     ``parameters`` 'chord', 'centripetal', 'uniform' or the values t_0 < ... < t_n
     (``parametrization=`` is its deprecated name)."""
-    method = _parameters(parameters, parametrization)
+    if parametrization is not None:
+        parameters = renamed("interpCurve", "parametrization", "parameters", parametrization, parameters, "chord")
     pts = local_points(self, points, includeCurrent, "points")
     if end_condition == "periodic" and pts.ndim == 2 and len(pts) > 1 and not np.array_equal(pts[0], pts[-1]):
         pts = np.vstack([pts, pts[:1]])           # CadQuery's spline(periodic=True) convention
     tan = None if tangents is None else as_points(tangents, "tangents")
-    if isinstance(method, str):
-        curve = cagd.natural_cubic_spline(pts, end_condition, method, tangents=tan)
-    else:
-        curve = cagd.natural_cubic_spline(pts, end_condition, tangents=tan, parameters=method)
+    curve = cagd.natural_cubic_spline(pts, end_condition, parameters, tangents=tan)
     return _push_curve(self, curve, forConstruction, makeWire or end_condition == "periodic", "points")
 
 
@@ -171,16 +158,20 @@ def bsplineSurface(self: T, points: Points, degree_u: int = 3, degree_v: int = 3
     return cagdSurface(self, surface)
 
 
-def coonsPatch(self: T, *curves: CurveLike, tol: float = 1e-7) -> T:
+def coonsPatch(self: T, *curves: CurveLike, rel_tol: float = EDGE_CORNER_TOL, tol: Optional[float] = None) -> T:
     """The bilinearly blended Coons patch (Farin 22.2) bounded by four curves given in
     any order and direction that form a loop: edges of any library or engine curves
     (local coordinates), or, with no arguments, the four pending edges of the curve
     methods before it (consumed), else the pending wires' edges, else the edges on
-    the stack (e.g. ``.edges()`` of a face)."""
+    the stack (e.g. ``.edges()`` of a face). The corners must meet within ``rel_tol``
+    of the curves' size (:meth:`cagd.CoonsPatch.from_loop`; ``tol=`` is the
+    deprecated name of this relative tolerance)."""
+    if tol is not None:
+        rel_tol = renamed("coonsPatch", "tol", "rel_tol", tol, rel_tol, EDGE_CORNER_TOL, RELATIVE)
     found, source, consume = queued_curves(self, curves, one_per_wire=False)
     if len(found) != 4:
         raise CagdError(f"curves: a Coons patch needs 4 boundary curves, got {len(found)} ({source})")
-    face = to_cq(cagd.CoonsPatch.from_loop(found, tol))
+    face = to_cq(cagd.CoonsPatch.from_loop(found, rel_tol))
     consume()
     return with_face(self, face)
 

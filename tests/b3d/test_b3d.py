@@ -88,8 +88,11 @@ def test_curve_round_trip(curve):
 
 @pytest.mark.parametrize("surface", SURFACES, ids=["sphere", "bezier"])
 def test_surface_round_trip(surface):
-    face = cq_ext.to_b3d(surface)
+    """The exact B-spline face (nurbs=True: the engine's parametrisation) and back; the
+    default face of a sphere is OCCT's analytic one (tests/occ/test_analytic.py)."""
+    face = cq_ext.to_b3d(surface, nurbs=True)
     assert isinstance(face, bd.Face) and check_valid(face)
+    assert cq_ext.to_b3d(surface).geom_type.name == ("SPHERE" if surface.is_rational else "BSPLINE")
     (a, b), (c, d) = surface.domain
     s, t = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 5), indexing="ij")
     got = np.array([tuple(face.position_at(x, y)) for x, y in zip(s.ravel(), t.ravel())])

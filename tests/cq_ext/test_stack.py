@@ -295,7 +295,7 @@ def test_parametrization_keyword_is_deprecated_but_works():
     assert same_edge(old, new)
     uniform = cq.Workplane().interpCurve(pts, parameters="uniform").val()
     assert not same_edge(uniform, new)
-    with pytest.raises(CagdError, match="parameters"), pytest.warns(DeprecationWarning):
+    with pytest.raises(CagdError, match="both parametrization= .deprecated. and parameters="):
         cq.Workplane().interpCurve(pts, parameters="uniform", parametrization="chord")
 
 
