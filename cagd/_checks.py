@@ -2,14 +2,15 @@
 from __future__ import annotations
 
 import numbers
-from typing import Optional, Tuple
+from typing import Any, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 from .errors import CagdError
 
 
-def finite_array(value, name: str, ndim: Optional[int] = None) -> np.ndarray:
+def finite_array(value: ArrayLike, name: str, ndim: Optional[int] = None) -> np.ndarray:
     """``value`` as a float64 array, rejecting NaN/inf and a wrong number of dimensions."""
     try:
         arr = np.array(value, dtype=np.float64)
@@ -23,7 +24,7 @@ def finite_array(value, name: str, ndim: Optional[int] = None) -> np.ndarray:
     return arr
 
 
-def points(value, name: str = "control_points", min_count: int = 1) -> np.ndarray:
+def points(value: ArrayLike, name: str = "control_points", min_count: int = 1) -> np.ndarray:
     """An (n, dim) array of finite points, dim >= 1; a 1-D input is n points of dim 1."""
     arr = finite_array(value, name)
     if arr.ndim == 1:
@@ -35,7 +36,7 @@ def points(value, name: str = "control_points", min_count: int = 1) -> np.ndarra
     return arr
 
 
-def weights(value, count: int, name: str = "weights") -> Optional[np.ndarray]:
+def weights(value: Optional[ArrayLike], count: int, name: str = "weights") -> Optional[np.ndarray]:
     """Positive finite weights, one per control point, or None."""
     if value is None:
         return None
@@ -48,7 +49,7 @@ def weights(value, count: int, name: str = "weights") -> Optional[np.ndarray]:
     return w
 
 
-def integer(value, name: str, minimum: int = 0, maximum: Optional[int] = None) -> int:
+def integer(value: Any, name: str, minimum: int = 0, maximum: Optional[int] = None) -> int:
     """An int in [minimum, maximum]; bools and non-integral floats are rejected."""
     if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
         if isinstance(value, (float, np.floating)) and float(value).is_integer():
@@ -62,7 +63,7 @@ def integer(value, name: str, minimum: int = 0, maximum: Optional[int] = None) -
     return value
 
 
-def scalar(value, name: str) -> float:
+def scalar(value: Any, name: str) -> float:
     """A finite float."""
     try:
         x = float(value)
@@ -73,7 +74,7 @@ def scalar(value, name: str) -> float:
     return x
 
 
-def positive(value, name: str) -> float:
+def positive(value: Any, name: str) -> float:
     """A finite float > 0 (tolerances, radii)."""
     x = scalar(value, name)
     if not x > 0.0:
@@ -81,7 +82,7 @@ def positive(value, name: str) -> float:
     return x
 
 
-def angle(value, name: str = "angle_tol") -> float:
+def angle(value: Any, name: str = "angle_tol") -> float:
     """An angle tolerance in radians: a finite float >= 0."""
     x = scalar(value, name)
     if x < 0.0:
@@ -89,12 +90,12 @@ def angle(value, name: str = "angle_tol") -> float:
     return x
 
 
-def parameters(t, name: str = "t") -> np.ndarray:
+def parameters(t: ArrayLike, name: str = "t") -> np.ndarray:
     """Finite float64 parameters of any shape."""
     return finite_array(t, name)
 
 
-def affine_map(matrix, offset, dim: int, what: str):
+def affine_map(matrix: ArrayLike, offset: Optional[ArrayLike], dim: int, what: str) -> Tuple[np.ndarray, np.ndarray]:
     """(A, b) of an affine map x -> A x + b acting on ``dim``-D points of a ``what``."""
     A = finite_array(matrix, "matrix", ndim=2)
     if A.shape[1] != dim:
@@ -105,7 +106,7 @@ def affine_map(matrix, offset, dim: int, what: str):
     return A, b
 
 
-def increasing(value, count: int, name: str = "parameters") -> np.ndarray:
+def increasing(value: ArrayLike, count: int, name: str = "parameters") -> np.ndarray:
     """``count`` finite, strictly increasing values (one parameter per point)."""
     t = finite_array(value, name, ndim=1)
     if t.shape[0] != count:
@@ -125,7 +126,7 @@ def finite_homogeneous(hom: np.ndarray) -> np.ndarray:
     return hom
 
 
-def frozen(value, dtype=None) -> np.ndarray:
+def frozen(value: ArrayLike, dtype: Optional[DTypeLike] = None) -> np.ndarray:
     """A read-only array that owns its data (objects are values, issue 13): ``value``
     itself when it already is one (frozen arrays are shared between values), else a
     read-only copy (as ``dtype`` if given), so that the caller's array is neither
@@ -138,7 +139,7 @@ def frozen(value, dtype=None) -> np.ndarray:
     return arr
 
 
-def pole_index(index, shape: Tuple[int, ...], name: str = "index") -> Tuple[int, ...]:
+def pole_index(index: Any, shape: Tuple[int, ...], name: str = "index") -> Tuple[int, ...]:
     """A control point's position in a net of ``shape``: an int for a sequence (shape
     (n,)), a tuple of len(shape) ints for a net; negative values count from the end."""
     if len(shape) == 1 and not isinstance(index, (tuple, list)) and np.ndim(index) == 0:
@@ -153,7 +154,7 @@ def pole_index(index, shape: Tuple[int, ...], name: str = "index") -> Tuple[int,
     return tuple(integer(i, name, -n, n - 1) % n for i, n in zip(parts, shape))
 
 
-def point(value, dim: int, name: str = "point") -> np.ndarray:
+def point(value: ArrayLike, dim: int, name: str = "point") -> np.ndarray:
     """One finite point of ``dim`` coordinates (a scalar for dim 1)."""
     p = finite_array(value, name)
     if p.ndim == 0:

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import sys
 import warnings
+from types import FrameType
+from typing import Any, Optional
 
 from .errors import CagdError
 
@@ -15,7 +17,8 @@ _OURS = ("cagd", "cq_ext")
 def _outside_level() -> int:
     """The stacklevel of the first frame outside the cagd package and its front end
     cq_ext (for warnings.warn called from the function that calls this one)."""
-    level, frame = 2, sys._getframe(2)
+    level = 2
+    frame: Optional[FrameType] = sys._getframe(2)
     while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] in _OURS:
         level, frame = level + 1, frame.f_back
     return level
@@ -24,7 +27,7 @@ def _outside_level() -> int:
 RELATIVE = "it is relative (to the size), and tol means a distance in model units in cagd"
 
 
-def renamed(func: str, old: str, new: str, value, current, default, why: str = ""):
+def renamed(func: str, old: str, new: str, value: Any, current: Any, default: Any, why: str = "") -> Any:
     """The value for keyword ``new`` of ``func`` when the deprecated ``old`` was given as
     ``value`` (``current`` is what ``new`` received, ``default`` its default): warns
     with a DeprecationWarning (giving ``why``) and returns ``value``.

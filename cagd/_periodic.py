@@ -8,9 +8,10 @@ the seam. Both are vectorized (numpy broadcasting over t, a and the period).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def wrap(t, a, period):
+def wrap(t: ArrayLike, a: ArrayLike, period: ArrayLike) -> np.ndarray:
     """t reduced into [a, a + period): a + mod(t - a, period).
 
     In floating point mod(t - a, period) rounds to ``period`` for t just below a (and
@@ -24,7 +25,7 @@ def wrap(t, a, period):
     return np.where(out >= end, a, out)
 
 
-def wrapped_difference(t1, t0, period):
+def wrapped_difference(t1: ArrayLike, t0: ArrayLike, period: ArrayLike) -> np.ndarray:
     """The step from t0 to t1 across the seam: t1 - t0 + k period in [-period/2, period/2]
     (the shortest of the equivalent steps; the sign says the direction)."""
     half = 0.5 * np.asarray(period, dtype=np.float64)

@@ -2,11 +2,14 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import TypeVar
 
 import numpy as np
 
+_T = TypeVar("_T")
 
-def readonly(value):
+
+def readonly(value: _T) -> _T:
     """``value`` with its write flag cleared when it is a numpy array, or with the arrays
     in it when it is a tuple (the one place results make their arrays read-only);
     anything else is returned unchanged."""

@@ -5,16 +5,20 @@ derives from data that cannot change. A modified object is a new one
 (``with_control_points``, ``moved_pole``, ``with_weights``, ``transformed``, ...)."""
 from __future__ import annotations
 
+from typing import Any, Dict, Type, TypeVar
+
 import numpy as np
 
 from ._checks import frozen
+
+_V = TypeVar("_V", bound="Value")
 
 
 class _ValueType(type):
     """Seals an instance once the outermost constructor has returned (a subclass's
     ``__init__`` may still bind attributes after ``super().__init__``)."""
 
-    def __call__(cls, *args, **kwargs):
+    def __call__(cls, *args: Any, **kwargs: Any) -> Any:
         obj = super().__call__(*args, **kwargs)
         object.__setattr__(obj, "_sealed", True)
         return obj
@@ -29,7 +33,7 @@ class Value(metaclass=_ValueType):
     #: how to get a modified object, for the error message
     _modified_copy = "build a new one (its constructor, transformed(), ...)"
 
-    def __setattr__(self, name: str, value) -> None:
+    def __setattr__(self, name: str, value: Any) -> None:
         if self._sealed and not name.startswith("_"):
             self._refuse(name)
         object.__setattr__(self, name, value)
@@ -44,18 +48,18 @@ class Value(metaclass=_ValueType):
                              f"changed after construction; for a modified copy {self._modified_copy}")
 
     # an immutable object is its own copy; unpickled arrays come back writable: freeze them
-    def __copy__(self):
+    def __copy__(self: _V) -> _V:
         return self
 
-    def __deepcopy__(self, memo):
+    def __deepcopy__(self: _V, memo: Dict[int, Any]) -> _V:
         return self
 
-    def __setstate__(self, state: dict) -> None:
+    def __setstate__(self, state: Dict[str, Any]) -> None:
         for name, value in state.items():
             object.__setattr__(self, name, _frozen_items(value))
 
     @classmethod
-    def _unchecked(cls, *parts):
+    def _unchecked(cls: Type[_V], *parts: Any) -> _V:
         """An instance from parts that are already valid (``cls._fill(*parts)``, the
         constructor without its checks), sealed like a constructed one."""
         obj = cls.__new__(cls)
@@ -63,11 +67,11 @@ class Value(metaclass=_ValueType):
         object.__setattr__(obj, "_sealed", True)
         return obj
 
-    def _fill(self, *parts) -> None:
+    def _fill(self, *parts: Any) -> None:
         raise NotImplementedError
 
 
-def _frozen_items(value):
+def _frozen_items(value: Any) -> Any:
     """``value`` with every array in it (also inside lists, tuples and dicts) frozen."""
     if isinstance(value, np.ndarray):
         return frozen(value)

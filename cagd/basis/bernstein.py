@@ -4,9 +4,10 @@ from __future__ import annotations
 from math import comb
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def bernstein(n: int, t) -> np.ndarray:
+def bernstein(n: int, t: ArrayLike) -> np.ndarray:
     """All n+1 Bernstein polynomials of degree n at ``t``: shape ``np.shape(t) + (n+1,)``."""
     t = np.asarray(t, dtype=np.float64)[..., None]
     i = np.arange(n + 1)

@@ -5,6 +5,7 @@ All functions are vectorized over the parameters; the loops run over the degree.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..knots.vectors import find_span
 
@@ -69,7 +70,7 @@ def basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.nd
     return ders
 
 
-def basis_matrix(knots: np.ndarray, degree: int, t, count: int, derivative: int = 0) -> np.ndarray:
+def basis_matrix(knots: np.ndarray, degree: int, t: ArrayLike, count: int, derivative: int = 0) -> np.ndarray:
     """Dense collocation matrix B[j, i] = N_{i,p}^{(derivative)}(t_j), shape (len(t), count)."""
     t = np.asarray(t, dtype=np.float64).ravel()
     span = find_span(knots, degree, t, count)
@@ -80,7 +81,7 @@ def basis_matrix(knots: np.ndarray, degree: int, t, count: int, derivative: int 
     return B
 
 
-def cox_de_boor(knots: np.ndarray, degree: int, t) -> np.ndarray:
+def cox_de_boor(knots: ArrayLike, degree: int, t: ArrayLike) -> np.ndarray:
     """All basis functions by the seed's recursion with the convention 0/0 = 0
     (seed 000, 5.3.1): N_{i,0} = [u_i <= t < u_{i+1}],
     N_{i,k} = (t-u_i)/(u_{i+k}-u_i) N_{i,k-1} + (u_{i+k+1}-t)/(u_{i+k+1}-u_{i+1}) N_{i+1,k-1}.

@@ -7,15 +7,19 @@ curvature, torsion, Frenet frame, arc length) is shared here.
 """
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import TYPE_CHECKING, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._checks import affine_map, integer, parameters, positive
 from .._deprecation import changed
 from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
+
+if TYPE_CHECKING:
+    from .bspline import BSplineCurve
 
 # Gauss-Legendre rule for arc length (Numerical Recipes 4.6; Piegl & Tiller don't cover this)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
@@ -38,7 +42,7 @@ class Curve(Value):
     def _evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
         raise NotImplementedError
 
-    def to_nurbs(self):
+    def to_nurbs(self) -> BSplineCurve:
         """The exact B-spline/NURBS form of this curve (a :class:`cagd.BSplineCurve`)."""
         raise NotImplementedError
 
@@ -46,7 +50,7 @@ class Curve(Value):
         raise NotImplementedError
 
     # --- evaluation --------------------------------------------------------------------
-    def _flat_parameters(self, t) -> Tuple[np.ndarray, tuple]:
+    def _flat_parameters(self, t: ArrayLike) -> Tuple[np.ndarray, Tuple[int, ...]]:
         t = parameters(t)
         shape = t.shape
         flat = t.ravel()
@@ -61,38 +65,39 @@ class Curve(Value):
             flat = np.clip(flat, a, b)
         return flat, shape
 
-    def derivatives(self, t, order: int) -> np.ndarray:
+    def derivatives(self, t: ArrayLike, order: int) -> np.ndarray:
         """Derivatives 0..order at ``t``: shape (order+1,) + np.shape(t) + (dim,)."""
         order = integer(order, "order", 0)
         flat, shape = self._flat_parameters(t)
         out = self._evaluate(flat, order)
         return out.reshape((order + 1,) + shape + (self.dim,))
 
-    def __call__(self, t) -> np.ndarray:
+    def __call__(self, t: ArrayLike) -> np.ndarray:
         """Points at ``t`` (float or array): shape np.shape(t) + (dim,)."""
         return self.derivatives(t, 0)[0]
 
-    def derivative(self, t, order: int = 1) -> np.ndarray:
+    def derivative(self, t: ArrayLike, order: int = 1) -> np.ndarray:
         """The ``order``-th derivative d^k C / dt^k at ``t``: shape np.shape(t) + (dim,)."""
         return self.derivatives(t, order)[-1]
 
     # --- transforms --------------------------------------------------------------------
-    def transformed(self, matrix, offset=None) -> "Curve":
+    def transformed(self, matrix: ArrayLike, offset: Optional[ArrayLike] = None) -> "Curve":
         """The curve under the affine map x -> matrix @ x + offset, applied to the
         defining points (affine invariance, seed 000, 5.2.2; seed 004, 1.2)."""
         A, b = affine_map(matrix, offset, self.dim, "curve")
         return self._affine(A, b)
 
-    def translated(self, offset) -> "Curve":
+    def translated(self, offset: ArrayLike) -> "Curve":
+        """The curve moved by the vector ``offset`` (the identity map plus ``offset``)."""
         return self.transformed(np.eye(self.dim), offset)
 
     # --- differential geometry ---------------------------------------------------------
-    def tangent(self, t) -> np.ndarray:
+    def tangent(self, t: ArrayLike) -> np.ndarray:
         """Unit tangent C'/|C'|; CagdError where the derivative vanishes."""
         d1 = self.derivative(t, 1)
         return _unit(d1, "t", "the first derivative vanishes (singular point)")
 
-    def curvature(self, t) -> np.ndarray:
+    def curvature(self, t: ArrayLike) -> np.ndarray:
         """kappa = |C' x C''| / |C'|^3, written sqrt(|C'|^2 |C''|^2 - (C'.C'')^2)/|C'|^3 for any dim."""
         d = self.derivatives(t, 2)
         d1, d2 = d[1], d[2]
@@ -102,7 +107,7 @@ class Curve(Value):
             k = np.sqrt(np.maximum(cross2, 0.0)) / n1 ** 1.5
         return k
 
-    def torsion(self, t) -> np.ndarray:
+    def torsion(self, t: ArrayLike) -> np.ndarray:
         """tau = (C' x C'') . C''' / |C' x C''|^2 (3-D curves; 0 for planar 2-D curves)."""
         d = self.derivatives(t, 3)
         if self.dim == 2:
@@ -113,7 +118,7 @@ class Curve(Value):
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.einsum("...i,...i->...", c, d[3]) / np.einsum("...i,...i->...", c, c)
 
-    def frenet(self, t) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def frenet(self, t: ArrayLike) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Frenet frame (T, N, B) of a 3-D curve (2-D curves are lifted to z = 0).
         CagdError where the curvature vanishes (N undefined)."""
         d = self.derivatives(t, 2)
@@ -125,7 +130,7 @@ class Curve(Value):
         B = _unit(np.cross(d[1], d[2]), "t", "the curvature vanishes (no principal normal)")
         return T, np.cross(B, T), B
 
-    def arc_length(self, start: float = None, end: float = None, tol: Optional[float] = None, *,
+    def arc_length(self, start: Optional[float] = None, end: Optional[float] = None, tol: Optional[float] = None, *,
                    rel_tol: Optional[float] = None) -> float:
         """Length of the curve between two parameters by adaptive Gauss-Legendre
         quadrature of |C'(t)| (10 points per interval; intervals split in halves

@@ -1,9 +1,10 @@
 """Bezier curves, polynomial and rational (seed 000, 5.2; seed 003, 2.2.4 blossoms)."""
 from __future__ import annotations
 
-from typing import Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein, elevation_matrix
@@ -23,7 +24,7 @@ class BezierCurve(Curve):
 
     _modified_copy = BSplineCurve._modified_copy
 
-    def __init__(self, control_points, weights=None):
+    def __init__(self, control_points: ArrayLike, weights: Optional[ArrayLike] = None):
         P = _checks.points(control_points, "control_points", min_count=2)
         n = P.shape[0] - 1
         self._fill(BSplineCurve(P, n, np.concatenate([np.zeros(n + 1), np.ones(n + 1)]), weights))
@@ -35,14 +36,14 @@ class BezierCurve(Curve):
         self.degree, self.dim = nurbs.degree, nurbs.dim
 
     # --- modified copies ----------------------------------------------------------------
-    def with_control_points(self, control_points) -> "BezierCurve":
+    def with_control_points(self, control_points: ArrayLike) -> "BezierCurve":
         """The same degree and weights on new control points of the same shape.
 
         Raises:
             CagdError: NaN/inf, a shape other than ``control_points.shape``."""
         return BezierCurve._unchecked(self._nurbs.with_control_points(control_points))
 
-    def moved_pole(self, index: int, point) -> "BezierCurve":
+    def moved_pole(self, index: int, point: ArrayLike) -> "BezierCurve":
         """The curve with control point ``index`` (an int, negative from the end) moved to
         ``point`` (see :meth:`cagd.BSplineCurve.moved_pole`).
 
@@ -50,7 +51,7 @@ class BezierCurve(Curve):
             CagdError: an index out of range, a bad point."""
         return BezierCurve._unchecked(self._nurbs.moved_pole(index, point))
 
-    def with_weights(self, weights) -> "BezierCurve":
+    def with_weights(self, weights: Optional[ArrayLike]) -> "BezierCurve":
         """The same control points with new weights (None: polynomial).
 
         Raises:
@@ -75,7 +76,7 @@ class BezierCurve(Curve):
     def to_nurbs(self) -> BSplineCurve:
         return self._nurbs
 
-    def _affine(self, A, b) -> "BezierCurve":
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "BezierCurve":
         return BezierCurve(self.control_points @ A.T + b, self.weights)
 
     @property
@@ -89,20 +90,20 @@ class BezierCurve(Curve):
         return cls(hom)
 
     # --- the seed's evaluation algorithms --------------------------------------------
-    def bernstein_evaluate(self, t) -> np.ndarray:
+    def bernstein_evaluate(self, t: ArrayLike) -> np.ndarray:
         """Direct Bernstein sum (seed 000, 5.2.1), shape np.shape(t) + (dim,)."""
         B = bernstein(self.degree, _checks.parameters(t))
         hom = B @ self.homogeneous_control_points
         return hom[..., :-1] / hom[..., -1:] if self.is_rational else hom
 
-    def de_casteljau(self, t) -> np.ndarray:
+    def de_casteljau(self, t: ArrayLike) -> np.ndarray:
         """De Casteljau's recursion P_i^r = (1-t) P_i^{r-1} + t P_{i+1}^{r-1}
         (seed 000, 5.2.4), vectorized over t; shape np.shape(t) + (dim,)."""
         t = _checks.parameters(t)
         pts = self._casteljau_pyramid(t)[-1][..., 0, :]
         return pts[..., :-1] / pts[..., -1:] if self.is_rational else pts
 
-    def _casteljau_pyramid(self, t: np.ndarray) -> list:
+    def _casteljau_pyramid(self, t: np.ndarray) -> List[np.ndarray]:
         """Levels r = 0..n of the homogeneous de Casteljau triangle, each of shape
         np.shape(t) + (n+1-r, dim')."""
         tt = np.asarray(t, dtype=np.float64)[..., None, None]
@@ -146,7 +147,7 @@ class BezierCurve(Curve):
             raise CagdError("control_points: the hodograph of a line segment is a constant, not a curve")
         return BezierCurve(self.degree * np.diff(self.control_points, axis=0))
 
-    def blossom(self, *args) -> np.ndarray:
+    def blossom(self, *args: ArrayLike) -> np.ndarray:
         """The polar form f(t_1, ..., t_n): symmetric, multi-affine, f(t, ..., t) = p(t),
         and the control points are its values P_i = f(0^(n-i), 1^i) (seed 003, 2.2.4).
         Each argument may be an array; they broadcast. De Casteljau with t_r at level r."""

@@ -8,9 +8,10 @@ Rational curves work in homogeneous coordinates (w P, w) throughout.
 """
 from __future__ import annotations
 
-from typing import List, NamedTuple, Optional, Tuple
+from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bspline import basis_matrix
@@ -18,6 +19,9 @@ from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Curve, rational_derivatives
 from .ppform import PPForm
+
+if TYPE_CHECKING:
+    from .bezier import BezierCurve
 
 
 class OccForm(NamedTuple):
@@ -48,7 +52,8 @@ class BSplineCurve(Curve):
 
     _modified_copy = "use with_control_points(P), moved_pole(index, point) or with_weights(w)"
 
-    def __init__(self, control_points, degree: int, knots=None, weights=None, periodic: bool = False):
+    def __init__(self, control_points: ArrayLike, degree: int, knots: Optional[ArrayLike] = None,
+                 weights: Optional[ArrayLike] = None, periodic: bool = False):
         P = _checks.points(control_points, "control_points", min_count=2)
         n = P.shape[0]
         periodic = bool(periodic)
@@ -69,20 +74,20 @@ class BSplineCurve(Curve):
         self.control_points, self.degree, self.knots = _checks.frozen(P), p, _checks.frozen(knots)
         self.weights = None if w is None else _checks.frozen(w)
         self.dim = P.shape[1]
-        self._u = _checks.frozen(full_u) if periodic else self.knots      # full (unwrapped) knot vector
+        self._u = _checks.frozen(full_u) if periodic and full_u is not None else self.knots   # full knots
         if w is None and not periodic:
             self._hom = self.control_points                               # matching (homogeneous) points
         else:
             hom = P if w is None else _checks.finite_homogeneous(np.hstack([P * w[:, None], w[:, None]]))
             self._hom = _checks.frozen(hom[kv.unwrapped_index(len(P), p, periodic)])
         self._pp: Optional[PPForm] = None
-        self._derivative_pp: dict = {}
+        self._derivative_pp: Dict[int, PPForm] = {}
 
     # --- modified copies (the object itself never changes) --------------------------------
     def _with(self, P: np.ndarray, w: Optional[np.ndarray]) -> "BSplineCurve":
         return BSplineCurve._unchecked(P, w, self.degree, self.knots, self._u, self.periodic)
 
-    def with_control_points(self, control_points) -> "BSplineCurve":
+    def with_control_points(self, control_points: ArrayLike) -> "BSplineCurve":
         """The curve with the same degree, knots, weights and periodicity on new control
         points of the same shape (checked as in the constructor).
 
@@ -91,7 +96,7 @@ class BSplineCurve(Curve):
         P = _checks.points(control_points, "control_points", min_count=2)
         return self._with(_checks.same_shape(P, self.control_points.shape, "control_points"), self.weights)
 
-    def moved_pole(self, index: int, point) -> "BSplineCurve":
+    def moved_pole(self, index: int, point: ArrayLike) -> "BSplineCurve":
         """The curve with control point ``index`` (an int, negative from the end; for a
         periodic curve an index of the distinct points) moved to ``point``, all else
         kept: the cheap edit for dragging a pole (no knot checks, O(n) copies, the pp
@@ -104,7 +109,7 @@ class BSplineCurve(Curve):
         P[i] = _checks.point(point, self.dim)
         return self._with(P, self.weights)
 
-    def with_weights(self, weights) -> "BSplineCurve":
+    def with_weights(self, weights: Optional[ArrayLike]) -> "BSplineCurve":
         """The same control points, degree and knots with new weights (None: polynomial).
 
         Raises:
@@ -129,7 +134,8 @@ class BSplineCurve(Curve):
     def __repr__(self) -> str:
         kind = "NURBS" if self.is_rational else "B-spline"
         per = ", periodic" if self.periodic else ""
-        return f"<{kind} curve degree {self.degree}, {len(self.control_points)} control points{per}, domain {self.domain}>"
+        return (f"<{kind} curve degree {self.degree}, {len(self.control_points)} control points{per}, "
+                f"domain {self.domain}>")
 
     # --- evaluation ------------------------------------------------------------------
     @property
@@ -234,7 +240,7 @@ class BSplineCurve(Curve):
             # standard index i has knots u_i = t_{i-p}: affected i = k+1 .. k+p-s
             i = np.arange(k + 1, k + p - s + 1)
 
-            def knot(j):
+            def knot(j: np.ndarray) -> np.ndarray:
                 return period[j % n] + (j // n) * T
 
             alpha = ((t - knot(i - p)) / (knot(i) - knot(i - p)))[:, None]
@@ -247,7 +253,7 @@ class BSplineCurve(Curve):
             return BSplineCurve(P[:, :-1] / w[:, None], p, period, w, periodic=True)
         return BSplineCurve(P, p, period, periodic=True)
 
-    def refine(self, new_knots) -> "BSplineCurve":
+    def refine(self, new_knots: ArrayLike) -> "BSplineCurve":
         """Insert all ``new_knots`` (knot refinement, Piegl & Tiller 5.3, as repeated
         Boehm insertions)."""
         ks = _checks.finite_array(new_knots, "new_knots", ndim=1)
@@ -312,7 +318,7 @@ class BSplineCurve(Curve):
                   for net, lo, hi in zip(nets, values[:-1], values[1:])]
         return values, pieces
 
-    def to_bezier(self) -> list:
+    def to_bezier(self) -> List[BezierCurve]:
         """Bezier decomposition: a list of :class:`cagd.BezierCurve` on [0, 1] each."""
         from .bezier import BezierCurve
         _, pieces = self.bezier_segments()
@@ -381,8 +387,9 @@ class BSplineCurve(Curve):
         return OccForm(poles, w, knots, mults, self.degree, self.periodic)
 
     @classmethod
-    def from_occ_form(cls, poles, weights, knots, multiplicities, degree: int,
-                      periodic: bool = False, dim: Optional[int] = None) -> "BSplineCurve":
+    def from_occ_form(cls, poles: ArrayLike, weights: Optional[ArrayLike], knots: ArrayLike,
+                      multiplicities: ArrayLike, degree: int, periodic: bool = False,
+                      dim: Optional[int] = None) -> "BSplineCurve":
         """The inverse of :meth:`occ_form`: the same curve from OCCT's poles, weights,
         distinct knots and multiplicities (``dim`` = 2 drops z). Weights all equal
         give a polynomial B-spline (the same curve). Raises CagdError on bad input."""

@@ -8,9 +8,10 @@ used (right limits), at the end the last piece.
 """
 from __future__ import annotations
 
-from typing import List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, List, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._deprecation import RELATIVE, deprecated, renamed
@@ -18,6 +19,9 @@ from ..errors import CagdError
 from ..knots.vectors import is_clamped
 from .base import Curve
 from .bspline import BSplineCurve
+
+if TYPE_CHECKING:
+    from ..operations.continuity import ContinuityReport
 
 
 GAP_TOL = 1e-9       # default relative gap between consecutive pieces
@@ -97,7 +101,7 @@ class CompositeCurve(Curve):
         return f"<composite curve of {len(self.curves)} pieces, {self.dim}-D, domain {self.domain}>"
 
     # --- evaluation ------------------------------------------------------------------
-    def piece_index(self, t) -> np.ndarray:
+    def piece_index(self, t: ArrayLike) -> np.ndarray:
         """Index of the piece evaluated at global parameter(s) t (right piece at a joint)."""
         flat, shape = self._flat_parameters(t)
         return self._index(flat).reshape(shape)
@@ -135,7 +139,8 @@ class CompositeCurve(Curve):
         return self.rel_tol
 
     # --- analysis --------------------------------------------------------------------
-    def continuity_at_joints(self, rel_tol: Optional[float] = None, *, tol: Optional[float] = None) -> List:
+    def continuity_at_joints(self, rel_tol: Optional[float] = None, *,
+                             tol: Optional[float] = None) -> List[ContinuityReport]:
         """A :class:`cagd.operations.continuity.ContinuityReport` for each joint
         (piece i end -> piece i+1 start); ``rel_tol`` defaults to the curve's (``tol`` is
         its deprecated name)."""

@@ -14,14 +14,15 @@ from the end condition.
 """
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..errors import CagdError
 from .._deprecation import deprecated
-from ..fitting.parameters import chords as _chords, interval_lengths, option, rule, spline_parameters  # noqa: F401
+from ..fitting.parameters import ParameterSpec, chords as _chords, interval_lengths, option, rule, spline_parameters  # noqa: F401
 from ..knots.vectors import periodic_extend
 from .bspline import BSplineCurve
 from .hermite import HermiteSpline, _blossom_control_points
@@ -30,7 +31,7 @@ END_CONDITIONS = ("natural", "clamped", "periodic", "virtual")
 
 
 # --- banded solvers -------------------------------------------------------------------------
-def solve_tridiagonal(lower, diag, upper, rhs) -> np.ndarray:
+def solve_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: ArrayLike) -> np.ndarray:
     """Solve the tridiagonal system lower[i] x[i-1] + diag[i] x[i] + upper[i] x[i+1]
     = rhs[i] by the Thomas algorithm (Gaussian elimination without pivoting;
     stable for diagonally dominant matrices). lower[0] and upper[-1] are ignored.
@@ -66,7 +67,7 @@ def solve_tridiagonal(lower, diag, upper, rhs) -> np.ndarray:
     return np.array(cols).T.reshape(d.shape)
 
 
-def solve_cyclic_tridiagonal(lower, diag, upper, rhs) -> np.ndarray:
+def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: ArrayLike) -> np.ndarray:
     """Solve the cyclic tridiagonal system whose corners are lower[0] (row 0, column
     n-1) and upper[-1] (row n-1, column 0), n >= 2, by the Sherman-Morrison formula
     around the Thomas algorithm (Numerical Recipes, 2.7 "cyclic"): one tridiagonal
@@ -104,7 +105,7 @@ def solve_cyclic_tridiagonal(lower, diag, upper, rhs) -> np.ndarray:
 
 
 # --- the spline ---------------------------------------------------------------------------------
-def _natural_tangents(P: np.ndarray, t: np.ndarray, ends=None) -> np.ndarray:
+def _natural_tangents(P: np.ndarray, t: np.ndarray, ends: Optional[np.ndarray] = None) -> np.ndarray:
     """Knot derivatives of the C2 spline: S''(t_0) = S''(t_n) = 0 ("natural",
     2 m_0 + m_1 = 3 delta_0 and m_{n-1} + 2 m_n = 3 delta_{n-1}), or the given end
     derivatives ``ends = (d0, dn)`` ("clamped": m_0 = d0, m_n = dn)."""
@@ -172,8 +173,9 @@ class CubicSpline(HermiteSpline):
             list for "periodic".
     """
 
-    def __init__(self, points, end_condition: str = "natural", parameters="chord",
-                 tangents=None, virtual_points=None, *old, parametrization=None):
+    def __init__(self, points: ArrayLike, end_condition: str = "natural", parameters: ParameterSpec = "chord",
+                 tangents: Optional[ArrayLike] = None, virtual_points: Optional[ArrayLike] = None,
+                 *old: Optional[ArrayLike], parametrization: Optional[ParameterSpec] = None):
         parameters = _parameters_option(parameters, old, parametrization, type(self).__name__)
         explicit = not isinstance(parameters, str)
         if end_condition not in END_CONDITIONS:
@@ -198,7 +200,7 @@ class CubicSpline(HermiteSpline):
             P[-1] = P[0]
         n = P.shape[0] - 1
         chords = _chords(P, "points")
-        t = _checks.increasing(parameters, n + 1) if explicit else \
+        t = _checks.increasing(parameters, n + 1) if kind is None else \
             np.concatenate([[0.0], np.cumsum(interval_lengths(chords, kind))])
 
         ends = V = None
@@ -224,7 +226,7 @@ class CubicSpline(HermiteSpline):
             if np.any(vchords == 0.0):
                 i = int(np.argmax(vchords == 0.0))
                 raise CagdError(f"virtual_points: virtual point {i} coincides with the end point it extends")
-            hv = np.diff(t)[[0, -1]] if explicit else interval_lengths(vchords, kind)
+            hv = np.diff(t)[[0, -1]] if kind is None else interval_lengths(vchords, kind)
             text = np.concatenate([[t[0] - hv[0]], t, [t[-1] + hv[1]]])
             m = _natural_tangents(ext, text)[1:-1]
         if not np.all(np.isfinite(m)):
@@ -232,9 +234,9 @@ class CubicSpline(HermiteSpline):
                             f"{float(np.diff(t).min()):.3g} against point spacing; use chord or uniform spacing)")
         self._fill(P, m, t, end_condition, kind, ends, V)
 
-    def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray, end_condition: str,
-              parametrization: Optional[str], end_tangents: Optional[np.ndarray],
-              virtual_points: Optional[np.ndarray]) -> None:
+    def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray, end_condition: str = "natural",
+              parametrization: Optional[str] = None, end_tangents: Optional[np.ndarray] = None,
+              virtual_points: Optional[np.ndarray] = None) -> None:
         super()._fill(P, m, t)
         self.end_condition, self.parametrization = end_condition, parametrization
         self.periodic = end_condition == "periodic"
@@ -264,8 +266,9 @@ class CubicSpline(HermiteSpline):
                                       None if self.virtual_points is None else self.virtual_points @ A.T + b)
 
 
-def natural_cubic_spline(points, end_condition: str = "natural", parameters="chord",
-                         tangents=None, virtual_points=None, *old, parametrization=None) -> CubicSpline:
+def natural_cubic_spline(points: ArrayLike, end_condition: str = "natural", parameters: ParameterSpec = "chord",
+                         tangents: Optional[ArrayLike] = None, virtual_points: Optional[ArrayLike] = None,
+                         *old: Optional[ArrayLike], parametrization: Optional[ParameterSpec] = None) -> CubicSpline:
     """The interpolating C2 cubic spline (seed 000, 5.1.2); see :class:`CubicSpline`.
 
     Raises:
@@ -275,7 +278,8 @@ def natural_cubic_spline(points, end_condition: str = "natural", parameters="cho
     return CubicSpline(points, end_condition, parameters, tangents, virtual_points)
 
 
-def _parameters_option(parameters, old: tuple, parametrization, func: str):
+def _parameters_option(parameters: ParameterSpec, old: Tuple[Optional[ArrayLike], ...],
+                       parametrization: Optional[ParameterSpec], func: str) -> ParameterSpec:
     """``parameters`` of the splines, with the old forms for one release: the keyword
     ``parametrization=`` and explicit parameters as the sixth positional argument
     (points, end_condition, parametrization, tangents, virtual_points, parameters)."""

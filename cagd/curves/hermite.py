@@ -5,9 +5,10 @@ One segment: p(u) = P0 H0(u) + P1 H1(u) + R0 H2(u) + R1 H3(u), u in [0, 1], with
 """
 from __future__ import annotations
 
-from typing import List, Tuple
+from typing import TYPE_CHECKING, List, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..errors import CagdError
@@ -16,8 +17,12 @@ from .bspline import BSplineCurve
 from .polynomial import HERMITE_M, PolynomialCurve
 from .ppform import PPForm
 
+if TYPE_CHECKING:
+    from ..fitting.parameters import ParameterSpec
+    from .bezier import BezierCurve
 
-def hermite_basis(u) -> np.ndarray:
+
+def hermite_basis(u: ArrayLike) -> np.ndarray:
     """H0..H3 at ``u``, shape np.shape(u) + (4,) (seed 000, 5.1.2):
     H0 = 2u^3 - 3u^2 + 1, H1 = -2u^3 + 3u^2, H2 = u^3 - 2u^2 + u, H3 = u^3 - u^2,
     computed in the factored forms (1-u)^2 (1+2u), u^2 (3-2u), u (1-u)^2, u^2 (u-1).
@@ -30,7 +35,7 @@ def hermite_basis(u) -> np.ndarray:
     return np.stack([v * v * (1.0 + 2.0 * u), u * u * (3.0 - 2.0 * u), u * v * v, -u * u * v], axis=-1)
 
 
-def _vector(value, name: str, dim=None) -> np.ndarray:
+def _vector(value: ArrayLike, name: str, dim: Optional[int] = None) -> np.ndarray:
     v = _checks.finite_array(value, name)
     if v.ndim == 0:
         v = v[None]
@@ -49,7 +54,7 @@ class HermiteCurve(Curve):
         CagdError: NaN/inf, or the four vectors not all of one dimension.
     """
 
-    def __init__(self, p0, p1, t0, t1):
+    def __init__(self, p0: ArrayLike, p1: ArrayLike, t0: ArrayLike, t1: ArrayLike):
         p0 = _vector(p0, "p0")
         self.dim = p0.shape[0]
         B = _checks.frozen(np.stack([p0, _vector(p1, "p1", self.dim), _vector(t0, "t0", self.dim),
@@ -59,7 +64,8 @@ class HermiteCurve(Curve):
         self._poly = PolynomialCurve((HERMITE_M @ B)[::-1])
 
     @classmethod
-    def from_directions(cls, p0, p1, direction0, direction1, k0: float, k1: float) -> "HermiteCurve":
+    def from_directions(cls, p0: ArrayLike, p1: ArrayLike, direction0: ArrayLike, direction1: ArrayLike,
+                        k0: float, k1: float) -> "HermiteCurve":
         """Tangents P^u = k t with t the unit direction and k = |P^u| its magnitude
         (seed 004, 1.3 "tangent vector": P0^u = k0 t0, P1^u = k1 t1). The directions
         are normalised here.
@@ -104,7 +110,7 @@ class HermiteCurve(Curve):
         3 (P_1 - P_0), seed 000, 5.2.1)."""
         return np.stack([self.p0, self.p0 + self.t0 / 3.0, self.p1 - self.t1 / 3.0, self.p1])
 
-    def to_bezier(self):
+    def to_bezier(self) -> BezierCurve:
         from .bezier import BezierCurve
         return BezierCurve(self.bezier_points())
 
@@ -134,7 +140,7 @@ class HermiteSpline(Curve):
             parameters not strictly increasing, an unknown parametrisation name.
     """
 
-    def __init__(self, points, tangents, parameters="uniform"):
+    def __init__(self, points: ArrayLike, tangents: ArrayLike, parameters: Optional[ParameterSpec] = "uniform"):
         P = _checks.points(points, "points", min_count=2)
         m = _checks.points(tangents, "tangents")
         if m.shape != P.shape:

@@ -9,15 +9,20 @@ A = [a3, a2, a1, a0] are related by A = M B and B = M^-1 A (seed 004, eqs.
 from __future__ import annotations
 
 from math import factorial
-from typing import Tuple
+from typing import TYPE_CHECKING, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein_to_power, power_to_bernstein
 from ..errors import CagdError
 from .base import Curve
 from .bspline import BSplineCurve
+
+if TYPE_CHECKING:
+    from .bezier import BezierCurve
+    from .hermite import HermiteCurve
 
 
 #: The Hermite matrix M (seed 004, 1.3; seed 000, 5.1.2 M_h): F = U M with
@@ -46,7 +51,7 @@ FOUR_POINT_MATRIX = _checks.frozen([[1.0, 0.0, 0.0, 0.0],
                                     [-4.5, 13.5, -13.5, 4.5]], np.float64)
 
 
-def _domain(value, name: str = "domain") -> Tuple[float, float]:
+def _domain(value: ArrayLike, name: str = "domain") -> Tuple[float, float]:
     d = _checks.finite_array(value, name, ndim=1)
     if d.shape[0] != 2:
         raise CagdError(f"{name}: expected two values (start, end), got {d.shape[0]}")
@@ -69,7 +74,7 @@ class PolynomialCurve(Curve):
             not two finite increasing numbers.
     """
 
-    def __init__(self, coefficients, domain=(0.0, 1.0)):
+    def __init__(self, coefficients: ArrayLike, domain: Tuple[float, float] = (0.0, 1.0)):
         A = _checks.points(coefficients, "coefficients", min_count=1)
         self.coefficients = _checks.frozen(A)
         self.degree = A.shape[0] - 1
@@ -113,7 +118,7 @@ class PolynomialCurve(Curve):
         c[:self.degree + 1] = self.coefficients
         return c
 
-    def to_bezier(self):
+    def to_bezier(self) -> BezierCurve:
         """The same polynomial as a :class:`cagd.BezierCurve` in u on [0, 1]; control
         points P = B a with B = power_to_bernstein(n) (Farin 5.x; rounding only).
         A degree-0 curve comes back as a degree-1 Bezier with two equal points."""
@@ -122,7 +127,7 @@ class PolynomialCurve(Curve):
         return BezierCurve(power_to_bernstein(n) @ self._padded(n))
 
     @classmethod
-    def from_bezier(cls, bezier, domain=(0.0, 1.0)) -> "PolynomialCurve":
+    def from_bezier(cls, bezier: BezierCurve, domain: Tuple[float, float] = (0.0, 1.0)) -> "PolynomialCurve":
         """Power coefficients a = bernstein_to_power(n) P of a polynomial Bezier curve,
         put on ``domain``.
 
@@ -158,7 +163,8 @@ class PolynomialCurve(Curve):
         return HERMITE_M_INV @ self._padded(3)[::-1]
 
     @classmethod
-    def from_hermite(cls, geometric, domain=(0.0, 1.0)) -> "PolynomialCurve":
+    def from_hermite(cls, geometric: Union[HermiteCurve, ArrayLike],
+                     domain: Tuple[float, float] = (0.0, 1.0)) -> "PolynomialCurve":
         """The cubic with A = M B (seed 004, 1.3 eq. 1-1-6), B = [P0, P1, P0', P1']
         a (4, dim) array (tangents with respect to u), or a HermiteCurve.
 
@@ -174,7 +180,7 @@ class PolynomialCurve(Curve):
         return cls((HERMITE_M @ B)[::-1], domain)
 
 
-def four_point_cubic(points) -> PolynomialCurve:
+def four_point_cubic(points: ArrayLike) -> PolynomialCurve:
     """The cubic P(u), u in [0, 1], with P(i/3) = points[i], i = 0..3 (seed 004,
     contents "four-point curve"; the seed's remark in 1.3 that four points may
     replace the end tangents): a = FOUR_POINT_MATRIX @ points.

@@ -12,7 +12,7 @@ Horner" design; its results equal de Boor's algorithm to rounding.
 from __future__ import annotations
 
 from math import factorial
-from typing import Dict
+from typing import Dict, Tuple
 
 import numpy as np
 
@@ -81,7 +81,7 @@ class PPForm(Value):
 
     # --- evaluation -----------------------------------------------------------------
     @property
-    def domain(self):
+    def domain(self) -> Tuple[float, float]:
         return float(self.breaks[0]), float(self.breaks[-1])
 
     def span_of(self, t: np.ndarray) -> np.ndarray:

@@ -4,9 +4,10 @@ The NURBS Book, 9.2.1 and 9.4.1).
 """
 from __future__ import annotations
 
-from typing import Union
+from typing import Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein
@@ -15,12 +16,11 @@ from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
-from .parameters import averaged_parameters, option
-
-ParameterSpec = Union[str, np.ndarray, list, tuple]
+from .parameters import ParameterSpec, averaged_parameters, option
 
 
-def parametrize(points, parameters: ParameterSpec = "chord", *, method=None) -> np.ndarray:
+def parametrize(points: ArrayLike, parameters: ParameterSpec = "chord", *,
+                method: Optional[ParameterSpec] = None) -> np.ndarray:
     """Parameters u_0 = 0 < u_1 < ... < u_n = 1 for the points Q_0..Q_n
     (Piegl & Tiller 9.2.1), ``parameters`` one of :data:`cagd.fitting.PARAMETERS`:
 
@@ -43,7 +43,7 @@ def parametrize(points, parameters: ParameterSpec = "chord", *, method=None) -> 
     return _checks.increasing(parameters, Q.shape[0], "parameters")
 
 
-def bezier_through_points(points, parameters: ParameterSpec = "uniform") -> BezierCurve:
+def bezier_through_points(points: ArrayLike, parameters: ParameterSpec = "uniform") -> BezierCurve:
     """The degree-n Bezier curve through the n+1 points Q_i at t_i (seed 000, 5.2.6
     "反求 Bezier 曲线控制点"): solve the (n+1)x(n+1) system
     Q_i = sum_j C(n,j) t_i^j (1-t_i)^(n-j) P_j for the control points P_j.
@@ -63,7 +63,8 @@ def bezier_through_points(points, parameters: ParameterSpec = "uniform") -> Bezi
     return BezierCurve(np.linalg.solve(bernstein(n, t), Q))
 
 
-def interpolate(points, degree: int = 3, parameters: ParameterSpec = "chord", knots=None) -> BSplineCurve:
+def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = "chord",
+                knots: Optional[ArrayLike] = None) -> BSplineCurve:
     """Global B-spline interpolation (Piegl & Tiller 9.2.1): the degree-p curve
     C(u) = sum_i N_{i,p}(u) P_i with C(u_k) = Q_k for all n+1 points.
 
@@ -106,7 +107,7 @@ def _schoenberg_whitney(N: np.ndarray, u: np.ndarray) -> None:
                         f"(N_{k},p(u_{k}) = {diag[k]:.3g}); the interpolation system is singular")
 
 
-def approximation_knots(params: np.ndarray, count: int, degree: int) -> np.ndarray:
+def approximation_knots(params: ArrayLike, count: int, degree: int) -> np.ndarray:
     """Clamped knots for least-squares fitting with ``count`` = n+1 control points
     to m+1 parameters (Piegl & Tiller eq. 9.68, 9.69): d = (m+1)/(n-p+1) and for
     j = 1..n-p, i = int(j d), alpha = j d - i,
@@ -122,7 +123,7 @@ def approximation_knots(params: np.ndarray, count: int, degree: int) -> np.ndarr
     return np.concatenate([np.full(p + 1, ub[0]), inner, np.full(p + 1, ub[-1])])
 
 
-def approximate(points, count: int, degree: int = 3, parameters: ParameterSpec = "chord") -> BSplineCurve:
+def approximate(points: ArrayLike, count: int, degree: int = 3, parameters: ParameterSpec = "chord") -> BSplineCurve:
     """Least-squares B-spline approximation with ``count`` control points that
     interpolates the first and last point (Piegl & Tiller 9.4.1).
 

@@ -9,7 +9,10 @@ sqrt(d_k) ("centripetal", eq. 9.6).
 """
 from __future__ import annotations
 
+from typing import Any, Dict, Optional, Union
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._deprecation import renamed
@@ -17,8 +20,11 @@ from ..errors import CagdError
 
 PARAMETERS = ("uniform", "chord", "centripetal")
 
+#: a ``parameters=`` argument: one of :data:`PARAMETERS` or explicit parameter values
+ParameterSpec = Union[str, ArrayLike]
 
-def rule(value, name: str = "parameters") -> str:
+
+def rule(value: object, name: str = "parameters") -> str:
     """``value`` checked to be one of :data:`PARAMETERS` (the one place the names are
     validated).
 
@@ -30,7 +36,7 @@ def rule(value, name: str = "parameters") -> str:
     return value
 
 
-def option(parameters, old: dict, func: str, default):
+def option(parameters: Any, old: Dict[str, Any], func: str, default: Any) -> Any:
     """The ``parameters`` argument of ``func``, taking the deprecated keywords in ``old``
     ({"method": value or None, "parametrization": value or None}) for one release."""
     for key, value in old.items():
@@ -79,7 +85,8 @@ def averaged_parameters(Q: np.ndarray, kind: str, name: str = "points", item: st
     return u
 
 
-def spline_parameters(points, parameters: str = "chord", *, parametrization=None) -> np.ndarray:
+def spline_parameters(points: ArrayLike, parameters: str = "chord", *,
+                      parametrization: Optional[str] = None) -> np.ndarray:
     """Parameters t_0 = 0, t_{k} = t_{k-1} + h_k, not normalised: h_k = 1 ("uniform"),
     |p_k - p_{k-1}| ("chord") or its square root ("centripetal") (see the module doc).
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._checks import finite_array
 from .._deprecation import renamed
@@ -31,7 +32,7 @@ def averaged(params: np.ndarray, degree: int) -> np.ndarray:
     return np.concatenate([np.full(degree + 1, params[0]), inner, np.full(degree + 1, params[-1])])
 
 
-def from_multiplicities(distinct, multiplicities) -> np.ndarray:
+def from_multiplicities(distinct: ArrayLike, multiplicities: ArrayLike) -> np.ndarray:
     """Expand distinct knots and multiplicities into the full (flat) knot vector."""
     return np.repeat(np.asarray(distinct, float), np.asarray(multiplicities, int))
 
@@ -39,7 +40,7 @@ def from_multiplicities(distinct, multiplicities) -> np.ndarray:
 KNOT_TOL = 0.0      # default of distinct_with_multiplicities: only equal knots merge
 
 
-def distinct_with_multiplicities(knots, param_tol: float = KNOT_TOL, *,
+def distinct_with_multiplicities(knots: ArrayLike, param_tol: float = KNOT_TOL, *,
                                  tol: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray]:
     """Distinct knot values and their multiplicities: consecutive values at most
     ``param_tol`` apart (absolute, in parameter units) merge. ``tol`` is the deprecated
@@ -54,7 +55,7 @@ def distinct_with_multiplicities(knots, param_tol: float = KNOT_TOL, *,
     return knots[starts].copy(), mults
 
 
-def validate(knots, degree: int, count: int, name: str = "knots") -> np.ndarray:
+def validate(knots: ArrayLike, degree: int, count: int, name: str = "knots") -> np.ndarray:
     """Check a full non-periodic knot vector for ``count`` control points.
 
     Raises CagdError for a wrong length, NaN/inf, decreasing values, an end
@@ -80,7 +81,7 @@ def validate(knots, degree: int, count: int, name: str = "knots") -> np.ndarray:
     return u
 
 
-def validate_period(knots, count: int, degree: int, name: str = "knots") -> np.ndarray:
+def validate_period(knots: ArrayLike, count: int, degree: int, name: str = "knots") -> np.ndarray:
     """Check one period t_0..t_n of a periodic knot vector (n = ``count``)."""
     t = finite_array(knots, name, ndim=1)
     if t.shape[0] != count + 1:
@@ -152,13 +153,13 @@ def find_span(knots: np.ndarray, degree: int, t: np.ndarray, count: int) -> np.n
     return span
 
 
-def is_clamped(knots, degree: int) -> bool:
+def is_clamped(knots: ArrayLike, degree: int) -> bool:
     """Whether a full knot vector has degree + 1 equal knots at both ends (open, clamped)."""
     u = np.asarray(knots)
     return bool(np.all(u[:degree + 1] == u[0]) and np.all(u[-degree - 1:] == u[-1]))
 
 
-def occ_knots(knots, periodic: bool) -> Tuple[np.ndarray, np.ndarray, int]:
+def occ_knots(knots: ArrayLike, periodic: bool) -> Tuple[np.ndarray, np.ndarray, int]:
     """Engine knots -> OCCT's (distinct knots, multiplicities, pole shift).
 
     Non-periodic: the full vector, shift 0. Periodic (one period t_0..t_n): OCCT
@@ -175,7 +176,7 @@ def occ_knots(knots, periodic: bool) -> Tuple[np.ndarray, np.ndarray, int]:
     return distinct, mults, int(mults.size and np.count_nonzero(knots == knots[0]) - 1)
 
 
-def from_occ_knots(distinct, multiplicities, degree: int, periodic: bool,
+def from_occ_knots(distinct: ArrayLike, multiplicities: ArrayLike, degree: int, periodic: bool,
                    name: str = "knots", mult_name: str = "multiplicities") -> np.ndarray:
     """OCCT's (distinct knots, multiplicities) -> the engine's knots: the full vector,
     or for a periodic B-spline one period with t_0 simple and the seam's other copies

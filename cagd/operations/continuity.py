@@ -9,7 +9,7 @@ kappa N = (C'' - (C''.T) T) / |C'|^2, i.e. equal curvature and principal normal
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -70,7 +70,8 @@ class ContinuityReport:
                 f"(rel_tol {self.rel_tol:g} x size {self.size:.3g}, angle_tol {self.angle_tol:g} rad)")
 
 
-def tolerances(func: str, rel_tol, angle_tol, tol):
+def tolerances(func: str, rel_tol: float, angle_tol: Optional[float],
+               tol: Optional[float]) -> Tuple[float, float]:
     """(rel_tol, angle_tol) of a continuity test ``func``, validated: ``angle_tol``
     defaults to ``rel_tol`` (radians); ``tol`` is the deprecated name of ``rel_tol``."""
     if tol is not None:
@@ -82,12 +83,12 @@ def tolerances(func: str, rel_tol, angle_tol, tol):
 def curve_size(*curves: Curve, samples: int = 33) -> float:
     """Diagonal of the bounding box of ``samples`` points on each curve (a length
     scale for relative tolerances; 1 for curves collapsed to a point)."""
-    pts = []
+    pts: List[np.ndarray] = []
     for c in curves:
         a, b = c.domain
         pts.append(c._evaluate(np.linspace(a, b, samples), 0)[0])
-    pts = np.concatenate(pts)
-    size = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
+    every = np.concatenate(pts)
+    size = float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
     return size if size > 0.0 else 1.0
 
 
@@ -151,7 +152,8 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
 
     C0 = gap <= rel_tol * size
     C1 = C0 and dgap1 <= rel_tol * max(v, size / span)
-    C2 = C1 and dgap2 <= rel_tol * max(np.linalg.norm(D1[2]), np.linalg.norm(D2[2]), v * v / size, size / span ** 2)
+    C2 = C1 and dgap2 <= rel_tol * max(float(np.linalg.norm(D1[2])), float(np.linalg.norm(D2[2])), v * v / size,
+                                          size / span ** 2)
     tiny = 1e-12 * size / span           # a first derivative below this is rounding noise
     G1 = bool(C0 and n1 > tiny and n2 > tiny and angle <= angle_tol)
     G2 = bool(G1 and np.linalg.norm(k2 - k1) <= rel_tol * max(kn1, kn2, 1.0 / size))

@@ -29,9 +29,10 @@ P'(1), P''(1) in place of the polynomial expressions. Q is always polynomial.
 """
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._deprecation import deprecated
@@ -42,14 +43,14 @@ from ..errors import CagdError
 _LEVELS = {"G0": 0, "G1": 1, "G2": 2, "C0": 0, "C1": 1, "C2": 2}
 
 
-def _level(continuity) -> tuple:
+def _level(continuity: object) -> Tuple[str, int]:
     key = str(continuity).upper() if isinstance(continuity, str) else None
     if key not in _LEVELS:
         raise CagdError(f"continuity: must be one of {sorted(_LEVELS)}, got {continuity!r}")
     return key, _LEVELS[key]
 
 
-def _end_derivatives(P: BezierCurve) -> tuple:
+def _end_derivatives(P: BezierCurve) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """P(1), P'(1), P''(1) from the end differences of the (homogeneous) control
     points, H'(1) = n (H_n - H_{n-1}), H''(1) = n(n-1)(H_n - 2H_{n-1} + H_{n-2})
     (seed 000, 5.2.1 end derivatives); a rational curve then by
@@ -111,7 +112,7 @@ def join_bezier(P: BezierCurve, continuity: str = "G1", alpha: float = 1.0, beta
     return join_control_points(P, continuity, alpha, beta, degree)
 
 
-def join(P: BezierCurve, rest_points=None, continuity: str = "G1", alpha: float = 1.0,
+def join(P: BezierCurve, rest_points: Optional[ArrayLike] = None, continuity: str = "G1", alpha: float = 1.0,
          beta: float = 0.0) -> BezierCurve:
     """The Bezier curve Q continuing P: its leading control points from
     :func:`join_control_points`, followed by ``rest_points`` (the user's free points

@@ -8,19 +8,27 @@ len(vs), dim)), ``to_nurbs`` and ``_affine``. Everything else is shared here.
 """
 from __future__ import annotations
 
-from typing import Tuple
+from typing import TYPE_CHECKING, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._checks import affine_map, finite_array, integer, parameters
 from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
 
+if TYPE_CHECKING:
+    from ..curves.bspline import BSplineCurve
+    from .bspline import BSplineSurface
+
 NORMAL_TOL = 1e-8    # relative cut-off of "the normal is defined", see unit_normals
+#: the coefficients (E, F, G) or (L, M, N) of a fundamental form, each an array
+FormCoefficients = Tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
-def unit_normals(su, sv, scale_u: float = 0.0, scale_v: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+def unit_normals(su: ArrayLike, sv: ArrayLike, scale_u: float = 0.0,
+                 scale_v: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
     """The unit normal n = (S_u x S_v) / |S_u x S_v| where it is defined (seed 003, 2.1),
     and where that is: ``(n, defined)``, n of shape (..., 3) (2-D partials lifted to
     z = 0) and zero where undefined.
@@ -62,7 +70,7 @@ class Surface(Value):
     def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
         raise NotImplementedError
 
-    def to_nurbs(self):
+    def to_nurbs(self) -> BSplineSurface:
         """The exact B-spline/NURBS form (a :class:`cagd.BSplineSurface`)."""
         raise NotImplementedError
 
@@ -80,7 +88,7 @@ class Surface(Value):
             raise CagdError(f"{name}: parameter {float(bad)!r} is outside the domain [{a}, {b}]")
         return np.clip(x, a, b)
 
-    def _flat(self, u, v):
+    def _flat(self, u: ArrayLike, v: ArrayLike) -> Tuple[np.ndarray, np.ndarray, Tuple[int, ...]]:
         u, v = parameters(u, "u"), parameters(v, "v")
         try:
             shape = np.broadcast_shapes(u.shape, v.shape)
@@ -91,22 +99,22 @@ class Surface(Value):
         return uf, vf, shape
 
     # --- evaluation --------------------------------------------------------------------
-    def derivatives(self, u, v, du: int, dv: int) -> np.ndarray:
+    def derivatives(self, u: ArrayLike, v: ArrayLike, du: int, dv: int) -> np.ndarray:
         """All partials S_{u^i v^j}, i <= du, j <= dv: shape (du+1, dv+1) + broadcast shape + (dim,)."""
         du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
         uf, vf, shape = self._flat(u, v)
         out = self._evaluate(uf, vf, du, dv)
         return out.reshape((du + 1, dv + 1) + shape + (self.dim,))
 
-    def __call__(self, u, v) -> np.ndarray:
+    def __call__(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Points S(u, v), element-wise with numpy broadcasting: shape broadcast(u, v).shape + (dim,)."""
         return self.derivatives(u, v, 0, 0)[0, 0]
 
-    def derivative(self, u, v, du: int = 0, dv: int = 0) -> np.ndarray:
+    def derivative(self, u: ArrayLike, v: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """The partial derivative d^(du+dv) S / du^du dv^dv at (u, v)."""
         return self.derivatives(u, v, du, dv)[-1, -1]
 
-    def grid(self, us, vs, du: int = 0, dv: int = 0) -> np.ndarray:
+    def grid(self, us: ArrayLike, vs: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
         through basis matrices and matrix products (the fast path)."""
         du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
@@ -115,7 +123,7 @@ class Surface(Value):
         return self._grid(us, vs, du, dv)[-1, -1]
 
     # --- differential geometry -------------------------------------------------------------
-    def normals(self, u, v) -> Tuple[np.ndarray, np.ndarray]:
+    def normals(self, u: ArrayLike, v: ArrayLike) -> Tuple[np.ndarray, np.ndarray]:
         """(n, defined): the unit normal (S_u x S_v)/|S_u x S_v| where it is defined and a
         mask of where that is (:func:`unit_normals`, with the scales size / (u1 - u0) and
         size / (v1 - v0)); n is zero elsewhere (a pole, an apex, a collapsed patch)."""
@@ -123,7 +131,7 @@ class Surface(Value):
         (u0, u1), (v0, v1) = self.domain
         return unit_normals(d[1, 0], d[0, 1], self.size / (u1 - u0), self.size / (v1 - v0))
 
-    def normal(self, u, v) -> np.ndarray:
+    def normal(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Unit normal (S_u x S_v)/|S_u x S_v| (seed 003, 2.1); CagdError where it is
         undefined (see :meth:`normals`)."""
         n, defined = self.normals(u, v)
@@ -139,7 +147,7 @@ class Surface(Value):
             self._size = max(float(np.ptp(net, axis=0).max()), 1e-300)
         return self._size
 
-    def fundamental_forms(self, u, v):
+    def fundamental_forms(self, u: ArrayLike, v: ArrayLike) -> Tuple[FormCoefficients, FormCoefficients]:
         """First (E, F, G) and second (L, M, N) fundamental forms:
         E = S_u.S_u, F = S_u.S_v, G = S_v.S_v; L = S_uu.n, M = S_uv.n, N = S_vv.n
         (do Carmo, Differential Geometry of Curves and Surfaces, 3.3)."""
@@ -151,23 +159,23 @@ class Surface(Value):
         second = (dot(_as3(d[2, 0]), n), dot(_as3(d[1, 1]), n), dot(_as3(d[0, 2]), n))
         return first, second
 
-    def gaussian_curvature(self, u, v) -> np.ndarray:
+    def gaussian_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """K = (LN - M^2) / (EG - F^2)."""
         (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
         return (L * N - M * M) / (E * G - F * F)
 
-    def mean_curvature(self, u, v) -> np.ndarray:
+    def mean_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v)."""
         (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
         return (E * N - 2 * F * M + G * L) / (2 * (E * G - F * F))
 
-    def transformed(self, matrix, offset=None) -> "Surface":
+    def transformed(self, matrix: ArrayLike, offset: Optional[ArrayLike] = None) -> "Surface":
         """The surface under x -> matrix @ x + offset, applied to the control points."""
         A, b = affine_map(matrix, offset, self.dim, "surface")
         return self._affine(A, b)
 
     # --- iso-parametric and boundary curves --------------------------------------------------
-    def isocurve(self, direction: str, value: float):
+    def isocurve(self, direction: str, value: float) -> BSplineCurve:
         """The curve u -> S(u, value) (direction "u") or v -> S(value, v) (direction "v")
         as an engine curve, from the NURBS form."""
         return self.to_nurbs().isocurve(direction, value)

@@ -2,9 +2,10 @@
 seed 003, 2.2: de Casteljau in two directions, boundary tangents, blossoms)."""
 from __future__ import annotations
 
-from typing import Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein, bezier_matrix, elevation_matrix
@@ -27,7 +28,7 @@ class BezierSurface(Surface):
 
     _modified_copy = BSplineSurface._modified_copy
 
-    def __init__(self, control_points, weights=None):
+    def __init__(self, control_points: ArrayLike, weights: Optional[ArrayLike] = None):
         P = _checks.finite_array(control_points, "control_points")
         if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2:
             raise CagdError(f"control_points: expected shape (m+1 >= 2, n+1 >= 2, dim), got {P.shape}")
@@ -43,14 +44,14 @@ class BezierSurface(Surface):
         self.degree_u, self.degree_v, self.dim = nurbs.degree_u, nurbs.degree_v, nurbs.dim
 
     # --- modified copies ----------------------------------------------------------------
-    def with_control_points(self, control_points) -> "BezierSurface":
+    def with_control_points(self, control_points: ArrayLike) -> "BezierSurface":
         """The same degrees and weights on a new control net of the same shape.
 
         Raises:
             CagdError: NaN/inf, a shape other than ``control_points.shape``."""
         return BezierSurface._unchecked(self._nurbs.with_control_points(control_points))
 
-    def moved_pole(self, index: Tuple[int, int], point) -> "BezierSurface":
+    def moved_pole(self, index: Tuple[int, int], point: ArrayLike) -> "BezierSurface":
         """The patch with control point ``index`` = (i, j) moved to ``point`` (see
         :meth:`cagd.BSplineSurface.moved_pole`).
 
@@ -58,7 +59,7 @@ class BezierSurface(Surface):
             CagdError: an index that is not two ints in range, a bad point."""
         return BezierSurface._unchecked(self._nurbs.moved_pole(index, point))
 
-    def with_weights(self, weights) -> "BezierSurface":
+    def with_weights(self, weights: Optional[ArrayLike]) -> "BezierSurface":
         """The same control net with new (m+1, n+1) weights (None: polynomial).
 
         Raises:
@@ -66,7 +67,7 @@ class BezierSurface(Surface):
         return BezierSurface._unchecked(self._nurbs.with_weights(weights))
 
     @property
-    def domain(self):
+    def domain(self) -> Tuple[Tuple[float, float], Tuple[float, float]]:
         return (0.0, 1.0), (0.0, 1.0)
 
     @property
@@ -77,16 +78,16 @@ class BezierSurface(Surface):
         kind = "rational Bezier" if self.is_rational else "Bezier"
         return f"<{kind} surface degree ({self.degree_u}, {self.degree_v})>"
 
-    def _evaluate(self, u, v, du, dv):
+    def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
         return self._nurbs._evaluate(u, v, du, dv)
 
-    def _grid(self, us, vs, du, dv):
+    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
         return self._nurbs._grid(us, vs, du, dv)
 
     def to_nurbs(self) -> BSplineSurface:
         return self._nurbs
 
-    def _affine(self, A, b) -> "BezierSurface":
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "BezierSurface":
         return BezierSurface(self.control_points @ A.T + b, self.weights)
 
     @property
@@ -101,13 +102,13 @@ class BezierSurface(Surface):
         return hom[..., :-1] / hom[..., -1:] if self.is_rational else hom
 
     # --- the seed's algorithms -------------------------------------------------------
-    def bernstein_evaluate(self, u, v) -> np.ndarray:
+    def bernstein_evaluate(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Direct double sum of Bernstein products (seed 000, 5.2.7), broadcasting u, v."""
         u, v = np.broadcast_arrays(_checks.parameters(u, "u"), _checks.parameters(v, "v"))
         Bu, Bv = bernstein(self.degree_u, u), bernstein(self.degree_v, v)
         return self._project(np.einsum("...i,...j,ijd->...d", Bu, Bv, self.homogeneous_control_points))
 
-    def de_casteljau(self, u, v) -> np.ndarray:
+    def de_casteljau(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Two-stage de Casteljau (seed 003, 2.2.1): each row of the net reduced at v,
         then the resulting column at u. Broadcasts u and v."""
         u, v = np.broadcast_arrays(_checks.parameters(u, "u"), _checks.parameters(v, "v"))
@@ -129,23 +130,23 @@ class BezierSurface(Surface):
         Mu, Mv = bezier_matrix(self.degree_u), bezier_matrix(self.degree_v)
         return np.einsum("ai,ijd,bj->abd", Mu, self.control_points, Mv)
 
-    def blossom(self, us, vs) -> np.ndarray:
+    def blossom(self, us: Sequence[ArrayLike], vs: Sequence[ArrayLike]) -> np.ndarray:
         """Polar form f(u_1..u_m; v_1..v_n): symmetric and multi-affine in each group,
         f(u..u; v..v) = p(u, v), P_ij = f(0^(m-i) 1^i; 0^(n-j) 1^j) (seed 003, 2.2.4).
         ``us`` has m entries and ``vs`` n entries (each scalar or array; they broadcast)."""
         if len(us) != self.degree_u or len(vs) != self.degree_v:
             raise CagdError(f"us, vs: the blossom takes {self.degree_u} u-values and {self.degree_v} "
                             f"v-values, got {len(us)} and {len(vs)}")
-        us = [_checks.parameters(x, "us") for x in us]
-        vs = [_checks.parameters(x, "vs") for x in vs]
-        shape = np.broadcast_shapes(*(x.shape for x in us + vs))
+        ua = [_checks.parameters(x, "us") for x in us]
+        va = [_checks.parameters(x, "vs") for x in vs]
+        shape = np.broadcast_shapes(*(x.shape for x in ua + va))
         hom = self.homogeneous_control_points
         net = np.broadcast_to(hom, shape + hom.shape)
-        for t in vs:
+        for t in va:
             tt = np.broadcast_to(t, shape)[..., None, None, None]
             net = (1 - tt) * net[..., :-1, :] + tt * net[..., 1:, :]
         col = net[..., 0, :]
-        for t in us:
+        for t in ua:
             tt = np.broadcast_to(t, shape)[..., None, None]
             col = (1 - tt) * col[..., :-1, :] + tt * col[..., 1:, :]
         return self._project(col[..., 0, :])
@@ -170,7 +171,7 @@ class BezierSurface(Surface):
         hom = np.einsum("ai,ijd,bj->abd", Eu, self.homogeneous_control_points, Ev)
         return self._from_homogeneous(hom, self.is_rational)
 
-    def boundary_tangents(self) -> dict:
+    def boundary_tangents(self) -> Dict[str, np.ndarray]:
         """Cross-boundary derivative nets at the four edges (seed 003, 2.2.2):
         S_u(0, v) has Bezier points m (P_1j - P_0j), S_u(1, v): m (P_mj - P_{m-1,j}),
         S_v(u, 0): n (P_i1 - P_i0), S_v(u, 1): n (P_in - P_{i,n-1}). Polynomial patches."""

@@ -9,9 +9,10 @@ algorithms on the rows of the homogeneous control net, seen as one curve whose
 """
 from __future__ import annotations
 
-from typing import NamedTuple, Optional, Tuple
+from typing import List, NamedTuple, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bspline import basis_derivatives, basis_matrix
@@ -54,8 +55,9 @@ class BSplineSurface(Surface):
 
     _modified_copy = "use with_control_points(P), moved_pole((i, j), point) or with_weights(W)"
 
-    def __init__(self, control_points, degree_u: int, degree_v: int, knots_u=None, knots_v=None,
-                 weights=None, periodic_u: bool = False, periodic_v: bool = False):
+    def __init__(self, control_points: ArrayLike, degree_u: int, degree_v: int, knots_u: Optional[ArrayLike] = None,
+                 knots_v: Optional[ArrayLike] = None, weights: Optional[ArrayLike] = None, periodic_u: bool = False,
+                 periodic_v: bool = False):
         P = _checks.finite_array(control_points, "control_points")
         if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2 or P.shape[2] < 1:
             raise CagdError(f"control_points: expected shape (nu >= 2, nv >= 2, dim), got {P.shape}")
@@ -93,7 +95,7 @@ class BSplineSurface(Surface):
         return BSplineSurface._unchecked(P, W, (self.degree_u, self.knots_u, self._u, self.periodic_u),
                                          (self.degree_v, self.knots_v, self._v, self.periodic_v))
 
-    def with_control_points(self, control_points) -> "BSplineSurface":
+    def with_control_points(self, control_points: ArrayLike) -> "BSplineSurface":
         """The surface with the same degrees, knots, weights and periodicity on a new
         control net of the same shape (checked as in the constructor).
 
@@ -102,7 +104,7 @@ class BSplineSurface(Surface):
         P = _checks.finite_array(control_points, "control_points")
         return self._with(_checks.same_shape(P, self.control_points.shape, "control_points"), self.weights)
 
-    def moved_pole(self, index: Tuple[int, int], point) -> "BSplineSurface":
+    def moved_pole(self, index: Tuple[int, int], point: ArrayLike) -> "BSplineSurface":
         """The surface with control point ``index`` = (i, j) (row i in u, column j in v;
         negative from the end; distinct points in a periodic direction) moved to
         ``point``, all else kept: the cheap edit for dragging a pole (no knot checks,
@@ -115,7 +117,7 @@ class BSplineSurface(Surface):
         P[i, j] = _checks.point(point, self.dim)
         return self._with(P, self.weights)
 
-    def with_weights(self, weights) -> "BSplineSurface":
+    def with_weights(self, weights: Optional[ArrayLike]) -> "BSplineSurface":
         """The same control net, degrees and knots with new (nu, nv) weights (None: polynomial).
 
         Raises:
@@ -129,7 +131,7 @@ class BSplineSurface(Surface):
         return self.weights is not None
 
     @property
-    def domain(self):
+    def domain(self) -> Tuple[Tuple[float, float], Tuple[float, float]]:
         p, q = self.degree_u, self.degree_v
         nu, nv = self._hom.shape[:2]
         return (float(self._u[p]), float(self._u[nu])), (float(self._v[q]), float(self._v[nv]))
@@ -147,7 +149,7 @@ class BSplineSurface(Surface):
     def to_nurbs(self) -> "BSplineSurface":
         return self
 
-    def _affine(self, A, b) -> "BSplineSurface":
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "BSplineSurface":
         return BSplineSurface(self.control_points @ A.T + b, self.degree_u, self.degree_v, self.knots_u,
                               self.knots_v, self.weights, self.periodic_u, self.periodic_v)
 
@@ -170,9 +172,9 @@ class BSplineSurface(Surface):
                               self.periodic_u, self.periodic_v)
 
     @classmethod
-    def from_occ_form(cls, poles, weights, knots_u, knots_v, multiplicities_u, multiplicities_v,
-                      degree_u: int, degree_v: int, periodic_u: bool = False,
-                      periodic_v: bool = False) -> "BSplineSurface":
+    def from_occ_form(cls, poles: ArrayLike, weights: Optional[ArrayLike], knots_u: ArrayLike, knots_v: ArrayLike,
+                      multiplicities_u: ArrayLike, multiplicities_v: ArrayLike, degree_u: int, degree_v: int,
+                      periodic_u: bool = False, periodic_v: bool = False) -> "BSplineSurface":
         """The inverse of :meth:`occ_form` (see :meth:`cagd.BSplineCurve.from_occ_form`).
         Raises CagdError on bad input."""
         P = _checks.finite_array(poles, "poles")
@@ -190,7 +192,7 @@ class BSplineSurface(Surface):
         return cls(P, degree_u, degree_v, tu, tv, w, periodic_u, periodic_v)
 
     # --- evaluation --------------------------------------------------------------------
-    def _patch_table(self):
+    def _patch_table(self) -> Optional[Tuple[PPForm, PPForm, List[List[List[np.ndarray]]], int]]:
         """Per span pair (su, sv), the power coefficients of the patch in the centred
         local variables x, y in [-1, 1]: the u-direction pp form of the rows (their
         Taylor coefficients at the u-span midpoints), then the v-direction pp form of
@@ -199,8 +201,8 @@ class BSplineSurface(Surface):
         if not hasattr(self, "_table"):
             p, q = self.degree_u, self.degree_v
             nu, nv, D = self._hom.shape
-            su = np.count_nonzero(self._u[p:nu] < self._u[p + 1:nu + 1])
-            sv = np.count_nonzero(self._v[q:nv] < self._v[q + 1:nv + 1])
+            su = int(np.count_nonzero(self._u[p:nu] < self._u[p + 1:nu + 1]))
+            sv = int(np.count_nonzero(self._v[q:nv] < self._v[q + 1:nv + 1]))
             if (p + 1) * (q + 1) * su * sv * D > 4_000_000:
                 self._table = None
             else:
@@ -338,7 +340,7 @@ class BSplineSurface(Surface):
         """Insert a knot in one direction (Boehm, applied to every row; Piegl & Tiller A5.3)."""
         return self._from_row_curve(direction, self._row_curve(direction).insert_knot(t, times))
 
-    def refine(self, direction: str, new_knots) -> "BSplineSurface":
+    def refine(self, direction: str, new_knots: ArrayLike) -> "BSplineSurface":
         return self._from_row_curve(direction, self._row_curve(direction).refine(new_knots))
 
     def elevate(self, direction: str, times: int = 1) -> "BSplineSurface":
@@ -362,7 +364,8 @@ class BSplineSurface(Surface):
     def reversed(self, direction: str) -> "BSplineSurface":
         return self._from_row_curve(direction, self._row_curve(direction).reversed())
 
-    def reparametrized(self, domain_u=None, domain_v=None) -> "BSplineSurface":
+    def reparametrized(self, domain_u: Optional[Tuple[float, float]] = None,
+                       domain_v: Optional[Tuple[float, float]] = None) -> "BSplineSurface":
         s = self
         if domain_u is not None:
             s = s._from_row_curve("u", s._row_curve("u").reparametrized(*domain_u))
@@ -391,7 +394,7 @@ class BSplineSurface(Surface):
         nets = cols.reshape(mv, q1, mu, p1, D).transpose(2, 0, 3, 1, 4)
         return bu, bv, nets
 
-    def bezier_patches(self):
+    def bezier_patches(self) -> Tuple[np.ndarray, np.ndarray, List[List["BSplineSurface"]]]:
         """Decomposition into Bezier patches: (breaks_u, breaks_v, patches) with
         patches[i][j] a clamped single-span BSplineSurface (Piegl & Tiller A5.7)."""
         bu, rows = self._row_curve("u").bezier_segments()
@@ -423,7 +426,7 @@ class BSplineSurface(Surface):
         return BSplineCurve(hom, deg, knots, None, periodic)
 
 
-def _weights(weights, shape: Tuple[int, int]) -> np.ndarray:
+def _weights(weights: ArrayLike, shape: Tuple[int, ...]) -> np.ndarray:
     """Positive finite weights, one per control point of the net."""
     W = _checks.finite_array(weights, "weights")
     if W.shape != tuple(shape):
@@ -434,7 +437,8 @@ def _weights(weights, shape: Tuple[int, int]) -> np.ndarray:
     return W
 
 
-def _direction(knots, count: int, degree: int, periodic: bool, name: str):
+def _direction(knots: Optional[ArrayLike], count: int, degree: int, periodic: bool,
+               name: str) -> Tuple[np.ndarray, np.ndarray]:
     """(given knots, full unwrapped knots) for one direction."""
     if periodic:
         t = np.linspace(0.0, 1.0, count + 1) if knots is None else kv.validate_period(knots, count, degree, name)

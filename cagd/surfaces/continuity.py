@@ -149,9 +149,9 @@ def edge_continuity(s1: Surface, s2: Surface, edge1: str, edge2: str, samples: i
     in cagd).
 
     Raises:
-        CagdError: s1/s2 not rectangular Surfaces (triangles: see triangle_continuity), different dimensions, a surface that is not
-            2-D or 3-D, an unknown edge name, samples < 2, rel_tol not positive,
-            angle_tol negative, reverse not True/False/None.
+        CagdError: s1/s2 not rectangular Surfaces (triangles: see triangle_continuity),
+            different dimensions, a surface that is not 2-D or 3-D, an unknown edge name,
+            samples < 2, rel_tol not positive, angle_tol negative, reverse not True/False/None.
     """
     for name, s in (("s1", s1), ("s2", s2)):
         if not isinstance(s, Surface):
@@ -212,6 +212,6 @@ def _along_span(s: Surface, edge: str) -> float:
     return (v1 - v0) if edge[0] == "u" else (u1 - u0)
 
 
-def _sample_grid(s: Surface, count: int = 9):
+def _sample_grid(s: Surface, count: int = 9) -> Tuple[np.ndarray, np.ndarray]:
     (u0, u1), (v0, v1) = s.domain
     return np.linspace(u0, u1, count), np.linspace(v0, v1, count)

@@ -14,7 +14,7 @@ from the curves' derivatives and the blend polynomials.
 from __future__ import annotations
 
 from math import comb
-from typing import List, Optional, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -93,11 +93,12 @@ def _over_common_denominator(curves: List[BSplineCurve]) -> Tuple[Optional[BSpli
     product of their distinct weight functions (weight functions proportional to
     within 1e-14 relative count once: A / (lam w) = (A / lam) / w). Returns (W or None,
     numerators N_k), all polynomial splines."""
-    rational = [k for k, c in enumerate(curves) if c.is_rational]
+    rational = [k for k, c in enumerate(curves) if c.weights is not None]
     if not rational:
         return None, [plain(c) for c in curves]
-    ws = compatible_plain([BSplineCurve(curves[k].weights, curves[k].degree, curves[k].knots) for k in rational])
-    groups, member = [], {}
+    ws = compatible_plain([BSplineCurve(c.weights, c.degree, c.knots) for c in curves if c.weights is not None])
+    groups: List[BSplineCurve] = []
+    member: Dict[int, Tuple[int, float]] = {}
     for k, w in zip(rational, ws):
         for m, base in enumerate(groups):
             ratio = w.control_points[:, 0] / base.control_points[:, 0]
@@ -113,7 +114,7 @@ def _over_common_denominator(curves: List[BSplineCurve]) -> Tuple[Optional[BSpli
     numerators = []
     for k, c in enumerate(curves):
         A = BSplineCurve(c.control_points, c.degree, c.knots)
-        if k not in member:
+        if k not in member or c.weights is None:
             numerators.append(_product(A, W))
             continue
         m, lam = member[k]
@@ -135,7 +136,8 @@ class _BlendedPatch(Surface):
     _order: Tuple[int, ...]                  # derivative order of each slot
     _corner: Tuple[int, ...]                 # the parameter (0 or 1) of each slot
 
-    def _setup(self, c_curves, d_curves, rel_tol, tol=None) -> None:
+    def _setup(self, c_curves: Sequence[Optional[Curve]], d_curves: Sequence[Optional[Curve]], rel_tol: float,
+               tol: Optional[float] = None) -> None:
         if tol is not None:
             rel_tol = renamed(type(self).__name__, "tol", "rel_tol", tol, rel_tol, CORNER_TOL, RELATIVE)
         self.rel_tol = _checks.scalar(rel_tol, "rel_tol")
@@ -171,7 +173,7 @@ class _BlendedPatch(Surface):
         self._G = _checks.frozen(G)
 
     @property
-    def domain(self):
+    def domain(self) -> Tuple[Tuple[float, float], Tuple[float, float]]:
         return (0.0, 1.0), (0.0, 1.0)
 
     @property
@@ -180,7 +182,7 @@ class _BlendedPatch(Surface):
         deprecated(f"{type(self).__name__}.tol", "use rel_tol (the same relative corner tolerance)")
         return self.rel_tol
 
-    def _evaluate(self, u, v, du, dv):
+    def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
         hu, hv = _blend(self._power, u, du), _blend(self._power, v, dv)
         out = -np.einsum("kin,ljn,ijd->klnd", hu, hv, self._G)
         for j, C in enumerate(self._c):
@@ -191,7 +193,7 @@ class _BlendedPatch(Surface):
                 out += hu[:, None, i, :, None] * _unit_derivatives(D, v, dv)[None]
         return out
 
-    def _grid(self, us, vs, du, dv):
+    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
         hu, hv = _blend(self._power, us, du), _blend(self._power, vs, dv)
         out = -np.einsum("kim,ljn,ijd->klmnd", hu, hv, self._G)
         for j, C in enumerate(self._c):
@@ -270,11 +272,13 @@ class CoonsPatch(_BlendedPatch):
     _c_names, _d_names = ("c0", "c1"), ("d0", "d1")
     _order, _corner = (0, 0), (0, 1)
 
-    def __init__(self, c0, c1, d0, d1, rel_tol: float = CORNER_TOL, *, tol: Optional[float] = None):
+    def __init__(self, c0: Curve, c1: Curve, d0: Curve, d1: Curve, rel_tol: float = CORNER_TOL, *,
+                 tol: Optional[float] = None):
         self._setup([c0, c1], [d0, d1], rel_tol, tol)
 
     @classmethod
-    def from_loop(cls, curves, rel_tol: float = CORNER_TOL, *, tol: Optional[float] = None) -> "CoonsPatch":
+    def from_loop(cls, curves: Sequence[Curve], rel_tol: float = CORNER_TOL, *,
+                  tol: Optional[float] = None) -> "CoonsPatch":
         """The Coons patch bounded by four curves in any order and direction that form
         a closed loop (the edges of a wire, say): ``curves[0]`` becomes c0, its end
         the corner P10, and the others are chained end to end, reversed where needed
@@ -312,8 +316,9 @@ class CoonsPatch(_BlendedPatch):
     def __repr__(self) -> str:
         return f"<bilinearly blended Coons patch, {self.dim}-D>"
 
-    def _affine(self, A, b) -> "CoonsPatch":
-        return CoonsPatch(*(c.transformed(A, b) for c in self._c + self._d), rel_tol=self.rel_tol)
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "CoonsPatch":
+        c0, c1, d0, d1 = (c.transformed(A, b) for c in self._c + self._d if c is not None)
+        return CoonsPatch(c0, c1, d0, d1, rel_tol=self.rel_tol)
 
 
 class HermiteCoonsPatch(_BlendedPatch):
@@ -344,8 +349,9 @@ class HermiteCoonsPatch(_BlendedPatch):
     _c_names, _d_names = ("c0", "c0_v", "c1_v", "c1"), ("d0", "d0_u", "d1_u", "d1")
     _order, _corner = (0, 1, 1, 0), (0, 0, 1, 1)
 
-    def __init__(self, c0, c1, d0, d1, c0_v=None, c1_v=None, d0_u=None, d1_u=None, rel_tol: float = CORNER_TOL,
-                 *, tol: Optional[float] = None):
+    def __init__(self, c0: Curve, c1: Curve, d0: Curve, d1: Curve, c0_v: Optional[Curve] = None,
+                 c1_v: Optional[Curve] = None, d0_u: Optional[Curve] = None, d1_u: Optional[Curve] = None,
+                 rel_tol: float = CORNER_TOL, *, tol: Optional[float] = None):
         ribbons = (c0_v, c1_v, d0_u, d1_u)
         given = sum(r is not None for r in ribbons)
         if given not in (0, 4):
@@ -357,10 +363,11 @@ class HermiteCoonsPatch(_BlendedPatch):
         kind = "with tangent ribbons" if self.has_ribbons else "positions only"
         return f"<bicubically blended Coons patch ({kind}), {self.dim}-D>"
 
-    def _affine(self, A, b) -> "HermiteCoonsPatch":
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "HermiteCoonsPatch":
         zero = np.zeros_like(b)
         c0, c0v, c1v, c1 = self._c
         d0, d0u, d1u, d1 = self._d
+        assert c0 is not None and c1 is not None and d0 is not None and d1 is not None  # boundaries: always given
         lin = [None if r is None else r.transformed(A, zero) for r in (c0v, c1v, d0u, d1u)]
         return HermiteCoonsPatch(c0.transformed(A, b), c1.transformed(A, b), d0.transformed(A, b),
-                                 d1.transformed(A, b), *lin, rel_tol=self.rel_tol)
+                                 d1.transformed(A, b), lin[0], lin[1], lin[2], lin[3], rel_tol=self.rel_tol)

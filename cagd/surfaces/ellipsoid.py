@@ -24,7 +24,7 @@ equation holds everywhere, the edge included.
 from __future__ import annotations
 
 import itertools
-from typing import List
+from typing import List, Tuple
 
 import numpy as np
 
@@ -35,14 +35,15 @@ from .bezier import BezierSurface
 _T = 1.0 / 3.0
 # The seed's table, block i = row of the net, entry j = column: coefficients of a, b,
 # c and the weights in the homogeneous coordinates (w x, w y, w z, w).
-SEED_X, SEED_Y, SEED_Z, SEED_W = (_checks.frozen(table, np.float64) for table in (
+_SEED_TABLES: Tuple[List[List[float]], ...] = (
     [[1, 1, 2 * _T, 0], [1, 1, 2 * _T, 0], [2 * _T, 2 * _T, 4 / 9, 0], [0, 0, 0, 0]],
     [[0, 0, 0, 0], [2 * _T, 2 * _T, 4 / 9, 0], [4 * _T, 4 * _T, 8 / 9, 0], [2, 2, 4 * _T, 0]],
     [[0, 2 * _T, 4 * _T, 2], [0, 2 * _T, 4 * _T, 2], [0, 8 / 9, 16 / 9, 8 * _T], [0, 4 * _T, 8 * _T, 4]],
-    [[1, 1, 4 * _T, 2], [1, 1, 4 * _T, 2], [4 * _T, 4 * _T, 16 / 9, 8 * _T], [2, 2, 8 * _T, 4]]))
+    [[1, 1, 4 * _T, 2], [1, 1, 4 * _T, 2], [4 * _T, 4 * _T, 16 / 9, 8 * _T], [2, 2, 8 * _T, 4]])
+SEED_X, SEED_Y, SEED_Z, SEED_W = (_checks.frozen(table, np.float64) for table in _SEED_TABLES)
 
 
-def _semi_axes(a, b, c) -> np.ndarray:
+def _semi_axes(a: float, b: float, c: float) -> np.ndarray:
     out = []
     for value, name in ((a, "a"), (b, "b"), (c, "c")):
         x = _checks.scalar(value, name)
@@ -81,6 +82,7 @@ def ellipsoid(a: float, b: float, c: float) -> List[BezierSurface]:
     """
     base = ellipsoid_octant(a, b, c)
     P, W = base.control_points, base.weights
+    assert W is not None       # the octant is a rational patch
     patches = []
     for sz, sy, sx in itertools.product((1.0, -1.0), repeat=3):
         Q = P * np.array([sx, sy, sz])

@@ -3,9 +3,10 @@
 """
 from __future__ import annotations
 
-from typing import Tuple, Union
+from typing import Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..errors import CagdError
@@ -17,8 +18,8 @@ from .bspline import BSplineSurface
 SurfaceParameters = Union[str, Tuple[np.ndarray, np.ndarray]]
 
 
-def surface_parameters(points, parameters: SurfaceParameters = "chord", *,
-                       method=None) -> Tuple[np.ndarray, np.ndarray]:
+def surface_parameters(points: ArrayLike, parameters: SurfaceParameters = "chord", *,
+                       method: Optional[SurfaceParameters] = None) -> Tuple[np.ndarray, np.ndarray]:
     """Parameters (ubar_0..ubar_n, vbar_0..vbar_m) for an (n+1, m+1, dim) grid Q_kl
     (Piegl & Tiller 9.2.5, eq. 9.8-9.10 averaged): for every column l the chord
     parameters of Q_0l..Q_nl as for curves (:func:`cagd.fitting.parametrize`, eq. 9.5;
@@ -46,7 +47,7 @@ def surface_parameters(points, parameters: SurfaceParameters = "chord", *,
     return pu, pv
 
 
-def interpolate_surface(points, degree_u: int = 3, degree_v: int = 3,
+def interpolate_surface(points: ArrayLike, degree_u: int = 3, degree_v: int = 3,
                         parameters: SurfaceParameters = "chord") -> BSplineSurface:
     """The B-spline surface S(u, v) = sum_i sum_j N_i,p(u) N_j,q(v) P_ij through the
     grid of points, S(ubar_k, vbar_l) = Q_kl (Piegl & Tiller 9.2.5, A9.4).
@@ -76,7 +77,7 @@ def interpolate_surface(points, degree_u: int = 3, degree_v: int = 3,
     return BSplineSurface(P, p, q, ku, kvv)
 
 
-def _grid(points) -> np.ndarray:
+def _grid(points: ArrayLike) -> np.ndarray:
     Q = _checks.finite_array(points, "points")
     if Q.ndim != 3 or Q.shape[0] < 2 or Q.shape[1] < 2 or Q.shape[2] < 1:
         raise CagdError(f"points: expected a grid of shape (nu >= 2, nv >= 2, dim), got {Q.shape}")

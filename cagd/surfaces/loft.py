@@ -7,7 +7,7 @@ linearly onto [0, 1]), v runs across them, also on [0, 1].
 """
 from __future__ import annotations
 
-from typing import List, Sequence, Union
+from typing import Iterable, List, Sequence
 
 import numpy as np
 
@@ -18,13 +18,13 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
-from ..fitting.parameters import averaged_parameters, rule
+from ..fitting.parameters import ParameterSpec, averaged_parameters, rule
 
 _SNAP = 64 * np.finfo(float).eps     # knots this close (on [0, 1]) are the same knot
 
 
 # --- compatibility ----------------------------------------------------------------------
-def unit_nurbs(curve, name: str = "curve") -> BSplineCurve:
+def unit_nurbs(curve: Curve, name: str = "curve") -> BSplineCurve:
     """``curve.to_nurbs()``, clamped and mapped linearly onto [0, 1] (same points:
     C_unit(s) = C(a + s (b - a)) on the curve's domain [a, b]).
 
@@ -46,7 +46,7 @@ def plain(c: BSplineCurve) -> BSplineCurve:
     return BSplineCurve(c.homogeneous_control_points, c.degree, c.knots)
 
 
-def union_breaks(knot_vectors) -> np.ndarray:
+def union_breaks(knot_vectors: Iterable[np.ndarray]) -> np.ndarray:
     """Distinct interior knot values (strictly inside (0, 1)) of several knot vectors,
     values within a few ulps merged into the first."""
     inner = np.sort(np.concatenate([k[(k > 0.0) & (k < 1.0)] for k in knot_vectors]))
@@ -93,7 +93,7 @@ def compatible_plain(curves: Sequence[BSplineCurve]) -> List[BSplineCurve]:
     return out
 
 
-def make_compatible(curves) -> List[BSplineCurve]:
+def make_compatible(curves: Iterable[Curve]) -> List[BSplineCurve]:
     """The curves as B-splines/NURBS with one degree and one knot vector on [0, 1],
     each describing the same point set with its own parametrisation mapped linearly
     onto [0, 1] (degree elevation and knot refinement in homogeneous coordinates;
@@ -127,7 +127,7 @@ def make_compatible(curves) -> List[BSplineCurve]:
 
 
 # --- ruled surface ------------------------------------------------------------------------
-def ruled(c0, c1) -> BSplineSurface:
+def ruled(c0: Curve, c1: Curve) -> BSplineSurface:
     """The ruled surface S(u, v) between S(u, 0) = c0(u) and S(u, 1) = c1(u), degree 1 in
     v (Piegl & Tiller 8.4): the two curves made compatible (:func:`make_compatible`), the
     control net is their two control polygons. Polynomial curves give exactly the linear
@@ -141,19 +141,19 @@ def ruled(c0, c1) -> BSplineSurface:
     """
     a, b = make_compatible([c0, c1])
     P = np.stack([a.control_points, b.control_points], axis=1)
-    W = None if a.weights is None else np.stack([a.weights, b.weights], axis=1)
+    W = None if a.weights is None or b.weights is None else np.stack([a.weights, b.weights], axis=1)
     return BSplineSurface(P, a.degree, 1, a.knots, [0.0, 0.0, 1.0, 1.0], W)
 
 
 # --- skinning -------------------------------------------------------------------------------
-def _sections(sections) -> List[BSplineCurve]:
+def _sections(sections: Iterable[Curve]) -> List[BSplineCurve]:
     sections = list(sections)
     if len(sections) < 2:
         raise CagdError(f"sections: need at least 2 section curves, got {len(sections)}")
     return make_compatible(sections)
 
 
-def loft_parameters(sections, parameters: Union[str, Sequence[float]] = "chord") -> np.ndarray:
+def loft_parameters(sections: Iterable[Curve], parameters: ParameterSpec = "chord") -> np.ndarray:
     """Parameters v_0 = 0 < ... < v_K = 1 of the sections (Piegl & Tiller eq. 10.8):
     for "chord" ("centripetal") the chord-length (square-root chord) parameters of
     every column of the compatible control nets, averaged over the columns (columns
@@ -180,7 +180,7 @@ def loft_parameters(sections, parameters: Union[str, Sequence[float]] = "chord")
     return averaged_parameters(Q, parameters, "sections", "sections")
 
 
-def loft(sections, degree_v: int = 3, parameters: Union[str, Sequence[float]] = "chord") -> BSplineSurface:
+def loft(sections: Iterable[Curve], degree_v: int = 3, parameters: ParameterSpec = "chord") -> BSplineSurface:
     """Skinned surface through the section curves (Piegl & Tiller 10.3): the sections
     are made compatible (:func:`make_compatible`), given parameters v_k
     (:func:`loft_parameters`) and averaged knots in v (eq. 9.8, as in

@@ -7,7 +7,8 @@ has the same image as the object, span by span, with ``nodes`` points per span a
 direction; the quadrature error is estimated by comparing with ``nodes + 8`` points
 and reported. That is an estimate, not a bound: where S_u x S_v vanishes along a
 curve (a folded surface) |S_u x S_v| has a kink and the estimate can be low. For
-polynomial patches the volume integrand is a polynomial, so nodes >= (3 (p + q) + 1) / 2 per direction makes it exact to rounding.
+polynomial patches the volume integrand is a polynomial, so nodes >= (3 (p + q) + 1) / 2
+per direction makes it exact to rounding.
 """
 from __future__ import annotations
 

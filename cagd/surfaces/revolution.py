@@ -17,9 +17,10 @@ same point set, parametrised by the angle) that OCCT's offsets accept.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Any, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..curves.base import Curve
@@ -60,7 +61,7 @@ def _arc_count(angle: float) -> int:
     return max(int(np.ceil(angle / (np.pi / 2) - _ANGLE_TOL)), 1)
 
 
-def arc_angle(t, start: float, angle: float) -> np.ndarray:
+def arc_angle(t: ArrayLike, start: float, angle: float) -> np.ndarray:
     """The angle of the point at t in [0, 1] of the circle of :func:`arc_parameters`.
     On arc j (t in [j / n, (j + 1) / n], local s = n t - j in [0, 1]) the rational
     quadratic with end weights 1 and middle weight cos(d/2) (Piegl & Tiller 7.3) is the
@@ -74,7 +75,7 @@ def arc_angle(t, start: float, angle: float) -> np.ndarray:
     return start + d * (j + 0.5) + 2.0 * np.arctan((2.0 * (t * n - j) - 1.0) * np.tan(d / 4))
 
 
-def arc_parameter(theta, start: float, angle: float) -> np.ndarray:
+def arc_parameter(theta: ArrayLike, start: float, angle: float) -> np.ndarray:
     """The inverse of :func:`arc_angle` on [start, start + angle]."""
     theta = np.asarray(theta, dtype=float)
     n = _arc_count(angle)
@@ -84,13 +85,13 @@ def arc_parameter(theta, start: float, angle: float) -> np.ndarray:
     return (j + s) / n
 
 
-def _frozen_vector(x) -> np.ndarray:
+def _frozen_vector(x: ArrayLike) -> np.ndarray:
     a = np.array(x, dtype=float)
     a.setflags(write=False)
     return a
 
 
-def _unit(x) -> np.ndarray:
+def _unit(x: ArrayLike) -> np.ndarray:
     return _frozen_vector(np.asarray(x, dtype=float) / np.linalg.norm(x))
 
 
@@ -124,16 +125,16 @@ class Revolution:
     def full_turn(self) -> bool:
         return self.angle == _TWO_PI
 
-    def angle_at(self, v) -> np.ndarray:
+    def angle_at(self, v: ArrayLike) -> np.ndarray:
         """theta(v): the angle about the axis of the isocurve v (rational, not linear)."""
         return arc_angle(v, self.start_angle, self.angle)
 
-    def parameter_at(self, theta) -> np.ndarray:
+    def parameter_at(self, theta: ArrayLike) -> np.ndarray:
         """v(theta) on [start_angle, start_angle + angle] (the inverse of :meth:`angle_at`)."""
         return arc_parameter(theta, self.start_angle, self.angle)
 
     def _moved(self, A: np.ndarray, b: np.ndarray, sign: int) -> "Revolution":
-        return Revolution(self.profile.transformed(A, b), _frozen_vector(A @ self.axis_point + b),
+        return Revolution(self.profile._affine(A, b), _frozen_vector(A @ self.axis_point + b),
                           _unit(sign * (A @ self.axis_direction)), self.angle, self.start_angle)
 
 
@@ -165,13 +166,23 @@ class Primitive:
     @property
     def analytic_bounds(self) -> Tuple[float, float, float, float]:
         """(U0, U1, V0, V1) of the analytic parametrisation (:meth:`analytic_parameters`)."""
-        V = {"sphere": (-np.pi / 2, np.pi / 2), "torus": (0.0, _TWO_PI),
-             "cylinder": (0.0, self.height), "cone": (0.0, self._slant)}[self.kind]
+        if self.kind == "sphere":
+            V = (-np.pi / 2, np.pi / 2)
+        elif self.kind == "torus":
+            V = (0.0, _TWO_PI)
+        else:
+            V = (0.0, self._height if self.kind == "cylinder" else self._slant)
         return (0.0, _TWO_PI) + V
 
     @property
+    def _height(self) -> float:
+        """``height`` of a cylinder or cone (the kinds that have one)."""
+        assert self.height is not None, f"a {self.kind} primitive has no height"
+        return self.height
+
+    @property
     def _slant(self) -> float:
-        return float(np.hypot(self.radius, self.height)) if self.kind == "cone" else 0.0
+        return float(np.hypot(self.radius, self._height)) if self.kind == "cone" else 0.0
 
     @property
     def y_direction(self) -> np.ndarray:
@@ -182,9 +193,9 @@ class Primitive:
     def semi_angle(self) -> Optional[float]:
         """The cone's signed semi-angle as OCCT's gp_Cone (and Part.Cone) take it:
         -atan(radius / height), negative as the radius shrinks along ``axis``."""
-        return -float(np.arctan2(self.radius, self.height)) if self.kind == "cone" else None
+        return -float(np.arctan2(self.radius, self._height)) if self.kind == "cone" else None
 
-    def analytic_parameters(self, u, v) -> Tuple[np.ndarray, np.ndarray]:
+    def analytic_parameters(self, u: ArrayLike, v: ArrayLike) -> Tuple[np.ndarray, np.ndarray]:
         """(U, V) of the point S(u, v) in the angle parametrisation of OCCT's
         Geom_SphericalSurface / ToroidalSurface / CylindricalSurface / ConicalSurface
         (and FreeCAD's Part.Sphere, Toroid, Cylinder, Cone) in the right-handed frame
@@ -202,7 +213,7 @@ class Primitive:
         elif self.kind == "torus":
             V = _TWO_PI - arc_angle(u, 0.0, _TWO_PI)
         else:
-            V = (self.height if self.kind == "cylinder" else self._slant) * (1.0 - u)
+            V = (self._height if self.kind == "cylinder" else self._slant) * (1.0 - u)
         return U, V
 
     def _moved(self, A: np.ndarray, b: np.ndarray, scale: float, sign: int) -> "Primitive":
@@ -224,8 +235,9 @@ class RevolvedSurface(BSplineSurface):
     any other map and every operation that makes a new surface (knot insertion,
     reversal, segments, elevation, ...) gives a plain BSplineSurface."""
 
-    def __init__(self, control_points, degree_u: int, degree_v: int, knots_u, knots_v, weights, *,
-                 revolution: Revolution, primitive: Optional[Primitive] = None):
+    def __init__(self, control_points: ArrayLike, degree_u: int, degree_v: int, knots_u: Optional[ArrayLike],
+                 knots_v: Optional[ArrayLike], weights: Optional[ArrayLike], *, revolution: Revolution,
+                 primitive: Optional[Primitive] = None):
         if not isinstance(revolution, Revolution):
             raise CagdError(f"revolution: expected a Revolution record, got {type(revolution).__name__}")
         if primitive is not None and not isinstance(primitive, Primitive):
@@ -242,7 +254,7 @@ class RevolvedSurface(BSplineSurface):
         return cls(s.control_points, s.degree_u, s.degree_v, s.knots_u, s.knots_v, s.weights,
                    revolution=revolution, primitive=primitive)
 
-    def _affine(self, A, b) -> BSplineSurface:
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> BSplineSurface:
         plain = super()._affine(A, b)
         similar = _similarity(A)
         if similar is None:
@@ -252,11 +264,11 @@ class RevolvedSurface(BSplineSurface):
         return RevolvedSurface._of(plain, self.revolution._moved(A, b, sign), primitive)
 
     @classmethod
-    def from_occ_form(cls, *args, **kwargs) -> BSplineSurface:
+    def from_occ_form(cls, *args: Any, **kwargs: Any) -> BSplineSurface:
         """A plain BSplineSurface (OCCT's data carries no construction record)."""
         return BSplineSurface.from_occ_form(*args, **kwargs)
 
-    def analytic_parameters(self, u, v) -> Tuple[np.ndarray, np.ndarray]:
+    def analytic_parameters(self, u: ArrayLike, v: ArrayLike) -> Tuple[np.ndarray, np.ndarray]:
         """(U, V) of S(u, v) in the analytic surface's angle parametrisation: the
         primitive's (:meth:`Primitive.analytic_parameters`), else that of a surface of
         revolution of the profile (OCCT's Geom_SurfaceOfRevolution, FreeCAD's
@@ -289,7 +301,7 @@ class RevolvedSurface(BSplineSurface):
         return U0, U0 + r.angle, u0, u1
 
 
-def _axis(axis_point, axis_direction) -> Tuple[np.ndarray, np.ndarray]:
+def _axis(axis_point: ArrayLike, axis_direction: ArrayLike) -> Tuple[np.ndarray, np.ndarray]:
     a = _checks.finite_array(axis_point, "axis_point", ndim=1)
     d = _checks.finite_array(axis_direction, "axis_direction", ndim=1)
     if a.shape != (3,):
@@ -302,14 +314,14 @@ def _axis(axis_point, axis_direction) -> Tuple[np.ndarray, np.ndarray]:
     return a, d / length
 
 
-def _angle(angle, name: str = "angle") -> float:
+def _angle(angle: float, name: str = "angle") -> float:
     angle = _checks.scalar(angle, name)
     if not 0.0 < angle <= _TWO_PI * (1.0 + _ANGLE_TOL):
         raise CagdError(f"{name}: must lie in (0, 2 pi], got {angle}")
     return min(angle, _TWO_PI)
 
 
-def revolve(profile, axis_point=(0.0, 0.0, 0.0), axis_direction=(0.0, 0.0, 1.0),
+def revolve(profile: Curve, axis_point: ArrayLike = (0.0, 0.0, 0.0), axis_direction: ArrayLike = (0.0, 0.0, 1.0),
             angle: float = _TWO_PI, start_angle: float = 0.0) -> RevolvedSurface:
     """The surface swept by the 3-D curve ``profile`` turning about the axis through
     ``axis_point`` along ``axis_direction`` (Piegl & Tiller A8.1; seed 003, 2.4).
@@ -352,14 +364,14 @@ def _revolved(C: BSplineCurve, a: np.ndarray, d: np.ndarray, angle: float, start
                            primitive=primitive)
 
 
-def _positive(value, name: str) -> float:
+def _positive(value: float, name: str) -> float:
     x = _checks.scalar(value, name)
     if not x > 0.0:
         raise CagdError(f"{name}: must be positive, got {x}")
     return x
 
 
-def _center(center) -> np.ndarray:
+def _center(center: ArrayLike) -> np.ndarray:
     c = _checks.finite_array(center, "center", ndim=1)
     if c.shape != (3,):
         raise CagdError(f"center: expected 3 coordinates, got {c.shape[0]}")
@@ -382,7 +394,7 @@ def _primitive(kind: str, profile: BSplineCurve, c: np.ndarray, radius: float, m
     return _revolved(profile.clamped(), c, e[2], _TWO_PI, 0.0, record)
 
 
-def sphere(radius: float = 1.0, center=(0.0, 0.0, 0.0)) -> RevolvedSurface:
+def sphere(radius: float = 1.0, center: ArrayLike = (0.0, 0.0, 0.0)) -> RevolvedSurface:
     """Sphere |p - center| = radius: the half circle from the north pole (u = 0) to the
     south pole (u = 1) in the xz-plane revolved about the z-axis through ``center``;
     biquadratic NURBS, 5 x 9 control points; S_u x S_v points outwards (undefined at the
@@ -395,7 +407,7 @@ def sphere(radius: float = 1.0, center=(0.0, 0.0, 0.0)) -> RevolvedSurface:
     return _primitive("sphere", _circle_in_xz(c, r, -np.pi / 2, np.pi), c, r)
 
 
-def torus(R: float, r: float, center=(0.0, 0.0, 0.0)) -> RevolvedSurface:
+def torus(R: float, r: float, center: ArrayLike = (0.0, 0.0, 0.0)) -> RevolvedSurface:
     """Torus (sqrt(x^2 + y^2) - R)^2 + z^2 = r^2 about the z-axis through ``center``:
     the circle of radius r about (R, 0, 0) in the xz-plane, starting at the outer
     equator and going down, revolved; 9 x 9 control points, outward S_u x S_v. R <= r
@@ -409,7 +421,7 @@ def torus(R: float, r: float, center=(0.0, 0.0, 0.0)) -> RevolvedSurface:
     return _primitive("torus", _circle_in_xz(c + [R, 0.0, 0.0], r, 0.0, _TWO_PI), c, R, minor_radius=r)
 
 
-def cylinder(radius: float, height: float, center=(0.0, 0.0, 0.0)) -> RevolvedSurface:
+def cylinder(radius: float, height: float, center: ArrayLike = (0.0, 0.0, 0.0)) -> RevolvedSurface:
     """Cylinder x^2 + y^2 = radius^2, 0 <= z <= height (relative to ``center``, the
     centre of the bottom circle): the segment from the top rim (u = 0) down to the
     bottom rim (u = 1) revolved about z; degree (1, 2), outward S_u x S_v. Primitive
@@ -422,7 +434,7 @@ def cylinder(radius: float, height: float, center=(0.0, 0.0, 0.0)) -> RevolvedSu
     return _primitive("cylinder", BSplineCurve(c + [[r, 0.0, h], [r, 0.0, 0.0]], 1), c, r, height=h)
 
 
-def cone(radius: float, height: float, center=(0.0, 0.0, 0.0)) -> RevolvedSurface:
+def cone(radius: float, height: float, center: ArrayLike = (0.0, 0.0, 0.0)) -> RevolvedSurface:
     """Cone sqrt(x^2 + y^2) = radius (1 - z / height), 0 <= z <= height (relative to
     ``center``, the centre of the base circle): the segment from the apex (u = 0) to
     the base rim (u = 1) revolved about z; degree (1, 2), outward S_u x S_v (undefined

@@ -5,17 +5,21 @@ from __future__ import annotations
 import numbers
 from collections import Counter
 from collections.abc import Mapping
-from typing import Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import CagdError
 from .basis import index_triples
 
 Triple = Tuple[int, int, int]
+#: control points or weights of a triangle: a mapping {(i, j, k): value}, a list of
+#: ((i, j, k), value) pairs, or an array in index_triples order
+TriangleData = Union[Mapping[Triple, ArrayLike], Sequence[Tuple[Triple, ArrayLike]], ArrayLike]
 
 
-def _is_pairs(value) -> bool:
+def _is_pairs(value: object) -> bool:
     """A list/tuple of ((i, j, k), value) pairs (like ``dict.items()``)."""
     if not isinstance(value, (list, tuple)) or not value:
         return False
@@ -26,23 +30,23 @@ def _is_pairs(value) -> bool:
     return True
 
 
-def _key(key, name: str) -> Triple:
+def _key(key: Any, name: str) -> Triple:
     try:
         t = tuple(key)
     except TypeError:
         t = ()
     ok = len(t) == 3 and all(isinstance(x, (numbers.Integral, np.integer)) and not isinstance(x, bool)
-                             and x >= 0 for x in t)
+                             and int(x) >= 0 for x in t)
     if not ok:
         raise CagdError(f"{name}: key {key!r} is not a triple (i, j, k) of non-negative integers")
-    return tuple(int(x) for x in t)
+    return int(t[0]), int(t[1]), int(t[2])
 
 
-def _table(value, name: str) -> Tuple[int, Dict[Triple, object]]:
+def _table(value: Any, name: str) -> Tuple[int, Dict[Triple, Any]]:
     """(degree, {triple: raw value}) from a mapping or pairs, checking duplicates,
     extra and missing triples."""
     items = list(value.items()) if isinstance(value, Mapping) else list(value)
-    table: Dict[Triple, object] = {}
+    table: Dict[Triple, Any] = {}
     for key, val in items:
         t = _key(key, name)
         if t in table:
@@ -73,7 +77,7 @@ def _degree_from_count(count: int, name: str) -> int:
     return n
 
 
-def parse_points(value, name: str = "control_points") -> Tuple[np.ndarray, int]:
+def parse_points(value: TriangleData, name: str = "control_points") -> Tuple[np.ndarray, int]:
     """Control points as a canonical (N, dim) float array and the degree n."""
     if isinstance(value, Mapping) or _is_pairs(value):
         n, table = _table(value, name)
@@ -109,7 +113,7 @@ def parse_points(value, name: str = "control_points") -> Tuple[np.ndarray, int]:
     return arr, n
 
 
-def parse_weights(value, n: int, name: str = "weights") -> Optional[np.ndarray]:
+def parse_weights(value: Optional[TriangleData], n: int, name: str = "weights") -> Optional[np.ndarray]:
     """Positive weights in canonical order for a degree-n triangle, or None."""
     if value is None:
         return None
@@ -118,13 +122,13 @@ def parse_weights(value, n: int, name: str = "weights") -> Optional[np.ndarray]:
         m, table = _table(value, name)
         if m != n:
             raise CagdError(f"{name}: the triples have degree {m}, the control points degree {n}")
-        w = []
+        values: List[float] = []
         for t in triples:
             try:
-                w.append(float(table[t]))
+                values.append(float(table[t]))
             except (TypeError, ValueError):
                 raise CagdError(f"{name}: weight for triple {t} is not a number: {table[t]!r}") from None
-        w = np.array(w)
+        w = np.array(values)
     else:
         try:
             w = np.array(value, dtype=np.float64)

@@ -11,9 +11,10 @@ point of the triple (i, j, n-i-j); entries with i + j > n are padding.
 from __future__ import annotations
 
 from math import factorial
-from typing import List, Sequence, Tuple
+from typing import Iterable, List, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..errors import CagdError
@@ -46,7 +47,7 @@ def multinomials(n: int) -> np.ndarray:
                      for i, j, k in index_triples(n)], dtype=np.float64)
 
 
-def triangle_bernstein(n: int, u, v) -> np.ndarray:
+def triangle_bernstein(n: int, u: ArrayLike, v: ArrayLike) -> np.ndarray:
     """All Bernstein polynomials of degree n over the triangle,
     B_ijk(u, v, w) = n!/(i! j! k!) u^i v^j w^k, w = 1 - u - v (seed 003, 3.1, Bernstein
     form), in canonical order: shape broadcast(u, v).shape + ((n+1)(n+2)/2,).
@@ -96,7 +97,7 @@ def casteljau_step(net: np.ndarray, x: np.ndarray) -> np.ndarray:
     return a * net[..., 1:, :-1, :] + b * net[..., :-1, 1:, :] + c * net[..., :-1, :-1, :]
 
 
-def multilinear(net: np.ndarray, args: Sequence[np.ndarray]) -> np.ndarray:
+def multilinear(net: np.ndarray, args: Iterable[np.ndarray]) -> np.ndarray:
     """The multilinear (homogeneous) polar form of a dense degree-n net at n triples:
     de Casteljau with argument r at level r. Returns (..., D)."""
     for x in args:
@@ -104,7 +105,7 @@ def multilinear(net: np.ndarray, args: Sequence[np.ndarray]) -> np.ndarray:
     return net[..., 0, 0, :]
 
 
-def barycentric(value, name: str, direction: bool = False) -> np.ndarray:
+def barycentric(value: ArrayLike, name: str, direction: bool = False) -> np.ndarray:
     """Validated triples (..., 3): barycentric points summing to 1, or with ``direction``
     barycentric directions summing to 0 (tolerance 1e-12 relative to the entries)."""
     x = _checks.finite_array(value, name)

@@ -14,21 +14,28 @@ derivatives along the barycentric directions (1, 0, -1) and (0, 1, -1).
 from __future__ import annotations
 
 from math import comb, factorial
-from typing import Dict, List, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..curves.base import rational_derivatives
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
 from . import basis as tb
-from ._input import parse_points, parse_weights
+from ._input import TriangleData, parse_points, parse_weights
+
+if TYPE_CHECKING:
+    from ..curves.bezier import BezierCurve
+    from ..curves.bspline import BSplineCurve
+    from ..surfaces.bezier import BezierSurface
+    from ..surfaces.bspline import BSplineSurface
 
 _CHUNK = 1 << 13      # points per de Casteljau pass (bounds the (chunk, n+1, n+1, D) temporaries)
 
 
-def _chunks(count: int):
+def _chunks(count: int) -> List[slice]:
     return [slice(s, s + _CHUNK) for s in range(0, max(count, 1), _CHUNK)]
 
 
@@ -53,11 +60,11 @@ class BezierTriangle(Surface):
     rectangular = False
     _modified_copy = "use with_control_points(P), moved_pole((i, j, k), point) or with_weights(w)"
 
-    def __init__(self, control_points, weights=None):
+    def __init__(self, control_points: TriangleData, weights: Optional[TriangleData] = None):
         P, n = parse_points(control_points, "control_points")
         self._fill(P, parse_weights(weights, n, "weights"), n)
 
-    def _fill(self, P: np.ndarray, W, n: int) -> None:
+    def _fill(self, P: np.ndarray, W: Optional[np.ndarray], n: int) -> None:
         """Bind validated canonical points and weights (frozen) and the dense net."""
         self.degree, self.dim = n, P.shape[1]
         self.control_points = _checks.frozen(P)
@@ -67,7 +74,7 @@ class BezierTriangle(Surface):
         self._net = _checks.frozen(tb.to_dense(self._hom, n))
 
     # --- modified copies (the object itself never changes) --------------------------------
-    def with_control_points(self, control_points) -> "BezierTriangle":
+    def with_control_points(self, control_points: TriangleData) -> "BezierTriangle":
         """The same degree and weights on new control points, given as the constructor
         takes them (a mapping {(i, j, k): point} or an (N, dim) array), of the same
         degree and dimension.
@@ -78,7 +85,7 @@ class BezierTriangle(Surface):
         _checks.same_shape(P, self.control_points.shape, "control_points")
         return BezierTriangle._unchecked(P, self.weights, n)
 
-    def moved_pole(self, index, point) -> "BezierTriangle":
+    def moved_pole(self, index: Union[int, Tuple[int, int, int]], point: ArrayLike) -> "BezierTriangle":
         """The triangle with control point ``index`` moved to ``point``: ``index`` is the
         triple (i, j, k), i + j + k = degree, or the flat position in
         :meth:`index_triples` order (an int, negative from the end). The cheap edit for
@@ -91,7 +98,7 @@ class BezierTriangle(Surface):
         P[self._position(index)] = _checks.point(point, self.dim)
         return BezierTriangle._unchecked(P, self.weights, self.degree)
 
-    def with_weights(self, weights) -> "BezierTriangle":
+    def with_weights(self, weights: Optional[TriangleData]) -> "BezierTriangle":
         """The same control points with new weights (mapping or (N,) array; None: polynomial).
 
         Raises:
@@ -99,7 +106,7 @@ class BezierTriangle(Surface):
         return BezierTriangle._unchecked(self.control_points, parse_weights(weights, self.degree, "weights"),
                                          self.degree)
 
-    def _position(self, index) -> int:
+    def _position(self, index: Any) -> int:
         """The flat position of a triple (i, j, k) or of a flat index."""
         if not isinstance(index, (tuple, list)) and np.ndim(index) == 0:
             return _checks.pole_index(index, self.control_points.shape[:1])[0]
@@ -107,7 +114,7 @@ class BezierTriangle(Surface):
             raise CagdError(f"index: expected a triple (i, j, k) or a flat index, got {index!r}")
         return self._triple_position(tuple(_checks.integer(x, "index", 0) for x in index), "index")
 
-    def _triple_position(self, t: Tuple[int, int, int], name: str) -> int:
+    def _triple_position(self, t: Tuple[int, ...], name: str) -> int:
         if sum(t) != self.degree:
             raise CagdError(f"{name}: {t} does not sum to the degree {self.degree}")
         return tb.triple_position(self.degree, t[0], t[1])
@@ -120,7 +127,7 @@ class BezierTriangle(Surface):
         return self.weights is not None
 
     @property
-    def domain(self):
+    def domain(self) -> Tuple[Tuple[float, float], Tuple[float, float]]:
         return (0.0, 1.0), (0.0, 1.0)
 
     @property
@@ -149,7 +156,7 @@ class BezierTriangle(Surface):
         return hom[..., :-1] / hom[..., -1:] if self.is_rational else hom
 
     # --- Surface interface --------------------------------------------------------------
-    def _flat(self, u, v):
+    def _flat(self, u: ArrayLike, v: ArrayLike) -> Tuple[np.ndarray, np.ndarray, Tuple[int, ...]]:
         uf, vf, shape = super()._flat(u, v)
         out = uf + vf > 1.0 + tb.TOL
         if np.any(out):
@@ -158,7 +165,7 @@ class BezierTriangle(Surface):
                             f"u + v <= 1 (u + v = {float(uf[r] + vf[r])!r})")
         return uf, vf, shape
 
-    def _points(self, u, v) -> Tuple[np.ndarray, Tuple[int, ...]]:
+    def _points(self, u: ArrayLike, v: ArrayLike) -> Tuple[np.ndarray, Tuple[int, ...]]:
         """Validated barycentric points (N, 3) and the broadcast shape."""
         uf, vf, shape = self._flat(u, v)
         return np.stack([uf, vf, 1.0 - uf - vf], axis=-1), shape
@@ -195,10 +202,10 @@ class BezierTriangle(Surface):
         out = self._evaluate(U.ravel(), V.ravel(), du, dv)
         return out.reshape(out.shape[:2] + U.shape + (self.dim,))
 
-    def _affine(self, A, b) -> "BezierTriangle":
+    def _affine(self, A: np.ndarray, b: np.ndarray) -> "BezierTriangle":
         return BezierTriangle(self.control_points @ A.T + b, self.weights)
 
-    def isocurve(self, direction: str, value: float):
+    def isocurve(self, direction: str, value: float) -> BSplineCurve:
         """The exact curve u -> T(u, value), u in [0, 1 - value] (direction "u") or
         v -> T(value, v), v in [0, 1 - value] ("v"), a clamped single-span BSplineCurve of
         degree n whose control points are the blossom values f(A^(n-r), B^r) at the
@@ -226,7 +233,7 @@ class BezierTriangle(Surface):
             return BSplineCurve(hom[:, :-1] / hom[:, -1:], n, knots, hom[:, -1])
         return BSplineCurve(hom, n, knots)
 
-    def boundaries(self) -> list:
+    def boundaries(self) -> List[BezierCurve]:
         """The three edges as BezierCurves, counter-clockwise: vertex 1 -> 2 (k = 0,
         points P_{n-r,r,0}), 2 -> 3 (i = 0, P_{0,n-r,r}), 3 -> 1 (j = 0, P_{r,0,n-r})."""
         from ..curves.bezier import BezierCurve
@@ -239,7 +246,7 @@ class BezierTriangle(Surface):
         return edges
 
     # --- the seed's algorithms ------------------------------------------------------------
-    def bernstein_evaluate(self, u, v) -> np.ndarray:
+    def bernstein_evaluate(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Direct Bernstein sum over all triples (seed 003, 3.1 Bernstein form),
         broadcasting u and v: shape broadcast + (dim,).
 
@@ -249,7 +256,7 @@ class BezierTriangle(Surface):
         B = tb._bernstein(self.degree, x[:, 0], x[:, 1])
         return self._project(B @ self._hom).reshape(shape + (self.dim,))
 
-    def de_casteljau(self, u, v) -> np.ndarray:
+    def de_casteljau(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Triangular de Casteljau (seed 003, 3.1): n levels of
         b^r_ijk = u b^{r-1}_{i+1,j,k} + v b^{r-1}_{i,j+1,k} + w b^{r-1}_{i,j,k+1},
         vectorized over points; shape broadcast + (dim,).
@@ -260,7 +267,7 @@ class BezierTriangle(Surface):
         hom = np.concatenate([tb.multilinear(self._net, [x[c]] * self.degree) for c in _chunks(len(x))])
         return self._project(hom).reshape(shape + (self.dim,))
 
-    def blossom(self, *args, homogeneous: bool = False) -> np.ndarray:
+    def blossom(self, *args: ArrayLike, homogeneous: bool = False) -> np.ndarray:
         """The blossom (polar form) f(x_1, ..., x_n) at n barycentric triples (seed 003,
         3.1): symmetric, multi-affine, f(x, ..., x) = T(x), P_ijk = f(e1^i, e2^j, e3^k).
         Each argument is a triple or an array (..., 3) summing to 1 (any affine point of
@@ -282,7 +289,7 @@ class BezierTriangle(Surface):
         hom = tb.multilinear(self._net, xs)
         return hom if homogeneous else self._project(hom)
 
-    def directional_derivative(self, u, v, direction, order: int = 1) -> np.ndarray:
+    def directional_derivative(self, u: ArrayLike, v: ArrayLike, direction: ArrayLike, order: int = 1) -> np.ndarray:
         """D_d^r T at (u, v) along the barycentric direction d = (d_u, d_v, d_w),
         d_u + d_v + d_w = 0: D_d^r p(x) = n!/(n-r)! f(d^r, x^(n-r)) (blossom with r
         direction arguments; Farin ch. 17); rational: the same on the homogeneous form and
@@ -312,7 +319,7 @@ class BezierTriangle(Surface):
         return res.reshape(shape + (self.dim,))
 
     # --- operations -----------------------------------------------------------------------
-    def _subnet(self, a, b, c) -> np.ndarray:
+    def _subnet(self, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> np.ndarray:
         """Homogeneous canonical net of the same polynomial over the triangle with
         barycentric vertices a, b, c: Q_ijk = f(a^i, b^j, c^k) (seed 003, 3.1)."""
         n = self.degree
@@ -322,7 +329,7 @@ class BezierTriangle(Surface):
         which = np.where(r < I, 0, np.where(r < I + J, 1, 2))      # (n, N): vertex at level r
         return tb.multilinear(self._net, list(V[which]))
 
-    def subtriangle(self, a, b, c) -> "BezierTriangle":
+    def subtriangle(self, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> "BezierTriangle":
         """The same surface over the triangle with barycentric vertices a, b, c (each
         summing to 1; they may lie outside, giving the polynomial continuation), as a
         triangle whose own barycentric (s1, s2, s3) is the point s1 a + s2 b + s3 c:
@@ -337,7 +344,7 @@ class BezierTriangle(Surface):
                 raise CagdError(f"{name}: a vertex must be one barycentric triple, got shape {x.shape}")
         return self._from_homogeneous(self._subnet(*V), self.is_rational)
 
-    def subdivide(self, point=(1 / 3, 1 / 3, 1 / 3)) -> List["BezierTriangle"]:
+    def subdivide(self, point: ArrayLike = (1 / 3, 1 / 3, 1 / 3)) -> List["BezierTriangle"]:
         """Three triangles meeting at the interior barycentric ``point`` p: the r-th has
         vertex r replaced by p, [(p, e2, e3), (e1, p, e3), (e1, e2, p)], each via blossoms.
 
@@ -372,7 +379,7 @@ class BezierTriangle(Surface):
             net = (i * pad[:-1, 1:] + j * pad[1:, :-1] + k * pad[1:, 1:]) / (n + 1)
         return self._from_homogeneous(tb.to_flat(net), self.is_rational)
 
-    def relabeled(self, order) -> "BezierTriangle":
+    def relabeled(self, order: Sequence[int]) -> "BezierTriangle":
         """The same surface with vertices renamed: new vertex r is old vertex order[r]
         (a permutation of 0, 1, 2); new barycentric y has y[r] = x[order[r]]."""
         try:
@@ -389,7 +396,7 @@ class BezierTriangle(Surface):
         return self._from_homogeneous(self._hom[pos], self.is_rational)
 
     # --- conversion --------------------------------------------------------------------------
-    def to_bezier_surface(self):
+    def to_bezier_surface(self) -> BezierSurface:
         """The exact degree (n, n) tensor-product Bezier patch S(s, t) = T(s, (1 - s) t)
         (the Duffy map u = s, v = (1 - s) t, w = (1 - s)(1 - t)); the edge s = 1 collapses
         to vertex 1 (u = 1, P_n00). Through the tensor blossom
@@ -407,7 +414,7 @@ class BezierTriangle(Surface):
             return BezierSurface(hom[..., :-1] / hom[..., -1:], hom[..., -1])
         return BezierSurface(hom)
 
-    def to_nurbs(self):
+    def to_nurbs(self) -> BSplineSurface:
         """The exact NURBS form: :meth:`to_bezier_surface` as a clamped single-patch
         :class:`cagd.BSplineSurface` (collapsed edge s = 1; T(u, v) = S(u, v / (1 - u)))."""
         return self.to_bezier_surface().to_nurbs()

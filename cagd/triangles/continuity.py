@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._deprecation import RELATIVE, renamed
@@ -33,7 +34,7 @@ from ._input import _key
 from .bezier_triangle import BezierTriangle
 
 
-def neighbor_vertices(edge: int = 0, apex=None) -> np.ndarray:
+def neighbor_vertices(edge: int = 0, apex: Optional[ArrayLike] = None) -> np.ndarray:
     """t2's domain vertices (V_{e+2}, V_{e+1}, D) as rows of barycentric coordinates
     w.r.t. t1 (see the module docstring); a t2-barycentric y is the t1 point y @ M.
 
@@ -97,7 +98,7 @@ class TriangleContinuity:
         return r
 
 
-def triangle_continuity(t1: BezierTriangle, t2: BezierTriangle, edge: int = 0, apex=None,
+def triangle_continuity(t1: BezierTriangle, t2: BezierTriangle, edge: int = 0, apex: Optional[ArrayLike] = None,
                         order: int = 1, samples: int = 9) -> TriangleContinuity:
     """Measure how far t2 is from joining t1 with C^0..C^order along t1's ``edge``, t2
     laid out as in the module docstring (seed 003, 3.2).
@@ -136,8 +137,9 @@ def triangle_continuity(t1: BezierTriangle, t2: BezierTriangle, edge: int = 0, a
     return TriangleContinuity(order, ctrl, tuple(deriv), scale)
 
 
-def c1_neighbor(t1: BezierTriangle, edge: int = 0, apex=None, free: Optional[Mapping] = None,
-                free_weights: Optional[Mapping] = None) -> BezierTriangle:
+def c1_neighbor(t1: BezierTriangle, edge: int = 0, apex: Optional[ArrayLike] = None,
+                free: Optional[Mapping[Tuple[int, int, int], ArrayLike]] = None,
+                free_weights: Optional[Mapping[Tuple[int, int, int], float]] = None) -> BezierTriangle:
     """A neighbour t2 of t1 across ``edge`` with domain apex ``apex`` (module docstring)
     joining t1 with C1 (seed 003, 3.2): rows k = 0, 1 of t2 are t1's blossom values
     h_ijk = f(V_{e+2}^i, V_{e+1}^j, D^k) (the edge row, then g(d, b^j, c^i) = f(d, b^j, c^i)

@@ -71,7 +71,8 @@ def assert_close_to_oracle(curve, t, mine, ref):
         ref_max = max(float(np.abs(ref[k]).max()), derivative_floor(curve, k))
         err = np.abs(mine[k] - ref[k]).max(axis=-1)
         bound = 1e-12 * ref_max + 1e-14 * local + 1e-300   # + an absolute floor for subnormal data
-        assert np.all(err <= bound), f"degree {p} derivative {k}: max error {err.max():.3g}, relative {err.max() / ref_max:.3g}"
+        assert np.all(err <= bound), \
+            f"degree {p} derivative {k}: max error {err.max():.3g}, relative {err.max() / ref_max:.3g}"
 
 
 def derivative_floor(curve, k):
@@ -533,7 +534,8 @@ def test_split_and_segment(curve, data):
     a, b = curve.domain
     s = draw_knot(data, curve)
     if not a + 0.01 * (b - a) < s < b - 0.01 * (b - a):
-        s = 0.5 * (a + b) if np.abs(curve.full_knots - 0.5 * (a + b)).min() > 1e-6 * (b - a) else a + 0.5 ** 0.5 * (b - a)
+        away = np.abs(curve.full_knots - 0.5 * (a + b)).min() > 1e-6 * (b - a)
+        s = 0.5 * (a + b) if away else a + 0.5 ** 0.5 * (b - a)
     left, right = curve.split(s)
     t = sample_parameters(curve)
     assert left.domain == pytest.approx((a, s)) and right.domain == pytest.approx((s, b))
@@ -545,7 +547,8 @@ def test_split_and_segment(curve, data):
     for piece in (left, right):                                    # clamped: interpolates its end points
         np.testing.assert_array_equal(piece.full_knots[:p + 1], piece.domain[0])
         np.testing.assert_array_equal(piece.full_knots[-p - 1:], piece.domain[1])
-        np.testing.assert_allclose(piece(piece.domain[0]), piece.control_points[0], atol=1e-12 * max(1, np.abs(piece.control_points).max()))
+        np.testing.assert_allclose(piece(piece.domain[0]), piece.control_points[0],
+                                   atol=1e-12 * max(1, np.abs(piece.control_points).max()))
     lo, hi = sorted([draw_knot(data, curve), draw_knot(data, curve)])
     if hi - lo > 1e-3 * (b - a):
         seg = curve.segment(lo, hi)

@@ -150,7 +150,8 @@ def test_gap_rejected():
     A = BezierCurve([[0.0, 0.0], [1.0, 0.0]])
     B = BezierCurve([[1.0, 0.0], [2.0, 1.0]])
     C = BezierCurve([[2.0, 1.001], [3.0, 1.0]])
-    with pytest.raises(CagdError, match=r"curves: gap of 0.001 between the end of curves\[1\] and the start of curves\[2\]"):
+    with pytest.raises(CagdError,
+                       match=r"curves: gap of 0.001 between the end of curves\[1\] and the start of curves\[2\]"):
         CompositeCurve([A, B, C])
     comp = CompositeCurve([A, B, C], rel_tol=1e-3)           # size ~3.2: accepted
     n = comp.to_nurbs()                                      # the joint point is the mean of the two ends

@@ -44,8 +44,12 @@ def test_hermite_matrices_are_inverse():
 def test_m_inverse_rows_are_the_end_conditions():
     """Rows of M^-1 are U(0), U(1), U'(0), U'(1) with U = [u^3 u^2 u 1]: p(0), p(1),
     p'(0), p'(1) of p = U A (seed 000, 5.1.2 "substituting the boundary conditions")."""
-    U = lambda u: [u ** 3, u ** 2, u, 1.0]
-    dU = lambda u: [3 * u ** 2, 2 * u, 1.0, 0.0]
+    def U(u):
+        return [u ** 3, u ** 2, u, 1.0]
+
+    def dU(u):
+        return [3 * u ** 2, 2 * u, 1.0, 0.0]
+
     np.testing.assert_array_equal(HERMITE_M_INV, np.array([U(0.0), U(1.0), dU(0.0), dU(1.0)]))
 
 
