@@ -22,7 +22,8 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from ..errors import CagdError
 from .._deprecation import deprecated
-from ..fitting.parameters import ParameterSpec, chords as _chords, interval_lengths, option, rule, spline_parameters  # noqa: F401
+from ..fitting.parameters import ParameterSpec
+from ..fitting.parameters import chords as _chords, interval_lengths, option, rule, spline_parameters  # noqa: F401
 from ..knots.vectors import periodic_extend
 from .bspline import BSplineCurve
 from .hermite import HermiteSpline, _blossom_control_points
