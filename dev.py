@@ -46,7 +46,8 @@ VENV_B3D = ROOT / ".venv-b3d"
 EXTRAS_B3D = "b3d,test"
 WHEEL_DIR = ROOT / ".build" / "wheel"
 # the tests of the second OCCT line (8.0, build123d 0.13): bridge, files, build123d helpers
-B3D_TESTS = ["tests/occ", "tests/curves/test_occ_form.py", "tests/b3d", "tests/test_packaging.py", "tests/test_readme.py"]
+B3D_TESTS = ["tests/occ", "tests/curves/test_occ_form.py", "tests/b3d", "tests/test_packaging.py",
+             "tests/test_readme.py"]
 DEPENDENCY_FILES = ("setup.py", "setup.cfg", "pyproject.toml")
 PYTEST_NO_TESTS = 5
 # Shared libraries that OCP (OpenCascade, VTK build) loads, by Debian package.

@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Callable, List, Optional, Sequence, TextIO, Tuple
 
 import numpy as np
 
@@ -29,13 +29,16 @@ from .operations import continuity, join
 T = np.linspace(0.0, 1.0, 201)
 
 
+Builder = Callable[[], Tuple[float, Sequence[Curve], Sequence[np.ndarray], Optional[np.ndarray]]]
+
+
 @dataclass
 class Example:
     name: str
     seed: str
     oracle: str
     tolerance: float
-    build: Callable[[], Tuple[float, Sequence[Curve], Sequence[np.ndarray], Optional[np.ndarray]]]
+    build: Builder
 
 
 @dataclass
@@ -52,15 +55,16 @@ class Result:
 EXAMPLES: List[Example] = []
 
 
-def example(name: str, seed: str, oracle: str, tolerance: float = 1e-12):
-    def register(fn):
+def example(name: str, seed: str, oracle: str, tolerance: float = 1e-12) -> Callable[[Builder], Builder]:
+    def register(fn: Builder) -> Builder:
         EXAMPLES.append(Example(name, seed, oracle, tolerance, fn))
         return fn
     return register
 
 
-def _rel(a: np.ndarray, b: np.ndarray, size: float = None) -> float:
-    size = size if size is not None else max(float(np.ptp(np.asarray(b).reshape(-1, np.shape(b)[-1]), axis=0).max()), 1.0)
+def _rel(a: np.ndarray, b: np.ndarray, size: Optional[float] = None) -> float:
+    if size is None:
+        size = max(float(np.ptp(np.asarray(b).reshape(-1, np.shape(b)[-1]), axis=0).max()), 1.0)
     return float(np.abs(np.asarray(a) - np.asarray(b)).max() / size)
 
 
@@ -112,7 +116,8 @@ def _periodic_cubic():
     return dev, [c], [np.vstack([P, P[:1]])], None
 
 
-@example("uniform quadratic B-spline, knots 0..6", "000 5.3.2", "p_start = (P0+P1)/2, p'_start = P1-P0; Cox-de Boor sum")
+@example("uniform quadratic B-spline, knots 0..6", "000 5.3.2",
+         "p_start = (P0+P1)/2, p'_start = P1-P0; Cox-de Boor sum")
 def _quadratic_bspline():
     P = np.array([[0, 0], [1, 2], [3, 2], [4, 0.0]])
     c = BSplineCurve(P, 2, np.arange(7.0))
@@ -123,7 +128,8 @@ def _quadratic_bspline():
     return dev, [c], [P], None
 
 
-@example("non-uniform NURBS: knot insertion and degree elevation", "Piegl & Tiller 5.2, 5.5", "same samples before/after")
+@example("non-uniform NURBS: knot insertion and degree elevation", "Piegl & Tiller 5.2, 5.5",
+         "same samples before/after")
 def _refine():
     P = np.array([[0, 0], [1, 2], [2, -1], [3, 3], [5, 1], [6, 2.0]])
     c = BSplineCurve(P, 3, [0, 0, 0, 0, .3, .7, 1, 1, 1, 1], [1, 2, .5, 1, 3, 1])
@@ -145,7 +151,8 @@ def _hermite():
     return dev, curves, [], np.array([p0, p1])
 
 
-@example("algebraic <-> geometric form of a cubic", "004 1.3 (A = M B, B = M^-1 A)", "Hermite matrix M_h applied by hand")
+@example("algebraic <-> geometric form of a cubic", "004 1.3 (A = M B, B = M^-1 A)",
+         "Hermite matrix M_h applied by hand")
 def _algebraic():
     A = np.array([[1.0, 0.0], [2.0, 3.0], [-1.0, 2.0], [0.5, -4.0]])      # a0..a3
     c = PolynomialCurve(A)
@@ -187,7 +194,8 @@ def _natural():
     return dev, [c], [], _DATA
 
 
-@example("cubic spline end conditions: clamped, virtual points, periodic", "000 5.1.2", "interpolation and the end condition")
+@example("cubic spline end conditions: clamped, virtual points, periodic", "000 5.1.2",
+         "interpolation and the end condition")
 def _end_conditions():
     clamped = natural_cubic_spline(_DATA, "clamped", "centripetal", tangents=([1.0, 2.0], [1.0, 1.0]))
     virtual = natural_cubic_spline(_DATA, "virtual", "uniform")
@@ -226,7 +234,7 @@ def _composite():
     return _rel(comp.to_nurbs()(t), comp(t)), [comp], [], None
 
 
-def run_demo(out_dir: Path, stream=None, plots: bool = True) -> List[Result]:
+def run_demo(out_dir: Path, stream: Optional[TextIO] = None, plots: bool = True) -> List[Result]:
     """Run every example, write its PNG, print the table; return the results."""
     stream = sys.stdout if stream is None else stream
     out_dir = Path(out_dir)
@@ -238,14 +246,15 @@ def run_demo(out_dir: Path, stream=None, plots: bool = True) -> List[Result]:
         if plots:
             from .plotting import plot_curves
             slug = "".join(ch if ch.isalnum() else "_" for ch in ex.name.lower()).strip("_")
-            png = plot_curves(out_dir / f"{i:02d}_{slug}.png", f"{ex.name} (seed {ex.seed})", curves, polygons, points=pts)
+            png = plot_curves(out_dir / f"{i:02d}_{slug}.png", f"{ex.name} (seed {ex.seed})", curves, polygons,
+                              points=pts)
         results.append(Result(ex, dev, png))
     w = max(len(r.example.name) for r in results)
     print(f"{'example':{w}s}  {'seed':32s} {'max deviation':>13s} {'tolerance':>9s}  ok  oracle", file=stream)
     for r in results:
         e = r.example
-        print(f"{e.name:{w}s}  {e.seed:32s} {r.deviation:13.2e} {e.tolerance:9.0e}  {'yes' if r.passed else 'NO ':3s} {e.oracle}",
-              file=stream)
+        ok = "yes" if r.passed else "NO "
+        print(f"{e.name:{w}s}  {e.seed:32s} {r.deviation:13.2e} {e.tolerance:9.0e}  {ok:3s} {e.oracle}", file=stream)
     if plots:
         print(f"PNG plots (curve, control polygon, curvature comb) in {out_dir}", file=stream)
     return results

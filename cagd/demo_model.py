@@ -7,8 +7,13 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Dict, Optional, TextIO
 
 import numpy as np
+
+if TYPE_CHECKING:                       # cagd.occ needs OCP: imported where it runs
+    from .model.loader import Entry
+    from .occ.export import ExportResult
 
 
 def _net(obj):
@@ -18,7 +23,7 @@ def _net(obj):
     return pts
 
 
-def plot_entry(entry, path: Path) -> Path:
+def plot_entry(entry: Entry, path: Path) -> Path:
     """One PNG per model entry: curves with control polygon and curvature comb (xy view),
     surfaces shaded with their control nets."""
     from .plotting import plot_curves, plot_surfaces
@@ -36,7 +41,7 @@ def plot_entry(entry, path: Path) -> Path:
     return plot_surfaces(path, title, entry.objects, nets)
 
 
-def run_model_demo(out_dir: Path, stream=None, plots: bool = True):
+def run_model_demo(out_dir: Path, stream: Optional[TextIO] = None, plots: bool = True) -> ExportResult:
     """Export the default model to out_dir/model.step and model.igs, write report.md
     and the PNGs; print the summary; return the :class:`cagd.occ.export.ExportResult`."""
     from .model import default_model
@@ -58,7 +63,7 @@ def run_model_demo(out_dir: Path, stream=None, plots: bool = True):
               f"engine {abs(s.volume_engine):.10g} (relative difference {s.relative_difference:.1e})"
               + ("" if s.volume_exact is None else
                  f", closed form {s.volume_exact:.10g} (engine off by {s.exact_difference:.1e})"), file=stream)
-    worst = {}
+    worst: Dict[str, float] = {}
     for r in result.reports:
         for st in r.stages:
             worst[st.stage] = max(worst.get(st.stage, 0.0), st.max_deviation)

@@ -4,13 +4,16 @@ statistics and a colour-map PNG. MODEL is a JSON model (cagd.model) or a STEP/IG
 file (read through cagd.occ). Exit codes: 0 done, 2 bad input."""
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
-from typing import List, Tuple
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from .curves.base import Curve
 from .errors import CagdError
+from .surfaces.base import Surface
 
 
 def read_points(path: Path) -> np.ndarray:
@@ -43,10 +46,11 @@ def read_points(path: Path) -> np.ndarray:
     return pts
 
 
-def model_objects(path: Path, names) -> Tuple[str, List[Tuple[str, object]]]:
+def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List[Tuple[str, Union[Curve, Surface]]]]:
     """(description, [(name, object)]): the selected entries of a JSON model, or the
     faces (else the free curves) of a STEP/IGES file."""
     suffix = path.suffix.lower()
+    items: List[Tuple[str, Union[Curve, Surface]]]
     if suffix in (".step", ".stp", ".igs", ".iges"):
         from .occ import read_iges, read_step
         items = [(i.name, i.object) for i in (read_iges if suffix in (".igs", ".iges") else read_step)(path)]
@@ -66,7 +70,7 @@ def model_objects(path: Path, names) -> Tuple[str, List[Tuple[str, object]]]:
     return str(path), chosen
 
 
-def run_deviation(args) -> int:
+def run_deviation(args: argparse.Namespace) -> int:
     from .queries.deviation import deviation, deviation_map
     try:
         if args.output.is_dir() or not args.output.parent.is_dir():
@@ -86,6 +90,7 @@ def run_deviation(args) -> int:
     png = args.png or args.output.with_suffix(".png")
     deviation_map(objects, pts, png, result, title=args.model.name)
     gap = float(np.max(np.abs(result.distances) - result.lower_bounds))
+    assert result.owner is not None                     # deviation() of a list says which object is nearest
     nearest = np.bincount(result.owner, minlength=len(items))
     lines = [f"# Deviation of {args.points.name} from {args.model.name}", "",
              f"- model: `{where}`; measured against {len(items)} object(s): "

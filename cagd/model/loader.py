@@ -179,7 +179,7 @@ class _Builder:
             raise ModelError(R.key_path(path, "solid"), f"{what} does not bound a volume; solid is for "
                                                        f"{', '.join(SOLID_TYPES)}")
         fields, objects = self._build(item, path, spec_name)
-        if solid:
+        if solid and spec.solid is not None:      # (not None whenever solid: checked above)
             with np.errstate(over="ignore", invalid="ignore"):
                 spec.solid(fields, objects)
         return Entry(name, spec_name, objects, solid, export, path, desc, copy.deepcopy(item))

@@ -36,11 +36,11 @@ class Fields:
     def at(self, key: str) -> str:
         return R.key_path(self.path, key)
 
-    def req(self, key: str, reader: Callable, *args) -> Any:
+    def req(self, key: str, reader: Callable, *args: Any) -> Any:
         self.values[key] = reader(self.obj[key], self.at(key), *args)
         return self.values[key]
 
-    def opt(self, key: str, reader: Callable, *args, default: Any = None) -> Any:
+    def opt(self, key: str, reader: Callable, *args: Any, default: Any = None) -> Any:
         self.values[key] = reader(self.obj[key], self.at(key), *args) if key in self.obj else default
         return self.values[key]
 
@@ -140,6 +140,7 @@ def _interpolate(f: Fields):
 
 def _join(f: Fields):
     P = f.curve("curve", bezier=True)
+    assert isinstance(P, BezierCurve)           # the resolver checked it (bezier=True)
     rest = f.opt("rest_points", R.points, 0, (P.dim,))
     return join(P, rest, f.opt("continuity", R.choice, CONTINUITIES, default="G1"),
                 f.opt("alpha", R.number, default=1.0), f.opt("beta", R.number, default=0.0))

@@ -96,7 +96,8 @@ def _xyz(p, dim: int) -> tuple:
 
 
 # --- engine -> OCCT -------------------------------------------------------------------------
-def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False, analytic: bool = False):
+def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False,
+           analytic: bool = False) -> Union[Geom_Curve, Geom2d_Curve, Geom_Surface]:
     """The exact OCCT geometry of an engine curve or surface.
 
     Curves give ``Geom_BSplineCurve`` (2-D curves with z = 0; ``plane=True`` gives a
@@ -230,7 +231,8 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
     raise CagdError(f"geom: expected an OCCT Geom curve/surface, edge or face, got {type(geom).__name__}")
 
 
-def _from_shape(shape, dim: int, oriented: bool, approximate: Optional[float]):
+def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
+                approximate: Optional[float]) -> Union[BSplineCurve, BSplineSurface]:
     """An edge's curve on the edge's parameter range; a face's surface on the face's
     UV bounding box (the whole surface when that is its natural domain)."""
     reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
@@ -261,8 +263,8 @@ def _from_shape(shape, dim: int, oriented: bool, approximate: Optional[float]):
         U0, U1, V0, V1 = surface.Bounds()
         if not (_covers(U0, U1, u0, u1) and _covers(V0, V1, v0, v1)):
             surface = Geom_RectangularTrimmedSurface(surface, u0, u1, v0, v1)
-        out = _surface_from_bspline(_as_bspline_surface(surface, approximate))
-        return out.reversed("u") if reversed_ else out
+        surf = _surface_from_bspline(_as_bspline_surface(surface, approximate))
+        return surf.reversed("u") if reversed_ else surf
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 

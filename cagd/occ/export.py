@@ -19,6 +19,7 @@ from OCP.TopAbs import TopAbs_FACE
 
 from .._progress import Progress
 from ..errors import CagdError
+from ..model.loader import Entry, Model
 from ..surfaces.properties import enclosed_volume
 from .files import read_iges, read_step, write_iges, write_step
 from .shapes import check_valid, make_edge, make_face, solid_from_surfaces, subshapes, volume
@@ -49,7 +50,7 @@ class SolidCheck:
         return abs(abs(self.volume_engine) - self.volume_exact) / self.volume_exact
 
 
-def closed_form_volume(entry) -> Optional[float]:
+def closed_form_volume(entry: Entry) -> Optional[float]:
     """4/3 pi a b c (ellipsoid), 4/3 pi r^3 (sphere), 2 pi^2 R r^2 (torus); else None."""
     src = entry.source
     if entry.type == "ellipsoid":
@@ -107,7 +108,7 @@ class ExportResult:
         return "\n".join(out) + "\n"
 
 
-def export_model(model, step: Optional[Path] = None, iges: Optional[Path] = None, samples: int = 41,
+def export_model(model: Model, step: Optional[Path] = None, iges: Optional[Path] = None, samples: int = 41,
                  progress: bool = True, tol: Optional[float] = None, file_tol: float = 1e-9,
                  volume_tol: float = 1e-9) -> ExportResult:
     """Write the exported entries of a loaded model (:func:`cagd.model.load_model`) to

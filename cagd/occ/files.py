@@ -18,9 +18,8 @@ import unicodedata
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, Iterable, List, Tuple, Union
+from typing import Dict, Iterable, List, Tuple, Union, overload
 
-import numpy as np
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
 from OCP.IGESSelect import IGESSelect_WorkLibrary
@@ -112,6 +111,14 @@ def _named(objects) -> List[Tuple[str, Item]]:
     if not out:
         raise CagdError("objects: nothing to write")
     return out
+
+
+@overload
+def _exchange_form(obj: Curve) -> BSplineCurve: ...
+
+
+@overload
+def _exchange_form(obj: Surface) -> BSplineSurface: ...
 
 
 def _exchange_form(obj: Union[Curve, Surface]) -> Union[BSplineCurve, BSplineSurface]:

@@ -274,7 +274,8 @@ def _own_form(obj, nurbs, s: _Samples, ref, tol: float) -> StageResult:
     patches evaluate through their NURBS form, so for them the points come from the
     direct Bernstein sum (seed 000, 5.2.1) instead."""
     if isinstance(obj, (BezierCurve, BezierSurface)):
-        mine = _pad3(obj.bernstein_evaluate(s.t) if s.curve else obj.bernstein_evaluate(s.uv[:, 0], s.uv[:, 1]))
+        mine = _pad3(obj.bernstein_evaluate(s.t) if isinstance(obj, BezierCurve)
+                     else obj.bernstein_evaluate(s.uv[:, 0], s.uv[:, 1]))
         return StageResult("to_nurbs", {"points": float(np.abs(mine - ref["points"]).max() / s.size)}, tol,
                            "Bernstein sum")
     if isinstance(obj, Surface) and not obj.rectangular:

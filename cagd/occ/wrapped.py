@@ -13,10 +13,10 @@ build123d Sketch holding 0 faces``.
 """
 from __future__ import annotations
 
-from typing import List
+from typing import List, Optional
 
 from OCP.BRep import BRep_Builder
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_ShapeEnum
 from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape
 
 from ..errors import CagdError
@@ -32,14 +32,14 @@ def _root(obj) -> str:
     return type(obj).__module__.split(".")[0]
 
 
-def library(obj) -> str:
+def library(obj: object) -> str:
     """The library an object comes from, by its module: "CadQuery", "build123d",
     "OCCT" (OCP), else the top-level module's name ("" for builtins)."""
     root = _root(obj)
     return LIBRARIES.get(root, "" if root == "builtins" else root)
 
 
-def describe(obj) -> str:
+def describe(obj: object) -> str:
     """The library and type of an object for messages: "a build123d Sketch", "a
     CadQuery Workplane", "numpy ndarray", "str"."""
     lib, name = library(obj), type(obj).__name__
@@ -62,7 +62,7 @@ def _inner(obj):
         return None
 
 
-def _members(obj) -> list:
+def _members(obj) -> Optional[list]:
     """What a container of the two libraries holds: a Workplane's stack, a CadQuery
     Sketch's faces, a build123d builder's result; None for anything else."""
     root = _root(obj)
@@ -78,7 +78,7 @@ def _members(obj) -> list:
     return None
 
 
-def is_shape(obj) -> bool:
+def is_shape(obj: object) -> bool:
     """Whether ``obj`` is a shape or shape container this module unwraps (not whether
     it holds any shape)."""
     if isinstance(obj, TopoDS_Shape):
@@ -104,7 +104,7 @@ def _found(obj) -> list:
     return [inner] if isinstance(inner, TopoDS_Shape) and not inner.IsNull() else []
 
 
-def occ_shapes(obj, name: str = "shape") -> List[TopoDS_Shape]:
+def occ_shapes(obj: object, name: str = "shape") -> List[TopoDS_Shape]:
     """The non-null OCCT shapes of ``obj`` (one, or the several of a Workplane stack).
 
     Raises:
@@ -133,7 +133,7 @@ def compound(shapes: List[TopoDS_Shape]) -> TopoDS_Shape:
     return out
 
 
-def occ_shape(obj, name: str = "shape") -> TopoDS_Shape:
+def occ_shape(obj: object, name: str = "shape") -> TopoDS_Shape:
     """The OCCT shape of ``obj``; several (a Workplane's stack) as one compound.
 
     Raises:
@@ -145,7 +145,7 @@ def occ_shape(obj, name: str = "shape") -> TopoDS_Shape:
 _KINDS = {TopAbs_FACE: ("a face", "faces"), TopAbs_EDGE: ("an edge", "edges")}
 
 
-def occ_subshapes(obj, kind, name: str) -> list:
+def occ_subshapes(obj: object, kind: TopAbs_ShapeEnum, name: str) -> List[TopoDS_Shape]:
     """The OCCT faces (``kind`` TopAbs_FACE) or edges (TopAbs_EDGE) of ``obj``.
 
     Raises:
@@ -159,13 +159,13 @@ def occ_subshapes(obj, kind, name: str) -> list:
     return found
 
 
-def occ_faces(obj, name: str = "faces") -> list:
+def occ_faces(obj: object, name: str = "faces") -> List[TopoDS_Shape]:
     """The OCCT faces of ``obj`` (a face, or the faces of a shell, solid, compound,
     sketch, part or Workplane stack); see :func:`occ_subshapes`."""
     return occ_subshapes(obj, TopAbs_FACE, name)
 
 
-def occ_edges(obj, name: str = "curves") -> list:
+def occ_edges(obj: object, name: str = "curves") -> List[TopoDS_Shape]:
     """The OCCT edges of ``obj`` (an edge, or the edges of a wire, curve, face, ...);
     see :func:`occ_subshapes`."""
     return occ_subshapes(obj, TopAbs_EDGE, name)

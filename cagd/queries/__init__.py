@@ -12,5 +12,6 @@ from .intersect import IntersectionPoint, IntersectionResult, Overlap, Plane, in
 from .intersect_surfaces import IntersectionCurve, SurfaceOverlap
 
 __all__ = ["closest_point", "ClosestPoints", "Projector", "min_distance", "DistanceResult", "intersect",
-           "self_intersections", "plane", "Plane", "IntersectionResult", "IntersectionPoint", "Overlap", "IntersectionCurve", "SurfaceOverlap",
+           "self_intersections", "plane", "Plane", "IntersectionResult", "IntersectionPoint", "Overlap",
+           "IntersectionCurve", "SurfaceOverlap",
            "deviation", "deviation_map", "Deviation", "bezier_pieces", "BezierPieces"]

@@ -15,7 +15,7 @@ def degenerate(S: System, x) -> bool:
     """x lies where a surface's parametrization collapses (a pole, an apex, a
     triangle's collapsed corner): a first partial vanishes there."""
     xw = S.wrap(np.asarray(x, float)[None])
-    for k, g in enumerate((S.A, S.B)[:S.n // 2]):
+    for k, g in enumerate(g for g in (S.A, S.B) if g is not None):
         d = S._partials(k, xw[:, 2 * k:2 * k + 2])[1][0]
         if np.linalg.norm(d, axis=1).min() <= 1e-8 * g.size:
             return True
@@ -165,6 +165,7 @@ def _foot(S: System, k: int, C: np.ndarray, uv: np.ndarray, iters: int = 6):
     start = np.linalg.norm(p0 - C, axis=1)
     best = start.copy()
     g = (S.A, S.B)[k]
+    assert g is not None                        # k = 1 only with a second surface
     for _ in range(iters):
         p, d = S._partials(k, uv)
         best = np.minimum(best, np.linalg.norm(C - p, axis=1))

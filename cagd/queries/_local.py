@@ -36,7 +36,7 @@ def _solve(Hf, Hg, grad: np.ndarray, fixed: np.ndarray) -> np.ndarray:
         hg = Hg[0] * (1.0 + 1e-12) + 1e-300
         h = np.where(h > 0, h, hg)
         return (-g[0] / h)[None]
-    out, use_gn = None, None             # the shifted (Gauss-Newton) step where the Newton one is not a descent
+    steps = []
     f0, f1 = fixed[0], fixed[1]
     either = f0 | f1
     for H, shift in ((Hf, 0.0), (Hg, 1e-12)):
@@ -49,8 +49,9 @@ def _solve(Hf, Hg, grad: np.ndarray, fixed: np.ndarray) -> np.ndarray:
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.stack([(b * g[1] - c * g[0]) / det, (b * g[0] - a * g[1]) / det])
         pd = (a > 0) & (det > 0) & np.isfinite(step).all(0)
-        out = step if out is None else np.where(use_gn, step, out)
-        use_gn = ~pd
+        steps.append((step, pd))
+    (newton, descent), (shifted, _) = steps
+    out = np.where(descent, newton, shifted)    # the shifted (Gauss-Newton) step where the Newton one is not a descent
     return np.where(np.isfinite(out), out, 0.0)
 
 
@@ -498,7 +499,11 @@ class PowerTable:
             self._store(parts, S, J, H, sl, order)
         if order == 0:
             return S.T
-        return (S.T, J.T) if order == 1 else (S.T, J.T, H.T)
+        assert J is not None
+        if order == 1:
+            return S.T, J.T
+        assert H is not None
+        return S.T, J.T, H.T
 
     def _chunk(self, x, order, index=None):
         """Per homogeneous coordinate, the partials in the object's parameters: curves

@@ -79,7 +79,7 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
     F[flip] = F[flip][:, [1, 0] + list(range(2 + kb, 2 + 2 * kb)) + list(range(2, 2 + kb))]
     F = F[np.argsort(F[:, 0])]
     ea, eb = 1e-9 * (A.hi[0] - A.lo[0]), 1e-9 * (B.hi[0] - B.lo[0])
-    groups = []
+    groups: List[List[float]] = []
     for f in F:
         for g in groups:
             if kb == 1:
@@ -93,32 +93,34 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
                 break
         else:
             groups.append(list(f))
-    out = []
+    out: List[Overlap] = []
     for g in groups:
         s0, s1 = g[0], g[1]
         t0, t1 = np.array(g[2:2 + kb]), np.array(g[2 + kb:])
         h = 0.25 * (s1 - s0)
         s0, t0, found0 = _edge(A, B, s0, t0, -1.0, h, tol, self_mode)
         s1, t1, found1 = _edge(A, B, s1, t1, 1.0, h, tol, self_mode)
-        end = {} if found0 and found1 else {"converged": False, "message": UNSETTLED}
+        settled = bool(found0 and found1)
+        message = "" if settled else UNSETTLED
         s0, t0 = _snap(A, B, s0, t0)
         s1, t1 = _snap(A, B, s1, t1)
         if kb == 2:
             if out and s0 <= out[-1].param_a[1] + ea:      # grown into the previous one
                 if s1 > out[-1].param_a[1]:
                     out[-1] = Overlap((out[-1].param_a[0], float(s1)), (out[-1].param_b[0], B.user_params(t1[None])[0]),
-                                      **end)
+                                      settled, message)
                 continue
             u0, u1 = B.user_params(np.array([t0, t1]))
-            out.append(Overlap((float(s0), float(s1)), (u0, u1), **end))
+            out.append(Overlap((float(s0), float(s1)), (u0, u1), settled, message))
             continue
         if self_mode and t0[0] < s0:
             continue                  # the same overlap seen from its other side
-        out.append(Overlap((float(s0), float(s1)), (float(t0[0]), float(t1[0])), **end))
+        out.append(Overlap((float(s0), float(s1)), (float(t0[0]), float(t1[0])), settled, message))
     return out
 
 
-def _edge(A, B, s_in: float, t_in: float, sign: float, h: float, tol: float, self_mode: bool):
+def _edge(A, B, s_in: float, t_in: np.ndarray, sign: float, h: float, tol: float, self_mode: bool
+          ) -> Tuple[float, np.ndarray, bool]:
     """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
     still lies within tol of B: march by steps h, 2h, 4h, ..., then 60 bisections.
     Returns (s, t, found): found is False when 16 steps neither left B nor reached the

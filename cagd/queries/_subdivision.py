@@ -14,7 +14,7 @@ Numerical Optimization, 3.4 and 16.7), vectorized over all candidates.
 """
 from __future__ import annotations
 
-from typing import NamedTuple, Tuple
+from typing import NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -37,11 +37,11 @@ class Pieces(NamedTuple):
     def k(self) -> int:
         return self.ctrl.ndim - 2
 
-    def take(self, index) -> "Pieces":
+    def take(self, index: Union[np.ndarray, slice]) -> "Pieces":
         return Pieces(self.ctrl[index], self.lo[index], self.hi[index])
 
     @staticmethod
-    def concat(parts) -> "Pieces":
+    def concat(parts: Sequence["Pieces"]) -> "Pieces":
         return Pieces(*(np.concatenate([getattr(q, f) for q in parts]) for f in ("ctrl", "lo", "hi")))
 
 
@@ -52,7 +52,7 @@ class Geometry:
     the same as homogeneous arrays for the pair subdivision) and vectorized
     derivatives evaluated on the pieces."""
 
-    def __init__(self, obj, name: str):
+    def __init__(self, obj: Union[Curve, Surface], name: str):
         if isinstance(obj, Curve):
             self.k = 1
         elif isinstance(obj, Surface):
@@ -83,9 +83,11 @@ class Geometry:
         wrapped = wrap(x, self.lo, span)
         return np.where(self.periodic, wrapped, np.clip(x, self.lo, self.hi))
 
-    def derivatives(self, x: np.ndarray, order: int, rows=None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Point (N, D), first derivatives (N, k, D) and, if order == 2, second
-        derivatives (N, k, k, D) at parameters x (N, k) inside the domain."""
+    def derivatives(self, x: np.ndarray, order: int, rows: Optional[np.ndarray] = None
+                    ) -> Tuple[np.ndarray, Optional[np.ndarray], Optional[np.ndarray]]:
+        """Point (N, D), first derivatives (N, k, D) if order >= 1 and second
+        derivatives (N, k, k, D) if order == 2 (else None) at parameters x (N, k) inside
+        the domain."""
         x = self.clamp(x)
         d = self.bezier.derivatives(self.bezier.locate(x), x, order)
         if self.k == 1:
@@ -120,7 +122,7 @@ class Geometry:
         return x.copy()
 
 
-def _hom(P: np.ndarray, w) -> np.ndarray:
+def _hom(P: np.ndarray, w: Optional[np.ndarray]) -> np.ndarray:
     w = np.ones(P.shape[:-1]) if w is None else np.asarray(w, dtype=float)
     return np.concatenate([P * w[..., None], w[..., None]], axis=-1)
 
@@ -219,7 +221,7 @@ def split_modes(ctrl: np.ndarray) -> np.ndarray:
     return np.where(lu > 2 * lv, 1, np.where(lv > 2 * lu, 2, 0))
 
 
-def split(p: Pieces, modes: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
+def split(p: Pieces, modes: Optional[np.ndarray] = None) -> Tuple[Pieces, np.ndarray]:
     """Halve every piece: curves into 2 children, surfaces into 4 (both directions) or,
     where ``modes`` (default :func:`split_modes`) says so, 2 (one direction). Returns
     the children and the parent index of each child."""
@@ -252,8 +254,8 @@ def split(p: Pieces, modes: np.ndarray = None) -> Tuple[Pieces, np.ndarray]:
     return Pieces.concat([q[0] for q in parts]), np.concatenate([q[1] for q in parts])
 
 
-def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray, modes_a: np.ndarray = None,
-                modes_b: np.ndarray = None) -> Tuple[Pieces, Pieces, np.ndarray]:
+def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray, modes_a: Optional[np.ndarray] = None,
+                modes_b: Optional[np.ndarray] = None) -> Tuple[Pieces, Pieces, np.ndarray]:
     """Children of the pairs (a[i], b[i]): a piece flagged in split_a (split_b) is
     halved (:func:`split`, surface patches as ``modes_a`` (``modes_b``) say per pair,
     default :func:`split_modes`), the other kept, and every child of a is paired with every
@@ -287,7 +289,7 @@ def monotone(ctrl: np.ndarray) -> np.ndarray:
 
 
 # --- local refinement -------------------------------------------------------------------------
-def refine(A: Geometry, B: Geometry, x: np.ndarray, y: np.ndarray, full_hessian: bool,
+def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.ndarray, full_hessian: bool,
            iters: int = 40) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Minimize f = |A(x) - B(y)|^2 / 2 from the starts (x, y) (N, k_a), (N, k_b).
 
@@ -378,7 +380,8 @@ class FixedPoints:
     def __init__(self, pts: np.ndarray):
         self.pts = pts
 
-    def derivatives(self, x: np.ndarray, order: int, rows=None):
+    def derivatives(self, x: np.ndarray, order: int, rows: Optional[np.ndarray] = None
+                    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         pts = self.pts if rows is None else self.pts[rows]
         N, D = pts.shape
         return pts, np.zeros((N, 0, D)), np.zeros((N, 0, 0, D))

@@ -44,6 +44,7 @@ def distances(G: sd.Geometry, H, pl, x: np.ndarray, seed: Optional[np.ndarray]):
     if H is None:
         o, nrm = pl
         return np.abs((P - o) @ nrm), None
+    assert seed is not None                     # the callers seed every projection onto H
     y, d = sd.project_onto(H, P, seed)
     return d, y
 
@@ -168,11 +169,12 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
         return []
     B = np.concatenate(boxes)
     Y = np.concatenate(seeds) if H is not None else None
-    out, grown = [], []
+    out: List[SurfaceOverlap] = []
+    grown: List[np.ndarray] = []
     for comp in _components(B):
         centre = 0.5 * (comp[:2] + comp[2:])
         y0 = None
-        if H is not None:
+        if Y is not None:
             mids = 0.5 * (B[:, :2] + B[:, 2:])
             y0 = Y[np.argmin(np.linalg.norm(mids - centre, axis=1))]
         box, found = _grow(G, H, pl, comp, y0, tol)
@@ -189,9 +191,12 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
             valid = np.all(speed > 1e-8 * H.size, axis=1).reshape(7, 7)
             lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed, valid)
             bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
-        end = {} if found else {"converged": False, "message": "an edge of the box was not located: the overlap "
-                                                                "may extend further"}
-        out.append(SurfaceOverlap(bb, ba, **end) if swap else SurfaceOverlap(ba, bb, **end))
+        message = "" if found else "an edge of the box was not located: the overlap may extend further"
+        if swap:
+            assert bb is not None                   # swapped only between two surfaces
+            out.append(SurfaceOverlap(bb, ba, bool(found), message))
+        else:
+            out.append(SurfaceOverlap(ba, bb, bool(found), message))
     return out
 
 

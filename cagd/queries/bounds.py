@@ -19,9 +19,10 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from math import comb, factorial
-from typing import Dict, Optional, Tuple
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union, cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..curves.base import Curve, rational_derivatives
 from ..errors import CagdError
@@ -163,20 +164,21 @@ class BezierPieces:
         return index
 
     # --- refinement --------------------------------------------------------------------
-    def subdivided(self, counts) -> "BezierPieces":
+    def subdivided(self, counts: Union[int, Sequence[ArrayLike]]) -> "BezierPieces":
         """Every piece cut into equal parts per direction, by restriction matrices on the
         homogeneous control points. ``counts``: an int (all directions), or one entry per
         direction, each an int or an array giving the parts of every piece index along
         that direction (pieces stay on a tensor grid)."""
         k, shape = self.k, self.shape
         if np.isscalar(counts):
-            counts = [counts] * k
-        counts = list(counts)
-        if len(counts) != k:
-            raise CagdError(f"counts: expected {k} entries (one per direction), got {len(counts)}")
+            entries: List[ArrayLike] = [counts] * k
+        else:                           # numpy's isscalar narrows only its True branch
+            entries = list(cast("Sequence[ArrayLike]", counts))
+        if len(entries) != k:
+            raise CagdError(f"counts: expected {k} entries (one per direction), got {len(entries)}")
         per = []
-        for a, c in enumerate(counts):
-            c = np.asarray(c)
+        for a, entry in enumerate(entries):
+            c = np.asarray(entry)
             if c.ndim == 0:
                 c = np.full(shape[a], c)
             if c.shape != (shape[a],) or not np.all(c == np.round(c)) or c.min() < 1:
@@ -202,11 +204,10 @@ class BezierPieces:
             breaks.append(np.concatenate([np.linspace(b[i], b[i + 1], int(c[i]) + 1)[:-1] for i in range(len(b) - 1)]
                                          + [b[-1:]]))
         hom = hom.reshape((-1,) + hom.shape[k:])
-        breaks = tuple(breaks)
         if self.weights is None:
-            return BezierPieces(hom, None, breaks, self.periodic)
+            return BezierPieces(hom, None, tuple(breaks), self.periodic)
         w = hom[..., -1]
-        return BezierPieces(hom[..., :-1] / w[..., None], w, breaks, self.periodic)
+        return BezierPieces(hom[..., :-1] / w[..., None], w, tuple(breaks), self.periodic)
 
     # --- bounds ------------------------------------------------------------------------
     def hull_boxes(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -308,7 +309,7 @@ class BezierPieces:
         return self.__dict__["_hom"]
 
 
-def _tensors(B: Dict[Tuple[int, ...], np.ndarray], m: int, k: int):
+def _tensors(B: Dict[Tuple[int, ...], np.ndarray], m: int, k: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Multi-index bounds as symmetric tensors (m, k), (m, k, k), (m, k, k, k)."""
     out = []
     for order in (1, 2, 3):
@@ -318,11 +319,11 @@ def _tensors(B: Dict[Tuple[int, ...], np.ndarray], m: int, k: int):
             if al in B:
                 T[(slice(None),) + idx] = B[al]
         out.append(T)
-    return out
+    return out[0], out[1], out[2]
 
 
-def closed_directions(value, lo: np.ndarray, hi: np.ndarray, periodic: np.ndarray, size: float,
-                      samples: int = 9) -> np.ndarray:
+def closed_directions(value: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray,
+                      periodic: np.ndarray, size: float, samples: int = 9) -> np.ndarray:
     """Directions (k,) where an object with parameter box [lo, hi] and evaluator
     ``value`` (N, k) -> (N, D) is periodic or closes on itself (a seam: a clamped closed
     curve's ends, a revolved surface's longitude), so that parameters on both sides of
@@ -343,7 +344,7 @@ def closed_directions(value, lo: np.ndarray, hi: np.ndarray, periodic: np.ndarra
     return out
 
 
-def bezier_pieces(obj) -> BezierPieces:
+def bezier_pieces(obj: Union[Curve, Surface]) -> BezierPieces:
     """The Bezier decomposition of an engine curve or surface (through ``to_nurbs()``).
 
     A Bezier triangle decomposes through its collapsed-edge NURBS form, whose
@@ -363,7 +364,7 @@ def bezier_pieces(obj) -> BezierPieces:
     raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
 
 
-def _euclidean(hom: np.ndarray, rational: bool):
+def _euclidean(hom: np.ndarray, rational: bool) -> Tuple[np.ndarray, Optional[np.ndarray]]:
     """(control points, weights or None) of homogeneous nets."""
     if not rational:
         return np.ascontiguousarray(hom), None

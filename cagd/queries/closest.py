@@ -28,10 +28,11 @@ it, so ``distances - lower_bounds`` tells how sure the answer is.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Optional
+from typing import List, Optional, Tuple, Union
 import weakref
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks, _periodic as periodic
 from .._deprecation import changed
@@ -93,7 +94,7 @@ class Projector:
             (see :func:`_cell_counts`).
     """
 
-    def __init__(self, obj, cells: Optional[int] = None):
+    def __init__(self, obj: Union[Curve, Surface], cells: Optional[int] = None):
         if not isinstance(obj, (Curve, Surface)):
             raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
         self.triangle = isinstance(obj, Surface) and not obj.rectangular
@@ -153,7 +154,7 @@ class Projector:
     def _lead(self, d: np.ndarray) -> np.ndarray:
         return d[0] if self.k == 1 else d[0, 0]
 
-    def evaluate(self, x: np.ndarray, order: int, piece: Optional[np.ndarray] = None):
+    def evaluate(self, x: np.ndarray, order: int, piece: Optional[np.ndarray] = None) -> Tuple[np.ndarray, ...]:
         """S, J (n, dim, k) and, for order 2, the second partials (n, dim, k, k) at x (n, k);
         ``piece``: the flat Bezier pieces to evaluate (one-sided partials on a boundary)."""
         if self._power is not None:
@@ -273,7 +274,8 @@ class Projector:
             seed[i] = (((X[i][:, None, :] - self.mid_points[None]) ** 2).sum(-1)).argmin(axis=1)
         return seed
 
-    def candidates(self, X: np.ndarray, d: np.ndarray, vid: np.ndarray, start: np.ndarray, count: np.ndarray):
+    def candidates(self, X: np.ndarray, d: np.ndarray, vid: np.ndarray, start: np.ndarray, count: np.ndarray
+                   ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The (point, cell) pairs whose sphere bound is below d (the distance found), with
         those bounds, and per point a lower bound over all cells left out.
 
@@ -310,12 +312,15 @@ class Projector:
                 i = far[c0:c0 + chunk]
                 lbs = np.sqrt(((X[i][:, None, :] - self.centers[None]) ** 2).sum(-1)) - self.radii[None]
                 a, c = np.nonzero(lbs < d[i][:, None])
-                P.append(i[a]), C.append(c), B.append(lbs[a, c])
+                P.append(i[a])
+                C.append(c)
+                B.append(lbs[a, c])
             pid, cell, lb = np.concatenate(P), np.concatenate(C), np.concatenate(B)
         return pid, cell, lb, rest
 
     # --- queries -----------------------------------------------------------------------------
-    def _stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]):
+    def _stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]
+                         ) -> Tuple[Optional[float], Optional[float]]:
         """(tol, param_tol) validated: ``tol`` a distance (default CLOSEST_TOL * size when
         neither is given), ``param_tol`` relative to the parameter range; None: unused."""
         if tol is None and param_tol is None:
@@ -323,20 +328,22 @@ class Projector:
         return (None if tol is None else _checks.positive(tol, "tol"),
                 None if param_tol is None else _checks.positive(param_tol, "param_tol"))
 
-    def closest(self, points, tol: Optional[float] = None, max_iterations: int = 50, max_rounds: int = 40, *,
+    def closest(self, points: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, max_rounds: int = 40, *,
                 param_tol: Optional[float] = None) -> ClosestPoints:
         """The closest point of the object to every row of ``points`` (see :func:`closest_point`)."""
         if tol is not None:
             changed("Projector.closest", TOL_CHANGED)
         return self._closest(points, *self._stop_tolerances(tol, param_tol), max_iterations, max_rounds)
 
-    def _closest(self, points, tol, param_tol, max_iterations: int = 50, max_rounds: int = 40) -> ClosestPoints:
+    def _closest(self, points: ArrayLike, tol: Optional[float], param_tol: Optional[float], max_iterations: int = 50,
+                 max_rounds: int = 40) -> ClosestPoints:
         X = self._points(points)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         N = len(X)
         vid, vstart, vcount = self._voxels(X)
         seed = self.seeds(X, vstart, vcount)
-        dom_lo, dom_hi = np.broadcast_to(self.domain[:, 0], (N, self.k)), np.broadcast_to(self.domain[:, 1], (N, self.k))
+        dom_lo = np.broadcast_to(self.domain[:, 0], (N, self.k))
+        dom_hi = np.broadcast_to(self.domain[:, 1], (N, self.k))
         x, d2, conv, (Sx, Jx, Hx, xe) = projected_newton(self, X, np.arange(N), self._start(X, seed), dom_lo, dom_hi,
                                                      self.wrap, max_iterations, tol, param_tol)
         d = np.sqrt(d2)
@@ -421,7 +428,7 @@ class Projector:
         LB = np.minimum(LB * (1.0 - 1e-13), d)
         return self._result(x, d, conv, LB)
 
-    def local_minima(self, point, tol: Optional[float] = None, max_iterations: int = 50, *,
+    def local_minima(self, point: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, *,
                      param_tol: Optional[float] = None) -> ClosestPoints:
         """Every local minimum of the distance from one point: box-constrained Newton in
         every cell, kept where the gradient vanishes (or points into the domain at its
@@ -430,7 +437,8 @@ class Projector:
             changed("Projector.local_minima", TOL_CHANGED)
         return self._local_minima(point, *self._stop_tolerances(tol, param_tol), max_iterations)
 
-    def _local_minima(self, point, tol, param_tol, max_iterations: int = 50) -> ClosestPoints:
+    def _local_minima(self, point: ArrayLike, tol: Optional[float], param_tol: Optional[float],
+                      max_iterations: int = 50) -> ClosestPoints:
         X = self._points(point)
         if len(X) != 1:
             raise CagdError(f"points: all_minima needs exactly one point, got {len(X)}")
@@ -480,7 +488,7 @@ class Projector:
         # one row per foot point: a pole is one point for a whole edge of parameters, and
         # Newton stops within ~1e-7 of it there (the distance is flat along the edge)
         feet, dist = self.value(y[chosen]), np.sqrt(g2[chosen])
-        keep = []
+        keep: List[int] = []
         for i in range(len(chosen)):
             if not keep or not np.any((np.linalg.norm(feet[keep] - feet[i], axis=1) <= 1e-6 * self.size)
                                       & (np.abs(dist[keep] - dist[i]) <= 1e-12 * self.size)):
@@ -515,7 +523,7 @@ class Projector:
             inward = np.where(at_start, 1.0, -1.0) * 1e-4 * self.width[a]
             z = np.empty((rows.size, count, 2))
             z[:, :, a] = (y[rows, a] + inward)[:, None]
-            z[:, :, 1 - a] = np.linspace(*self.domain[1 - a], count)[None]
+            z[:, :, 1 - a] = np.linspace(self.domain[1 - a, 0], self.domain[1 - a, 1], count)[None]
             d2 = np.sum((self.value(z.reshape(-1, 2)).reshape(rows.size, count, -1) - X) ** 2, axis=-1)
             out[rows] = d2.min(axis=1) >= g2[rows] - 1e-12 * self.size ** 2
         return out
@@ -563,7 +571,7 @@ class Projector:
         S, J, H = self.evaluate(c, 2, self._cell_piece[cell])     # the cell's own piece
         return box_lower_bound(X[pid], lo, hi, c, S, J, H, self.L[cell], self.M[cell], self.T3[cell])
 
-    def _points(self, points) -> np.ndarray:
+    def _points(self, points: ArrayLike) -> np.ndarray:
         X = _checks.finite_array(points, "points")
         if X.ndim == 1:
             X = X[None]
@@ -586,7 +594,7 @@ class Projector:
         return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
 
 
-def _c2_breaks(pieces: BezierPieces):
+def _c2_breaks(pieces: BezierPieces) -> List[np.ndarray]:
     """Per direction, for every inner break: the object is C2 across it (all partials up
     to order 2 of the two neighbouring pieces agree, within 1e-10 of their size, at
     4 (degree + 1) points along the break on every piece across)."""
@@ -611,8 +619,8 @@ def _c2_breaks(pieces: BezierPieces):
         q = pieces.degrees[o]
         t = (np.arange(4 * (q + 1)) + 0.5) / (4 * (q + 1))
         bo = pieces.breaks[o]
-        i, j, tt = np.meshgrid(np.arange(n - 1), np.arange(shape[o]), t, indexing="ij")
-        i, j, tt = i.ravel(), j.ravel(), tt.ravel()
+        gi, gj, gt = np.meshgrid(np.arange(n - 1), np.arange(shape[o]), t, indexing="ij")
+        i, j, tt = gi.ravel(), gj.ravel(), gt.ravel()
         xo = bo[j] + tt * (bo[j + 1] - bo[j])
         xa = b[i + 1]
         X = np.stack([xa, xo], 1) if a == 0 else np.stack([xo, xa], 1)
@@ -710,7 +718,7 @@ def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: np.ndarr
             np.maximum.reduceat(step, first))
 
 
-def projector(obj) -> Projector:
+def projector(obj: Union[Curve, Surface]) -> Projector:
     """The cached :class:`Projector` of ``obj`` (rebuilt when the object is new)."""
     try:
         p = _CACHE.get(obj)
@@ -725,7 +733,7 @@ def projector(obj) -> Projector:
     return p
 
 
-def closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = None,
+def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,
                   max_iterations: int = 50, *, param_tol: Optional[float] = None) -> ClosestPoints:
     """Closest points of an engine curve or surface to N points, global and certified.
 
@@ -759,7 +767,7 @@ def closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = 
     return _closest_point(obj, points, all_minima, tol, param_tol, max_iterations)
 
 
-def _closest_point(obj, points, all_minima: bool = False, tol: Optional[float] = None,
+def _closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,
                    param_tol: Optional[float] = None, max_iterations: int = 50) -> ClosestPoints:
     """:func:`closest_point` without the notice on ``tol`` (for the engine's own callers)."""
     p = projector(obj) if isinstance(obj, (Curve, Surface)) else Projector(obj)

@@ -10,11 +10,13 @@ side and give unsigned distances.
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, Optional, Sequence
+from typing import Dict, List, Optional, Sequence, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._deprecation import changed
@@ -25,6 +27,8 @@ from ..surfaces.base import Surface
 from .closest import TOL_CHANGED, _closest_point
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
+
+Objects = Union[Curve, Surface, Sequence[Union[Curve, Surface]]]   # one object or the patches of a model
 
 
 @dataclass(frozen=True)
@@ -60,7 +64,7 @@ class Deviation(ReadOnlyArrays):
         return "\n".join(["| statistic | value |", "|---|---|"] + [f"| {a} | {b} |" for a, b in rows])
 
 
-def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional[np.ndarray]:
+def _signs(obj: Union[Curve, Surface], params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional[np.ndarray]:
     """+1/-1 per point from the normal at the foot, None where no side exists (space
     curves). Where the normal is undefined (:meth:`cagd.Surface.normals`: a pole, a
     collapsed edge) the point counts as +1."""
@@ -77,8 +81,8 @@ def _signs(obj, params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional
     return np.where(s == 0, 1.0, s)
 
 
-def _objects(obj) -> list:
-    objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
+def _objects(obj: Objects) -> list:
+    objs: list = list(obj) if isinstance(obj, (list, tuple)) else [obj]
     if not objs:
         raise CagdError("obj: no object given")
     for k, o in enumerate(objs):
@@ -90,7 +94,7 @@ def _objects(obj) -> list:
     return objs
 
 
-def deviation(obj, points, signed: Optional[bool] = None,
+def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
               percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: Optional[float] = None, *,
               param_tol: Optional[float] = None) -> Deviation:
     """Signed distances from ``points`` (N, dim) to a curve or surface (or to the nearest
@@ -120,22 +124,24 @@ def deviation(obj, points, signed: Optional[bool] = None,
     if np.any((pct < 0) | (pct > 100)):
         raise CagdError(f"percentiles: must lie in [0, 100], got {pct.tolist()}")
     X = np.atleast_2d(np.asarray(points, dtype=np.float64))
-    best = None
+    best: Optional[List[np.ndarray]] = None
+    is_signed = True
     for k, o in enumerate(objs):
         r = _closest_point(o, points, tol=tol, param_tol=param_tol)
         sign = _signs(o, r.params, r.feet, X) if signed is not False else None
         if signed and sign is None:
             raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
         d = r.distances if sign is None else sign * r.distances
-        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged, sign is not None]
+        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged]
+        is_signed = is_signed and sign is not None
         if best is None:
             best = fields
         else:
             closer = np.abs(d) < np.abs(best[0])
             for i in range(6):
                 best[i] = np.where(closer.reshape((-1,) + (1,) * (best[i].ndim - 1)), fields[i], best[i])
-            best[6] = best[6] and fields[6]
-    d, params, feet, lower, owner, conv, is_signed = best
+    assert best is not None                     # _objects gives at least one object
+    d, params, feet, lower, owner, conv = best
     bad = np.flatnonzero(~conv)
     message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "
                                        f"(first: index {int(bad[0])})")
@@ -145,8 +151,8 @@ def deviation(obj, points, signed: Optional[bool] = None,
                      not bad.size, message)
 
 
-def deviation_map(obj, points, path, result: Optional[Deviation] = None, title: str = "deviation",
-                  samples: int = 40) -> Path:
+def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike], result: Optional[Deviation] = None,
+                  title: str = "deviation", samples: int = 40) -> Path:
     """Write a PNG colour map of the deviations: the points coloured by signed distance
     (diverging colour map, symmetric about 0) over a wireframe of the surface(s) (or the
     curves), with a colour bar. Returns the path. matplotlib is imported here only."""

@@ -22,12 +22,14 @@ pair cap is reported as ``lower_bound``, so the true minimum lies in
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 
 from .. import _checks
+from ..curves.base import Curve
 from ..errors import CagdError
+from ..surfaces.base import Surface
 from . import _subdivision as sd
 from ._symmetry import FIT_RTOL, Flat, fit_flats, flat_gap
 
@@ -144,9 +146,11 @@ def _jet(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, order: in
     Hessian J J^T + S of |r|^2 / 2 (else None, None)."""
     pa, da, ha = A.derivatives(x, order)
     pb, db, hb = B.derivatives(y, order)
+    assert da is not None and db is not None                # order >= 1
     r, J = pa - pb, np.concatenate([da, -db], axis=1)
     if order < 2:
         return r, J, None, None
+    assert ha is not None and hb is not None
     k, ka = J.shape[1], A.k
     T = np.zeros((len(r), k, k, r.shape[1]))
     T[:, :ka, :ka], T[:, ka:, ka:] = ha, -hb
@@ -274,8 +278,8 @@ def _first_pairs(a: sd.Pieces, b: sd.Pieces, max_pairs: int, chunk: int = 1 << 2
     return ia, ib, floor
 
 
-def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_pairs: int = 20000,
-                 refine_per_level: int = 8) -> DistanceResult:
+def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Optional[float] = None, *,
+                 max_depth: int = 40, max_pairs: int = 20000, refine_per_level: int = 8) -> DistanceResult:
     """The global minimum distance between ``a`` and ``b`` (engine curves or surfaces of
     the same dimension), with a certified lower bound.
 
@@ -303,9 +307,13 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
     refine_per_level = _checks.integer(refine_per_level, "refine_per_level", 1, 4096)
     ia, ib, floor = _first_pairs(A.pieces, B.pieces, max_pairs)   # floor: bounds of pairs dropped at the cap
     pa, pb = A.pieces.take(ia), B.pieces.take(ib)
-    best, bx, by = np.inf, None, None
+    best = np.inf
+    bx: Optional[np.ndarray] = None
+    by: Optional[np.ndarray] = None
     settled = np.inf               # smallest bound among pairs settled (bound >= best - tol)
-    direction, flats, degenerate = None, [], False
+    direction: Optional[np.ndarray] = None
+    flats: List[Flat] = []
+    degenerate = False
     pool_p, pool_n, pool_d = np.empty((0, A.dim)), np.empty((0, A.dim)), np.empty(0)
     frac = np.mod(np.arange(1, refine_per_level + 1)[:, None] * _SPREAD[:A.k + B.k], 1.0)
     spread_a, spread_b = frac[:, :A.k], frac[:, A.k:]
@@ -389,6 +397,7 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
                                    None if modes_a is None else modes_a[fits],
                                    None if modes_b is None else modes_b[fits])
     # polish the best point (the Hessian test wants a stationary point)
+    assert bx is not None and by is not None                # the corners of the first level set them
     x, y, dist, _ = sd.refine(A, B, bx[None], by[None], True, 20)
     improve(x, y, dist)
     lower = min(lower, best)
@@ -399,7 +408,7 @@ def min_distance(a, b, tol: Optional[float] = None, *, max_depth: int = 40, max_
                           float(lower), tol, bool(converged), not degenerate, "" if converged else message)
 
 
-def _param(G: sd.Geometry, x: np.ndarray):
+def _param(G: sd.Geometry, x: np.ndarray) -> Union[float, np.ndarray]:
     u = G.user_params(x[None])[0]
     if G.k == 1:
         return float(u)

@@ -14,9 +14,10 @@ tangential roots are polished on the regular system r . B' = 0, A' x B' = 0.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import List, NamedTuple, Optional, Tuple
+from typing import Any, List, NamedTuple, Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._results import ReadOnlyArrays
@@ -62,7 +63,7 @@ class IntersectionResult:
     converged: bool = True
     message: str = ""
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("points", "overlaps", "curves"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
 
@@ -89,7 +90,7 @@ class Plane(NamedTuple):
     normal: np.ndarray
 
 
-def plane(origin, normal) -> Plane:
+def plane(origin: ArrayLike, normal: ArrayLike) -> Plane:
     """A validated :class:`Plane` (the normal is normalized)."""
     o = _checks.finite_array(origin, "origin", ndim=1)
     n = _checks.finite_array(normal, "normal", ndim=1)
@@ -101,8 +102,8 @@ def plane(origin, normal) -> Plane:
     return Plane(o, n / length)
 
 
-def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_depth: int = 64,
-              max_pairs: int = 20000) -> IntersectionResult:
+def intersect(a: Union[Curve, Surface, Plane], b: Union[Curve, Surface, Plane, None] = None, tol: float = 1e-9, *,
+              angle_tol: float = 1e-6, max_depth: int = 64, max_pairs: int = 20000) -> IntersectionResult:
     """All intersections of ``a`` and ``b`` (curve–curve in any dimension, curve–surface,
     curve–plane); ``b`` omitted: the self-intersections of the curve ``a``.
 
@@ -136,34 +137,33 @@ def intersect(a, b=None, tol: float = 1e-9, *, angle_tol: float = 1e-6, max_dept
     angle_tol = _checks.angle(angle_tol)
     max_depth = _checks.integer(max_depth, "max_depth", 1, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
-    opts = dict(tol=tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
     if b is None:
         if not isinstance(a, Curve):
             raise CagdError(f"a: self-intersection needs a cagd curve, got {type(a).__name__}")
-        return _run(sd.Geometry(a, "a"), None, **opts)
-    if isinstance(b, Plane) or isinstance(a, Plane):
-        if isinstance(a, Plane):
-            res = intersect(b, a, tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
-            return _swapped(res)
+        return _run(sd.Geometry(a, "a"), None, tol, angle_tol, max_depth, max_pairs)
+    if isinstance(a, Plane):
+        res = intersect(b, a, tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
+        return _swapped(res)
+    if isinstance(b, Plane):
         if isinstance(a, Surface):
             from .intersect_surfaces import surface_plane
             return surface_plane(a, b, tol, angle_tol=angle_tol, max_pairs=max_pairs)
         A = sd.Geometry(a, "a")
         if A.dim != 3:
             raise CagdError(f"a: a plane lives in 3-D, the curve is {A.dim}-D")
-        return _run(A, _plane_geometry(b, A), **opts)
+        return _run(A, _plane_geometry(b, A), tol, angle_tol, max_depth, max_pairs)
     A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")
     if A.dim != B.dim:
         raise CagdError(f"a, b: objects of different dimension ({A.dim}-D and {B.dim}-D)")
     if A.k == 2 and B.k == 1:
-        return _swapped(_run(B, A, **opts))
+        return _swapped(_run(B, A, tol, angle_tol, max_depth, max_pairs))
     if A.k == 2:
         from .intersect_surfaces import surface_surface
         return surface_surface(A, B, tol, angle_tol=angle_tol, max_pairs=max_pairs)
-    return _run(A, B, **opts)
+    return _run(A, B, tol, angle_tol, max_depth, max_pairs)
 
 
-def _extent(obj, name: str) -> float:
+def _extent(obj: object, name: str) -> float:
     """The largest extent of the control net's box (>= the object's own; cheap: no
     Bezier decomposition, which the query then does once)."""
     if not isinstance(obj, (Curve, Surface)):
@@ -172,7 +172,7 @@ def _extent(obj, name: str) -> float:
     return float(np.ptp(np.asarray(nurbs.control_points).reshape(-1, nurbs.dim), axis=0).max())
 
 
-def self_intersections(curve, tol: float = 1e-9, **kwargs) -> IntersectionResult:
+def self_intersections(curve: Curve, tol: float = 1e-9, **kwargs: Any) -> IntersectionResult:
     """Points where a curve meets itself (pairs s < t with curve(s) = curve(t)), and
     pieces where it runs over itself as overlaps; ``tol`` a distance in model units, as
     for :func:`intersect`. The closing point of a closed curve (start = end) and cusps
@@ -187,8 +187,8 @@ def sine_of(angle_tol: float) -> float:
 
 
 def _swapped(res: IntersectionResult) -> IntersectionResult:
-    pts = [replace(p, param_a=p.param_b, param_b=p.param_a) for p in res.points]
-    ovs = [replace(o, param_a=o.param_b, param_b=o.param_a) for o in res.overlaps]
+    pts = tuple(replace(p, param_a=p.param_b, param_b=p.param_a) for p in res.points)
+    ovs = tuple(replace(o, param_a=o.param_b, param_b=o.param_a) for o in res.overlaps)
     return replace(res, points=pts, overlaps=ovs)
 
 
@@ -244,7 +244,7 @@ def _sine(da: np.ndarray, db: np.ndarray, curve_surface: bool) -> np.ndarray:
 def _run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, max_depth: int,
          max_pairs: int) -> IntersectionResult:
     self_mode = B is None
-    Bg = A if self_mode else B
+    Bg = A if B is None else B
     pa, pb, kind = _initial_pairs(A, B, tol)
     size = max(A.size, Bg.size)
     tiny = max(_TINY * size, 10 * tol)
@@ -342,6 +342,7 @@ def _contact(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray) -> np
     the sine of the angle) or t . n (curve-surface), shape (N, c)."""
     _, da, _ = A.derivatives(x, 1)
     _, db, _ = B.derivatives(y, 1)
+    assert da is not None and db is not None
     ta = da[:, 0] / np.maximum(np.linalg.norm(da[:, 0], axis=1, keepdims=True), 1e-300)
     if B.k == 2:
         n = np.cross(db[:, 0], db[:, 1])
@@ -415,7 +416,7 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> I
     overlaps = merge_overlaps(A, B, frags, tol, self_mode)
     message = f"{open_pairs} pairs still open at the depth/pair limit" if open_pairs else ""
     if not seeds:
-        return IntersectionResult([], overlaps, [], tol, not open_pairs, message)
+        return IntersectionResult((), tuple(overlaps), (), tol, not open_pairs, message)
     x0 = np.concatenate([s[0] for s in seeds])
     y0 = np.concatenate([s[1] for s in seeds])
     x, y, dist, _ = sd.refine(A, B, x0, y0, False, 40)
@@ -470,9 +471,9 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> I
         for i in order:
             pts.append(IntersectionPoint(_param(A, kept_x[i]), _param(B, kept_y[i]), 0.5 * (pa[i] + pb[i]),
                                          bool(sine[i] <= sine_of(angle_tol)), float(np.linalg.norm(pa[i] - pb[i]))))
-    return IntersectionResult(pts, overlaps, [], tol, not open_pairs, message)
+    return IntersectionResult(tuple(pts), tuple(overlaps), (), tol, not open_pairs, message)
 
 
-def _param(G: sd.Geometry, x: np.ndarray):
+def _param(G: sd.Geometry, x: np.ndarray) -> Union[float, np.ndarray]:
     u = G.user_params(x[None])[0]
     return float(u) if G.k == 1 else u

@@ -45,14 +45,17 @@ reduce them modulo the period to evaluate the surface
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import List, Optional, Tuple
+from typing import TYPE_CHECKING, List, Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._deprecation import deprecated
 from .._periodic import wrap
 from .._results import ReadOnlyArrays
+from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
+from ..surfaces.base import Surface
 from . import _subdivision as sd
 from . import _surface_overlaps as so
 from ._branch_fit import degenerate as _degenerate, fit as _fit
@@ -60,7 +63,12 @@ from ._marching import Marcher, segments_distance
 from ._surface_overlaps import SurfaceOverlap
 from ._surface_system import System, newton, unit
 
+if TYPE_CHECKING:
+    from .intersect import IntersectionResult, Plane
+
 __all__ = ["IntersectionCurve", "SurfaceOverlap", "surface_plane", "surface_surface"]
+
+Domain = Tuple[np.ndarray, np.ndarray, np.ndarray]   # (lo, hi, closed) of a surface's parameters
 
 _SEED_FRACTION = 1.0 / 16      # leaves of the seed subdivision: at most this fraction of the model size
 _REL_FLAT = 2e-2
@@ -88,15 +96,15 @@ class IntersectionCurve(ReadOnlyArrays):
     parameters reduced into the domains. Through a collapsed edge (a pole, an apex) the
     parameter curves run along the edge on a parameter interval of width <= 0.1 tol /
     length, where the 3-D curve is within 0.1 tol of the degenerate point."""
-    curve: object
-    params_a: object
-    params_b: object
+    curve: BSplineCurve
+    params_a: BSplineCurve
+    params_b: Optional[BSplineCurve]
     closed: bool
     max_distance: float
     params_max_distance: float = 0.0
     converged: bool = True
     ends: Tuple[str, str] = ("closed", "closed")
-    domains: Tuple[object, object] = (None, None)
+    domains: Tuple[Optional[Domain], Optional[Domain]] = (None, None)
     message: str = ""
 
     @property
@@ -112,12 +120,12 @@ class IntersectionCurve(ReadOnlyArrays):
         deprecated("IntersectionCurve.params_tolerance", "use params_max_distance (the same value)")
         return self.params_max_distance
 
-    def surface_params(self, t) -> Tuple[np.ndarray, Optional[np.ndarray]]:
+    def surface_params(self, t: ArrayLike) -> Tuple[np.ndarray, Optional[np.ndarray]]:
         """(uv on a (N, 2), st on b (N, 2) or None for a plane) at curve parameters t,
         reduced into the surfaces' domains: u -> u0 + (u - u0) mod (u1 - u0) in closed
         directions, clipped to the domain otherwise."""
         t = np.atleast_1d(np.asarray(t, float))
-        out = []
+        out: List[Optional[np.ndarray]] = []
         for pc, dom in zip((self.params_a, self.params_b), self.domains):
             if pc is None:
                 out.append(None)
@@ -127,6 +135,7 @@ class IntersectionCurve(ReadOnlyArrays):
                 lo, hi, closed = dom
                 x = np.where(closed, wrap(x, lo, hi - lo), np.clip(x, lo, hi))
             out.append(x)
+        assert out[0] is not None                   # params_a is always there
         return out[0], out[1]
 
 
@@ -148,7 +157,8 @@ def _separated(pa: sd.Pieces, pb: sd.Pieces, tol: float) -> np.ndarray:
 def _children(pa: sd.Pieces, pb: sd.Pieces, split_a, split_b, tol: float, chunk: int = 2048):
     """Child pairs of the pairs (pa, pb) that are not proven apart, made a chunk of
     parents at a time so that the dead children of a large level never coexist."""
-    out_a, out_b = [], []
+    out_a: List[sd.Pieces] = []
+    out_b: List[sd.Pieces] = []
     for k in range(0, len(pa.ctrl), chunk):
         sl = slice(k, k + chunk)
         ca, cb, _ = sd.split_pairs(pa.take(sl), pb.take(sl), split_a[sl], split_b[sl])
@@ -164,7 +174,7 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
     size = max(A.size, B.size)
     leaf = _SEED_FRACTION * size
     seeds, complete = [], True
-    cov = ([], [], [], [])            # covered boxes of a, their params on b; the same for b
+    cov: Tuple[List[np.ndarray], ...] = ([], [], [], [])  # covered boxes of a, their params on b; the same for b
     for _ in range(40):
         if len(pa.ctrl) == 0:
             break
@@ -252,7 +262,7 @@ def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):
 
 
 def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, max_pairs: int,
-                    regions=()) -> Tuple[np.ndarray, List[np.ndarray]]:
+                    regions=()) -> Tuple[np.ndarray, List[np.ndarray], bool]:
     """Points where the boundary curves of each surface meet the other object (curve–
     surface subdivision of :mod:`cagd.queries.intersect`, rigorous down to its leaves):
     every branch that is not a closed loop ends on a boundary (or at a singular point),
@@ -358,7 +368,7 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
     x = x[ok][~flat]
     P = S.eval(x)[2] if len(x) else np.empty((0, 3))
     alive = np.ones(len(x), bool)
-    branches = []            # (xs (K, n), ends (start, end), other-side starts)
+    branches: List[tuple] = []            # (xs (K, n), ends (start, end), other-side starts)
     isolated = list(touches)
     problems = []
     for xs in edges:                  # boundary pieces lying on the other object
@@ -404,8 +414,8 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         Pb = S.eval(xs)[2]
         branches.append((xs, list(ends), Pb))
         if alive.any():
-            idx = np.flatnonzero(alive)
-            alive[idx[_absorbed(P[idx], [branches[-1]], M.ftol)]] = False
+            rest = np.flatnonzero(alive)
+            alive[rest[_absorbed(P[rest], [branches[-1]], M.ftol)]] = False
     return branches, isolated, problems
 
 
@@ -541,8 +551,8 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
                                         (doms[0], doms[1] if S.n == 4 else None), "; ".join(why)))
         if max(worst, worst_p) > tol:
             messages.append(f"a branch was fitted within {max(worst, worst_p):.2e} > tol")
-    points = []
-    seen = []
+    points: List[IntersectionPoint] = []
+    seen: List[np.ndarray] = []
     for x in isolated:
         F, J, P, na, nb, _ = S.eval(x[None])
         if items and _absorbed(P, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol)[0]:
@@ -570,10 +580,11 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     if not complete:
         messages.append("the seed subdivision (or a boundary curve's) hit max_pairs")
     converged = not messages
-    return IntersectionResult(points, regions, curves, tol, converged, "; ".join(messages))
+    return IntersectionResult(tuple(points), tuple(regions), tuple(curves), tol, converged, "; ".join(messages))
 
 
-def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
+def surface_surface(a: Union[Surface, sd.Geometry], b: Union[Surface, sd.Geometry], tol: float, angle_tol: float = 1e-6,
+                    max_pairs: int = 20000) -> IntersectionResult:
     """Intersection curves of two surfaces (see the module docstring); returns an
     :class:`IntersectionResult` whose ``curves`` are :class:`IntersectionCurve` branches."""
     A = a if isinstance(a, sd.Geometry) else sd.Geometry(a, "a")       # or prepared by intersect
@@ -588,7 +599,8 @@ def surface_surface(a, b, tol: float, angle_tol: float = 1e-6, max_pairs: int = 
                   edges)
 
 
-def surface_plane(a, pl, tol: float, angle_tol: float = 1e-6, max_pairs: int = 20000):
+def surface_plane(a: Surface, pl: Plane, tol: float, angle_tol: float = 1e-6,
+                  max_pairs: int = 20000) -> IntersectionResult:
     """Section of a surface by a plane (``pl`` from :func:`cagd.queries.plane`): the
     level set n.(A(u, v) - o) = 0 marched like a surface–surface intersection."""
     A = sd.Geometry(a, "a")

@@ -262,7 +262,8 @@ def test_include_current_interp_and_off_plane_current_point():
     assert np.allclose(e.endPoint().toTuple(), (4, 0, 0), atol=1e-15)
 
 
-SPHERE = (lambda: cq.Workplane().sphere(1.0).faces())
+def sphere_faces():
+    return cq.Workplane().sphere(1.0).faces()
 
 
 @pytest.mark.parametrize("start, call, word", [
@@ -276,8 +277,8 @@ SPHERE = (lambda: cq.Workplane().sphere(1.0).faces())
      "includeCurrent"),
     (cq.Workplane, lambda w: w.revolveSurface(SECTIONS[0], axisEnd="ab"), "axisEnd"),
     (cq.Workplane, lambda w: w.revolveSurface(SECTIONS[0], axisEnd=(1, 2, 3, 4)), "axisEnd"),
-    (SPHERE, lambda w: w.projectPoints("abc"), "points"),
-    (SPHERE, lambda w: w.projectPoints([(1, 2, 3, 4)]), "points"),
+    (sphere_faces, lambda w: w.projectPoints("abc"), "points"),
+    (sphere_faces, lambda w: w.projectPoints([(1, 2, 3, 4)]), "points"),
 ])
 def test_bad_points_name_the_argument(start, call, word):
     with pytest.raises(CagdError, match=f"^{word}"):

@@ -405,7 +405,8 @@ def _bent_surface(n=12):
     g = np.linspace(0.0, 1.0, n)
     P = np.zeros((n, n, 3))
     P[..., 0], P[..., 1] = np.meshgrid(g, g, indexing="ij")
-    P[..., 2] = 0.05 * np.sin(2 * np.pi * P[..., 0]) * np.cos(3 * np.pi * P[..., 1]) + 0.002 * rng.standard_normal((n, n))
+    P[..., 2] = (0.05 * np.sin(2 * np.pi * P[..., 0]) * np.cos(3 * np.pi * P[..., 1])
+                 + 0.002 * rng.standard_normal((n, n)))
     return cagd.BSplineSurface(P, 3, 3)
 
 

@@ -114,7 +114,8 @@ def surface_of(kind, rng):
         d1 = BezierCurve([[1, 0, 0], [1, 0.5, rng.random()], [1, 1, 0]])
         return cagd.CoonsPatch(c0, c1, d0, d1)
     if kind == "loft":
-        secs = [BSplineCurve(np.c_[np.linspace(0, 1, 5), np.full(5, y), 0.3 * rng.random(5)], 3) for y in (0, 0.4, 0.7, 1)]
+        secs = [BSplineCurve(np.c_[np.linspace(0, 1, 5), np.full(5, y), 0.3 * rng.random(5)], 3)
+                for y in (0, 0.4, 0.7, 1)]
         return cagd.loft(secs)
     pts = {(i, j, 2 - i - j): [i / 2, j / 2, 0.4 * rng.random()] for i in range(3) for j in range(3 - i)}
     return cagd.BezierTriangle(pts)

@@ -209,7 +209,8 @@ def test_overlapping_halves_of_one_surface_are_one_overlap():
         assert np.allclose(box, ((0.4, 0.6), (0.0, 1.0)), atol=1e-6)
     same = intersect(S, S, tol=TOL)
     assert same.converged and same.points == () and len(same.overlaps) == 1
-    assert np.allclose(same.overlaps[0].box_a, ((0, 1), (0, 1))) and np.allclose(same.overlaps[0].box_b, ((0, 1), (0, 1)))
+    assert np.allclose(same.overlaps[0].box_a, ((0, 1), (0, 1)))
+    assert np.allclose(same.overlaps[0].box_b, ((0, 1), (0, 1)))
 
 
 def test_planar_surface_in_the_plane_is_an_overlap():
@@ -217,7 +218,8 @@ def test_planar_surface_in_the_plane_is_an_overlap():
     g[1, 1, :2] += 0.1
     res = intersect(cagd.BSplineSurface(g, 2, 2), plane([0, 0, 0], [0, 0, 1]), tol=TOL)
     assert res.converged and res.curves == () and res.points == ()
-    assert len(res.overlaps) == 1 and np.allclose(res.overlaps[0].box_a, ((0, 1), (0, 1))) and res.overlaps[0].box_b is None
+    assert len(res.overlaps) == 1 and res.overlaps[0].box_b is None
+    assert np.allclose(res.overlaps[0].box_a, ((0, 1), (0, 1)))
 
 
 @pytest.mark.parametrize("angle", [0.0, 0.3, 1.2, 2.5])

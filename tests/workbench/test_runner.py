@@ -7,7 +7,8 @@ from wb_runner import report, run_group, summary
 
 
 def test_summary_takes_the_last_result_line():
-    out = "noise\nCAGD_WB_RESULT {\"passed\": 1, \"failed\": 2}\nmore\n\x1b[0mCAGD_WB_RESULT {\"passed\": 3, \"failed\": 0}\n"
+    out = ("noise\nCAGD_WB_RESULT {\"passed\": 1, \"failed\": 2}\nmore\n"
+           "\x1b[0mCAGD_WB_RESULT {\"passed\": 3, \"failed\": 0}\n")
     assert summary(out) == {"passed": 3, "failed": 0}
     assert summary("no result here\n") is None
 

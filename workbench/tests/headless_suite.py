@@ -119,7 +119,8 @@ def _same_edge(name, edge, c, length_tol=1e-9, reference_length=None):
           abs(b - edge.LastParameter) <= 1e-12 * max(1, abs(b)),
           f"{name}: domain {c.domain} != edge range {edge.ParameterRange}")
     length = c.arc_length()
-    check(abs(length - edge.Length) <= length_tol * edge.Length, f"{name}: length {length} != edge.Length {edge.Length}")
+    check(abs(length - edge.Length) <= length_tol * edge.Length,
+          f"{name}: length {length} != edge.Length {edge.Length}")
     if reference_length is not None:
         check(abs(length - reference_length) <= 1e-9 * reference_length,
               f"{name}: length {length} != {reference_length} (FreeCAD, piecewise)")
@@ -277,7 +278,8 @@ def main():
             RESULTS["passed"].append(fn.__name__)
             print(f"ok   {fn.__name__} ({time.time() - t0:.2f} s)")
     summary = {"passed": len(RESULTS["passed"]), "failed": len(RESULTS["failed"]),
-               "failures": RESULTS["failed"], "max_deviation": DEV, "worst": WORST, "seconds": round(time.time() - start, 2),
+               "failures": RESULTS["failed"], "max_deviation": DEV, "worst": WORST,
+               "seconds": round(time.time() - start, 2),
                "freecad": ".".join(App.Version()[:3]), "numpy": np.__version__, "out": OUT}
     print("CAGD_WB_RESULT " + json.dumps(summary), flush=True)
 

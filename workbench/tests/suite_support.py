@@ -19,6 +19,10 @@ except ImportError:                     # not installed: load from the checkout
 from cagdwb import analysis, conversion, curves, exchange, surfaces
 from cagdwb.conversion import cagd
 
+__all__ = ["CASES", "DEV", "INSTALLED", "OUT", "RESULTS", "TOL", "V", "WORST", "analysis", "cagd", "cagdwb", "case",
+           "check", "compare", "conversion", "curves", "exchange", "expect_error", "exported", "new_doc", "note",
+           "recompute_ok", "standard", "surfaces"]      # what the suite modules take from here
+
 TOL = 1e-9
 OUT = os.environ.get("CAGD_WB_OUT") or tempfile.mkdtemp(prefix="cagd-wb-")
 os.makedirs(OUT, exist_ok=True)
