@@ -13,7 +13,7 @@ installing first, as root, the Debian packages that venv and OCP need
 holds the sha256 of setup.py, setup.cfg and pyproject.toml, so a second run starts
 at once.
 
-`test` builds the wheel (.build/wheel/, its path in CAGD_WHEEL for the packaging
+`test` first runs ruff and mypy (configured in pyproject.toml), then builds the wheel (.build/wheel/, its path in CAGD_WHEEL for the packaging
 test), runs pytest in .venv, then the OCCT 8.0 stage: the wheel installed with its
 extras [b3d,test] (build123d 0.13, OCCT 8.0, no CadQuery) into .venv-b3d, not
 editable, and the bridge, file and build123d tests run against it from a folder
@@ -41,7 +41,7 @@ VENV = ROOT / ".venv"
 BIN = VENV / "bin"
 PYTHON = BIN / "python"
 STAMP = VENV / ".cagd-installed"
-EXTRAS = "cad,test,plot"
+EXTRAS = "cad,test,plot,lint"
 VENV_B3D = ROOT / ".venv-b3d"
 EXTRAS_B3D = "b3d,test"
 WHEEL_DIR = ROOT / ".build" / "wheel"
@@ -195,8 +195,23 @@ def pytest_code(code: int) -> int:
     return code
 
 
+def lint() -> int:
+    """ruff on the tree and mypy on the engine (pyproject.toml), before any test."""
+    for cmd in ([BIN / "ruff", "check", "."], [BIN / "mypy"]):
+        log("running: " + " ".join(str(c.name) if isinstance(c, Path) else c for c in cmd))
+        code = run(cmd)
+        if code:
+            log(f"{cmd[0].name} found problems (exit code {code})")
+            return code
+    return 0
+
+
 def cmd_test(args: list[str]) -> int:
     ensure_test_tools()
+    if not args:
+        code = lint()
+        if code:
+            return code
     wheel = build_wheel()
     os.environ["CAGD_WHEEL"] = str(wheel)
     os.environ["CAGD_EXPECT_OCP"] = "7"          # .venv: CadQuery 2.8 on OCCT 7.9

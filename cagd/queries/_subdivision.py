@@ -20,6 +20,7 @@ import numpy as np
 
 from .._periodic import wrap, wrapped_difference
 from ..curves.base import Curve
+from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .bounds import bezier_pieces, closed_directions
@@ -63,14 +64,15 @@ class Geometry:
         self.triangle = not getattr(obj, "rectangular", True)
         self.nurbs = obj.to_nurbs()
         self.dim = self.nurbs.dim
-        if self.k == 1:
-            d = self.nurbs.domain
+        nurbs = self.nurbs
+        if isinstance(nurbs, BSplineCurve):
+            d = nurbs.domain
             self.lo, self.hi = np.array([d[0]]), np.array([d[1]])
-            self.periodic = np.array([bool(self.nurbs.periodic)])
+            self.periodic = np.array([bool(nurbs.periodic)])
         else:
-            (u0, u1), (v0, v1) = self.nurbs.domain
+            (u0, u1), (v0, v1) = nurbs.domain
             self.lo, self.hi = np.array([u0, v0]), np.array([u1, v1])
-            self.periodic = np.array([bool(self.nurbs.periodic_u), bool(self.nurbs.periodic_v)])
+            self.periodic = np.array([bool(nurbs.periodic_u), bool(nurbs.periodic_v)])
         self.bezier = bezier_pieces(obj)               # one decomposition for bounds and pairs
         self.pieces = Pieces(_hom(self.bezier.control_points, self.bezier.weights),
                              self.bezier.lower.copy(), self.bezier.upper.copy())

@@ -56,6 +56,7 @@ from .._results import ReadOnlyArrays
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
+from ..surfaces.bspline import BSplineSurface
 from . import _subdivision as sd
 from . import _surface_overlaps as so
 from ._branch_fit import degenerate as _degenerate, fit as _fit
@@ -283,7 +284,9 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
             if G.closed[d]:
                 continue                        # a seam is no boundary: branches cross it
             for val in (G.lo[d], G.hi[d]):
-                C = G.nurbs.isocurve("v" if d == 0 else "u", float(val))
+                surface = G.nurbs
+                assert isinstance(surface, BSplineSurface)      # boundary seeds: surfaces only
+                C = surface.isocurve("v" if d == 0 else "u", float(val))
                 net = np.asarray(C.control_points)
                 if np.ptp(net, axis=0).max() <= 1e-12 * G.size:
                     continue                    # a collapsed edge (a pole): a point
