@@ -13,8 +13,8 @@ installing first, as root, the Debian packages that venv and OCP need
 holds the sha256 of setup.py, setup.cfg and pyproject.toml, so a second run starts
 at once.
 
-`test` first runs ruff and mypy (configured in pyproject.toml), then builds the wheel (.build/wheel/, its path in CAGD_WHEEL for the packaging
-test), runs pytest in .venv, then the OCCT 8.0 stage: the wheel installed with its
+`test` first runs ruff and mypy (configured in pyproject.toml), then builds the
+wheel (.build/wheel/, its path in CAGD_WHEEL for the packaging test), runs pytest in .venv, then the OCCT 8.0 stage: the wheel installed with its
 extras [b3d,test] (build123d 0.13, OCCT 8.0, no CadQuery) into .venv-b3d, not
 editable, and the bridge, file and build123d tests run against it from a folder
 outside the checkout. With pytest arguments only the first stage runs. `test` also
