@@ -7,19 +7,20 @@ Usage (commands run in the repo root, so relative paths are taken from there):
     python3 dev.py test-b3d [pytest args...]  only the OCCT 8.0 / build123d 0.13 stage
 
 Both first make the virtual environment .venv in the repo root and install the
-project into it with `pip install -e '.[cad,test,plot]'` (CadQuery 2.8, OCCT 7.9),
+project into it with `pip install -e '.[cad,test,plot,lint]'` (CadQuery 2.8, OCCT 7.9),
 installing first, as root, the Debian packages that venv and OCP need
 (python3.X-venv, libgl1, libx11-6).  All that is skipped when .venv/.cagd-installed
 holds the sha256 of setup.py, setup.cfg and pyproject.toml, so a second run starts
 at once.
 
 `test` first runs ruff and mypy (configured in pyproject.toml), then builds the
-wheel (.build/wheel/, its path in CAGD_WHEEL for the packaging test), runs pytest in .venv, then the OCCT 8.0 stage: the wheel installed with its
-extras [b3d,test] (build123d 0.13, OCCT 8.0, no CadQuery) into .venv-b3d, not
-editable, and the bridge, file and build123d tests run against it from a folder
-outside the checkout. With pytest arguments only the first stage runs. `test` also
-installs, as root, FreeCAD and Xvfb (Debian packages freecad, xvfb, xauth) when
-missing, for the FreeCAD workbench tests (tests/workbench); without root those tests
+wheel (.build/wheel/, its path in CAGD_WHEEL for the packaging test), runs pytest
+in .venv, then the OCCT 8.0 stage: the wheel installed with its extras [b3d,test]
+(build123d 0.13, OCCT 8.0, no CadQuery) into .venv-b3d, not editable, and the
+bridge, file and build123d tests run against it from a folder outside the
+checkout. With pytest arguments only the first stage runs. `test` also installs,
+as root, FreeCAD and Xvfb (Debian packages freecad, xvfb, xauth) when missing, for
+the FreeCAD workbench tests (tests/workbench); without root those tests
 are skipped (and fail when the environment variable CI is set).
 """
 
