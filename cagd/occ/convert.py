@@ -8,7 +8,7 @@ value at a time (OCP has no buffer access); that is the only per-pole loop.
 """
 from __future__ import annotations
 
-from typing import Optional, Union
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 from OCP.BRep import BRep_Tool
@@ -34,6 +34,9 @@ from ..surfaces.bspline import BSplineSurface
 from .analytic import analytic_form
 from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
                      as_face)
+
+PERIOD_SPAN_TOL = 1e-9     # a face spanning this close to a whole period is the full turn
+KNOT_SNAP_TOL = 1e-9       # a face box end this close to a knot (relative to the range) ends on it
 
 OccGeometry = Union[Geom_BSplineCurve, Geom_BezierCurve, Geom_BSplineSurface, Geom_BezierSurface]
 
@@ -260,12 +263,73 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
         u0, u1, v0, v1 = a.FirstUParameter(), a.LastUParameter(), a.FirstVParameter(), a.LastVParameter()
         if max(abs(u0), abs(u1), abs(v0), abs(v1)) > 1e99:
             raise CagdError("geom: the face is unbounded (no boundary edges limit its surface)")
-        U0, U1, V0, V1 = surface.Bounds()
-        if not (_covers(U0, U1, u0, u1) and _covers(V0, V1, v0, v1)):
-            surface = Geom_RectangularTrimmedSurface(surface, u0, u1, v0, v1)
-        surf = _surface_from_bspline(_as_bspline_surface(surface, approximate))
+        surf = _surface_from_bspline(_as_bspline_surface(_face_box(surface, u0, u1, v0, v1), approximate))
         return surf.reversed("u") if reversed_ else surf
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
+
+
+def _face_box(surface: Geom_Surface, u0: float, u1: float, v0: float, v1: float) -> Geom_Surface:
+    """The face's surface restricted to its UV box, made acceptable to OCCT: files from
+    other systems give boxes that overshoot the surface's range by rounding or by their
+    own tolerance (1e-16 to 1e-3 of the range seen) and periodic faces spanning a period
+    plus 2e-15, which Geom_RectangularTrimmedSurface and the torus conversion refuse. The
+    box is taken on the untrimmed basis surface: clamped into its range in a bounded
+    direction; in a periodic one, a span of a whole period (to PERIOD_SPAN_TOL) is left
+    untrimmed (the face is the full turn), a shorter one is trimmed where it lies (OCCT
+    shifts it by periods)."""
+    basis = _basis(surface)
+    U0, U1, V0, V1 = basis.Bounds()
+    box: List[Optional[Tuple[float, float]]] = []
+    for lo, hi, A, B, period, knots in ((u0, u1, U0, U1, _period(basis, "U"), _knots(basis, "U")),
+                                        (v0, v1, V0, V1, _period(basis, "V"), _knots(basis, "V"))):
+        lo, hi = _snapped(lo, knots, period, B - A), _snapped(hi, knots, period, B - A)
+        if hi - lo >= period * (1.0 - PERIOD_SPAN_TOL):
+            box.append(None)                               # the whole period
+        elif np.isfinite(period):
+            box.append((lo, hi))
+        else:
+            lo, hi = min(max(lo, A), B), max(min(hi, B), A)
+            if not hi > lo:
+                raise CagdError(f"geom: the face's parameter box [{lo:.17g}, {hi:.17g}] lies outside its "
+                                f"surface's range [{A:.17g}, {B:.17g}]")
+            box.append(None if _covers(A, B, lo, hi) else (lo, hi))
+    bu, bv = box
+    if bu is None and bv is None:
+        return basis
+    if bu is None:
+        assert bv is not None
+        return Geom_RectangularTrimmedSurface(basis, bv[0], bv[1], False)
+    if bv is None:
+        return Geom_RectangularTrimmedSurface(basis, bu[0], bu[1], True)
+    return Geom_RectangularTrimmedSurface(basis, bu[0], bu[1], bv[0], bv[1])
+
+
+def _knots(surface: Geom_Surface, direction: str) -> np.ndarray:
+    """The distinct knots of a B-spline surface in one direction (none for others)."""
+    if not isinstance(surface, Geom_BSplineSurface):
+        return np.empty(0)
+    if direction == "U":
+        return np.array(_indexed(surface.UKnot, surface.NbUKnots()))
+    return np.array(_indexed(surface.VKnot, surface.NbVKnots()))
+
+
+def _snapped(x: float, knots: np.ndarray, period: float, length: float) -> float:
+    """``x`` moved onto a knot (or a knot shifted by whole periods) within
+    KNOT_SNAP_TOL of the range: a face ending 6.6e-10 past a knot (seen) would else be
+    cut there by OCCT's segment, which snaps to the knot itself and stretches the
+    parametrisation by that much (1.2e-8 mm on the Alias space ship)."""
+    if not knots.size or not np.isfinite(length) or length <= 0:
+        return x
+    shifted = knots if not np.isfinite(period) else knots + period * np.round((x - knots) / period)
+    k = int(np.argmin(np.abs(shifted - x)))
+    return float(shifted[k]) if abs(shifted[k] - x) <= KNOT_SNAP_TOL * length else x
+
+
+def _period(surface: Geom_Surface, direction: str) -> float:
+    """The period of a periodic direction ("U" or "V"), inf for a bounded one."""
+    if direction == "U":
+        return float(surface.UPeriod()) if surface.IsUPeriodic() else float("inf")
+    return float(surface.VPeriod()) if surface.IsVPeriodic() else float("inf")
 
 
 def _covers(a: float, b: float, first: float, last: float) -> bool:

@@ -15,10 +15,11 @@ from __future__ import annotations
 import io
 import os
 import unicodedata
+import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, Iterable, List, Tuple, Union, overload
+from typing import Dict, Iterable, Iterator, List, Optional, Tuple, Union, overload
 
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
@@ -56,13 +57,56 @@ Item = Union[Curve, Surface, TopoDS_Shape]
 Objects = Union[Item, Iterable[Union[Item, Tuple[str, Item]]], Dict[str, Item]]
 
 
-@dataclass
+@dataclass(frozen=True)
 class Imported:
     """One curve or surface read from a file: the name of the item it belongs to
     (with ``[i]`` when the item holds several), the engine object and its OCCT shape."""
     name: str
     object: Union[BSplineCurve, BSplineSurface]
     shape: TopoDS_Shape
+
+
+@dataclass(frozen=True)
+class Skipped:
+    """A face or free edge of a file that could not be converted: the name of its item,
+    its index among the item's faces (or free edges), its kind ("face" or "edge"), the
+    reason, and the OCCT shape (still usable through OCCT)."""
+    name: str
+    index: int
+    kind: str
+    reason: str
+    shape: TopoDS_Shape
+
+
+@dataclass(frozen=True)
+class FileContents:
+    """What :func:`read_step` / :func:`read_iges` read: ``items`` (iterating, indexing
+    and ``len`` go to them) and ``skipped``, the faces and edges that did not convert
+    (one bad face never costs the rest of the file); ``complete`` is True when nothing
+    was skipped, ``message`` says what was."""
+    items: Tuple[Imported, ...]
+    skipped: Tuple[Skipped, ...] = ()
+
+    @property
+    def complete(self) -> bool:
+        return not self.skipped
+
+    @property
+    def message(self) -> str:
+        if not self.skipped:
+            return ""
+        first = self.skipped[0]
+        return (f"{len(self.skipped)} of {len(self.items) + len(self.skipped)} faces/edges not converted; first: "
+                f"{first.kind} {first.index} of {first.name!r}: {first.reason}")
+
+    def __iter__(self) -> Iterator[Imported]:
+        return iter(self.items)
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+    def __getitem__(self, index: int) -> Imported:
+        return self.items[index]
 
 
 @contextmanager
@@ -264,34 +308,50 @@ def read_shapes(path: Union[str, os.PathLike], kind: str = "auto") -> List[Tuple
     raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
 
 
-def _objects(named: Iterable[Tuple[str, TopoDS_Shape]]) -> List[Imported]:
-    """Faces -> surfaces; edges that bound no face -> curves."""
-    out = []
+def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[float]) -> FileContents:
+    """Faces -> surfaces; edges that bound no face -> curves; what does not convert is
+    listed in ``skipped`` (and warned about), never dropped silently."""
+    out: List[Imported] = []
+    skipped: List[Skipped] = []
     for name, shape in named:
-        found = []
+        found: List[Tuple[Union[BSplineCurve, BSplineSurface], TopoDS_Shape]] = []
+        failed: List[Tuple[str, int, str, TopoDS_Shape]] = []
         faces = subshapes(shape, TopAbs_FACE)
-        for f in faces:
-            found.append((from_occ(f), f))
         owners = IndexedDataMapOfShapeListOfShape()
         TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, owners)
-        for e in subshapes(shape, TopAbs_EDGE):
-            if owners.Contains(e) and owners.FindFromKey(e).Size() == 0 and not _seen(e, found):
-                found.append((from_occ(e), e))
-        many = len(found) > 1
+        free = [e for e in subshapes(shape, TopAbs_EDGE) if owners.Contains(e) and owners.FindFromKey(e).Size() == 0]
+        for kind, shapes in (("face", faces), ("edge", free)):
+            for index, s in enumerate(shapes):
+                if kind == "edge" and _seen(s, found):
+                    continue
+                try:
+                    found.append((from_occ(s, approximate=approximate), s))
+                except CagdError as exc:
+                    failed.append((kind, index, str(exc), s))
+        many = len(found) + len(failed) > 1
         out += [Imported(f"{name}[{j}]" if many else name, obj, s) for j, (obj, s) in enumerate(found)]
-    return out
+        skipped += [Skipped(name, index, kind, reason, s) for kind, index, reason, s in failed]
+    result = FileContents(tuple(out), tuple(skipped))
+    if skipped:
+        warnings.warn(f"read: {result.message}", RuntimeWarning, stacklevel=3)
+    return result
 
 
 def _seen(edge, found) -> bool:
     return any(s.IsSame(edge) for _, s in found)
 
 
-def read_step(path: Union[str, os.PathLike]) -> List[Imported]:
+def read_step(path: Union[str, os.PathLike], approximate: Optional[float] = None) -> FileContents:
     """Every surface (face) and free curve (edge of no face) of a STEP file as an
-    engine B-spline, with its name (see :class:`Imported`)."""
-    return _objects(read_shapes(path, "step"))
+    engine B-spline, with its name (see :class:`Imported`), in a :class:`FileContents`
+    (iterable like a list). A face or edge that does not convert (an offset surface
+    without ``approximate``, geometry OCCT cannot turn into a B-spline) is listed in
+    ``skipped`` with the reason and a RuntimeWarning; every other one comes back.
+    ``approximate``: as :func:`cagd.occ.from_occ` (a distance in model units within
+    which OCCT may approximate offsets)."""
+    return _objects(read_shapes(path, "step"), approximate)
 
 
-def read_iges(path: Union[str, os.PathLike]) -> List[Imported]:
+def read_iges(path: Union[str, os.PathLike], approximate: Optional[float] = None) -> FileContents:
     """As :func:`read_step`, for IGES files."""
-    return _objects(read_shapes(path, "iges"))
+    return _objects(read_shapes(path, "iges"), approximate)

@@ -115,3 +115,25 @@ def test_errors(tmp_path):
     bad.write_text("not a step file")
     with pytest.raises(CagdError, match="could not read"):
         read_step(bad)
+
+
+def test_a_face_that_does_not_convert_is_reported_and_the_rest_comes_back(tmp_path):
+    """An offset surface has no exact B-spline form: without approximate= its face is
+    listed in `skipped` (name, index, reason) with a RuntimeWarning, and the other face
+    of the same item comes back; with approximate= both do."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.Geom import Geom_OffsetSurface
+    from cagd import BezierSurface
+    from cagd.occ import make_face, sew, to_occ
+    x, y = np.meshgrid(np.linspace(0, 10, 4), np.linspace(0, 10, 4), indexing="ij")
+    base = BezierSurface(np.stack([x, y, 0.3 * np.sin(x / 4) * np.cos(y / 5)], axis=-1))
+    offset = BRepBuilderAPI_MakeFace(Geom_OffsetSurface(to_occ(base), 0.5), 1e-7).Face()
+    write_step([("pair", sew([make_face(base), offset], 1e-6))], tmp_path / "o.step")
+    with pytest.warns(RuntimeWarning, match="1 of 2 faces/edges not converted"):
+        back = read_step(tmp_path / "o.step")
+    assert not back.complete and len(back) == 1 and isinstance(back[0].object, BSplineSurface)
+    (skip,) = back.skipped
+    assert (skip.name, skip.kind) == ("pair", "face") and skip.index in (0, 1) and "offset" in skip.reason
+    assert skip.shape.ShapeType() == TopAbs_FACE
+    full = read_step(tmp_path / "o.step", approximate=1e-6)
+    assert full.complete and len(full) == 2 and full.message == ""
