@@ -5,6 +5,7 @@ derives from data that cannot change. A modified object is a new one
 (``with_control_points``, ``moved_pole``, ``with_weights``, ``transformed``, ...)."""
 from __future__ import annotations
 
+import inspect
 from typing import Any, Dict, Type, TypeVar
 
 import numpy as np
@@ -22,6 +23,13 @@ class _ValueType(type):
         obj = super().__call__(*args, **kwargs)
         object.__setattr__(obj, "_sealed", True)
         return obj
+
+    @property
+    def __signature__(cls) -> inspect.Signature:
+        """The constructor's signature (``help()``, IDEs and ``inspect`` would otherwise show
+        this metaclass's ``(*args, **kwargs)``)."""
+        init = inspect.signature(getattr(cls, "__init__"))
+        return init.replace(parameters=list(init.parameters.values())[1:])
 
 
 class Value(metaclass=_ValueType):

@@ -388,3 +388,12 @@ def test_ppform_is_a_value():
         pp.coefficients[0, 0, 0] = 1.0
     with pytest.raises(AttributeError):
         pp.breaks = np.array([0.0, 1.0])
+
+
+def test_constructors_show_their_own_signature():
+    """The sealing metaclass does not hide the constructors' parameters from help() and IDEs."""
+    import inspect
+    assert list(inspect.signature(cagd.BSplineCurve).parameters)[:2] == ["control_points", "degree"]
+    for cls in (cagd.BezierCurve, cagd.BSplineSurface, cagd.CoonsPatch, cagd.BezierTriangle):
+        params = inspect.signature(cls).parameters
+        assert "self" not in params and "args" not in params, (cls, params)
