@@ -143,7 +143,9 @@ def write_files(outputs: Sequence[Output]) -> List[Path]:
             except (OSError, ValueError, RuntimeError, MemoryError) as exc:
                 raise CagdError(f"{what}: cannot write {str(target)!r}: {_reason(exc)}") from None
         done: List[Path] = []
-        for target, made_or_none, (_, content, what) in zip(targets, temps, outputs):
+        # devices and pipes first (a full device fails before any file is replaced), then the renames
+        for target, made_or_none, (_, content, what) in sorted(zip(targets, temps, outputs),
+                                                                 key=lambda x: x[1] is not None):
             try:
                 if made_or_none is None:
                     _fill(target, content)

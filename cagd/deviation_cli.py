@@ -5,6 +5,7 @@ file (read through cagd.occ). Exit codes: 0 done, 2 bad input."""
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from pathlib import Path
 from typing import List, Optional, Sequence, Tuple, Union
@@ -23,12 +24,26 @@ def read_points(path: Path) -> np.ndarray:
     Raises:
         CagdError: no points, ragged rows, non-numbers (naming the line), NaN/inf.
     """
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as exc:
+        raise CagdError(f"points: cannot read {str(path)!r}: {exc.strerror or exc}") from None
+    try:
+        content = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        at = raw.count(b"\n", 0, exc.start) + 1
+        raise CagdError(f"points: {path} is not UTF-8 text (byte {raw[exc.start]:#04x} on line {at})") from None
     rows = []
-    for number, line in enumerate(Path(path).read_text().splitlines(), 1):
+    for number, line in enumerate(content.splitlines(), 1):
         text = line.strip()
         if not text or text.startswith("#"):
             continue
-        fields = [f for f in text.replace(";", ",").replace(",", " ").split()]
+        if "," in text or ";" in text:
+            fields = [f.strip() for f in re.split("[,;]", text)]
+            if any(not f for f in fields):
+                raise CagdError(f"points: line {number} has an empty field: {text[:60]!r}")
+        else:
+            fields = text.split()
         try:
             rows.append([float(f) for f in fields])
         except ValueError:
@@ -70,11 +85,24 @@ def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List
     return str(path), chosen
 
 
+def _picture_formats() -> Tuple[str, ...]:
+    """The file extensions matplotlib can write (png, pdf, svg, ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+    return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
 def run_deviation(args: argparse.Namespace) -> int:
+    """The command; its outputs (report and colour map) are checked before any work and
+    written all or nothing (:mod:`cagd._atomic`)."""
+    from ._atomic import check_target, write_files
     from .queries.deviation import deviation, deviation_map
     try:
-        if args.output.is_dir() or not args.output.parent.is_dir():
-            raise CagdError(f"--output {args.output}: not a file in an existing folder")
+        check_target(args.output, "--output")
+        png = args.png or args.output.with_suffix(".png")
+        check_target(png, "--png")
+        formats = _picture_formats()
+        if png.suffix.lower().lstrip(".") not in formats:
+            raise CagdError(f"--png {png}: unknown picture type {png.suffix!r} (one of: {', '.join(formats)})")
         where, items = model_objects(args.model, args.object)
         pts = read_points(args.points)
         objects = [o for _, o in items]
@@ -84,11 +112,6 @@ def run_deviation(args: argparse.Namespace) -> int:
     except KeyError as exc:
         print(f"cagd deviation: --object {exc.args[0]}: no such entry in {args.model}", file=sys.stderr)
         return 2
-    except (CagdError, OSError) as exc:
-        print(f"cagd deviation: {exc}", file=sys.stderr)
-        return 2
-    png = args.png or args.output.with_suffix(".png")
-    deviation_map(objects, pts, png, result, title=args.model.name)
     gap = float(np.max(np.abs(result.distances) - result.lower_bounds))
     assert result.owner is not None                     # deviation() of a list says which object is nearest
     nearest = np.bincount(result.owner, minlength=len(items))
@@ -99,6 +122,7 @@ def run_deviation(args: argparse.Namespace) -> int:
              f"({'signed along the surface normal' if result.signed else 'unsigned'}), certified to within "
              f"{gap:.2g} (largest distance - certified lower bound)",
              f"- colour map: `{png}`", "", result.table(), ""]
-    args.output.write_text("\n".join(lines))
+    write_files([(png, lambda temp: deviation_map(objects, pts, temp, result, title=args.model.name), "--png"),
+                 (args.output, "\n".join(lines), "--output")])
     print("\n".join(lines))
     return 0

@@ -63,6 +63,7 @@ STEP_SCHEMAS = ("AP203", "AP214CD", "AP214DIS", "AP214IS", "AP242DIS")   # OCCT'
 MIN_EXTENT = 1e-6          # mm: a face whose bounding box diagonal is smaller is refused on write; OCCT's
 #                            STEP reader drops faces at its Precision::Confusion (1e-7): measured, a
 #                            B-spline face of diagonal 1.6e-8 reads back as nothing, one of 1.6e-7 reads
+MAX_COORDINATE = 1e100     # mm: larger coordinates are refused on write (OCCT's Precision::Infinite is 2e100)
 Item = Union[Curve, Surface, TopoDS_Shape]
 Objects = Union[Item, Iterable[Union[Item, Tuple[str, Item]]], Dict[str, Item]]
 
@@ -178,7 +179,13 @@ def _named(objects) -> List[Tuple[str, Item]]:
 
 def _check_extent(shape: TopoDS_Shape, name: object) -> None:
     """Refuse a face smaller than MIN_EXTENT (collapsed to a point, or tiny): the file
-    would hold it, but OCCT's reader gives back nothing for it."""
+    would hold it, but OCCT's reader gives back nothing for it; and coordinates beyond
+    MAX_COORDINATE, which OCCT treats as infinite."""
+    whole = Bnd_Box()
+    BRepBndLib.Add_s(shape, whole, False)
+    if not whole.IsVoid() and not max(abs(x) for x in whole.Get()) <= MAX_COORDINATE:
+        raise CagdError(f"objects: {name!r} reaches coordinates of {max(abs(x) for x in whole.Get()):.3g} mm; "
+                        f"files hold at most {MAX_COORDINATE:g} (OCCT treats larger values as infinite)")
     for k, face in enumerate(subshapes(shape, TopAbs_FACE)):
         box = Bnd_Box()
         BRepBndLib.Add_s(face, box, False)
@@ -243,9 +250,15 @@ def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "A
             MIN_EXTENT, a path that cannot be written (missing folder, full disk), or
             the writer failed.
     """
+    target = _target(path)
+    return write_file(target, step_bytes(objects, schema, target), "path")
+
+
+def step_bytes(objects: Objects, schema: str = "AP214IS", target: str = "<memory>") -> bytes:
+    """The STEP file :func:`write_step` writes, as bytes (``target`` only names it in errors)."""
     if not isinstance(schema, str) or schema not in STEP_SCHEMAS:
         raise CagdError(f"schema: one of {', '.join(STEP_SCHEMAS)}, got {schema!r}")
-    named, target = _named(objects), _target(path)
+    named = _named(objects)
     writer = STEPCAFControl_Writer()
     writer.SetNameMode(True)
     with _settings(write__step__unit="MM", write__step__schema=schema, xstep__cascade__unit="MM"):
@@ -262,7 +275,13 @@ def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "A
 def write_iges(objects: Objects, path: Union[str, os.PathLike]) -> Path:
     """Write engine objects and OCCT shapes to an IGES 5.3 file (faces as trimmed
     B-spline surfaces, type 144/128; curves type 126), in mm; see :func:`write_step`."""
-    named, target = _named(objects), _target(path)
+    target = _target(path)
+    return write_file(target, iges_bytes(objects, target), "path")
+
+
+def iges_bytes(objects: Objects, target: str = "<memory>") -> bytes:
+    """The IGES file :func:`write_iges` writes, as bytes (``target`` only names it in errors)."""
+    named = _named(objects)
     with _settings(write__iges__unit="MM", xstep__cascade__unit="MM"):
         writer = IGESCAFControl_Writer()
         writer.SetNameMode(True)
@@ -289,11 +308,11 @@ def _open_closed_flags(model) -> None:
             entity.SetVClosed(StepData_Logical.StepData_LFalse)
 
 
-def _print(printer, target: str, kind: str) -> Path:
+def _print(printer, target: str, kind: str) -> bytes:
     buffer = io.BytesIO()
     if not printer.Print(buffer):
         raise CagdError(f"path: OCCT could not print the {kind} file {target!r}")
-    return write_file(target, buffer.getvalue(), "path")
+    return buffer.getvalue()
 
 
 def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_Shape]], Tuple[str, ...]]:
