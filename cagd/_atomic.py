@@ -130,11 +130,12 @@ def write_files(outputs: Sequence[Output]) -> List[Path]:
             if target.exists() and not stat.S_ISREG(target.stat().st_mode):
                 temps.append(None)                          # a device or pipe: written in the second pass
                 continue
-            fd, name = tempfile.mkstemp(dir=target.parent, prefix=".cagd-", suffix=".tmp" + target.suffix[:SUFFIX_MAX])
-            os.close(fd)
-            made = Path(name)
-            temps.append(made)
             try:
+                fd, name = tempfile.mkstemp(dir=target.parent, prefix=".cagd-",
+                                            suffix=".tmp" + target.suffix[:SUFFIX_MAX])
+                os.close(fd)
+                made = Path(name)
+                temps.append(made)
                 _fill(made, content)
                 os.chmod(made, _mode(target))
                 _sync(made)

@@ -188,8 +188,8 @@ def validate_iges(path: Any) -> None:
     """
     data = _read_bytes(path, "IGES")
     where = f"path: IGES file {str(path)!r}"
-    lines = data.decode("latin-1").splitlines()
-    while lines and not lines[-1].strip():
+    lines = re.split(r"\r\n|\n|\r", data.decode("latin-1"))    # not splitlines(): \x85, \x0c may be text
+    while lines and not lines[-1].strip(" \t\x1a"):
         lines.pop()
     if not lines:
         raise CagdError(f"{where}: empty")

@@ -11,6 +11,7 @@ back and their faces and free edges counted.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import List, Optional, Tuple
@@ -124,8 +125,9 @@ def export_model(model: Model, step: Optional[Path] = None, iges: Optional[Path]
             cannot be written (no file is changed then).
     """
     outputs = [(p, w) for p, w in ((step, "step"), (iges, "iges"), (report, "report")) if p is not None]
-    for p, what in outputs:
-        check_target(p, what)
+    resolved = [os.path.realpath(check_target(p, what)) for p, what in outputs]
+    if len(set(resolved)) != len(resolved):
+        raise CagdError(f"{', '.join(w for _, w in outputs)}: two outputs name the same file")
     entries = model.exported()
     objects = [(label, obj) for e in entries for label, obj in e.labels()]
     work = Progress(len(objects) + len(entries) + 2, enabled=progress)
