@@ -31,6 +31,9 @@ _STEP_SKIP = re.compile(rb"'[^']*'|/\*.*?\*/", re.S)       # strings ('' inside 
 _IGES_INT = re.compile(r"^\s*[+-]?\d*\s*$")
 _IGES_NUMBER = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([EeDd][+-]?\d+)?\s*$")
 _IGES_HOLLERITH = re.compile(r"\s*(\d+)H")
+# entity types whose parameters are numbers and pointers only (IGES 5.3 chapter 4: curves and
+# surfaces 100-199, B-rep topology 502-514); a string there shifts every later field (OCCT: SIGSEGV)
+_IGES_NUMERIC = tuple(range(100, 200)) + (502, 504, 508, 510, 514)
 
 
 def check_name(value: Any, what: str = "name") -> str:
@@ -174,6 +177,41 @@ def _parameters(text: str, pd: str, rd: str) -> List[str]:
     raise ValueError("the parameter data does not end with the record delimiter")
 
 
+def _ints(params: List[str], first: int, count: int) -> List[int]:
+    out = []
+    for k in range(first, first + count):
+        if k >= len(params) or not _IGES_INT.match(params[k]) or not params[k].strip():
+            got = params[k].strip()[:20] if k < len(params) else "nothing"
+            raise ValueError(f"field {k + 1} must be an integer, got {got!r}")
+        out.append(int(params[k]))
+    return out
+
+
+def _entity_fields(etype: int, params: List[str]) -> None:
+    """Field types and counts of the entities OCCT's loader trusts (IGES 5.3 sections
+    4.23 and 4.24): no strings in geometry and topology; a B-spline curve (126) has
+    K, M, 4 flags, K+M+2 knots, K+1 weights, 3(K+1) coordinates and 2 parameters; a
+    B-spline surface (128) K1, K2, M1, M2, 5 flags, K1+M1+2 and K2+M2+2 knots,
+    (K1+1)(K2+1) weights, 3 (K1+1)(K2+1) coordinates and 4 parameters."""
+    if etype in _IGES_NUMERIC:
+        for k, f in enumerate(params):
+            if _IGES_HOLLERITH.match(f):
+                raise ValueError(f"field {k + 1} is a string; entity type {etype} holds numbers only")
+    need = None
+    if etype == 126:
+        K, M = _ints(params, 1, 6)[:2]
+        if K < 1 or M < 1 or K < M:
+            raise ValueError(f"upper index {K} and degree {M} do not make a B-spline curve")
+        need = 7 + (K + M + 2) + 4 * (K + 1) + 2
+    elif etype == 128:
+        K1, K2, M1, M2 = _ints(params, 1, 9)[:4]
+        if min(K1, K2, M1, M2) < 1 or K1 < M1 or K2 < M2:
+            raise ValueError(f"upper indices {K1}, {K2} and degrees {M1}, {M2} do not make a B-spline surface")
+        need = 10 + (K1 + M1 + 2) + (K2 + M2 + 2) + 4 * (K1 + 1) * (K2 + 1) + 4
+    if need is not None and len(params) < need:
+        raise ValueError(f"{len(params)} fields, a type {etype} entity of these sizes needs {need}")
+
+
 def validate_iges(path: Any) -> None:
     """The structure of an ASCII IGES file (IGES 5.3 chapter 2): records of 80 columns;
     the sections S, G, D, P, T in that order, each numbered 1, 2, ...; two directory
@@ -260,8 +298,9 @@ def validate_iges(path: Any) -> None:
         text = "".join(r[:64] for r in P[pointer - 1:pointer + count - 1])
         try:
             params = _parameters(text, pd, rd)
-            if not params or not _IGES_INT.match(params[0]) or int(params[0]) != etype:
+            if not params or not _IGES_INT.match(params[0]) or not params[0].strip() or int(params[0]) != etype:
                 raise ValueError(f"starts with {params[0].strip()[:20] if params else ''!r}, not its entity "
                                  f"type {etype}")
+            _entity_fields(etype, params)
         except ValueError as exc:
             raise CagdError(f"{where}: parameter data of D{seq} (P{pointer}): {exc}") from None

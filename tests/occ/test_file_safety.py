@@ -72,6 +72,17 @@ def damaged(folder: Path) -> dict:
     corrupt[mid] = "#@!" * 24 + lines[mid][72:]
     (folder / "corruptP.igs").write_text("".join(corrupt))
     cases["iges parameter section corrupted"] = (folder / "corruptP.igs", "parameter")
+    # found by fuzzing: a string where the B-spline surface's indices belong (OCCT's ReadFile: SIGSEGV)
+    first128 = next(i for i, ln in enumerate(lines) if ln[72] == "P" and ln.startswith("128,"))
+    shifted = list(lines)
+    shifted[first128] = lines[first128].replace("128,3,3,3,", "128,3H3,3,", 1)
+    assert shifted != lines
+    (folder / "string128.igs").write_text("".join(shifted))
+    cases["iges string in a b-spline surface"] = (folder / "string128.igs", "holds numbers only")
+    fewer = list(lines)
+    fewer[first128] = lines[first128].replace("128,3,3,3,3,", "128,9,3,3,3,", 1)    # 10 x 4 poles claimed
+    (folder / "count128.igs").write_text("".join(fewer))
+    cases["iges b-spline surface with too few fields"] = (folder / "count128.igs", "needs")
     (folder / "noD.igs").write_text("".join(ln for ln in lines if ln[72] != "D"))
     cases["iges without D section"] = (folder / "noD.igs", "no D section")
     # what write_iges of a name with a newline used to write: the 406 name property split over two records
@@ -103,7 +114,8 @@ def results(tmp_path_factory):
 
 
 CASES = ["iges cut at 50%", "iges cut at 90%", "iges cut at 99%", "iges cut between records",
-         "iges parameter section corrupted", "iges without D section", "iges with a newline in a name",
+         "iges parameter section corrupted", "iges without D section", "iges string in a b-spline surface",
+         "iges b-spline surface with too few fields", "iges with a newline in a name",
          "step nested 100,000 deep", "step b-spline surface missing a parameter", "step cut in half"]
 
 
