@@ -52,10 +52,10 @@ def main(argv: Optional[List[str]] = None) -> int:
         problem = str(exc)
     except OSError as exc:
         problem = f"{exc.filename + ': ' if exc.filename else ''}{exc.strerror or exc}"
-    except (ArithmeticError, ValueError, MemoryError, RecursionError, UnicodeError) as exc:
+    except Exception as exc:        # the contract: one line and exit 2, never a traceback
         if os.environ.get(DEBUG_VARIABLE):
             raise
-        problem = f"cannot be computed ({type(exc).__name__}: {exc})"
+        problem = f"cannot be computed ({type(exc).__name__}: {exc}); set {DEBUG_VARIABLE}=1 for the traceback"
     print(f"cagd {args.command}: {_one_line(problem)}", file=sys.stderr)
     return 2
 
@@ -70,6 +70,10 @@ def _run(args) -> int:
         out = args.output
         if out.exists() and not out.is_dir():
             raise CagdError(f"--output: {str(out)!r} is a file; the demo writes into a folder")
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise CagdError(f"--output: cannot make the folder {str(out)!r}: {exc.strerror or exc}") from None
         from .demo import run_demo
         results = run_demo(args.output, plots=not args.no_plots)
         ok = all(r.passed for r in results)

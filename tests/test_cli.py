@@ -253,4 +253,6 @@ def test_demo_into_an_existing_file_exits_2(tmp_path, capsys):
     f.write_text("x")
     assert main(["demo", "-o", str(f), "--no-model", "--no-plots"]) == 2
     one_line(capsys, "is a file")
+    assert main(["demo", "-o", str(f / "sub"), "--no-model", "--no-plots"]) == 2
+    one_line(capsys, "cannot make the folder")
     assert f.read_text() == "x"

@@ -166,3 +166,28 @@ def test_deviation_against_a_truncated_iges_exits_2_in_a_child_process(tmp_path)
                           "-o", str(tmp_path / "r.md")], capture_output=True, text=True, timeout=240)
     assert run.returncode == 2, (run.returncode, run.stderr[-500:])
     assert "trunc.igs" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_an_unexpected_engine_error_is_one_line_with_exit_2(tmp_path, capsys, monkeypatch):
+    """A sphere of radius 1e200 ended in an IndexError traceback from the closest-point
+    query; whatever the engine raises, the command prints one line and exits 2."""
+    model = write_model(tmp_path, [{"name": "big", "type": "sphere", "radius": 1e200}])
+    pts = tmp_path / "p.csv"
+    pts.write_text("1,2,3\n4,5,6\n")
+    code = main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md")])
+    if code == 0:                                       # the engine answers it (once its queries are fixed)
+        assert (tmp_path / "r.md").exists()
+        capsys.readouterr()
+    else:
+        assert code == 2
+        one_line(capsys)
+
+    def broken(*args, **kwargs):
+        raise IndexError("index 1 is out of bounds")
+    import sys
+    monkeypatch.setattr(sys.modules["cagd.queries.deviation"], "deviation", broken)
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "s.md")]) == 2
+    one_line(capsys, "IndexError", "CAGD_DEBUG")
+    monkeypatch.setenv("CAGD_DEBUG", "1")
+    with pytest.raises(IndexError):
+        main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "s.md")])

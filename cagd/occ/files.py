@@ -29,6 +29,7 @@ from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
 from OCP.IGESSelect import IGESSelect_WorkLibrary
 from OCP.IGESCAFControl import IGESCAFControl_Reader, IGESCAFControl_Writer
+from OCP.Precision import Precision
 from OCP.Interface import Interface_Static
 from OCP.STEPCAFControl import STEPCAFControl_Reader, STEPCAFControl_Writer
 from OCP.STEPControl import STEPControl_AsIs
@@ -63,7 +64,7 @@ STEP_SCHEMAS = ("AP203", "AP214CD", "AP214DIS", "AP214IS", "AP242DIS")   # OCCT'
 MIN_EXTENT = 1e-6          # mm: a face whose bounding box diagonal is smaller is refused on write; OCCT's
 #                            STEP reader drops faces at its Precision::Confusion (1e-7): measured, a
 #                            B-spline face of diagonal 1.6e-8 reads back as nothing, one of 1.6e-7 reads
-MAX_COORDINATE = 1e100     # mm: larger coordinates are refused on write (OCCT's Precision::Infinite is 2e100)
+MAX_COORDINATE = 0.5 * Precision.Infinite_s()   # 1e100 mm: larger coordinates are refused on write
 Item = Union[Curve, Surface, TopoDS_Shape]
 Objects = Union[Item, Iterable[Union[Item, Tuple[str, Item]]], Dict[str, Item]]
 
@@ -93,8 +94,10 @@ class Skipped:
 class FileContents:
     """What :func:`read_step` / :func:`read_iges` read: ``items`` (iterating, indexing
     and ``len`` go to them) and ``skipped``, the faces and edges that did not convert
-    (one bad face never costs the rest of the file); ``complete`` is True when nothing
-    was skipped, ``message`` says what was."""
+    (one bad face never costs the rest of the file); ``unread``, the STEP entities
+    OCCT's parser rejected (what refers to them may be missing from ``items``);
+    ``complete`` is True when no face or edge was skipped, ``message`` says what was
+    skipped or unread."""
     items: Tuple[Imported, ...]
     skipped: Tuple[Skipped, ...] = ()
     unread: Tuple[str, ...] = ()      # STEP entities OCCT's parser rejected: "entity 33 (TYPE): reason"
@@ -395,7 +398,9 @@ def _label_name(label: TDF_Label) -> str:
 
 def read_shapes(path: Union[str, os.PathLike], kind: str = "auto") -> List[Tuple[str, TopoDS_Shape]]:
     """(name, shape) of every top-level item of a STEP or IGES file (by extension
-    unless ``kind`` is "step" or "iges"), lengths converted to mm."""
+    unless ``kind`` is "step" or "iges"), lengths converted to mm. The file's structure
+    is checked first (:func:`cagd._validate.validate_step` / ``validate_iges``): OCCT's
+    readers die on some damaged files, which are a CagdError naming the problem here."""
     if not isinstance(kind, str):
         raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
     kind = kind.lower()
