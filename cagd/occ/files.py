@@ -375,16 +375,23 @@ def _unread(reader) -> Tuple[str, ...]:
 
 
 def _probe(path, kind: str, unread: Tuple[str, ...]) -> None:
-    """Transfer the file in a child process; CagdError if OCCT dies there."""
+    """Transfer the file in a child process; CagdError if OCCT dies there. Skipped
+    where the interpreter is embedded (FreeCAD: sys.executable is not a Python); a
+    child that cannot start (exit code, no signal) leaves the decision to the transfer."""
+    if "python" not in Path(sys.executable).name.lower():
+        return
     code = ("import sys; from cagd.occ.files import read_shapes; "
             "read_shapes(sys.argv[1], sys.argv[2].lower())")
     env = dict(os.environ, **{_PROBE_FLAG: "1"})
+    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if isinstance(p, str) and p)
     try:
         run = subprocess.run([sys.executable, "-c", code, os.fspath(path), kind], env=env, timeout=PROBE_TIMEOUT,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:
         raise CagdError(f"path: OCCT did not finish reading {kind} file {str(path)!r} in {PROBE_TIMEOUT:g} s; "
                         f"{len(unread)} damaged entities, first {unread[0]}") from None
+    except OSError:
+        return
     if run.returncode < 0 or run.returncode > 128:
         raise CagdError(f"path: {kind} file {str(path)!r} has {len(unread)} damaged entities that OCCT's "
                         f"transfer crashes on (signal {abs(run.returncode) % 128}); first: {unread[0]}")
