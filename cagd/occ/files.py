@@ -195,8 +195,8 @@ def _check_extent(shape: TopoDS_Shape, name: object) -> None:
         size = 0.0 if box.IsVoid() else box.SquareExtent() ** 0.5
         if not size >= MIN_EXTENT:
             raise CagdError(f"objects: {name!r}" + (f" face {k}" if k else "") + f" is {size:.3g} mm across; "
-                            f"faces under {MIN_EXTENT:g} mm are refused: OCCT's reader returns nothing for them (no face was "
-                            f"read back from such files; scale the model to mm)")
+                            f"faces under {MIN_EXTENT:g} mm are refused: OCCT's reader returns nothing for them "
+                            f"(no face was read back from such files; scale the model to mm)")
 
 
 @overload
