@@ -92,6 +92,8 @@ def read_document(path: Union[str, Path]) -> Any:
         raise ModelError("$", f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     except OSError as exc:
         raise ModelError("$", f"cannot read {path}: {exc.strerror or exc}") from None
+    except ValueError as exc:                      # a NUL in the path
+        raise ModelError("$", f"cannot read {str(path)!r}: {exc}") from None
     return parse_json(text)
 
 

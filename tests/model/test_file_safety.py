@@ -72,3 +72,11 @@ def test_dump_model_is_atomic(tmp_path, monkeypatch):
     with pytest.raises(CagdError, match="doc: cannot be written as JSON"):
         dump_model({"x": float("nan")}, tmp_path / "n.json")
     assert load_model(target)["c"].name == "c"
+
+
+def test_unreadable_model_paths_are_model_errors(tmp_path):
+    """A NUL in the path was a raw ValueError from pathlib."""
+    with pytest.raises(ModelError, match="embedded null byte"):
+        load_model(str(tmp_path / "a\x00b.json"))
+    with pytest.raises(ModelError, match="cannot read"):
+        load_model(tmp_path)
