@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+import warnings
 from pathlib import Path
 from typing import List, Optional, Sequence, Tuple, Union
 
@@ -33,8 +34,49 @@ def read_points(path: Path) -> np.ndarray:
     except UnicodeDecodeError as exc:
         at = raw.count(b"\n", 0, exc.start) + 1
         raise CagdError(f"points: {path} is not UTF-8 text (byte {raw[exc.start]:#04x} on line {at})") from None
-    rows = []
-    for number, line in enumerate(content.splitlines(), 1):
+    del raw
+    pts = _fast_points(path, content)
+    if pts is None:
+        pts = _checked_points(content, path)
+    if not np.all(np.isfinite(pts)):
+        raise CagdError("points: contains NaN or inf")
+    return pts
+
+
+def _fast_points(path: Path, content: str) -> Optional[np.ndarray]:
+    """numpy's C parser (np.loadtxt, reading the file in chunks) for a well-formed file:
+    O(n) memory, no Python loop per line; None when it refuses the file, which
+    :func:`_checked_points` then reads line by line to name the offending line."""
+    head = re.match(r"[^\r\n]*", content).group().strip()        # type: ignore[union-attr]
+    header = bool(head) and not head.startswith("#") and not _numbers(head)
+    data = ""
+    for k, m in enumerate(re.finditer(r"[^\r\n]+", content)):     # lazily: stops at the first data line
+        text = m.group().strip()
+        if (k or not header) and text and not text.startswith("#"):
+            data = text
+            break
+    sep = ";" if ";" in data else "," if "," in data else None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")                  # loadtxt warns on an empty file
+            pts = np.loadtxt(path, delimiter=sep, comments="#", skiprows=int(header), ndmin=2, dtype=np.float64,
+                             encoding="utf-8-sig")
+    except (ValueError, UserWarning):
+        return None
+    return pts if pts.shape[0] > 0 and pts.shape[1] in (2, 3) else None
+
+
+def _numbers(text: str) -> bool:
+    try:
+        [float(f) for f in re.split("[,; \t]+", text) if f]
+    except ValueError:
+        return False
+    return True
+
+
+def _checked_points(content: str, path: Path) -> np.ndarray:
+    rows: List[List[float]] = []
+    for number, line in enumerate(re.split(r"\r\n|\n|\r", content), 1):
         text = line.strip()
         if not text or text.startswith("#"):
             continue
@@ -55,10 +97,7 @@ def read_points(path: Path) -> np.ndarray:
                             "2 or 3 coordinates")
     if not rows:
         raise CagdError(f"points: {path} holds no points")
-    pts = np.array(rows)
-    if not np.all(np.isfinite(pts)):
-        raise CagdError("points: contains NaN or inf")
-    return pts
+    return np.array(rows)
 
 
 def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List[Tuple[str, Union[Curve, Surface]]]]:

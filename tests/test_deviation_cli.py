@@ -191,3 +191,30 @@ def test_an_unexpected_engine_error_is_one_line_with_exit_2(tmp_path, capsys, mo
     monkeypatch.setenv("CAGD_DEBUG", "1")
     with pytest.raises(IndexError):
         main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "s.md")])
+
+
+@pytest.mark.parametrize("text", [
+    "x,y,z\n1,2,3\n4,5,6\n", "1;2;3\r\n4;5;6\r\n", "1 2 3\n\t4   5 6\n", "# c\n1,2\n\n3,4\n", "1,2,3\r4,5,6\r",
+    "\ufeffx y\n1e300 -2.5e-300\n.5 -0.\n", "1, 2, 3\n4 ,5 ,6\n",
+])
+def test_the_fast_reader_agrees_with_the_line_by_line_one(tmp_path, text):
+    """read_points takes numpy's C parser (O(n) memory) when it accepts the file; the
+    line-by-line reader that names bad lines is the oracle."""
+    from cagd.deviation_cli import _checked_points, _fast_points
+    pts = tmp_path / "p.csv"
+    pts.write_text(text, newline="")
+    got = read_points(pts)
+    content = text.lstrip("\ufeff")
+    assert np.array_equal(got, _checked_points(content, pts))
+    fast = _fast_points(pts, content)
+    assert fast is None or np.array_equal(fast, got)
+
+
+def test_many_rows_read_through_the_fast_path(tmp_path):
+    rng = np.random.default_rng(3)
+    X = rng.normal(size=(200_000, 3)) * 1e3
+    pts = tmp_path / "big.csv"
+    np.savetxt(pts, X, delimiter=",", header="x,y,z", comments="", fmt="%.17g")
+    from cagd.deviation_cli import _fast_points
+    assert _fast_points(pts, pts.read_text()) is not None
+    assert np.array_equal(read_points(pts), X)
