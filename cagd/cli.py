@@ -3,11 +3,14 @@
 ``cagd deviation MODEL points.csv`` (a point cloud against the model).
 
 Exit codes: 0 success; 1 a check failed (an oracle, the round trip, a solid);
-2 bad input (an invalid model file: the message names the JSON path).
+2 bad input or an output that cannot be written (an invalid model file: the message
+names the JSON path). Every failure is one line on stderr, no traceback (set
+CAGD_DEBUG=1 to get the traceback of an unexpected error).
 """
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 from typing import List, Optional
@@ -37,9 +40,40 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+DEBUG_VARIABLE = "CAGD_DEBUG"      # set to 1: unexpected errors raise (with their traceback)
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     args = _parser().parse_args(argv)
+    from .errors import CagdError
+    try:
+        return _run(args)
+    except CagdError as exc:
+        problem = str(exc)
+    except OSError as exc:
+        problem = f"{exc.filename + ': ' if exc.filename else ''}{exc.strerror or exc}"
+    except Exception as exc:        # the contract: one line and exit 2, never a traceback
+        if os.environ.get(DEBUG_VARIABLE):
+            raise
+        problem = f"cannot be computed ({type(exc).__name__}: {exc}); set {DEBUG_VARIABLE}=1 for the traceback"
+    print(f"cagd {args.command}: {_one_line(problem)}", file=sys.stderr)
+    return 2
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def _run(args) -> int:
     if args.command == "demo":
+        from .errors import CagdError
+        out = args.output
+        if out.exists() and not out.is_dir():
+            raise CagdError(f"--output: {str(out)!r} is a file; the demo writes into a folder")
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise CagdError(f"--output: cannot make the folder {str(out)!r}: {exc.strerror or exc}") from None
         from .demo import run_demo
         results = run_demo(args.output, plots=not args.no_plots)
         ok = all(r.passed for r in results)
@@ -54,31 +88,22 @@ def main(argv: Optional[List[str]] = None) -> int:
 
 
 def _export(args) -> int:
+    from ._atomic import check_target
     from .errors import CagdError
-    from .model import ModelError, load_model
+    from .model import load_model
     for option, path in (("--output", args.output), ("--iges", args.iges), ("--report", args.report)):
-        if path is not None and (path.is_dir() or not path.parent.is_dir()):
-            print(f"cagd export: {option} {path}: " + ("is a folder" if path.is_dir() else
-                                                      f"folder {path.parent} does not exist"), file=sys.stderr)
-            return 2
-    try:
-        model = load_model(args.model)
-    except ModelError as exc:
-        print(f"cagd export: {args.model}: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        print(f"cagd export: cannot read {args.model}: {exc.strerror or exc}", file=sys.stderr)
-        return 2
+        if path is not None:
+            check_target(path, option)
     from .occ.export import export_model
     try:
-        result = export_model(model, args.output, args.iges, progress=not args.no_progress)
+        model = load_model(args.model)
+        result = export_model(model, args.output, args.iges, progress=not args.no_progress, report=args.report)
     except CagdError as exc:
-        print(f"cagd export: {args.model}: {exc}", file=sys.stderr)
-        return 2
-    text = result.to_markdown()
-    if args.report:
-        args.report.write_text(text)
-    print(text if not args.report else f"report: {args.report}")
+        raise CagdError(f"{args.model}: {exc}") from None
+    if not args.report:
+        print(result.to_markdown())
+    else:
+        print(f"report: {args.report}")
     print("all checks passed" if result.passed else "SOME CHECKS FAILED", file=sys.stderr)
     return 0 if result.passed else 1
 

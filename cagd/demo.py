@@ -14,6 +14,8 @@ from typing import Callable, List, Optional, Sequence, TextIO, Tuple
 
 import numpy as np
 
+from ._atomic import write_file
+from .errors import CagdError
 from .basis.bernstein import bezier_matrix
 from .basis.bspline import cox_de_boor
 from .curves.base import Curve
@@ -238,6 +240,11 @@ def run_demo(out_dir: Path, stream: Optional[TextIO] = None, plots: bool = True)
     """Run every example, write its PNG, print the table; return the results."""
     stream = sys.stdout if stream is None else stream
     out_dir = Path(out_dir)
+    if plots:
+        try:
+            out_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise CagdError(f"out_dir: cannot make the folder {str(out_dir)!r}: {exc.strerror or exc}") from None
     results = []
     for i, ex in enumerate(EXAMPLES, 1):
         print(f"[{i}/{len(EXAMPLES)}] {ex.name}", file=sys.stderr, flush=True)
@@ -246,8 +253,9 @@ def run_demo(out_dir: Path, stream: Optional[TextIO] = None, plots: bool = True)
         if plots:
             from .plotting import plot_curves
             slug = "".join(ch if ch.isalnum() else "_" for ch in ex.name.lower()).strip("_")
-            png = plot_curves(out_dir / f"{i:02d}_{slug}.png", f"{ex.name} (seed {ex.seed})", curves, polygons,
-                              points=pts)
+            title = f"{ex.name} (seed {ex.seed})"
+            png = write_file(out_dir / f"{i:02d}_{slug}.png",        # atomic: a picture is whole or absent
+                             lambda temp: plot_curves(temp, title, curves, polygons, points=pts), "--output")
         results.append(Result(ex, dev, png))
     w = max(len(r.example.name) for r in results)
     print(f"{'example':{w}s}  {'seed':32s} {'max deviation':>13s} {'tolerance':>9s}  ok  oracle", file=stream)

@@ -5,7 +5,9 @@ file (read through cagd.occ). Exit codes: 0 done, 2 bad input."""
 from __future__ import annotations
 
 import argparse
+import re
 import sys
+import warnings
 from pathlib import Path
 from typing import List, Optional, Sequence, Tuple, Union
 
@@ -23,12 +25,67 @@ def read_points(path: Path) -> np.ndarray:
     Raises:
         CagdError: no points, ragged rows, non-numbers (naming the line), NaN/inf.
     """
-    rows = []
-    for number, line in enumerate(Path(path).read_text().splitlines(), 1):
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as exc:
+        raise CagdError(f"points: cannot read {str(path)!r}: {exc.strerror or exc}") from None
+    try:
+        content = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        at = raw.count(b"\n", 0, exc.start) + 1
+        raise CagdError(f"points: {path} is not UTF-8 text (byte {raw[exc.start]:#04x} on line {at})") from None
+    del raw
+    pts = _fast_points(path, content)
+    if pts is None:
+        pts = _checked_points(content, path)
+    if not np.all(np.isfinite(pts)):
+        raise CagdError("points: contains NaN or inf")
+    return pts
+
+
+def _fast_points(path: Path, content: str) -> Optional[np.ndarray]:
+    """numpy's C parser (np.loadtxt, reading the file in chunks) for a well-formed file:
+    O(n) memory, no Python loop per line; None when it refuses the file, which
+    :func:`_checked_points` then reads line by line to name the offending line."""
+    head = re.match(r"[^\r\n]*", content).group().strip()        # type: ignore[union-attr]
+    header = bool(head) and not head.startswith("#") and not _numbers(head)
+    data = ""
+    for k, m in enumerate(re.finditer(r"[^\r\n]+", content)):     # lazily: stops at the first data line
+        text = m.group().strip()
+        if (k or not header) and text and not text.startswith("#"):
+            data = text
+            break
+    sep = ";" if ";" in data else "," if "," in data else None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")                  # loadtxt warns on an empty file
+            pts = np.loadtxt(path, delimiter=sep, comments="#", skiprows=int(header), ndmin=2, dtype=np.float64,
+                             encoding="utf-8-sig")
+    except (ValueError, UserWarning):
+        return None
+    return pts if pts.shape[0] > 0 and pts.shape[1] in (2, 3) else None
+
+
+def _numbers(text: str) -> bool:
+    try:
+        [float(f) for f in re.split("[,; \t]+", text) if f]
+    except ValueError:
+        return False
+    return True
+
+
+def _checked_points(content: str, path: Path) -> np.ndarray:
+    rows: List[List[float]] = []
+    for number, line in enumerate(re.split(r"\r\n|\n|\r", content), 1):
         text = line.strip()
         if not text or text.startswith("#"):
             continue
-        fields = [f for f in text.replace(";", ",").replace(",", " ").split()]
+        if "," in text or ";" in text:
+            fields = [f.strip() for f in re.split("[,;]", text)]
+            if any(not f for f in fields):
+                raise CagdError(f"points: line {number} has an empty field: {text[:60]!r}")
+        else:
+            fields = text.split()
         try:
             rows.append([float(f) for f in fields])
         except ValueError:
@@ -40,10 +97,7 @@ def read_points(path: Path) -> np.ndarray:
                             "2 or 3 coordinates")
     if not rows:
         raise CagdError(f"points: {path} holds no points")
-    pts = np.array(rows)
-    if not np.all(np.isfinite(pts)):
-        raise CagdError("points: contains NaN or inf")
-    return pts
+    return np.array(rows)
 
 
 def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List[Tuple[str, Union[Curve, Surface]]]]:
@@ -70,11 +124,24 @@ def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List
     return str(path), chosen
 
 
+def _picture_formats() -> Tuple[str, ...]:
+    """The file extensions matplotlib can write (png, pdf, svg, ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+    return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
 def run_deviation(args: argparse.Namespace) -> int:
+    """The command; its outputs (report and colour map) are checked before any work and
+    written all or nothing (:mod:`cagd._atomic`)."""
+    from ._atomic import check_target, write_files
     from .queries.deviation import deviation, deviation_map
     try:
-        if args.output.is_dir() or not args.output.parent.is_dir():
-            raise CagdError(f"--output {args.output}: not a file in an existing folder")
+        check_target(args.output, "--output")
+        png = args.png or args.output.with_suffix(".png")
+        check_target(png, "--png")
+        formats = _picture_formats()
+        if png.suffix.lower().lstrip(".") not in formats:
+            raise CagdError(f"--png {png}: unknown picture type {png.suffix!r} (one of: {', '.join(formats)})")
         where, items = model_objects(args.model, args.object)
         pts = read_points(args.points)
         objects = [o for _, o in items]
@@ -84,11 +151,6 @@ def run_deviation(args: argparse.Namespace) -> int:
     except KeyError as exc:
         print(f"cagd deviation: --object {exc.args[0]}: no such entry in {args.model}", file=sys.stderr)
         return 2
-    except (CagdError, OSError) as exc:
-        print(f"cagd deviation: {exc}", file=sys.stderr)
-        return 2
-    png = args.png or args.output.with_suffix(".png")
-    deviation_map(objects, pts, png, result, title=args.model.name)
     gap = float(np.max(np.abs(result.distances) - result.lower_bounds))
     assert result.owner is not None                     # deviation() of a list says which object is nearest
     nearest = np.bincount(result.owner, minlength=len(items))
@@ -99,6 +161,7 @@ def run_deviation(args: argparse.Namespace) -> int:
              f"({'signed along the surface normal' if result.signed else 'unsigned'}), certified to within "
              f"{gap:.2g} (largest distance - certified lower bound)",
              f"- colour map: `{png}`", "", result.table(), ""]
-    args.output.write_text("\n".join(lines))
+    write_files([(png, lambda temp: deviation_map(objects, pts, temp, result, title=args.model.name), "--png"),
+                 (args.output, "\n".join(lines), "--output")])
     print("\n".join(lines))
     return 0

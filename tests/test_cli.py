@@ -146,3 +146,113 @@ def test_example_models_export_and_pass_their_checks(model, tmp_path):
     assert main(["export", str(model), "-o", str(tmp_path / "m.step"), "--iges", str(tmp_path / "m.igs"),
                  "--report", str(tmp_path / "r.md"), "--no-progress"]) == 0
     assert "**all checks passed**" in (tmp_path / "r.md").read_text()
+
+
+# --- issue 14: every failure one line on stderr, exit 2, no traceback; nothing half-written ---------------
+def one_line(capsys, *words):
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and err[0].startswith("cagd ") and "Traceback" not in err[0], err
+    for w in words:
+        assert w in err[0], err[0]
+    return err[0]
+
+
+def write_doc(tmp_path, doc, name="m.json"):
+    src = tmp_path / name
+    src.write_text(json.dumps(doc) if isinstance(doc, dict) else doc)
+    return src
+
+
+CURVE_ONLY = {"objects": [{"name": "arc", "type": "bspline_curve", "degree": 2,
+                           "control_points": [[0, 0, 0], [10, 10, 0], [20, 0, 0]]}]}
+
+
+@pytest.mark.parametrize("entry, words", [
+    ({"name": "c", "type": "bspline_curve", "degree": 1, "control_points": [[0, 0, 0], [1, 1, 0], [2, 0, 0]],
+      "knots": [0, 0, 1e-300, 2e-300, 2e-300]}, ["'c'", "cannot be checked"]),
+    ({"name": "c", "type": "polynomial_curve", "coefficients": [[0, 0, 0], [1, 1, 1]], "domain": [0, 1e-300]},
+     ["'c'", "cannot be checked"]),
+    ({"name": "s", "type": "sphere", "radius": 1e200}, ["'s'", "1e+200"]),
+    ({"name": "t", "type": "torus", "R": 1.0, "r": 2.0, "solid": True}, ["$.objects[0].solid", "r >= R"]),
+    ({"name": "x\ud800", "type": "sphere", "radius": 1.0}, ["$.objects[0].name", "surrogate"]),
+    ({"name": "n" * 256, "type": "sphere", "radius": 1.0}, ["$.objects[0].name", "at most 255"]),
+])
+def test_export_of_extreme_models_exits_2_with_one_line(tmp_path, capsys, entry, words):
+    """Each printed a traceback and exited 1, or (sphere 1e200, torus r > R solid)
+    reported "all checks passed"."""
+    src = write_doc(tmp_path, small_model(objects=[entry]))
+    assert main(["export", str(src), "-o", str(tmp_path / "x.step"), "--no-progress"]) == 2
+    one_line(capsys, *words)
+    assert not (tmp_path / "x.step").exists()
+
+
+def test_export_of_a_4301_digit_integer_exits_2(tmp_path, capsys):
+    text = json.dumps(small_model(**CURVE_ONLY)).replace('"degree": 2', '"degree": 2' + "0" * 4300)
+    src = write_doc(tmp_path, text)
+    assert main(["export", str(src), "-o", str(tmp_path / "x.step"), "--no-progress"]) == 2
+    one_line(capsys, "$.objects[0].degree", "4301 digits")
+
+
+def test_export_of_a_name_with_a_newline_exits_2_in_a_child_process(tmp_path):
+    """`cagd export m.json --iges x.igs` exited 139 (SIGSEGV) after overwriting the STEP."""
+    import subprocess
+    import sys
+    src = write_doc(tmp_path, small_model(objects=[{"name": "a\nb", "type": "sphere", "radius": 1.0}]))
+    step = tmp_path / "x.step"
+    step.write_text("old")
+    run = subprocess.run([sys.executable, "-m", "cagd.cli", "export", str(src), "-o", str(step), "--iges",
+                          str(tmp_path / "x.igs"), "--no-progress"], capture_output=True, text=True, timeout=240)
+    assert run.returncode == 2, (run.returncode, run.stderr[-500:])
+    assert "control character" in run.stderr and "Traceback" not in run.stderr
+    assert step.read_text() == "old" and not (tmp_path / "x.igs").exists()
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full")
+def test_export_to_a_full_device_keeps_the_other_outputs(tmp_path, capsys):
+    """The STEP was overwritten before the IGES write to /dev/full failed with a traceback."""
+    src = write_doc(tmp_path, small_model(**CURVE_ONLY))
+    step = tmp_path / "x.step"
+    step.write_text("old")
+    assert main(["export", str(src), "-o", str(step), "--iges", "/dev/full", "--no-progress"]) == 2
+    one_line(capsys, "/dev/full", "No space left")
+    assert step.read_text() == "old"
+    assert main(["export", str(src), "-o", "/dev/full", "--no-progress"]) == 2
+    one_line(capsys, "/dev/full")
+
+
+@pytest.mark.parametrize("option", ["--report", "--iges", "-o"])
+def test_export_checks_every_output_before_writing_any(tmp_path, capsys, option):
+    """A 256-byte report name failed after the STEP and IGES were written."""
+    src = write_doc(tmp_path, small_model(**CURVE_ONLY))
+    outputs = {"-o": tmp_path / "x.step", "--iges": tmp_path / "x.igs", "--report": tmp_path / "r.md"}
+    outputs[option] = tmp_path / ("n" * 252 + ".ext")
+    for p in outputs.values():
+        if len(p.name) < 200:
+            p.write_text("old")
+    args = [a for k, p in outputs.items() for a in (k, str(p))]
+    assert main(["export", str(src), *args, "--no-progress"]) == 2
+    one_line(capsys, "256 bytes")
+    assert sorted(p.read_text() for p in tmp_path.iterdir() if p.suffix != ".json") == ["old", "old"]
+
+
+def test_export_writes_all_outputs_when_it_works(tmp_path, capsys):
+    src = write_doc(tmp_path, small_model(**CURVE_ONLY))
+    args = ["-o", str(tmp_path / "x.step"), "--iges", str(tmp_path / "x.igs"), "--report", str(tmp_path / "r.md")]
+    assert main(["export", str(src), *args, "--no-progress"]) == 0
+    capsys.readouterr()
+    assert len(read_step(tmp_path / "x.step")) == len(read_iges(tmp_path / "x.igs")) == 1
+    assert "| x.step | 1 | 0 | 1 |" in (tmp_path / "r.md").read_text()     # read back under the final name
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "r.md", "x.igs", "x.step"]   # no temporaries
+    assert main(["export", str(src), "-o", str(tmp_path / "y.step"), "--iges", str(tmp_path / "y.step"),
+                 "--no-progress"]) == 2
+    one_line(capsys, "same file")
+
+
+def test_demo_into_an_existing_file_exits_2(tmp_path, capsys):
+    f = tmp_path / "file"
+    f.write_text("x")
+    assert main(["demo", "-o", str(f), "--no-model", "--no-plots"]) == 2
+    one_line(capsys, "is a file")
+    assert main(["demo", "-o", str(f / "sub"), "--no-model", "--no-plots"]) == 2
+    one_line(capsys, "cannot make the folder")
+    assert f.read_text() == "x"

@@ -81,3 +81,140 @@ def test_bad_input_exits_2(tmp_path, capsys, csv, args, message):
     pts.write_text(csv)
     assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md"), *args]) == 2
     assert message in capsys.readouterr().err
+
+
+# --- issue 14: one-line errors with exit 2, nothing half-written, damaged files in a child process ----------
+def one_line(capsys, *words):
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and err[0].startswith("cagd deviation: ") and "Traceback" not in err[0], err
+    for w in words:
+        assert w in err[0], err[0]
+
+
+def ball(tmp_path):
+    return write_model(tmp_path, [{"name": "ball", "type": "sphere", "radius": 10.0}])
+
+
+def test_a_row_with_an_empty_field_is_an_error_naming_it(tmp_path):
+    """`1,,2,3` was read as the three coordinates 1, 2, 3."""
+    pts = tmp_path / "p.csv"
+    pts.write_text("0,0,1\n1,,2,3\n")
+    with pytest.raises(cagd.CagdError, match=r"line 2 has an empty field: '1,,2,3'"):
+        read_points(pts)
+    pts.write_text("0;0;1\n1; ;2\n")
+    with pytest.raises(cagd.CagdError, match="line 2 has an empty field"):
+        read_points(pts)
+    pts.write_text("x y z\n0 0 1\n1  2   3\n")                # runs of spaces are one separator
+    assert read_points(pts).tolist() == [[0, 0, 1], [1, 2, 3]]
+
+
+@pytest.mark.parametrize("data, words", [(b"x,y,z\n1,2,\xff\n", "not UTF-8 text (byte 0xff on line 2)"),
+                                         (b"1,,2,3\n", "empty field")])
+def test_bad_csv_exits_2_with_one_line(tmp_path, capsys, data, words):
+    """A non-UTF-8 CSV printed a UnicodeDecodeError traceback and exited 1."""
+    pts = tmp_path / "p.csv"
+    pts.write_bytes(data)
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "r.md")]) == 2
+    one_line(capsys, words)
+    assert not (tmp_path / "r.md").exists()
+
+
+@pytest.mark.parametrize("png, words", [("missing/x.png", "does not exist"), ("x.xyz", "unknown picture type"),
+                                        ("folder", "is a folder")])
+def test_a_bad_png_path_exits_2_before_any_work(tmp_path, capsys, png, words):
+    """--png in a missing folder or with an unknown extension was a traceback after the
+    report was written; --png naming a folder wrote <folder>.png and exited 0."""
+    (tmp_path / "folder").mkdir()
+    pts = tmp_path / "p.csv"
+    pts.write_text("1,2,3\n")
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "r.md"),
+                 "--png", str(tmp_path / png)]) == 2
+    one_line(capsys, "--png", words)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["folder", "m.json", "p.csv"]
+
+
+def test_report_and_picture_are_written_together(tmp_path, capsys):
+    pts, _ = offsets_from_sphere(tmp_path, n=20)
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "r.md"),
+                 "--png", str(tmp_path / "map.svg")]) == 0
+    assert (tmp_path / "map.svg").read_text().lstrip().startswith("<?xml")
+    assert "map.svg" in (tmp_path / "r.md").read_text()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "map.svg", "pts.csv", "r.md"]
+
+
+@pytest.mark.skipif(not __import__("os").path.exists("/dev/full"), reason="no /dev/full")
+def test_a_full_output_exits_2(tmp_path, capsys):
+    pts, _ = offsets_from_sphere(tmp_path, n=20)
+    png = tmp_path / "keep.png"
+    png.write_bytes(b"old")
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", "/dev/full", "--png", str(png)]) == 2
+    one_line(capsys, "/dev/full", "No space left")
+    assert png.read_bytes() == b"old"                       # the device fails before the picture is replaced
+
+
+def test_deviation_against_a_truncated_iges_exits_2_in_a_child_process(tmp_path):
+    """`cagd deviation trunc.igs pts.csv` exited 139 (SIGSEGV in OCCT's IGES reader)."""
+    pytest.importorskip("OCP")
+    import subprocess
+    import sys
+    from cagd.occ import write_iges
+    write_iges([("ball", cagd.sphere(10.0))], tmp_path / "ball.igs")
+    data = (tmp_path / "ball.igs").read_bytes()
+    (tmp_path / "trunc.igs").write_bytes(data[:len(data) // 2])
+    pts, _ = offsets_from_sphere(tmp_path, n=20)
+    run = subprocess.run([sys.executable, "-m", "cagd.cli", "deviation", str(tmp_path / "trunc.igs"), str(pts),
+                          "-o", str(tmp_path / "r.md")], capture_output=True, text=True, timeout=240)
+    assert run.returncode == 2, (run.returncode, run.stderr[-500:])
+    assert "trunc.igs" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_an_unexpected_engine_error_is_one_line_with_exit_2(tmp_path, capsys, monkeypatch):
+    """A sphere of radius 1e200 ended in an IndexError traceback from the closest-point
+    query; whatever the engine raises, the command prints one line and exits 2."""
+    model = write_model(tmp_path, [{"name": "big", "type": "sphere", "radius": 1e200}])
+    pts = tmp_path / "p.csv"
+    pts.write_text("1,2,3\n4,5,6\n")
+    code = main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md")])
+    if code == 0:                                       # the engine answers it (once its queries are fixed)
+        assert (tmp_path / "r.md").exists()
+        capsys.readouterr()
+    else:
+        assert code == 2
+        one_line(capsys)
+
+    def broken(*args, **kwargs):
+        raise IndexError("index 1 is out of bounds")
+    import sys
+    monkeypatch.setattr(sys.modules["cagd.queries.deviation"], "deviation", broken)
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "s.md")]) == 2
+    one_line(capsys, "IndexError", "CAGD_DEBUG")
+    monkeypatch.setenv("CAGD_DEBUG", "1")
+    with pytest.raises(IndexError):
+        main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "s.md")])
+
+
+@pytest.mark.parametrize("text", [
+    "x,y,z\n1,2,3\n4,5,6\n", "1;2;3\r\n4;5;6\r\n", "1 2 3\n\t4   5 6\n", "# c\n1,2\n\n3,4\n", "1,2,3\r4,5,6\r",
+    "\ufeffx y\n1e300 -2.5e-300\n.5 -0.\n", "1, 2, 3\n4 ,5 ,6\n",
+])
+def test_the_fast_reader_agrees_with_the_line_by_line_one(tmp_path, text):
+    """read_points takes numpy's C parser (O(n) memory) when it accepts the file; the
+    line-by-line reader that names bad lines is the oracle."""
+    from cagd.deviation_cli import _checked_points, _fast_points
+    pts = tmp_path / "p.csv"
+    pts.write_text(text, newline="")
+    got = read_points(pts)
+    content = text.lstrip("\ufeff")
+    assert np.array_equal(got, _checked_points(content, pts))
+    fast = _fast_points(pts, content)
+    assert fast is None or np.array_equal(fast, got)
+
+
+def test_many_rows_read_through_the_fast_path(tmp_path):
+    rng = np.random.default_rng(3)
+    X = rng.normal(size=(200_000, 3)) * 1e3
+    pts = tmp_path / "big.csv"
+    np.savetxt(pts, X, delimiter=",", header="x,y,z", comments="", fmt="%.17g")
+    from cagd.deviation_cli import _fast_points
+    assert _fast_points(pts, pts.read_text()) is not None
+    assert np.array_equal(read_points(pts), X)

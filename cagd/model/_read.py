@@ -9,9 +9,11 @@ from typing import Any, Iterable, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .._validate import check_name
 from ..errors import CagdError
 
 MAX_DEPTH = 100          # nesting limit of a document (models need about 10 levels)
+MAX_INT_DIGITS = 4300    # digits of a JSON integer (Python's int/str conversion limit, sys.int_info)
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
@@ -39,6 +41,24 @@ class NonFinite:
         return self.literal
 
 
+class HugeInteger:
+    """What ``parse_int`` makes of an integer literal of more than MAX_INT_DIGITS digits
+    (Python refuses to convert it: a ValueError); rejected with its path by :func:`check_tree`."""
+
+    def __init__(self, literal: str):
+        self.digits = len(literal.lstrip("-"))
+
+    def __repr__(self) -> str:
+        return f"<integer of {self.digits} digits>"
+
+
+def parse_int(literal: str) -> Any:
+    """A JSON integer literal as an int, or a HugeInteger marker when too long."""
+    if len(literal.lstrip("-")) > MAX_INT_DIGITS:
+        return HugeInteger(literal)
+    return int(literal)
+
+
 class JsonObject(dict):
     """A parsed JSON object remembering keys that occurred more than once."""
     duplicates: Tuple[str, ...] = ()
@@ -61,8 +81,8 @@ def key_path(path: str, key: str) -> str:
 
 def show(value: Any, limit: int = 40) -> str:
     """A short JSON rendering of ``value`` for messages."""
-    if isinstance(value, NonFinite):
-        return value.literal
+    if isinstance(value, (NonFinite, HugeInteger)):
+        return repr(value)
     try:
         text = json.dumps(value, allow_nan=True, default=repr)
     except (TypeError, ValueError, RecursionError):
@@ -96,6 +116,8 @@ def check_tree(value: Any, path: str = "$") -> None:
         v, p, depth = stack.pop()
         if depth > MAX_DEPTH:
             raise ModelError(p, f"nested more than {MAX_DEPTH} levels deep")
+        if isinstance(v, HugeInteger):
+            raise ModelError(p, f"an integer of {v.digits} digits; at most {MAX_INT_DIGITS} are read")
         if isinstance(v, NonFinite) or (isinstance(v, float) and not np.isfinite(v)):
             raise ModelError(p, f"{show(v)} is not allowed: numbers must be finite "
                                 f"(NaN and Infinity are not JSON)")
@@ -158,10 +180,12 @@ def string(value: Any, path: str) -> str:
 
 
 def name(value: Any, path: str) -> str:
+    """An entry name as it can go into a STEP/IGES file (:func:`cagd._validate.check_name`)."""
     s = string(value, path)
-    if not s.strip() or s != s.strip():
-        raise ModelError(path, f"must be a non-empty name without leading/trailing spaces, got {show(value)}")
-    return s
+    try:
+        return check_name(s, "name")
+    except CagdError as exc:
+        raise ModelError(path, str(exc).split(": ", 1)[1]) from None
 
 
 def choice(value: Any, path: str, options: Sequence[str]) -> str:

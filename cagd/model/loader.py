@@ -78,7 +78,7 @@ def parse_json(text: str) -> Any:
     :func:`cagd.model._read.check_tree` rejects with their path, duplicate keys are
     remembered; a syntax error is a ModelError at ``$`` with line and column."""
     try:
-        return json.loads(text, parse_constant=R.NonFinite, object_pairs_hook=R.object_pairs)
+        return json.loads(text, parse_constant=R.NonFinite, parse_int=R.parse_int, object_pairs_hook=R.object_pairs)
     except json.JSONDecodeError as exc:
         raise ModelError("$", f"not valid JSON: {exc.msg} at line {exc.lineno}, column {exc.colno}") from None
     except RecursionError:
@@ -92,6 +92,8 @@ def read_document(path: Union[str, Path]) -> Any:
         raise ModelError("$", f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     except OSError as exc:
         raise ModelError("$", f"cannot read {path}: {exc.strerror or exc}") from None
+    except ValueError as exc:                      # a NUL in the path
+        raise ModelError("$", f"cannot read {str(path)!r}: {exc}") from None
     return parse_json(text)
 
 

@@ -239,6 +239,16 @@ def _closed(f: Fields, objects: list) -> None:
     """ellipsoid, sphere, torus: closed surfaces by construction."""
 
 
+def _torus_closed(f: Fields, objects: list) -> None:
+    """A torus bounds a volume (2 pi^2 R r^2) only when the tube does not pass through
+    the axis: r < R. With r >= R the surface intersects itself (a spindle torus) and
+    the solid OCCT builds from it is not the torus' volume."""
+    big, small = f.values["R"], f.values["r"]
+    if not abs(small) < abs(big):
+        raise ModelError(f.at("solid"), f"a torus with r >= R ({small!r} >= {big!r}) intersects itself and "
+                                       f"bounds no volume; solid needs r < R")
+
+
 def _revolve_closed(f: Fields, objects: list) -> None:
     """A full turn of a profile that is closed or starts and ends on the axis."""
     where = f.at("solid")
@@ -286,7 +296,7 @@ TYPES: Dict[str, TypeSpec] = {
     "revolve": TypeSpec("surface", ("profile",), ("axis_point", "axis_direction", "angle", "start_angle"),
                         _revolve, "revolve", solid=_revolve_closed),
     "sphere": TypeSpec("surface", ("radius",), ("center",), _sphere, "sphere", solid=_closed),
-    "torus": TypeSpec("surface", ("R", "r"), ("center",), _torus, "torus", solid=_closed),
+    "torus": TypeSpec("surface", ("R", "r"), ("center",), _torus, "torus", solid=_torus_closed),
     "cylinder": TypeSpec("surface", ("radius", "height"), ("center",), _cylinder, "cylinder"),
     "cone": TypeSpec("surface", ("radius", "height"), ("center",), _cone, "cone"),
     "ellipsoid": TypeSpec("surface", ("a", "b", "c"), (), _ellipsoid, "ellipsoid", solid=_closed),

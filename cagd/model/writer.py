@@ -8,6 +8,8 @@ import json
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Optional, Tuple, Union
 
+from .._atomic import write_file
+from .._validate import check_name
 from ..curves.base import Curve
 from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
@@ -27,8 +29,7 @@ def entry_dict(name: str, obj: Any, export: bool = True, description: Optional[s
     Raises:
         CagdError: not an engine curve or surface, or of an unsupported dimension.
     """
-    if not isinstance(name, str) or not name.strip():
-        raise CagdError(f"name: must be a non-empty string, got {name!r}")
+    check_name(name, "name")
     if not isinstance(obj, (Curve, Surface)):
         raise CagdError(f"obj: expected a cagd curve or surface, got {type(obj).__name__}")
     dims = (2, 3) if isinstance(obj, Curve) else (3,)
@@ -114,7 +115,17 @@ def _dump(value: Any, indent: str) -> str:
 
 
 def dump_model(doc: Union[dict, Model], path: Union[str, Path]) -> None:
-    """Write a document (or a loaded Model) as a JSON file."""
+    """Write a document (or a loaded Model) as a JSON file, atomically (:mod:`cagd._atomic`):
+    completely, or the old file stays as it was.
+
+    Raises:
+        CagdError: a value JSON cannot hold (NaN, a huge integer, a non-data type), or a
+            path that cannot be written (missing folder, full disk), naming the path.
+    """
     if isinstance(doc, Model):
         doc = model_to_dict(doc)
-    Path(path).write_text(dumps(doc), encoding="utf-8")
+    try:
+        text = dumps(doc)
+    except (TypeError, ValueError, RecursionError) as exc:
+        raise CagdError(f"doc: cannot be written as JSON: {exc}") from None
+    write_file(path, text, "path")

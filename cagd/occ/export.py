@@ -11,17 +11,19 @@ back and their faces and free edges counted.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import List, Optional, Tuple
 
 from OCP.TopAbs import TopAbs_FACE
 
+from .._atomic import check_target, write_files
 from .._progress import Progress
 from ..errors import CagdError
 from ..model.loader import Entry, Model
 from ..surfaces.properties import enclosed_volume
-from .files import read_iges, read_step, write_iges, write_step
+from .files import iges_bytes, read_iges, read_step, step_bytes
 from .shapes import check_valid, make_edge, make_face, solid_from_surfaces, subshapes, volume
 from .verify import VerifyReport, verify
 
@@ -110,14 +112,22 @@ class ExportResult:
 
 def export_model(model: Model, step: Optional[Path] = None, iges: Optional[Path] = None, samples: int = 41,
                  progress: bool = True, tol: Optional[float] = None, file_tol: float = 1e-9,
-                 volume_tol: float = 1e-9) -> ExportResult:
+                 volume_tol: float = 1e-9, report: Optional[Path] = None) -> ExportResult:
     """Write the exported entries of a loaded model (:func:`cagd.model.load_model`) to
-    STEP and/or IGES, verify every object and solid, read the files back.
+    STEP and/or IGES (and the Markdown report to ``report`` if given), verify every
+    object and solid, read the files back. All or nothing: every output is checked
+    before any work, and the files are written to temporaries (read back from there)
+    and renamed over their targets only when all are complete (:mod:`cagd._atomic`).
 
     Raises:
         CagdError: an entry that cannot become a shape (e.g. surfaces marked solid
-            that do not close), or a file that cannot be written.
+            that do not close), an object the check cannot measure, or a file that
+            cannot be written (no file is changed then).
     """
+    outputs = [(p, w) for p, w in ((step, "step"), (iges, "iges"), (report, "report")) if p is not None]
+    resolved = [os.path.realpath(check_target(p, what)) for p, what in outputs]
+    if len(set(resolved)) != len(resolved):
+        raise CagdError(f"{', '.join(w for _, w in outputs)}: two outputs name the same file")
     entries = model.exported()
     objects = [(label, obj) for e in entries for label, obj in e.labels()]
     work = Progress(len(objects) + len(entries) + 2, enabled=progress)
@@ -136,17 +146,36 @@ def export_model(model: Model, step: Optional[Path] = None, iges: Optional[Path]
                 items.append((label, make_edge(obj) if e.kind == "curve" else make_face(obj, nurbs=True)))
                 faces, curves = faces + (e.kind != "curve"), curves + (e.kind == "curve")
         work.step(f"shape {e.name}")
-    result.expected = (faces, curves)
-    for label, obj in objects:
-        result.reports.append(verify(obj, label, samples, tol=tol, file_tol=file_tol))
-        work.step(f"verify {label}")
-    for path, write, read in ((step, write_step, read_step), (iges, write_iges, read_iges)):
-        if path is not None:
-            write(items, path)
-            back = read(path)
-            n_faces = sum(1 for b in back if hasattr(b.object, "degree_u"))
-            result.read_back.append((Path(path).name, len(back), n_faces, len(back) - n_faces))
-        work.step(f"write {Path(path).name if path else '-'}")
     if not items:
         raise CagdError("model: no entry is exported")
+    result.expected = (faces, curves)
+    for label, obj in objects:
+        try:
+            result.reports.append(verify(obj, label, samples, tol=tol, file_tol=file_tol))
+        except (ArithmeticError, ValueError) as exc:       # e.g. a domain 1e-300 wide: ZeroDivisionError
+            if isinstance(exc, CagdError):
+                raise
+            raise CagdError(f"model: entry {label!r} cannot be checked ({type(exc).__name__}: {exc}); "
+                            f"its numbers are too small or too large for float64 arithmetic") from None
+        work.step(f"verify {label}")
+    files = []
+    for path, to_bytes, read in ((step, step_bytes, read_step), (iges, iges_bytes, read_iges)):
+        if path is not None:
+            files.append((path, _written(to_bytes(items, target=str(path)), read, Path(path).name, result),
+                          "step" if read is read_step else "iges"))
+        work.step(f"write {Path(path).name if path else '-'}")
+    if report is not None:
+        files.append((report, lambda temp: temp.write_text(result.to_markdown(), encoding="utf-8"), "report"))
+    write_files(files)
     return result
+
+
+def _written(data: bytes, read, name: str, result: ExportResult):
+    """Write ``data`` to the temporary file and read it back from there, before the
+    rename: the counts in the report are those of the bytes that become the file."""
+    def write(temp: Path) -> None:
+        temp.write_bytes(data)
+        back = read(temp)
+        n_faces = sum(1 for b in back if hasattr(b.object, "degree_u"))
+        result.read_back.append((name, len(back), n_faces, len(back) - n_faces))
+    return write

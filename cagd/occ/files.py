@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import io
 import os
+import subprocess
+import sys
 import unicodedata
 import warnings
 from contextlib import contextmanager
@@ -21,10 +23,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, Iterable, Iterator, List, Optional, Tuple, Union, overload
 
+from OCP.Bnd import Bnd_Box
+from OCP.BRepBndLib import BRepBndLib
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
 from OCP.IGESSelect import IGESSelect_WorkLibrary
 from OCP.IGESCAFControl import IGESCAFControl_Reader, IGESCAFControl_Writer
+from OCP.Precision import Precision
 from OCP.Interface import Interface_Static
 from OCP.STEPCAFControl import STEPCAFControl_Reader, STEPCAFControl_Writer
 from OCP.STEPControl import STEPControl_AsIs
@@ -41,6 +46,8 @@ from OCP.TopoDS import TopoDS_Shape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
+from .._atomic import check_target, write_file
+from .._validate import check_name, validate_iges, validate_step
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -53,6 +60,11 @@ from .shapes import make_edge, make_face, subshapes
 from .wrapped import describe, is_shape, occ_shape
 
 _REAL_FORMAT = "%.16E"     # 17 significant digits: every double reads back unchanged
+STEP_SCHEMAS = ("AP203", "AP214CD", "AP214DIS", "AP214IS", "AP242DIS")   # OCCT's write.step.schema values
+MIN_EXTENT = 1e-6          # mm: a face whose bounding box diagonal is smaller is refused on write; OCCT's
+#                            STEP reader drops faces at its Precision::Confusion (1e-7): measured, a
+#                            B-spline face of diagonal 1.6e-8 reads back as nothing, one of 1.6e-7 reads
+MAX_COORDINATE = 0.5 * Precision.Infinite_s()   # 1e100 mm: larger coordinates are refused on write
 Item = Union[Curve, Surface, TopoDS_Shape]
 Objects = Union[Item, Iterable[Union[Item, Tuple[str, Item]]], Dict[str, Item]]
 
@@ -82,22 +94,31 @@ class Skipped:
 class FileContents:
     """What :func:`read_step` / :func:`read_iges` read: ``items`` (iterating, indexing
     and ``len`` go to them) and ``skipped``, the faces and edges that did not convert
-    (one bad face never costs the rest of the file); ``complete`` is True when nothing
-    was skipped, ``message`` says what was."""
+    (one bad face never costs the rest of the file); ``unread``, the STEP entities
+    OCCT's parser rejected (what refers to them may be missing from ``items``);
+    ``complete`` is True when no face or edge was skipped, ``message`` says what was
+    skipped or unread."""
     items: Tuple[Imported, ...]
     skipped: Tuple[Skipped, ...] = ()
+    unread: Tuple[str, ...] = ()      # STEP entities OCCT's parser rejected: "entity 33 (TYPE): reason"
 
     @property
     def complete(self) -> bool:
+        """Every face and free edge OCCT transferred was converted (``unread`` entities
+        are reported apart: real files carry damaged styling and unit entities)."""
         return not self.skipped
 
     @property
     def message(self) -> str:
-        if not self.skipped:
-            return ""
-        first = self.skipped[0]
-        return (f"{len(self.skipped)} of {len(self.items) + len(self.skipped)} faces/edges not converted; first: "
-                f"{first.kind} {first.index} of {first.name!r}: {first.reason}")
+        out = []
+        if self.skipped:
+            first = self.skipped[0]
+            out.append(f"{len(self.skipped)} of {len(self.items) + len(self.skipped)} faces/edges not converted; "
+                       f"first: {first.kind} {first.index} of {first.name!r}: {first.reason}")
+        if self.unread:
+            out.append(f"{len(self.unread)} entities of the file could not be parsed (what refers to them may be "
+                       f"missing); first: {self.unread[0]}")
+        return "; ".join(out)
 
     def __iter__(self) -> Iterator[Imported]:
         return iter(self.items)
@@ -151,10 +172,31 @@ def _named(objects) -> List[Tuple[str, Item]]:
         else:
             raise CagdError(f"objects[{i}]: expected a cagd Curve or Surface, a CadQuery or build123d shape "
                             f"or a TopoDS_Shape, got {describe(obj)}")
-        out.append((str(name) if name is not None else f"{type(obj).__name__}_{i + 1}", shape))
+        label = check_name(str(name), f"objects[{i}] name") if name is not None else f"{type(obj).__name__}_{i + 1}"
+        _check_extent(shape, label)
+        out.append((label, shape))
     if not out:
         raise CagdError("objects: nothing to write")
     return out
+
+
+def _check_extent(shape: TopoDS_Shape, name: object) -> None:
+    """Refuse a face smaller than MIN_EXTENT (collapsed to a point, or tiny): the file
+    would hold it, but OCCT's reader gives back nothing for it; and coordinates beyond
+    MAX_COORDINATE, which OCCT treats as infinite."""
+    whole = Bnd_Box()
+    BRepBndLib.Add_s(shape, whole, False)
+    if not whole.IsVoid() and not max(abs(x) for x in whole.Get()) <= MAX_COORDINATE:
+        raise CagdError(f"objects: {name!r} reaches coordinates of {max(abs(x) for x in whole.Get()):.3g} mm; "
+                        f"files hold at most {MAX_COORDINATE:g} (OCCT treats larger values as infinite)")
+    for k, face in enumerate(subshapes(shape, TopAbs_FACE)):
+        box = Bnd_Box()
+        BRepBndLib.Add_s(face, box, False)
+        size = 0.0 if box.IsVoid() else box.SquareExtent() ** 0.5
+        if not size >= MIN_EXTENT:
+            raise CagdError(f"objects: {name!r}" + (f" face {k}" if k else "") + f" is {size:.3g} mm across; "
+                            f"faces under {MIN_EXTENT:g} mm are refused: OCCT's reader returns nothing for them "
+                            f"(no face was read back from such files; scale the model to mm)")
 
 
 @overload
@@ -195,14 +237,7 @@ def _ascii(name: str) -> str:
 
 
 def _target(path) -> str:
-    if not isinstance(path, (str, os.PathLike)):
-        raise CagdError(f"path: expected a file path, got {type(path).__name__}")
-    path = Path(path)
-    if path.is_dir():
-        raise CagdError(f"path: {str(path)!r} is a folder; give a file name")
-    if not path.parent.is_dir():
-        raise CagdError(f"path: folder {str(path.parent)!r} does not exist")
-    return os.fspath(path)
+    return os.fspath(check_target(path, "path"))
 
 
 def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "AP214IS") -> Path:
@@ -211,10 +246,23 @@ def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "A
     file, in mm. ``objects``: a list of items or of (name, item) pairs, or a dict
     name -> item.
 
+    The file is written atomically (:mod:`cagd._atomic`): completely, or the old file
+    stays as it was.
+
     Raises:
-        CagdError: an unsupported item, a missing folder, or the writer failed.
+        CagdError: an unsupported item, a name with control characters, a face under
+            MIN_EXTENT, a path that cannot be written (missing folder, full disk), or
+            the writer failed.
     """
-    named, target = _named(objects), _target(path)
+    target = _target(path)
+    return write_file(target, step_bytes(objects, schema, target), "path")
+
+
+def step_bytes(objects: Objects, schema: str = "AP214IS", target: str = "<memory>") -> bytes:
+    """The STEP file :func:`write_step` writes, as bytes (``target`` only names it in errors)."""
+    if not isinstance(schema, str) or schema not in STEP_SCHEMAS:
+        raise CagdError(f"schema: one of {', '.join(STEP_SCHEMAS)}, got {schema!r}")
+    named = _named(objects)
     writer = STEPCAFControl_Writer()
     writer.SetNameMode(True)
     with _settings(write__step__unit="MM", write__step__schema=schema, xstep__cascade__unit="MM"):
@@ -231,7 +279,13 @@ def write_step(objects: Objects, path: Union[str, os.PathLike], schema: str = "A
 def write_iges(objects: Objects, path: Union[str, os.PathLike]) -> Path:
     """Write engine objects and OCCT shapes to an IGES 5.3 file (faces as trimmed
     B-spline surfaces, type 144/128; curves type 126), in mm; see :func:`write_step`."""
-    named, target = _named(objects), _target(path)
+    target = _target(path)
+    return write_file(target, iges_bytes(objects, target), "path")
+
+
+def iges_bytes(objects: Objects, target: str = "<memory>") -> bytes:
+    """The IGES file :func:`write_iges` writes, as bytes (``target`` only names it in errors)."""
+    named = _named(objects)
     with _settings(write__iges__unit="MM", xstep__cascade__unit="MM"):
         writer = IGESCAFControl_Writer()
         writer.SetNameMode(True)
@@ -258,22 +312,31 @@ def _open_closed_flags(model) -> None:
             entity.SetVClosed(StepData_Logical.StepData_LFalse)
 
 
-def _print(printer, target: str, kind: str) -> Path:
+def _print(printer, target: str, kind: str) -> bytes:
     buffer = io.BytesIO()
     if not printer.Print(buffer):
         raise CagdError(f"path: OCCT could not print the {kind} file {target!r}")
-    Path(target).write_bytes(buffer.getvalue())
-    return Path(target)
+    return buffer.getvalue()
 
 
-def _read(reader, path, kind: str, **settings) -> List[Tuple[str, TopoDS_Shape]]:
-    if not isinstance(path, (str, os.PathLike)) or not Path(path).is_file():
+def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_Shape]], Tuple[str, ...]]:
+    """The free shapes of a file (validated first: :mod:`cagd._validate`) and the
+    entities OCCT's STEP parser rejected. A file with rejected entities is transferred
+    in a child process first: OCCT's transfer dies (SIGSEGV) on some of them (a
+    B-spline surface with a parameter missing), which must not kill this process."""
+    if not _is_file(path):
         raise CagdError(f"path: no such file {str(path)!r}")
+    (validate_step if kind == "STEP" else validate_iges)(path)
     reader.SetNameMode(True)
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     XCAFApp_Application.GetApplication_s().InitDocument(doc)
     with _settings(xstep__cascade__unit="MM", **settings):
-        if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone or not reader.Transfer(doc):
+        if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone:
+            raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
+        unread = _unread(reader) if kind == "STEP" else ()
+        if unread and not os.environ.get(_PROBE_FLAG):
+            _probe(path, kind, unread)
+        if not reader.Transfer(doc):
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
     labels = LabelSequence()
@@ -282,7 +345,56 @@ def _read(reader, path, kind: str, **settings) -> List[Tuple[str, TopoDS_Shape]]
     for i in range(1, labels.Length() + 1):
         label = labels.Value(i)
         out.append((_label_name(label) or f"item_{i}", tool.GetShape_s(label)))
-    return out
+    return out, unread
+
+
+def _is_file(path) -> bool:
+    if not isinstance(path, (str, os.PathLike)) or not isinstance(os.fspath(path), str) or "\x00" in os.fspath(path):
+        return False
+    try:
+        return Path(path).is_file()
+    except (OSError, ValueError):
+        return False
+
+
+_PROBE_FLAG = "CAGD_OCC_READ_PROBE"     # set in the child process of _probe
+PROBE_TIMEOUT = 600.0                   # seconds a child transfer may take (a hang guard only)
+
+
+def _unread(reader) -> Tuple[str, ...]:
+    """"entity <number> (<TYPE>): <OCCT's reason>" for every entity the STEP parser rejected."""
+    model = reader.ChangeReader().Model()
+    out = []
+    for i in range(1, model.NbEntities() + 1):
+        if model.IsErrorEntity(i):
+            report = model.ReportEntity(i)
+            check = report.Check()
+            reason = check.CFail(1) if check.NbFails() else "not parsed"
+            out.append(f"entity {i} ({report.Content().StepType()}): {reason}")
+    return tuple(out)
+
+
+def _probe(path, kind: str, unread: Tuple[str, ...]) -> None:
+    """Transfer the file in a child process; CagdError if OCCT dies there. Skipped
+    where the interpreter is embedded (FreeCAD: sys.executable is not a Python); a
+    child that cannot start (exit code, no signal) leaves the decision to the transfer."""
+    if "python" not in Path(sys.executable).name.lower():
+        return
+    code = ("import sys; from cagd.occ.files import read_shapes; "
+            "read_shapes(sys.argv[1], sys.argv[2].lower())")
+    env = dict(os.environ, **{_PROBE_FLAG: "1"})
+    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if isinstance(p, str) and p)
+    try:
+        run = subprocess.run([sys.executable, "-c", code, os.fspath(path), kind], env=env, timeout=PROBE_TIMEOUT,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired:
+        raise CagdError(f"path: OCCT did not finish reading {kind} file {str(path)!r} in {PROBE_TIMEOUT:g} s; "
+                        f"{len(unread)} damaged entities, first {unread[0]}") from None
+    except OSError:
+        return
+    if run.returncode < 0 or run.returncode > 128:
+        raise CagdError(f"path: {kind} file {str(path)!r} has {len(unread)} damaged entities that OCCT's "
+                        f"transfer crashes on (signal {abs(run.returncode) % 128}); first: {unread[0]}")
 
 
 def _label_name(label: TDF_Label) -> str:
@@ -294,12 +406,18 @@ def _label_name(label: TDF_Label) -> str:
 
 def read_shapes(path: Union[str, os.PathLike], kind: str = "auto") -> List[Tuple[str, TopoDS_Shape]]:
     """(name, shape) of every top-level item of a STEP or IGES file (by extension
-    unless ``kind`` is "step" or "iges"), lengths converted to mm."""
+    unless ``kind`` is "step" or "iges"), lengths converted to mm. The file's structure
+    is checked first (:func:`cagd._validate.validate_step` / ``validate_iges``): OCCT's
+    readers die on some damaged files, which are a CagdError naming the problem here."""
     if not isinstance(kind, str):
         raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
     kind = kind.lower()
     if kind == "auto":
         kind = "iges" if Path(path).suffix.lower() in (".igs", ".iges") else "step"
+    return _shapes(path, kind)[0]
+
+
+def _shapes(path, kind: str) -> Tuple[List[Tuple[str, TopoDS_Shape]], Tuple[str, ...]]:
     if kind == "step":
         return _read(STEPCAFControl_Reader(), path, "STEP")
     if kind == "iges":
@@ -308,7 +426,8 @@ def read_shapes(path: Union[str, os.PathLike], kind: str = "auto") -> List[Tuple
     raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
 
 
-def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[float]) -> FileContents:
+def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[float],
+             unread: Tuple[str, ...] = ()) -> FileContents:
     """Faces -> surfaces; edges that bound no face -> curves; what does not convert is
     listed in ``skipped`` (and warned about), never dropped silently."""
     out: List[Imported] = []
@@ -331,8 +450,8 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
         many = len(found) + len(failed) > 1
         out += [Imported(f"{name}[{j}]" if many else name, obj, s) for j, (obj, s) in enumerate(found)]
         skipped += [Skipped(name, index, kind, reason, s) for kind, index, reason, s in failed]
-    result = FileContents(tuple(out), tuple(skipped))
-    if skipped:
+    result = FileContents(tuple(out), tuple(skipped), unread)
+    if skipped or unread:
         warnings.warn(f"read: {result.message}", RuntimeWarning, stacklevel=3)
     return result
 
@@ -349,9 +468,11 @@ def read_step(path: Union[str, os.PathLike], approximate: Optional[float] = None
     ``skipped`` with the reason and a RuntimeWarning; every other one comes back.
     ``approximate``: as :func:`cagd.occ.from_occ` (a distance in model units within
     which OCCT may approximate offsets)."""
-    return _objects(read_shapes(path, "step"), approximate)
+    named, unread = _shapes(path, "step")
+    return _objects(named, approximate, unread)
 
 
 def read_iges(path: Union[str, os.PathLike], approximate: Optional[float] = None) -> FileContents:
     """As :func:`read_step`, for IGES files."""
-    return _objects(read_shapes(path, "iges"), approximate)
+    named, unread = _shapes(path, "iges")
+    return _objects(named, approximate, unread)

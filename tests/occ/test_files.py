@@ -113,7 +113,7 @@ def test_errors(tmp_path):
         read_shapes(tmp_path / "x.step", kind="stl")
     bad = tmp_path / "junk.step"
     bad.write_text("not a step file")
-    with pytest.raises(CagdError, match="could not read"):
+    with pytest.raises(CagdError, match="not a STEP file"):
         read_step(bad)
 
 
