@@ -16,12 +16,26 @@ def basis_functions(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndar
     return basis_derivatives(knots, degree, t, span, 0)[0]
 
 
+_CHUNK_VALUES = 1 << 22     # working values (p+1)^2 per parameter: chunks of at most 32 MiB
+
+
 def basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndarray,
                       order: int) -> np.ndarray:
     """Derivatives 0..order of the p+1 non-zero basis functions at t, shape
-    (order+1, len(t), p+1); right limits at knots. Piegl & Tiller A2.3, vectorized."""
-    p = degree
+    (order+1, len(t), p+1); right limits at knots. Piegl & Tiller A2.3, vectorized,
+    in chunks of parameters so that the (p+1, p+1) table per parameter stays bounded."""
     t = np.asarray(t, dtype=np.float64).ravel()
+    span = np.broadcast_to(np.asarray(span), t.shape)
+    step = max(1, _CHUNK_VALUES // (degree + 1) ** 2)
+    if t.shape[0] <= step:
+        return _basis_derivatives(knots, degree, t, span, order)
+    return np.concatenate([_basis_derivatives(knots, degree, t[s:s + step], span[s:s + step], order)
+                           for s in range(0, t.shape[0], step)], axis=1)
+
+
+def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndarray,
+                       order: int) -> np.ndarray:
+    p = degree
     m = t.shape[0]
     ndu = np.empty((p + 1, p + 1, m))
     ndu[0, 0] = 1.0

@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._checks import affine_map, integer, parameters, positive
+from .._checks import affine_map, parameters, positive
+from .._checks import order as _order
 from .._deprecation import changed
 from .._periodic import wrap
 from .._value import Value
@@ -66,8 +67,9 @@ class Curve(Value):
         return flat, shape
 
     def derivatives(self, t: ArrayLike, order: int) -> np.ndarray:
-        """Derivatives 0..order at ``t``: shape (order+1,) + np.shape(t) + (dim,)."""
-        order = integer(order, "order", 0)
+        """Derivatives 0..order at ``t``: shape (order+1,) + np.shape(t) + (dim,);
+        ``order`` at most :data:`cagd.MAX_ORDER`."""
+        order = _order(order, "order")
         flat, shape = self._flat_parameters(t)
         out = self._evaluate(flat, order)
         return out.reshape((order + 1,) + shape + (self.dim,))

@@ -18,15 +18,15 @@ class BezierCurve(Curve):
     p(t) = sum w_i P_i BEZ_{i,n} / sum w_i BEZ_{i,n}.
 
     Raises:
-        CagdError: fewer than 2 control points, NaN/inf, weights of the wrong count
-            or not positive.
+        CagdError: fewer than 2 or more than MAX_DEGREE + 1 control points, NaN/inf,
+            weights of the wrong count or not positive.
     """
 
     _modified_copy = BSplineCurve._modified_copy
 
     def __init__(self, control_points: ArrayLike, weights: Optional[ArrayLike] = None):
         P = _checks.points(control_points, "control_points", min_count=2)
-        n = P.shape[0] - 1
+        n = _checks.degree(P.shape[0] - 1, "control_points (their count - 1 is the degree)")
         self._fill(BSplineCurve(P, n, np.concatenate([np.zeros(n + 1), np.ones(n + 1)]), weights))
 
     def _fill(self, nurbs: BSplineCurve) -> None:
@@ -128,8 +128,9 @@ class BezierCurve(Curve):
                 self._from_homogeneous(right, self.is_rational))
 
     def elevate(self, times: int = 1) -> "BezierCurve":
-        """Degree elevation n -> n + times (Farin 6.1; homogeneous for rational curves)."""
-        times = _checks.integer(times, "times", 0)
+        """Degree elevation n -> n + times (Farin 6.1; homogeneous for rational curves);
+        n + times at most :data:`cagd.MAX_DEGREE`."""
+        times = _checks.elevation(times, self.degree)
         E = elevation_matrix(self.degree, times)
         return self._from_homogeneous(E @ self.homogeneous_control_points, self.is_rational)
 

@@ -11,7 +11,8 @@ from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein
-from ..basis.bspline import basis_matrix
+from ..basis.banded import solve_banded_rows
+from ..basis.bspline import basis_functions, basis_matrix
 from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -74,14 +75,14 @@ def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = 
     [N_{i,p}(u_k)] P = Q.
 
     Raises:
-        CagdError: fewer than 2 points, degree out of 1..len(points)-1, bad
-            parameters, invalid knots, parameters outside the knots' domain, or
+        CagdError: fewer than 2 points, degree out of 1..min(len(points)-1, MAX_DEGREE),
+            bad parameters, invalid knots, parameters outside the knots' domain,
             knots violating the Schoenberg-Whitney condition N_{k,p}(u_k) > 0
-            (the system would be singular).
+            (the system would be singular), an ill-conditioned system (see above).
     """
     Q = _checks.points(points, "points", min_count=2)
     count = Q.shape[0]
-    p = _checks.integer(degree, "degree", 1, count - 1)
+    p = _checks.degree(degree, "degree", 1, count - 1)
     u = parametrize(Q, parameters)
     if knots is None:
         U = kv.averaged(u, p)
@@ -91,20 +92,57 @@ def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = 
         if u[0] < a or u[-1] > b:
             raise CagdError(f"knots: the domain [{a}, {b}] does not contain the parameters "
                             f"[{u[0]}, {u[-1]}]")
-    N = basis_matrix(U, p, u, count)
-    _schoenberg_whitney(N, u)
-    return BSplineCurve(np.linalg.solve(N, Q), p, U)
+    span = kv.find_span(U, p, u, count)
+    N = basis_functions(U, p, u, span)                      # (count, p+1): the band of each row
+    _schoenberg_whitney(N, span - p, u)
+    center, scale = _frame(Q)
+    P = solve_banded_rows(span - p, N, (Q - center) / scale, "points") * scale + center
+    curve = BSplineCurve(P, p, U)
+    _check_residual(curve(u), Q, scale, "interpolate", f"degree {p}, {count} points")
+    return curve
 
 
-def _schoenberg_whitney(N: np.ndarray, u: np.ndarray) -> None:
+#: Largest accepted miss of a fitted curve at its points, relative to the point spread
+#: (the bounding-box diagonal): interpolation must hit its points (issue 14).
+FIT_RESIDUAL_TOL = 1e-9
+
+
+def _frame(Q: np.ndarray) -> tuple:
+    """(center, scale) of the points' bounding box, scale > 0 (its half diagonal), so that
+    (Q - center) / scale lies in the unit ball: solves run in a normalised frame and
+    cannot overflow (points at 1e300)."""
+    lo, hi = Q.min(axis=0), Q.max(axis=0)
+    center = 0.5 * lo + 0.5 * hi
+    half = 0.5 * hi - 0.5 * lo
+    scale = float(np.max(np.abs(half))) * np.sqrt(Q.shape[1])
+    if not scale > 0.0:
+        scale = max(float(np.max(np.abs(center))), 1.0)
+    return center, scale
+
+
+def _check_residual(values: np.ndarray, Q: np.ndarray, scale: float, func: str, what: str) -> None:
+    """CagdError unless the curve's values at the parameters are within FIT_RESIDUAL_TOL
+    of the points (relative to ``scale``)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        miss = float(np.max(np.abs(values - Q))) / scale
+    if not miss <= FIT_RESIDUAL_TOL:
+        raise CagdError(f"points: {func} ({what}) is ill-conditioned: the solved curve misses its points by "
+                        f"{miss:.3g} of their spread (more than FIT_RESIDUAL_TOL = {FIT_RESIDUAL_TOL}); "
+                        f"use a lower degree or fewer points")
+
+
+def _schoenberg_whitney(N: np.ndarray, start: np.ndarray, u: np.ndarray) -> None:
     """A square collocation matrix with increasing sites is invertible iff its
     diagonal N_{k,p}(u_k) is non-zero (Schoenberg-Whitney; de Boor, A Practical
-    Guide to Splines, XIII)."""
-    diag = np.diag(N)
+    Guide to Splines, XIII). ``N`` holds row k's non-zeros from column start[k]."""
+    k = np.arange(len(u))
+    off = k - start
+    inside = (off >= 0) & (off < N.shape[1])
+    diag = np.where(inside, N[k, np.clip(off, 0, N.shape[1] - 1)], 0.0)
     if np.any(diag <= 1e-14):
-        k = int(np.argmax(diag <= 1e-14))
-        raise CagdError(f"knots: Schoenberg-Whitney condition fails at parameters[{k}] = {u[k]} "
-                        f"(N_{k},p(u_{k}) = {diag[k]:.3g}); the interpolation system is singular")
+        k0 = int(np.argmax(diag <= 1e-14))
+        raise CagdError(f"knots: Schoenberg-Whitney condition fails at parameters[{k0}] = {u[k0]} "
+                        f"(N_{k0},p(u_{k0}) = {diag[k0]:.3g}); the interpolation system is singular")
 
 
 def approximation_knots(params: ArrayLike, count: int, degree: int) -> np.ndarray:

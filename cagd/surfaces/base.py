@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._checks import affine_map, finite_array, integer, parameters
+from .._checks import affine_map, finite_array, order, parameters
 from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
@@ -101,7 +101,7 @@ class Surface(Value):
     # --- evaluation --------------------------------------------------------------------
     def derivatives(self, u: ArrayLike, v: ArrayLike, du: int, dv: int) -> np.ndarray:
         """All partials S_{u^i v^j}, i <= du, j <= dv: shape (du+1, dv+1) + broadcast shape + (dim,)."""
-        du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
+        du, dv = order(du, "du"), order(dv, "dv")
         uf, vf, shape = self._flat(u, v)
         out = self._evaluate(uf, vf, du, dv)
         return out.reshape((du + 1, dv + 1) + shape + (self.dim,))
@@ -117,7 +117,7 @@ class Surface(Value):
     def grid(self, us: ArrayLike, vs: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
         through basis matrices and matrix products (the fast path)."""
-        du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
+        du, dv = order(du, "du"), order(dv, "dv")
         us = self._wrap(finite_array(us, "us", ndim=1), 0, self.periodic_u, "us")
         vs = self._wrap(finite_array(vs, "vs", ndim=1), 1, self.periodic_v, "vs")
         return self._grid(us, vs, du, dv)[-1, -1]

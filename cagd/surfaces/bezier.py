@@ -32,7 +32,8 @@ class BezierSurface(Surface):
         P = _checks.finite_array(control_points, "control_points")
         if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2:
             raise CagdError(f"control_points: expected shape (m+1 >= 2, n+1 >= 2, dim), got {P.shape}")
-        m, n = P.shape[0] - 1, P.shape[1] - 1
+        m = _checks.degree(P.shape[0] - 1, "control_points (rows - 1 is the degree in u)")
+        n = _checks.degree(P.shape[1] - 1, "control_points (columns - 1 is the degree in v)")
         ku = np.concatenate([np.zeros(m + 1), np.ones(m + 1)])
         kv = np.concatenate([np.zeros(n + 1), np.ones(n + 1)])
         self._fill(BSplineSurface(P, m, n, ku, kv, weights))
@@ -164,8 +165,8 @@ class BezierSurface(Surface):
 
     def elevate(self, times_u: int = 1, times_v: int = 0) -> "BezierSurface":
         """Degree elevation per direction with the Bernstein elevation matrices."""
-        times_u = _checks.integer(times_u, "times_u", 0)
-        times_v = _checks.integer(times_v, "times_v", 0)
+        times_u = _checks.elevation(times_u, self.degree_u, "times_u")
+        times_v = _checks.elevation(times_v, self.degree_v, "times_v")
         Eu = elevation_matrix(self.degree_u, times_u)
         Ev = elevation_matrix(self.degree_v, times_v)
         hom = np.einsum("ai,ijd,bj->abd", Eu, self.homogeneous_control_points, Ev)

@@ -17,12 +17,13 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from ..basis.bspline import basis_derivatives, basis_matrix
 from ..curves.bspline import BSplineCurve
-from ..curves.ppform import PPForm
+from ..curves.ppform import PP_MAX_DEGREE, PPForm
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Surface, rational_partials
 
 _CHUNK = 1 << 14
+_GATHER_VALUES = 1 << 22    # local net values gathered per chunk of the basis path (32 MiB)
 
 
 class SurfaceOccForm(NamedTuple):
@@ -64,8 +65,8 @@ class BSplineSurface(Surface):
         nu, nv = P.shape[:2]
         W = None if weights is None else _weights(weights, (nu, nv))
         pu, pv = bool(periodic_u), bool(periodic_v)
-        p = _checks.integer(degree_u, "degree_u", 1, nu if pu else nu - 1)
-        q = _checks.integer(degree_v, "degree_v", 1, nv if pv else nv - 1)
+        p = _checks.degree(degree_u, "degree_u", 1, nu if pu else nu - 1)
+        q = _checks.degree(degree_v, "degree_v", 1, nv if pv else nv - 1)
         ku, full_u = _direction(knots_u, nu, p, pu, "knots_u")
         kvv, full_v = _direction(knots_v, nv, q, pv, "knots_v")
         self._fill(P, W, (p, ku, full_u, pu), (q, kvv, full_v, pv))
@@ -178,8 +179,8 @@ class BSplineSurface(Surface):
         """The inverse of :meth:`occ_form` (see :meth:`cagd.BSplineCurve.from_occ_form`).
         Raises CagdError on bad input."""
         P = _checks.finite_array(poles, "poles")
-        degree_u = _checks.integer(degree_u, "degree_u", 1)
-        degree_v = _checks.integer(degree_v, "degree_v", 1)
+        degree_u = _checks.degree(degree_u, "degree_u", 1)
+        degree_v = _checks.degree(degree_v, "degree_v", 1)
         tu = kv.from_occ_knots(knots_u, multiplicities_u, degree_u, periodic_u, "knots_u", "multiplicities_u")
         tv = kv.from_occ_knots(knots_v, multiplicities_v, degree_v, periodic_v, "knots_v", "multiplicities_v")
         w = None
@@ -197,13 +198,14 @@ class BSplineSurface(Surface):
         local variables x, y in [-1, 1]: the u-direction pp form of the rows (their
         Taylor coefficients at the u-span midpoints), then the v-direction pp form of
         each coefficient. Returns (pp_u, pp_v, tables[a][b][d] of length Sv*Su), or
-        None when the table would exceed ~4e6 values (then the gather path is used)."""
+        None when the table would exceed ~4e6 values or a degree exceeds PP_MAX_DEGREE
+        (the power form's accuracy limit; then the basis path is used)."""
         if not hasattr(self, "_table"):
             p, q = self.degree_u, self.degree_v
             nu, nv, D = self._hom.shape
             su = int(np.count_nonzero(self._u[p:nu] < self._u[p + 1:nu + 1]))
             sv = int(np.count_nonzero(self._v[q:nv] < self._v[q + 1:nv + 1]))
-            if (p + 1) * (q + 1) * su * sv * D > 4_000_000:
+            if (p + 1) * (q + 1) * su * sv * D > 4_000_000 or max(p, q) > PP_MAX_DEGREE:
                 self._table = None
             else:
                 pp_u = PPForm.from_bspline(self._u, p, self._hom.reshape(nu, nv * D))
@@ -276,14 +278,15 @@ class BSplineSurface(Surface):
         nu, nv, D = self._hom.shape
         out = np.empty((du + 1, dv + 1, u.shape[0], D))
         ii, jj = np.arange(p + 1), np.arange(q + 1)
-        for s in range(0, u.shape[0], _CHUNK):
-            uc, vc = u[s:s + _CHUNK], v[s:s + _CHUNK]
+        step = max(1, min(_CHUNK, _GATHER_VALUES // ((p + 1) * (q + 1) * D)))   # bounded gather per chunk
+        for s in range(0, u.shape[0], step):
+            uc, vc = u[s:s + step], v[s:s + step]
             su = kv.find_span(self._u, p, uc, nu)
             sv = kv.find_span(self._v, q, vc, nv)
             Nu = basis_derivatives(self._u, p, uc, su, du)          # (du+1, m, p+1)
             Nv = basis_derivatives(self._v, q, vc, sv, dv)          # (dv+1, m, q+1)
             local = self._hom[(su[:, None] - p + ii)[:, :, None], (sv[:, None] - q + jj)[:, None, :]]
-            out[:, :, s:s + _CHUNK] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
+            out[:, :, s:s + step] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
         return out
 
     def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
