@@ -455,9 +455,13 @@ class BSplineCurve(Curve):
         """Poles (n, 3), weights, distinct knots, multiplicities, degree, periodic — what
         ``Geom_BSplineCurve`` takes. 2-D curves get z = 0. For a periodic curve the
         poles are the distinct control points, rolled by the seam shift of
-        :func:`cagd.knots.occ_knots`, and the knots one period."""
+        :func:`cagd.knots.occ_knots`, and the knots one period. Degrees above 25 (OCCT's
+        maximum) raise CagdError: such curves do not convert to OCCT."""
         if self.dim > 3:
             raise CagdError(f"control_points: OCCT curves are 3-D at most, this one is {self.dim}-D")
+        if self.degree > _checks.OCC_MAX_DEGREE:
+            raise CagdError(f"degree: OCCT's maximum B-spline degree is {_checks.OCC_MAX_DEGREE} "
+                            f"(Geom_BSplineCurve::MaxDegree()); this curve has degree {self.degree}")
         poles = np.zeros((len(self.control_points), 3))
         poles[:, :self.dim] = self.control_points
         w = None if self.weights is None else self.weights.copy()

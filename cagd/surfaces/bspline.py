@@ -159,9 +159,14 @@ class BSplineSurface(Surface):
         """Poles (nu, nv, 3), weights, distinct knots and multiplicities per direction,
         degrees and periodic flags — what ``Geom_BSplineSurface`` takes; per direction
         as :meth:`cagd.BSplineCurve.occ_form` (periodic poles rolled by the seam shift
-        of :func:`cagd.knots.occ_knots`). 2-D nets get z = 0."""
+        of :func:`cagd.knots.occ_knots`). 2-D nets get z = 0. Degrees above 25 (OCCT's
+        maximum) raise CagdError: such surfaces do not convert to OCCT."""
         if self.dim > 3:
             raise CagdError(f"control_points: OCCT surfaces are 3-D at most, this one is {self.dim}-D")
+        if max(self.degree_u, self.degree_v) > _checks.OCC_MAX_DEGREE:
+            raise CagdError(f"degree_u, degree_v: OCCT's maximum B-spline degree is {_checks.OCC_MAX_DEGREE} "
+                            f"(Geom_BSplineSurface::MaxDegree()); this surface has degrees "
+                            f"({self.degree_u}, {self.degree_v})")
         poles = np.zeros(self.control_points.shape[:2] + (3,))
         poles[..., :self.dim] = self.control_points
         w = None if self.weights is None else self.weights.copy()

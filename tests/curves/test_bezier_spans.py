@@ -152,3 +152,14 @@ def test_bounded_orders():
             call()
     # orders above the degree up to the maximum are zeros
     assert np.all(c.derivatives(0.5, cagd.MAX_ORDER)[4:] == 0)
+
+
+def test_degrees_above_occt_maximum_do_not_convert():
+    """OCCT's maximum degree is 25: the conversion raises CagdError, not an OCCT exception."""
+    occ = pytest.importorskip("cagd.occ")
+    rng = np.random.default_rng(26)
+    assert occ.to_occ(BezierCurve(rng.random((26, 3)))) is not None          # degree 25 converts
+    with pytest.raises(CagdError, match="maximum B-spline degree is 25"):
+        occ.to_occ(BezierCurve(rng.random((27, 3))))
+    with pytest.raises(CagdError, match="maximum B-spline degree is 25"):
+        occ.to_occ(BezierSurface(rng.random((3, 30, 3))))
