@@ -29,6 +29,8 @@ def finite_array(value: ArrayLike, name: str, ndim: Optional[int] = None) -> np.
     """``value`` as a float64 array, rejecting NaN/inf and a wrong number of dimensions."""
     try:
         arr = np.array(value, dtype=np.float64)
+    except OverflowError:
+        raise CagdError(f"{name}: a value is beyond the floating-point range (|x| > 1.8e308)") from None
     except (TypeError, ValueError) as exc:
         raise CagdError(f"{name}: not a numeric array ({exc})") from None
     if ndim is not None and arr.ndim != ndim:
@@ -109,6 +111,8 @@ def scalar(value: Any, name: str) -> float:
     """A finite float."""
     try:
         x = float(value)
+    except OverflowError:
+        raise CagdError(f"{name}: beyond the floating-point range (|x| > 1.8e308)") from None
     except (TypeError, ValueError):
         raise CagdError(f"{name}: must be a number, got {value!r}") from None
     if not np.isfinite(x):

@@ -43,9 +43,17 @@ def unit_normals(su: ArrayLike, sv: ArrayLike, scale_u: float = 0.0,
     pole (1e-12: errors up to 1e-4).
     """
     su, sv = _as3(np.asarray(su, dtype=np.float64)), _as3(np.asarray(sv, dtype=np.float64))
-    n = np.cross(su, sv)
+    # in the normalised frame: each partial divided by its largest coordinate, so that
+    # the cross product neither overflows (1e300) nor underflows (1e-300)
+    au = np.max(np.abs(su), axis=-1, keepdims=True)
+    av = np.max(np.abs(sv), axis=-1, keepdims=True)
+    fu, fv = np.where(au > 0, au, 1.0), np.where(av > 0, av, 1.0)
+    nu_, nv_ = su / fu, sv / fv
+    n = np.cross(nu_, nv_)
     length = np.linalg.norm(n, axis=-1)
-    ref = np.maximum(np.linalg.norm(su, axis=-1), scale_u) * np.maximum(np.linalg.norm(sv, axis=-1), scale_v)
+    with np.errstate(over="ignore"):
+        ref = (np.maximum(np.linalg.norm(nu_, axis=-1), scale_u / fu[..., 0])
+               * np.maximum(np.linalg.norm(nv_, axis=-1), scale_v / fv[..., 0]))
     defined = length > NORMAL_TOL * ref
     with np.errstate(divide="ignore", invalid="ignore"):
         n = np.where(defined[..., None], n / length[..., None], 0.0)

@@ -1,0 +1,29 @@
+"""Bezier/B-spline surfaces at extreme scales and orders (issue 14)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import cagd
+from cagd import BezierSurface, CagdError
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-100, 1e100, 1e300])
+def test_normal_scale_invariant(scale):
+    # reported: OverflowError from normal at 1e300
+    P = np.random.default_rng(0).random((3, 4, 3))
+    u, v = np.linspace(0.1, 0.9, 5), np.linspace(0.2, 0.8, 5)
+    ref = BezierSurface(P).normal(u, v)
+    su, sv = BezierSurface(P).derivative(u, v, 1, 0), BezierSurface(P).derivative(u, v, 0, 1)
+    direct = np.cross(su, sv)
+    direct /= np.linalg.norm(direct, axis=-1, keepdims=True)
+    assert np.allclose(ref, direct, atol=1e-15)
+    assert np.allclose(BezierSurface(P * scale).normal(u, v), ref, atol=1e-14)
+
+
+def test_orders_bounded():
+    s = BezierSurface(np.random.default_rng(1).random((3, 3, 3)))
+    for call in (lambda: s.grid([0.5], [0.5], du=10**18), lambda: s.derivatives(0.5, 0.5, 10**18, 0)):
+        with pytest.raises(CagdError, match="MAX_ORDER"):
+            call()
+    assert np.all(s.derivatives(0.5, 0.5, cagd.MAX_ORDER, 0)[3:] == 0)
