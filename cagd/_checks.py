@@ -21,6 +21,9 @@ MAX_DEGREE = 128
 #: Highest derivative order accepted (curves and surfaces, each direction): derivatives
 #: above the degree are zero, and orders beyond MAX_DEGREE only cost memory.
 MAX_ORDER = MAX_DEGREE
+#: Largest number of samples a count argument may ask for (comb teeth, sample counts):
+#: 10^7 points of 3 float64 coordinates are 240 MB per array.
+MAX_SAMPLES = 10_000_000
 #: OCCT's maximum B-spline degree (``Geom_BSplineCurve::MaxDegree()``), for the converters.
 OCC_MAX_DEGREE = 25
 
