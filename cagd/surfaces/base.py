@@ -159,23 +159,41 @@ class Surface(Value):
         """First (E, F, G) and second (L, M, N) fundamental forms:
         E = S_u.S_u, F = S_u.S_v, G = S_v.S_v; L = S_uu.n, M = S_uv.n, N = S_vv.n
         (do Carmo, Differential Geometry of Curves and Surfaces, 3.3)."""
+        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        with np.errstate(over="ignore", under="ignore"):
+            s2 = sigma * sigma
+            return (E * s2, F * s2, G * s2), (L * sigma, M * sigma, N * sigma)
+
+    def _normalised_forms(self, u: ArrayLike, v: ArrayLike) -> Tuple[Tuple[FormCoefficients, FormCoefficients],
+                                                                      np.ndarray]:
+        """The forms of the partials divided by sigma, the largest coordinate of S_u and S_v
+        at each point (a normalised frame: E/sigma^2, L/sigma, ...), and sigma; the
+        curvatures follow as K = K'/sigma^2, H = H'/sigma, free of over/underflow."""
         d = self.derivatives(u, v, 2, 2)
-        su, sv = _as3(d[1, 0]), _as3(d[0, 1])
         n = self.normal(u, v)
+        su, sv = _as3(d[1, 0]), _as3(d[0, 1])
+        sigma = np.maximum(np.max(np.abs(su), axis=-1), np.max(np.abs(sv), axis=-1))
+        f = np.where(sigma > 0, sigma, 1.0)[..., None]
+        su, sv = su / f, sv / f
         dot = lambda a, b: np.einsum("...i,...i->...", a, b)  # noqa: E731
         first = (dot(su, su), dot(su, sv), dot(sv, sv))
-        second = (dot(_as3(d[2, 0]), n), dot(_as3(d[1, 1]), n), dot(_as3(d[0, 2]), n))
-        return first, second
+        second = (dot(_as3(d[2, 0]) / f, n), dot(_as3(d[1, 1]) / f, n), dot(_as3(d[0, 2]) / f, n))
+        return (first, second), sigma
 
     def gaussian_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
-        """K = (LN - M^2) / (EG - F^2)."""
-        (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
-        return (L * N - M * M) / (E * G - F * F)
+        """K = (LN - M^2) / (EG - F^2), computed in the normalised frame (scale-invariant:
+        K(lambda S) = K(S) / lambda^2); CagdError where the normal is undefined."""
+        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        with np.errstate(over="ignore", under="ignore"):
+            return (L * N - M * M) / (E * G - F * F) / sigma / sigma
 
     def mean_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
-        """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v)."""
-        (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
-        return (E * N - 2 * F * M + G * L) / (2 * (E * G - F * F))
+        """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v),
+        in the normalised frame (H(lambda S) = H(S) / lambda); CagdError where the
+        normal is undefined."""
+        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        with np.errstate(over="ignore", under="ignore"):
+            return (E * N - 2 * F * M + G * L) / (2 * (E * G - F * F)) / sigma
 
     def transformed(self, matrix: ArrayLike, offset: Optional[ArrayLike] = None) -> "Surface":
         """The surface under x -> matrix @ x + offset, applied to the control points."""

@@ -27,3 +27,21 @@ def test_orders_bounded():
         with pytest.raises(CagdError, match="MAX_ORDER"):
             call()
     assert np.all(s.derivatives(0.5, 0.5, cagd.MAX_ORDER, 0)[3:] == 0)
+
+
+def sphere_octant(r):
+    """The exact rational sphere of radius r (oracle: K = 1/r^2, |H| = 1/r)."""
+    return cagd.sphere(r)
+
+
+@pytest.mark.parametrize("r", [1e-150, 1e-100, 1.0, 1e100, 1e150])
+def test_sphere_curvatures_scale_invariant(r):
+    s = sphere_octant(r).to_nurbs()
+    (u0, u1), (v0, v1) = s.domain
+    u = np.linspace(u0, u1, 7)[1:-1]
+    v = np.linspace(v0, v1, 7)[1:-1]
+    uu, vv = np.meshgrid(u, v)
+    assert np.allclose(s.gaussian_curvature(uu, vv) * r * r, 1.0, rtol=1e-10)
+    assert np.allclose(np.abs(s.mean_curvature(uu, vv)) * r, 1.0, rtol=1e-10)
+    (E, F, G), (L, M, N) = s.fundamental_forms(uu, vv)
+    assert np.allclose(L / E * r, np.sign(L / E), rtol=1e-9)      # normal curvature along u: 1/r
