@@ -124,9 +124,31 @@ class Curve(Value):
     # from derivatives divided by their own largest coordinate (a normalised frame), so
     # the results are scale-invariant (kappa(lambda C) = kappa(C) / lambda up to
     # rounding) and neither overflow at 1e300 nor underflow at 1e-300.
+    def _geometry_derivatives(self, t: ArrayLike, order: int) -> np.ndarray:
+        """Derivatives 0..order for the differential geometry: those of the curve itself,
+        or, when its domain is narrower than 1e-100 or wider than 1e100 (derivatives
+        would overflow or underflow by the parameter scale alone), those of the same
+        curve affinely reparametrised onto [0, 1] at the matching parameters (tangent,
+        curvature and torsion do not depend on the parametrisation)."""
+        a, b = self.domain
+        h = b - a
+        if GEOMETRY_DOMAIN_MIN <= h <= 1.0 / GEOMETRY_DOMAIN_MIN:
+            return self.derivatives(t, order)
+        unit = self._unit_copy()
+        flat, shape = self._flat_parameters(t)
+        x = np.clip((flat - a) / h, 0.0, 1.0)
+        out = unit.derivatives(x, order)
+        return out.reshape((order + 1,) + shape + (self.dim,))
+
+    def _unit_copy(self) -> "Curve":
+        """This curve on the parameter domain [0, 1] (its NURBS form reparametrised), cached."""
+        if getattr(self, "_unit", None) is None:
+            self._unit = self.to_nurbs().reparametrized(0.0, 1.0)
+        return self._unit
+
     def tangent(self, t: ArrayLike) -> np.ndarray:
         """Unit tangent C'/|C'|; CagdError where the derivative vanishes."""
-        d = self.derivatives(t, 1)
+        d = self._geometry_derivatives(t, 1)
         u1, s1 = _normalised(d[1])
         _regular(u1, s1, t)
         return u1 / np.linalg.norm(u1, axis=-1, keepdims=True)
@@ -135,7 +157,7 @@ class Curve(Value):
         """kappa = |C''_perp| / |C'|^2 with C''_perp = C'' - (C''.T) T, T = C'/|C'|
         (= |C' x C''| / |C'|^3 in any dimension, without the cancellation of
         |C'|^2 |C''|^2 - (C'.C'')^2); 0 on straight pieces; CagdError where C' vanishes."""
-        d = self.derivatives(t, 2)
+        d = self._geometry_derivatives(t, 2)
         u1, s1 = _normalised(d[1])
         v2, s2 = _normalised(d[2])
         _regular(u1, s1, t)
@@ -148,7 +170,7 @@ class Curve(Value):
     def torsion(self, t: ArrayLike) -> np.ndarray:
         """tau = (C' x C'') . C''' / |C' x C''|^2 (3-D curves; 0 for planar 2-D curves);
         CagdError where C' or the curvature vanishes (relative CURVATURE_ZERO_TOL)."""
-        d = self.derivatives(t, 3)
+        d = self._geometry_derivatives(t, 3)
         if self.dim == 2:
             return np.zeros(d.shape[1:-1])
         if self.dim != 3:
@@ -166,7 +188,7 @@ class Curve(Value):
     def frenet(self, t: ArrayLike) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Frenet frame (T, N, B) of a 3-D curve (2-D curves are lifted to z = 0).
         CagdError where C' vanishes or the curvature vanishes (N undefined)."""
-        d = self.derivatives(t, 2)
+        d = self._geometry_derivatives(t, 2)
         if self.dim == 2:
             d = np.concatenate([d, np.zeros(d.shape[:-1] + (1,))], axis=-1)
         elif self.dim != 3:
@@ -249,7 +271,9 @@ class Curve(Value):
         edges = np.unique(np.concatenate([[start, end], self._breaks_within(start, end)]))
         lo, hi = edges[:-1], edges[1:]
         whole = self._gl(lo, hi)
-        bound = tol if tol is not None else max(rel * abs(float(whole.sum())), floor, 1e-300)
+        bound = tol if tol is not None else max(rel * abs(float(whole.sum())), floor)
+        if not bound > 0.0:                                     # a constant curve at the origin
+            return ArcLength(0.0, 0.0, True, "the curve is a point", len(lo))
         total, err, evaluated, pending = 0.0, 0.0, len(lo), 0.0
         why = f"after {ARC_LENGTH_MAX_LEVELS} halvings (ARC_LENGTH_MAX_LEVELS)"
         for _ in range(ARC_LENGTH_MAX_LEVELS):
@@ -277,14 +301,19 @@ class Curve(Value):
     def _gl(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         half = 0.5 * (hi - lo)
         t = (0.5 * (hi + lo))[:, None] + half[:, None] * _GL_X
-        speed = np.linalg.norm(self.derivative(t, 1), axis=-1)
-        return half * (speed @ _GL_W)
+        d1, s1 = _normalised(self.derivative(t, 1))
+        with np.errstate(over="ignore"):
+            speed = np.linalg.norm(d1, axis=-1) * s1[..., 0]       # |C'| without squaring C' (1e300)
+            return half * (speed @ _GL_W)
 
     def _breaks_within(self, start: float, end: float) -> np.ndarray:
         """Parameters where the curve may be non-smooth (knots); none by default."""
         return np.empty(0)
 
 
+#: domain widths outside [GEOMETRY_DOMAIN_MIN, 1 / GEOMETRY_DOMAIN_MIN] are mapped onto
+#: [0, 1] for the differential geometry (see Curve._geometry_derivatives)
+GEOMETRY_DOMAIN_MIN = 1e-100
 #: C' counts as vanishing where |C'| <= TANGENT_TOL times the largest |C'| of the call
 #: (and where it is exactly zero): rounding noise next to a stationary point.
 TANGENT_TOL = 1e-14

@@ -135,3 +135,37 @@ def test_derivative_order_and_integer_overflow():
     with pytest.raises(CagdError, match="t"):
         c(10**400)
     assert c.derivatives(0.5, cagd.MAX_ORDER).shape == (cagd.MAX_ORDER + 1, 2)
+
+
+@pytest.mark.parametrize("s", [1e-300, 1e-200, 1e-100, 1e100, 1e200, 5e299])
+def test_parameter_scale_does_not_matter(s):
+    """Knots 1e-300 apart or 1e300 wide: the same geometry as on [0, 3] (the derivatives
+    alone over/underflow; curvature, torsion, arc length must not)."""
+    P = np.random.default_rng(0).random((6, 3))
+    base = np.array([0, 0, 0, 0, 1, 2, 3, 3, 3, 3.0])
+    ref = BSplineCurve(P, 3, base)
+    c = BSplineCurve(P, 3, base * s)
+    t = np.linspace(0, 3, 13)
+    assert np.abs(c(t * s) - ref(t)).max() <= 1e-15
+    assert np.allclose(c.curvature(t * s), ref.curvature(t), rtol=1e-13, atol=0)
+    assert np.allclose(c.torsion(t * s), ref.torsion(t), rtol=1e-12, atol=0)
+    assert np.allclose(c.tangent(t * s), ref.tangent(t), atol=1e-15)
+    assert c.arc_length() == pytest.approx(ref.arc_length(), rel=1e-14)
+
+
+@pytest.mark.parametrize("s", [1e-300, 1e300])
+def test_arc_length_at_extreme_coordinates(s):
+    P = np.random.default_rng(1).random((6, 3))
+    ref = BSplineCurve(P, 3).arc_length()
+    assert BSplineCurve(P * s, 3).arc_length() == pytest.approx(ref * s, rel=1e-13)
+
+
+def test_arc_length_tiny_curve_meets_its_relative_bound():
+    """At 1e-300 the default bound is relative (no absolute 1e-300 floor): a wiggly curve
+    still gets 1e-12 relative, like at unit scale."""
+    P = np.random.default_rng(7).random((30, 2))
+    ref = BSplineCurve(P, 5).arc_length()
+    tiny = BSplineCurve(P * 1e-300, 5).arc_length_report()
+    assert tiny.converged
+    assert tiny.length == pytest.approx(ref * 1e-300, rel=1e-12)
+    assert BezierCurve([[0.0, 0.0], [0.0, 0.0]]).arc_length() == 0.0
