@@ -7,6 +7,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._checks import degree as _degree
+from .._checks import parameters
+from ..errors import CagdError
 from .._checks import elevation as _elevation
 
 
@@ -14,15 +16,20 @@ def bernstein(n: int, t: ArrayLike) -> np.ndarray:
     """All n+1 Bernstein polynomials of degree n at ``t``: shape ``np.shape(t) + (n+1,)``;
     n at most :data:`cagd.MAX_DEGREE` (CagdError beyond)."""
     n = _degree(n, "n", 0)
-    t = np.asarray(t, dtype=np.float64)[..., None]
+    t = parameters(t)[..., None]
     i = np.arange(n + 1)
     c = np.array([comb(n, k) for k in range(n + 1)], dtype=np.float64)
-    return c * t ** i * (1.0 - t) ** (n - i)
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        B = c * t ** i * (1.0 - t) ** (n - i)
+    if not np.all(np.isfinite(B)):
+        raise CagdError(f"t: the degree-{n} Bernstein polynomials overflow at these parameters (|t| too large)")
+    return B
 
 
 def bernstein_to_power(n: int) -> np.ndarray:
     """Matrix A with power coefficients a = A @ P of a degree-n Bezier with control
     points P, so that p(t) = sum_k a_k t^k. A[k, i] = (-1)^(k-i) C(n,k) C(k,i)."""
+    n = _degree(n, "n", 0)
     A = np.zeros((n + 1, n + 1))
     for k in range(n + 1):
         for i in range(k + 1):
