@@ -15,7 +15,7 @@ ulps and all terms are non-negative, so the error is ~ p ulps of the control net
 from __future__ import annotations
 
 from math import comb
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -104,3 +104,48 @@ class BernsteinSpans(Value):
                 B = self._binom * x ** i * (1.0 - x) ** (p - i)              # (m, p+1)
             out[s:s + step] = np.einsum("mi,mid->md", B, self.nets[j])
         return out
+
+
+def refined_points(knots: np.ndarray, degree: int, points: np.ndarray,
+                   new_knots: np.ndarray) -> Optional[np.ndarray]:
+    """Control points of the same B-spline on the refined full knot vector ``new_knots``
+    (which contains ``knots``): Q_j = f(v_{j+1}, ..., v_{j+p}), the blossom of the piece
+    on the old span holding a non-empty new span [v_k, v_{k+1}), j <= k <= j+p (knot
+    refinement, Piegl & Tiller 5.3; Ramshaw's blossoming, seed 003, 2.2.4), by de Boor's
+    recursion with argument v_{j+r} at level r, vectorized over all j: O(m p^2) work,
+    O(m p) memory, no repeated insertions. None when some new basis function's support
+    holds no domain span (possible only with repeated knots at an unclamped end; then
+    insert one by one)."""
+    u = np.asarray(knots, dtype=np.float64)
+    v = np.asarray(new_knots, dtype=np.float64)
+    P = np.asarray(points, dtype=np.float64)
+    n, p = P.shape[0], degree
+    m = len(v) - p - 1
+    if p == 0:
+        span = np.clip(np.searchsorted(u, v[:m], side="right") - 1, 0, n - 1)
+        return P[span]
+    j = np.arange(m)
+    # a non-empty new span k in [j, j+p] (clamped to the domain spans p..m-1)
+    nonempty = np.flatnonzero(v[p:m] < v[p + 1:m + 1]) + p              # sorted
+    pos = np.searchsorted(nonempty, j, side="left")
+    k = nonempty[np.minimum(pos, len(nonempty) - 1)]
+    k = np.where(k > j + p, nonempty[np.maximum(pos - 1, 0)], k)
+    if np.any((k < j) | (k > j + p)):
+        # a new basis function whose support misses the domain (repeated knots at a
+        # floating end): its control point is no blossom value of a domain piece
+        return None
+    # the old span i with u_i <= v_k < u_{i+1}, restricted to the domain spans p..n-1
+    i = np.clip(np.searchsorted(u, v[k], side="right") - 1, p, n - 1)
+    last = n - 1
+    while u[last] == u[last + 1]:
+        last -= 1
+    i = np.minimum(i, last)
+    level = P[i[:, None] - p + np.arange(p + 1)]                         # (m, p+1, D)
+    kn = u[i[:, None] - p + 1 + np.arange(2 * p)]                         # kn[:, q] = u_{i-p+1+q}
+    for r in range(1, p + 1):
+        x = v[j + r][:, None]
+        c = np.arange(p + 1 - r)
+        lo, hi = kn[:, r - 1 + c], kn[:, p + c]
+        alpha = ((x - lo) / (hi - lo))[..., None]
+        level = (1.0 - alpha) * level[:, :-1] + alpha * level[:, 1:]
+    return level[:, 0]

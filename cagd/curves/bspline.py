@@ -20,7 +20,7 @@ from ..basis.bspline import basis_functions
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Curve, rational_derivatives
-from .bezier_spans import BernsteinSpans, bezier_spans
+from .bezier_spans import BernsteinSpans, bezier_spans, refined_points
 from .ppform import PP_MAX_DEGREE, PPForm
 
 if TYPE_CHECKING:
@@ -282,11 +282,39 @@ class BSplineCurve(Curve):
         return BSplineCurve(P, p, period, periodic=True)
 
     def refine(self, new_knots: ArrayLike) -> "BSplineCurve":
-        """Insert all ``new_knots`` (knot refinement, Piegl & Tiller 5.3, as repeated
-        Boehm insertions)."""
-        ks = _checks.finite_array(new_knots, "new_knots", ndim=1)
+        """Insert all ``new_knots`` at once (knot refinement, Piegl & Tiller 5.3): each new
+        control point is a blossom value of the curve
+        (:func:`cagd.curves.bezier_spans.refined_points`), O((n + r) p^2) for r knots.
+        A periodic curve inserts them one by one (Boehm on the periodic sequence).
+
+        Raises:
+            CagdError: knots NaN/inf or outside the domain, a multiplicity above the degree."""
+        ks = np.sort(_checks.finite_array(new_knots, "new_knots", ndim=1))
+        if ks.size == 0:
+            return self
+        a, b = self.domain
+        if ks[0] < a or ks[-1] > b:
+            bad = ks[(ks < a) | (ks > b)][0]
+            raise CagdError(f"new_knots: knot {bad} is outside the domain [{a}, {b}]")
+        if self.periodic:
+            return self._insert_each(ks)
+        p = self.degree
+        merged = np.sort(np.concatenate([self._u, ks]))
+        count = len(self._hom) + len(ks)
+        vals, mults = kv.distinct_with_multiplicities(merged)
+        inner = (vals > a) & (vals < b)
+        if np.any(mults[inner] > p) or np.any(mults[~inner] > p + 1):
+            i = int(np.argmax(np.where(inner, mults > p, mults > p + 1)))
+            raise CagdError(f"new_knots: knot {vals[i]} would reach multiplicity {mults[i]} > degree = {p}")
+        hom = refined_points(self._u, p, self._hom, merged)
+        if hom is None:
+            return self._insert_each(ks)
+        return self._rebuild(hom, kv.validate(merged, p, count))
+
+    def _insert_each(self, ks: np.ndarray) -> "BSplineCurve":
+        """Insert the sorted knots one by one (Boehm)."""
         c = self
-        for k in np.sort(ks):
+        for k in ks:
             c = c.insert_knot(k)
         return c
 

@@ -86,3 +86,52 @@ def test_high_degree_bezier_elevation_is_exact():
     e = c.elevate(40)
     t = np.linspace(0, 1, 51)
     assert np.abs(e(t) - c(t)).max() <= 1e-12
+
+
+@pytest.mark.parametrize("p", [1, 2, 3, 5, 8])
+def test_refine_equals_repeated_insertion_and_scipy(p):
+    rng = np.random.default_rng(p)
+    c, knots, P = random_curve(p + 8, p, 10 + p)
+    new = np.concatenate([rng.random(25), np.repeat(knots[p + 2], p - 1)])
+    r = c.refine(new)
+    one_by_one = c
+    for k in np.sort(new):
+        one_by_one = one_by_one.insert_knot(k)
+    assert np.array_equal(r.knots, one_by_one.knots)
+    assert np.abs(r.control_points - one_by_one.control_points).max() <= 1e-13
+    t = np.linspace(0, 1, 301)
+    ref = scipy_interpolate.BSpline(knots, P, p)(t)
+    assert np.abs(scipy_interpolate.BSpline(r.knots, r.control_points, p)(t) - ref).max() <= 1e-14
+
+
+def test_refine_many_knots_is_linear():
+    """1e5 new knots on a 1,000-pole curve: was 1e5 Boehm insertions of O(n) each."""
+    rng = np.random.default_rng(1)
+    c = BSplineCurve(rng.random((1000, 3)), 3)
+    r = c.refine(rng.random(100_000))
+    assert len(r.control_points) == 101_000
+    t = rng.random(500)
+    assert np.abs(r(t) - c(t)).max() <= 1e-13
+
+
+def test_refine_rejects_bad_knots():
+    from cagd import CagdError
+    c = BSplineCurve(np.random.default_rng(2).random((6, 2)), 3)
+    for bad in ([1.5], [np.nan], [0.5, 0.5, 0.5, 0.5], [0.0]):
+        with pytest.raises(CagdError, match="new_knots"):
+            c.refine(bad)
+    rat = BSplineCurve([[1, 0], [1, 1], [0, 1]], 2, None, [1, 2 ** -.5, 1])
+    t = np.linspace(0, 1, 51)
+    assert np.abs(rat.refine([0.3, 0.3, 0.7])(t) - rat(t)).max() <= 1e-15
+
+
+def test_refine_floating_end_with_repeated_knots():
+    """The support of the first new basis function misses the domain (found by the
+    surface refine property test): the same result as one-by-one insertion."""
+    knots = [3.8769593, 3.8769593, 4.24847413, 4.24847413, 4.24847413, 4.85124851, 4.85124851, 4.99930966,
+             4.99930966]
+    c = BSplineCurve(np.random.default_rng(3).random((5, 2)), 3, knots)
+    r = c.refine([4.560275312249374])
+    ref = c.insert_knot(4.560275312249374)
+    assert np.array_equal(r.knots, ref.knots)
+    assert np.abs(r.control_points - ref.control_points).max() <= 1e-14
