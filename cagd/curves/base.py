@@ -129,16 +129,21 @@ class Curve(Value):
         or, when its domain is narrower than 1e-100 or wider than 1e100 (derivatives
         would overflow or underflow by the parameter scale alone), those of the same
         curve affinely reparametrised onto [0, 1] at the matching parameters (tangent,
-        curvature and torsion do not depend on the parametrisation)."""
+        curvature and torsion do not depend on the parametrisation). CagdError where
+        they overflow all the same (one span 1e-300 wide among unit ones)."""
         a, b = self.domain
         h = b - a
         if GEOMETRY_DOMAIN_MIN <= h <= 1.0 / GEOMETRY_DOMAIN_MIN:
-            return self.derivatives(t, order)
-        unit = self._unit_copy()
-        flat, shape = self._flat_parameters(t)
-        x = np.clip((flat - a) / h, 0.0, 1.0)
-        out = unit.derivatives(x, order)
-        return out.reshape((order + 1,) + shape + (self.dim,))
+            out = self.derivatives(t, order)
+        else:
+            flat, shape = self._flat_parameters(t)
+            x = np.clip((flat - a) / h, 0.0, 1.0)
+            out = self._unit_copy().derivatives(x, order).reshape((order + 1,) + shape + (self.dim,))
+        finite = np.all(np.isfinite(out), axis=(0, -1))
+        if not np.all(finite):
+            raise CagdError(f"t: the derivatives overflow at t = {_first_bad(~finite, t)} (a span far narrower "
+                            f"than the others); the differential geometry is not representable there")
+        return out
 
     def _unit_copy(self) -> "Curve":
         """This curve on the parameter domain [0, 1] (its NURBS form reparametrised), cached."""
@@ -221,8 +226,11 @@ class Curve(Value):
         (now ``rel_tol``); passing ``tol`` warns (FutureWarning) for one release.
 
         Raises:
-            CagdError: see :meth:`arc_length_report`."""
+            CagdError: see :meth:`arc_length_report`; a length beyond the
+                floating-point range."""
         report = self.arc_length_report(start, end, tol, rel_tol=rel_tol)
+        if not np.isfinite(report.length):
+            raise CagdError("start, end: the arc length exceeds the floating-point range")
         if not report.converged:
             warnings.warn(f"arc_length: {report.message}", RuntimeWarning, stacklevel=2)
         return report.length

@@ -182,18 +182,19 @@ class Surface(Value):
 
     def gaussian_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """K = (LN - M^2) / (EG - F^2), computed in the normalised frame (scale-invariant:
-        K(lambda S) = K(S) / lambda^2); CagdError where the normal is undefined."""
+        K(lambda S) = K(S) / lambda^2); CagdError where the normal is undefined or K
+        exceeds the floating-point range."""
         ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
         with np.errstate(over="ignore", under="ignore"):
-            return (L * N - M * M) / (E * G - F * F) / sigma / sigma
+            return _representable((L * N - M * M) / (E * G - F * F) / sigma / sigma, "gaussian_curvature")
 
     def mean_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v),
         in the normalised frame (H(lambda S) = H(S) / lambda); CagdError where the
-        normal is undefined."""
+        normal is undefined or H exceeds the floating-point range."""
         ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
         with np.errstate(over="ignore", under="ignore"):
-            return (E * N - 2 * F * M + G * L) / (2 * (E * G - F * F)) / sigma
+            return _representable((E * N - 2 * F * M + G * L) / (2 * (E * G - F * F)) / sigma, "mean_curvature")
 
     def transformed(self, matrix: ArrayLike, offset: Optional[ArrayLike] = None) -> "Surface":
         """The surface under x -> matrix @ x + offset, applied to the control points."""
@@ -210,6 +211,14 @@ class Surface(Value):
         """The four boundary curves [S(u, v0), S(u1, v), S(u, v1), S(u0, v)] (not reversed)."""
         (u0, u1), (v0, v1) = self.domain
         return [self.isocurve("u", v0), self.isocurve("v", u1), self.isocurve("u", v1), self.isocurve("v", u0)]
+
+
+def _representable(x: np.ndarray, what: str) -> np.ndarray:
+    """``x`` unless it overflowed (a curvature beyond 1.8e308: a surface about 1e-154 in
+    size or smaller), which is a CagdError."""
+    if not np.all(np.isfinite(x)):
+        raise CagdError(f"u, v: the {what} exceeds the floating-point range there (the surface is too small)")
+    return x
 
 
 def _as3(x: np.ndarray) -> np.ndarray:

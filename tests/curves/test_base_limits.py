@@ -169,3 +169,19 @@ def test_arc_length_tiny_curve_meets_its_relative_bound():
     assert tiny.converged
     assert tiny.length == pytest.approx(ref * 1e-300, rel=1e-12)
     assert BezierCurve([[0.0, 0.0], [0.0, 0.0]]).arc_length() == 0.0
+
+
+def test_overflowing_geometry_is_a_cagd_error_not_nan():
+    """One span 1e-300 wide among unit ones: the derivatives there exceed the float range;
+    curvature raises there (and answers elsewhere)."""
+    P = np.random.default_rng(4).random((6, 3))
+    s = cagd.CubicSpline(P, "natural", [0, 1e-300, 2e-300, 3, 4, 5])
+    with pytest.raises(CagdError, match="overflow"):
+        s.curvature(1e-300)
+    assert np.isfinite(s.curvature(4.5))
+
+
+def test_hermite_tangents_overflowing_is_a_cagd_error():
+    P = np.random.default_rng(5).random((4, 2)) * 1e300
+    with pytest.raises(CagdError, match="overflow"):
+        cagd.HermiteSpline(P, P, "chord")

@@ -45,3 +45,11 @@ def test_sphere_curvatures_scale_invariant(r):
     assert np.allclose(np.abs(s.mean_curvature(uu, vv)) * r, 1.0, rtol=1e-10)
     (E, F, G), (L, M, N) = s.fundamental_forms(uu, vv)
     assert np.allclose(L / E * r, np.sign(L / E), rtol=1e-9)      # normal curvature along u: 1/r
+
+
+def test_curvature_beyond_float_range_is_a_cagd_error():
+    s = cagd.sphere(1e-200).to_nurbs()
+    (u0, u1), (v0, v1) = s.domain
+    with pytest.raises(CagdError, match="floating-point range"):
+        s.gaussian_curvature(0.5 * (u0 + u1), 0.5 * (v0 + v1))
+    assert abs(s.mean_curvature(0.5 * (u0 + u1), 0.5 * (v0 + v1))) * 1e-200 == pytest.approx(1.0, rel=1e-10)
