@@ -41,9 +41,14 @@ def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.n
     ndu[0, 0] = 1.0
     left = np.empty((p + 1, m))
     right = np.empty((p + 1, m))
+    # knot differences in units of the span's own width h (the basis is invariant under
+    # affine maps of knots and t): every ndu[j, r] contains the span, so it is >= 1 and
+    # spans of subnormal width (1e-310) no longer overflow 1/(u_{i+1} - u_i)
+    h = knots[np.minimum(span + 1, len(knots) - 1)] - knots[span] if p else np.ones(m)
+    h = np.where(h > 0, h, 1.0)
     for j in range(1, p + 1):
-        left[j] = t - knots[span + 1 - j]
-        right[j] = knots[span + j] - t
+        left[j] = (t - knots[span + 1 - j]) / h
+        right[j] = (knots[span + j] - t) / h
         saved = np.zeros(m)
         for r in range(j):
             ndu[j, r] = right[r + 1] + left[j - r]          # lower triangle: knot differences
@@ -78,9 +83,11 @@ def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.n
             ders[k, :, r] = d
             s1, s2 = s2, s1
     fac = float(p)
-    for k in range(1, min(order, p) + 1):
-        ders[k] *= fac
-        fac *= p - k
+    with np.errstate(over="ignore"):
+        for k in range(1, min(order, p) + 1):
+            ders[k] *= fac
+            ders[k:] /= h[:, None]               # back from units of h: derivative k divided k times
+            fac *= p - k
     return ders
 
 

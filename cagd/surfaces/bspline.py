@@ -233,8 +233,7 @@ class BSplineSurface(Surface):
         for s in range(0, u.shape[0], _CHUNK):
             uc, vc = u[s:s + _CHUNK], v[s:s + _CHUNK]
             ju, jv = pp_u.span_of(uc), pp_v.span_of(vc)
-            x = (uc - pp_u._mid.take(ju)) * pp_u._inv_half.take(ju)
-            y = (vc - pp_v._mid.take(jv)) * pp_v._inv_half.take(jv)
+            x, y = pp_u.local(uc, ju), pp_v.local(vc, jv)
             idx = jv * su_count + ju
             for d in range(D):
                 acc = None
