@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._checks import affine_map, finite_array, order, parameters
+from .._checks import MAX_SAMPLES, affine_map, finite_array, order, parameters
 from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
@@ -124,10 +124,14 @@ class Surface(Value):
 
     def grid(self, us: ArrayLike, vs: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
-        through basis matrices and matrix products (the fast path)."""
+        through basis matrices and matrix products (the fast path); at most MAX_SAMPLES
+        = 10^7 points and orders du, dv at most MAX_ORDER."""
         du, dv = order(du, "du"), order(dv, "dv")
         us = self._wrap(finite_array(us, "us", ndim=1), 0, self.periodic_u, "us")
         vs = self._wrap(finite_array(vs, "vs", ndim=1), 1, self.periodic_v, "vs")
+        if len(us) * len(vs) > MAX_SAMPLES:
+            raise CagdError(f"us, vs: a grid of {len(us)} x {len(vs)} points exceeds MAX_SAMPLES = {MAX_SAMPLES}; "
+                            f"evaluate it in blocks")
         return self._grid(us, vs, du, dv)[-1, -1]
 
     # --- differential geometry -------------------------------------------------------------

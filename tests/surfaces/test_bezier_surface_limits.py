@@ -53,3 +53,12 @@ def test_curvature_beyond_float_range_is_a_cagd_error():
     with pytest.raises(CagdError, match="floating-point range"):
         s.gaussian_curvature(0.5 * (u0 + u1), 0.5 * (v0 + v1))
     assert abs(s.mean_curvature(0.5 * (u0 + u1), 0.5 * (v0 + v1))) * 1e-200 == pytest.approx(1.0, rel=1e-10)
+
+
+def test_grid_size_bounded():
+    from cagd._checks import MAX_SAMPLES
+    s = BezierSurface(np.random.default_rng(2).random((3, 3, 3)))
+    n = int(np.sqrt(MAX_SAMPLES)) + 2
+    with pytest.raises(CagdError, match="MAX_SAMPLES"):
+        s.grid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    assert s.grid(np.linspace(0, 1, 30), np.linspace(0, 1, 20)).shape == (30, 20, 3)
