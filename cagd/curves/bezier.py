@@ -12,6 +12,8 @@ from ..errors import CagdError
 from .base import Curve
 from .bspline import BSplineCurve
 
+_CHUNK_VALUES = 1 << 22     # net values per chunk of de Casteljau (32 MiB)
+
 
 class BezierCurve(Curve):
     """p(t) = sum_i P_i BEZ_{i,n}(t), t in [0, 1] (seed 000, 5.2.1); with weights
@@ -100,7 +102,17 @@ class BezierCurve(Curve):
         """De Casteljau's recursion P_i^r = (1-t) P_i^{r-1} + t P_{i+1}^{r-1}
         (seed 000, 5.2.4), vectorized over t; shape np.shape(t) + (dim,)."""
         t = _checks.parameters(t)
-        pts = self._casteljau_pyramid(t)[-1][..., 0, :]
+        hom = self.homogeneous_control_points
+        flat = t.ravel()
+        out = np.empty((flat.shape[0], hom.shape[1]))
+        step = max(1, _CHUNK_VALUES // hom.size)           # bounded memory: one level per chunk
+        for s in range(0, flat.shape[0], step):
+            tt = flat[s:s + step, None, None]
+            level = np.broadcast_to(hom, tt.shape[:1] + hom.shape)
+            for _ in range(self.degree):
+                level = (1.0 - tt) * level[:, :-1] + tt * level[:, 1:]
+            out[s:s + step] = level[:, 0]
+        pts = out.reshape(t.shape + (hom.shape[1],))
         return pts[..., :-1] / pts[..., -1:] if self.is_rational else pts
 
     def _casteljau_pyramid(self, t: np.ndarray) -> List[np.ndarray]:

@@ -13,6 +13,8 @@ from ..errors import CagdError
 from .base import Surface
 from .bspline import BSplineSurface
 
+_CHUNK_VALUES = 1 << 22     # net values per chunk of de Casteljau (32 MiB)
+
 
 class BezierSurface(Surface):
     """p(u, v) = sum_i sum_j P_ij BEZ_{i,m}(u) BEZ_{j,n}(v) on [0, 1]^2 (seed 000, 5.2.7),
@@ -113,15 +115,21 @@ class BezierSurface(Surface):
         """Two-stage de Casteljau (seed 003, 2.2.1): each row of the net reduced at v,
         then the resulting column at u. Broadcasts u and v."""
         u, v = np.broadcast_arrays(_checks.parameters(u, "u"), _checks.parameters(v, "v"))
-        net = np.broadcast_to(self.homogeneous_control_points, u.shape + self.homogeneous_control_points.shape)
-        vv = v[..., None, None, None]
-        while net.shape[-2] > 1:
-            net = (1 - vv) * net[..., :-1, :] + vv * net[..., 1:, :]
-        col = net[..., 0, :]
-        uu = u[..., None, None]
-        while col.shape[-2] > 1:
-            col = (1 - uu) * col[..., :-1, :] + uu * col[..., 1:, :]
-        return self._project(col[..., 0, :])
+        hom = self.homogeneous_control_points
+        uf, vf = u.ravel(), v.ravel()
+        out = np.empty((uf.shape[0], hom.shape[2]))
+        step = max(1, _CHUNK_VALUES // hom.size)           # bounded memory: one net per point of a chunk
+        for s in range(0, uf.shape[0], step):
+            vv = vf[s:s + step, None, None, None]
+            net = np.broadcast_to(hom, vv.shape[:1] + hom.shape)
+            while net.shape[-2] > 1:
+                net = (1 - vv) * net[..., :-1, :] + vv * net[..., 1:, :]
+            col = net[..., 0, :]
+            uu = uf[s:s + step, None, None]
+            while col.shape[-2] > 1:
+                col = (1 - uu) * col[..., :-1, :] + uu * col[..., 1:, :]
+            out[s:s + step] = col[:, 0]
+        return self._project(out.reshape(u.shape + (hom.shape[2],)))
 
     def matrix_form(self) -> np.ndarray:
         """Coefficients C (per coordinate) with p(u, v) = U C V^T, U = [u^m ... 1],

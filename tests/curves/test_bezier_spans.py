@@ -163,3 +163,23 @@ def test_degrees_above_occt_maximum_do_not_convert():
         occ.to_occ(BezierCurve(rng.random((27, 3))))
     with pytest.raises(CagdError, match="maximum B-spline degree is 25"):
         occ.to_occ(BezierSurface(rng.random((3, 30, 3))))
+
+
+def test_de_casteljau_memory_is_bounded():
+    """The seed's algorithms at the maximum degree: de Casteljau kept every level of the
+    triangle (1e5 points at degree 128: 20 GB); now one level per chunk."""
+    import tracemalloc
+    rng = np.random.default_rng(11)
+    c = BezierCurve(rng.random((cagd.MAX_DEGREE + 1, 3)))
+    t = rng.random(20_000)
+    tracemalloc.start()
+    try:
+        v = c.de_casteljau(t)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 200e6
+    assert np.abs(v - c(t)).max() <= 1e-13
+    s = BezierSurface(rng.random((40, 40, 3)))
+    u, v = rng.random((50, 40)), rng.random((50, 40))
+    assert np.abs(s.de_casteljau(u, v) - s(u, v)).max() <= 1e-13
