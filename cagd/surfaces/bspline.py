@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from ..basis.bspline import basis_derivatives, basis_matrix
 from ..curves.bspline import BSplineCurve
+from ..curves.bezier_spans import bernstein_values
 from ..curves.ppform import PP_MAX_DEGREE, PPForm
 from ..errors import CagdError
 from ..knots import vectors as kv
@@ -251,6 +252,9 @@ class BSplineSurface(Surface):
         return out
 
     def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        if max(self.degree_u, self.degree_v) > PP_MAX_DEGREE:
+            out = self._bernstein_partials(u, v, du, dv)
+            return rational_partials(out) if self.is_rational else out
         if du == 0 and dv == 0:
             pts = self._evaluate_points(u, v)
             if pts is not None:
@@ -265,6 +269,54 @@ class BSplineSurface(Surface):
                 return pts[None, None]
         out = self._evaluate_by_basis(u, v, du, dv)
         return rational_partials(out) if self.is_rational else out
+
+    def _patch_nets(self, k: int, l: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(breaks_u, breaks_v, nets) of the (k, l)-th partial: the Bezier nets of the
+        patches differentiated k times in u and l times in v (hodographs
+        (p - i) (P_{i+1} - P_i) / h per direction; seed 000, 5.2.1 property 4), cached."""
+        cache = self.__dict__.setdefault("_nets_cache", {})
+        if (k, l) not in cache:
+            if (0, 0) not in cache:
+                cache[(0, 0)] = self.bezier_net()
+            bu, bv, nets = cache[(0, 0)]
+            p, q = self.degree_u, self.degree_v
+            if k > p or l > q:
+                nets = np.zeros(nets.shape[:2] + (1, 1, nets.shape[4]))
+            else:
+                hu = np.diff(bu)[:, None, None, None, None]
+                hv = np.diff(bv)[None, :, None, None, None]
+                for i in range(k):
+                    nets = (p - i) * np.diff(nets, axis=2) / hu
+                for j in range(l):
+                    nets = (q - j) * np.diff(nets, axis=3) / hv
+            cache[(k, l)] = (bu, bv, nets)
+        return cache[(k, l)]
+
+    def _bernstein_partials(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        """Homogeneous partials by the Bernstein sums on the Bezier patches (degrees above
+        PP_MAX_DEGREE, where the power form loses digits): O(p q) per point with O(q)
+        numpy calls per chunk, memory bounded by _GATHER_VALUES."""
+        bu, bv, _ = self._patch_nets(0, 0)
+        D = self._hom.shape[2]
+        ju = np.clip(np.searchsorted(bu, u, side="right") - 1, 0, len(bu) - 2)
+        jv = np.clip(np.searchsorted(bv, v, side="right") - 1, 0, len(bv) - 2)
+        x = np.clip((u - bu[ju]) / (bu[ju + 1] - bu[ju]), 0.0, 1.0)
+        y = np.clip((v - bv[jv]) / (bv[jv + 1] - bv[jv]), 0.0, 1.0)
+        out = np.empty((du + 1, dv + 1, u.shape[0], D))
+        for k in range(du + 1):
+            for l in range(dv + 1):
+                nets = self._patch_nets(k, l)[2]
+                P1, Q1 = nets.shape[2:4]
+                step = max(1, _GATHER_VALUES // (P1 * D))
+                for s in range(0, u.shape[0], step):
+                    sl = slice(s, s + step)
+                    Bu, Bv = bernstein_values(P1 - 1, x[sl]), bernstein_values(Q1 - 1, y[sl])
+                    iu, iv = ju[sl], jv[sl]
+                    tmp = np.zeros((len(iu), P1, D))
+                    for j in range(Q1):
+                        tmp += Bv[:, j, None, None] * nets[iu, iv, :, j, :]
+                    out[k, l, sl] = np.einsum("mi,mid->md", Bu, tmp)
+        return out
 
     def _on_clamped_edge(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         p, q = self.degree_u, self.degree_v
@@ -388,8 +440,9 @@ class BSplineSurface(Surface):
 
     def bezier_net(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(breaks_u, breaks_v, nets): the homogeneous Bezier control nets (mu, mv, p + 1,
-        q + 1, D) ((w P, w) when rational) of the patches, by knot insertion to
-        multiplicity p in u for all rows at once, then q in v for all strips at once
+        q + 1, D) ((w P, w) when rational) of the patches: the span-local Bezier
+        extraction of :meth:`cagd.BSplineCurve.bezier_net` (what knot insertion to
+        multiplicity p gives) for all rows at once in u, then for all strips at once in v
         (Piegl & Tiller A5.7), as arrays: no surface objects."""
         bu, strips = self._row_curve("u").bezier_net()           # (mu, p + 1, nv * D)
         mu, p1 = strips.shape[:2]
