@@ -117,6 +117,12 @@ def test_high_degree_surface_matches_scipy_tensor_product(p, q):
     got = s(u[:, None], v[None, :])
     assert np.abs(got - expect).max() <= 1e-12
     assert np.abs(s.grid(u, v) - expect).max() <= 1e-12
+    # the mixed partial S_uv (and S_uu) against scipy's derivatives
+    for du, dv in ((1, 1), (2, 0)):
+        rows = scipy_interpolate.BSpline(ku, P, p)(u, nu=du)
+        ref = np.moveaxis(scipy_interpolate.BSpline(kv, np.moveaxis(rows, 1, 0), q)(v, nu=dv), 0, 1)
+        d = s.derivative(u[:, None], v[None, :], du, dv)
+        assert np.abs(d - ref).max() <= 1e-12 * max(np.abs(ref).max(), 1.0)
 
 
 def test_degree_above_max_is_a_cagd_error_everywhere():
