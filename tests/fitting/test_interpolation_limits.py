@@ -125,3 +125,15 @@ def test_bezier_through_points_high_degree_refuses_or_hits():
             assert "ill-conditioned" in str(e) and n >= 20
             continue
         assert np.abs(c(np.linspace(0, 1, n + 1)) - Q).max() <= 1e-9
+
+
+@pytest.mark.parametrize("scale", [1e-310, 1e-300, 1e300, 1e307])
+@pytest.mark.parametrize("rule", ["chord", "centripetal"])
+def test_parametrize_extreme_scales(scale, rule):
+    # reported: parametrize of points at 1e300 gives NaN (the squared chords overflow)
+    Q = np.random.default_rng(9).random((10, 3))
+    assert np.allclose(parametrize(Q * scale, rule), parametrize(Q, rule), rtol=1e-12, atol=1e-15)
+    s = cagd.fitting.spline_parameters(Q * scale, rule)
+    ref = cagd.fitting.spline_parameters(Q, rule)
+    factor = scale if rule == "chord" else np.sqrt(scale)
+    assert np.allclose(s / factor, ref, rtol=1e-12)
