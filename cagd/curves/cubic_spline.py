@@ -42,8 +42,8 @@ def solve_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: 
         CagdError: mismatched lengths, or a zero pivot (singular, or a matrix that
             needs pivoting).
     """
-    a, b, c = (np.asarray(v, dtype=np.float64) for v in (lower, diag, upper))
-    d = np.asarray(rhs, dtype=np.float64)
+    a, b, c = (_checks.finite_array(v, name) for v, name in ((lower, "lower"), (diag, "diag"), (upper, "upper")))
+    d = _checks.finite_array(rhs, "rhs")
     n = b.shape[0] if b.ndim == 1 else 0
     if n < 1 or d.ndim not in (1, 2) or a.shape != (n,) or c.shape != (n,) or d.shape[0] != n:
         raise CagdError(f"rhs: lower, diag, upper need shape ({n},) and rhs {n} rows; got "
@@ -65,7 +65,10 @@ def solve_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: 
             x[i] = (x[i] - av[i] * x[i - 1]) / den[i]
         for i in range(n - 2, -1, -1):
             x[i] -= cp[i] * x[i + 1]
-    return np.array(cols).T.reshape(d.shape)
+    out = np.array(cols).T.reshape(d.shape)
+    if not np.all(np.isfinite(out)):
+        raise CagdError("diag: the solution overflows (a nearly singular system)")
+    return out
 
 
 def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: ArrayLike) -> np.ndarray:
@@ -77,9 +80,11 @@ def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike
     Raises:
         CagdError: n < 2, mismatched lengths, or a zero pivot.
     """
-    a, b, c = (np.array(v, dtype=np.float64) for v in (lower, diag, upper))
-    d = np.asarray(rhs, dtype=np.float64)
-    n = b.shape[0]
+    a, b, c = (_checks.finite_array(v, name) for v, name in ((lower, "lower"), (diag, "diag"), (upper, "upper")))
+    d = _checks.finite_array(rhs, "rhs")
+    n = b.shape[0] if b.ndim == 1 else 0
+    if d.ndim not in (1, 2):
+        raise CagdError(f"rhs: expected shape (n,) or (n, k), got {d.shape}")
     if n < 2:
         raise CagdError(f"diag: a cyclic system needs at least 2 unknowns, got {n}")
     if a.shape != (n,) or c.shape != (n,) or d.shape[0] != n:
@@ -102,6 +107,8 @@ def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike
     if denom == 0.0:
         raise CagdError("diag: the cyclic matrix is singular")
     x = x - np.outer(z, (x[0] + beta * x[-1] / gamma) / denom)
+    if not np.all(np.isfinite(x)):
+        raise CagdError("diag: the solution overflows (a nearly singular system)")
     return x[:, 0] if vec else x
 
 

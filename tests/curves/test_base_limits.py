@@ -185,3 +185,14 @@ def test_hermite_tangents_overflowing_is_a_cagd_error():
     P = np.random.default_rng(5).random((4, 2)) * 1e300
     with pytest.raises(CagdError, match="overflow"):
         cagd.HermiteSpline(P, P, "chord")
+
+
+def test_tridiagonal_solvers_validate():
+    from cagd.curves.cubic_spline import solve_cyclic_tridiagonal, solve_tridiagonal
+    for f in (solve_tridiagonal, solve_cyclic_tridiagonal):
+        for args in (("a", [1], [1], [1]), ([10**400], [1, 1], [1], [1, 1]), (None, None, None, None),
+                     ([1, 1], [2, np.nan], [1, 1], [1, 1]), ([1, 1], [2, 2], [1, 1], np.ones((2, 2, 2)))):
+            with pytest.raises(CagdError):
+                f(*args)
+    x = solve_tridiagonal([0, 1, 1], [2, 2, 2], [1, 1, 0], [1, 2, 3])
+    assert np.allclose([2 * x[0] + x[1], x[0] + 2 * x[1] + x[2], x[1] + 2 * x[2]], [1, 2, 3])
