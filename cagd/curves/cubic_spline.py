@@ -118,8 +118,9 @@ def _natural_tangents(P: np.ndarray, t: np.ndarray, ends: Optional[np.ndarray] =
     2 m_0 + m_1 = 3 delta_0 and m_{n-1} + 2 m_n = 3 delta_{n-1}), or the given end
     derivatives ``ends = (d0, dn)`` ("clamped": m_0 = d0, m_n = dn)."""
     h = np.diff(t)
-    delta = np.diff(P, axis=0) / h[:, None]
-    interior = 3.0 * (h[1:, None] * delta[:-1] + h[:-1, None] * delta[1:])
+    with np.errstate(over="ignore", invalid="ignore"):
+        delta = np.diff(P, axis=0) / h[:, None]
+        interior = 3.0 * (h[1:, None] * delta[:-1] + h[:-1, None] * delta[1:])
     if ends is None:
         lower = np.concatenate([[0.0], h[1:], [1.0]])
         diag = np.concatenate([[2.0], 2.0 * (h[:-1] + h[1:]), [2.0]])
@@ -130,7 +131,18 @@ def _natural_tangents(P: np.ndarray, t: np.ndarray, ends: Optional[np.ndarray] =
         diag = np.concatenate([[1.0], 2.0 * (h[:-1] + h[1:]), [1.0]])
         upper = np.concatenate([[0.0], h[:-1], [0.0]])
         rhs = np.vstack([ends[:1], interior, ends[1:]])
+    _finite_system(t, diag, rhs)
     return solve_tridiagonal(lower, diag, upper, rhs)
+
+
+def _finite_system(t: np.ndarray, *parts: np.ndarray) -> None:
+    """The tangent system's coefficients must be finite (a parameter step of 5e-324 makes
+    the chord slopes overflow): CagdError naming the parameters."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        ok = all(np.all(np.isfinite(x)) for x in parts)
+    if not ok:
+        raise CagdError("parameters: the spline's tangent system overflows (parameter steps of "
+                        f"{float(np.diff(t).min()):.3g} against point spacing; use chord or uniform spacing)")
 
 
 def _periodic_tangents(P: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -139,7 +151,10 @@ def _periodic_tangents(P: np.ndarray, t: np.ndarray) -> np.ndarray:
     h = np.diff(t)
     delta = np.diff(P, axis=0) / h[:, None]
     hp, dp = np.roll(h, 1), np.roll(delta, 1, axis=0)           # h_{i-1}, delta_{i-1}
-    m = solve_cyclic_tridiagonal(h, 2.0 * (hp + h), hp, 3.0 * (h[:, None] * dp + hp[:, None] * delta))
+    with np.errstate(over="ignore", invalid="ignore"):
+        rhs = 3.0 * (h[:, None] * dp + hp[:, None] * delta)
+    _finite_system(t, rhs)
+    m = solve_cyclic_tridiagonal(h, 2.0 * (hp + h), hp, rhs)
     return np.vstack([m, m[:1]])
 
 
