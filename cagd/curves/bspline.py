@@ -148,6 +148,9 @@ class BSplineCurve(Curve):
     # --- evaluation ------------------------------------------------------------------
     @property
     def ppform(self) -> PPForm:
+        """The per-span power form (cached): accurate to ~1e-14 of the net up to degree
+        PP_MAX_DEGREE = 20 and losing digits fast above it, where evaluation uses the
+        Bernstein sums on the Bezier spans instead (see :mod:`cagd.curves.ppform`)."""
         if self._pp is None:
             self._pp = PPForm.from_bspline(self._u, self.degree, self._hom)
         return self._pp

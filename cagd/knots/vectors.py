@@ -105,7 +105,7 @@ def validate(knots: ArrayLike, degree: int, count: int, name: str = "knots") -> 
     empty domain [u_p, u_n].
     """
     degree = _degree(degree, "degree", 0)
-    count = integer(count, "count", 1, MAX_SAMPLES)
+    count = integer(count, "count", 1)
     u = finite_array(knots, name, ndim=1)
     expected = count + degree + 1
     if u.shape[0] != expected:
@@ -128,7 +128,7 @@ def validate(knots: ArrayLike, degree: int, count: int, name: str = "knots") -> 
 def validate_period(knots: ArrayLike, count: int, degree: int, name: str = "knots") -> np.ndarray:
     """Check one period t_0..t_n of a periodic knot vector (n = ``count``)."""
     degree = _degree(degree, "degree", 0)
-    count = integer(count, "count", 1, MAX_SAMPLES)
+    count = integer(count, "count", 1)
     t = finite_array(knots, name, ndim=1)
     if t.shape[0] != count + 1:
         raise CagdError(f"{name}: a periodic curve with {count} control points takes one period of "
