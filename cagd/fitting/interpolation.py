@@ -208,8 +208,14 @@ def approximation_knots(params: ArrayLike, count: int, degree: int) -> np.ndarra
     to m+1 parameters (Piegl & Tiller eq. 9.68, 9.69): d = (m+1)/(n-p+1) and for
     j = 1..n-p, i = int(j d), alpha = j d - i,
     u_{p+j} = (1 - alpha) ubar_{i-1} + alpha ubar_i. Every knot span then holds
-    at least one parameter, so the normal equations are positive definite."""
-    ub = np.asarray(params, dtype=np.float64)
+    at least one parameter, so the normal equations are positive definite.
+
+    Raises:
+        CagdError: params not finite and 1-D, degree out of 1..MAX_DEGREE, count
+            not in [degree + 1, len(params)]."""
+    ub = _checks.finite_array(params, "params", ndim=1)
+    degree = _checks.degree(degree, "degree", 1)
+    count = _checks.integer(count, "count", degree + 1, max(len(ub), degree + 1))
     m, n, p = len(ub) - 1, count - 1, degree
     d = (m + 1) / (n - p + 1)
     jd = np.arange(1, n - p + 1) * d

@@ -88,7 +88,14 @@ def _norm(x: np.ndarray) -> float:
 
 def curve_size(*curves: Curve, samples: int = 33) -> float:
     """Diagonal of the bounding box of ``samples`` points on each curve (a length
-    scale for relative tolerances; 1 for curves collapsed to a point)."""
+    scale for relative tolerances; 1 for curves collapsed to a point).
+
+    Raises:
+        CagdError: samples not an integer in [2, MAX_SAMPLES], a curve that is not a Curve."""
+    samples = _checks.integer(samples, "samples", 2, _checks.MAX_SAMPLES)
+    for i, c in enumerate(curves):
+        if not isinstance(c, Curve):
+            raise CagdError(f"curves[{i}]: must be a cagd Curve, got {type(c).__name__}")
     pts: List[np.ndarray] = []
     for c in curves:
         a, b = c.domain
