@@ -8,6 +8,7 @@ derivatives of any order and an exact ``to_nurbs()``. Invalid input raises
 :class:`CagdError` (a ValueError) naming the argument and the problem.
 """
 from .errors import CagdError
+from ._checks import MAX_DEGREE, MAX_ORDER
 from .curves.base import Curve
 from .curves.bspline import BSplineCurve, OccForm
 from .curves.bezier import BezierCurve
@@ -27,7 +28,7 @@ from .analysis import CurvatureComb, curvature_comb
 
 __version__ = "0.1.0"
 __all__ = [
-    "CagdError", "Curve", "BSplineCurve", "OccForm", "SurfaceOccForm", "BezierCurve",
+    "CagdError", "MAX_DEGREE", "MAX_ORDER", "Curve", "BSplineCurve", "OccForm", "SurfaceOccForm", "BezierCurve",
     "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",

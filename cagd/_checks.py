@@ -9,11 +9,31 @@ from numpy.typing import ArrayLike, DTypeLike
 
 from .errors import CagdError
 
+#: Highest polynomial degree accepted anywhere (curves, surfaces, elevation, fitting).
+#: Every degree up to it evaluates within 1e-12 of de Casteljau relative to the control
+#: net (the power form up to :data:`cagd.curves.ppform.PP_MAX_DEGREE`, the Bernstein sum
+#: on Bezier spans above); binomials C(n, i) stay far from overflow (C(1029, 514) is the
+#: last finite one) and t^i (1-t)^(n-i) C(n, i) of a subnormal t^i stays below
+#: 2^n * 2.2e-308 (negligible). 128 is also where evaluation stays fast (1e5 points of a
+#: degree-128 curve in well under a second). Note: OCCT's own maximum is 25
+#: (``Geom_BSplineCurve::MaxDegree()``); degrees above 25 do not convert to OCCT.
+MAX_DEGREE = 128
+#: Highest derivative order accepted (curves and surfaces, each direction): derivatives
+#: above the degree are zero, and orders beyond MAX_DEGREE only cost memory.
+MAX_ORDER = MAX_DEGREE
+#: Largest number of samples a count argument may ask for (comb teeth, sample counts):
+#: 10^7 points of 3 float64 coordinates are 240 MB per array.
+MAX_SAMPLES = 10_000_000
+#: OCCT's maximum B-spline degree (``Geom_BSplineCurve::MaxDegree()``), for the converters.
+OCC_MAX_DEGREE = 25
+
 
 def finite_array(value: ArrayLike, name: str, ndim: Optional[int] = None) -> np.ndarray:
     """``value`` as a float64 array, rejecting NaN/inf and a wrong number of dimensions."""
     try:
         arr = np.array(value, dtype=np.float64)
+    except OverflowError:
+        raise CagdError(f"{name}: a value is beyond the floating-point range (|x| > 1.8e308)") from None
     except (TypeError, ValueError) as exc:
         raise CagdError(f"{name}: not a numeric array ({exc})") from None
     if ndim is not None and arr.ndim != ndim:
@@ -63,10 +83,39 @@ def integer(value: Any, name: str, minimum: int = 0, maximum: Optional[int] = No
     return value
 
 
+def degree(value: Any, name: str = "degree", minimum: int = 1, maximum: Optional[int] = None) -> int:
+    """A polynomial degree: an int in [minimum, maximum] and at most :data:`MAX_DEGREE`."""
+    d = integer(value, name, minimum)
+    if d > MAX_DEGREE:
+        raise CagdError(f"{name}: degree {d} exceeds the maximum degree cagd.MAX_DEGREE = {MAX_DEGREE}")
+    return integer(d, name, minimum, maximum)
+
+
+def order(value: Any, name: str = "order") -> int:
+    """A derivative order: an int in [0, :data:`MAX_ORDER`]."""
+    k = integer(value, name, 0)
+    if k > MAX_ORDER:
+        raise CagdError(f"{name}: derivative order {k} exceeds cagd.MAX_ORDER = {MAX_ORDER} "
+                        f"(derivatives above the degree are zero)")
+    return k
+
+
+def elevation(value: Any, current: int, name: str = "times") -> int:
+    """How many times to raise a degree ``current``: an int >= 0 with current + times <=
+    :data:`MAX_DEGREE`."""
+    r = integer(value, name, 0)
+    if current + r > MAX_DEGREE:
+        raise CagdError(f"{name}: raising degree {current} by {r} exceeds the maximum degree "
+                        f"cagd.MAX_DEGREE = {MAX_DEGREE}")
+    return r
+
+
 def scalar(value: Any, name: str) -> float:
     """A finite float."""
     try:
         x = float(value)
+    except OverflowError:
+        raise CagdError(f"{name}: beyond the floating-point range (|x| > 1.8e308)") from None
     except (TypeError, ValueError):
         raise CagdError(f"{name}: must be a number, got {value!r}") from None
     if not np.isfinite(x):

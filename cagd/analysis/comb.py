@@ -68,33 +68,49 @@ def curvature_comb(curve: Curve, samples_per_span: int = 8, scale: Optional[floa
         :class:`CurvatureComb`.
 
     Raises:
-        CagdError: not a curve, samples_per_span < 2, samples < 0, a scale that is not a
-            finite number.
+        CagdError: not a curve, samples_per_span < 2, samples < 0, more teeth than
+            MAX_SAMPLES = 10^7, a scale that is not a finite number.
     """
     if not isinstance(curve, Curve):
         raise CagdError(f"curve: expected a cagd Curve, got {type(curve).__name__}")
     from ..queries.bounds import bezier_pieces
-    per = _checks.integer(samples_per_span, "samples_per_span", 2)
-    total = _checks.integer(samples, "samples", 0)
+    per = _checks.integer(samples_per_span, "samples_per_span", 2, _checks.MAX_SAMPLES)
+    total = _checks.integer(samples, "samples", 0, _checks.MAX_SAMPLES)
     pieces = bezier_pieces(curve)
     b = pieces.breaks[0]
     h = np.diff(b)
+    if per * len(h) > _checks.MAX_SAMPLES:
+        raise CagdError(f"samples_per_span: {per} teeth on each of {len(h)} spans exceed MAX_SAMPLES = "
+                        f"{_checks.MAX_SAMPLES}")
     counts = np.maximum(per, np.ceil(total * h / (b[-1] - b[0])).astype(np.intp))
     span = np.repeat(np.arange(len(h)), counts)
     first = np.repeat(np.cumsum(counts) - counts, counts)
     frac = (np.arange(len(span)) - first) / np.repeat(counts - 1, counts)
     t = np.where(frac == 1.0, b[span + 1], b[span] + frac * h[span])
     p, d1, d2 = pieces.derivatives(span, t[:, None], 2)
-    s2 = np.einsum("ij,ij->i", d1, d1)
-    speed = np.sqrt(s2)
-    regular = speed > _SINGULAR * max(float(speed.max()), 1e-300)
-    s2 = np.where(regular, s2, np.inf)
-    k = (d2 - (np.einsum("ij,ij->i", d2, d1) / s2)[:, None] * d1) / s2[:, None]     # kappa N
-    kappa = np.linalg.norm(k, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        normals = np.where((kappa > 0.0)[:, None], -k / kappa[:, None], 0.0)
+    # kappa N = (C'' - (C''.T) T) / |C'|^2 in the normalised frame: C' = a u, C'' = b w with
+    # a, b the largest coordinates (scale-invariant; no under/overflow at 1e-300 / 1e300)
+    a = np.max(np.abs(d1), axis=1)
+    b2 = np.max(np.abs(d2), axis=1)
+    u = d1 / np.where(a > 0, a, 1.0)[:, None]
+    w = d2 / np.where(b2 > 0, b2, 1.0)[:, None]
+    uu = np.einsum("ij,ij->i", u, u)
+    top = float(a.max()) if a.size else 0.0
+    regular = (a > 0) & (a * np.sqrt(uu) > _SINGULAR * top)
+    uu = np.where(regular, uu, 1.0)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        factor = np.where(regular, (b2 / np.where(regular, a, 1.0)) / np.where(regular, a, 1.0), 0.0)
+        kdir = (w - (np.einsum("ij,ij->i", w, u) / uu)[:, None] * u) / uu[:, None]     # kappa N / factor
+        length = np.linalg.norm(kdir, axis=1)
+        kappa = length * factor
+        normals = np.where((kappa > 0.0)[:, None], -kdir / np.where(length > 0, length, 1.0)[:, None], 0.0)
     if scale is None:
         kmax = float(kappa.max())
-        scale = COMB_SIZE * float(np.ptp(p, axis=0).max()) / kmax if kmax > 0.0 else 0.0
-    scale = _checks.scalar(scale, "scale")
-    return CurvatureComb(t, span, p, kappa, normals, p + scale * kappa[:, None] * normals, scale)
+        size = float(np.ptp(p, axis=0).max())
+        scale = COMB_SIZE * size / kmax if kmax > 0.0 else 0.0
+        # tooth lengths as COMB_SIZE size (kappa / kmax): no underflow of the scale at 1e-300
+        lengths = COMB_SIZE * size * (kappa / kmax) if kmax > 0.0 else np.zeros_like(kappa)
+    else:
+        scale = _checks.scalar(scale, "scale")
+        lengths = scale * kappa
+    return CurvatureComb(t, span, p, kappa, normals, p + lengths[:, None] * normals, scale)

@@ -12,21 +12,23 @@ from ..errors import CagdError
 from .base import Curve
 from .bspline import BSplineCurve
 
+_CHUNK_VALUES = 1 << 22     # net values per chunk of de Casteljau (32 MiB)
+
 
 class BezierCurve(Curve):
     """p(t) = sum_i P_i BEZ_{i,n}(t), t in [0, 1] (seed 000, 5.2.1); with weights
     p(t) = sum w_i P_i BEZ_{i,n} / sum w_i BEZ_{i,n}.
 
     Raises:
-        CagdError: fewer than 2 control points, NaN/inf, weights of the wrong count
-            or not positive.
+        CagdError: fewer than 2 or more than MAX_DEGREE + 1 control points, NaN/inf,
+            weights of the wrong count or not positive.
     """
 
     _modified_copy = BSplineCurve._modified_copy
 
     def __init__(self, control_points: ArrayLike, weights: Optional[ArrayLike] = None):
         P = _checks.points(control_points, "control_points", min_count=2)
-        n = P.shape[0] - 1
+        n = _checks.degree(P.shape[0] - 1, "control_points (their count - 1 is the degree)")
         self._fill(BSplineCurve(P, n, np.concatenate([np.zeros(n + 1), np.ones(n + 1)]), weights))
 
     def _fill(self, nurbs: BSplineCurve) -> None:
@@ -100,7 +102,17 @@ class BezierCurve(Curve):
         """De Casteljau's recursion P_i^r = (1-t) P_i^{r-1} + t P_{i+1}^{r-1}
         (seed 000, 5.2.4), vectorized over t; shape np.shape(t) + (dim,)."""
         t = _checks.parameters(t)
-        pts = self._casteljau_pyramid(t)[-1][..., 0, :]
+        hom = self.homogeneous_control_points
+        flat = t.ravel()
+        out = np.empty((flat.shape[0], hom.shape[1]))
+        step = max(1, _CHUNK_VALUES // hom.size)           # bounded memory: one level per chunk
+        for s in range(0, flat.shape[0], step):
+            tt = flat[s:s + step, None, None]
+            level = np.broadcast_to(hom, tt.shape[:1] + hom.shape)
+            for _ in range(self.degree):
+                level = (1.0 - tt) * level[:, :-1] + tt * level[:, 1:]
+            out[s:s + step] = level[:, 0]
+        pts = out.reshape(t.shape + (hom.shape[1],))
         return pts[..., :-1] / pts[..., -1:] if self.is_rational else pts
 
     def _casteljau_pyramid(self, t: np.ndarray) -> List[np.ndarray]:
@@ -128,8 +140,9 @@ class BezierCurve(Curve):
                 self._from_homogeneous(right, self.is_rational))
 
     def elevate(self, times: int = 1) -> "BezierCurve":
-        """Degree elevation n -> n + times (Farin 6.1; homogeneous for rational curves)."""
-        times = _checks.integer(times, "times", 0)
+        """Degree elevation n -> n + times (Farin 6.1; homogeneous for rational curves);
+        n + times at most :data:`cagd.MAX_DEGREE`."""
+        times = _checks.elevation(times, self.degree)
         E = elevation_matrix(self.degree, times)
         return self._from_homogeneous(E @ self.homogeneous_control_points, self.is_rational)
 

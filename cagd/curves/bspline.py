@@ -14,14 +14,21 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _checks
-from ..basis.bspline import basis_matrix
+from ..basis.banded import solve_banded_rows
+from ..basis.bernstein import elevation_matrix
+from ..basis.bspline import basis_functions
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Curve, rational_derivatives
-from .ppform import PPForm
+from .bezier_spans import BernsteinSpans, bezier_spans, refined_points
+from .ppform import PP_MAX_DEGREE, PPForm
 
 if TYPE_CHECKING:
     from .bezier import BezierCurve
+
+#: Largest change of the curve accepted from elevation by collocation, relative to the
+#: control net (beyond it the exact segment-wise elevation is used).
+ELEVATE_TOL = 1e-12
 
 
 class OccForm(NamedTuple):
@@ -57,7 +64,7 @@ class BSplineCurve(Curve):
         P = _checks.points(control_points, "control_points", min_count=2)
         n = P.shape[0]
         periodic = bool(periodic)
-        p = _checks.integer(degree, "degree", 1, n if periodic else n - 1)
+        p = _checks.degree(degree, "degree", 1, n if periodic else n - 1)
         w = _checks.weights(weights, n)
         if periodic:
             t = np.linspace(0.0, 1.0, n + 1) if knots is None else kv.validate_period(knots, n, p)
@@ -82,6 +89,7 @@ class BSplineCurve(Curve):
             self._hom = _checks.frozen(hom[kv.unwrapped_index(len(P), p, periodic)])
         self._pp: Optional[PPForm] = None
         self._derivative_pp: Dict[int, PPForm] = {}
+        self._spans: Dict[int, BernsteinSpans] = {}
 
     # --- modified copies (the object itself never changes) --------------------------------
     def _with(self, P: np.ndarray, w: Optional[np.ndarray]) -> "BSplineCurve":
@@ -140,23 +148,46 @@ class BSplineCurve(Curve):
     # --- evaluation ------------------------------------------------------------------
     @property
     def ppform(self) -> PPForm:
+        """The per-span power form (cached): accurate to ~1e-14 of the net up to degree
+        PP_MAX_DEGREE = 20 and losing digits fast above it, where evaluation uses the
+        Bernstein sums on the Bezier spans instead (see :mod:`cagd.curves.ppform`)."""
         if self._pp is None:
             self._pp = PPForm.from_bspline(self._u, self.degree, self._hom)
         return self._pp
 
+    def _bernstein_spans(self, order: int) -> BernsteinSpans:
+        """The Bezier nets of the spans (and of their ``order``-th hodographs), cached."""
+        if order not in self._spans:
+            if 0 not in self._spans:
+                self._spans[0] = BernsteinSpans(*bezier_spans(self._u, self.degree, self._hom))
+            self._spans[order] = self._spans[0].derived(order)
+        return self._spans[order]
+
     def _evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
+        """Derivatives 0..order: the power form up to degree PP_MAX_DEGREE, the Bernstein
+        sum on the Bezier spans above it (accurate to ~p ulps of the net at any degree)."""
+        if self.degree > PP_MAX_DEGREE:
+            hom = np.stack([self._bernstein_spans(k)(t) for k in range(order + 1)])
+            if order == 0 and self.is_rational:
+                return self._clamped_ends(t, hom[0, :, :-1] / hom[0, :, -1:])[None]
+            if order == 0:
+                return self._clamped_ends(t, hom[0])[None]
+            return rational_derivatives(hom) if self.is_rational else hom
         pp = self.ppform
         if order == 0:
             pts = pp.projected(t) if self.is_rational else pp(t)
-            # clamped ends interpolate their control points bit for bit
-            u, p, n = self._u, self.degree, len(self._hom)
-            if u[0] == u[p]:
-                pts[t == u[p]] = self.control_points[0]
-            if u[-1] == u[n]:
-                pts[t == u[n]] = self.control_points[-1]
-            return pts[None]
+            return self._clamped_ends(t, pts)[None]
         hom = np.stack([pp(t)] + [self._derivative_ppform(k)(t) for k in range(1, order + 1)])
         return rational_derivatives(hom) if self.is_rational else hom
+
+    def _clamped_ends(self, t: np.ndarray, pts: np.ndarray) -> np.ndarray:
+        """Points with clamped ends set to their control points bit for bit."""
+        u, p, n = self._u, self.degree, len(self._hom)
+        if u[0] == u[p]:
+            pts[t == u[p]] = self.control_points[0]
+        if u[-1] == u[n]:
+            pts[t == u[n]] = self.control_points[-1]
+        return pts
 
     def _derivative_ppform(self, order: int) -> PPForm:
         """pp form of the ``order``-th derivative built from the derivative curve's own
@@ -254,11 +285,39 @@ class BSplineCurve(Curve):
         return BSplineCurve(P, p, period, periodic=True)
 
     def refine(self, new_knots: ArrayLike) -> "BSplineCurve":
-        """Insert all ``new_knots`` (knot refinement, Piegl & Tiller 5.3, as repeated
-        Boehm insertions)."""
-        ks = _checks.finite_array(new_knots, "new_knots", ndim=1)
+        """Insert all ``new_knots`` at once (knot refinement, Piegl & Tiller 5.3): each new
+        control point is a blossom value of the curve
+        (:func:`cagd.curves.bezier_spans.refined_points`), O((n + r) p^2) for r knots.
+        A periodic curve inserts them one by one (Boehm on the periodic sequence).
+
+        Raises:
+            CagdError: knots NaN/inf or outside the domain, a multiplicity above the degree."""
+        ks = np.sort(_checks.finite_array(new_knots, "new_knots", ndim=1))
+        if ks.size == 0:
+            return self
+        a, b = self.domain
+        if ks[0] < a or ks[-1] > b:
+            bad = ks[(ks < a) | (ks > b)][0]
+            raise CagdError(f"new_knots: knot {bad} is outside the domain [{a}, {b}]")
+        if self.periodic:
+            return self._insert_each(ks)
+        p = self.degree
+        merged = np.sort(np.concatenate([self._u, ks]))
+        count = len(self._hom) + len(ks)
+        vals, mults = kv.distinct_with_multiplicities(merged)
+        inner = (vals > a) & (vals < b)
+        if np.any(mults[inner] > p) or np.any(mults[~inner] > p + 1):
+            i = int(np.argmax(np.where(inner, mults > p, mults > p + 1)))
+            raise CagdError(f"new_knots: knot {vals[i]} would reach multiplicity {mults[i]} > degree = {p}")
+        hom = refined_points(self._u, p, self._hom, merged)
+        if hom is None:
+            return self._insert_each(ks)
+        return self._rebuild(hom, kv.validate(merged, p, count))
+
+    def _insert_each(self, ks: np.ndarray) -> "BSplineCurve":
+        """Insert the sorted knots one by one (Boehm)."""
         c = self
-        for k in np.sort(ks):
+        for k in ks:
             c = c.insert_knot(k)
         return c
 
@@ -300,48 +359,101 @@ class BSplineCurve(Curve):
 
     def bezier_net(self) -> Tuple[np.ndarray, np.ndarray]:
         """Breakpoints (m + 1,) and the homogeneous Bezier control points (m, p + 1, D)
-        of the m pieces ((w P, w) when rational), by knot insertion to multiplicity p
-        (Piegl & Tiller A5.6), as arrays: no curve objects."""
-        a, b = self.domain
-        p = self.degree
-        values = np.concatenate([[a], self._breaks_within(a, b), [b]])
-        u, hom = self._with_multiplicity(values, p)
-        k = np.searchsorted(u, values[:-1], side="right") - 1
-        return values, hom[k[:, None] - p + np.arange(p + 1)[None]]
+        of the m pieces ((w P, w) when rational), as arrays: no curve objects. Each span
+        on its own (:func:`cagd.curves.bezier_spans.bezier_spans`: the blossom values
+        f(a^(p-j), b^j), what knot insertion to multiplicity p gives, Piegl & Tiller
+        A5.6), vectorized over the spans: O(n p^3) work, O(n p) memory."""
+        if 0 in self._spans:
+            return self._spans[0].breaks, self._spans[0].nets
+        return bezier_spans(self._u, self.degree, self._hom)
 
     def bezier_segments(self) -> Tuple[np.ndarray, List["BSplineCurve"]]:
         """Breakpoints and the Bezier pieces (each a clamped single-span curve on its
-        own interval), by knot insertion to multiplicity p (Piegl & Tiller A5.6)."""
+        own interval), from :meth:`bezier_net`."""
         values, nets = self.bezier_net()
         p = self.degree
-        pieces = [self._rebuild(net, np.concatenate([np.full(p + 1, lo), np.full(p + 1, hi)]))
+        pieces = [self._piece(net, np.concatenate([np.full(p + 1, lo), np.full(p + 1, hi)]))
                   for net, lo, hi in zip(nets, values[:-1], values[1:])]
         return values, pieces
 
+    def _piece(self, hom: np.ndarray, knots: np.ndarray) -> "BSplineCurve":
+        """A clamped single-span piece from a homogeneous net, without re-validation
+        (the net and knots come from this valid curve)."""
+        if self.is_rational:
+            w = hom[:, -1]
+            return BSplineCurve._unchecked(hom[:, :-1] / w[:, None], w, self.degree, knots, None, False)
+        return BSplineCurve._unchecked(hom, None, self.degree, knots, None, False)
+
     def to_bezier(self) -> List[BezierCurve]:
-        """Bezier decomposition: a list of :class:`cagd.BezierCurve` on [0, 1] each."""
+        """Bezier decomposition: a list of :class:`cagd.BezierCurve` on [0, 1] each
+        (from :meth:`bezier_net`; O(n) memory)."""
         from .bezier import BezierCurve
-        _, pieces = self.bezier_segments()
-        return [BezierCurve(c.control_points, c.weights) for c in pieces]
+        _, nets = self.bezier_net()
+        p = self.degree
+        knots = np.concatenate([np.zeros(p + 1), np.ones(p + 1)])
+        return [BezierCurve._unchecked(self._piece(net, knots)) for net in nets]
 
     # --- degree elevation, reversal, reparametrisation ----------------------------------
     def elevate(self, times: int = 1) -> "BSplineCurve":
-        """Raise the degree by ``times``; every distinct knot's multiplicity grows by
-        ``times`` so the continuity is kept (Piegl & Tiller 5.5). The new control
-        points solve the collocation system at the Greville abscissae of the new
-        knots, which the elevated curve satisfies exactly (it lies in the new
-        spline space). A periodic curve comes back clamped."""
-        times = _checks.integer(times, "times", 0)
+        """Raise the degree by ``times`` (p + times at most :data:`cagd.MAX_DEGREE`);
+        every distinct knot's multiplicity grows by ``times`` so the continuity is kept
+        (Piegl & Tiller 5.5). A periodic curve comes back clamped.
+
+        A curve in Bezier form (every interior knot of multiplicity p) is elevated
+        exactly segment by segment with the Bernstein elevation matrix (Farin 6.1;
+        Piegl & Tiller eq. 5.36). Otherwise the new control points solve the banded
+        collocation system at the Greville abscissae of the new knots, which the
+        elevated curve satisfies exactly (it lies in the new spline space), by block LU
+        (O(n q^2) time, O(n q) memory); when that system is too ill-conditioned for the
+        result to reproduce the curve within ELEVATE_TOL of its control net (high
+        degrees), the segments are elevated one by one instead and joined with interior
+        knots of multiplicity p + times (the same curve, C^0 knots).
+
+        Raises:
+            CagdError: ``times`` not an integer >= 0, p + times > MAX_DEGREE."""
+        times = _checks.elevation(times, self.degree)
         if times == 0:
             return self
         c = self.clamped()
-        q = c.degree + times
+        p, q = c.degree, c.degree + times
         vals, mults = kv.distinct_with_multiplicities(c._u)
+        if np.all(mults[1:-1] >= p):
+            return c._elevate_segments(times)
         knots = kv.from_multiplicities(vals, mults + times)
         count = len(knots) - q - 1
         tau = kv.greville(knots, q)
-        B = basis_matrix(knots, q, tau, count)
-        return c._rebuild(np.linalg.solve(B, c.ppform(tau)), knots, q)
+        span = kv.find_span(knots, q, tau, count)
+        N = basis_functions(knots, q, tau, span)
+        rhs = c._homogeneous_values(tau)
+        size = max(float(np.abs(c._hom).max()), np.finfo(float).tiny)
+        try:
+            hom = solve_banded_rows(span - q, N, rhs / size, "knots") * size
+        except CagdError:
+            return c._elevate_segments(times)
+        out = c._rebuild(hom, knots, q)
+        check = np.concatenate([tau, 0.5 * (tau[1:] + tau[:-1])])
+        miss = np.abs(out._homogeneous_values(check) - c._homogeneous_values(check)).max()
+        if not miss <= ELEVATE_TOL * size:
+            return c._elevate_segments(times)
+        return out
+
+    def _homogeneous_values(self, t: np.ndarray) -> np.ndarray:
+        """Values of the homogeneous (w P, w) curve at flat t, inside the domain."""
+        if self.degree > PP_MAX_DEGREE:
+            return self._bernstein_spans(0)(t)
+        return self.ppform(t)
+
+    def _elevate_segments(self, times: int) -> "BSplineCurve":
+        """Exact elevation of a clamped curve segment by segment: elevated Bezier nets
+        joined at knots of multiplicity p + times."""
+        p, q = self.degree, self.degree + times
+        breaks, nets = self.bezier_net()
+        E = elevation_matrix(p, times)
+        up = np.einsum("ij,sjd->sid", E, nets)                       # (s, q+1, D)
+        hom = np.concatenate([up[0, :1], up[:, 1:].reshape(-1, up.shape[2])])  # neighbours share an end
+        mults = np.full(len(breaks), q)
+        mults[0] = mults[-1] = q + 1
+        return self._rebuild(hom, kv.from_multiplicities(breaks, mults), q)
 
     def reversed(self) -> "BSplineCurve":
         """The same point set traversed backwards: C_r(t) = C(a + b - t) (seed 000, 5.2.2
@@ -374,9 +486,13 @@ class BSplineCurve(Curve):
         """Poles (n, 3), weights, distinct knots, multiplicities, degree, periodic — what
         ``Geom_BSplineCurve`` takes. 2-D curves get z = 0. For a periodic curve the
         poles are the distinct control points, rolled by the seam shift of
-        :func:`cagd.knots.occ_knots`, and the knots one period."""
+        :func:`cagd.knots.occ_knots`, and the knots one period. Degrees above 25 (OCCT's
+        maximum) raise CagdError: such curves do not convert to OCCT."""
         if self.dim > 3:
             raise CagdError(f"control_points: OCCT curves are 3-D at most, this one is {self.dim}-D")
+        if self.degree > _checks.OCC_MAX_DEGREE:
+            raise CagdError(f"degree: OCCT's maximum B-spline degree is {_checks.OCC_MAX_DEGREE} "
+                            f"(Geom_BSplineCurve::MaxDegree()); this curve has degree {self.degree}")
         poles = np.zeros((len(self.control_points), 3))
         poles[:, :self.dim] = self.control_points
         w = None if self.weights is None else self.weights.copy()
@@ -396,7 +512,7 @@ class BSplineCurve(Curve):
         P = _checks.points(poles, "poles", min_count=2)
         if dim is not None:
             P = P[:, :_checks.integer(dim, "dim", 1, P.shape[1])]
-        degree = _checks.integer(degree, "degree", 1)
+        degree = _checks.degree(degree, "degree", 1)
         t = kv.from_occ_knots(knots, multiplicities, degree, periodic)
         w = None if weights is None else _checks.weights(weights, len(P))
         if w is not None and np.all(w == w[0]):

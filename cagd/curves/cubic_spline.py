@@ -42,8 +42,8 @@ def solve_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: 
         CagdError: mismatched lengths, or a zero pivot (singular, or a matrix that
             needs pivoting).
     """
-    a, b, c = (np.asarray(v, dtype=np.float64) for v in (lower, diag, upper))
-    d = np.asarray(rhs, dtype=np.float64)
+    a, b, c = (_checks.finite_array(v, name) for v, name in ((lower, "lower"), (diag, "diag"), (upper, "upper")))
+    d = _checks.finite_array(rhs, "rhs")
     n = b.shape[0] if b.ndim == 1 else 0
     if n < 1 or d.ndim not in (1, 2) or a.shape != (n,) or c.shape != (n,) or d.shape[0] != n:
         raise CagdError(f"rhs: lower, diag, upper need shape ({n},) and rhs {n} rows; got "
@@ -65,7 +65,10 @@ def solve_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: 
             x[i] = (x[i] - av[i] * x[i - 1]) / den[i]
         for i in range(n - 2, -1, -1):
             x[i] -= cp[i] * x[i + 1]
-    return np.array(cols).T.reshape(d.shape)
+    out = np.array(cols).T.reshape(d.shape)
+    if not np.all(np.isfinite(out)):
+        raise CagdError("diag: the solution overflows (a nearly singular system)")
+    return out
 
 
 def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike, rhs: ArrayLike) -> np.ndarray:
@@ -77,9 +80,11 @@ def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike
     Raises:
         CagdError: n < 2, mismatched lengths, or a zero pivot.
     """
-    a, b, c = (np.array(v, dtype=np.float64) for v in (lower, diag, upper))
-    d = np.asarray(rhs, dtype=np.float64)
-    n = b.shape[0]
+    a, b, c = (_checks.finite_array(v, name) for v, name in ((lower, "lower"), (diag, "diag"), (upper, "upper")))
+    d = _checks.finite_array(rhs, "rhs")
+    n = b.shape[0] if b.ndim == 1 else 0
+    if d.ndim not in (1, 2):
+        raise CagdError(f"rhs: expected shape (n,) or (n, k), got {d.shape}")
     if n < 2:
         raise CagdError(f"diag: a cyclic system needs at least 2 unknowns, got {n}")
     if a.shape != (n,) or c.shape != (n,) or d.shape[0] != n:
@@ -102,6 +107,8 @@ def solve_cyclic_tridiagonal(lower: ArrayLike, diag: ArrayLike, upper: ArrayLike
     if denom == 0.0:
         raise CagdError("diag: the cyclic matrix is singular")
     x = x - np.outer(z, (x[0] + beta * x[-1] / gamma) / denom)
+    if not np.all(np.isfinite(x)):
+        raise CagdError("diag: the solution overflows (a nearly singular system)")
     return x[:, 0] if vec else x
 
 
@@ -111,8 +118,9 @@ def _natural_tangents(P: np.ndarray, t: np.ndarray, ends: Optional[np.ndarray] =
     2 m_0 + m_1 = 3 delta_0 and m_{n-1} + 2 m_n = 3 delta_{n-1}), or the given end
     derivatives ``ends = (d0, dn)`` ("clamped": m_0 = d0, m_n = dn)."""
     h = np.diff(t)
-    delta = np.diff(P, axis=0) / h[:, None]
-    interior = 3.0 * (h[1:, None] * delta[:-1] + h[:-1, None] * delta[1:])
+    with np.errstate(over="ignore", invalid="ignore"):
+        delta = np.diff(P, axis=0) / h[:, None]
+        interior = 3.0 * (h[1:, None] * delta[:-1] + h[:-1, None] * delta[1:])
     if ends is None:
         lower = np.concatenate([[0.0], h[1:], [1.0]])
         diag = np.concatenate([[2.0], 2.0 * (h[:-1] + h[1:]), [2.0]])
@@ -123,7 +131,18 @@ def _natural_tangents(P: np.ndarray, t: np.ndarray, ends: Optional[np.ndarray] =
         diag = np.concatenate([[1.0], 2.0 * (h[:-1] + h[1:]), [1.0]])
         upper = np.concatenate([[0.0], h[:-1], [0.0]])
         rhs = np.vstack([ends[:1], interior, ends[1:]])
+    _finite_system(t, diag, rhs)
     return solve_tridiagonal(lower, diag, upper, rhs)
+
+
+def _finite_system(t: np.ndarray, *parts: np.ndarray) -> None:
+    """The tangent system's coefficients must be finite (a parameter step of 5e-324 makes
+    the chord slopes overflow): CagdError naming the parameters."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        ok = all(np.all(np.isfinite(x)) for x in parts)
+    if not ok:
+        raise CagdError("parameters: the spline's tangent system overflows (parameter steps of "
+                        f"{float(np.diff(t).min()):.3g} against point spacing; use chord or uniform spacing)")
 
 
 def _periodic_tangents(P: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -132,7 +151,10 @@ def _periodic_tangents(P: np.ndarray, t: np.ndarray) -> np.ndarray:
     h = np.diff(t)
     delta = np.diff(P, axis=0) / h[:, None]
     hp, dp = np.roll(h, 1), np.roll(delta, 1, axis=0)           # h_{i-1}, delta_{i-1}
-    m = solve_cyclic_tridiagonal(h, 2.0 * (hp + h), hp, 3.0 * (h[:, None] * dp + hp[:, None] * delta))
+    with np.errstate(over="ignore", invalid="ignore"):
+        rhs = 3.0 * (h[:, None] * dp + hp[:, None] * delta)
+    _finite_system(t, rhs)
+    m = solve_cyclic_tridiagonal(h, 2.0 * (hp + h), hp, rhs)
     return np.vstack([m, m[:1]])
 
 

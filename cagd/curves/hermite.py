@@ -156,7 +156,11 @@ class HermiteSpline(Curve):
     def _fill(self, P: np.ndarray, m: np.ndarray, t: np.ndarray) -> None:
         self.points, self.tangents, self.parameters = _checks.frozen(P), _checks.frozen(m), _checks.frozen(t)
         self.dim = P.shape[1]
-        self._pp = PPForm.from_unit_power(self.parameters, self.unit_coefficients())
+        coefficients = self.unit_coefficients()
+        if not np.all(np.isfinite(coefficients)):
+            raise CagdError("tangents, parameters: the segment tangents h_j m_j overflow (the curve leaves the "
+                            "floating-point range); scale the tangents or the parameters")
+        self._pp = PPForm.from_unit_power(self.parameters, coefficients)
 
     def unit_coefficients(self) -> np.ndarray:
         """Per-span power coefficients in u = (t - t_j)/h_j: [a0 a1 a2 a3] = reversed

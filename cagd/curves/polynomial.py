@@ -76,6 +76,7 @@ class PolynomialCurve(Curve):
 
     def __init__(self, coefficients: ArrayLike, domain: Tuple[float, float] = (0.0, 1.0)):
         A = _checks.points(coefficients, "coefficients", min_count=1)
+        _checks.degree(A.shape[0] - 1, "coefficients (their count - 1 is the degree)", 0)
         self.coefficients = _checks.frozen(A)
         self.degree = A.shape[0] - 1
         self.dim = A.shape[1]

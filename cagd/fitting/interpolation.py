@@ -11,7 +11,8 @@ from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein
-from ..basis.bspline import basis_matrix
+from ..basis.banded import banded_product, solve_banded_rows
+from ..basis.bspline import basis_functions
 from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -50,17 +51,33 @@ def bezier_through_points(points: ArrayLike, parameters: ParameterSpec = "unifor
     The seed takes t_i = i/n (``"uniform"``); ``"chord"``, ``"centripetal"`` or
     explicit parameters 0 = t_0 < ... < t_n = 1 are also accepted.
 
+    Solved in the points' normalised frame; the curve must then pass through its points
+    within FIT_RESIDUAL_TOL = 1e-9 of their spread (the Bernstein system's condition
+    grows like 2^n: uniform parameters reach it near degree 30).
+
     Raises:
-        CagdError: fewer than 2 points, bad parameters (see :func:`parametrize`),
-            explicit parameters not starting at 0 and ending at 1.
+        CagdError: fewer than 2 or more than MAX_DEGREE + 1 points, bad parameters
+            (see :func:`parametrize`), explicit parameters not starting at 0 and
+            ending at 1, a singular or ill-conditioned system.
     """
     Q = _checks.points(points, "points", min_count=2)
     t = parametrize(Q, parameters)
     if t[0] != 0.0 or t[-1] != 1.0:
         raise CagdError(f"parameters: a Bezier curve lives on [0, 1]; the parameters must start at 0 "
                         f"and end at 1, got {t[0]} .. {t[-1]}")
-    n = Q.shape[0] - 1
-    return BezierCurve(np.linalg.solve(bernstein(n, t), Q))
+    n = _checks.degree(Q.shape[0] - 1, "points (their count - 1 is the degree)")
+    center, scale = _frame(Q)
+    try:
+        P = np.linalg.solve(bernstein(n, t), (Q - center) / scale) * scale + center
+    except np.linalg.LinAlgError:
+        raise CagdError(f"parameters: the degree-{n} Bernstein system is singular for these parameters") from None
+    P[0], P[-1] = Q[0], Q[-1]
+    if not np.all(np.isfinite(P)):
+        raise CagdError(f"points: the degree-{n} Bezier curve through them has control points beyond the "
+                        f"floating-point range")
+    curve = BezierCurve(P)
+    _check_residual(curve(t), Q, scale, "bezier_through_points", f"degree {n}")
+    return curve
 
 
 def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = "chord",
@@ -74,14 +91,14 @@ def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = 
     [N_{i,p}(u_k)] P = Q.
 
     Raises:
-        CagdError: fewer than 2 points, degree out of 1..len(points)-1, bad
-            parameters, invalid knots, parameters outside the knots' domain, or
+        CagdError: fewer than 2 points, degree out of 1..min(len(points)-1, MAX_DEGREE),
+            bad parameters, invalid knots, parameters outside the knots' domain,
             knots violating the Schoenberg-Whitney condition N_{k,p}(u_k) > 0
-            (the system would be singular).
+            (the system would be singular), an ill-conditioned system (see above).
     """
     Q = _checks.points(points, "points", min_count=2)
     count = Q.shape[0]
-    p = _checks.integer(degree, "degree", 1, count - 1)
+    p = _checks.degree(degree, "degree", 1, count - 1)
     u = parametrize(Q, parameters)
     if knots is None:
         U = kv.averaged(u, p)
@@ -91,20 +108,99 @@ def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = 
         if u[0] < a or u[-1] > b:
             raise CagdError(f"knots: the domain [{a}, {b}] does not contain the parameters "
                             f"[{u[0]}, {u[-1]}]")
-    N = basis_matrix(U, p, u, count)
-    _schoenberg_whitney(N, u)
-    return BSplineCurve(np.linalg.solve(N, Q), p, U)
+    span = kv.find_span(U, p, u, count)
+    N = basis_functions(U, p, u, span)                      # (count, p+1): the band of each row
+    _schoenberg_whitney(N, span - p, u)
+    center, scale = _frame(Q)
+    P = solve_banded_rows(span - p, N, (Q - center) / scale, "points") * scale + center
+    ends = N[[0, -1], [0, -1]] == 1.0                 # clamped ends interpolate exactly
+    P[0] = Q[0] if ends[0] else P[0]
+    P[-1] = Q[-1] if ends[1] else P[-1]
+    curve = BSplineCurve(P, p, U)
+    _check_residual(curve(u), Q, scale, "interpolate", f"degree {p}, {count} points")
+    return curve
 
 
-def _schoenberg_whitney(N: np.ndarray, u: np.ndarray) -> None:
+#: Largest accepted miss of a fitted curve at its points, relative to the point spread
+#: (the bounding-box diagonal): interpolation must hit its points (issue 14).
+FIT_RESIDUAL_TOL = 1e-9
+
+
+def _frame(Q: np.ndarray) -> tuple:
+    """(center, scale) of the points' bounding box, scale > 0 (its half diagonal), so that
+    (Q - center) / scale lies in the unit ball: solves run in a normalised frame and
+    cannot overflow (points at 1e300)."""
+    lo, hi = Q.min(axis=0), Q.max(axis=0)
+    center = 0.5 * lo + 0.5 * hi
+    half = 0.5 * hi - 0.5 * lo
+    scale = float(np.max(np.abs(half))) * np.sqrt(Q.shape[1])
+    if not scale > 0.0:
+        scale = max(float(np.max(np.abs(center))), 1.0)
+    return center, scale
+
+
+def _check_residual(values: np.ndarray, Q: np.ndarray, scale: float, func: str, what: str) -> None:
+    """CagdError unless the curve's values at the parameters are within FIT_RESIDUAL_TOL
+    of the points (relative to ``scale``)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        miss = float(np.max(np.abs(values - Q))) / scale
+    if not miss <= FIT_RESIDUAL_TOL:
+        raise CagdError(f"points: {func} ({what}) is ill-conditioned: the solved curve misses its points by "
+                        f"{miss:.3g} of their spread (more than FIT_RESIDUAL_TOL = {FIT_RESIDUAL_TOL}); "
+                        f"use a lower degree or fewer points")
+
+
+def _schoenberg_whitney(N: np.ndarray, start: np.ndarray, u: np.ndarray) -> None:
     """A square collocation matrix with increasing sites is invertible iff its
     diagonal N_{k,p}(u_k) is non-zero (Schoenberg-Whitney; de Boor, A Practical
-    Guide to Splines, XIII)."""
-    diag = np.diag(N)
+    Guide to Splines, XIII). ``N`` holds row k's non-zeros from column start[k]."""
+    k = np.arange(len(u))
+    off = k - start
+    inside = (off >= 0) & (off < N.shape[1])
+    diag = np.where(inside, N[k, np.clip(off, 0, N.shape[1] - 1)], 0.0)
     if np.any(diag <= 1e-14):
-        k = int(np.argmax(diag <= 1e-14))
-        raise CagdError(f"knots: Schoenberg-Whitney condition fails at parameters[{k}] = {u[k]} "
-                        f"(N_{k},p(u_{k}) = {diag[k]:.3g}); the interpolation system is singular")
+        k0 = int(np.argmax(diag <= 1e-14))
+        raise CagdError(f"knots: Schoenberg-Whitney condition fails at parameters[{k0}] = {u[k0]} "
+                        f"(N_{k0},p(u_{k0}) = {diag[k0]:.3g}); the interpolation system is singular")
+
+
+def _least_squares(U: np.ndarray, p: int, sites: np.ndarray, count: int, Qn: np.ndarray) -> np.ndarray:
+    """Interior control points P_1..P_{n-1} minimising sum |Q_k - C(ubar_k)|^2 with
+    P_0 = Q_0, P_n = Q_m fixed: the normal equations (N^T N) P = N^T R (Piegl & Tiller
+    eq. 9.66-9.67), N^T N banded (bandwidth p), accumulated from the p+1 local basis
+    values of each site (O(m p^2), no dense m x n matrix) and solved by block LU.
+
+    Raises:
+        CagdError: the normal equations are singular (a knot span without parameters)."""
+    span = kv.find_span(U, p, sites, count)
+    N = basis_functions(U, p, sites, span)                                  # (m-1, p+1)
+    cols = span[:, None] - p + np.arange(p + 1)
+    R = Qn[1:-1] - N[:, :1] * (cols[:, :1] == 0) * Qn[0] - N[:, -1:] * (cols[:, -1:] == count - 1) * Qn[-1]
+    unknown = count - 2                                                     # columns 1..count-2 -> 0..
+    w = min(2 * p + 1, unknown)
+    row = np.arange(unknown)
+    start = np.clip(row - p, 0, unknown - w)
+    band = np.zeros((unknown, w))
+    rhs = np.zeros((unknown, Qn.shape[1]))
+    c = cols - 1                                                            # unknown index per entry
+    keep = (c >= 0) & (c < unknown)
+    for a in range(p + 1):
+        ia = keep[:, a]
+        np.add.at(rhs, c[ia, a], N[ia, a, None] * R[ia])
+        for b in range(p + 1):
+            ib = ia & keep[:, b]
+            i, j = c[ib, a], c[ib, b]
+            np.add.at(band, (i, j - start[i]), N[ib, a] * N[ib, b])
+    try:
+        x = solve_banded_rows(start, band, rhs, "parameters")
+    except CagdError:
+        raise CagdError("parameters: the least-squares system is singular; some knot span holds no "
+                        "parameter") from None
+    miss = np.abs(banded_product(start, band, x) - rhs).max()
+    if not miss <= FIT_RESIDUAL_TOL * max(float(np.abs(rhs).max()), 1.0):
+        raise CagdError(f"parameters: the least-squares system is singular or too ill-conditioned "
+                        f"(normal equations residual {miss:.3g}); some knot span holds no parameter")
+    return x
 
 
 def approximation_knots(params: ArrayLike, count: int, degree: int) -> np.ndarray:
@@ -112,8 +208,14 @@ def approximation_knots(params: ArrayLike, count: int, degree: int) -> np.ndarra
     to m+1 parameters (Piegl & Tiller eq. 9.68, 9.69): d = (m+1)/(n-p+1) and for
     j = 1..n-p, i = int(j d), alpha = j d - i,
     u_{p+j} = (1 - alpha) ubar_{i-1} + alpha ubar_i. Every knot span then holds
-    at least one parameter, so the normal equations are positive definite."""
-    ub = np.asarray(params, dtype=np.float64)
+    at least one parameter, so the normal equations are positive definite.
+
+    Raises:
+        CagdError: params not finite and 1-D, degree out of 1..MAX_DEGREE, count
+            not in [degree + 1, len(params)]."""
+    ub = _checks.finite_array(params, "params", ndim=1)
+    degree = _checks.degree(degree, "degree", 1)
+    count = _checks.integer(count, "count", degree + 1, max(len(ub), degree + 1))
     m, n, p = len(ub) - 1, count - 1, degree
     d = (m + 1) / (n - p + 1)
     jd = np.arange(1, n - p + 1) * d
@@ -134,8 +236,9 @@ def approximate(points: ArrayLike, count: int, degree: int = 3, parameters: Para
     the result is :func:`interpolate`'s curve), P_0 = Q_0, P_n = Q_m and the interior P_1..P_{n-1}
     minimise sum_{k=1}^{m-1} |Q_k - C(ubar_k)|^2, i.e. solve
     N P = R with R_k = Q_k - N_{0,p}(ubar_k) Q_0 - N_{n,p}(ubar_k) Q_m in the
-    least-squares sense (eq. 9.63-9.67; solved by numpy.linalg.lstsq rather than
-    the normal equations, same minimiser, better conditioned).
+    least-squares sense (eq. 9.63-9.67): the banded normal equations, solved by block
+    LU in the points' normalised frame (O(m p^2) time, no dense matrix; points at 1e300
+    or 1e-300 give the scaled curve).
 
     Raises:
         CagdError: fewer than 2 points, ``count`` < degree + 1 or > len(points),
@@ -143,7 +246,7 @@ def approximate(points: ArrayLike, count: int, degree: int = 3, parameters: Para
     """
     Q = _checks.points(points, "points", min_count=2)
     total = Q.shape[0]
-    p = _checks.integer(degree, "degree", 1)
+    p = _checks.degree(degree, "degree", 1)
     count = _checks.integer(count, "count")
     if count < p + 1:
         raise CagdError(f"count: a degree-{p} curve needs at least degree + 1 = {p + 1} control points, "
@@ -153,15 +256,16 @@ def approximate(points: ArrayLike, count: int, degree: int = 3, parameters: Para
                         f"to {total} points, got count = {count}")
     ub = parametrize(Q, parameters)
     U = kv.averaged(ub, p) if count == total else approximation_knots(ub, count, p)
+    center, scale = _frame(Q)
+    Qn = (Q - center) / scale
     P = np.empty((count, Q.shape[1]))
-    P[0], P[-1] = Q[0], Q[-1]
+    P[0], P[-1] = Qn[0], Qn[-1]
     if count > 2:
-        N = basis_matrix(U, p, ub[1:-1], count)
-        R = Q[1:-1] - N[:, :1] * Q[0] - N[:, -1:] * Q[-1]
-        A = N[:, 1:-1]
-        sol, _, rank, _ = np.linalg.lstsq(A, R, rcond=None)
-        if rank < A.shape[1]:
-            raise CagdError(f"parameters: the least-squares system is rank deficient ({rank} < "
-                            f"{A.shape[1]}); some knot span holds no parameter")
-        P[1:-1] = sol
+        P[1:-1] = _least_squares(U, p, ub[1:-1], count, Qn)
+    P = P * scale + center
+    P[0], P[-1] = Q[0], Q[-1]                      # the ends are the points, bit for bit
+    if count == total:
+        curve = BSplineCurve(P, p, U)
+        _check_residual(curve(ub), Q, scale, "approximate", f"degree {p}, {count} points")
+        return curve
     return BSplineCurve(P, p, U)

@@ -69,7 +69,7 @@ def averaged_parameters(Q: np.ndarray, kind: str, name: str = "points", item: st
     n = Q.shape[0] - 1
     if kind == "uniform":
         return np.arange(n + 1, dtype=np.float64) / n
-    d = interval_lengths(np.linalg.norm(np.diff(Q, axis=0), axis=-1), kind)      # (n, columns)
+    d = interval_lengths(np.linalg.norm(np.diff(normalised(Q), axis=0), axis=-1), kind)      # (n, columns)
     total = d.sum(axis=0)
     used = total > 0.0
     if not used.any():
@@ -83,6 +83,16 @@ def averaged_parameters(Q: np.ndarray, kind: str, name: str = "points", item: st
         raise CagdError(f"{name}: {item}[{k}] and {item}[{k + 1}] coincide; "
                         f"{kind} parameters need distinct consecutive {item}")
     return u
+
+
+def normalised(Q: np.ndarray) -> np.ndarray:
+    """``Q`` divided by its largest absolute coordinate (a power of two, so exactly), so
+    that differences and their norms neither overflow (points at 1e300) nor underflow
+    (at 1e-300); chord lengths scale uniformly, so every parametrisation is unchanged."""
+    m = float(np.max(np.abs(Q))) if Q.size else 0.0
+    if not m > 0.0:
+        return Q
+    return np.ldexp(Q, -int(np.frexp(m)[1]))
 
 
 def spline_parameters(points: ArrayLike, parameters: str = "chord", *,
@@ -105,8 +115,14 @@ def chords(P: np.ndarray, name: str) -> np.ndarray:
 
     Raises:
         CagdError: two consecutive points coincide."""
-    d = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    d = np.linalg.norm(np.diff(normalised(P), axis=0), axis=1) * _scale_of(P)
     if np.any(d == 0.0):
         i = int(np.argmax(d == 0.0))
         raise CagdError(f"{name}: consecutive points {i} and {i + 1} coincide (zero chord)")
     return d
+
+
+def _scale_of(P: np.ndarray) -> float:
+    """The factor :func:`normalised` divided by."""
+    m = float(np.max(np.abs(P))) if P.size else 0.0
+    return float(np.ldexp(1.0, int(np.frexp(m)[1]))) if m > 0.0 else 1.0

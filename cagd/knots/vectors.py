@@ -6,26 +6,55 @@ from typing import Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._checks import finite_array
+from .._checks import MAX_SAMPLES, degree as _degree, finite_array, integer, scalar
 from .._deprecation import renamed
 from ..errors import CagdError
 
 
+def _count_degree(count: int, degree: int, start: float, end: float) -> Tuple[int, int, float, float]:
+    p = _degree(degree, "degree", 0)
+    n = integer(count, "count", p + 1, MAX_SAMPLES)
+    a, b = scalar(start, "start"), scalar(end, "end")
+    if not a < b:
+        raise CagdError(f"start, end: need start < end, got [{a}, {b}]")
+    return n, p, a, b
+
+
+def _vector(knots: ArrayLike, name: str, min_size: int = 1) -> np.ndarray:
+    u = finite_array(knots, name, ndim=1)
+    if u.shape[0] < min_size:
+        raise CagdError(f"{name}: need at least {min_size} values, got {u.shape[0]}")
+    return u
+
+
 def clamped_uniform(count: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
     """Open uniform (clamped) knots: degree+1 copies of ``start`` and ``end``,
-    equally spaced interior knots (seed 000, 5.3.2 "open uniform")."""
+    equally spaced interior knots (seed 000, 5.3.2 "open uniform").
+
+    Raises:
+        CagdError: count not in [degree + 1, MAX_SAMPLES], a bad degree, start >= end."""
+    count, degree, start, end = _count_degree(count, degree, start, end)
     inner = np.linspace(start, end, count - degree + 1)
     return np.concatenate([np.full(degree, start), inner, np.full(degree, end)])
 
 
 def uniform(count: int, degree: int, start: float = 0.0, end: float = 1.0) -> np.ndarray:
-    """Floating uniform knots with domain [u_p, u_n] = [start, end] (seed 000, 5.3.2)."""
+    """Floating uniform knots with domain [u_p, u_n] = [start, end] (seed 000, 5.3.2).
+
+    Raises:
+        CagdError: count not in [degree + 1, MAX_SAMPLES], a bad degree, start >= end."""
+    count, degree, start, end = _count_degree(count, degree, start, end)
     h = (end - start) / (count - degree)
     return start + h * np.arange(-degree, count + 1, dtype=np.float64)
 
 
-def averaged(params: np.ndarray, degree: int) -> np.ndarray:
-    """Clamped knots by averaging parameters (Piegl & Tiller eq. 9.8)."""
+def averaged(params: ArrayLike, degree: int) -> np.ndarray:
+    """Clamped knots by averaging parameters (Piegl & Tiller eq. 9.8).
+
+    Raises:
+        CagdError: parameters not a finite 1-D array of at least degree + 1 values."""
+    degree = _degree(degree, "degree", 1)
+    params = _vector(params, "params", degree + 1)
     n = len(params)
     c = np.cumsum(np.concatenate([[0.0], params]))
     inner = (c[1 + degree:n] - c[1:n - degree]) / degree
@@ -33,8 +62,18 @@ def averaged(params: np.ndarray, degree: int) -> np.ndarray:
 
 
 def from_multiplicities(distinct: ArrayLike, multiplicities: ArrayLike) -> np.ndarray:
-    """Expand distinct knots and multiplicities into the full (flat) knot vector."""
-    return np.repeat(np.asarray(distinct, float), np.asarray(multiplicities, int))
+    """Expand distinct knots and multiplicities into the full (flat) knot vector.
+
+    Raises:
+        CagdError: shapes that differ, multiplicities not integers >= 0, more than
+            MAX_SAMPLES knots in all."""
+    t = finite_array(distinct, "distinct", ndim=1)
+    m = finite_array(multiplicities, "multiplicities", ndim=1)
+    if m.shape != t.shape:
+        raise CagdError(f"multiplicities: need one per distinct knot ({t.size}), got shape {m.shape}")
+    if np.any(m < 0) or np.any(m != np.round(m)) or m.sum() > MAX_SAMPLES:
+        raise CagdError(f"multiplicities: must be integers >= 0, at most MAX_SAMPLES = {MAX_SAMPLES} in all")
+    return np.repeat(t, m.astype(np.intp))
 
 
 KNOT_TOL = 0.0      # default of distinct_with_multiplicities: only equal knots merge
@@ -48,7 +87,10 @@ def distinct_with_multiplicities(knots: ArrayLike, param_tol: float = KNOT_TOL, 
     if tol is not None:
         param_tol = renamed("distinct_with_multiplicities", "tol", "param_tol", tol, param_tol, KNOT_TOL,
                             "a knot tolerance is in parameter space")
-    knots = np.asarray(knots, dtype=np.float64)
+    knots = _vector(knots, "knots")
+    param_tol = scalar(param_tol, "param_tol")
+    if param_tol < 0:
+        raise CagdError(f"param_tol: must be >= 0, got {param_tol}")
     new = np.concatenate([[True], np.diff(knots) > param_tol])
     starts = np.flatnonzero(new)
     mults = np.diff(np.append(starts, len(knots)))
@@ -62,6 +104,8 @@ def validate(knots: ArrayLike, degree: int, count: int, name: str = "knots") -> 
     multiplicity above degree+1, an interior multiplicity above degree, or an
     empty domain [u_p, u_n].
     """
+    degree = _degree(degree, "degree", 0)
+    count = integer(count, "count", 1)
     u = finite_array(knots, name, ndim=1)
     expected = count + degree + 1
     if u.shape[0] != expected:
@@ -83,6 +127,8 @@ def validate(knots: ArrayLike, degree: int, count: int, name: str = "knots") -> 
 
 def validate_period(knots: ArrayLike, count: int, degree: int, name: str = "knots") -> np.ndarray:
     """Check one period t_0..t_n of a periodic knot vector (n = ``count``)."""
+    degree = _degree(degree, "degree", 0)
+    count = integer(count, "count", 1)
     t = finite_array(knots, name, ndim=1)
     if t.shape[0] != count + 1:
         raise CagdError(f"{name}: a periodic curve with {count} control points takes one period of "
@@ -113,8 +159,17 @@ def periodic_extend(period: np.ndarray, degree: int) -> np.ndarray:
     continued by the period T = t_n - t_0 on both sides. With control points
     P_0..P_{n-1}, P_0..P_{p-1} the curve on [t_0, t_n] is the periodic curve; this
     is also OCCT's periodic convention (for a uniform cubic, p(t_0) = (P0+4P1+P2)/6,
-    seed 000, 5.3.2)."""
+    seed 000, 5.3.2).
+
+    Raises:
+        CagdError: not a finite non-decreasing period of at least degree + 1 spans' knots."""
+    degree = _degree(degree, "degree", 0)
+    period = _vector(period, "period", 2)
+    _non_decreasing(period, "period")
     n = len(period) - 1
+    if n < degree or not period[0] < period[-1]:
+        raise CagdError(f"period: need a non-empty period of at least degree + 1 = {degree + 1} knots, "
+                        f"got {n + 1}")
     T = period[-1] - period[0]
     left = period[n - degree:n] - T
     right = period[1:degree + 1] + T
@@ -132,7 +187,12 @@ def unwrapped_index(count: int, degree: int, periodic: bool) -> np.ndarray:
 
 
 def greville(knots: np.ndarray, degree: int) -> np.ndarray:
-    """Greville abscissae: averages of degree consecutive knots (Piegl & Tiller 9.2)."""
+    """Greville abscissae: averages of degree consecutive knots (Piegl & Tiller 9.2).
+
+    Raises:
+        CagdError: knots not a finite 1-D array of at least degree + 2 values."""
+    degree = _degree(degree, "degree", 0)
+    knots = _vector(knots, "knots", degree + 2)
     n = len(knots) - degree - 1
     if degree == 0:
         return 0.5 * (knots[:-1] + knots[1:])
@@ -142,20 +202,26 @@ def greville(knots: np.ndarray, degree: int) -> np.ndarray:
 
 def find_span(knots: np.ndarray, degree: int, t: np.ndarray, count: int) -> np.ndarray:
     """Span index i with u_i <= t < u_{i+1}, restricted to p <= i <= n-1 so that the
-    domain end u_n falls into the last non-empty span (Piegl & Tiller A2.1)."""
-    span = np.searchsorted(knots, t, side="right") - 1
-    np.clip(span, degree, count - 1, out=span)
+    domain end u_n falls into the last non-empty span (Piegl & Tiller A2.1).
+
+    Raises:
+        CagdError: knots or t not finite, count and degree not matching len(knots)."""
+    degree = _degree(degree, "degree", 0)
+    knots = _vector(knots, "knots", 2)
+    count = integer(count, "count", degree + 1, len(knots) - degree - 1)
+    t = finite_array(t, "t")
+    span = np.clip(np.searchsorted(knots, t, side="right") - 1, degree, count - 1)
     # a span must be non-empty: step back over repeated knots at the right end
     last = count - 1
-    while knots[last] == knots[last + 1]:
+    while last > degree and knots[last] == knots[last + 1]:
         last -= 1
-    np.minimum(span, last, out=span)
-    return span
+    return np.minimum(span, last)
 
 
 def is_clamped(knots: ArrayLike, degree: int) -> bool:
     """Whether a full knot vector has degree + 1 equal knots at both ends (open, clamped)."""
-    u = np.asarray(knots)
+    degree = _degree(degree, "degree", 0)
+    u = _vector(knots, "knots", degree + 1)
     return bool(np.all(u[:degree + 1] == u[0]) and np.all(u[-degree - 1:] == u[-1]))
 
 
@@ -167,7 +233,7 @@ def occ_knots(knots: ArrayLike, periodic: bool) -> Tuple[np.ndarray, np.ndarray,
     t_0 were simple with every other seam copy at the end, so its pole 0 is the
     engine's control point ``shift`` = (copies of t_0 at the start) - 1 (checked
     against OCCT's own evaluator in tests/occ)."""
-    knots = np.asarray(knots, dtype=np.float64)
+    knots = _vector(knots, "knots")
     distinct, mults = distinct_with_multiplicities(knots)
     mults = mults.astype(int)
     if not periodic:

@@ -80,28 +80,45 @@ def tolerances(func: str, rel_tol: float, angle_tol: Optional[float],
     return rel_tol, (rel_tol if angle_tol is None else _checks.angle(angle_tol))
 
 
+def _norm(x: np.ndarray) -> float:
+    """|x| without over/underflow of the squares (x divided by its largest coordinate)."""
+    m = float(np.max(np.abs(x))) if x.size else 0.0
+    return m * float(np.linalg.norm(x / m)) if m > 0.0 else 0.0
+
+
 def curve_size(*curves: Curve, samples: int = 33) -> float:
     """Diagonal of the bounding box of ``samples`` points on each curve (a length
-    scale for relative tolerances; 1 for curves collapsed to a point)."""
+    scale for relative tolerances; 1 for curves collapsed to a point).
+
+    Raises:
+        CagdError: samples not an integer in [2, MAX_SAMPLES], a curve that is not a Curve."""
+    samples = _checks.integer(samples, "samples", 2, _checks.MAX_SAMPLES)
+    for i, c in enumerate(curves):
+        if not isinstance(c, Curve):
+            raise CagdError(f"curves[{i}]: must be a cagd Curve, got {type(c).__name__}")
     pts: List[np.ndarray] = []
     for c in curves:
         a, b = c.domain
         pts.append(c._evaluate(np.linspace(a, b, samples), 0)[0])
     every = np.concatenate(pts)
-    size = float(np.linalg.norm(every.max(axis=0) - every.min(axis=0)))
+    with np.errstate(over="ignore"):
+        size = _norm(0.5 * every.max(axis=0) - 0.5 * every.min(axis=0)) * 2.0
     return size if size > 0.0 else 1.0
 
 
 def _curvature_vector(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
-    s2 = float(d1 @ d1)
-    if s2 == 0.0:
+    """kappa N = (d2 - (d2.T) T) / |d1|^2, T = d1 / |d1|, without squaring |d1|."""
+    n1 = _norm(d1)
+    if n1 == 0.0:
         return np.full_like(d1, np.nan)
-    return (d2 - (d2 @ d1) / s2 * d1) / s2
+    T = d1 / n1
+    with np.errstate(over="ignore", under="ignore"):
+        return (d2 - (d2 @ T) * T) / n1 / n1
 
 
 def _angle(a: np.ndarray, b: np.ndarray) -> float:
     """Angle between two vectors, 2 atan2(|a^ - b^|, |a^ + b^|) (accurate near 0 and pi)."""
-    na, nb = np.linalg.norm(a), np.linalg.norm(b)
+    na, nb = _norm(a), _norm(b)
     if na == 0.0 or nb == 0.0:
         return float("nan")
     ua, ub = a / na, b / nb
@@ -141,22 +158,23 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
     size = curve_size(c1, c2)
     span = max(c1.domain[1] - c1.domain[0], c2.domain[1] - c2.domain[0])
 
-    gap = float(np.linalg.norm(D2[0] - D1[0]))
-    n1, n2 = float(np.linalg.norm(D1[1])), float(np.linalg.norm(D2[1]))
-    v = max(n1, n2)
-    dgap1 = float(np.linalg.norm(D2[1] - D1[1]))
-    dgap2 = float(np.linalg.norm(D2[2] - D1[2]))
+    with np.errstate(over="ignore"):
+        gap = _norm(0.5 * D2[0] - 0.5 * D1[0]) * 2.0
+        n1, n2 = _norm(D1[1]), _norm(D2[1])
+        v = max(n1, n2)
+        dgap1 = _norm(0.5 * D2[1] - 0.5 * D1[1]) * 2.0
+        dgap2 = _norm(0.5 * D2[2] - 0.5 * D1[2]) * 2.0
     angle = _angle(D1[1], D2[1])
     k1, k2 = _curvature_vector(D1[1], D1[2]), _curvature_vector(D2[1], D2[2])
-    kn1, kn2 = float(np.linalg.norm(k1)), float(np.linalg.norm(k2))
+    kn1, kn2 = _norm(k1), _norm(k2)
 
     C0 = gap <= rel_tol * size
     C1 = C0 and dgap1 <= rel_tol * max(v, size / span)
-    C2 = C1 and dgap2 <= rel_tol * max(float(np.linalg.norm(D1[2])), float(np.linalg.norm(D2[2])), v * v / size,
-                                          size / span ** 2)
+    with np.errstate(over="ignore", under="ignore"):
+        C2 = C1 and dgap2 <= rel_tol * max(_norm(D1[2]), _norm(D2[2]), v * (v / size), size / span / span)
     tiny = 1e-12 * size / span           # a first derivative below this is rounding noise
     G1 = bool(C0 and n1 > tiny and n2 > tiny and angle <= angle_tol)
-    G2 = bool(G1 and np.linalg.norm(k2 - k1) <= rel_tol * max(kn1, kn2, 1.0 / size))
+    G2 = bool(G1 and _norm(k2 - k1) <= rel_tol * max(kn1, kn2, 1.0 / size))
     ratio = n2 / n1 if n1 > tiny else (float("inf") if n2 > tiny else float("nan"))
     if n2 <= tiny and n1 > tiny:
         ratio = 0.0

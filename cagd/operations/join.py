@@ -81,7 +81,7 @@ def join_control_points(P: BezierCurve, continuity: str = "G1", alpha: float = 1
         raise CagdError(f"P: must be a BezierCurve, got {type(P).__name__}")
     key, c = _level(continuity)
     n = P.degree
-    m = n if degree is None else _checks.integer(degree, "degree", max(1, c))
+    m = n if degree is None else _checks.degree(degree, "degree", max(1, c))
     if m < c:
         raise CagdError(f"degree: {key} fixes {c + 1} control points of Q, so Q needs degree >= {c}, got {m}")
     alpha, beta = _checks.scalar(alpha, "alpha"), _checks.scalar(beta, "beta")

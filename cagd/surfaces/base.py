@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._checks import affine_map, finite_array, integer, parameters
+from .._checks import MAX_SAMPLES, affine_map, finite_array, order, parameters
 from .._periodic import wrap
 from .._value import Value
 from ..errors import CagdError
@@ -43,9 +43,17 @@ def unit_normals(su: ArrayLike, sv: ArrayLike, scale_u: float = 0.0,
     pole (1e-12: errors up to 1e-4).
     """
     su, sv = _as3(np.asarray(su, dtype=np.float64)), _as3(np.asarray(sv, dtype=np.float64))
-    n = np.cross(su, sv)
+    # in the normalised frame: each partial divided by its largest coordinate, so that
+    # the cross product neither overflows (1e300) nor underflows (1e-300)
+    au = np.max(np.abs(su), axis=-1, keepdims=True)
+    av = np.max(np.abs(sv), axis=-1, keepdims=True)
+    fu, fv = np.where(au > 0, au, 1.0), np.where(av > 0, av, 1.0)
+    nu_, nv_ = su / fu, sv / fv
+    n = np.cross(nu_, nv_)
     length = np.linalg.norm(n, axis=-1)
-    ref = np.maximum(np.linalg.norm(su, axis=-1), scale_u) * np.maximum(np.linalg.norm(sv, axis=-1), scale_v)
+    with np.errstate(over="ignore"):
+        ref = (np.maximum(np.linalg.norm(nu_, axis=-1), scale_u / fu[..., 0])
+               * np.maximum(np.linalg.norm(nv_, axis=-1), scale_v / fv[..., 0]))
     defined = length > NORMAL_TOL * ref
     with np.errstate(divide="ignore", invalid="ignore"):
         n = np.where(defined[..., None], n / length[..., None], 0.0)
@@ -101,7 +109,7 @@ class Surface(Value):
     # --- evaluation --------------------------------------------------------------------
     def derivatives(self, u: ArrayLike, v: ArrayLike, du: int, dv: int) -> np.ndarray:
         """All partials S_{u^i v^j}, i <= du, j <= dv: shape (du+1, dv+1) + broadcast shape + (dim,)."""
-        du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
+        du, dv = order(du, "du"), order(dv, "dv")
         uf, vf, shape = self._flat(u, v)
         out = self._evaluate(uf, vf, du, dv)
         return out.reshape((du + 1, dv + 1) + shape + (self.dim,))
@@ -116,10 +124,14 @@ class Surface(Value):
 
     def grid(self, us: ArrayLike, vs: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
-        through basis matrices and matrix products (the fast path)."""
-        du, dv = integer(du, "du", 0), integer(dv, "dv", 0)
+        through basis matrices and matrix products (the fast path); at most MAX_SAMPLES
+        = 10^7 points and orders du, dv at most MAX_ORDER."""
+        du, dv = order(du, "du"), order(dv, "dv")
         us = self._wrap(finite_array(us, "us", ndim=1), 0, self.periodic_u, "us")
         vs = self._wrap(finite_array(vs, "vs", ndim=1), 1, self.periodic_v, "vs")
+        if len(us) * len(vs) > MAX_SAMPLES:
+            raise CagdError(f"us, vs: a grid of {len(us)} x {len(vs)} points exceeds MAX_SAMPLES = {MAX_SAMPLES}; "
+                            f"evaluate it in blocks")
         return self._grid(us, vs, du, dv)[-1, -1]
 
     # --- differential geometry -------------------------------------------------------------
@@ -151,23 +163,42 @@ class Surface(Value):
         """First (E, F, G) and second (L, M, N) fundamental forms:
         E = S_u.S_u, F = S_u.S_v, G = S_v.S_v; L = S_uu.n, M = S_uv.n, N = S_vv.n
         (do Carmo, Differential Geometry of Curves and Surfaces, 3.3)."""
+        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        with np.errstate(over="ignore", under="ignore"):
+            s2 = sigma * sigma
+            return (E * s2, F * s2, G * s2), (L * sigma, M * sigma, N * sigma)
+
+    def _normalised_forms(self, u: ArrayLike, v: ArrayLike) -> Tuple[Tuple[FormCoefficients, FormCoefficients],
+                                                                      np.ndarray]:
+        """The forms of the partials divided by sigma, the largest coordinate of S_u and S_v
+        at each point (a normalised frame: E/sigma^2, L/sigma, ...), and sigma; the
+        curvatures follow as K = K'/sigma^2, H = H'/sigma, free of over/underflow."""
         d = self.derivatives(u, v, 2, 2)
-        su, sv = _as3(d[1, 0]), _as3(d[0, 1])
         n = self.normal(u, v)
+        su, sv = _as3(d[1, 0]), _as3(d[0, 1])
+        sigma = np.maximum(np.max(np.abs(su), axis=-1), np.max(np.abs(sv), axis=-1))
+        f = np.where(sigma > 0, sigma, 1.0)[..., None]
+        su, sv = su / f, sv / f
         dot = lambda a, b: np.einsum("...i,...i->...", a, b)  # noqa: E731
         first = (dot(su, su), dot(su, sv), dot(sv, sv))
-        second = (dot(_as3(d[2, 0]), n), dot(_as3(d[1, 1]), n), dot(_as3(d[0, 2]), n))
-        return first, second
+        second = (dot(_as3(d[2, 0]) / f, n), dot(_as3(d[1, 1]) / f, n), dot(_as3(d[0, 2]) / f, n))
+        return (first, second), sigma
 
     def gaussian_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
-        """K = (LN - M^2) / (EG - F^2)."""
-        (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
-        return (L * N - M * M) / (E * G - F * F)
+        """K = (LN - M^2) / (EG - F^2), computed in the normalised frame (scale-invariant:
+        K(lambda S) = K(S) / lambda^2); CagdError where the normal is undefined or K
+        exceeds the floating-point range."""
+        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        with np.errstate(over="ignore", under="ignore"):
+            return _representable((L * N - M * M) / (E * G - F * F) / sigma / sigma, "gaussian_curvature")
 
     def mean_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
-        """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v)."""
-        (E, F, G), (L, M, N) = self.fundamental_forms(u, v)
-        return (E * N - 2 * F * M + G * L) / (2 * (E * G - F * F))
+        """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v),
+        in the normalised frame (H(lambda S) = H(S) / lambda); CagdError where the
+        normal is undefined or H exceeds the floating-point range."""
+        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        with np.errstate(over="ignore", under="ignore"):
+            return _representable((E * N - 2 * F * M + G * L) / (2 * (E * G - F * F)) / sigma, "mean_curvature")
 
     def transformed(self, matrix: ArrayLike, offset: Optional[ArrayLike] = None) -> "Surface":
         """The surface under x -> matrix @ x + offset, applied to the control points."""
@@ -184,6 +215,14 @@ class Surface(Value):
         """The four boundary curves [S(u, v0), S(u1, v), S(u, v1), S(u0, v)] (not reversed)."""
         (u0, u1), (v0, v1) = self.domain
         return [self.isocurve("u", v0), self.isocurve("v", u1), self.isocurve("u", v1), self.isocurve("v", u0)]
+
+
+def _representable(x: np.ndarray, what: str) -> np.ndarray:
+    """``x`` unless it overflowed (a curvature beyond 1.8e308: a surface about 1e-154 in
+    size or smaller), which is a CagdError."""
+    if not np.all(np.isfinite(x)):
+        raise CagdError(f"u, v: the {what} exceeds the floating-point range there (the surface is too small)")
+    return x
 
 
 def _as3(x: np.ndarray) -> np.ndarray:

@@ -13,6 +13,8 @@ from ..errors import CagdError
 from .base import Surface
 from .bspline import BSplineSurface
 
+_CHUNK_VALUES = 1 << 22     # net values per chunk of de Casteljau (32 MiB)
+
 
 class BezierSurface(Surface):
     """p(u, v) = sum_i sum_j P_ij BEZ_{i,m}(u) BEZ_{j,n}(v) on [0, 1]^2 (seed 000, 5.2.7),
@@ -32,7 +34,8 @@ class BezierSurface(Surface):
         P = _checks.finite_array(control_points, "control_points")
         if P.ndim != 3 or P.shape[0] < 2 or P.shape[1] < 2:
             raise CagdError(f"control_points: expected shape (m+1 >= 2, n+1 >= 2, dim), got {P.shape}")
-        m, n = P.shape[0] - 1, P.shape[1] - 1
+        m = _checks.degree(P.shape[0] - 1, "control_points (rows - 1 is the degree in u)")
+        n = _checks.degree(P.shape[1] - 1, "control_points (columns - 1 is the degree in v)")
         ku = np.concatenate([np.zeros(m + 1), np.ones(m + 1)])
         kv = np.concatenate([np.zeros(n + 1), np.ones(n + 1)])
         self._fill(BSplineSurface(P, m, n, ku, kv, weights))
@@ -112,15 +115,21 @@ class BezierSurface(Surface):
         """Two-stage de Casteljau (seed 003, 2.2.1): each row of the net reduced at v,
         then the resulting column at u. Broadcasts u and v."""
         u, v = np.broadcast_arrays(_checks.parameters(u, "u"), _checks.parameters(v, "v"))
-        net = np.broadcast_to(self.homogeneous_control_points, u.shape + self.homogeneous_control_points.shape)
-        vv = v[..., None, None, None]
-        while net.shape[-2] > 1:
-            net = (1 - vv) * net[..., :-1, :] + vv * net[..., 1:, :]
-        col = net[..., 0, :]
-        uu = u[..., None, None]
-        while col.shape[-2] > 1:
-            col = (1 - uu) * col[..., :-1, :] + uu * col[..., 1:, :]
-        return self._project(col[..., 0, :])
+        hom = self.homogeneous_control_points
+        uf, vf = u.ravel(), v.ravel()
+        out = np.empty((uf.shape[0], hom.shape[2]))
+        step = max(1, _CHUNK_VALUES // hom.size)           # bounded memory: one net per point of a chunk
+        for s in range(0, uf.shape[0], step):
+            vv = vf[s:s + step, None, None, None]
+            net = np.broadcast_to(hom, vv.shape[:1] + hom.shape)
+            while net.shape[-2] > 1:
+                net = (1 - vv) * net[..., :-1, :] + vv * net[..., 1:, :]
+            col = net[..., 0, :]
+            uu = uf[s:s + step, None, None]
+            while col.shape[-2] > 1:
+                col = (1 - uu) * col[..., :-1, :] + uu * col[..., 1:, :]
+            out[s:s + step] = col[:, 0]
+        return self._project(out.reshape(u.shape + (hom.shape[2],)))
 
     def matrix_form(self) -> np.ndarray:
         """Coefficients C (per coordinate) with p(u, v) = U C V^T, U = [u^m ... 1],
@@ -164,8 +173,8 @@ class BezierSurface(Surface):
 
     def elevate(self, times_u: int = 1, times_v: int = 0) -> "BezierSurface":
         """Degree elevation per direction with the Bernstein elevation matrices."""
-        times_u = _checks.integer(times_u, "times_u", 0)
-        times_v = _checks.integer(times_v, "times_v", 0)
+        times_u = _checks.elevation(times_u, self.degree_u, "times_u")
+        times_v = _checks.elevation(times_v, self.degree_v, "times_v")
         Eu = elevation_matrix(self.degree_u, times_u)
         Ev = elevation_matrix(self.degree_v, times_v)
         hom = np.einsum("ai,ijd,bj->abd", Eu, self.homogeneous_control_points, Ev)

@@ -17,12 +17,14 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from ..basis.bspline import basis_derivatives, basis_matrix
 from ..curves.bspline import BSplineCurve
-from ..curves.ppform import PPForm
+from ..curves.bezier_spans import bernstein_values
+from ..curves.ppform import PP_MAX_DEGREE, PPForm
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Surface, rational_partials
 
 _CHUNK = 1 << 14
+_GATHER_VALUES = 1 << 22    # local net values gathered per chunk of the basis path (32 MiB)
 
 
 class SurfaceOccForm(NamedTuple):
@@ -64,8 +66,8 @@ class BSplineSurface(Surface):
         nu, nv = P.shape[:2]
         W = None if weights is None else _weights(weights, (nu, nv))
         pu, pv = bool(periodic_u), bool(periodic_v)
-        p = _checks.integer(degree_u, "degree_u", 1, nu if pu else nu - 1)
-        q = _checks.integer(degree_v, "degree_v", 1, nv if pv else nv - 1)
+        p = _checks.degree(degree_u, "degree_u", 1, nu if pu else nu - 1)
+        q = _checks.degree(degree_v, "degree_v", 1, nv if pv else nv - 1)
         ku, full_u = _direction(knots_u, nu, p, pu, "knots_u")
         kvv, full_v = _direction(knots_v, nv, q, pv, "knots_v")
         self._fill(P, W, (p, ku, full_u, pu), (q, kvv, full_v, pv))
@@ -158,9 +160,14 @@ class BSplineSurface(Surface):
         """Poles (nu, nv, 3), weights, distinct knots and multiplicities per direction,
         degrees and periodic flags — what ``Geom_BSplineSurface`` takes; per direction
         as :meth:`cagd.BSplineCurve.occ_form` (periodic poles rolled by the seam shift
-        of :func:`cagd.knots.occ_knots`). 2-D nets get z = 0."""
+        of :func:`cagd.knots.occ_knots`). 2-D nets get z = 0. Degrees above 25 (OCCT's
+        maximum) raise CagdError: such surfaces do not convert to OCCT."""
         if self.dim > 3:
             raise CagdError(f"control_points: OCCT surfaces are 3-D at most, this one is {self.dim}-D")
+        if max(self.degree_u, self.degree_v) > _checks.OCC_MAX_DEGREE:
+            raise CagdError(f"degree_u, degree_v: OCCT's maximum B-spline degree is {_checks.OCC_MAX_DEGREE} "
+                            f"(Geom_BSplineSurface::MaxDegree()); this surface has degrees "
+                            f"({self.degree_u}, {self.degree_v})")
         poles = np.zeros(self.control_points.shape[:2] + (3,))
         poles[..., :self.dim] = self.control_points
         w = None if self.weights is None else self.weights.copy()
@@ -178,8 +185,8 @@ class BSplineSurface(Surface):
         """The inverse of :meth:`occ_form` (see :meth:`cagd.BSplineCurve.from_occ_form`).
         Raises CagdError on bad input."""
         P = _checks.finite_array(poles, "poles")
-        degree_u = _checks.integer(degree_u, "degree_u", 1)
-        degree_v = _checks.integer(degree_v, "degree_v", 1)
+        degree_u = _checks.degree(degree_u, "degree_u", 1)
+        degree_v = _checks.degree(degree_v, "degree_v", 1)
         tu = kv.from_occ_knots(knots_u, multiplicities_u, degree_u, periodic_u, "knots_u", "multiplicities_u")
         tv = kv.from_occ_knots(knots_v, multiplicities_v, degree_v, periodic_v, "knots_v", "multiplicities_v")
         w = None
@@ -197,13 +204,14 @@ class BSplineSurface(Surface):
         local variables x, y in [-1, 1]: the u-direction pp form of the rows (their
         Taylor coefficients at the u-span midpoints), then the v-direction pp form of
         each coefficient. Returns (pp_u, pp_v, tables[a][b][d] of length Sv*Su), or
-        None when the table would exceed ~4e6 values (then the gather path is used)."""
+        None when the table would exceed ~4e6 values or a degree exceeds PP_MAX_DEGREE
+        (the power form's accuracy limit; then the basis path is used)."""
         if not hasattr(self, "_table"):
             p, q = self.degree_u, self.degree_v
             nu, nv, D = self._hom.shape
             su = int(np.count_nonzero(self._u[p:nu] < self._u[p + 1:nu + 1]))
             sv = int(np.count_nonzero(self._v[q:nv] < self._v[q + 1:nv + 1]))
-            if (p + 1) * (q + 1) * su * sv * D > 4_000_000:
+            if (p + 1) * (q + 1) * su * sv * D > 4_000_000 or max(p, q) > PP_MAX_DEGREE:
                 self._table = None
             else:
                 pp_u = PPForm.from_bspline(self._u, p, self._hom.reshape(nu, nv * D))
@@ -226,8 +234,7 @@ class BSplineSurface(Surface):
         for s in range(0, u.shape[0], _CHUNK):
             uc, vc = u[s:s + _CHUNK], v[s:s + _CHUNK]
             ju, jv = pp_u.span_of(uc), pp_v.span_of(vc)
-            x = (uc - pp_u._mid.take(ju)) * pp_u._inv_half.take(ju)
-            y = (vc - pp_v._mid.take(jv)) * pp_v._inv_half.take(jv)
+            x, y = pp_u.local(uc, ju), pp_v.local(vc, jv)
             idx = jv * su_count + ju
             for d in range(D):
                 acc = None
@@ -245,6 +252,9 @@ class BSplineSurface(Surface):
         return out
 
     def _evaluate(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        if max(self.degree_u, self.degree_v) > PP_MAX_DEGREE:
+            out = self._bernstein_partials(u, v, du, dv)
+            return rational_partials(out) if self.is_rational else out
         if du == 0 and dv == 0:
             pts = self._evaluate_points(u, v)
             if pts is not None:
@@ -259,6 +269,54 @@ class BSplineSurface(Surface):
                 return pts[None, None]
         out = self._evaluate_by_basis(u, v, du, dv)
         return rational_partials(out) if self.is_rational else out
+
+    def _patch_nets(self, k: int, l: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(breaks_u, breaks_v, nets) of the (k, l)-th partial: the Bezier nets of the
+        patches differentiated k times in u and l times in v (hodographs
+        (p - i) (P_{i+1} - P_i) / h per direction; seed 000, 5.2.1 property 4), cached."""
+        cache = self.__dict__.setdefault("_nets_cache", {})
+        if (k, l) not in cache:
+            if (0, 0) not in cache:
+                cache[(0, 0)] = self.bezier_net()
+            bu, bv, nets = cache[(0, 0)]
+            p, q = self.degree_u, self.degree_v
+            if k > p or l > q:
+                nets = np.zeros(nets.shape[:2] + (1, 1, nets.shape[4]))
+            else:
+                hu = np.diff(bu)[:, None, None, None, None]
+                hv = np.diff(bv)[None, :, None, None, None]
+                for i in range(k):
+                    nets = (p - i) * np.diff(nets, axis=2) / hu
+                for j in range(l):
+                    nets = (q - j) * np.diff(nets, axis=3) / hv
+            cache[(k, l)] = (bu, bv, nets)
+        return cache[(k, l)]
+
+    def _bernstein_partials(self, u: np.ndarray, v: np.ndarray, du: int, dv: int) -> np.ndarray:
+        """Homogeneous partials by the Bernstein sums on the Bezier patches (degrees above
+        PP_MAX_DEGREE, where the power form loses digits): O(p q) per point with O(q)
+        numpy calls per chunk, memory bounded by _GATHER_VALUES."""
+        bu, bv, _ = self._patch_nets(0, 0)
+        D = self._hom.shape[2]
+        ju = np.clip(np.searchsorted(bu, u, side="right") - 1, 0, len(bu) - 2)
+        jv = np.clip(np.searchsorted(bv, v, side="right") - 1, 0, len(bv) - 2)
+        x = np.clip((u - bu[ju]) / (bu[ju + 1] - bu[ju]), 0.0, 1.0)
+        y = np.clip((v - bv[jv]) / (bv[jv + 1] - bv[jv]), 0.0, 1.0)
+        out = np.empty((du + 1, dv + 1, u.shape[0], D))
+        for k in range(du + 1):
+            for l in range(dv + 1):
+                nets = self._patch_nets(k, l)[2]
+                P1, Q1 = nets.shape[2:4]
+                step = max(1, _GATHER_VALUES // (P1 * D))
+                for s in range(0, u.shape[0], step):
+                    sl = slice(s, s + step)
+                    Bu, Bv = bernstein_values(P1 - 1, x[sl]), bernstein_values(Q1 - 1, y[sl])
+                    iu, iv = ju[sl], jv[sl]
+                    tmp = np.zeros((len(iu), P1, D))
+                    for j in range(Q1):
+                        tmp += Bv[:, j, None, None] * nets[iu, iv, :, j, :]
+                    out[k, l, sl] = np.einsum("mi,mid->md", Bu, tmp)
+        return out
 
     def _on_clamped_edge(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         p, q = self.degree_u, self.degree_v
@@ -276,14 +334,15 @@ class BSplineSurface(Surface):
         nu, nv, D = self._hom.shape
         out = np.empty((du + 1, dv + 1, u.shape[0], D))
         ii, jj = np.arange(p + 1), np.arange(q + 1)
-        for s in range(0, u.shape[0], _CHUNK):
-            uc, vc = u[s:s + _CHUNK], v[s:s + _CHUNK]
+        step = max(1, min(_CHUNK, _GATHER_VALUES // ((p + 1) * (q + 1) * D)))   # bounded gather per chunk
+        for s in range(0, u.shape[0], step):
+            uc, vc = u[s:s + step], v[s:s + step]
             su = kv.find_span(self._u, p, uc, nu)
             sv = kv.find_span(self._v, q, vc, nv)
             Nu = basis_derivatives(self._u, p, uc, su, du)          # (du+1, m, p+1)
             Nv = basis_derivatives(self._v, q, vc, sv, dv)          # (dv+1, m, q+1)
             local = self._hom[(su[:, None] - p + ii)[:, :, None], (sv[:, None] - q + jj)[:, None, :]]
-            out[:, :, s:s + _CHUNK] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
+            out[:, :, s:s + step] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
         return out
 
     def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
@@ -381,8 +440,9 @@ class BSplineSurface(Surface):
 
     def bezier_net(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(breaks_u, breaks_v, nets): the homogeneous Bezier control nets (mu, mv, p + 1,
-        q + 1, D) ((w P, w) when rational) of the patches, by knot insertion to
-        multiplicity p in u for all rows at once, then q in v for all strips at once
+        q + 1, D) ((w P, w) when rational) of the patches: the span-local Bezier
+        extraction of :meth:`cagd.BSplineCurve.bezier_net` (what knot insertion to
+        multiplicity p gives) for all rows at once in u, then for all strips at once in v
         (Piegl & Tiller A5.7), as arrays: no surface objects."""
         bu, strips = self._row_curve("u").bezier_net()           # (mu, p + 1, nv * D)
         mu, p1 = strips.shape[:2]

@@ -314,8 +314,8 @@ def test_periodic_in_both_directions_is_a_torus():
 
 def draw_parameter(data, surface, direction, existing=True):
     """An existing knot of the domain or any float in it that is not within a
-    subnormal distance (< 1e-300) of a knot (such spans give NaN, a reported defect
-    pinned by test_subnormal_span_evaluates)."""
+    subnormal distance (< 1e-300) of a knot (such spans evaluate, see
+    test_subnormal_span_evaluates, but their derivatives exceed the float range)."""
     which = 0 if direction == "u" else 1
     a, b = surface.domain[which]
     k = np.unique(full_knots(surface, direction))
@@ -356,15 +356,16 @@ def test_insert_knot_and_refine(surface, data):
     assert_same_surface(surface, s3, us, vs, rtol=1e-11 * weight_ratio(surface))
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "core defect (reported, minor): a knot span of subnormal width (< 2.2e-308) makes "
-    "basis_derivatives' 1/(u_{i+1} - u_i) overflow, so the surface evaluates to NaN there"))
-@pytest.mark.filterwarnings("ignore::RuntimeWarning")
 def test_subnormal_span_evaluates():
+    """Was a strict xfail (NaN): basis_derivatives works in units of the span width and
+    the pp form clips local knots beyond the float range (issue 14)."""
     s = BSplineSurface(np.arange(12.0).reshape(2, 2, 3), 1, 1)
     r = s.insert_knot("u", 1e-310)
-    u, v = np.array([0.0, 0.5, 1.0]), np.full(3, 0.5)
+    u, v = np.array([0.0, 5e-311, 1e-310, 2e-310, 0.5, 1.0]), np.full(6, 0.5)
     np.testing.assert_allclose(r(u, v), s(u, v), atol=1e-14)
+    c = BSplineCurve([[0.0, 0.0], [1.0, 2.0], [3.0, 1.0], [4.0, 0.0]], 3).insert_knot(1e-310)
+    ref = BSplineCurve([[0.0, 0.0], [1.0, 2.0], [3.0, 1.0], [4.0, 0.0]], 3)
+    np.testing.assert_allclose(c(u), ref(u), atol=1e-14)
 
 
 @settings(max_examples=30, deadline=None)
