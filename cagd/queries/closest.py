@@ -40,7 +40,7 @@ from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import BezierPieces, bezier_pieces, closed_directions
+from .bounds import FAR_POINT, BezierPieces, Frame, bezier_pieces, closed_directions, robust_distance
 from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, pair_distances as _distances, \
     PowerTable, projected_newton, split_boxes as _split
 
@@ -98,7 +98,11 @@ class Projector:
         if not isinstance(obj, (Curve, Surface)):
             raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
         self.triangle = isinstance(obj, Surface) and not obj.rectangular
-        self.pieces = bezier_pieces(obj)
+        raw = bezier_pieces(obj)
+        # every computation below is in the normalised frame (the object O(1), knot spans
+        # of reasonable width); queries map points in and results out
+        self.frame = Frame.of(raw.control_points, raw.breaks)
+        self.pieces = self.frame.pieces(raw)
         k, m = self.pieces.k, len(self.pieces)
         default = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(256, 16 * m))
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
@@ -148,6 +152,7 @@ class Projector:
         self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + 1e-12)
         P = self.pieces.control_points.reshape(-1, self.dim)
         self.size = max(float(np.ptp(P, axis=0).max()), 1e-300)
+        self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
         self._build_grid()
 
     # --- evaluation --------------------------------------------------------------------
@@ -325,8 +330,9 @@ class Projector:
         neither is given), ``param_tol`` relative to the parameter range; None: unused."""
         if tol is None and param_tol is None:
             return CLOSEST_TOL * self.size, None
-        return (None if tol is None else _checks.positive(tol, "tol"),
-                None if param_tol is None else _checks.positive(param_tol, "param_tol"))
+        with np.errstate(over="ignore"):                # a distance in model units, in frame units
+            inner = None if tol is None else float(np.float64(_checks.positive(tol, "tol")) / self.frame.scale)
+        return inner, None if param_tol is None else _checks.positive(param_tol, "param_tol")
 
     def closest(self, points: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, max_rounds: int = 40, *,
                 param_tol: Optional[float] = None) -> ClosestPoints:
@@ -337,7 +343,8 @@ class Projector:
 
     def _closest(self, points: ArrayLike, tol: Optional[float], param_tol: Optional[float], max_iterations: int = 50,
                  max_rounds: int = 40) -> ClosestPoints:
-        X = self._points(points)
+        model = self._points(points)
+        X, far = self._inward(model)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         N = len(X)
         vid, vstart, vcount = self._voxels(X)
@@ -426,7 +433,7 @@ class Projector:
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
         LB = np.minimum(LB * (1.0 - 1e-13), d)
-        return self._result(x, d, conv, LB)
+        return self._result(x, d, conv, LB, model, far)
 
     def local_minima(self, point: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, *,
                      param_tol: Optional[float] = None) -> ClosestPoints:
@@ -439,9 +446,10 @@ class Projector:
 
     def _local_minima(self, point: ArrayLike, tol: Optional[float], param_tol: Optional[float],
                       max_iterations: int = 50) -> ClosestPoints:
-        X = self._points(point)
-        if len(X) != 1:
-            raise CagdError(f"points: all_minima needs exactly one point, got {len(X)}")
+        model = self._points(point)
+        if len(model) != 1:
+            raise CagdError(f"points: all_minima needs exactly one point, got {len(model)}")
+        X, far = self._inward(model)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         m = len(self.radii)
         pid = np.zeros(m, dtype=np.intp)
@@ -495,8 +503,9 @@ class Projector:
                 keep.append(i)
         chosen = chosen[keep]
         d = np.sqrt(g2[chosen])
-        lower = self._closest(X, tol, param_tol, max_iterations).lower_bounds[0]
-        res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d))
+        lower = self._closest(model, tol, param_tol, max_iterations).lower_bounds[0] / self.frame.scale
+        res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d),
+                           np.repeat(model, len(chosen), axis=0), np.repeat(far, len(chosen)))
         return replace(res, isolated=~degenerate[chosen])
 
     def _closed(self) -> np.ndarray:
@@ -581,8 +590,36 @@ class Projector:
             raise CagdError(f"points: expected {self.dim}-D points (the object is {self.dim}-D), got {X.shape[1]}-D")
         return X
 
-    def _result(self, x, d, conv, lower) -> ClosestPoints:
-        feet = self.value(x)
+    def _inward(self, model: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """Model points in frame units, and which of them are farther than FAR_POINT: those
+        are moved in to FAR_POINT along their direction from the frame's origin (their
+        closest point moves by O(1 / FAR_POINT) of the object's size, nothing at float64;
+        the squared distances would overflow)."""
+        X = self.frame.inward(model)
+        r = robust_distance(X, np.zeros_like(X))
+        far = r > FAR_POINT
+        if far.any():
+            X = X.copy()
+            X[far] = X[far] / r[far, None] * FAR_POINT
+        return X, far
+
+    def _result(self, x, d, conv, lower, model: np.ndarray, far: np.ndarray) -> ClosestPoints:
+        """The result in model units from frame-unit parameters x, distances d and lower
+        bounds; rows ``far`` (see :meth:`_inward`) get their distance from the model
+        point itself and the bound |X - c| - R (c the frame's origin, R the radius about
+        it of the control points: the object lies in that ball)."""
+        feet = self.frame.outward(self.value(x))
+        s = self.frame.scale
+        d, lower = d * s, lower * s
+        if far.any():
+            d[far] = robust_distance(model[far], feet[far])
+            centre = np.broadcast_to(self.frame.centre, model[far].shape)
+            lower[far] = np.minimum(np.maximum(robust_distance(model[far], centre) - s * self.hull_radius, 0.0),
+                                    d[far])
+        if not np.all(np.isfinite(d)):
+            i = int(np.flatnonzero(~np.isfinite(d))[0])
+            raise CagdError(f"points: the distance from points[{i}] to the object exceeds the float64 range")
+        x = self.frame.params(x)
         if self.triangle:                                   # (s, t) -> (u, v) = (s, t (1 - s))
             x = np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
         params = x[:, 0].copy() if self.k == 1 else x.copy()

@@ -507,3 +507,81 @@ def test_feet_of_off_surface_points_are_accurate_not_only_their_distances():
     r = closest_point(s, pts)
     radial = 2.0 * pts / np.linalg.norm(pts, axis=1)[:, None]
     assert np.abs(r.feet - radial).max() < 1e-12
+
+
+# --- issue 14: extreme scales, far points and tiny knot spans ------------------------------
+_CUBIC = cagd.BezierCurve([[0.0, 0.0, 0.0], [1.0, 2.0, 0.0], [3.0, 1.0, 1.0], [4.0, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize("D", [1e155, 1e200, 1e250, 1e300])
+def test_far_points_get_their_distance(D):
+    """A point 1e155 away got distance inf, one at 1e200 an IndexError: the closest
+    point of (D, 0, 0) is the curve's end of largest x, (4, 0, 0) (x grows along the
+    curve: its control points' x do), at distance D - 4 (= D in float64)."""
+    r = closest_point(_CUBIC, [D, 0.0, 0.0])
+    assert r.params[0] == pytest.approx(1.0, abs=1e-12)
+    assert np.allclose(r.feet[0], [4.0, 0.0, 0.0], atol=1e-12)
+    assert r.distances[0] == pytest.approx(D, rel=1e-15)
+    assert D * (1 - 1e-15) <= r.lower_bounds[0] <= r.distances[0]
+    r = closest_point(_CUBIC, [D, D, 0.0])        # direction (1, 1, 0): the point of largest x + y
+    t = np.linspace(0.0, 1.0, 100001)
+    P = _CUBIC(t)
+    assert r.params[0] == pytest.approx(t[np.argmax(P[:, 0] + P[:, 1])], abs=1e-4)
+    assert r.distances[0] == pytest.approx(np.sqrt(2.0) * D, rel=1e-15)
+
+
+def test_distance_beyond_float64_is_refused():
+    c = _CUBIC.transformed(np.eye(3), [-1e308, 0.0, 0.0])
+    with pytest.raises(CagdError, match=r"points: the distance from points\[0\] to the object exceeds"):
+        closest_point(c, [1.7e308, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e-100, 1e100, 1e200, 1e299])
+def test_scale_invariance(scale):
+    """The same curve and points at every model scale: the same parameters, the distances
+    scaled (the query works in the object's normalised frame)."""
+    t = np.linspace(0.0, 1.0, 9)
+    X = _CUBIC(t) + [0.3, -0.2, 0.5]
+    ref = closest_point(_CUBIC, X)
+    r = closest_point(_CUBIC.transformed(np.eye(3) * scale, [0.0, 0.0, 0.0]), X * scale)
+    assert np.allclose(r.params, ref.params, atol=1e-12)
+    assert np.allclose(r.distances / scale, ref.distances, rtol=1e-12)
+    assert np.all(r.lower_bounds <= r.distances) and np.allclose(r.lower_bounds / scale, ref.lower_bounds, rtol=1e-9)
+    S = cagd.sphere(1.0)
+    Y = np.array([[2.0, 0.0, 0.0], [0.1, 0.2, -0.3], [0.0, 0.0, 5.0]])
+    rs = closest_point(S.transformed(np.eye(3) * scale, [0.0, 0.0, 0.0]), Y * scale)
+    assert np.allclose(rs.distances / scale, np.abs(np.linalg.norm(Y, axis=1) - 1.0), rtol=1e-12)
+
+
+@pytest.mark.parametrize("knots", [[0, 0, 0, 0, 1e-300, 2e-300, 2e-300, 2e-300, 2e-300],
+                                   [0, 0, 0, 0, 1e-300, 1, 1, 1, 1],
+                                   [0, 0, 0, 0, 1e-290, 1e-290 + 1e-300, 1e-290 + 1e-300, 1e-290 + 1e-300,
+                                    1e-290 + 1e-300]])
+def test_tiny_knot_spans(knots):
+    """Knot spans 1e-300 wide gave NaN lower bounds and points on the curve 0.05-0.11
+    away: every point of the curve (evaluated by the engine itself) is found on it,
+    with finite bounds below the distances."""
+    P = [[0, 0, 0], [1, 2, 0], [3, 1, 1], [4, 0, 0], [5, 2, 1]]
+    c = cagd.BSplineCurve(P, 3, knots)
+    a, b = c.domain
+    t = np.concatenate([np.linspace(a, b, 41), [knots[4]]])
+    r = closest_point(c, c(t))
+    assert r.distances.max() <= 1e-12 * 6
+    assert np.all(np.isfinite(r.lower_bounds)) and np.all(r.lower_bounds <= r.distances)
+    assert np.all((r.params >= a) & (r.params <= b))
+    assert np.allclose(c(r.params), r.feet, atol=1e-12)
+    off = c(t) + [0.0, 0.0, 3.0]                  # and off the curve: bounds finite, below
+    r = closest_point(c, off)
+    assert np.all(np.isfinite(r.lower_bounds)) and np.all(r.lower_bounds <= r.distances)
+    assert np.all(r.distances <= 3.0 + 1e-12)
+
+
+def test_tiny_surface_domain():
+    """A patch whose parameter domain is 1e-300 wide: points of it are found on it."""
+    P = np.random.default_rng(5).uniform(-1, 1, (4, 4, 3))
+    k = [0, 0, 0, 0, 1e-300, 1e-300, 1e-300, 1e-300]
+    S = cagd.BSplineSurface(P, 3, 3, k, k)
+    uv = np.random.default_rng(6).random((20, 2)) * 1e-300
+    r = closest_point(S, S(uv[:, 0], uv[:, 1]))
+    assert r.distances.max() <= 1e-12 * 4
+    assert np.all(np.isfinite(r.lower_bounds)) and np.all(r.lower_bounds <= r.distances)
