@@ -47,6 +47,12 @@ from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, p
 __all__ = ["ClosestPoints", "Projector", "closest_point", "CLOSEST_TOL"]
 
 CLOSEST_TOL = 1e-12     # default tol of closest_point, relative to the object's size
+GRID_VOXELS = 2e6       # voxels of a Projector's grid, at most
+GRID_ENTRIES = 4e6      # (voxel, cell) entries of the grid, at most (a random 300 x 300 net made 84e6)
+POINT_CHUNK = 16384     # query points handled at once, at most (memory O(chunk), not O(N))
+MIN_CHUNK = 32          # ... at least
+PAIR_BUDGET = 4e6       # ... and at most this many (point, cell) pairs if each met every cell
+EVAL_CHUNK = 65536      # evaluations at once while preparing (the C2 test at the breaks)
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
                "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
                "is param_tol= now")
@@ -192,14 +198,18 @@ class Projector:
         V = max(typical, 1e-9 * self.size)
         origin = self.centers.min(axis=0) - self.T - r.max()
         extent = self.centers.max(axis=0) + self.T + r.max() - origin
-        while np.prod(np.ceil(extent / V) + 1) > 2e6:
+        while np.prod(np.ceil(extent / V) + 1) > GRID_VOXELS:
             V *= 1.5
-        dims = (np.ceil(extent / V) + 1).astype(np.intp)
         reach = self.T + r
-        lo = np.floor((self.centers - reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
-        hi = np.floor((self.centers + reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
-        span = hi - lo + 1
-        count = np.prod(span, axis=1)
+        while True:             # at most GRID_ENTRIES (voxel, cell) entries: bounded memory
+            dims = (np.ceil(extent / V) + 1).astype(np.intp)
+            lo = np.floor((self.centers - reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
+            hi = np.floor((self.centers + reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
+            span = hi - lo + 1
+            count = np.prod(span, axis=1)
+            if float(count.sum()) <= GRID_ENTRIES:
+                break
+            V *= 1.5
         cell = np.repeat(np.arange(len(r)), count)
         local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
         vox = np.zeros(len(cell), dtype=np.intp)
@@ -344,8 +354,12 @@ class Projector:
     def _closest(self, points: ArrayLike, tol: Optional[float], param_tol: Optional[float], max_iterations: int = 50,
                  max_rounds: int = 40) -> ClosestPoints:
         model = self._points(points)
-        X, far = self._inward(model)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
+        chunk = int(np.clip(PAIR_BUDGET // len(self.radii), MIN_CHUNK, POINT_CHUNK))
+        if len(model) > chunk:          # a point may pair with every cell: N * cells bounded
+            return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds)
+                            for i in range(0, len(model), chunk)])
+        X, far = self._inward(model)
         N = len(X)
         vid, vstart, vcount = self._voxels(X)
         seed = self.seeds(X, vstart, vcount)
@@ -576,9 +590,15 @@ class Projector:
         return np.clip(self.mids[seed] + step, lo, hi)
 
     def _bound(self, X, pid, cell, lo, hi, c) -> np.ndarray:
-        """Second-order lower bound of g over boxes inside their cells, expanded at c."""
-        S, J, H = self.evaluate(c, 2, self._cell_piece[cell])     # the cell's own piece
-        return box_lower_bound(X[pid], lo, hi, c, S, J, H, self.L[cell], self.M[cell], self.T3[cell])
+        """Second-order lower bound of g over boxes inside their cells, expanded at c (in
+        chunks of EVAL_CHUNK boxes: the partials of millions of pairs would not fit)."""
+        out = np.empty(len(pid))
+        for c0 in range(0, len(pid), EVAL_CHUNK):
+            sl = slice(c0, c0 + EVAL_CHUNK)
+            ce = cell[sl]
+            S, J, H = self.evaluate(c[sl], 2, self._cell_piece[ce])     # the cell's own piece
+            out[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], c[sl], S, J, H, self.L[ce], self.M[ce], self.T3[ce])
+        return out
 
     def _points(self, points: ArrayLike) -> np.ndarray:
         X = _checks.finite_array(points, "points")
@@ -631,6 +651,18 @@ class Projector:
         return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
 
 
+def _concat(parts: List[ClosestPoints]) -> ClosestPoints:
+    """The results of consecutive chunks of points as one (the message recounted)."""
+    fields = {f: np.concatenate([getattr(p, f) for p in parts])
+              for f in ("params", "feet", "distances", "point_converged", "lower_bounds")}
+    conv = fields["point_converged"]
+    bad = np.flatnonzero(~conv)
+    message = "" if not bad.size else (
+        f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
+        f"their distances are the best found, lower_bounds still hold")
+    return ClosestPoints(**fields, isolated=None, converged=not bad.size, message=message)
+
+
 def _c2_breaks(pieces: BezierPieces) -> List[np.ndarray]:
     """Per direction, for every inner break: the object is C2 across it (all partials up
     to order 2 of the two neighbouring pieces agree, within 1e-10 of their size, at
@@ -665,13 +697,16 @@ def _c2_breaks(pieces: BezierPieces) -> List[np.ndarray]:
             left, right = i * shape[1] + j, (i + 1) * shape[1] + j
         else:
             left, right = j * shape[1] + i, j * shape[1] + i + 1
-        d0 = pieces.derivatives(left, X, 2)
-        d1 = pieces.derivatives(right, X, 2)
         mask = np.add.outer(np.arange(3), np.arange(3)) <= 2
-        diff = np.abs(d0 - d1)[mask].max(axis=(0, 2))
-        scale = np.maximum(np.abs(d0)[mask].max(axis=(0, 2)), np.abs(d1)[mask].max(axis=(0, 2)))
-        ok = diff <= 1e-10 * scale + 1e-300
-        out.append(ok.reshape(n - 1, -1).all(axis=1))
+        ok = np.empty(len(left), dtype=bool)
+        for c0 in range(0, len(left), EVAL_CHUNK):      # bounded memory: (3, 3, chunk, dim) at once
+            sl = slice(c0, c0 + EVAL_CHUNK)
+            d0 = pieces.derivatives(left[sl], X[sl], 2)
+            d1 = pieces.derivatives(right[sl], X[sl], 2)
+            diff = np.abs(d0 - d1)[mask].max(axis=(0, 2))
+            scale = np.maximum(np.abs(d0)[mask].max(axis=(0, 2)), np.abs(d1)[mask].max(axis=(0, 2)))
+            ok[sl] = diff <= 1e-10 * scale + 1e-300
+        out.append(np.asarray(ok.reshape(n - 1, -1).all(axis=1)))
     return out
 
 
@@ -719,9 +754,10 @@ def _cell_counts(pieces: BezierPieces, target: int):
     """Parts per piece index along each direction so that the cells have about equal
     geometric extent (the first-derivative bound times the parameter width, the largest
     over the row or column of pieces): at least the uniform count per = (target / m)^(1/k)
-    (>= 2), at most 8 per, and at most twice the uniform total."""
+    (>= 2, or >= 1 when there are at least ``target`` pieces: memory and time O(pieces),
+    not 4 or 8 times that), at most 8 per, and at most twice the uniform total."""
     k, shape, m = pieces.k, pieces.shape, len(pieces)
-    per = max(2, int(np.ceil((target / m) ** (1.0 / k))))
+    per = max(1 if m >= target else 2, int(np.ceil((target / m) ** (1.0 / k))))
     B = pieces.partial_bounds(1)
     h = pieces.upper - pieces.lower
     ext = []

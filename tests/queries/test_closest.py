@@ -585,3 +585,69 @@ def test_tiny_surface_domain():
     r = closest_point(S, S(uv[:, 0], uv[:, 1]))
     assert r.distances.max() <= 1e-12 * 4
     assert np.all(np.isfinite(r.lower_bounds)) and np.all(r.lower_bounds <= r.distances)
+
+
+# --- issue 14: bounded memory -------------------------------------------------------------
+def test_chunks_give_the_same_answer(monkeypatch):
+    """Points are handled in chunks (memory O(chunk)): the chunked result is the
+    unchunked one, row for row, and the message counts over all points."""
+    import cagd.queries.closest as cl
+    S = cagd.sphere(1.0)
+    X = np.random.default_rng(7).uniform(-2, 2, (700, 3))
+    whole = Projector(S).closest(X)
+    monkeypatch.setattr(cl, "MIN_CHUNK", 100)
+    monkeypatch.setattr(cl, "PAIR_BUDGET", 1.0)
+    parts = Projector(S).closest(X)
+    for f in ("params", "feet", "distances", "lower_bounds", "point_converged"):
+        assert np.array_equal(getattr(parts, f), getattr(whole, f)), f
+    assert parts.converged == whole.converged
+    assert np.allclose(parts.distances, np.abs(np.linalg.norm(X, axis=1) - 1.0), atol=1e-12)
+
+
+_PEAK = """
+import sys, tracemalloc, numpy as np, cagd
+import cagd.queries.closest as cl
+cl.POINT_CHUNK = 1000                       # (16384 by default: about 600 MB at 38 KB per point)
+p = cl.Projector(cagd.sphere(1.0))
+X = np.random.default_rng(0).uniform(-2, 2, (int(sys.argv[1]), 3))
+p.closest(X[:10])
+tracemalloc.start()
+p.closest(X)
+print(tracemalloc.get_traced_memory()[1])
+"""
+
+
+def _peak(n: int) -> int:
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, "-c", _PEAK, str(n)], capture_output=True, text=True, timeout=300,
+                         check=True)
+    return int(out.stdout.split()[-1])
+
+
+def test_memory_is_bounded_by_the_chunk():
+    """closest_point of 10^6 points on a sphere took 13 GB: the points go in chunks of
+    POINT_CHUNK (here 1,000), so 4,000 points need about the memory of 1,000 (the input
+    and the result rows aside: about 120 bytes per point), not four times it."""
+    one, four = _peak(1000), _peak(4000)
+    assert four - one <= 3000 * 120 + 0.25 * one
+
+
+def test_grid_entries_are_bounded():
+    """A random 100 x 100 bicubic net made 9.3e6 (voxel, cell) grid entries (84e6 at
+    300 x 300: 13 GB); the grid holds at most GRID_ENTRIES, and with at least as many
+    Bezier pieces as the target the cells are the pieces themselves."""
+    from cagd.queries.closest import GRID_ENTRIES
+    rng = np.random.default_rng(0)
+    S = cagd.BSplineSurface(rng.uniform(-1, 1, (70, 70, 3)), 3, 3)      # 67^2 = 4489 >= 4096 pieces
+    p = Projector(S)
+    assert len(p._grid_cells) <= GRID_ENTRIES
+    assert len(p.pieces) == 4489 and len(p.cells) <= 2 * len(p.pieces)
+    X = rng.uniform(-1, 1, (50, 3))
+    r = p.closest(X)
+    # oracle: dense sampling bounds the distance from above, lower_bounds from below
+    u = np.linspace(0, 1, 301)
+    U, V = np.meshgrid(u, u, indexing="ij")
+    Q = S(U.ravel(), V.ravel())
+    sampled = np.sqrt(((X[:, None, :] - Q[None]) ** 2).sum(-1)).min(axis=1)
+    assert np.all(r.distances <= sampled + 1e-12) and np.all(r.lower_bounds <= r.distances)
