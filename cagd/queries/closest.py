@@ -24,6 +24,14 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
 
 The minimum of all bounds is ``lower_bounds``: no point of the object is closer than
 it, so ``distances - lower_bounds`` tells how sure the answer is.
+
+Scale and size (issue 14): the work is done in the object's normalised frame
+(:class:`cagd.queries.bounds.Frame`: translated, scaled by a power of two to O(1),
+knot spans at least 1e-12 of the domain), so coordinates from 1e-300 to 1e300 give the
+same answer scaled; points farther than FAR_POINT (1e50) object sizes are moved in
+along their direction (their foot moves by ~1e-50 of the size). Memory is bounded:
+points go in chunks (POINT_CHUNK, PAIR_BUDGET), the voxel grid holds at most
+GRID_ENTRIES entries, and large objects get one cell per Bezier piece.
 """
 from __future__ import annotations
 
@@ -147,7 +155,7 @@ class Projector:
         else:
             cu, cv = self._cell_piece_dir
             self._cell_piece = (cu[:, None] * self.pieces.shape[1] + cv[None, :]).ravel()
-        self._run = [np.r_[0, np.cumsum(~ok)] for ok in _c2_breaks(self.pieces)]
+        self._run = [np.r_[0, np.cumsum(~ok)] for ok in _c2_breaks(self.pieces, _c2_by_knots(obj, raw))]
         self._cell_run = [run[cp] for run, cp in zip(self._run, self._cell_piece_dir)]
         # component rows (contiguous per coordinate and partial) for 1-D gathers
         self._mid_rows = (np.ascontiguousarray(self.mid_points.T), np.ascontiguousarray(self.mid_jacobians.T),
@@ -663,16 +671,43 @@ def _concat(parts: List[ClosestPoints]) -> ClosestPoints:
     return ClosestPoints(**fields, isolated=None, converged=not bad.size, message=message)
 
 
-def _c2_breaks(pieces: BezierPieces) -> List[np.ndarray]:
-    """Per direction, for every inner break: the object is C2 across it (all partials up
-    to order 2 of the two neighbouring pieces agree, within 1e-10 of their size, at
-    4 (degree + 1) points along the break on every piece across)."""
+def _c2_by_knots(obj: Union[Curve, Surface], raw: BezierPieces) -> List[Optional[np.ndarray]]:
+    """Per direction, the inner breaks where the NURBS form is C2 by its knots alone (a
+    knot of multiplicity m leaves a degree-p B-spline, rational too, C^(p - m): Piegl &
+    Tiller 2.2); None where the breaks are not its distinct inner knots."""
+    nurbs = obj.to_nurbs()
+    if isinstance(nurbs, Curve):
+        forms = [(getattr(nurbs, "knots", None), getattr(nurbs, "degree", None))]
+    else:
+        forms = [(getattr(nurbs, "knots_u", None), getattr(nurbs, "degree_u", None)),
+                 (getattr(nurbs, "knots_v", None), getattr(nurbs, "degree_v", None))]
+    out: List[Optional[np.ndarray]] = []
+    for (knots, p), b in zip(forms, raw.breaks):
+        inner = b[1:-1]
+        if knots is None or p is None or not len(inner):
+            out.append(None)
+            continue
+        kv = np.asarray(knots, dtype=np.float64)
+        mult = np.searchsorted(kv, inner, side="right") - np.searchsorted(kv, inner, side="left")
+        out.append((mult >= 1) & (p - mult >= 2))
+    return out
+
+
+def _c2_breaks(pieces: BezierPieces, known: Optional[List[Optional[np.ndarray]]] = None) -> List[np.ndarray]:
+    """Per direction, for every inner break: the object is C2 across it (``known``: True
+    where the knots already say so, see :func:`_c2_by_knots`; the other breaks: all
+    partials up to order 2 of the two neighbouring pieces agree, within 1e-10 of their
+    size, at 4 (degree + 1) points along the break on every piece across)."""
     k, shape = pieces.k, pieces.shape
     out = []
     for a in range(k):
         n = shape[a]
         if n < 2:
             out.append(np.zeros(0, dtype=bool))
+            continue
+        sure = None if known is None else known[a]
+        if sure is not None and len(sure) == n - 1 and sure.all():
+            out.append(sure.copy())
             continue
         b = pieces.breaks[a]
         if k == 1:
@@ -831,7 +866,7 @@ def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: boo
 
     Raises:
         CagdError: not a curve or surface, empty or NaN points, wrong dimension, tol or
-            param_tol <= 0.
+            param_tol <= 0, a distance beyond the float64 range.
 
     Piegl & Tiller 6.1 (point inversion by Newton); seed 004, ch. 1 §4 (minimum distance).
     """
