@@ -29,8 +29,8 @@ from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Solid
 from cagd.curves.base import Curve
 from cagd.errors import CagdError
 from cagd.occ import check_valid, make_face, make_solid, sewing, subshapes, volume
-from cagd.occ.shapes import face_list
-from cagd.occ.wrapped import occ_edges
+from cagd.occ.shapes import face_list, occt_coordinates
+from cagd.occ.wrapped import occ_edges, occt_errors
 from cagd.surfaces.base import Surface
 from cagd.surfaces.revolution import revolve
 
@@ -152,16 +152,17 @@ def thickened(faces: Faces, thickness: float, tol: float = 1e-6) -> TopoDS_Shape
         raise CagdError(f"faces: they do not sew into one shell with tol={tol:g} ({shape.ShapeType().name}, "
                         f"{len(subshapes(shape, TopAbs_SHELL))} shells)")
     maker = BRepOffset_MakeOffset()
-    maker.Initialize(shape, thickness, tol, BRepOffset_Skin, False, False, GeomAbs_Arc, True)
-    maker.MakeOffsetShape()
-    if not maker.IsDone():
-        raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
-                        f"{maker.Error().name})")
-    lost = [i for i, f in enumerate(subshapes(shape, TopAbs_FACE)) if maker.Generated(f).Size() == 0]
-    if lost:
-        raise CagdError(f"thickness: {thickness} collapses the offset of face(s) {lost}: OCCT left them out "
-                        "(the thickness reaches a radius of curvature)")
-    return _checked(maker.Shape())
+    with occt_errors("thickness", f"thicken the surface by {thickness}"):
+        maker.Initialize(shape, thickness, tol, BRepOffset_Skin, False, False, GeomAbs_Arc, True)
+        maker.MakeOffsetShape()
+        if not maker.IsDone():
+            raise CagdError(f"thickness: OCCT could not thicken the surface by {thickness} (offset error "
+                            f"{maker.Error().name})")
+        lost = [i for i, f in enumerate(subshapes(shape, TopAbs_FACE)) if maker.Generated(f).Size() == 0]
+        if lost:
+            raise CagdError(f"thickness: {thickness} collapses the offset of face(s) {lost}: OCCT left them out "
+                            "(the thickness reaches a radius of curvature)")
+        return _checked(maker.Shape())
 
 
 def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: float = 360.0) -> TopoDS_Face:
@@ -173,10 +174,35 @@ def revolution_face(profile: Curve, axis_point, axis_direction, angle_degrees: f
     Raises:
         CagdError: a zero axis direction, an angle of 0 or beyond a full turn, or OCCT fails.
     """
-    if not angle_degrees or not np.isfinite(angle_degrees):
-        raise CagdError(f"angle: must be finite and non-zero, got {angle_degrees!r}")
-    angle = math.radians(angle_degrees)
+    angle = math.radians(revolution_angle(angle_degrees))
     return make_face(revolve(profile, axis_point, axis_direction, abs(angle), min(angle, 0.0)))
+
+
+def revolution_angle(angle_degrees) -> float:
+    """A sweep angle in degrees: a finite non-zero number within a full turn.
+
+    Raises:
+        CagdError: naming ``angleDegrees``.
+    """
+    if isinstance(angle_degrees, bool) or not isinstance(angle_degrees, (int, float, np.integer, np.floating)) \
+            or not angle_degrees or not np.isfinite(angle_degrees) or abs(angle_degrees) > 360.0:
+        raise CagdError(f"angleDegrees: must be a finite non-zero number of degrees within a full turn "
+                        f"(|angle| <= 360), got {angle_degrees!r}")
+    return float(angle_degrees)
+
+
+def revolution_input(profile: Curve, axis_point: np.ndarray, axis_end: np.ndarray) -> None:
+    """The profile and the axis within OCCT's coordinate range (before OCCT sees them;
+    :data:`cagd.occ.shapes.COORDINATE_LIMIT`), the axis points distinct.
+
+    Raises:
+        CagdError: naming ``profile``, ``axisStart`` or ``axisEnd``.
+    """
+    occt_coordinates(profile.to_nurbs().control_points, "profile")
+    occt_coordinates(axis_point, "axisStart")
+    occt_coordinates(axis_end, "axisEnd")
+    if not np.any(axis_end != axis_point):
+        raise CagdError(f"axisStart, axisEnd: the same point {tuple(axis_point.tolist())}, no axis")
 
 
 def _checked(solid: TopoDS_Shape) -> TopoDS_Shape:

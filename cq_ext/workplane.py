@@ -38,7 +38,7 @@ from cagd.surfaces.base import Surface
 
 from .convert import placed, plane_map, to_cq
 from .cq_api import close_with_caps, sew_solid, thicken
-from .solids import revolution_face
+from .solids import revolution_angle, revolution_face, revolution_input
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
 from .stack import points as as_points
 
@@ -239,6 +239,8 @@ def revolveSurface(self: T, profile: CurveLike, angleDegrees: float = 360.0,
     if curve.dim == 2:
         curve = curve.transformed(np.eye(3)[:, :2])
     a, b = (_global_point(self.plane, p, n) for p, n in ((axisStart, "axisStart"), (axisEnd, "axisEnd")))
+    angleDegrees = revolution_angle(angleDegrees)
+    revolution_input(curve, a, b)                   # before OCCT: it fails or loops on 1e300
     if nurbs:
         face = to_cq(cagd.revolve(curve, a, b - a, math.radians(angleDegrees)), nurbs=True)
     else:

@@ -3,7 +3,7 @@ shells, closed solids; validity (BRepCheck) and mass properties (BRepGProp). Eve
 function taking shapes takes CadQuery and build123d shapes too (:mod:`.wrapped`)."""
 from __future__ import annotations
 
-from typing import Iterable, List, Sequence, Union
+from typing import Iterable, List, Union
 
 import numpy as np
 
@@ -16,20 +16,42 @@ from OCP.BRepGProp import BRepGProp
 from OCP.BRepLib import BRepLib
 from OCP.GeomAbs import GeomAbs_SurfaceOfExtrusion
 from OCP.GProp import GProp_GProps
+from OCP.Precision import Precision
 from OCP.ShapeFix import ShapeFix_Shape
-from OCP.TopAbs import (TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_VERTEX, TopAbs_WIRE,
-                        TopAbs_ShapeEnum)
+from OCP.TopAbs import (TopAbs_COMPOUND, TopAbs_COMPSOLID, TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID,
+                        TopAbs_VERTEX, TopAbs_WIRE, TopAbs_ShapeEnum)
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Shell, TopoDS_Solid
 
-from .compat import as_edge, as_face, as_shell, as_solid, as_vertex, as_wire
+from .compat import _cast, as_compound, as_edge, as_face, as_shell, as_solid, as_vertex, as_wire
 from .._checks import positive
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .analytic import analytic_form
 from .convert import to_occ
-from .wrapped import describe, is_shape, occ_faces, occ_shape
+from .wrapped import describe, is_shape, occ_faces, occ_shape, occt_errors
+
+
+# parameter ranges of an analytic face up to this are read by OCCT as closed (its
+# Precision::PConfusion is 1e-9; measured: a revolution by 1.7e-10 rad became a whole
+# turn, area 19.0 for 5.3e-10); such faces get the exact B-spline form instead
+SLIVER_RANGE = 10 * Precision.PConfusion_s()
+
+
+# OCCT reads coordinates beyond Precision::Infinite() (2e100) as infinite; geometry
+# handed to it stays within half of that (measured: a revolution about an axis at 1e300
+# raised Standard_ConstructionError, one at 1e100 works)
+COORDINATE_LIMIT = 0.5 * Precision.Infinite_s()
+
+
+def occt_coordinates(value: np.ndarray, name: str) -> np.ndarray:
+    """``value`` (finite coordinates) unless one exceeds COORDINATE_LIMIT (1e100) in size."""
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.size and not float(np.abs(arr).max()) <= COORDINATE_LIMIT:
+        raise CagdError(f"{name}: coordinates up to {float(np.abs(arr).max()):.3g} exceed OCCT's range "
+                        f"(|x| <= {COORDINATE_LIMIT:.0e}); scale the model")
+    return arr
 
 
 def _shape(shape, name: str = "shape") -> TopoDS_Shape:
@@ -39,11 +61,18 @@ def _shape(shape, name: str = "shape") -> TopoDS_Shape:
     return occ_shape(shape, name)
 
 
+# the sub-shape types and their downcasts (TopAbs_SHAPE names no type: refused)
+_CASTS = {TopAbs_COMPOUND: as_compound, TopAbs_COMPSOLID: _cast("CompSolid"), TopAbs_SOLID: as_solid,
+          TopAbs_SHELL: as_shell, TopAbs_FACE: as_face, TopAbs_WIRE: as_wire, TopAbs_EDGE: as_edge,
+          TopAbs_VERTEX: as_vertex}
+
+
 def subshapes(shape: TopoDS_Shape, kind: TopAbs_ShapeEnum) -> list:
     """The sub-shapes of one type (TopAbs_FACE, TopAbs_EDGE, ...), downcast."""
     shape = _shape(shape)
-    cast = {TopAbs_FACE: as_face, TopAbs_EDGE: as_edge, TopAbs_SHELL: as_shell, TopAbs_SOLID: as_solid,
-            TopAbs_WIRE: as_wire, TopAbs_VERTEX: as_vertex}[kind]
+    cast = _CASTS.get(kind) if isinstance(kind, TopAbs_ShapeEnum) else None
+    if cast is None:
+        raise CagdError(f"kind: expected one of {', '.join(k.name for k in _CASTS)}, got {kind!r}")
     out, ex = [], TopExp_Explorer(shape, kind)
     while ex.More():
         out.append(cast(ex.Current()))
@@ -61,13 +90,18 @@ def make_edge(curve: Curve) -> TopoDS_Edge:
     return maker.Edge()
 
 
-def make_wire(curves: Sequence[Union[Curve, TopoDS_Edge]]) -> TopoDS_Shape:
-    """A wire of curves or edges joined end to end (in order, within their tolerances).
+def make_wire(curves: Iterable[Union[Curve, TopoDS_Edge]]) -> TopoDS_Shape:
+    """A wire of curves or edges (any iterable) joined end to end (in order, within
+    their tolerances).
 
     Raises:
-        CagdError: an empty list or pieces that do not connect.
+        CagdError: not an iterable, an empty one or pieces that do not connect.
     """
-    if not len(curves):
+    try:
+        curves = list(curves)
+    except TypeError:
+        raise CagdError(f"curves: expected a sequence of cagd curves or edges, got {type(curves).__name__}") from None
+    if not curves:
         raise CagdError("curves: need at least one curve")
     maker = BRepBuilderAPI_MakeWire()
     for i, c in enumerate(curves):
@@ -89,11 +123,15 @@ def make_face(surface: Surface, tol: float = 1e-7, *, nurbs: bool = False) -> To
     parametrised by the angle), bounded to the engine's range, the face oriented so
     that its normal is the engine's S_u x S_v: OCCT's offsets (thickening, shelling)
     work on it. ``nurbs=True`` gives the face of the exact B-spline instead (the same
-    parametrisation as the engine: the exchange form STEP and IGES files get)."""
+    parametrisation as the engine: the exchange form STEP and IGES files get); so does
+    a revolution through an angle of at most SLIVER_RANGE radians, which OCCT would
+    read as a whole turn."""
     if not isinstance(surface, Surface):
         raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
     tol = positive(tol, "tol")
     form = None if nurbs else analytic_form(surface)
+    if form is not None and min(form.bounds[1] - form.bounds[0], form.bounds[3] - form.bounds[2]) <= SLIVER_RANGE:
+        form = None                 # OCCT would close a periodic direction: a full turn
     if form is None:
         maker = BRepBuilderAPI_MakeFace(to_occ(surface), tol)
     else:
@@ -150,9 +188,10 @@ def sew(faces: Iterable[Union[Surface, TopoDS_Shape]], tol: float = 1e-6, *, nur
 def free_edge_count(shape: TopoDS_Shape, tol: float = 1e-6) -> int:
     """Edges of ``shape`` that bound only one face (0 for a closed shell)."""
     result = BRepBuilderAPI_Sewing(positive(tol, "tol"))
-    result.Load(_shape(shape))
-    result.Perform()
-    return result.NbFreeEdges()
+    with occt_errors("shape", "sew the faces and count the free edges"):
+        result.Load(_shape(shape))
+        result.Perform()
+        return result.NbFreeEdges()
 
 
 def make_solid(shape: TopoDS_Shape, tol: float = 1e-6) -> TopoDS_Solid:

@@ -23,6 +23,7 @@ strongly rational B-spline differ by more rounding (5e-12 measured at degree 10)
 """
 from __future__ import annotations
 
+import hashlib
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -48,6 +49,7 @@ from .shapes import subshapes
 
 STAGES = ("to_nurbs", "occt", "from_occ", "step", "iges")
 _JITTER = 0.6180339887498949        # golden-ratio offset: samples miss uniform knots
+NAME_CHARS = 64                     # longest file name stem for the STEP/IGES files (names can be longer)
 
 
 @dataclass
@@ -181,11 +183,25 @@ class _Samples:
         return {"points": out[0], "d1": np.stack([out[1][i], out[2][i]]),
                 "d2": np.stack([out[3][i], out[5][i], out[4][i]])}
 
+    def check(self, ref: Dict[str, np.ndarray]) -> None:
+        """The reference values and the derivative scales size / length^k must be finite
+        and positive, else the relative deviations mean nothing (a domain 1e-300 or 1e300
+        long: the derivatives and their scales overflow or vanish)."""
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            scales = [np.float64(self.size) / np.float64(self.length) ** k for k in (1, 2)]
+        bad = [key for key, v in ref.items() if not np.all(np.isfinite(v))]
+        if bad or not all(np.isfinite(x) and x > 0 for x in scales + [np.float64(self.size)]):
+            what = (f"its {', '.join(bad)} overflow" if bad
+                    else "the derivative scales size / length^k overflow or vanish")
+            raise CagdError(f"obj: cannot be compared (size {self.size:.3g}, parameter range {self.length:.3g}: "
+                            f"{what}); reparametrise it onto a domain of moderate length")
+
     def compare(self, ref: Dict[str, np.ndarray], other: Dict[str, np.ndarray]) -> Dict[str, float]:
         dev = {"points": float(np.abs(other["points"] - ref["points"]).max() / self.size)}
         for k, key in ((1, "d1"), (2, "d2")):
             scale = max(float(np.linalg.norm(ref[key], axis=-1).max()), self.size / self.length ** k)
-            dev[key] = float(np.abs(other[key] - ref[key]).max() / scale)
+            with np.errstate(over="ignore", invalid="ignore"):
+                dev[key] = float(np.abs(other[key] - ref[key]).max() / scale)
         if not self.curve:
             dev["normals"] = _normal_deviation(ref["d1"], other["d1"], self.size / self.length)
         return dev
@@ -240,10 +256,15 @@ def verify(obj: Union[Curve, Surface], name: str = "object", samples: int = 41, 
     unknown = set(stages) - set(STAGES)
     if unknown:
         raise CagdError(f"stages: unknown {sorted(unknown)}; choose from {STAGES}")
+    if obj.dim not in (2, 3):
+        raise CagdError(f"obj: OCCT geometry is 2-D or 3-D, got a {obj.dim}-D object")
+    if not isinstance(name, str):
+        raise CagdError(f"name: expected a string, got {type(name).__name__}")
     nurbs = obj.to_nurbs()
     s = _Samples(nurbs, _checks.integer(samples, "samples", 4, 100_000))
     tol = default_tolerance(nurbs) if tol is None else _checks.scalar(tol, "tol")
     ref = s.engine(nurbs)
+    s.check(ref)
     report = VerifyReport(name, repr(obj).strip("<>"), s.size, s.count)
     if "to_nurbs" in stages and not isinstance(obj, (BSplineCurve, BSplineSurface)):
         report.stages.append(_own_form(obj, nurbs, s, ref, tol))
@@ -296,4 +317,10 @@ def _file_stage(kind: str, nurbs, name: str, folder: Path, s: _Samples, ref, tol
 
 
 def _safe(name: str) -> str:
-    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name) or "object"
+    """A file name stem for ``name``: ASCII letters, digits, - and _ (others become _),
+    at most NAME_CHARS characters (a longer name is cut and ends in a hash of the whole)."""
+    safe = "".join(ch if (ch.isascii() and ch.isalnum()) or ch in "-_" else "_" for ch in name) or "object"
+    if len(safe) > NAME_CHARS:
+        digest = hashlib.sha1(name.encode("utf-8", "surrogatepass")).hexdigest()[:12]
+        safe = safe[:NAME_CHARS - 13] + "_" + digest
+    return safe

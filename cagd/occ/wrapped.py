@@ -13,7 +13,8 @@ build123d Sketch holding 0 faces``.
 """
 from __future__ import annotations
 
-from typing import List, Optional
+from contextlib import contextmanager
+from typing import Iterator, List, Optional
 
 from OCP.BRep import BRep_Builder
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_ShapeEnum
@@ -25,6 +26,22 @@ LIBRARIES = {"cadquery": "CadQuery", "build123d": "build123d", "OCP": "OCCT"}
 _BUILDERS = {"BuildPart": "part", "BuildSketch": "sketch", "BuildLine": "line"}   # build123d contexts
 _WRAPPERS = ("cadquery", "build123d")          # the modules whose objects are unwrapped
 _EXPECTED = "a CadQuery or build123d shape or a TopoDS_Shape"
+
+
+@contextmanager
+def occt_errors(name: str, what: str) -> Iterator[None]:
+    """Turn an OCCT exception raised inside the block (OCP raises Standard_Failure,
+    Standard_NoSuchObject, StdFail_NotDone, ... as plain Exception subclasses from its
+    own modules) into a CagdError naming the argument ``name``: "<name>: OCCT failed
+    to <what> (<exception> <message>)". Other exceptions pass through."""
+    try:
+        yield
+    except CagdError:
+        raise
+    except Exception as exc:
+        if not type(exc).__module__.startswith("OCP"):
+            raise
+        raise CagdError(f"{name}: OCCT failed to {what} ({type(exc).__name__} {exc})") from None
 
 
 def _root(obj) -> str:

@@ -23,7 +23,7 @@ from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import bezier_pieces, closed_directions
+from .bounds import Frame, bezier_pieces, closed_directions
 
 
 class Pieces(NamedTuple):
@@ -79,6 +79,22 @@ class Geometry:
         pts = project(self.pieces.ctrl).reshape(-1, self.dim)
         self.size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
 
+    def reframe(self, frame: Frame) -> None:
+        """Work in the normalised ``frame`` (its point map; the parameter map of this
+        object's own breaks): pieces, domain and size in frame units, :meth:`user_params`
+        mapping back. Points from :meth:`points` are then in frame units
+        (``self.frame.outward`` maps them back)."""
+        self.frame = frame.with_breaks(self.bezier.breaks)
+        if self.frame.identity:
+            return
+        self.bezier = self.frame.pieces(self.bezier)
+        self.pieces = Pieces(_hom(self.bezier.control_points, self.bezier.weights),
+                             self.bezier.lower.copy(), self.bezier.upper.copy())
+        dom = self.bezier.domain
+        self.lo, self.hi = dom[:, 0].copy(), dom[:, 1].copy()
+        pts = project(self.pieces.ctrl).reshape(-1, self.dim)
+        self.size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
     def clamp(self, x: np.ndarray) -> np.ndarray:
         """Parameters (N, k) wrapped (periodic directions) or clamped into the domain."""
         span = self.hi - self.lo
@@ -117,6 +133,9 @@ class Geometry:
     def user_params(self, x: np.ndarray) -> np.ndarray:
         """Parameters of the user's object: curves (N,), surfaces (N, 2); a Bezier
         triangle's collapsed-edge NURBS form S(u, w) = T(u, w (1 - u)) is mapped back."""
+        frame = getattr(self, "frame", None)
+        if frame is not None:
+            x = frame.params(x)
         if self.k == 1:
             return x[:, 0].copy()
         if self.triangle:

@@ -28,7 +28,7 @@ from ..curves.base import Curve, rational_derivatives
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
 
-__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix"]
+__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "robust_distance"]
 
 
 _POWER: Dict[Tuple[int, int], np.ndarray] = {}
@@ -370,3 +370,121 @@ def _euclidean(hom: np.ndarray, rational: bool) -> Tuple[np.ndarray, Optional[np
         return np.ascontiguousarray(hom), None
     w = hom[..., -1]
     return hom[..., :-1] / w[..., None], np.ascontiguousarray(w)
+
+
+# --- normalised frame -------------------------------------------------------------------------
+FRAME_MODERATE = 1e8        # objects with extent in [1/FRAME_MODERATE, FRAME_MODERATE], centred within
+FRAME_OFFCENTRE = 16.0      # FRAME_OFFCENTRE extents of the origin, are left in their own coordinates
+PARAM_SPAN_FLOOR = 1e-12    # inner parameter width of a Bezier piece, relative to the domain, at least
+FAR_POINT = 1e50            # query points farther than this (frame units) are moved in along their direction
+
+
+def _pow2(x: float) -> float:
+    """The power of two nearest to x > 0 (scaling by it is exact)."""
+    return float(np.ldexp(1.0, int(np.clip(np.round(np.log2(x)), -1020, 1020))))
+
+
+def _breaks_map(b: np.ndarray) -> Optional[np.ndarray]:
+    """Inner breakpoints for the breakpoints ``b`` of one direction, or None when ``b``
+    serve as they are: a domain of moderate width (FRAME_MODERATE) near the origin,
+    without pieces narrower than PARAM_SPAN_FLOOR of it. Otherwise the inner domain is
+    [0, 1], every piece at least PARAM_SPAN_FLOOR wide (a knot span 1e-300 wide makes
+    the derivative bounds h^-2 overflow), the map piecewise linear (affine per piece)."""
+    scale = _pow2(float(np.max(np.abs(b))) or 1.0)
+    bs = b / scale                                      # |bs| <= 2: differences stay finite
+    w = np.diff(bs)
+    W = float(bs[-1] - bs[0])
+    rel = w / W
+    moderate = 1.0 / FRAME_MODERATE <= b[-1] - b[0] <= FRAME_MODERATE \
+        and abs(float(b[0])) <= FRAME_MODERATE * (b[-1] - b[0])
+    if moderate and rel.min() >= PARAM_SPAN_FLOOR:
+        return None
+    inner = np.concatenate([[0.0], np.cumsum(np.maximum(rel, PARAM_SPAN_FLOOR))])
+    inner /= inner[-1]
+    inner[-1] = 1.0
+    return inner
+
+
+@dataclass(frozen=True)
+class Frame:
+    """The affine map between an object's model coordinates and parameters and the
+    normalised ones a query works in: points p = (X - centre) / scale (scale a power of
+    two: exact), so that the object is O(1) and squared distances neither overflow nor
+    underflow at any model scale; parameters per direction by a piecewise linear map of
+    the breakpoints (``inner`` per direction, None: unchanged). ``identity`` when both
+    are the identity (moderate objects keep their coordinates bit for bit)."""
+    centre: np.ndarray
+    scale: float
+    breaks: Tuple[np.ndarray, ...]
+    inner: Tuple[Optional[np.ndarray], ...]
+
+    @property
+    def identity(self) -> bool:
+        return self.scale == 1.0 and not np.any(self.centre) and all(i is None for i in self.inner)
+
+    @staticmethod
+    def of(points: np.ndarray, breaks: Tuple[np.ndarray, ...] = ()) -> "Frame":
+        """The frame of the control points ``points`` (n, dim) (their box) and breaks."""
+        P = points.reshape(-1, points.shape[-1])
+        hi, lo = P.max(axis=0), P.min(axis=0)
+        mag = _pow2(float(max(np.abs(hi).max(), np.abs(lo).max())) or 1.0)
+        extent = float(((hi / mag - lo / mag).max())) * mag          # no overflow for |P| ~ 1e308
+        centre = lo / 2 + hi / 2
+        if extent == 0.0:
+            extent = max(float(np.abs(centre).max()), 1.0)
+        moderate = 1.0 / FRAME_MODERATE <= extent <= FRAME_MODERATE
+        if moderate and float(np.abs(centre).max()) <= FRAME_OFFCENTRE * extent:
+            centre, scale = np.zeros_like(centre), 1.0
+        else:
+            scale = _pow2(extent)
+            if float(np.abs(centre).max()) <= FRAME_OFFCENTRE * extent:
+                centre = np.zeros_like(centre)
+        return Frame(centre, scale, tuple(breaks), tuple(_breaks_map(b) for b in breaks))
+
+    def with_breaks(self, breaks: Tuple[np.ndarray, ...]) -> "Frame":
+        """The same point map for another object (own breaks, own parameter map)."""
+        return Frame(self.centre, self.scale, tuple(breaks), tuple(_breaks_map(b) for b in breaks))
+
+    # --- points -----------------------------------------------------------------------------
+    def inward(self, X: np.ndarray) -> np.ndarray:
+        """Model points (N, dim) in frame units, ``X / scale - centre / scale`` (finite
+        for any finite X: the scale is at most 2^1020)."""
+        if self.identity:
+            return X
+        with np.errstate(over="ignore"):
+            return X / self.scale - self.centre / self.scale
+
+    def outward(self, p: np.ndarray) -> np.ndarray:
+        """Frame points back in model coordinates."""
+        return p if self.identity else self.centre + self.scale * p
+
+    # --- parameters ---------------------------------------------------------------------------
+    def pieces(self, pieces: "BezierPieces") -> "BezierPieces":
+        """``pieces`` in frame units and inner parameters."""
+        if self.identity:
+            return pieces
+        P = (pieces.control_points - self.centre) / self.scale if np.any(self.centre) or self.scale != 1.0 \
+            else pieces.control_points
+        breaks = tuple(b if i is None else i for b, i in zip(pieces.breaks, self.inner))
+        return BezierPieces(np.ascontiguousarray(P), pieces.weights, breaks, pieces.periodic)
+
+    def params(self, x: np.ndarray) -> np.ndarray:
+        """Inner parameters (N, k) as the object's own (affine per piece)."""
+        if all(i is None for i in self.inner):
+            return x
+        out = np.array(x, dtype=np.float64)
+        for a, (b, inner) in enumerate(zip(self.breaks, self.inner)):
+            if inner is not None:
+                j = np.clip(np.searchsorted(inner, out[:, a], side="right") - 1, 0, len(inner) - 2)
+                f = np.clip((out[:, a] - inner[j]) / (inner[j + 1] - inner[j]), 0.0, 1.0)
+                out[:, a] = np.where(f >= 1.0, b[j + 1], (1.0 - f) * b[j] + f * b[j + 1])
+        return out
+
+
+def robust_distance(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """|X - Y| along the last axis without overflow or underflow on the way (both scaled
+    by their largest coordinate per row; inf only when the distance exceeds float64)."""
+    m = np.maximum(np.abs(X).max(axis=-1), np.abs(Y).max(axis=-1))
+    safe = np.where(m > 0, m, 1.0)[..., None]
+    with np.errstate(over="ignore"):
+        return m * np.sqrt(((X / safe - Y / safe) ** 2).sum(-1))

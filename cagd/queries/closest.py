@@ -24,6 +24,14 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
 
 The minimum of all bounds is ``lower_bounds``: no point of the object is closer than
 it, so ``distances - lower_bounds`` tells how sure the answer is.
+
+Scale and size (issue 14): the work is done in the object's normalised frame
+(:class:`cagd.queries.bounds.Frame`: translated, scaled by a power of two to O(1),
+knot spans at least 1e-12 of the domain), so coordinates from 1e-300 to 1e300 give the
+same answer scaled; points farther than FAR_POINT (1e50) object sizes are moved in
+along their direction (their foot moves by ~1e-50 of the size). Memory is bounded:
+points go in chunks (POINT_CHUNK, PAIR_BUDGET), the voxel grid holds at most
+GRID_ENTRIES entries, and large objects get one cell per Bezier piece.
 """
 from __future__ import annotations
 
@@ -40,13 +48,19 @@ from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import BezierPieces, bezier_pieces, closed_directions
+from .bounds import FAR_POINT, BezierPieces, Frame, bezier_pieces, closed_directions, robust_distance
 from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, pair_distances as _distances, \
     PowerTable, projected_newton, split_boxes as _split
 
 __all__ = ["ClosestPoints", "Projector", "closest_point", "CLOSEST_TOL"]
 
 CLOSEST_TOL = 1e-12     # default tol of closest_point, relative to the object's size
+GRID_VOXELS = 2e6       # voxels of a Projector's grid, at most
+GRID_ENTRIES = 4e6      # (voxel, cell) entries of the grid, at most (a random 300 x 300 net made 84e6)
+POINT_CHUNK = 16384     # query points handled at once, at most (memory O(chunk), not O(N))
+MIN_CHUNK = 32          # ... at least
+PAIR_BUDGET = 4e6       # ... and at most this many (point, cell) pairs if each met every cell
+EVAL_CHUNK = 65536      # evaluations at once while preparing (the C2 test at the breaks)
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
                "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
                "is param_tol= now")
@@ -98,7 +112,11 @@ class Projector:
         if not isinstance(obj, (Curve, Surface)):
             raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
         self.triangle = isinstance(obj, Surface) and not obj.rectangular
-        self.pieces = bezier_pieces(obj)
+        raw = bezier_pieces(obj)
+        # every computation below is in the normalised frame (the object O(1), knot spans
+        # of reasonable width); queries map points in and results out
+        self.frame = Frame.of(raw.control_points, raw.breaks)
+        self.pieces = self.frame.pieces(raw)
         k, m = self.pieces.k, len(self.pieces)
         default = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(256, 16 * m))
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
@@ -137,7 +155,7 @@ class Projector:
         else:
             cu, cv = self._cell_piece_dir
             self._cell_piece = (cu[:, None] * self.pieces.shape[1] + cv[None, :]).ravel()
-        self._run = [np.r_[0, np.cumsum(~ok)] for ok in _c2_breaks(self.pieces)]
+        self._run = [np.r_[0, np.cumsum(~ok)] for ok in _c2_breaks(self.pieces, _c2_by_knots(obj, raw))]
         self._cell_run = [run[cp] for run, cp in zip(self._run, self._cell_piece_dir)]
         # component rows (contiguous per coordinate and partial) for 1-D gathers
         self._mid_rows = (np.ascontiguousarray(self.mid_points.T), np.ascontiguousarray(self.mid_jacobians.T),
@@ -148,6 +166,7 @@ class Projector:
         self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + 1e-12)
         P = self.pieces.control_points.reshape(-1, self.dim)
         self.size = max(float(np.ptp(P, axis=0).max()), 1e-300)
+        self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
         self._build_grid()
 
     # --- evaluation --------------------------------------------------------------------
@@ -187,14 +206,18 @@ class Projector:
         V = max(typical, 1e-9 * self.size)
         origin = self.centers.min(axis=0) - self.T - r.max()
         extent = self.centers.max(axis=0) + self.T + r.max() - origin
-        while np.prod(np.ceil(extent / V) + 1) > 2e6:
+        while np.prod(np.ceil(extent / V) + 1) > GRID_VOXELS:
             V *= 1.5
-        dims = (np.ceil(extent / V) + 1).astype(np.intp)
         reach = self.T + r
-        lo = np.floor((self.centers - reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
-        hi = np.floor((self.centers + reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
-        span = hi - lo + 1
-        count = np.prod(span, axis=1)
+        while True:             # at most GRID_ENTRIES (voxel, cell) entries: bounded memory
+            dims = (np.ceil(extent / V) + 1).astype(np.intp)
+            lo = np.floor((self.centers - reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
+            hi = np.floor((self.centers + reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
+            span = hi - lo + 1
+            count = np.prod(span, axis=1)
+            if float(count.sum()) <= GRID_ENTRIES:
+                break
+            V *= 1.5
         cell = np.repeat(np.arange(len(r)), count)
         local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
         vox = np.zeros(len(cell), dtype=np.intp)
@@ -325,8 +348,9 @@ class Projector:
         neither is given), ``param_tol`` relative to the parameter range; None: unused."""
         if tol is None and param_tol is None:
             return CLOSEST_TOL * self.size, None
-        return (None if tol is None else _checks.positive(tol, "tol"),
-                None if param_tol is None else _checks.positive(param_tol, "param_tol"))
+        with np.errstate(over="ignore"):                # a distance in model units, in frame units
+            inner = None if tol is None else float(np.float64(_checks.positive(tol, "tol")) / self.frame.scale)
+        return inner, None if param_tol is None else _checks.positive(param_tol, "param_tol")
 
     def closest(self, points: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, max_rounds: int = 40, *,
                 param_tol: Optional[float] = None) -> ClosestPoints:
@@ -337,8 +361,13 @@ class Projector:
 
     def _closest(self, points: ArrayLike, tol: Optional[float], param_tol: Optional[float], max_iterations: int = 50,
                  max_rounds: int = 40) -> ClosestPoints:
-        X = self._points(points)
+        model = self._points(points)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
+        chunk = int(np.clip(PAIR_BUDGET // len(self.radii), MIN_CHUNK, POINT_CHUNK))
+        if len(model) > chunk:          # a point may pair with every cell: N * cells bounded
+            return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds)
+                            for i in range(0, len(model), chunk)])
+        X, far = self._inward(model)
         N = len(X)
         vid, vstart, vcount = self._voxels(X)
         seed = self.seeds(X, vstart, vcount)
@@ -426,7 +455,7 @@ class Projector:
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
         LB = np.minimum(LB * (1.0 - 1e-13), d)
-        return self._result(x, d, conv, LB)
+        return self._result(x, d, conv, LB, model, far)
 
     def local_minima(self, point: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, *,
                      param_tol: Optional[float] = None) -> ClosestPoints:
@@ -439,9 +468,10 @@ class Projector:
 
     def _local_minima(self, point: ArrayLike, tol: Optional[float], param_tol: Optional[float],
                       max_iterations: int = 50) -> ClosestPoints:
-        X = self._points(point)
-        if len(X) != 1:
-            raise CagdError(f"points: all_minima needs exactly one point, got {len(X)}")
+        model = self._points(point)
+        if len(model) != 1:
+            raise CagdError(f"points: all_minima needs exactly one point, got {len(model)}")
+        X, far = self._inward(model)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         m = len(self.radii)
         pid = np.zeros(m, dtype=np.intp)
@@ -495,8 +525,9 @@ class Projector:
                 keep.append(i)
         chosen = chosen[keep]
         d = np.sqrt(g2[chosen])
-        lower = self._closest(X, tol, param_tol, max_iterations).lower_bounds[0]
-        res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d))
+        lower = self._closest(model, tol, param_tol, max_iterations).lower_bounds[0] / self.frame.scale
+        res = self._result(y[chosen], d, ok[chosen], np.minimum(np.full(len(chosen), lower), d),
+                           np.repeat(model, len(chosen), axis=0), np.repeat(far, len(chosen)))
         return replace(res, isolated=~degenerate[chosen])
 
     def _closed(self) -> np.ndarray:
@@ -567,9 +598,15 @@ class Projector:
         return np.clip(self.mids[seed] + step, lo, hi)
 
     def _bound(self, X, pid, cell, lo, hi, c) -> np.ndarray:
-        """Second-order lower bound of g over boxes inside their cells, expanded at c."""
-        S, J, H = self.evaluate(c, 2, self._cell_piece[cell])     # the cell's own piece
-        return box_lower_bound(X[pid], lo, hi, c, S, J, H, self.L[cell], self.M[cell], self.T3[cell])
+        """Second-order lower bound of g over boxes inside their cells, expanded at c (in
+        chunks of EVAL_CHUNK boxes: the partials of millions of pairs would not fit)."""
+        out = np.empty(len(pid))
+        for c0 in range(0, len(pid), EVAL_CHUNK):
+            sl = slice(c0, c0 + EVAL_CHUNK)
+            ce = cell[sl]
+            S, J, H = self.evaluate(c[sl], 2, self._cell_piece[ce])     # the cell's own piece
+            out[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], c[sl], S, J, H, self.L[ce], self.M[ce], self.T3[ce])
+        return out
 
     def _points(self, points: ArrayLike) -> np.ndarray:
         X = _checks.finite_array(points, "points")
@@ -581,8 +618,36 @@ class Projector:
             raise CagdError(f"points: expected {self.dim}-D points (the object is {self.dim}-D), got {X.shape[1]}-D")
         return X
 
-    def _result(self, x, d, conv, lower) -> ClosestPoints:
-        feet = self.value(x)
+    def _inward(self, model: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """Model points in frame units, and which of them are farther than FAR_POINT: those
+        are moved in to FAR_POINT along their direction from the frame's origin (their
+        closest point moves by O(1 / FAR_POINT) of the object's size, nothing at float64;
+        the squared distances would overflow)."""
+        X = self.frame.inward(model)
+        r = robust_distance(X, np.zeros_like(X))
+        far = r > FAR_POINT
+        if far.any():
+            X = X.copy()
+            X[far] = X[far] / r[far, None] * FAR_POINT
+        return X, far
+
+    def _result(self, x, d, conv, lower, model: np.ndarray, far: np.ndarray) -> ClosestPoints:
+        """The result in model units from frame-unit parameters x, distances d and lower
+        bounds; rows ``far`` (see :meth:`_inward`) get their distance from the model
+        point itself and the bound |X - c| - R (c the frame's origin, R the radius about
+        it of the control points: the object lies in that ball)."""
+        feet = self.frame.outward(self.value(x))
+        s = self.frame.scale
+        d, lower = d * s, lower * s
+        if far.any():
+            d[far] = robust_distance(model[far], feet[far])
+            centre = np.broadcast_to(self.frame.centre, model[far].shape)
+            lower[far] = np.minimum(np.maximum(robust_distance(model[far], centre) - s * self.hull_radius, 0.0),
+                                    d[far])
+        if not np.all(np.isfinite(d)):
+            i = int(np.flatnonzero(~np.isfinite(d))[0])
+            raise CagdError(f"points: the distance from points[{i}] to the object exceeds the float64 range")
+        x = self.frame.params(x)
         if self.triangle:                                   # (s, t) -> (u, v) = (s, t (1 - s))
             x = np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
         params = x[:, 0].copy() if self.k == 1 else x.copy()
@@ -594,16 +659,55 @@ class Projector:
         return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
 
 
-def _c2_breaks(pieces: BezierPieces) -> List[np.ndarray]:
-    """Per direction, for every inner break: the object is C2 across it (all partials up
-    to order 2 of the two neighbouring pieces agree, within 1e-10 of their size, at
-    4 (degree + 1) points along the break on every piece across)."""
+def _concat(parts: List[ClosestPoints]) -> ClosestPoints:
+    """The results of consecutive chunks of points as one (the message recounted)."""
+    fields = {f: np.concatenate([getattr(p, f) for p in parts])
+              for f in ("params", "feet", "distances", "point_converged", "lower_bounds")}
+    conv = fields["point_converged"]
+    bad = np.flatnonzero(~conv)
+    message = "" if not bad.size else (
+        f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
+        f"their distances are the best found, lower_bounds still hold")
+    return ClosestPoints(**fields, isolated=None, converged=not bad.size, message=message)
+
+
+def _c2_by_knots(obj: Union[Curve, Surface], raw: BezierPieces) -> List[Optional[np.ndarray]]:
+    """Per direction, the inner breaks where the NURBS form is C2 by its knots alone (a
+    knot of multiplicity m leaves a degree-p B-spline, rational too, C^(p - m): Piegl &
+    Tiller 2.2); None where the breaks are not its distinct inner knots."""
+    nurbs = obj.to_nurbs()
+    if isinstance(nurbs, Curve):
+        forms = [(getattr(nurbs, "knots", None), getattr(nurbs, "degree", None))]
+    else:
+        forms = [(getattr(nurbs, "knots_u", None), getattr(nurbs, "degree_u", None)),
+                 (getattr(nurbs, "knots_v", None), getattr(nurbs, "degree_v", None))]
+    out: List[Optional[np.ndarray]] = []
+    for (knots, p), b in zip(forms, raw.breaks):
+        inner = b[1:-1]
+        if knots is None or p is None or not len(inner):
+            out.append(None)
+            continue
+        kv = np.asarray(knots, dtype=np.float64)
+        mult = np.searchsorted(kv, inner, side="right") - np.searchsorted(kv, inner, side="left")
+        out.append((mult >= 1) & (p - mult >= 2))
+    return out
+
+
+def _c2_breaks(pieces: BezierPieces, known: Optional[List[Optional[np.ndarray]]] = None) -> List[np.ndarray]:
+    """Per direction, for every inner break: the object is C2 across it (``known``: True
+    where the knots already say so, see :func:`_c2_by_knots`; the other breaks: all
+    partials up to order 2 of the two neighbouring pieces agree, within 1e-10 of their
+    size, at 4 (degree + 1) points along the break on every piece across)."""
     k, shape = pieces.k, pieces.shape
     out = []
     for a in range(k):
         n = shape[a]
         if n < 2:
             out.append(np.zeros(0, dtype=bool))
+            continue
+        sure = None if known is None else known[a]
+        if sure is not None and len(sure) == n - 1 and sure.all():
+            out.append(sure.copy())
             continue
         b = pieces.breaks[a]
         if k == 1:
@@ -628,13 +732,16 @@ def _c2_breaks(pieces: BezierPieces) -> List[np.ndarray]:
             left, right = i * shape[1] + j, (i + 1) * shape[1] + j
         else:
             left, right = j * shape[1] + i, j * shape[1] + i + 1
-        d0 = pieces.derivatives(left, X, 2)
-        d1 = pieces.derivatives(right, X, 2)
         mask = np.add.outer(np.arange(3), np.arange(3)) <= 2
-        diff = np.abs(d0 - d1)[mask].max(axis=(0, 2))
-        scale = np.maximum(np.abs(d0)[mask].max(axis=(0, 2)), np.abs(d1)[mask].max(axis=(0, 2)))
-        ok = diff <= 1e-10 * scale + 1e-300
-        out.append(ok.reshape(n - 1, -1).all(axis=1))
+        ok = np.empty(len(left), dtype=bool)
+        for c0 in range(0, len(left), EVAL_CHUNK):      # bounded memory: (3, 3, chunk, dim) at once
+            sl = slice(c0, c0 + EVAL_CHUNK)
+            d0 = pieces.derivatives(left[sl], X[sl], 2)
+            d1 = pieces.derivatives(right[sl], X[sl], 2)
+            diff = np.abs(d0 - d1)[mask].max(axis=(0, 2))
+            scale = np.maximum(np.abs(d0)[mask].max(axis=(0, 2)), np.abs(d1)[mask].max(axis=(0, 2)))
+            ok[sl] = diff <= 1e-10 * scale + 1e-300
+        out.append(np.asarray(ok.reshape(n - 1, -1).all(axis=1)))
     return out
 
 
@@ -682,9 +789,10 @@ def _cell_counts(pieces: BezierPieces, target: int):
     """Parts per piece index along each direction so that the cells have about equal
     geometric extent (the first-derivative bound times the parameter width, the largest
     over the row or column of pieces): at least the uniform count per = (target / m)^(1/k)
-    (>= 2), at most 8 per, and at most twice the uniform total."""
+    (>= 2, or >= 1 when there are at least ``target`` pieces: memory and time O(pieces),
+    not 4 or 8 times that), at most 8 per, and at most twice the uniform total."""
     k, shape, m = pieces.k, pieces.shape, len(pieces)
-    per = max(2, int(np.ceil((target / m) ** (1.0 / k))))
+    per = max(1 if m >= target else 2, int(np.ceil((target / m) ** (1.0 / k))))
     B = pieces.partial_bounds(1)
     h = pieces.upper - pieces.lower
     ext = []
@@ -758,7 +866,7 @@ def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: boo
 
     Raises:
         CagdError: not a curve or surface, empty or NaN points, wrong dimension, tol or
-            param_tol <= 0.
+            param_tol <= 0, a distance beyond the float64 range.
 
     Piegl & Tiller 6.1 (point inversion by Newton); seed 004, ch. 1 §4 (minimum distance).
     """

@@ -32,7 +32,10 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from . import _subdivision as sd
 from ._symmetry import FIT_RTOL, Flat, fit_flats, flat_gap
+from .bounds import Frame, robust_distance
 
+DEFAULT_RTOL = 1e-9       # default tol: this share of the size of the larger object
+ROUNDING_RTOL = 1e-14     # ... but at least this share of the extent of both together (float64's reach)
 ISOLATION_RTOL = 1e-6     # degenerate: growth of |A - B|^2 below this share of the curvature terms
 HESSIAN_FLOOR = 1e-12     # ... or below this share of the squared lengths moved (rounding level)
 TOUCH_RTOL = 1e-12        # objects closer than this share of their size touch (the contact order decides)
@@ -284,24 +287,45 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
     the same dimension), with a certified lower bound.
 
     Stops when distance - lower_bound <= ``tol``, an absolute distance in model units
-    (default 1e-9 times the size of the objects), after ``max_depth`` halvings, or when
+    (default DEFAULT_RTOL = 1e-9 times the size of the larger object, but at least
+    ROUNDING_RTOL = 1e-14 times the extent of both together: objects 1e155 apart have
+    their distance to 14 digits), after ``max_depth`` halvings, or when
     splitting the pairs alive would make more than ``max_pairs`` pairs (then the pairs
     with the largest bounds are dropped, their bounds kept in the certificate; at most
     ``max_pairs`` pairs exist at once). ``refine_per_level`` pairs are refined by Newton
     per level. Returns a :class:`DistanceResult`; a continuum of minima (concentric,
     coaxial, parallel objects) is certified through a fitted centre or axis and
-    reported with ``isolated=False``.
+    reported with ``isolated=False``. The work is done in the frame of both objects
+    (:class:`cagd.queries.bounds.Frame`: translated and scaled to O(1)), so any model
+    scale from 1e-300 to 1e300 gives the same answer scaled.
 
     Raises:
-        CagdError: not curves/surfaces, different dimensions, tol <= 0 or NaN, bad limits.
+        CagdError: not curves/surfaces, different dimensions, tol <= 0 or NaN, bad
+            limits; a distance beyond the float64 range.
     """
     A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")
     if A.dim != B.dim:
         raise CagdError(f"a, b: objects of different dimension ({A.dim}-D and {B.dim}-D)")
+    # work in the frame of both objects together (O(1): no squared distance overflows or
+    # underflows at any model scale); distances and tolerances scale back by frame.scale
+    frame = Frame.of(np.concatenate([A.bezier.control_points.reshape(-1, A.dim),
+                                     B.bezier.control_points.reshape(-1, B.dim)]))
+    scale = frame.scale
+    given = None if tol is None else _checks.positive(tol, "tol")
+    A.reframe(frame)
+    B.reframe(frame)
     size = max(A.size, B.size)
-    if tol is None:
-        tol = 1e-9 * size
-    tol = _checks.positive(tol, "tol")
+    if given is None:
+        # a distance between objects farther apart than their sizes is resolved to
+        # ROUNDING_RTOL of their common extent at best: the default never asks for less
+        extent = float(np.ptp(np.concatenate([sd.project(A.pieces.ctrl).reshape(-1, A.dim),
+                                              sd.project(B.pieces.ctrl).reshape(-1, B.dim)]), axis=0).max())
+        tol = max(DEFAULT_RTOL * size, ROUNDING_RTOL * extent)
+    else:
+        with np.errstate(over="ignore", under="ignore"):
+            tol = float(np.float64(given) / scale)
+        if tol == 0.0:
+            raise CagdError(f"tol: {given!r} is below float64's resolution at the scale of the objects")
     max_depth = _checks.integer(max_depth, "max_depth", 0, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
     refine_per_level = _checks.integer(refine_per_level, "refine_per_level", 1, 4096)
@@ -377,7 +401,7 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
             break
         if not alive.any():            # only pairs dropped at the cap could hold a closer point
             message = (f"pair cap {max_pairs} reached: the pairs dropped there bound the distance from "
-                       f"below by {floor:.6g}")
+                       f"below by {floor * scale:.6g}")
             break
         if depth == max_depth:
             message = (f"depth limit {max_depth} reached with {np.count_nonzero(alive)} pairs alive"
@@ -402,10 +426,13 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
     improve(x, y, dist)
     lower = min(lower, best)
     converged = best - lower <= tol
-    pA, pB = A.points(bx[None])[0], B.points(by[None])[0]
+    pA, pB = frame.outward(A.points(bx[None]))[0], frame.outward(B.points(by[None]))[0]
     pA.flags.writeable = pB.flags.writeable = False
-    return DistanceResult(float(np.linalg.norm(pA - pB)), (_param(A, bx), _param(B, by)), (pA, pB),
-                          float(lower), tol, bool(converged), not degenerate, "" if converged else message)
+    distance = float(robust_distance(pA, pB))
+    if not np.isfinite(distance):
+        raise CagdError("a, b: their distance exceeds the float64 range")
+    return DistanceResult(distance, (_param(A, bx), _param(B, by)), (pA, pB), min(float(lower) * scale, distance),
+                          tol * scale, bool(converged), not degenerate, "" if converged else message)
 
 
 def _param(G: sd.Geometry, x: np.ndarray) -> Union[float, np.ndarray]:

@@ -143,8 +143,12 @@ class _BlendedPatch(Surface):
         self.rel_tol = _checks.scalar(rel_tol, "rel_tol")
         if self.rel_tol < 0:
             raise CagdError(f"rel_tol: must be non-negative, got {self.rel_tol}")
-        named = [(n, c) for n, c in zip(self._c_names + self._d_names, list(c_curves) + list(d_curves))
-                 if c is not None]
+        given = list(zip(self._c_names + self._d_names, list(c_curves) + list(d_curves)))
+        boundaries = {self._c_names[0], self._c_names[-1], self._d_names[0], self._d_names[-1]}
+        for name, c in given:                 # the four boundary curves are never optional
+            if c is None and name in boundaries:
+                raise CagdError(f"{name}: expected a cagd curve (a boundary of the patch), got None")
+        named = [(n, c) for n, c in given if c is not None]
         for name, c in named:
             if not isinstance(c, Curve):
                 raise CagdError(f"{name}: expected a cagd curve, got {type(c).__name__}")

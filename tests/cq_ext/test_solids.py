@@ -266,3 +266,57 @@ def test_thicken_errors():
             cq_ext.thicken(cq_ext.to_cq(cagd.sphere(1.0, (0, 0, 0))), t)
     with pytest.raises(CagdError, match="thickness"):
         cq_ext.thicken(cagd.cylinder(1.0, 2.0), -1.5)
+
+
+# --- issue 14: extreme sweeps, far axes and thicknesses ---
+_PROFILE = cagd.BezierCurve([[1.0, 0.0, 0.0], [2.0, 1.0, 0.0], [1.0, 2.0, 0.0]])
+
+
+def _pappus_area_per_radian(curve) -> float:
+    """Area of the revolution about the y axis per radian of sweep: int x(t) |c'(t)| dt
+    (Pappus-Guldinus, the x coordinate is the distance from the axis)."""
+    def f(t):
+        d = curve.derivatives(np.array([t]), 1)
+        return float(d[0, 0, 0] * np.linalg.norm(d[1, 0]))
+    return quad(f, 0.0, 1.0, epsabs=1e-14)[0]
+
+
+@pytest.mark.parametrize("degrees", [1e-12, 1e-8, 1e-7, 1e-3])
+@pytest.mark.parametrize("nurbs", [False, True])
+def test_revolve_surface_by_tiny_angles(degrees, nurbs):
+    """A sweep OCCT reads as a whole turn (parameter range below its PConfusion, 1e-9:
+    1e-8 degrees gave area 19.0 for the true 5.3e-10 before): the face has the area of
+    Pappus' theorem (within 1e-6 relative)."""
+    face = cq.Workplane("XY").revolveSurface(_PROFILE, degrees, nurbs=nurbs).val().wrapped
+    expected = _pappus_area_per_radian(_PROFILE) * math.radians(degrees)
+    assert area(face) == pytest.approx(expected, rel=1e-6)
+
+
+@pytest.mark.parametrize("args, match", [
+    ((1e300,), "angleDegrees: must be a finite non-zero"),           # > 60 s in OCCT before
+    ((720.0,), "angleDegrees: must be a finite non-zero"),
+    ((0.0,), "angleDegrees: must be a finite non-zero"),
+    (("90",), "angleDegrees: must be a finite non-zero"),
+    ((90.0, (1e300, 0, 0), (1e300, 1, 0)), "axisStart: coordinates up to 1e\\+300 exceed"),  # ConstructionError
+    ((90.0, (0, 0, 0), (0, 1e300, 0)), "axisEnd: coordinates up to 1e\\+300 exceed"),
+    ((90.0, (1, 2, 3), (1, 2, 3)), "axisStart, axisEnd: the same point"),
+    ((90.0, "abc", (0, 1, 0)), "axisStart: not a numeric array"),    # UnboundLocalError once
+])
+@pytest.mark.parametrize("nurbs", [False, True])
+def test_revolve_surface_bad_input(args, match, nurbs):
+    with pytest.raises(CagdError, match=match):
+        cq.Workplane("XY").revolveSurface(_PROFILE, *args, nurbs=nurbs)
+
+
+def test_revolve_surface_far_profile_is_refused():
+    far = cagd.BezierCurve([[1e200, 0.0, 0.0], [1e200, 1.0, 0.0]])
+    with pytest.raises(CagdError, match="^profile: coordinates up to 1e\\+200 exceed"):
+        cq.Workplane("XY").revolveSurface(far, 90.0)
+
+
+@pytest.mark.parametrize("t", [1e300, -1e300, 1e-300])
+def test_thicken_extreme_thickness(t):
+    """OCCT's StdFail_NotDone (thickness 1e300) leaves as a CagdError naming thickness."""
+    face = cq.Workplane().bezierSurface([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]])
+    with pytest.raises(CagdError, match="^thickness: OCCT"):
+        face.thickenSurface(t)

@@ -131,3 +131,49 @@ def test_triangle_with_a_fold_engine_error_estimate_is_honest(nodes):
     oracle = triangle_area_oracle(tri)
     r = properties.area(tri, nodes=nodes)
     assert abs(r.value - oracle) <= r.error, (nodes, r, oracle)
+
+
+# --- issue 14: bad input is a CagdError naming the argument ---
+def test_subshapes_of_every_type():
+    """subshapes with TopAbs_COMPOUND (KeyError before), VERTEX and WIRE: the counts of
+    a box from OCCT's own explorer (6 faces, 12 edges, 8 vertices, 6 wires, 1 shell)."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
+    from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_COMPSOLID, TopAbs_SHAPE, TopAbs_SHELL, TopAbs_SOLID, \
+        TopAbs_VERTEX, TopAbs_WIRE
+    from OCP.TopoDS import TopoDS_Vertex, TopoDS_Wire
+    box = BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape()
+    counts = {TopAbs_FACE: 6, TopAbs_EDGE: 24, TopAbs_VERTEX: 48, TopAbs_WIRE: 6, TopAbs_SHELL: 1,
+              TopAbs_SOLID: 1, TopAbs_COMPOUND: 0, TopAbs_COMPSOLID: 0}
+    for kind, n in counts.items():      # the explorer visits shared edges and vertices per face
+        assert len(subshapes(box, kind)) == n, kind
+    assert all(isinstance(v, TopoDS_Vertex) for v in subshapes(box, TopAbs_VERTEX))
+    assert all(isinstance(w, TopoDS_Wire) for w in subshapes(box, TopAbs_WIRE))
+    wire = make_wire([BezierCurve([[0, 0, 0], [1, 0, 0]]), BezierCurve([[1, 0, 0], [1, 1, 0]])])
+    assert len(subshapes(wire, TopAbs_WIRE)) == 1 and len(subshapes(wire, TopAbs_EDGE)) == 2
+    for bad in (TopAbs_SHAPE, "FACE", 3):
+        with pytest.raises(CagdError, match="^kind: expected one of"):
+            subshapes(box, bad)
+
+
+def test_make_wire_takes_any_iterable():
+    """A generator (TypeError: no len() before) gives the same wire as the list."""
+    parts = [BezierCurve([[0, 0, 0], [1, 0, 0]]), BezierCurve([[1, 0, 0], [1, 1, 0]])]
+    wire = make_wire(c for c in parts)
+    assert len(subshapes(wire, TopAbs_EDGE)) == 2
+    with pytest.raises(CagdError, match="^curves: expected a sequence"):
+        make_wire(3)
+    with pytest.raises(CagdError, match="^curves: need at least one"):
+        make_wire(iter([]))
+
+
+def test_occt_exceptions_become_cagd_errors():
+    """OCCT's exceptions (raw Standard_NoSuchObject from free_edge_count before) leave
+    the bridge as CagdError naming the argument; other exceptions pass through."""
+    from OCP.Standard import Standard_NoSuchObject
+    from cagd.occ.wrapped import occt_errors
+    with pytest.raises(CagdError, match=r"^shape: OCCT failed to count \(Standard_NoSuchObject"):
+        with occt_errors("shape", "count"):
+            raise Standard_NoSuchObject("no such object")
+    with pytest.raises(KeyError):
+        with occt_errors("shape", "count"):
+            raise KeyError("x")

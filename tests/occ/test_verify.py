@@ -411,3 +411,37 @@ def test_closed_clamped_rational_curve_survives_step():
     assert verify(BSplineCurve(P, 3), stages=("step",)).passed         # polynomial: fine
     r = verify(c, stages=("step",))
     assert r.passed, str(r)
+
+
+# --- issue 14: extreme input is a CagdError naming the argument, never a raw exception ---
+def test_domain_too_short_or_long_is_refused():
+    """Knots 1e-300 apart (ZeroDivisionError before) and 1e300 apart (OverflowError):
+    the derivative scales size / length^k vanish or overflow, so no relative deviation
+    exists; a CagdError says why."""
+    P = [[0, 0], [1, 1], [2, 0]]
+    for h in (1e-300, 1e300):
+        c = BSplineCurve(P, 2, [0, 0, 0, h, h, h])
+        with pytest.raises(CagdError, match="obj: cannot be compared"):
+            verify(c, stages=("occt",))
+
+
+def test_four_dimensional_object_is_refused():
+    """A 4-D object (ValueError from a broadcast before): OCCT has 2-D and 3-D geometry."""
+    with pytest.raises(CagdError, match="obj: OCCT geometry is 2-D or 3-D, got a 4-D"):
+        verify(BezierCurve([[0, 0, 0, 0], [1, 1, 1, 1]]))
+
+
+def test_long_and_odd_names_make_valid_files(tmp_path):
+    """A 300-character name (OSError: file name too long, before) and one with a
+    non-ASCII letter: the file stem is cut to NAME_CHARS and ends in a hash of the whole
+    name, so two long names differing at the end give two files."""
+    from cagd.occ.verify import NAME_CHARS, _safe
+    c = BezierCurve([[0, 0, 0], [1, 2, 0], [3, 1, 1]])
+    a, b = "x" * 299 + "a", "x" * 299 + "b"
+    assert len(_safe(a)) == NAME_CHARS and _safe(a) != _safe(b)
+    assert _safe("é") == "_"
+    report = verify(c, name=a, stages=("step",), workdir=tmp_path)
+    assert report.passed and report.name == a
+    assert [p.name for p in tmp_path.iterdir()] == [_safe(a) + ".step"]
+    with pytest.raises(CagdError, match="name: expected a string"):
+        verify(c, name=3)

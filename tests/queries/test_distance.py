@@ -345,3 +345,45 @@ def test_symmetric_continua_anywhere(seed, r, gap, cylinders):
     res = min_distance(a.transformed(R, t), b.transformed(rotation(seed + 1) if not cylinders else R, t))
     check_exact(res, gap)
     assert not res.isolated
+
+
+# --- issue 14: extreme scales and separations ----------------------------------------------
+_CUBIC = BezierCurve([[0.0, 0.0, 0.0], [1.0, 2.0, 0.0], [3.0, 1.0, 1.0], [4.0, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize("D", [1e155, 1e160, 1e250])
+def test_objects_far_apart(D):
+    """Objects 1e155 apart raised TypeError/AssertionError (squared distances overflow):
+    the distance of a curve and its copy moved by D along x is D - 4 (its x-extent), to
+    float64's resolution at that scale (default tol: ROUNDING_RTOL of the extent)."""
+    r = min_distance(_CUBIC, _CUBIC.transformed(np.eye(3), [D, 0.0, 0.0]))
+    assert r.converged
+    assert r.distance == pytest.approx(D - 4.0, rel=1e-14)
+    assert r.lower_bound <= r.distance and r.gap <= r.tol <= 1e-13 * D
+    assert np.linalg.norm((r.points[1] - r.points[0]) / D) * D == pytest.approx(r.distance, rel=1e-15)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e100, 1e299])
+def test_distance_scale_invariance(scale):
+    """A curve and a sphere at every model scale: the distance scales, the parameters
+    stay (the work is in the frame of both objects)."""
+    b = _CUBIC.transformed(np.eye(3), [0.0, 0.0, 3.0])
+    ref = min_distance(_CUBIC, b)
+    M = np.eye(3) * scale
+    r = min_distance(_CUBIC.transformed(M, [0.0, 0.0, 0.0]), b.transformed(M, [0.0, 0.0, 0.0]))
+    assert r.converged and r.distance / scale == pytest.approx(ref.distance, rel=1e-12)
+    assert r.lower_bound <= r.distance and r.tol == pytest.approx(ref.tol * scale, rel=1e-12)
+    s = min_distance(sphere(1.0).transformed(M, [0.0, 0.0, 0.0]), _CUBIC.transformed(M, [0.0, 0.0, 5.0 * scale]))
+    assert s.converged and s.distance / scale == pytest.approx(4.0, rel=1e-9)
+
+
+def test_tol_below_resolution_is_refused():
+    c = _CUBIC.transformed(np.eye(3) * 1e300, [0.0, 0.0, 0.0])
+    with pytest.raises(CagdError, match="tol: .* below float64's resolution"):
+        min_distance(c, c.transformed(np.eye(3), [0.0, 0.0, 1e300]), tol=1e-300)
+
+
+def test_distance_beyond_float64_is_refused():
+    a = _CUBIC.transformed(np.eye(3), [-1.7e308, 0.0, 0.0])
+    with pytest.raises(CagdError, match="distance exceeds the float64 range"):
+        min_distance(a, _CUBIC.transformed(np.eye(3), [1.7e308, 0.0, 0.0]))

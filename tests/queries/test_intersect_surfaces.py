@@ -464,3 +464,26 @@ def test_a_curve_of_tangency_is_reported_not_hidden():
     P = np.array([p.point for p in res.points])
     assert len(P) >= 5 and np.abs(P[:, 2]).max() <= 1e-6
     assert np.abs(np.linalg.norm(P, axis=1) - 1).max() <= TOL
+
+
+# --- issue 14: coincident surfaces at a coarse tol -----------------------------------------
+@pytest.mark.parametrize("tol", [1e-3, 4e-3])
+def test_coincident_surfaces_at_coarse_tol(tol):
+    """intersect(sphere, sphere, tol=1e-3) gave 8,490 contact points and no overlap
+    (19-90 s), intersect(flat, flat, tol=1e-3) 6,013 contact points: each is one overlap
+    over the whole domain, as at tol 1e-9."""
+    for s in (cagd.sphere(1.0), cagd.BezierSurface([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]])):
+        res = intersect(s, s, tol=tol)
+        assert res.converged and len(res.points) == 0 and not res.curves
+        assert len(res.overlaps) == 1
+        assert np.allclose(res.overlaps[0].box_a, s.domain, atol=1e-6)
+
+
+def test_tangency_at_coarse_tol_stays_a_point():
+    """The overlap test at tol 1e-3 does not swallow a tangency: a unit sphere resting on
+    a plane (a cap of diameter 2 sqrt(2 tol) = 0.09 within tol) touches it at one point."""
+    s = cagd.sphere(1.0, (0, 0, 1))
+    f = cagd.BezierSurface([[[-2, -2, 0], [-2, 2, 0]], [[2, -2, 0], [2, 2, 0]]])
+    res = intersect(s, f, tol=1e-3)
+    assert res.converged and not res.overlaps and not res.curves
+    assert len(res.points) == 1 and np.allclose(res.points[0].point, 0.0, atol=1e-6)

@@ -293,3 +293,18 @@ def test_isocurves_and_boundaries_from_the_nurbs_form():
     b = S.boundaries()
     assert np.abs(b[0](T) - c0(T)).max() <= 1e-14
     assert np.abs(b[1](T) - d1(T)).max() <= 1e-14
+
+
+def test_missing_boundary_curves_are_named():
+    """CoonsPatch(None, None, None, None) raised KeyError (an empty set of dimensions)
+    and a None among valid curves a misleading corner error: each boundary is named."""
+    c = BezierCurve([[0.0, 0.0], [1.0, 0.0]])
+    for i, name in enumerate(("c0", "c1", "d0", "d1")):
+        args = [c, c, c, c]
+        args[i] = None
+        with pytest.raises(CagdError, match=f"^{name}: expected a cagd curve"):
+            CoonsPatch(*args)
+    with pytest.raises(CagdError, match="^c0: expected a cagd curve"):
+        CoonsPatch(None, None, None, None)
+    with pytest.raises(CagdError, match="^c1: expected a cagd curve"):
+        HermiteCoonsPatch(c, None, c, c)
