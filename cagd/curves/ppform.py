@@ -34,6 +34,14 @@ PP_MAX_DEGREE = 20
 LOCAL_KNOT_MAX = 1e300
 
 
+def _half_width(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(b - a) / 2, at least the smallest subnormal (a span 5e-324 wide halves to 0)."""
+    return np.maximum(0.5 * (b - a), _TINY)
+
+
+_TINY = float(np.nextafter(0.0, 1.0))
+
+
 class PPForm(Value):
     """Piecewise polynomial with ``breaks`` (s+1,) and ``coefficients`` (p+1, s, dim),
     a value like the curves it caches for (read-only arrays)."""
@@ -47,7 +55,7 @@ class PPForm(Value):
         self._mid = frozen(0.5 * (b[1:] + b[:-1]))
         with np.errstate(over="ignore", divide="ignore"):
             self._inv_half = frozen(2.0 / (b[1:] - b[:-1]))
-        self._half = frozen(0.5 * (b[1:] - b[:-1]))
+        self._half = frozen(_half_width(b[:-1], b[1:]))
         # a span narrower than 2 / 1.8e308 (subnormal) has no finite 1/half: divide there
         self._subnormal = bool(not np.all(np.isfinite(self._inv_half)))
         nspan = len(b) - 1
@@ -68,7 +76,7 @@ class PPForm(Value):
         p = degree
         span = np.flatnonzero(knots[p:n] < knots[p + 1:n + 1]) + p
         a, b = knots[span], knots[span + 1]
-        mid, half = 0.5 * (a + b), 0.5 * (b - a)
+        mid, half = 0.5 * (a + b), _half_width(a, b)
         # each span's knot window u_{i-p}..u_{i+p+1} in its own centred variable
         # x = (u - mid)/half, so the x-derivatives are the Taylor coefficients times k!
         # without forming (1/h)^k (no overflow on narrow spans, no loss at large offsets)

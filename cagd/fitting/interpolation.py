@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..basis.bernstein import bernstein
-from ..basis.banded import banded_product, solve_banded_rows
+from ..basis.banded import solve_banded_rows
 from ..basis.bspline import basis_functions
 from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
@@ -164,42 +164,80 @@ def _schoenberg_whitney(N: np.ndarray, start: np.ndarray, u: np.ndarray) -> None
                         f"(N_{k0},p(u_{k0}) = {diag[k0]:.3g}); the interpolation system is singular")
 
 
+#: Design matrices up to this many entries are solved densely by QR (numpy.linalg.lstsq,
+#: error ~ cond(N) eps); larger ones by the banded normal equations (memory O(m p)), whose
+#: error grows like cond(N)^2 eps, so their answer is checked by iterative refinement.
+LSQ_DENSE_MAX = 4_000_000
+#: Largest relative correction accepted from the second refinement step of the normal
+#: equations; a larger one means cond(N)^2 eps is not small: the fit is refused.
+LSQ_REFINE_TOL = 1e-10
+
+
 def _least_squares(U: np.ndarray, p: int, sites: np.ndarray, count: int, Qn: np.ndarray) -> np.ndarray:
     """Interior control points P_1..P_{n-1} minimising sum |Q_k - C(ubar_k)|^2 with
-    P_0 = Q_0, P_n = Q_m fixed: the normal equations (N^T N) P = N^T R (Piegl & Tiller
-    eq. 9.66-9.67), N^T N banded (bandwidth p), accumulated from the p+1 local basis
-    values of each site (O(m p^2), no dense m x n matrix) and solved by block LU.
+    P_0 = Q_0, P_n = Q_m fixed (Piegl & Tiller eq. 9.63-9.67). Small systems (at most
+    LSQ_DENSE_MAX matrix entries) by QR (numpy.linalg.lstsq); large ones by the normal
+    equations (N^T N) P = N^T R, N^T N banded (bandwidth p), accumulated from the p+1
+    local basis values of each site (O(m p^2), no dense m x n matrix), solved by block
+    LU with two steps of iterative refinement (the second must be below
+    LSQ_REFINE_TOL, else the system is too ill-conditioned for them: CagdError).
 
     Raises:
-        CagdError: the normal equations are singular (a knot span without parameters)."""
+        CagdError: the system is singular (a knot span without parameters) or, for
+            large systems, too ill-conditioned for the normal equations."""
     span = kv.find_span(U, p, sites, count)
     N = basis_functions(U, p, sites, span)                                  # (m-1, p+1)
     cols = span[:, None] - p + np.arange(p + 1)
     R = Qn[1:-1] - N[:, :1] * (cols[:, :1] == 0) * Qn[0] - N[:, -1:] * (cols[:, -1:] == count - 1) * Qn[-1]
     unknown = count - 2                                                     # columns 1..count-2 -> 0..
-    w = min(2 * p + 1, unknown)
-    row = np.arange(unknown)
-    start = np.clip(row - p, 0, unknown - w)
-    band = np.zeros((unknown, w))
-    rhs = np.zeros((unknown, Qn.shape[1]))
     c = cols - 1                                                            # unknown index per entry
     keep = (c >= 0) & (c < unknown)
+    if len(sites) * unknown <= LSQ_DENSE_MAX:
+        A = np.zeros((len(sites), unknown))
+        rows = np.broadcast_to(np.arange(len(sites))[:, None], c.shape)
+        A[rows[keep], c[keep]] = N[keep]
+        sol, _, rank, _ = np.linalg.lstsq(A, R, rcond=None)
+        if rank < unknown:
+            raise CagdError(f"parameters: the least-squares system is rank deficient ({rank} < {unknown}); "
+                            f"some knot span holds no parameter")
+        return sol
+    w = min(2 * p + 1, unknown)
+    start = np.clip(np.arange(unknown) - p, 0, unknown - w)
+    band = np.zeros((unknown, w))
     for a in range(p + 1):
         ia = keep[:, a]
-        np.add.at(rhs, c[ia, a], N[ia, a, None] * R[ia])
         for b in range(p + 1):
             ib = ia & keep[:, b]
             i, j = c[ib, a], c[ib, b]
             np.add.at(band, (i, j - start[i]), N[ib, a] * N[ib, b])
+
+    def gradient(resid: np.ndarray) -> np.ndarray:        # N^T resid, accumulated per local entry
+        g = np.zeros((unknown, Qn.shape[1]))
+        for a in range(p + 1):
+            ia = keep[:, a]
+            np.add.at(g, c[ia, a], N[ia, a, None] * resid[ia])
+        return g
+
+    def apply(x: np.ndarray) -> np.ndarray:               # N x at the sites
+        xs = np.zeros((len(sites), Qn.shape[1]))
+        for a in range(p + 1):
+            ia = keep[:, a]
+            xs[ia] += N[ia, a, None] * x[c[ia, a]]
+        return xs
+
     try:
-        x = solve_banded_rows(start, band, rhs, "parameters")
+        x = solve_banded_rows(start, band, gradient(R), "parameters")
+        for step in range(2):
+            dx = solve_banded_rows(start, band, gradient(R - apply(x)), "parameters")
+            x = x + dx
     except CagdError:
         raise CagdError("parameters: the least-squares system is singular; some knot span holds no "
                         "parameter") from None
-    miss = np.abs(banded_product(start, band, x) - rhs).max()
-    if not miss <= FIT_RESIDUAL_TOL * max(float(np.abs(rhs).max()), 1.0):
-        raise CagdError(f"parameters: the least-squares system is singular or too ill-conditioned "
-                        f"(normal equations residual {miss:.3g}); some knot span holds no parameter")
+    size = max(float(np.abs(x).max()), 1.0)
+    if not float(np.abs(dx).max()) <= LSQ_REFINE_TOL * size:
+        raise CagdError(f"parameters: the least-squares system is too ill-conditioned for the normal "
+                        f"equations (refinement still moves the control points by "
+                        f"{float(np.abs(dx).max()) / size:.3g} relative); use fewer control points")
     return x
 
 
@@ -236,9 +274,10 @@ def approximate(points: ArrayLike, count: int, degree: int = 3, parameters: Para
     the result is :func:`interpolate`'s curve), P_0 = Q_0, P_n = Q_m and the interior P_1..P_{n-1}
     minimise sum_{k=1}^{m-1} |Q_k - C(ubar_k)|^2, i.e. solve
     N P = R with R_k = Q_k - N_{0,p}(ubar_k) Q_0 - N_{n,p}(ubar_k) Q_m in the
-    least-squares sense (eq. 9.63-9.67): the banded normal equations, solved by block
-    LU in the points' normalised frame (O(m p^2) time, no dense matrix; points at 1e300
-    or 1e-300 give the scaled curve).
+    least-squares sense (eq. 9.63-9.67) in the points' normalised frame (points at 1e300
+    or 1e-300 give the scaled curve): by QR for small systems, by the banded normal
+    equations with iterative refinement for large ones (O(m p^2) time, no dense matrix;
+    see LSQ_DENSE_MAX).
 
     Raises:
         CagdError: fewer than 2 points, ``count`` < degree + 1 or > len(points),

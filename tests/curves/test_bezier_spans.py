@@ -189,3 +189,25 @@ def test_de_casteljau_memory_is_bounded():
     s = BezierSurface(rng.random((40, 40, 3)))
     u, v = rng.random((50, 40)), rng.random((50, 40))
     assert np.abs(s.de_casteljau(u, v) - s(u, v)).max() <= 1e-13
+
+
+@settings(max_examples=20, deadline=None)
+@given(p=st.integers(1, cagd.MAX_DEGREE), extra=st.integers(0, 6), seed=st.integers(0, 2**32 - 1),
+       rational=st.booleans())
+def test_property_bspline_any_degree_matches_scipy(p, extra, seed, rational):
+    """Random degree up to MAX_DEGREE, random interior knots, polynomial or rational:
+    values and first derivatives equal scipy's de Boor evaluation (homogeneous, then
+    divided) within 1e-12 of the net."""
+    rng = np.random.default_rng(seed)
+    n = p + 1 + extra
+    P = rng.random((n, 2)) * 2 - 1
+    knots = np.concatenate([np.zeros(p + 1), np.sort(rng.random(extra)), np.ones(p + 1)])
+    w = rng.random(n) + 0.5 if rational else None
+    c = BSplineCurve(P, p, knots, w)
+    t = rng.random(20)
+    hom = np.hstack([P * (w if rational else np.ones(n))[:, None], (w if rational else np.ones(n))[:, None]])
+    ref = scipy_interpolate.BSpline(knots, hom, p)(t)
+    assert np.abs(c(t) - ref[:, :2] / ref[:, 2:]).max() <= 1e-12 * np.abs(P).max() * (3 if rational else 1)
+    if not rational:
+        d = scipy_interpolate.BSpline(knots, P, p)(t, nu=1)
+        assert np.abs(c.derivative(t, 1) - d).max() <= 1e-12 * max(np.abs(d).max(), 1.0)
