@@ -94,13 +94,13 @@ class Skipped:
 class FileContents:
     """What :func:`read_step` / :func:`read_iges` read: ``items`` (iterating, indexing
     and ``len`` go to them) and ``skipped``, the faces and edges that did not convert
-    (one bad face never costs the rest of the file); ``unread``, the STEP entities
-    OCCT's parser rejected (what refers to them may be missing from ``items``);
+    (one bad face never costs the rest of the file); ``unread``, the entities OCCT's
+    parser rejected or does not know (what refers to them may be missing from ``items``);
     ``complete`` is True when no face or edge was skipped, ``message`` says what was
     skipped or unread."""
     items: Tuple[Imported, ...]
     skipped: Tuple[Skipped, ...] = ()
-    unread: Tuple[str, ...] = ()      # STEP entities OCCT's parser rejected: "entity 33 (TYPE): reason"
+    unread: Tuple[str, ...] = ()      # entities OCCT's parser rejected or does not know: "entity 33 (TYPE): reason"
 
     @property
     def complete(self) -> bool:
@@ -116,7 +116,7 @@ class FileContents:
             out.append(f"{len(self.skipped)} of {len(self.items) + len(self.skipped)} faces/edges not converted; "
                        f"first: {first.kind} {first.index} of {first.name!r}: {first.reason}")
         if self.unread:
-            out.append(f"{len(self.unread)} entities of the file could not be parsed (what refers to them may be "
+            out.append(f"{len(self.unread)} entities of the file were not read (what refers to them may be "
                        f"missing); first: {self.unread[0]}")
         return "; ".join(out)
 
@@ -333,8 +333,8 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
     with _settings(xstep__cascade__unit="MM", **settings):
         if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone:
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
-        unread = _unread(reader) if kind == "STEP" else ()
-        if unread and not os.environ.get(_PROBE_FLAG):
+        unread, errors = _unread(reader.ChangeReader().Model() if kind == "STEP" else reader.Model(), kind)
+        if errors and not os.environ.get(_PROBE_FLAG):
             _probe(path, kind, unread)
         if not reader.Transfer(doc):
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
@@ -361,17 +361,25 @@ _PROBE_FLAG = "CAGD_OCC_READ_PROBE"     # set in the child process of _probe
 PROBE_TIMEOUT = 600.0                   # seconds a child transfer may take (a hang guard only)
 
 
-def _unread(reader) -> Tuple[str, ...]:
-    """"entity <number> (<TYPE>): <OCCT's reason>" for every entity the STEP parser rejected."""
-    model = reader.ChangeReader().Model()
-    out = []
+def _unread(model, kind: str) -> Tuple[Tuple[str, ...], int]:
+    """("entity <number> (<type>): <reason>" for every entity OCCT's parser rejected or
+    does not know, the number rejected). Unknown types are skipped by the transfer, and
+    what refers to them goes missing (a misspelt B-spline type lost its item silently)."""
+    out, errors = [], 0
     for i in range(1, model.NbEntities() + 1):
         if model.IsErrorEntity(i):
+            errors += 1
             report = model.ReportEntity(i)
             check = report.Check()
             reason = check.CFail(1) if check.NbFails() else "not parsed"
-            out.append(f"entity {i} ({report.Content().StepType()}): {reason}")
-    return tuple(out)
+            content = report.Content()
+            what = content.StepType() if kind == "STEP" else f"type {content.TypeNumber()}"
+            out.append(f"entity {i} ({what}): {reason}")
+        elif model.IsUnknownEntity(i) or model.Value(i).DynamicType().Name().endswith("UndefinedEntity"):
+            entity = model.Value(i)
+            what = entity.StepType() if kind == "STEP" else f"type {entity.TypeNumber()}"
+            out.append(f"entity {i} ({what}): an entity type OCCT does not read")
+    return tuple(out), errors
 
 
 def _probe(path, kind: str, unread: Tuple[str, ...]) -> None:

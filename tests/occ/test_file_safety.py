@@ -146,7 +146,7 @@ def test_every_real_file_passes_validation():
 
 def test_a_step_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path):
     """OCCT drops the item whose curve has a misspelt type: one item of two comes
-    back; ``unread`` and ``message`` say which entity was not parsed, with a warning."""
+    back; ``unread`` and ``message`` say which entities were not read, with a warning."""
     write_step([("surf", SURFACE), ("crv", CURVE)], tmp_path / "good.step")
     text = (tmp_path / "good.step").read_text()
     last = text.rindex("B_SPLINE_CURVE_WITH_KNOTS(")
@@ -154,10 +154,34 @@ def test_a_step_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path
     run = run_child(READ_ALL, str(tmp_path / "typo.step"))
     (kind, count, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
     assert (kind, count) == ("read", 1)
-    assert "1 entities of the file could not be parsed" in message and "TRIMMED_CURVE" in message
-    with pytest.warns(RuntimeWarning, match="could not be parsed"):
+    assert "2 entities of the file were not read" in message and "TRIMMED_CURVE" in message
+    with pytest.warns(RuntimeWarning, match="were not read"):
         back = read_step(tmp_path / "typo.step")
-    assert len(back) == 1 and len(back.unread) == 1 and back.complete   # every face OCCT gave converted
+    assert len(back) == 1 and back.complete        # every face OCCT gave converted; the loss is in unread
+    assert back.unread[0].startswith("entity ") and "TRIMMED_CURVE" in back.unread[0]
+    assert "B_SPLINE_CURVE_WITH_KNOTZ" in back.unread[1] and "does not read" in back.unread[1]
+
+
+def test_an_iges_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path):
+    """Entity type 127 (none) for the curve: OCCT keeps the surface and drops the curve."""
+    write_iges([("surf", SURFACE), ("crv", CURVE)], tmp_path / "good.igs")
+    lines = (tmp_path / "good.igs").read_text().splitlines(True)
+    out = []
+    for ln in lines:
+        if ln[72] == "D" and ln.startswith("     126"):
+            ln = "     127" + ln[8:]
+        if ln[72] == "P" and ln.startswith("126,"):
+            ln = "127," + ln[4:]
+        out.append(ln)
+    assert out != lines
+    (tmp_path / "unknown.igs").write_text("".join(out))
+    run = run_child(READ_ALL, str(tmp_path / "unknown.igs"))
+    (kind, count, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
+    assert (kind, count) == ("read", 1) and "type 127" in message
+    with pytest.warns(RuntimeWarning, match="1 entities of the file were not read"):
+        back = read_iges(tmp_path / "unknown.igs")
+    assert [i.name for i in back] == ["surf"] and back.unread == ("entity 3 (type 127): an entity type OCCT does "
+                                                                  "not read",)
 
 
 @pytest.mark.parametrize("name, words", [("a\nb", "control character"), ("tab\there", "control character"),
