@@ -146,3 +146,45 @@ def test_check_name_accepts_printable_one_line_names(name):
 def test_check_name_refuses(name, words):
     with pytest.raises(CagdError, match=words):
         check_name(name, "objects[0] name")
+
+
+# --- the validators' own contract: any bytes give a verdict (pass or CagdError), nothing else ------------------
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+GOOD_IGES = iges([LINE, CURVE, NAME]).encode()
+GOOD_STEP = STEP.encode()
+EDITS = st.lists(st.tuples(st.floats(0.0, 1.0), st.sampled_from([b"", b",", b";", b"(", b")", b"'", b"H", b"1H",
+                                                                 b"\n", b"\r", b"-", b"9", b"D", b"P", b"/*", b"\xff",
+                                                                 b"\x00", b" " * 8])),
+                 min_size=1, max_size=4)
+
+
+def mutated(data: bytes, edits, cut: float) -> bytes:
+    out = bytearray(data)
+    for where, piece in edits:
+        i = int(where * (len(out) - 1))
+        out[i:i + 1] = piece
+    return bytes(out[:max(1, int(cut * len(out)))])
+
+
+@settings(max_examples=300)
+@given(edits=EDITS, cut=st.floats(0.5, 1.0))
+def test_any_mutation_of_an_iges_file_is_a_verdict(tmp_path_factory, edits, cut):
+    p = tmp_path_factory.mktemp("fz") / "x.igs"
+    p.write_bytes(mutated(GOOD_IGES, edits, cut))
+    try:
+        validate_iges(p)
+    except CagdError as exc:
+        assert str(exc).startswith("path: IGES file ")
+
+
+@settings(max_examples=300)
+@given(edits=EDITS, cut=st.floats(0.5, 1.0))
+def test_any_mutation_of_a_step_file_is_a_verdict(tmp_path_factory, edits, cut):
+    p = tmp_path_factory.mktemp("fz") / "x.step"
+    p.write_bytes(mutated(GOOD_STEP, edits, cut))
+    try:
+        validate_step(p)
+    except CagdError as exc:
+        assert str(exc).startswith("path: STEP file ")
