@@ -197,19 +197,61 @@ def _entity_fields(etype: int, params: List[str]) -> None:
         for k, f in enumerate(params):
             if _IGES_HOLLERITH.match(f):
                 raise ValueError(f"field {k + 1} is a string; entity type {etype} holds numbers only")
-    need = None
     if etype == 126:
         K, M = _ints(params, 1, 6)[:2]
         if K < 1 or M < 1 or K < M:
             raise ValueError(f"upper index {K} and degree {M} do not make a B-spline curve")
-        need = 7 + (K + M + 2) + 4 * (K + 1) + 2
+        _finite(params, 7, _need(params, etype, 7 + (K + M + 2) + 4 * (K + 1) + 2))
+        _knots(params, 7, K + M + 2, "knots")
+        _weights(params, 7 + K + M + 2, K + 1)
     elif etype == 128:
         K1, K2, M1, M2 = _ints(params, 1, 9)[:4]
         if min(K1, K2, M1, M2) < 1 or K1 < M1 or K2 < M2:
             raise ValueError(f"upper indices {K1}, {K2} and degrees {M1}, {M2} do not make a B-spline surface")
-        need = 10 + (K1 + M1 + 2) + (K2 + M2 + 2) + 4 * (K1 + 1) * (K2 + 1) + 4
-    if need is not None and len(params) < need:
+        _finite(params, 10, _need(params, etype, 10 + (K1 + M1 + 2) + (K2 + M2 + 2) + 4 * (K1 + 1) * (K2 + 1) + 4))
+        _knots(params, 10, K1 + M1 + 2, "first knots")
+        _knots(params, 10 + K1 + M1 + 2, K2 + M2 + 2, "second knots")
+        _weights(params, 10 + K1 + M1 + 2 + K2 + M2 + 2, (K1 + 1) * (K2 + 1))
+
+
+def _need(params: List[str], etype: int, need: int) -> int:
+    if len(params) < need:
         raise ValueError(f"{len(params)} fields, a type {etype} entity of these sizes needs {need}")
+    return need
+
+
+def _finite(params: List[str], first: int, end: int) -> None:
+    x = _reals(params, first, end - first)
+    if not np.all(np.isfinite(x)):
+        i = int(np.argmax(~np.isfinite(x)))
+        raise ValueError(f"field {first + i + 1} {params[first + i].strip()[:20]!r} is not a finite number")
+
+
+def _reals(params: List[str], first: int, count: int) -> np.ndarray:
+    """Fields first .. first+count-1 as floats (a blank field is 0; D exponents are E)."""
+    text = [params[k].strip().replace("D", "E").replace("d", "e") or "0" for k in range(first, first + count)]
+    with np.errstate(over="ignore"):
+        return np.array([float(t) for t in text])
+
+
+def _knots(params: List[str], first: int, count: int, what: str) -> None:
+    """Knots finite, non-decreasing, not all equal (OCCT's transfer dies on decreasing ones)."""
+    k = _reals(params, first, count)
+    if not np.all(np.isfinite(k)):
+        raise ValueError(f"the {what} are not all finite")
+    drop = np.flatnonzero(np.diff(k) < 0)
+    if drop.size:
+        i = int(drop[0])
+        raise ValueError(f"the {what} decrease (field {first + i + 2}: {float(k[i + 1])!r} after {float(k[i])!r})")
+    if not k[-1] > k[0]:
+        raise ValueError(f"the {what} span no interval")
+
+
+def _weights(params: List[str], first: int, count: int) -> None:
+    w = _reals(params, first, count)
+    if not np.all(np.isfinite(w) & (w > 0.0)):
+        i = int(np.argmax(~(np.isfinite(w) & (w > 0.0))))
+        raise ValueError(f"weight {i + 1} (field {first + i + 1}) is {float(w[i])!r}; weights are positive")
 
 
 def validate_iges(path: Any) -> None:

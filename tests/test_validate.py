@@ -115,6 +115,20 @@ def test_a_malformed_iges_file_is_refused_naming_the_problem(tmp_path, edit, wor
     assert str(info.value).startswith("path: IGES file ") and "x.igs" in str(info.value)
 
 
+@pytest.mark.parametrize("old, new, words", [
+    ("126,1,1,0,0,1,0,0.,0.,1.,1.,", "126,1,1,0,0,1,0,0.,2.,1.,1.,", "knots decrease"),
+    ("126,1,1,0,0,1,0,0.,0.,1.,1.,", "126,1,1,0,0,1,0,0.,0.,0.,0.,", "span no interval"),
+    ("1.,1.,1.,1.,0.,0.,0.,", "1.,1.,1.,0.,0.,0.,0.,", "weight 2 .* weights are positive"),
+    ("0.,0.,0.,1.,1.,1.,0.,1.", "0.,0.,0.,1.,1.E999,1.,0.,1.", "not a finite number"),
+])
+def test_b_spline_numbers_occt_dies_on_are_refused(tmp_path, old, new, words):
+    """Decreasing knots (found by fuzzing a real file) killed OCCT's transfer."""
+    etype, text = CURVE
+    assert old in text
+    with pytest.raises(CagdError, match=words):
+        validate_iges(iges_file(tmp_path, iges([LINE, (etype, text.replace(old, new, 1)), NAME])))
+
+
 def test_directory_pointers_and_sections_order(tmp_path):
     good = iges([LINE, CURVE])
     lines = good.splitlines()

@@ -83,6 +83,14 @@ def damaged(folder: Path) -> dict:
     fewer[first128] = lines[first128].replace("128,3,3,3,3,", "128,9,3,3,3,", 1)    # 10 x 4 poles claimed
     (folder / "count128.igs").write_text("".join(fewer))
     cases["iges b-spline surface with too few fields"] = (folder / "count128.igs", "needs")
+    # found by fuzzing a real file (OCC8842_cylinder_Ideas.igs): one knot of a curve made larger than the next
+    # (OCCT's transfer: SIGSEGV)
+    knots = list(lines)
+    first126 = next(i for i, ln in enumerate(lines) if ln[72] == "P" and ln.startswith("126,"))
+    knots[first126] = lines[first126].replace("126,3,3,0,0,1,0,0.0000000000000000E+00,", "126,3,3,0,0,1,0,9.0000000000000000E+00,", 1)
+    assert knots != lines
+    (folder / "knots126.igs").write_text("".join(knots))
+    cases["iges b-spline curve with decreasing knots"] = (folder / "knots126.igs", "knots decrease")
     (folder / "noD.igs").write_text("".join(ln for ln in lines if ln[72] != "D"))
     cases["iges without D section"] = (folder / "noD.igs", "no D section")
     # what write_iges of a name with a newline used to write: the 406 name property split over two records
@@ -115,7 +123,7 @@ def results(tmp_path_factory):
 
 CASES = ["iges cut at 50%", "iges cut at 90%", "iges cut at 99%", "iges cut between records",
          "iges parameter section corrupted", "iges without D section", "iges string in a b-spline surface",
-         "iges b-spline surface with too few fields", "iges with a newline in a name",
+         "iges b-spline surface with too few fields", "iges b-spline curve with decreasing knots", "iges with a newline in a name",
          "step nested 100,000 deep", "step b-spline surface missing a parameter", "step cut in half"]
 
 
