@@ -87,7 +87,8 @@ def damaged(folder: Path) -> dict:
     # (OCCT's transfer: SIGSEGV)
     knots = list(lines)
     first126 = next(i for i, ln in enumerate(lines) if ln[72] == "P" and ln.startswith("126,"))
-    knots[first126] = lines[first126].replace("126,3,3,0,0,1,0,0.0000000000000000E+00,", "126,3,3,0,0,1,0,9.0000000000000000E+00,", 1)
+    zero, nine = "0.0000000000000000E+00,", "9.0000000000000000E+00,"
+    knots[first126] = lines[first126].replace("126,3,3,0,0,1,0," + zero, "126,3,3,0,0,1,0," + nine, 1)
     assert knots != lines
     (folder / "knots126.igs").write_text("".join(knots))
     cases["iges b-spline curve with decreasing knots"] = (folder / "knots126.igs", "knots decrease")
@@ -123,7 +124,8 @@ def results(tmp_path_factory):
 
 CASES = ["iges cut at 50%", "iges cut at 90%", "iges cut at 99%", "iges cut between records",
          "iges parameter section corrupted", "iges without D section", "iges string in a b-spline surface",
-         "iges b-spline surface with too few fields", "iges b-spline curve with decreasing knots", "iges with a newline in a name",
+         "iges b-spline surface with too few fields",
+         "iges b-spline curve with decreasing knots", "iges with a newline in a name",
          "step nested 100,000 deep", "step b-spline surface missing a parameter", "step cut in half"]
 
 
