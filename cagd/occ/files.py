@@ -81,8 +81,9 @@ class Imported:
 @dataclass(frozen=True)
 class Skipped:
     """A face or free edge of a file that could not be converted: the name of its item,
-    its index among the item's faces (or free edges), its kind ("face" or "edge"), the
-    reason, and the OCCT shape (still usable through OCCT)."""
+    its index among the item's faces (or free edges), its kind ("face" or "edge"; "item"
+    for an item OCCT transferred as nothing), the reason, and the OCCT shape (still
+    usable through OCCT)."""
     name: str
     index: int
     kind: str
@@ -455,6 +456,9 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
                     found.append((from_occ(s, approximate=approximate), s))
                 except CagdError as exc:
                     failed.append((kind, index, str(exc), s))
+        if not faces and not free and not subshapes(shape, TopAbs_EDGE):
+            failed.append(("item", 0, "holds no face and no curve: its geometry did not transfer (see unread, "
+                                      "or the file's entities are inconsistent)", shape))
         many = len(found) + len(failed) > 1
         out += [Imported(f"{name}[{j}]" if many else name, obj, s) for j, (obj, s) in enumerate(found)]
         skipped += [Skipped(name, index, kind, reason, s) for kind, index, reason, s in failed]

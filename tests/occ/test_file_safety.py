@@ -167,7 +167,7 @@ def test_a_step_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path
     assert "2 entities of the file were not read" in message and "TRIMMED_CURVE" in message
     with pytest.warns(RuntimeWarning, match="were not read"):
         back = read_step(tmp_path / "typo.step")
-    assert len(back) == 1 and back.complete        # every face OCCT gave converted; the loss is in unread
+    assert len(back) == 1 and [(k.name, k.kind) for k in back.skipped] == [("crv", "item")]   # the empty item
     assert back.unread[0].startswith("entity ") and "TRIMMED_CURVE" in back.unread[0]
     assert "B_SPLINE_CURVE_WITH_KNOTZ" in back.unread[1] and "does not read" in back.unread[1]
 
@@ -192,6 +192,26 @@ def test_an_iges_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_pat
         back = read_iges(tmp_path / "unknown.igs")
     assert [i.name for i in back] == ["surf"] and back.unread == ("entity 3 (type 127): an entity type OCCT does "
                                                                   "not read",)
+
+
+@pytest.mark.parametrize("old, new", [
+    (".F.,(4,4),(4,4),(0.0000000000000000E+00,", ".F.,(4,4),(4,4),(2.0000000000000000E+00,"),   # knots decrease
+    (".F.,(4,4),(4,4),", ".F.,(4,3),(4,4),"),                                                   # multiplicities
+])
+def test_a_step_item_whose_geometry_does_not_transfer_is_reported(tmp_path, old, new):
+    """OCCT transfers a B-spline surface with decreasing knots (or multiplicities that do
+    not add up) as an empty item: read_step returned the other item only, silently."""
+    write_step([("surf", SURFACE), ("crv", CURVE)], tmp_path / "good.step")
+    text = (tmp_path / "good.step").read_text()
+    assert old in text
+    (tmp_path / "bad.step").write_text(text.replace(old, new, 1))
+    run = run_child(READ_ALL, str(tmp_path / "bad.step"))
+    (kind, count, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
+    assert (kind, count) == ("read", 1) and "'surf'" in message and "did not transfer" in message
+    with pytest.warns(RuntimeWarning, match="did not transfer"):
+        back = read_step(tmp_path / "bad.step")
+    assert [i.name for i in back] == ["crv"] and not back.complete
+    assert [(k.name, k.kind) for k in back.skipped] == [("surf", "item")]
 
 
 @pytest.mark.parametrize("name, words", [("a\nb", "control character"), ("tab\there", "control character"),
