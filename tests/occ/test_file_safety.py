@@ -289,3 +289,16 @@ def test_the_child_process_check_sees_a_crash():
     """The guard of these tests works: a child killed by SIGSEGV fails the assertion."""
     with pytest.raises(AssertionError, match=f"signal {int(signal.SIGSEGV)}"):
         run_child("import os, signal; os.kill(os.getpid(), signal.SIGSEGV)")
+
+
+@pytest.mark.skipif(not (REAL / "iges" / "OCC8842_cylinder_Ideas.igs").is_file(), reason="real CAD files not present")
+def test_an_iges_entity_occt_rejects_is_transferred_in_a_child_first(tmp_path):
+    """Found by fuzzing: a face (510) claiming 111 loops. OCCT's parser flags it, its
+    transfer dies (SIGSEGV); the probe in a child process turns that into a CagdError."""
+    text = (REAL / "iges" / "OCC8842_cylinder_Ideas.igs").read_text()
+    bad = text.replace("510,25,1,1,29;    ", "510,25,111,29;    ", 1)
+    assert bad != text
+    (tmp_path / "face.igs").write_text(bad)
+    run = run_child(READ_ALL, str(tmp_path / "face.igs"))
+    (kind, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
+    assert kind == "CagdError" and "crashes on (signal" in message and "type 510" in message
