@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 import re
 import unicodedata
-from typing import Any, List, Tuple
+from typing import Any, List, Optional, Tuple
 
 import numpy as np
 
@@ -60,6 +60,11 @@ def check_name(value: Any, what: str = "name") -> str:
     return value
 
 
+def read_bytes(path: Any, kind: str) -> bytes:
+    """The bytes of a file to validate; CagdError naming it if it cannot be read."""
+    return _read_bytes(path, kind)
+
+
 def _read_bytes(path: Any, kind: str) -> bytes:
     try:
         with open(os.fspath(path), "rb") as fh:
@@ -69,16 +74,17 @@ def _read_bytes(path: Any, kind: str) -> bytes:
             from None
 
 
-def validate_step(path: Any) -> None:
+def validate_step(path: Any, data: Optional[bytes] = None) -> None:
     """The ISO 10303-21 structure of a STEP file: the ``ISO-10303-21;`` start, a HEADER
     and a DATA section closed by ``ENDSEC;``, the ``END-ISO-10303-21;`` end, strings and
     comments closed, parentheses balanced within every entity and nested at most
-    MAX_NESTING deep.
+    MAX_NESTING deep. ``data``: the file's bytes when already read (``path`` then
+    only names the file in messages).
 
     Raises:
         CagdError: naming the file and the first problem found.
     """
-    data = _read_bytes(path, "STEP")
+    data = _read_bytes(path, "STEP") if data is None else data
     where = f"path: STEP file {str(path)!r}"
     text = _STEP_SKIP.sub(b"", data)
     stray = re.search(rb"'|/\*", text)
@@ -254,19 +260,19 @@ def _weights(params: List[str], first: int, count: int) -> None:
         raise ValueError(f"weight {i + 1} (field {first + i + 1}) is {float(w[i])!r}; weights are positive")
 
 
-def validate_iges(path: Any) -> None:
+def validate_iges(path: Any, data: Optional[bytes] = None) -> None:
     """The structure of an ASCII IGES file (IGES 5.3 chapter 2): records of 80 columns;
     the sections S, G, D, P, T in that order, each numbered 1, 2, ...; two directory
     records per entity with the same entity type; the terminate record's counts equal
     to the section lengths; every entity's parameter pointer and line count inside the
     parameter section, its parameter records pointing back at it and starting with its
     entity type; directory pointers to existing entities; every parameter a number or
-    a string.
+    a string. ``data`` as for :func:`validate_step`.
 
     Raises:
         CagdError: naming the file, the record and the first problem found.
     """
-    data = _read_bytes(path, "IGES")
+    data = _read_bytes(path, "IGES") if data is None else data
     where = f"path: IGES file {str(path)!r}"
     lines = re.split(r"\r\n|\n|\r", data.decode("latin-1"))    # not splitlines(): \x85, \x0c may be text
     while lines and not lines[-1].strip(" \t\x1a"):

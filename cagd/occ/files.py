@@ -16,6 +16,7 @@ import io
 import os
 import subprocess
 import sys
+import tempfile
 import unicodedata
 import warnings
 from contextlib import contextmanager
@@ -47,7 +48,7 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
 from .._atomic import check_target, write_file
-from .._validate import check_name, validate_iges, validate_step
+from .._validate import check_name, read_bytes, validate_iges, validate_step
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -327,16 +328,17 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
     B-spline surface with a parameter missing), which must not kill this process."""
     if not _is_file(path):
         raise CagdError(f"path: no such file {str(path)!r}")
-    (validate_step if kind == "STEP" else validate_iges)(path)
+    data = read_bytes(path, kind)
+    (validate_step if kind == "STEP" else validate_iges)(path, data)
     reader.SetNameMode(True)
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     XCAFApp_Application.GetApplication_s().InitDocument(doc)
-    with _settings(xstep__cascade__unit="MM", **settings):
-        if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone:
+    with _settings(xstep__cascade__unit="MM", **settings), _private_copy(path, data) as copy:
+        if reader.ReadFile(copy) != IFSelect_RetDone:
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
         unread, errors = _unread(reader.ChangeReader().Model() if kind == "STEP" else reader.Model(), kind)
         if errors and not os.environ.get(_PROBE_FLAG):
-            _probe(path, kind, unread)
+            _probe(copy, kind, unread, path)
         if not reader.Transfer(doc):
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
@@ -347,6 +349,37 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
         label = labels.Value(i)
         out.append((_label_name(label) or f"item_{i}", tool.GetShape_s(label)))
     return out, unread
+
+
+_EXTERNAL = (b"DOCUMENT_FILE", b"EXTERNAL_SOURCE")     # STEP entities of references to other files
+
+
+@contextmanager
+def _private_copy(path, data: bytes) -> Iterator[str]:
+    """OCCT reads the bytes that were validated: a private copy in the system's temporary
+    folder (the file at ``path`` may be replaced between the check and OCCT's read).
+    A STEP file referring to other files is read in place (its references resolve from
+    its folder), as in the probe's child process, where the file already is the copy;
+    so is a file whose copy cannot be written."""
+    if os.environ.get(_PROBE_FLAG) or any(word in data for word in _EXTERNAL):
+        yield os.fspath(path)
+        return
+    try:
+        fd, name = tempfile.mkstemp(prefix="cagd-read-", suffix=Path(path).suffix[:16])
+    except OSError:
+        yield os.fspath(path)
+        return
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+    except OSError:                       # no room for the copy: read the original
+        os.unlink(name)
+        yield os.fspath(path)
+        return
+    try:
+        yield name
+    finally:
+        os.unlink(name)
 
 
 def _is_file(path) -> bool:
@@ -383,26 +416,28 @@ def _unread(model, kind: str) -> Tuple[Tuple[str, ...], int]:
     return tuple(out), errors
 
 
-def _probe(path, kind: str, unread: Tuple[str, ...]) -> None:
-    """Transfer the file in a child process; CagdError if OCCT dies there. Skipped
+def _probe(path, kind: str, unread: Tuple[str, ...], shown: object = None) -> None:
+    """Transfer the file in a child process; CagdError (naming ``shown``, the user's
+    path) if OCCT dies there. Skipped
     where the interpreter is embedded (FreeCAD: sys.executable is not a Python); a
     child that cannot start (exit code, no signal) leaves the decision to the transfer."""
     if "python" not in Path(sys.executable).name.lower():
         return
     code = ("import sys; from cagd.occ.files import read_shapes; "
             "read_shapes(sys.argv[1], sys.argv[2].lower())")
+    shown = path if shown is None else shown
     env = dict(os.environ, **{_PROBE_FLAG: "1"})
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if isinstance(p, str) and p)
     try:
         run = subprocess.run([sys.executable, "-c", code, os.fspath(path), kind], env=env, timeout=PROBE_TIMEOUT,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:
-        raise CagdError(f"path: OCCT did not finish reading {kind} file {str(path)!r} in {PROBE_TIMEOUT:g} s; "
+        raise CagdError(f"path: OCCT did not finish reading {kind} file {str(shown)!r} in {PROBE_TIMEOUT:g} s; "
                         f"{len(unread)} damaged entities, first {unread[0]}") from None
     except OSError:
         return
     if run.returncode < 0 or run.returncode > 128:
-        raise CagdError(f"path: {kind} file {str(path)!r} has {len(unread)} damaged entities that OCCT's "
+        raise CagdError(f"path: {kind} file {str(shown)!r} has {len(unread)} damaged entities that OCCT's "
                         f"transfer crashes on (signal {abs(run.returncode) % 128}); first: {unread[0]}")
 
 

@@ -302,3 +302,18 @@ def test_an_iges_entity_occt_rejects_is_transferred_in_a_child_first(tmp_path):
     run = run_child(READ_ALL, str(tmp_path / "face.igs"))
     (kind, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
     assert kind == "CagdError" and "crashes on (signal" in message and "type 510" in message
+
+
+def test_occt_reads_the_validated_bytes_not_the_file_again(tmp_path, monkeypatch):
+    """The file may be replaced between the check and OCCT's read: OCCT reads a private
+    copy of the validated bytes, removed afterwards."""
+    import cagd.occ.files as files
+    write_step([("surf", SURFACE)], tmp_path / "a.step")
+    check = files.validate_step
+
+    def check_then_replace(path, data=None):
+        check(path, data)
+        (tmp_path / "a.step").write_text("garbage")             # replaced after validation
+    monkeypatch.setattr(files, "validate_step", check_then_replace)
+    assert [i.name for i in read_step(tmp_path / "a.step")] == ["surf"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.step"]
