@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 import re
 import unicodedata
-from typing import Any, List, Tuple
+from typing import Any, List, Optional, Tuple
 
 import numpy as np
 
@@ -60,6 +60,11 @@ def check_name(value: Any, what: str = "name") -> str:
     return value
 
 
+def read_bytes(path: Any, kind: str) -> bytes:
+    """The bytes of a file to validate; CagdError naming it if it cannot be read."""
+    return _read_bytes(path, kind)
+
+
 def _read_bytes(path: Any, kind: str) -> bytes:
     try:
         with open(os.fspath(path), "rb") as fh:
@@ -69,16 +74,17 @@ def _read_bytes(path: Any, kind: str) -> bytes:
             from None
 
 
-def validate_step(path: Any) -> None:
+def validate_step(path: Any, data: Optional[bytes] = None) -> None:
     """The ISO 10303-21 structure of a STEP file: the ``ISO-10303-21;`` start, a HEADER
     and a DATA section closed by ``ENDSEC;``, the ``END-ISO-10303-21;`` end, strings and
     comments closed, parentheses balanced within every entity and nested at most
-    MAX_NESTING deep.
+    MAX_NESTING deep. ``data``: the file's bytes when already read (``path`` then
+    only names the file in messages).
 
     Raises:
         CagdError: naming the file and the first problem found.
     """
-    data = _read_bytes(path, "STEP")
+    data = _read_bytes(path, "STEP") if data is None else data
     where = f"path: STEP file {str(path)!r}"
     text = _STEP_SKIP.sub(b"", data)
     stray = re.search(rb"'|/\*", text)
@@ -197,34 +203,76 @@ def _entity_fields(etype: int, params: List[str]) -> None:
         for k, f in enumerate(params):
             if _IGES_HOLLERITH.match(f):
                 raise ValueError(f"field {k + 1} is a string; entity type {etype} holds numbers only")
-    need = None
     if etype == 126:
         K, M = _ints(params, 1, 6)[:2]
         if K < 1 or M < 1 or K < M:
             raise ValueError(f"upper index {K} and degree {M} do not make a B-spline curve")
-        need = 7 + (K + M + 2) + 4 * (K + 1) + 2
+        _finite(params, 7, _need(params, etype, 7 + (K + M + 2) + 4 * (K + 1) + 2))
+        _knots(params, 7, K + M + 2, "knots")
+        _weights(params, 7 + K + M + 2, K + 1)
     elif etype == 128:
         K1, K2, M1, M2 = _ints(params, 1, 9)[:4]
         if min(K1, K2, M1, M2) < 1 or K1 < M1 or K2 < M2:
             raise ValueError(f"upper indices {K1}, {K2} and degrees {M1}, {M2} do not make a B-spline surface")
-        need = 10 + (K1 + M1 + 2) + (K2 + M2 + 2) + 4 * (K1 + 1) * (K2 + 1) + 4
-    if need is not None and len(params) < need:
+        _finite(params, 10, _need(params, etype, 10 + (K1 + M1 + 2) + (K2 + M2 + 2) + 4 * (K1 + 1) * (K2 + 1) + 4))
+        _knots(params, 10, K1 + M1 + 2, "first knots")
+        _knots(params, 10 + K1 + M1 + 2, K2 + M2 + 2, "second knots")
+        _weights(params, 10 + K1 + M1 + 2 + K2 + M2 + 2, (K1 + 1) * (K2 + 1))
+
+
+def _need(params: List[str], etype: int, need: int) -> int:
+    if len(params) < need:
         raise ValueError(f"{len(params)} fields, a type {etype} entity of these sizes needs {need}")
+    return need
 
 
-def validate_iges(path: Any) -> None:
+def _finite(params: List[str], first: int, end: int) -> None:
+    x = _reals(params, first, end - first)
+    if not np.all(np.isfinite(x)):
+        i = int(np.argmax(~np.isfinite(x)))
+        raise ValueError(f"field {first + i + 1} {params[first + i].strip()[:20]!r} is not a finite number")
+
+
+def _reals(params: List[str], first: int, count: int) -> np.ndarray:
+    """Fields first .. first+count-1 as floats (a blank field is 0; D exponents are E)."""
+    text = [params[k].strip().replace("D", "E").replace("d", "e") or "0" for k in range(first, first + count)]
+    with np.errstate(over="ignore"):
+        return np.array([float(t) for t in text])
+
+
+def _knots(params: List[str], first: int, count: int, what: str) -> None:
+    """Knots finite, non-decreasing, not all equal (OCCT's transfer dies on decreasing ones)."""
+    k = _reals(params, first, count)
+    if not np.all(np.isfinite(k)):
+        raise ValueError(f"the {what} are not all finite")
+    drop = np.flatnonzero(np.diff(k) < 0)
+    if drop.size:
+        i = int(drop[0])
+        raise ValueError(f"the {what} decrease (field {first + i + 2}: {float(k[i + 1])!r} after {float(k[i])!r})")
+    if not k[-1] > k[0]:
+        raise ValueError(f"the {what} span no interval")
+
+
+def _weights(params: List[str], first: int, count: int) -> None:
+    w = _reals(params, first, count)
+    if not np.all(np.isfinite(w) & (w > 0.0)):
+        i = int(np.argmax(~(np.isfinite(w) & (w > 0.0))))
+        raise ValueError(f"weight {i + 1} (field {first + i + 1}) is {float(w[i])!r}; weights are positive")
+
+
+def validate_iges(path: Any, data: Optional[bytes] = None) -> None:
     """The structure of an ASCII IGES file (IGES 5.3 chapter 2): records of 80 columns;
     the sections S, G, D, P, T in that order, each numbered 1, 2, ...; two directory
     records per entity with the same entity type; the terminate record's counts equal
     to the section lengths; every entity's parameter pointer and line count inside the
     parameter section, its parameter records pointing back at it and starting with its
     entity type; directory pointers to existing entities; every parameter a number or
-    a string.
+    a string. ``data`` as for :func:`validate_step`.
 
     Raises:
         CagdError: naming the file, the record and the first problem found.
     """
-    data = _read_bytes(path, "IGES")
+    data = _read_bytes(path, "IGES") if data is None else data
     where = f"path: IGES file {str(path)!r}"
     lines = re.split(r"\r\n|\n|\r", data.decode("latin-1"))    # not splitlines(): \x85, \x0c may be text
     while lines and not lines[-1].strip(" \t\x1a"):

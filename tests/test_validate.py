@@ -115,6 +115,20 @@ def test_a_malformed_iges_file_is_refused_naming_the_problem(tmp_path, edit, wor
     assert str(info.value).startswith("path: IGES file ") and "x.igs" in str(info.value)
 
 
+@pytest.mark.parametrize("old, new, words", [
+    ("126,1,1,0,0,1,0,0.,0.,1.,1.,", "126,1,1,0,0,1,0,0.,2.,1.,1.,", "knots decrease"),
+    ("126,1,1,0,0,1,0,0.,0.,1.,1.,", "126,1,1,0,0,1,0,0.,0.,0.,0.,", "span no interval"),
+    ("1.,1.,1.,1.,0.,0.,0.,", "1.,1.,1.,0.,0.,0.,0.,", "weight 2 .* weights are positive"),
+    ("0.,0.,0.,1.,1.,1.,0.,1.", "0.,0.,0.,1.,1.E999,1.,0.,1.", "not a finite number"),
+])
+def test_b_spline_numbers_occt_dies_on_are_refused(tmp_path, old, new, words):
+    """Decreasing knots (found by fuzzing a real file) killed OCCT's transfer."""
+    etype, text = CURVE
+    assert old in text
+    with pytest.raises(CagdError, match=words):
+        validate_iges(iges_file(tmp_path, iges([LINE, (etype, text.replace(old, new, 1)), NAME])))
+
+
 def test_directory_pointers_and_sections_order(tmp_path):
     good = iges([LINE, CURVE])
     lines = good.splitlines()
@@ -146,3 +160,45 @@ def test_check_name_accepts_printable_one_line_names(name):
 def test_check_name_refuses(name, words):
     with pytest.raises(CagdError, match=words):
         check_name(name, "objects[0] name")
+
+
+# --- the validators' own contract: any bytes give a verdict (pass or CagdError), nothing else ------------------
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+GOOD_IGES = iges([LINE, CURVE, NAME]).encode()
+GOOD_STEP = STEP.encode()
+EDITS = st.lists(st.tuples(st.floats(0.0, 1.0), st.sampled_from([b"", b",", b";", b"(", b")", b"'", b"H", b"1H",
+                                                                 b"\n", b"\r", b"-", b"9", b"D", b"P", b"/*", b"\xff",
+                                                                 b"\x00", b" " * 8])),
+                 min_size=1, max_size=4)
+
+
+def mutated(data: bytes, edits, cut: float) -> bytes:
+    out = bytearray(data)
+    for where, piece in edits:
+        i = int(where * (len(out) - 1))
+        out[i:i + 1] = piece
+    return bytes(out[:max(1, int(cut * len(out)))])
+
+
+@settings(max_examples=300)
+@given(edits=EDITS, cut=st.floats(0.5, 1.0))
+def test_any_mutation_of_an_iges_file_is_a_verdict(tmp_path_factory, edits, cut):
+    p = tmp_path_factory.mktemp("fz") / "x.igs"
+    p.write_bytes(mutated(GOOD_IGES, edits, cut))
+    try:
+        validate_iges(p)
+    except CagdError as exc:
+        assert str(exc).startswith("path: IGES file ")
+
+
+@settings(max_examples=300)
+@given(edits=EDITS, cut=st.floats(0.5, 1.0))
+def test_any_mutation_of_a_step_file_is_a_verdict(tmp_path_factory, edits, cut):
+    p = tmp_path_factory.mktemp("fz") / "x.step"
+    p.write_bytes(mutated(GOOD_STEP, edits, cut))
+    try:
+        validate_step(p)
+    except CagdError as exc:
+        assert str(exc).startswith("path: STEP file ")

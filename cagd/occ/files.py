@@ -16,6 +16,7 @@ import io
 import os
 import subprocess
 import sys
+import tempfile
 import unicodedata
 import warnings
 from contextlib import contextmanager
@@ -47,7 +48,7 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
 from .._atomic import check_target, write_file
-from .._validate import check_name, validate_iges, validate_step
+from .._validate import check_name, read_bytes, validate_iges, validate_step
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -81,8 +82,9 @@ class Imported:
 @dataclass(frozen=True)
 class Skipped:
     """A face or free edge of a file that could not be converted: the name of its item,
-    its index among the item's faces (or free edges), its kind ("face" or "edge"), the
-    reason, and the OCCT shape (still usable through OCCT)."""
+    its index among the item's faces (or free edges), its kind ("face" or "edge"; "item"
+    for an item OCCT transferred as nothing), the reason, and the OCCT shape (still
+    usable through OCCT)."""
     name: str
     index: int
     kind: str
@@ -94,13 +96,13 @@ class Skipped:
 class FileContents:
     """What :func:`read_step` / :func:`read_iges` read: ``items`` (iterating, indexing
     and ``len`` go to them) and ``skipped``, the faces and edges that did not convert
-    (one bad face never costs the rest of the file); ``unread``, the STEP entities
-    OCCT's parser rejected (what refers to them may be missing from ``items``);
+    (one bad face never costs the rest of the file); ``unread``, the entities OCCT's
+    parser rejected or does not know (what refers to them may be missing from ``items``);
     ``complete`` is True when no face or edge was skipped, ``message`` says what was
     skipped or unread."""
     items: Tuple[Imported, ...]
     skipped: Tuple[Skipped, ...] = ()
-    unread: Tuple[str, ...] = ()      # STEP entities OCCT's parser rejected: "entity 33 (TYPE): reason"
+    unread: Tuple[str, ...] = ()      # entities OCCT's parser rejected or does not know: "entity 33 (TYPE): reason"
 
     @property
     def complete(self) -> bool:
@@ -116,7 +118,7 @@ class FileContents:
             out.append(f"{len(self.skipped)} of {len(self.items) + len(self.skipped)} faces/edges not converted; "
                        f"first: {first.kind} {first.index} of {first.name!r}: {first.reason}")
         if self.unread:
-            out.append(f"{len(self.unread)} entities of the file could not be parsed (what refers to them may be "
+            out.append(f"{len(self.unread)} entities of the file were not read (what refers to them may be "
                        f"missing); first: {self.unread[0]}")
         return "; ".join(out)
 
@@ -326,16 +328,17 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
     B-spline surface with a parameter missing), which must not kill this process."""
     if not _is_file(path):
         raise CagdError(f"path: no such file {str(path)!r}")
-    (validate_step if kind == "STEP" else validate_iges)(path)
+    data = read_bytes(path, kind)
+    (validate_step if kind == "STEP" else validate_iges)(path, data)
     reader.SetNameMode(True)
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     XCAFApp_Application.GetApplication_s().InitDocument(doc)
-    with _settings(xstep__cascade__unit="MM", **settings):
-        if reader.ReadFile(os.fspath(path)) != IFSelect_RetDone:
+    with _settings(xstep__cascade__unit="MM", **settings), _private_copy(path, data) as copy:
+        if reader.ReadFile(copy) != IFSelect_RetDone:
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
-        unread = _unread(reader) if kind == "STEP" else ()
-        if unread and not os.environ.get(_PROBE_FLAG):
-            _probe(path, kind, unread)
+        unread, errors = _unread(reader.ChangeReader().Model() if kind == "STEP" else reader.Model(), kind)
+        if errors and not os.environ.get(_PROBE_FLAG):
+            _probe(copy, kind, unread, path)
         if not reader.Transfer(doc):
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
@@ -346,6 +349,37 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
         label = labels.Value(i)
         out.append((_label_name(label) or f"item_{i}", tool.GetShape_s(label)))
     return out, unread
+
+
+_EXTERNAL = (b"DOCUMENT_FILE", b"EXTERNAL_SOURCE")     # STEP entities of references to other files
+
+
+@contextmanager
+def _private_copy(path, data: bytes) -> Iterator[str]:
+    """OCCT reads the bytes that were validated: a private copy in the system's temporary
+    folder (the file at ``path`` may be replaced between the check and OCCT's read).
+    A STEP file referring to other files is read in place (its references resolve from
+    its folder), as in the probe's child process, where the file already is the copy;
+    so is a file whose copy cannot be written."""
+    if os.environ.get(_PROBE_FLAG) or any(word in data for word in _EXTERNAL):
+        yield os.fspath(path)
+        return
+    try:
+        fd, name = tempfile.mkstemp(prefix="cagd-read-", suffix=Path(path).suffix[:16])
+    except OSError:
+        yield os.fspath(path)
+        return
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+    except OSError:                       # no room for the copy: read the original
+        os.unlink(name)
+        yield os.fspath(path)
+        return
+    try:
+        yield name
+    finally:
+        os.unlink(name)
 
 
 def _is_file(path) -> bool:
@@ -361,39 +395,49 @@ _PROBE_FLAG = "CAGD_OCC_READ_PROBE"     # set in the child process of _probe
 PROBE_TIMEOUT = 600.0                   # seconds a child transfer may take (a hang guard only)
 
 
-def _unread(reader) -> Tuple[str, ...]:
-    """"entity <number> (<TYPE>): <OCCT's reason>" for every entity the STEP parser rejected."""
-    model = reader.ChangeReader().Model()
-    out = []
+def _unread(model, kind: str) -> Tuple[Tuple[str, ...], int]:
+    """("entity <number> (<type>): <reason>" for every entity OCCT's parser rejected or
+    does not know, the number rejected). Unknown types are skipped by the transfer, and
+    what refers to them goes missing (a misspelt B-spline type lost its item silently)."""
+    out, errors = [], 0
     for i in range(1, model.NbEntities() + 1):
         if model.IsErrorEntity(i):
+            errors += 1
             report = model.ReportEntity(i)
             check = report.Check()
             reason = check.CFail(1) if check.NbFails() else "not parsed"
-            out.append(f"entity {i} ({report.Content().StepType()}): {reason}")
-    return tuple(out)
+            content = report.Content()
+            what = content.StepType() if kind == "STEP" else f"type {content.TypeNumber()}"
+            out.append(f"entity {i} ({what}): {reason}")
+        elif model.IsUnknownEntity(i) or model.Value(i).DynamicType().Name().endswith("UndefinedEntity"):
+            entity = model.Value(i)
+            what = entity.StepType() if kind == "STEP" else f"type {entity.TypeNumber()}"
+            out.append(f"entity {i} ({what}): an entity type OCCT does not read")
+    return tuple(out), errors
 
 
-def _probe(path, kind: str, unread: Tuple[str, ...]) -> None:
-    """Transfer the file in a child process; CagdError if OCCT dies there. Skipped
+def _probe(path, kind: str, unread: Tuple[str, ...], shown: object = None) -> None:
+    """Transfer the file in a child process; CagdError (naming ``shown``, the user's
+    path) if OCCT dies there. Skipped
     where the interpreter is embedded (FreeCAD: sys.executable is not a Python); a
     child that cannot start (exit code, no signal) leaves the decision to the transfer."""
     if "python" not in Path(sys.executable).name.lower():
         return
     code = ("import sys; from cagd.occ.files import read_shapes; "
             "read_shapes(sys.argv[1], sys.argv[2].lower())")
+    shown = path if shown is None else shown
     env = dict(os.environ, **{_PROBE_FLAG: "1"})
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if isinstance(p, str) and p)
     try:
         run = subprocess.run([sys.executable, "-c", code, os.fspath(path), kind], env=env, timeout=PROBE_TIMEOUT,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:
-        raise CagdError(f"path: OCCT did not finish reading {kind} file {str(path)!r} in {PROBE_TIMEOUT:g} s; "
+        raise CagdError(f"path: OCCT did not finish reading {kind} file {str(shown)!r} in {PROBE_TIMEOUT:g} s; "
                         f"{len(unread)} damaged entities, first {unread[0]}") from None
     except OSError:
         return
     if run.returncode < 0 or run.returncode > 128:
-        raise CagdError(f"path: {kind} file {str(path)!r} has {len(unread)} damaged entities that OCCT's "
+        raise CagdError(f"path: {kind} file {str(shown)!r} has {len(unread)} damaged entities that OCCT's "
                         f"transfer crashes on (signal {abs(run.returncode) % 128}); first: {unread[0]}")
 
 
@@ -447,6 +491,9 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
                     found.append((from_occ(s, approximate=approximate), s))
                 except CagdError as exc:
                     failed.append((kind, index, str(exc), s))
+        if not faces and not free and not subshapes(shape, TopAbs_EDGE):
+            failed.append(("item", 0, "holds no face and no curve: its geometry did not transfer (see unread, "
+                                      "or the file's entities are inconsistent)", shape))
         many = len(found) + len(failed) > 1
         out += [Imported(f"{name}[{j}]" if many else name, obj, s) for j, (obj, s) in enumerate(found)]
         skipped += [Skipped(name, index, kind, reason, s) for kind, index, reason, s in failed]

@@ -83,6 +83,15 @@ def damaged(folder: Path) -> dict:
     fewer[first128] = lines[first128].replace("128,3,3,3,3,", "128,9,3,3,3,", 1)    # 10 x 4 poles claimed
     (folder / "count128.igs").write_text("".join(fewer))
     cases["iges b-spline surface with too few fields"] = (folder / "count128.igs", "needs")
+    # found by fuzzing a real file (OCC8842_cylinder_Ideas.igs): one knot of a curve made larger than the next
+    # (OCCT's transfer: SIGSEGV)
+    knots = list(lines)
+    first126 = next(i for i, ln in enumerate(lines) if ln[72] == "P" and ln.startswith("126,"))
+    zero, nine = "0.0000000000000000E+00,", "9.0000000000000000E+00,"
+    knots[first126] = lines[first126].replace("126,3,3,0,0,1,0," + zero, "126,3,3,0,0,1,0," + nine, 1)
+    assert knots != lines
+    (folder / "knots126.igs").write_text("".join(knots))
+    cases["iges b-spline curve with decreasing knots"] = (folder / "knots126.igs", "knots decrease")
     (folder / "noD.igs").write_text("".join(ln for ln in lines if ln[72] != "D"))
     cases["iges without D section"] = (folder / "noD.igs", "no D section")
     # what write_iges of a name with a newline used to write: the 406 name property split over two records
@@ -115,7 +124,8 @@ def results(tmp_path_factory):
 
 CASES = ["iges cut at 50%", "iges cut at 90%", "iges cut at 99%", "iges cut between records",
          "iges parameter section corrupted", "iges without D section", "iges string in a b-spline surface",
-         "iges b-spline surface with too few fields", "iges with a newline in a name",
+         "iges b-spline surface with too few fields",
+         "iges b-spline curve with decreasing knots", "iges with a newline in a name",
          "step nested 100,000 deep", "step b-spline surface missing a parameter", "step cut in half"]
 
 
@@ -146,7 +156,7 @@ def test_every_real_file_passes_validation():
 
 def test_a_step_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path):
     """OCCT drops the item whose curve has a misspelt type: one item of two comes
-    back; ``unread`` and ``message`` say which entity was not parsed, with a warning."""
+    back; ``unread`` and ``message`` say which entities were not read, with a warning."""
     write_step([("surf", SURFACE), ("crv", CURVE)], tmp_path / "good.step")
     text = (tmp_path / "good.step").read_text()
     last = text.rindex("B_SPLINE_CURVE_WITH_KNOTS(")
@@ -154,10 +164,54 @@ def test_a_step_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path
     run = run_child(READ_ALL, str(tmp_path / "typo.step"))
     (kind, count, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
     assert (kind, count) == ("read", 1)
-    assert "1 entities of the file could not be parsed" in message and "TRIMMED_CURVE" in message
-    with pytest.warns(RuntimeWarning, match="could not be parsed"):
+    assert "2 entities of the file were not read" in message and "TRIMMED_CURVE" in message
+    with pytest.warns(RuntimeWarning, match="were not read"):
         back = read_step(tmp_path / "typo.step")
-    assert len(back) == 1 and len(back.unread) == 1 and back.complete   # every face OCCT gave converted
+    assert len(back) == 1 and [(k.name, k.kind) for k in back.skipped] == [("crv", "item")]   # the empty item
+    assert back.unread[0].startswith("entity ") and "TRIMMED_CURVE" in back.unread[0]
+    assert "B_SPLINE_CURVE_WITH_KNOTZ" in back.unread[1] and "does not read" in back.unread[1]
+
+
+def test_an_iges_entity_of_unknown_type_is_reported_not_dropped_silently(tmp_path):
+    """Entity type 127 (none) for the curve: OCCT keeps the surface and drops the curve."""
+    write_iges([("surf", SURFACE), ("crv", CURVE)], tmp_path / "good.igs")
+    lines = (tmp_path / "good.igs").read_text().splitlines(True)
+    out = []
+    for ln in lines:
+        if ln[72] == "D" and ln.startswith("     126"):
+            ln = "     127" + ln[8:]
+        if ln[72] == "P" and ln.startswith("126,"):
+            ln = "127," + ln[4:]
+        out.append(ln)
+    assert out != lines
+    (tmp_path / "unknown.igs").write_text("".join(out))
+    run = run_child(READ_ALL, str(tmp_path / "unknown.igs"))
+    (kind, count, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
+    assert (kind, count) == ("read", 1) and "type 127" in message
+    with pytest.warns(RuntimeWarning, match="1 entities of the file were not read"):
+        back = read_iges(tmp_path / "unknown.igs")
+    assert [i.name for i in back] == ["surf"] and back.unread == ("entity 3 (type 127): an entity type OCCT does "
+                                                                  "not read",)
+
+
+@pytest.mark.parametrize("old, new", [
+    (".F.,(4,4),(4,4),(0.0000000000000000E+00,", ".F.,(4,4),(4,4),(2.0000000000000000E+00,"),   # knots decrease
+    (".F.,(4,4),(4,4),", ".F.,(4,3),(4,4),"),                                                   # multiplicities
+])
+def test_a_step_item_whose_geometry_does_not_transfer_is_reported(tmp_path, old, new):
+    """OCCT transfers a B-spline surface with decreasing knots (or multiplicities that do
+    not add up) as an empty item: read_step returned the other item only, silently."""
+    write_step([("surf", SURFACE), ("crv", CURVE)], tmp_path / "good.step")
+    text = (tmp_path / "good.step").read_text()
+    assert old in text
+    (tmp_path / "bad.step").write_text(text.replace(old, new, 1))
+    run = run_child(READ_ALL, str(tmp_path / "bad.step"))
+    (kind, count, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
+    assert (kind, count) == ("read", 1) and "'surf'" in message and "did not transfer" in message
+    with pytest.warns(RuntimeWarning, match="did not transfer"):
+        back = read_step(tmp_path / "bad.step")
+    assert [i.name for i in back] == ["crv"] and not back.complete
+    assert [(k.name, k.kind) for k in back.skipped] == [("surf", "item")]
 
 
 @pytest.mark.parametrize("name, words", [("a\nb", "control character"), ("tab\there", "control character"),
@@ -235,3 +289,31 @@ def test_the_child_process_check_sees_a_crash():
     """The guard of these tests works: a child killed by SIGSEGV fails the assertion."""
     with pytest.raises(AssertionError, match=f"signal {int(signal.SIGSEGV)}"):
         run_child("import os, signal; os.kill(os.getpid(), signal.SIGSEGV)")
+
+
+@pytest.mark.skipif(not (REAL / "iges" / "OCC8842_cylinder_Ideas.igs").is_file(), reason="real CAD files not present")
+def test_an_iges_entity_occt_rejects_is_transferred_in_a_child_first(tmp_path):
+    """Found by fuzzing: a face (510) claiming 111 loops. OCCT's parser flags it, its
+    transfer dies (SIGSEGV); the probe in a child process turns that into a CagdError."""
+    text = (REAL / "iges" / "OCC8842_cylinder_Ideas.igs").read_text()
+    bad = text.replace("510,25,1,1,29;    ", "510,25,111,29;    ", 1)
+    assert bad != text
+    (tmp_path / "face.igs").write_text(bad)
+    run = run_child(READ_ALL, str(tmp_path / "face.igs"))
+    (kind, message), = json.loads(run.stdout.strip().splitlines()[-1]).values()
+    assert kind == "CagdError" and "crashes on (signal" in message and "type 510" in message
+
+
+def test_occt_reads_the_validated_bytes_not_the_file_again(tmp_path, monkeypatch):
+    """The file may be replaced between the check and OCCT's read: OCCT reads a private
+    copy of the validated bytes, removed afterwards."""
+    import cagd.occ.files as files
+    write_step([("surf", SURFACE)], tmp_path / "a.step")
+    check = files.validate_step
+
+    def check_then_replace(path, data=None):
+        check(path, data)
+        (tmp_path / "a.step").write_text("garbage")             # replaced after validation
+    monkeypatch.setattr(files, "validate_step", check_then_replace)
+    assert [i.name for i in read_step(tmp_path / "a.step")] == ["surf"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.step"]
