@@ -189,6 +189,14 @@ class Projector:
         H = np.stack([np.stack([d[2, 0], d[1, 1]], axis=2), np.stack([d[1, 1], d[0, 2]], axis=2)], axis=3)
         return S, J, H
 
+    def evaluate_in(self, x: np.ndarray, order: int, piece: np.ndarray):
+        """:meth:`evaluate` (order >= 1) or :meth:`value` (order 0) on the given pieces."""
+        if order >= 1:
+            return self.evaluate(x, order, piece)
+        if self._power is not None:
+            return self._power.evaluate(x, 0, piece)
+        return self._lead(self.pieces.derivatives(piece, x, 0))
+
     def value(self, x: np.ndarray) -> np.ndarray:
         if self._power is not None:
             return self._power.evaluate(x, 0)
@@ -434,7 +442,8 @@ class Projector:
             pid, cell, lo, hi = pid[open_], cell[open_], lo[open_], hi[open_]
             if not len(pid):
                 break
-            y, g2, ok = self._newton_rows(X, pid, np.clip(x[pid], lo, hi), lo, hi, max_iterations, tol, param_tol)
+            y, g2, ok = self._newton_rows(X, pid, np.clip(x[pid], lo, hi), lo, hi, self._cell_piece[cell],
+                                          max_iterations, tol, param_tol)
             dy = np.sqrt(g2)
             order = np.lexsort((dy, pid))                # best local result per point
             first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
@@ -597,11 +606,12 @@ class Projector:
         step = np.where(use[:, None], d2, d1)
         return np.clip(self.mids[seed] + step, lo, hi)
 
-    def _newton_rows(self, X, pid, x0, lo, hi, max_iterations, tol, param_tol):
-        """Box-constrained Newton (no wrapping) for (point, box) rows, NEWTON_CHUNK rows at a
-        time (the rows are independent; memory bounded): (x, g, converged)."""
+    def _newton_rows(self, X, pid, x0, lo, hi, piece, max_iterations, tol, param_tol):
+        """Box-constrained Newton (no wrapping) for (point, box) rows, each box in the
+        Bezier piece ``piece``, NEWTON_CHUNK rows at a time (the rows are independent;
+        memory bounded): (x, g, converged)."""
         out = [projected_newton(self, X, pid[sl], x0[sl], lo[sl], hi[sl], np.zeros(self.k, bool), max_iterations,
-                                tol, param_tol)[:3]
+                                tol, param_tol, piece[sl])[:3]
                for sl in (slice(c0, c0 + NEWTON_CHUNK) for c0 in range(0, len(pid), NEWTON_CHUNK))]
         if len(out) == 1:
             return out[0]
