@@ -189,7 +189,8 @@ class Projector:
         H = np.stack([np.stack([d[2, 0], d[1, 1]], axis=2), np.stack([d[1, 1], d[0, 2]], axis=2)], axis=3)
         return S, J, H
 
-    def evaluate_in(self, x: np.ndarray, order: int, piece: np.ndarray):
+    def evaluate_in(self, x: np.ndarray, order: int, piece: np.ndarray
+                    ) -> Union[np.ndarray, Tuple[np.ndarray, ...]]:
         """:meth:`evaluate` (order >= 1) or :meth:`value` (order 0) on the given pieces."""
         if order >= 1:
             return self.evaluate(x, order, piece)
