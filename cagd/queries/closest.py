@@ -60,7 +60,8 @@ GRID_ENTRIES = 4e6      # (voxel, cell) entries of the grid, at most (a random 3
 POINT_CHUNK = 16384     # query points handled at once, at most (memory O(chunk), not O(N))
 MIN_CHUNK = 32          # ... at least
 PAIR_BUDGET = 4e6       # ... and at most this many (point, cell) pairs if each met every cell
-EVAL_CHUNK = 65536      # evaluations at once while preparing (the C2 test at the breaks)
+EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
+NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
                "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
                "is param_tol= now")
@@ -187,6 +188,15 @@ class Projector:
             return S, J
         H = np.stack([np.stack([d[2, 0], d[1, 1]], axis=2), np.stack([d[1, 1], d[0, 2]], axis=2)], axis=3)
         return S, J, H
+
+    def evaluate_in(self, x: np.ndarray, order: int, piece: np.ndarray
+                    ) -> Union[np.ndarray, Tuple[np.ndarray, ...]]:
+        """:meth:`evaluate` (order >= 1) or :meth:`value` (order 0) on the given pieces."""
+        if order >= 1:
+            return self.evaluate(x, order, piece)
+        if self._power is not None:
+            return self._power.evaluate(x, 0, piece)
+        return self._lead(self.pieces.derivatives(piece, x, 0))
 
     def value(self, x: np.ndarray) -> np.ndarray:
         if self._power is not None:
@@ -433,8 +443,8 @@ class Projector:
             pid, cell, lo, hi = pid[open_], cell[open_], lo[open_], hi[open_]
             if not len(pid):
                 break
-            y, g2, ok, _ = projected_newton(self, X, pid, np.clip(x[pid], lo, hi), lo, hi, np.zeros(self.k, bool),
-                                         max_iterations, tol, param_tol)
+            y, g2, ok = self._newton_rows(X, pid, np.clip(x[pid], lo, hi), lo, hi, self._cell_piece[cell],
+                                          max_iterations, tol, param_tol)
             dy = np.sqrt(g2)
             order = np.lexsort((dy, pid))                # best local result per point
             first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
@@ -596,6 +606,17 @@ class Projector:
         use = (np.abs(d2 - d1) <= 0.5 * np.abs(d1) + 1e-3 * (hi - lo)).all(1)
         step = np.where(use[:, None], d2, d1)
         return np.clip(self.mids[seed] + step, lo, hi)
+
+    def _newton_rows(self, X, pid, x0, lo, hi, piece, max_iterations, tol, param_tol):
+        """Box-constrained Newton (no wrapping) for (point, box) rows, each box in the
+        Bezier piece ``piece``, NEWTON_CHUNK rows at a time (the rows are independent;
+        memory bounded): (x, g, converged)."""
+        out = [projected_newton(self, X, pid[sl], x0[sl], lo[sl], hi[sl], np.zeros(self.k, bool), max_iterations,
+                                tol, param_tol, piece[sl])[:3]
+               for sl in (slice(c0, c0 + NEWTON_CHUNK) for c0 in range(0, len(pid), NEWTON_CHUNK))]
+        if len(out) == 1:
+            return out[0]
+        return tuple(np.concatenate([o[i] for o in out]) for i in range(3))
 
     def _bound(self, X, pid, cell, lo, hi, c) -> np.ndarray:
         """Second-order lower bound of g over boxes inside their cells, expanded at c (in

@@ -387,3 +387,13 @@ def test_distance_beyond_float64_is_refused():
     a = _CUBIC.transformed(np.eye(3), [-1.7e308, 0.0, 0.0])
     with pytest.raises(CagdError, match="distance exceeds the float64 range"):
         min_distance(a, _CUBIC.transformed(np.eye(3), [1.7e308, 0.0, 0.0]))
+
+
+def test_plane_against_a_far_sphere():
+    """A plane patch against a unit sphere centred at 1e12 (reported to hang: the default
+    tol 1e-9 of the size is below float64's resolution there): 1e12 - 1, converged, with
+    the tol raised to 1e-14 of the common extent."""
+    flat = BezierSurface([[[-1, -1, 0], [-1, 1, 0]], [[1, -1, 0], [1, 1, 0]]])
+    r = min_distance(flat, sphere(1.0, (0, 0, 1e12)))
+    assert r.converged and r.distance == pytest.approx(1e12 - 1.0, rel=1e-14)
+    assert r.lower_bound <= r.distance and r.tol <= 1e-13 * 1e12
