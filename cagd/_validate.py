@@ -28,7 +28,7 @@ MAX_NESTING = 200          # parentheses nesting depth of a STEP file (real file
 IGES_RECORD = 80           # columns of an IGES record
 IGES_SECTIONS = "SGDPT"    # the sections of an ASCII IGES file, in order
 _STEP_SKIP = re.compile(rb"'[^']*'|/\*.*?\*/", re.S)       # strings ('' inside is two strings) and comments
-_IGES_INT = re.compile(r"^\s*[+-]?\d*\s*$")
+_IGES_INT = re.compile(r"^\s*[+-]?\d*\s*$", re.ASCII)   # the format's digits are ASCII
 _IGES_NUMBER = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([EeDd][+-]?\d+)?\s*$")
 _IGES_HOLLERITH = re.compile(r"\s*(\d+)H")
 # entity types whose parameters are numbers and pointers only (IGES 5.3 chapter 4: curves and
@@ -117,6 +117,11 @@ def validate_step(path: Any, data: Optional[bytes] = None) -> None:
     if open_end.any():
         at = int(marks[int(np.argmax(open_end))])
         raise CagdError(f"{where}: an entity ends with unclosed parentheses at byte {at}")
+
+
+def _digits(text: str) -> bool:
+    """ASCII digits only (``str.isdigit`` also takes superscripts, which ``int`` refuses)."""
+    return text.isascii() and text.isdigit()
 
 
 def _fields(line: str, count: int) -> List[int]:
@@ -296,7 +301,7 @@ def validate_iges(path: Any, data: Optional[bytes] = None) -> None:
             order += letter
         rec = sections[letter]
         seqno = line[73:80].strip()
-        if not seqno.isdigit() or int(seqno) != len(rec) + 1:
+        if not _digits(seqno) or int(seqno) != len(rec) + 1:
             raise CagdError(f"{where}: line {number}: sequence number {seqno!r}, expected {letter}{len(rec) + 1} "
                             f"(a record is missing or repeated)")
         rec.append(line.ljust(IGES_RECORD))
@@ -309,7 +314,7 @@ def validate_iges(path: Any, data: Optional[bytes] = None) -> None:
     for k, letter in enumerate("SGDP"):
         cell = term[8 * k:8 * k + 8]
         count = cell[1:].strip()
-        if cell[0] != letter or not count.isdigit() or int(count) != len(sections[letter]):
+        if cell[0] != letter or not _digits(count) or int(count) != len(sections[letter]):
             raise CagdError(f"{where}: terminate record says {cell.strip()!r}, the file has "
                             f"{len(sections[letter])} {letter} records (file truncated or edited?)")
     D, P = sections["D"], sections["P"]

@@ -67,7 +67,7 @@ def bounded(seconds: float = CASE_SECONDS, memory: int = CASE_MEMORY) -> Iterato
 
 
 def _timeout(signum: int, frame: Any) -> None:
-    raise CaseTimeout(f"the case ran longer than its bound")
+    raise CaseTimeout("the case ran longer than its bound")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -115,6 +115,19 @@ def test_a_malformed_iges_file_is_refused_naming_the_problem(tmp_path, edit, wor
     assert str(info.value).startswith("path: IGES file ") and "x.igs" in str(info.value)
 
 
+@pytest.mark.parametrize("old, new, words", [(b"P      3", b"P     \xb23", "sequence number"),
+                                             (b"D      6P", b"D     \xb26P", "terminate record")])
+def test_a_superscript_digit_is_not_a_number(tmp_path, old, new, words):
+    """Found by the fuzz suite: byte 0xB2 reads as '\u00b2', which str.isdigit takes and
+    int() refuses (a ValueError escaped)."""
+    data = iges([LINE, CURVE, NAME]).encode()
+    assert old in data
+    path = tmp_path / "x.igs"
+    path.write_bytes(data.replace(old, new, 1))
+    with pytest.raises(CagdError, match=words):
+        validate_iges(path)
+
+
 @pytest.mark.parametrize("old, new, words", [
     ("126,1,1,0,0,1,0,0.,0.,1.,1.,", "126,1,1,0,0,1,0,0.,2.,1.,1.,", "knots decrease"),
     ("126,1,1,0,0,1,0,0.,0.,1.,1.,", "126,1,1,0,0,1,0,0.,0.,0.,0.,", "span no interval"),

@@ -90,6 +90,7 @@ class BSplineCurve(Curve):
         self._pp: Optional[PPForm] = None
         self._derivative_pp: Dict[int, PPForm] = {}
         self._spans: Dict[int, BernsteinSpans] = {}
+        self._pp_overflows: Optional[bool] = None
 
     # --- modified copies (the object itself never changes) --------------------------------
     def _with(self, P: np.ndarray, w: Optional[np.ndarray]) -> "BSplineCurve":
@@ -163,10 +164,19 @@ class BSplineCurve(Curve):
             self._spans[order] = self._spans[0].derived(order)
         return self._spans[order]
 
+    @property
+    def _by_bernstein(self) -> bool:
+        """Evaluate by the Bernstein sums: above PP_MAX_DEGREE, and where the power
+        coefficients (binomial multiples of the net) leave the float range (a degree-13
+        net at 1e300 gave NaN points)."""
+        if self._pp_overflows is None:
+            self._pp_overflows = self.degree > PP_MAX_DEGREE or not np.isfinite(self.ppform.coefficients).all()
+        return self._pp_overflows
+
     def _evaluate(self, t: np.ndarray, order: int) -> np.ndarray:
         """Derivatives 0..order: the power form up to degree PP_MAX_DEGREE, the Bernstein
         sum on the Bezier spans above it (accurate to ~p ulps of the net at any degree)."""
-        if self.degree > PP_MAX_DEGREE:
+        if self._by_bernstein:
             hom = np.stack([self._bernstein_spans(k)(t) for k in range(order + 1)])
             if order == 0 and self.is_rational:
                 return self._clamped_ends(t, hom[0, :, :-1] / hom[0, :, -1:])[None]
@@ -439,7 +449,7 @@ class BSplineCurve(Curve):
 
     def _homogeneous_values(self, t: np.ndarray) -> np.ndarray:
         """Values of the homogeneous (w P, w) curve at flat t, inside the domain."""
-        if self.degree > PP_MAX_DEGREE:
+        if self._by_bernstein:
             return self._bernstein_spans(0)(t)
         return self.ppform(t)
 

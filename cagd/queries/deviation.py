@@ -123,7 +123,7 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     pct = _checks.finite_array(percentiles, "percentiles", ndim=1)
     if np.any((pct < 0) | (pct > 100)):
         raise CagdError(f"percentiles: must lie in [0, 100], got {pct.tolist()}")
-    X = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    X = np.atleast_2d(_checks.finite_array(points, "points"))
     best: Optional[List[np.ndarray]] = None
     is_signed = True
     for k, o in enumerate(objs):
@@ -162,7 +162,7 @@ def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike]
 
     objs = _objects(obj)
     res = deviation(objs, points) if result is None else result
-    X = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    X = np.atleast_2d(_checks.finite_array(points, "points"))
     lim = max(res.max_abs, 1e-300)
     cmap = "coolwarm" if res.signed else "viridis"
     vmin = -lim if res.signed else 0.0

@@ -204,8 +204,9 @@ class BSplineSurface(Surface):
         local variables x, y in [-1, 1]: the u-direction pp form of the rows (their
         Taylor coefficients at the u-span midpoints), then the v-direction pp form of
         each coefficient. Returns (pp_u, pp_v, tables[a][b][d] of length Sv*Su), or
-        None when the table would exceed ~4e6 values or a degree exceeds PP_MAX_DEGREE
-        (the power form's accuracy limit; then the basis path is used)."""
+        None when the table would exceed ~4e6 values, a degree exceeds PP_MAX_DEGREE
+        (the power form's accuracy limit) or a coefficient leaves the float range (a net
+        near 1e300: binomial multiples overflow); then the basis path is used."""
         if not hasattr(self, "_table"):
             p, q = self.degree_u, self.degree_v
             nu, nv, D = self._hom.shape
@@ -218,6 +219,9 @@ class BSplineSurface(Surface):
                 cu = pp_u.coefficients.reshape(p + 1, su, nv, D)             # (a, su, j, d)
                 pp_v = PPForm.from_bspline(self._v, q, cu.transpose(2, 0, 1, 3).reshape(nv, -1))
                 cv = pp_v.coefficients.reshape(q + 1, sv, p + 1, su, D)      # (b, sv, a, su, d)
+                if not np.isfinite(cv).all():
+                    self._table = None
+                    return None
                 tables = [[[_checks.frozen(np.ascontiguousarray(cv[b, :, a, :, d]).ravel()) for d in range(D)]
                            for b in range(q + 1)] for a in range(p + 1)]
                 self._table = (pp_u, pp_v, tables, su)

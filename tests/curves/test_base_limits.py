@@ -196,3 +196,22 @@ def test_tridiagonal_solvers_validate():
                 f(*args)
     x = solve_tridiagonal([0, 1, 1], [2, 2, 2], [1, 1, 0], [1, 2, 3])
     assert np.allclose([2 * x[0] + x[1], x[0] + 2 * x[1] + x[2], x[1] + 2 * x[2]], [1, 2, 3])
+
+
+@pytest.mark.parametrize("degree", [3, 13, 20])
+def test_nets_near_the_float_limit_evaluate_like_de_casteljau(degree):
+    """The power coefficients are binomial multiples of the net: at 1e300 they left the
+    float range from degree 13 and the points came back NaN. Such nets evaluate by the
+    Bernstein sums (curves) or the basis (surfaces) instead."""
+    rng = np.random.default_rng(degree)
+    P = rng.random((degree + 1, 3)) * 1e300
+    t = np.array([0.0, 0.1, 0.5, 0.999, 1.0])
+    b = np.repeat(P[None], len(t), axis=0)
+    for _ in range(degree):                          # de Casteljau, the oracle
+        b = (1.0 - t)[:, None, None] * b[:, :-1] + t[:, None, None] * b[:, 1:]
+    assert np.abs(cagd.BezierCurve(P)(t) - b[:, 0]).max() <= 1e-13 * 1e300
+    net = rng.random((degree + 1, 4, 3)) * 1e300
+    s = cagd.BezierSurface(net)
+    u, v = 0.3, 0.6
+    rows = [cagd.BezierCurve(net[:, j])(u) for j in range(4)]
+    assert np.abs(s(u, v) - cagd.BezierCurve(np.array(rows))(v)).max() <= 1e-13 * 1e300

@@ -17,7 +17,7 @@ from contract import call
 from hostile import SCALES, counts, finite, knot_vectors, non_numbers, point_arrays, tolerances
 from strategies import bspline_curves
 
-FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+FUZZ = settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck))
 #: agreement asked of an answer, relative to the size of its control net
 HULL_TOL = 1e-9
 CASTELJAU_TOL = 1e-12
@@ -30,7 +30,7 @@ def _size(points: np.ndarray) -> float:
 def _in_hull_box(values: np.ndarray, points: np.ndarray) -> bool:
     """Points of a B-spline with non-negative weights lie in the box of its control
     points (the convex hull property, Piegl & Tiller P4.4), up to HULL_TOL x size."""
-    slack = HULL_TOL * max(_size(points), float(np.abs(points).max()) * 1e-15, 1e-300)
+    slack = HULL_TOL * _size(points) + 8 * np.finfo(float).eps * float(np.abs(points).max()) + 1e-300
     lo, hi = points.min(axis=0) - slack, points.max(axis=0) + slack
     return bool(np.all((values >= lo) & (values <= hi)))
 
@@ -92,6 +92,7 @@ def test_interpolate(points, degree, parameters):
     out = call(cagd.interpolate, points, degree, parameters)
     if out.ok:
         P = np.asarray(points, dtype=float)
+        P = P[:, None] if P.ndim == 1 else P                    # 1-D: n points of dim 1
         params = cagd.parametrize(P, parameters)
         got = out.value(params)
         assert np.abs(got - P).max() <= 1e-9 * max(_size(P), 1e-300)
@@ -162,14 +163,14 @@ def test_derivatives_and_geometry(curve, order, t):
 @given(curve=bspline_curves(max_degree=6, dims=(2, 3)), tol=tolerances, scale=SCALES)
 def test_arc_length(curve, tol, scale):
     """arc_length validates tol (a length) and ends: a finite length no shorter than the
-    chord polygon through samples (a lower bound), scaled with the curve."""
+    chord polygon through samples (a lower bound) less tol, scaled with the curve."""
     scaled = curve.transformed(np.eye(curve.dim) * scale)
     out = call(scaled.arc_length, tol=tol) if tol is not None else call(scaled.arc_length)
     if out.ok:
         pts = curve(_samples(curve, 257))              # the chord polygon of the unscaled curve, scaled
         chord = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()) * scale
         assert np.isfinite(out.value)
-        assert out.value >= chord * (1 - 1e-9)
+        assert out.value >= chord * (1 - 1e-9) - (0.0 if tol is None else float(tol))   # within tol of it
 
 
 @FUZZ
@@ -177,12 +178,13 @@ def test_arc_length(curve, tol, scale):
 def test_modified_copies_keep_the_shape(curve, times, t):
     samples = _samples(curve)
     before = curve(samples)
-    size = max(_size(np.asarray(curve.control_points)), 1e-300)
+    P = np.asarray(curve.control_points)
+    slack = HULL_TOL * _size(P) + 8 * np.finfo(float).eps * float(np.abs(P).max()) + 1e-300
     out = call(curve.elevate, times)
     if out.ok:
-        assert np.abs(out.value(samples) - before).max() <= 1e-9 * size
+        assert np.abs(out.value(samples) - before).max() <= slack
     out = call(curve.insert_knot, t, times)
     if out.ok:
-        assert np.abs(out.value(samples) - before).max() <= 1e-9 * size
+        assert np.abs(out.value(samples) - before).max() <= slack
     call(curve.split, t)
     call(curve.to_bezier)

@@ -55,7 +55,8 @@ def _read_in_child(path: Path) -> str:
     done = run_child(READ, str(path))
     assert not done.crashed, f"the reader died of signal {-done.returncode} on {path.name}:\n{done.stderr[-2000:]}"
     assert not done.timed_out, f"the reader hung on {path.name}"
-    assert done.returncode == 0, f"the reader raised another exception on {path.name}: {done.stdout}{done.stderr[-2000:]}"
+    assert done.returncode == 0, \
+        f"the reader raised another exception on {path.name}: {done.stdout}{done.stderr[-2000:]}"
     return done.stdout
 
 
