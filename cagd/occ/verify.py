@@ -35,6 +35,7 @@ from OCP.gp import gp_Pnt, gp_Vec
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
 
 from .. import _checks
+from .._validate import check_name
 from ..curves.base import Curve
 from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
@@ -260,6 +261,7 @@ def verify(obj: Union[Curve, Surface], name: str = "object", samples: int = 41, 
         raise CagdError(f"obj: OCCT geometry is 2-D or 3-D, got a {obj.dim}-D object")
     if not isinstance(name, str):
         raise CagdError(f"name: expected a string, got {type(name).__name__}")
+    check_name(name, "name")                   # it goes into the STEP and IGES files
     nurbs = obj.to_nurbs()
     s = _Samples(nurbs, _checks.integer(samples, "samples", 4, 100_000))
     tol = default_tolerance(nurbs) if tol is None else _checks.scalar(tol, "tol")
