@@ -21,9 +21,11 @@ from OCP.Geom2dConvert import Geom2dConvert
 from OCP.GeomAbs import GeomAbs_C1, GeomAbs_C2
 from OCP.GeomConvert import GeomConvert, GeomConvert_ApproxCurve, GeomConvert_ApproxSurface
 from OCP.gp import gp_Pnt, gp_Pnt2d
+from OCP.Precision import Precision
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
 from OCP.TopoDS import TopoDS_Shape
 
+from .. import _checks
 from ..curves.base import Curve
 from ..curves.bezier import BezierCurve
 from ..curves.bspline import BSplineCurve
@@ -37,6 +39,9 @@ from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, 
 
 PERIOD_SPAN_TOL = 1e-9     # a face spanning this close to a whole period is the full turn
 KNOT_SNAP_TOL = 1e-9       # a face box end this close to a knot (relative to the range) ends on it
+# the smallest approximate= tolerance for offsets: OCCT's geometric resolution (1e-7 mm);
+# from_occ(offset surface, approximate=1e-300) ran over 60 s (issue 14)
+APPROXIMATE_MIN_TOL = Precision.Confusion_s()
 
 OccGeometry = Union[Geom_BSplineCurve, Geom_BezierCurve, Geom_BSplineSurface, Geom_BezierSurface]
 
@@ -349,9 +354,11 @@ def _tolerance(approximate: Optional[float], what: str) -> float:
     if approximate is None:
         raise CagdError(f"geom: {what} has no exact B-spline form; pass approximate=<tolerance> to accept "
                         "an approximation within it")
-    tol = float(approximate)
-    if not tol > 0 or not np.isfinite(tol):
-        raise CagdError(f"approximate: the tolerance must be finite and > 0, got {approximate!r}")
+    tol = _checks.scalar(approximate, "approximate")
+    if not tol >= APPROXIMATE_MIN_TOL:
+        raise CagdError(f"approximate: the tolerance must be at least {APPROXIMATE_MIN_TOL:g} "
+                        f"(OCCT's Precision::Confusion; below it OCCT's approximation runs for minutes), "
+                        f"got {approximate!r}")
     return tol
 
 

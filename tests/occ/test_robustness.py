@@ -68,6 +68,15 @@ def test_offset_surface_needs_a_tolerance():
         from_occ(Geom_OffsetSurface(s, 1.0))
 
 
+@pytest.mark.parametrize("tol", [1e-300, 0.0, -1.0, float("nan"), "abc", 10 ** 400])
+def test_an_approximation_tolerance_below_occts_resolution_is_refused(tol):
+    """approximate=1e-300 ran OCCT's approximation for over 60 s (issue 14); the bound is
+    Precision::Confusion (1e-7)."""
+    offset = Geom_OffsetSurface(to_occ(cagd.sphere(5.0)), 1.0)
+    with pytest.raises(CagdError, match="approximate"):
+        from_occ(offset, approximate=tol)
+
+
 def test_null_and_unbounded_shapes_are_errors():
     for bad in (TopoDS_Shape(), TopoDS_Edge()):
         with pytest.raises(CagdError, match="null shape"):
