@@ -31,7 +31,9 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
+from ..surfaces.trimmed import TrimmedSurface
 from .analytic import analytic_form
+from .trim import trimmed_from_face
 from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
                      as_face)
 
@@ -190,7 +192,8 @@ def _is_occt_error(exc: Exception) -> bool:
 
 
 def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], dim: int = 3,
-             oriented: bool = True, approximate: Optional[float] = None) -> Union[BSplineCurve, BSplineSurface]:
+             oriented: bool = True, approximate: Optional[float] = None) -> \
+        Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An engine B-spline from OCCT geometry or a shape.
 
     Accepts any ``Geom_Curve``/``Geom2d_Curve``/``Geom_Surface`` that GeomConvert
@@ -235,7 +238,7 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
 
 
 def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
-                approximate: Optional[float]) -> Union[BSplineCurve, BSplineSurface]:
+                approximate: Optional[float]) -> Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An edge's curve on the edge's parameter range; a face's surface on the face's
     UV bounding box (the whole surface when that is its natural domain)."""
     reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
@@ -263,8 +266,11 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
         u0, u1, v0, v1 = a.FirstUParameter(), a.LastUParameter(), a.FirstVParameter(), a.LastVParameter()
         if max(abs(u0), abs(u1), abs(v0), abs(v1)) > 1e99:
             raise CagdError("geom: the face is unbounded (no boundary edges limit its surface)")
-        surf = _surface_from_bspline(_as_bspline_surface(_face_box(surface, u0, u1, v0, v1), approximate))
-        return surf.reversed("u") if reversed_ else surf
+        boxed = _face_box(surface, u0, u1, v0, v1)
+        surf = _surface_from_bspline(_as_bspline_surface(boxed, approximate))
+        slack = 2.0 * approximate if approximate is not None and isinstance(_basis(surface), Geom_OffsetSurface) \
+            else 0.0
+        return trimmed_from_face(face, boxed, surf, reversed_, slack)
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 

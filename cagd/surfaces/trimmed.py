@@ -50,6 +50,9 @@ polylines that classification buckets (refined locally below it)."""
 ON_BAND = 1e-12
 """Relative (to the loops' (u, v) size): points within ON_BAND (plus the chord bound, at
 most ON_BAND) of a boundary curve are "on" the boundary (``classify`` gives ON)."""
+JOINT_TOL = 1e-4
+"""Relative (to the loops' size): consecutive curves of a loop may cross within this of
+their common point (real files' pcurves overshoot their vertices) without an error."""
 MAX_BISECTIONS = 48        # depth bound of the bisection of a Bezier piece (flattening, refinement)
 MAX_PIECES = 1 << 16       # chords per curve at most (flattening stops refining there)
 CHUNK = 1 << 20            # (point, chord) pairs handled at once: bounds the memory of classify
@@ -433,33 +436,68 @@ class _Flattened:
         self.band = ON_BAND * self.scale
         self.periods = periods
         ftol = FLATTEN_TOL * self.scale
-        self.curves: List[BSplineCurve] = []     # every chain curve, with straight gap closers
-        self.nets: List[np.ndarray] = []
-        A, B, bound, owner, loop_of, curve_of = [], [], [], [], [], []
+        self.curves: List[BSplineCurve] = []     # every chain curve, with straight gap closers (area)
+        self.nets: List[np.ndarray] = []         # their Bezier pieces, then those of periodic copies
+        A, B, bound, owner, loop_of, curve_of, pos = [], [], [], [], [], [], []
+        self.chain_len: List[int] = []          # pieces per loop, closers included
+        self.loop_len: List[int] = []           # curves per loop
         for i, loop in enumerate(loops):
+            chain: List[BSplineCurve] = []
+            names: List[int] = []
             for j, c in enumerate(loop):
-                pieces = [c]
+                chain.append(c)
+                names.append(j)
                 nxt = loop[(j + 1) % len(loop)]
                 end, start = c(c.domain[1]), nxt(nxt.domain[0])
                 if np.any(end != start):
-                    pieces.append(BSplineCurve(np.stack([end, start]), 1))
-                for piece in pieces:
-                    Q, _, b = _flatten(piece, ftol)
+                    chain.append(BSplineCurve(np.stack([end, start]), 1))
+                    names.append(-1)
+            self.chain_len.append(len(chain))
+            self.loop_len.append(len(loop))
+            for position, (piece, name) in enumerate(zip(chain, names)):
+                Q, _, b = _flatten(piece, ftol)
+                P = _cartesian(Q)
+                k = len(self.curves)
+                self.curves.append(piece)
+                self.nets.append(Q)
+                A.append(P[:, 0])
+                B.append(P[:, -1])
+                bound.append(b)
+                owner.append(np.stack([np.full(len(Q), k), np.arange(len(Q))], axis=1))
+                loop_of.append(np.full(len(Q), i))
+                curve_of.append(np.full(len(Q), name))
+                pos.append(np.full(len(Q), names[position] if name >= 0 else names[position - 1]))
+        outer = np.concatenate(A[:self.chain_len[0]] + B[:self.chain_len[0]])
+        self.window = outer.min(axis=0) - 4 * self.band
+        # holes of a face whose outer loop spans a whole period: their copies one period
+        # on either side (the region is periodic; a hole across the seam shows on both sides)
+        for k in (0, 1):
+            if periods[k] <= 0 or np.ptp(outer[:, k]) < periods[k] * (1.0 - CLOSURE_TOL) - tol:
+                continue
+            count = len(self.nets)
+            for ci in range(sum(self.chain_len[:1]), count):
+                for shift in (-periods[k], periods[k]):
+                    Q = self.nets[ci].copy()
+                    Q[..., k] += shift * Q[..., 2]
                     P = _cartesian(Q)
-                    k = len(self.curves)
-                    self.curves.append(piece)
+                    idx = len(self.nets)
                     self.nets.append(Q)
                     A.append(P[:, 0])
                     B.append(P[:, -1])
-                    bound.append(b)
-                    owner.append(np.stack([np.full(len(Q), k), np.arange(len(Q))], axis=1))
-                    loop_of.append(np.full(len(Q), i))
-                    curve_of.append(np.full(len(Q), j if piece is c else -1))
+                    bound.append(bound[ci])
+                    owner.append(np.stack([np.full(len(Q), idx), np.arange(len(Q))], axis=1))
+                    loop_of.append(loop_of[ci])
+                    curve_of.append(np.full(len(Q), -2))
+                    pos.append(pos[ci])
         self.A, self.B = np.concatenate(A), np.concatenate(B)
         self.bound = np.concatenate(bound)
         self.owner = np.concatenate(owner)
         self.loop_of = np.concatenate(loop_of)
         self.curve_of = np.concatenate(curve_of)
+        self.position = np.concatenate(pos)
+        self.original = self.curve_of != -2
+        ends = np.array([[n[0, 0, :2] / n[0, 0, 2], n[-1, -1, :2] / n[-1, -1, 2]] for n in self.nets])
+        self.curve_start, self.curve_end = ends[self.owner[:, 0], 0], ends[self.owner[:, 0], 1]
         self.loop_count = len(loops)
         self.lo = np.minimum(self.lo, np.minimum(self.A, self.B).min(axis=0))
         self.hi = np.maximum(self.hi, np.maximum(self.A, self.B).max(axis=0))
@@ -486,8 +524,9 @@ class _Flattened:
 
     def loop_areas(self) -> np.ndarray:
         """Signed (shoelace) areas of the loops' polylines."""
-        cross = self.A[:, 0] * self.B[:, 1] - self.B[:, 0] * self.A[:, 1]
-        return 0.5 * np.bincount(self.loop_of, weights=cross, minlength=self.loop_count)
+        A, B = self.A[self.original], self.B[self.original]
+        cross = A[:, 0] * B[:, 1] - B[:, 0] * A[:, 1]
+        return 0.5 * np.bincount(self.loop_of[self.original], weights=cross, minlength=self.loop_count)
 
     # --- classification -----------------------------------------------------------------------
     def _window(self, x: np.ndarray, k: int) -> np.ndarray:
@@ -495,7 +534,7 @@ class _Flattened:
         period = self.periods[k]
         if period <= 0:
             return x
-        return wrap(x, self.lo[k] - 4 * self.band, period)
+        return wrap(x, self.window[k], period)
 
     def classify(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         u, v = self._window(u, 0), self._window(v, 1)
@@ -590,8 +629,8 @@ class _Flattened:
         if not pairs_i:
             return
         i, j = np.concatenate(pairs_i), np.concatenate(pairs_j)
-        ci, cj = self.owner[i, 0], self.owner[j, 0]
-        keep = ci != cj
+        same = (self.loop_of[i] == self.loop_of[j]) & (self.position[i] == self.position[j])
+        keep = ~same & self.original[i] & self.original[j]
         i, j = i[keep], j[keep]
         shared = (np.all(self.A[i] == self.B[j], axis=1) | np.all(self.B[i] == self.A[j], axis=1) |
                   np.all(self.A[i] == self.A[j], axis=1) | np.all(self.B[i] == self.B[j], axis=1))
@@ -608,11 +647,29 @@ class _Flattened:
         hit = (((o1 > eps) & (o2 < -eps)) | ((o1 < -eps) & (o2 > eps))) & \
               (((o3 > eps) & (o4 < -eps)) | ((o3 < -eps) & (o4 > eps)))
         if hit.any():
+            hit &= ~self._at_joint(i, j, c, d, o1, o2)
+        if hit.any():
             k = int(np.flatnonzero(hit)[0])
             x, y = i[k], j[k]
             where = tuple(0.5 * (a[k] + b[k]))
             raise CagdError(f"loops: {self._name(x)} crosses {self._name(y)} near (u, v) = "
                             f"({where[0]:.9g}, {where[1]:.9g})")
+
+    def _at_joint(self, i: np.ndarray, j: np.ndarray, c: np.ndarray, d: np.ndarray, o1: np.ndarray,
+                  o2: np.ndarray) -> np.ndarray:
+        """Crossings of consecutive curves of a loop within JOINT_TOL of their common
+        point (files' pcurves overshoot their vertices a little)."""
+        li, lj = self.loop_of[i], self.loop_of[j]
+        n = np.array(self.loop_len)[li]
+        step = np.mod(self.position[j] - self.position[i], n)
+        adjacent = (li == lj) & ((step == 1) | (step == n - 1))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = c + (o1 / (o1 - o2))[:, None] * (d - c)       # where chord j (c -> d) meets chord i
+        near = np.zeros(len(i), dtype=bool)
+        for P in (self.curve_start, self.curve_end):
+            for idx in (i, j):
+                near |= np.linalg.norm(x - P[idx], axis=1) <= JOINT_TOL * self.scale
+        return adjacent & near
 
     def _name(self, seg: int) -> str:
         j = int(self.curve_of[seg])
@@ -623,7 +680,8 @@ class _Flattened:
         """Every hole inside the outer loop and outside the other holes (tested at the
         start of its first curve, by the winding number of the chords of each loop)."""
         for i in range(1, self.loop_count):
-            p = self.A[np.flatnonzero(self.loop_of == i)[0]]
+            p = self.A[np.flatnonzero(self.loop_of == i)[0]].copy()
+            p[0], p[1] = self._window(p[:1], 0)[0], self._window(p[1:], 1)[0]
             for k in range(self.loop_count):
                 if k == i:
                     continue
@@ -787,25 +845,40 @@ def _affine_iso(c: BSplineCurve) -> Optional[Tuple[int, float, float, float]]:
     return None
 
 
+def _hermite_nets(lo: np.ndarray, hi: np.ndarray, f: Callable[[np.ndarray], np.ndarray],
+                  df: Callable[[np.ndarray], np.ndarray],
+                  ddf: Optional[Callable[[np.ndarray], np.ndarray]]) -> np.ndarray:
+    """Bezier nets (k, p + 1, dim) of the Hermite interpolants on [lo, hi]: cubic from
+    f, f' (p = 3), quintic from f, f', f'' (p = 5) at both ends (Farin, Curves and
+    Surfaces for CAGD, 7.1 and 7.5: the end derivatives of a Bezier curve)."""
+    h = (hi - lo)[:, None]
+    fa, fb, da, db = f(lo), f(hi), df(lo), df(hi)
+    if ddf is None:
+        return np.stack([fa, fa + h / 3 * da, fb - h / 3 * db, fb], axis=1)
+    aa, ab = ddf(lo), ddf(hi)
+    return np.stack([fa, fa + h / 5 * da, fa + 2 * h / 5 * da + h * h / 20 * aa,
+                     fb - 2 * h / 5 * db + h * h / 20 * ab, fb - h / 5 * db, fb], axis=1)
+
+
 def hermite_fit(f: Callable[[np.ndarray], np.ndarray], df: Callable[[np.ndarray], np.ndarray],
-                breaks: np.ndarray, tol: float) -> Tuple[BSplineCurve, float, bool]:
-    """A C1 piecewise cubic B-spline (triple interior knots) through f with f' at its
-    breakpoints (cubic Hermite interpolation: Farin, Curves and Surfaces for CAGD, 7.1),
-    pieces bisected until f is within ``tol`` of it at 5 interior points of each
-    (at most MAX_FIT_PIECES pieces): (curve, measured error, converged)."""
+                breaks: np.ndarray, tol: float,
+                ddf: Optional[Callable[[np.ndarray], np.ndarray]] = None) -> Tuple[BSplineCurve, float, bool]:
+    """A piecewise Hermite B-spline (interior knots of full multiplicity): cubic and C1
+    through f, f' at its breakpoints, or quintic and C2 with f'' (``ddf``), pieces
+    bisected until f is within ``tol`` of it at 5 interior points of each (at most
+    MAX_FIT_PIECES pieces): (curve, measured error, converged)."""
     lo, hi = breaks[:-1].astype(float), breaks[1:].astype(float)
     checks = np.array([0.1, 0.3, 0.5, 0.7, 0.9])
+    p = 3 if ddf is None else 5
+    from math import comb
+    bern = np.array([[comb(p, k) * s ** k * (1 - s) ** (p - k) for k in range(p + 1)] for s in checks])
     done_lo: List[np.ndarray] = []
     done_hi: List[np.ndarray] = []
     error, ok = 0.0, True
     while len(lo):
-        h = hi - lo
-        fa, fb, da, db = f(lo), f(hi), df(lo), df(hi)
-        s = checks[None, :]
-        t = lo[:, None] + h[:, None] * s
-        h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
-        approx = (h00[..., None] * fa[:, None] + (h10 * h[:, None])[..., None] * da[:, None] +
-                  h01[..., None] * fb[:, None] + (h11 * h[:, None])[..., None] * db[:, None])
+        nets = _hermite_nets(lo, hi, f, df, ddf)
+        approx = np.einsum("sk,nkd->nsd", bern, nets)
+        t = lo[:, None] + (hi - lo)[:, None] * checks[None, :]
         exact = f(t.ravel()).reshape(approx.shape)
         err = np.linalg.norm(exact - approx, axis=-1).max(axis=1)
         good = err <= tol
@@ -821,15 +894,10 @@ def hermite_fit(f: Callable[[np.ndarray], np.ndarray], df: Callable[[np.ndarray]
     lo, hi = np.concatenate(done_lo), np.concatenate(done_hi)
     order = np.argsort(lo)
     lo, hi = lo[order], hi[order]
-    h = (hi - lo)[:, None]
-    fa, fb, da, db = f(lo), f(hi), df(lo), df(hi)
-    P = np.empty((3 * len(lo) + 1, fa.shape[1]))
-    P[0:-1:3] = fa
-    P[1::3] = fa + h / 3 * da
-    P[2::3] = fb - h / 3 * db
-    P[-1] = fb[-1]
-    knots = np.concatenate([np.full(4, lo[0]), np.repeat(lo[1:], 3), np.full(4, hi[-1])])
-    return BSplineCurve(P, 3, knots), error, ok
+    nets = _hermite_nets(lo, hi, f, df, ddf)
+    P = np.concatenate([nets[:, :-1].reshape(-1, nets.shape[2]), nets[-1:, -1]])
+    knots = np.concatenate([np.full(p + 1, lo[0]), np.repeat(lo[1:], p), np.full(p + 1, hi[-1])])
+    return BSplineCurve(P, p, knots), error, ok
 
 
 def _boundary(ts: TrimmedSurface, tol: float) -> TrimBoundary:
