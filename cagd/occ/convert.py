@@ -22,7 +22,7 @@ from OCP.GeomAbs import GeomAbs_C1, GeomAbs_C2
 from OCP.GeomConvert import GeomConvert, GeomConvert_ApproxCurve, GeomConvert_ApproxSurface
 from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
-from OCP.TopoDS import TopoDS_Shape
+from OCP.TopoDS import TopoDS_Face, TopoDS_Shape
 
 from ..curves.base import Curve
 from ..curves.bezier import BezierCurve
@@ -33,7 +33,7 @@ from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
 from ..surfaces.trimmed import TrimmedSurface
 from .analytic import analytic_form
-from .trim import trimmed_from_face
+from .trim import make_trimmed_face, trimmed_from_face
 from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
                      as_face)
 
@@ -102,7 +102,7 @@ def _xyz(p, dim: int) -> tuple:
 
 # --- engine -> OCCT -------------------------------------------------------------------------
 def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False,
-           analytic: bool = False) -> Union[Geom_Curve, Geom2d_Curve, Geom_Surface]:
+           analytic: bool = False) -> Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Face]:
     """The exact OCCT geometry of an engine curve or surface.
 
     Curves give ``Geom_BSplineCurve`` (2-D curves with z = 0; ``plane=True`` gives a
@@ -115,7 +115,9 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
     surface instead (Geom_SphericalSurface, ..., Geom_SurfaceOfRevolution; trimmed to
     the engine's range by a Geom_RectangularTrimmedSurface unless that is the whole
     surface): the same point set, parametrised by the angle
-    (:mod:`cagd.occ.analytic`); every other surface still gives its B-spline.
+    (:mod:`cagd.occ.analytic`); every other surface still gives its B-spline. A
+    :class:`cagd.TrimmedSurface` gives a ``TopoDS_Face`` (a surface carries no trim in
+    OCCT): its B-spline bounded by wires of its pcurves (:mod:`cagd.occ.trim`).
 
     Raises:
         CagdError: not an engine curve or surface, more than 3 dimensions, or OCCT
@@ -123,6 +125,8 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
     """
     if isinstance(obj, (Curve, Surface)) and obj.dim > 3:
         raise CagdError(f"obj: OCCT geometry is 3-D at most, this {type(obj).__name__} is {obj.dim}-D")
+    if isinstance(obj, TrimmedSurface):
+        return make_trimmed_face(obj)
     try:
         if isinstance(obj, Curve):
             if bezier and isinstance(obj, BezierCurve) and not plane:

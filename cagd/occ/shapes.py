@@ -29,6 +29,7 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from .analytic import analytic_form
 from .convert import to_occ
+from .trim import TrimmedSurface, make_trimmed_face
 from .wrapped import describe, is_shape, occ_faces, occ_shape
 
 
@@ -93,6 +94,8 @@ def make_face(surface: Surface, tol: float = 1e-7, *, nurbs: bool = False) -> To
     if not isinstance(surface, Surface):
         raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
     tol = positive(tol, "tol")
+    if isinstance(surface, TrimmedSurface):                  # its own wires (cagd.occ.trim)
+        return make_trimmed_face(surface, tol)
     form = None if nurbs else analytic_form(surface)
     if form is None:
         maker = BRepBuilderAPI_MakeFace(to_occ(surface), tol)

@@ -40,7 +40,8 @@ from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepLib import BRepLib
 from OCP.BRepTools import BRepTools_WireExplorer
-from OCP.Geom import Geom_Surface
+from OCP.Geom import Geom_BezierSurface, Geom_BSplineSurface, Geom_Plane, Geom_Surface
+from OCP.GeomAbs import GeomAbs_C2
 from OCP.Geom2d import Geom2d_Line, Geom2d_TrimmedCurve
 from OCP.gp import gp_Pnt
 from OCP.ShapeFix import ShapeFix_Face
@@ -61,6 +62,8 @@ MAX_GAP = 1e-2          # relative (parameter box): a wire whose pcurves do not 
 BOX_TOL = 1e-9          # relative (parameter box): a loop of iso-lines on the box's sides is "the box"
 DEGENERATE_TOL = 1e-7   # 3-D (mm): an edge whose image is within this of one point is degenerated
 CONSTANT_TOL = 1e-12    # relative (parameter box): a pcurve coordinate varying less is constant (an iso-line)
+CURVE3D_TOL = 1e-12     # relative (surface size): BuildCurves3d's approximation of the edges' 3-D curves
+MAX_CURVE3D_SEGMENTS = 1000
 MAP_SAMPLES = 7         # points per direction of the map test
 
 
@@ -143,6 +146,9 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
     Raises:
         CagdError: no combination reproduces OCCT's points within that.
     """
+    from .convert import _basis
+    if isinstance(_basis(geom), (Geom_BSplineSurface, Geom_BezierSurface, Geom_Plane)) and slack == 0.0:
+        return _Identity(), _Identity()       # GeomConvert keeps their parameters
     (a0, a1), (b0, b1) = engine.domain
     grid = np.meshgrid(np.linspace(a0, a1, MAP_SAMPLES + 2)[1:-1], np.linspace(b0, b1, MAP_SAMPLES + 2)[1:-1],
                        indexing="ij")
@@ -415,10 +421,21 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
     geom = to_occ(nurbs)
     builder = BRep_Builder()
     wires = []
+    known: List[Tuple[np.ndarray, object]] = []        # one vertex per 3-D point (closed edges, poles)
+    merge = max(tol, DEGENERATE_TOL)
+
+    def vertex(p: np.ndarray):
+        for q, v in known:
+            if np.linalg.norm(p - q) <= merge:
+                return v
+        v = BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex()
+        known.append((p, v))
+        return v
+
     for i, loop in enumerate(ts.loops):
         starts = [c(c.domain[0]) for c in loop]
         p3 = [nurbs(float(p[0]), float(p[1])) for p in _clipped(starts, nurbs)]
-        vertices = [BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex() for p in p3]
+        vertices = [vertex(p) for p in p3]
         maker = BRepBuilderAPI_MakeWire()
         for j, c in enumerate(loop):
             pc = to_occ(c, plane=True)
@@ -444,7 +461,7 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
     if not fm.IsDone():
         raise CagdError(f"surface: OCCT could not make the trimmed face (error {fm.Error()})")
     face = fm.Face()
-    BRepLib.BuildCurves3d_s(face)
+    BRepLib.BuildCurves3d_s(face, CURVE3D_TOL * max(nurbs.size, 1e-300), GeomAbs_C2, 14, MAX_CURVE3D_SEGMENTS)
     if not BRepCheck_Analyzer(face).IsValid():
         fixer = ShapeFix_Face(face)
         fixer.Perform()
@@ -489,4 +506,4 @@ def _degenerated(builder: BRep_Builder, pc, geom: Geom_Surface, vertex, a: float
     return as_edge(edge)
 
 
-__all__ = ["trimmed_from_face", "make_trimmed_face", "parameter_maps"]
+__all__ = ["trimmed_from_face", "make_trimmed_face", "parameter_maps", "TrimmedSurface"]

@@ -59,6 +59,7 @@ CHUNK = 1 << 20            # (point, chord) pairs handled at once: bounds the me
 CROSSING_TOL = 1e-13       # relative orientation below which two chords only touch (no crossing)
 GAUSS_POINTS = 10          # Gauss-Legendre nodes per interval (area, boundary fits)
 AREA_TOL = 1e-12           # default relative accuracy goal of area()
+MAX_START_INTERVALS = 16  # boundary intervals per curve the adaptive area rule starts from at most
 MAX_AREA_SPLITS = 32       # sub-intervals per knot span of the inner (u) integral at most
 BOUNDARY_TOL = 1e-9        # default 3-D accuracy of boundary() approximations, relative to the surface's size
 MAX_FIT_PIECES = 1 << 12   # cubic pieces per boundary curve at most
@@ -142,41 +143,41 @@ def _hull_bound(Q: np.ndarray) -> np.ndarray:
     return _segment_distance(P, a, b).max(axis=1)
 
 
-def _flatten(curve: BSplineCurve, tol: float) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(nets (k, p + 1, 3), params (k, 2), bound (k,)): the curve's Bezier pieces
-    bisected until each is within ``tol`` of its chord, in parameter order."""
-    breaks, nets = _hom_pieces(curve)
-    lo, hi = breaks[:-1].copy(), breaks[1:].copy()
-    done_Q: List[np.ndarray] = []
-    done_lo: List[np.ndarray] = []
-    done_hi: List[np.ndarray] = []
-    done_b: List[np.ndarray] = []
-    Q = nets
-    for _ in range(MAX_BISECTIONS):
-        bound = _hull_bound(Q)
-        ok = bound <= tol
-        if sum([len(x) for x in done_lo]) + len(Q) + int(np.count_nonzero(~ok)) > MAX_PIECES:
-            ok[:] = True
-        done_Q.append(Q[ok])
-        done_lo.append(lo[ok])
-        done_hi.append(hi[ok])
-        done_b.append(bound[ok])
-        if ok.all():
-            break
-        Q, lo, hi = Q[~ok], lo[~ok], hi[~ok]
-        L, R = _halves(Q)
-        mid = 0.5 * (lo + hi)
-        Q = np.concatenate([L, R])
-        lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
-    else:
-        bound = _hull_bound(Q)
-        done_Q.append(Q)
-        done_lo.append(lo)
-        done_hi.append(hi)
-        done_b.append(bound)
-    Q, lo, hi, b = (np.concatenate(x) for x in (done_Q, done_lo, done_hi, done_b))
-    order = np.argsort(lo, kind="stable")
-    return Q[order], np.stack([lo[order], hi[order]], axis=1), b[order]
+def _flatten_many(curves: Sequence[BSplineCurve], tol: float) -> List[Tuple[np.ndarray, np.ndarray]]:
+    """[(nets, bound)] of :func:`_flatten` for many curves at once: the Bezier pieces of
+    all curves of one degree are bisected together (one numpy pass per level)."""
+    out: List[Tuple[np.ndarray, np.ndarray]] = [(np.empty(0), np.empty(0))] * len(curves)
+    groups: dict = {}
+    for k, c in enumerate(curves):
+        groups.setdefault(c.degree, []).append(k)
+    for ks in groups.values():
+        parts = [_hom_pieces(curves[k]) for k in ks]
+        Q = np.concatenate([n for _, n in parts])
+        owner = np.concatenate([np.full(len(n), k) for k, (_, n) in zip(ks, parts)])
+        lo = np.concatenate([b[:-1] for b, _ in parts]).astype(float)
+        hi = np.concatenate([b[1:] for b, _ in parts]).astype(float)
+        done: List[Tuple[np.ndarray, ...]] = []
+        for level in range(MAX_BISECTIONS + 1):
+            bound = _hull_bound(Q)
+            ok = (bound <= tol) | (level == MAX_BISECTIONS)
+            total = sum(len(d[0]) for d in done) + len(Q) + int(np.count_nonzero(~ok))
+            if total > MAX_PIECES * len(ks):
+                ok[:] = True
+            done.append((Q[ok], owner[ok], lo[ok], hi[ok], bound[ok]))
+            if ok.all():
+                break
+            Q, owner, lo, hi = Q[~ok], owner[~ok], lo[~ok], hi[~ok]
+            L, R = _halves(Q)
+            mid = 0.5 * (lo + hi)
+            Q, owner = np.concatenate([L, R]), np.concatenate([owner, owner])
+            lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
+        Q, owner, lo, hi, bound = (np.concatenate([d[i] for d in done]) for i in range(5))
+        order = np.lexsort((lo, owner))
+        Q, owner, bound = Q[order], owner[order], bound[order]
+        cuts = np.searchsorted(owner, ks + [max(ks) + 1])
+        for j, k in enumerate(ks):
+            out[k] = (Q[cuts[j]:cuts[j + 1]], bound[cuts[j]:cuts[j + 1]])
+    return out
 
 
 def _crossings(pu: np.ndarray, pv: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -441,6 +442,7 @@ class _Flattened:
         A, B, bound, owner, loop_of, curve_of, pos = [], [], [], [], [], [], []
         self.chain_len: List[int] = []          # pieces per loop, closers included
         self.loop_len: List[int] = []           # curves per loop
+        chains: List[Tuple[int, List[BSplineCurve], List[int]]] = []
         for i, loop in enumerate(loops):
             chain: List[BSplineCurve] = []
             names: List[int] = []
@@ -454,8 +456,11 @@ class _Flattened:
                     names.append(-1)
             self.chain_len.append(len(chain))
             self.loop_len.append(len(loop))
+            chains.append((i, chain, names))
+        flat = iter(_flatten_many([piece for _, chain, _ in chains for piece in chain], ftol))
+        for i, chain, names in chains:
             for position, (piece, name) in enumerate(zip(chain, names)):
-                Q, _, b = _flatten(piece, ftol)
+                Q, b = next(flat)
                 P = _cartesian(Q)
                 k = len(self.curves)
                 self.curves.append(piece)
@@ -612,23 +617,21 @@ class _Flattened:
         """CagdError when chords of different curves properly cross (the chords stand for
         their curves within FLATTEN_TOL; touching is allowed)."""
         s = self.strip_segments
-        starts, ends = self.strip_start[:-1], self.strip_start[1:]
-        counts = ends - starts
-        pairs_i, pairs_j = [], []
-        budget = 4 * CHUNK
-        for st in np.flatnonzero(counts > 1):
-            ids = s[starts[st]:ends[st]]
-            if len(ids) * len(ids) > budget:     # bounded: sample the chords of a crowded strip
-                ids = ids[:: int(np.ceil(len(ids) * len(ids) / budget))]
-            i, j = np.triu_indices(len(ids), 1)
-            pairs_i.append(ids[i])
-            pairs_j.append(ids[j])
-            budget -= len(i)
-            if budget <= 0:
-                break
-        if not pairs_i:
+        counts = np.diff(self.strip_start)
+        strip = np.repeat(np.arange(len(counts)), counts)
+        position = np.arange(len(s)) - self.strip_start[strip]
+        partners = counts[strip] - 1 - position           # later entries of the same strip
+        total = int(partners.sum())
+        if total > 4 * CHUNK:                             # bounded: a regular sample of the pairs
+            keep = np.zeros(len(s), dtype=bool)
+            keep[np.linspace(0, len(s) - 1, max(1, int(len(s) * 4 * CHUNK / total))).astype(int)] = True
+            partners = np.where(keep, partners, 0)
+            total = int(partners.sum())
+        if not total:
             return
-        i, j = np.concatenate(pairs_i), np.concatenate(pairs_j)
+        first = np.repeat(np.arange(len(s)), partners)
+        second = first + 1 + (np.arange(total) - np.repeat(np.cumsum(partners) - partners, partners))
+        i, j = s[first], s[second]
         same = (self.loop_of[i] == self.loop_of[j]) & (self.position[i] == self.position[j])
         keep = ~same & self.original[i] & self.original[j]
         i, j = i[keep], j[keep]
@@ -733,28 +736,40 @@ def _u_breaks(ts: TrimmedSurface, flat: _Flattened, splits: int) -> np.ndarray:
     return np.concatenate([fine, [hi]])
 
 
+def _jacobian_grid(surface: Surface, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
+    """|S_u x S_v| on the grid us x vs (the surface's fast grid path), (len(us), len(vs))."""
+    us, vs = _inside_domain(surface, us, vs)
+    us = surface._wrap(us, 0, surface.periodic_u, "u")
+    vs = surface._wrap(vs, 1, surface.periodic_v, "v")
+    d = surface._grid(us, vs, 1, 1)
+    su, sv = d[1, 0], d[0, 1]
+    if su.shape[-1] == 2:
+        return np.abs(su[..., 0] * sv[..., 1] - su[..., 1] * sv[..., 0])
+    return np.linalg.norm(np.cross(su, sv), axis=-1)
+
+
 def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarray) -> np.ndarray:
     """G(u, v) = int_{edges[0]}^u |S_u x S_v|(s, v) ds by Gauss-Legendre on each interval
-    of ``edges`` (truncated at u), in chunks."""
+    of ``edges``: the whole intervals left of u on the grid of their nodes x the v's
+    (cumulated), the last, partial one point by point; in chunks."""
     out = np.zeros(len(u))
     lo, hi = edges[:-1], edges[1:]
-    step = max(1, CHUNK // (GAUSS_POINTS * max(len(lo), 1)))
+    half = 0.5 * (hi - lo)
+    X = ((0.5 * (lo + hi))[:, None] + half[:, None] * _GL_X[None]).ravel()
+    step = max(1, (CHUNK // 4) // max(len(X), 1))
     for s in range(0, len(u), step):
         uu, vv = u[s:s + step], v[s:s + step]
-        top = np.minimum(hi[None, :], uu[:, None])
-        active = top > lo[None, :]
-        r, c = np.nonzero(active)
-        if not len(r):
-            continue
-        a, b = lo[c], top[r, c]
-        half = 0.5 * (b - a)
-        x = (0.5 * (a + b))[:, None] + half[:, None] * _GL_X[None]
-        y = np.broadcast_to(vv[r][:, None], x.shape)
-        xu, yv = _inside_domain(ts.surface, x.ravel(), y.ravel())
-        g = _jacobian(ts.surface, xu, yv).reshape(x.shape)
-        vals = half * (g @ _GL_W)
-        out[s:s + step] = np.bincount(r, weights=vals, minlength=len(uu))
-        # points left of edges[0] (only by rounding) get 0
+        g = _jacobian_grid(ts.surface, X, vv).reshape(len(lo), GAUSS_POINTS, len(vv))
+        whole = half[:, None] * np.einsum("jkn,k->jn", g, _GL_W)
+        cum = np.concatenate([np.zeros((1, len(vv))), np.cumsum(whole, axis=0)])
+        j = np.clip(np.searchsorted(edges, uu, side="right") - 1, 0, len(lo) - 1)
+        full = cum[j, np.arange(len(vv))]
+        a, b = edges[j], np.maximum(uu, edges[0])
+        h = 0.5 * (b - a)
+        x = (0.5 * (a + b))[:, None] + h[:, None] * _GL_X[None]
+        xu, yv = _inside_domain(ts.surface, x.ravel(), np.repeat(vv, GAUSS_POINTS))
+        part = h * (_jacobian(ts.surface, xu, yv).reshape(x.shape) @ _GL_W)
+        out[s:s + step] = full + part
     return out
 
 
@@ -770,6 +785,8 @@ def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray,
             continue                                 # constant v: dv = 0 along it
         a, b = c.domain
         br = np.concatenate([[a], c._breaks_within(a, b), [b]])
+        if len(br) > MAX_START_INTERVALS + 1:   # many short spans (fits): start coarser, adapt
+            br = br[np.unique(np.linspace(0, len(br) - 1, MAX_START_INTERVALS + 1).astype(int))]
         lo_list.append(br[:-1])
         hi_list.append(br[1:])
         cid.append(np.full(len(br) - 1, k))
