@@ -8,6 +8,7 @@ value at a time (OCP has no buffer access); that is the only per-pole loop.
 """
 from __future__ import annotations
 
+import warnings
 from typing import List, Optional, Tuple, Union
 
 import numpy as np
@@ -204,12 +205,16 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
     turns into the same B-spline (B-spline, Bezier, trimmed conics and lines,
     trimmed analytic surfaces, surfaces of revolution and extrusion), a
     ``TopoDS_Edge`` (its 3-D curve on the edge's range) or a ``TopoDS_Face`` (its
-    surface on the face's UV bounds: exact for a face bounded by iso-curves, the
-    rectangle around the face otherwise, since the engine has no trimmed surfaces).
+    surface on the face's UV bounds when its boundary is that box, else a trimmed
+    surface, see below).
     With ``oriented`` (default) a REVERSED edge gives the reversed curve (running
     along the edge) and a REVERSED face the surface with u reversed (its normal
     S_u x S_v is the face's); ``oriented=False`` keeps OCCT's parametrisation.
     ``dim=2`` drops z from a curve.
+
+    A face whose boundary is not its UV box gives a :class:`cagd.TrimmedSurface` (its
+    pcurves as loops, :mod:`cagd.occ.trim`); one whose wires bound nothing usable (an
+    open wire, curves crossing) its surface over the box, with a RuntimeWarning.
 
     Offset curves and surfaces have no exact B-spline form: they raise unless
     ``approximate`` gives a tolerance, and are then approximated
@@ -274,7 +279,12 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
         surf = _surface_from_bspline(_as_bspline_surface(boxed, approximate))
         slack = 2.0 * approximate if approximate is not None and isinstance(_basis(surface), Geom_OffsetSurface) \
             else 0.0
-        return trimmed_from_face(face, boxed, surf, reversed_, slack)
+        try:
+            return trimmed_from_face(face, boxed, surf, reversed_, slack)
+        except CagdError as exc:        # wires that bound nothing (open, crossing): the box, as before
+            warnings.warn(f"geom: the face's trim is unusable ({exc}); its surface over the UV box is "
+                          "returned untrimmed", RuntimeWarning, stacklevel=3)
+            return surf.reversed("u") if reversed_ else surf
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 
