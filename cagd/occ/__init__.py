@@ -20,6 +20,7 @@ for _printer in Message.DefaultMessenger_s().Printers():    # OCCT's transfer ch
     _printer.SetTraceLevel(Message_Gravity.Message_Fail)
 
 from .convert import from_occ, to_occ  # noqa: E402
+from .trim import make_trimmed_face  # noqa: E402
 from .shapes import (area, check_valid, free_edge_count, make_edge, make_face, make_solid,  # noqa: E402
                      make_wire, sew, sewing, solid_from_surfaces, subshapes, volume)
 from .files import (FileContents, Imported, Skipped, read_iges, read_shapes, read_step, write_iges,  # noqa: E402
@@ -28,7 +29,8 @@ from .verify import STAGES, StageResult, VerifyReport, verify  # noqa: E402
 from .wrapped import occ_shape  # noqa: E402
 
 __all__ = [
-    "to_occ", "from_occ", "make_edge", "make_wire", "make_face", "sew", "sewing", "make_solid", "solid_from_surfaces",
+    "to_occ", "from_occ", "make_trimmed_face",
+    "make_edge", "make_wire", "make_face", "sew", "sewing", "make_solid", "solid_from_surfaces",
     "check_valid", "free_edge_count", "subshapes", "area", "volume", "write_step", "read_step", "write_iges",
     "read_iges", "read_shapes", "Imported", "Skipped", "FileContents", "verify", "VerifyReport", "StageResult",
     "STAGES", "occ_shape",

@@ -8,6 +8,7 @@ value at a time (OCP has no buffer access); that is the only per-pole loop.
 """
 from __future__ import annotations
 
+import warnings
 from typing import List, Optional, Tuple, Union
 
 import numpy as np
@@ -23,7 +24,7 @@ from OCP.GeomConvert import GeomConvert, GeomConvert_ApproxCurve, GeomConvert_Ap
 from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.Precision import Precision
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
-from OCP.TopoDS import TopoDS_Shape
+from OCP.TopoDS import TopoDS_Face, TopoDS_Shape
 
 from .. import _checks
 from ..curves.base import Curve
@@ -33,7 +34,9 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
+from ..surfaces.trimmed import TrimmedSurface
 from .analytic import analytic_form
+from .trim import make_trimmed_face, trimmed_from_face
 from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
                      as_face)
 
@@ -105,7 +108,7 @@ def _xyz(p, dim: int) -> tuple:
 
 # --- engine -> OCCT -------------------------------------------------------------------------
 def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False,
-           analytic: bool = False) -> Union[Geom_Curve, Geom2d_Curve, Geom_Surface]:
+           analytic: bool = False) -> Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Face]:
     """The exact OCCT geometry of an engine curve or surface.
 
     Curves give ``Geom_BSplineCurve`` (2-D curves with z = 0; ``plane=True`` gives a
@@ -118,7 +121,9 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
     surface instead (Geom_SphericalSurface, ..., Geom_SurfaceOfRevolution; trimmed to
     the engine's range by a Geom_RectangularTrimmedSurface unless that is the whole
     surface): the same point set, parametrised by the angle
-    (:mod:`cagd.occ.analytic`); every other surface still gives its B-spline.
+    (:mod:`cagd.occ.analytic`); every other surface still gives its B-spline. A
+    :class:`cagd.TrimmedSurface` gives a ``TopoDS_Face`` (a surface carries no trim in
+    OCCT): its B-spline bounded by wires of its pcurves (:mod:`cagd.occ.trim`).
 
     Raises:
         CagdError: not an engine curve or surface, more than 3 dimensions, or OCCT
@@ -126,6 +131,8 @@ def to_occ(obj: Union[Curve, Surface], bezier: bool = False, plane: bool = False
     """
     if isinstance(obj, (Curve, Surface)) and obj.dim > 3:
         raise CagdError(f"obj: OCCT geometry is 3-D at most, this {type(obj).__name__} is {obj.dim}-D")
+    if isinstance(obj, TrimmedSurface):
+        return make_trimmed_face(obj)
     try:
         if isinstance(obj, Curve):
             if bezier and isinstance(obj, BezierCurve) and not plane:
@@ -195,19 +202,24 @@ def _is_occt_error(exc: Exception) -> bool:
 
 
 def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], dim: int = 3,
-             oriented: bool = True, approximate: Optional[float] = None) -> Union[BSplineCurve, BSplineSurface]:
+             oriented: bool = True, approximate: Optional[float] = None) -> \
+        Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An engine B-spline from OCCT geometry or a shape.
 
     Accepts any ``Geom_Curve``/``Geom2d_Curve``/``Geom_Surface`` that GeomConvert
     turns into the same B-spline (B-spline, Bezier, trimmed conics and lines,
     trimmed analytic surfaces, surfaces of revolution and extrusion), a
     ``TopoDS_Edge`` (its 3-D curve on the edge's range) or a ``TopoDS_Face`` (its
-    surface on the face's UV bounds: exact for a face bounded by iso-curves, the
-    rectangle around the face otherwise, since the engine has no trimmed surfaces).
+    surface on the face's UV bounds when its boundary is that box, else a trimmed
+    surface, see below).
     With ``oriented`` (default) a REVERSED edge gives the reversed curve (running
     along the edge) and a REVERSED face the surface with u reversed (its normal
     S_u x S_v is the face's); ``oriented=False`` keeps OCCT's parametrisation.
     ``dim=2`` drops z from a curve.
+
+    A face whose boundary is not its UV box gives a :class:`cagd.TrimmedSurface` (its
+    pcurves as loops, :mod:`cagd.occ.trim`); one whose wires bound nothing usable (an
+    open wire, curves crossing) its surface over the box, with a RuntimeWarning.
 
     Offset curves and surfaces have no exact B-spline form: they raise unless
     ``approximate`` gives a tolerance, and are then approximated
@@ -240,7 +252,7 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
 
 
 def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
-                approximate: Optional[float]) -> Union[BSplineCurve, BSplineSurface]:
+                approximate: Optional[float]) -> Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An edge's curve on the edge's parameter range; a face's surface on the face's
     UV bounding box (the whole surface when that is its natural domain)."""
     reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
@@ -268,8 +280,16 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
         u0, u1, v0, v1 = a.FirstUParameter(), a.LastUParameter(), a.FirstVParameter(), a.LastVParameter()
         if max(abs(u0), abs(u1), abs(v0), abs(v1)) > 1e99:
             raise CagdError("geom: the face is unbounded (no boundary edges limit its surface)")
-        surf = _surface_from_bspline(_as_bspline_surface(_face_box(surface, u0, u1, v0, v1), approximate))
-        return surf.reversed("u") if reversed_ else surf
+        boxed = _face_box(surface, u0, u1, v0, v1)
+        surf = _surface_from_bspline(_as_bspline_surface(boxed, approximate))
+        slack = 2.0 * approximate if approximate is not None and isinstance(_basis(surface), Geom_OffsetSurface) \
+            else 0.0
+        try:
+            return trimmed_from_face(face, boxed, surf, reversed_, slack)
+        except CagdError as exc:        # wires that bound nothing (open, crossing): the box, as before
+            warnings.warn(f"geom: the face's trim is unusable ({exc}); its surface over the UV box is "
+                          "returned untrimmed", RuntimeWarning, stacklevel=3)
+            return surf.reversed("u") if reversed_ else surf
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 

@@ -75,7 +75,7 @@ class Imported:
     """One curve or surface read from a file: the name of the item it belongs to
     (with ``[i]`` when the item holds several), the engine object and its OCCT shape."""
     name: str
-    object: Union[BSplineCurve, BSplineSurface]
+    object: Union[BSplineCurve, BSplineSurface, Surface]     # a TrimmedSurface for a trimmed face
     shape: TopoDS_Shape
 
 
@@ -477,7 +477,7 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
     out: List[Imported] = []
     skipped: List[Skipped] = []
     for name, shape in named:
-        found: List[Tuple[Union[BSplineCurve, BSplineSurface], TopoDS_Shape]] = []
+        found: List[Tuple[Union[BSplineCurve, BSplineSurface, Surface], TopoDS_Shape]] = []
         failed: List[Tuple[str, int, str, TopoDS_Shape]] = []
         faces = subshapes(shape, TopAbs_FACE)
         owners = IndexedDataMapOfShapeListOfShape()

@@ -30,6 +30,7 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from .analytic import analytic_form
 from .convert import to_occ
+from .trim import TrimmedSurface, make_trimmed_face
 from .wrapped import describe, is_shape, occ_faces, occ_shape, occt_errors
 
 
@@ -129,6 +130,8 @@ def make_face(surface: Surface, tol: float = 1e-7, *, nurbs: bool = False) -> To
     if not isinstance(surface, Surface):
         raise CagdError(f"surface: expected a cagd Surface, got {type(surface).__name__}")
     tol = positive(tol, "tol")
+    if isinstance(surface, TrimmedSurface):                  # its own wires (cagd.occ.trim)
+        return make_trimmed_face(surface, tol)
     form = None if nurbs else analytic_form(surface)
     if form is not None and min(form.bounds[1] - form.bounds[0], form.bounds[3] - form.bounds[2]) <= SLIVER_RANGE:
         form = None                 # OCCT would close a periodic direction: a full turn

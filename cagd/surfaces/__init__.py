@@ -9,9 +9,10 @@ from .coons import CoonsPatch, HermiteCoonsPatch
 from .loft import loft, loft_parameters, make_compatible, ruled
 from .continuity import EdgeContinuityReport, edge_continuity
 from .fitting import interpolate_surface, surface_parameters
+from .trimmed import AreaResult, TrimBoundary, TrimmedSurface
 
 __all__ = ["Surface", "BSplineSurface", "BezierSurface", "RevolvedSurface", "Revolution", "Primitive",
            "revolve", "sphere", "torus", "cylinder", "cone",
            "ellipsoid", "ellipsoid_octant", "CoonsPatch", "HermiteCoonsPatch", "ruled", "loft",
            "loft_parameters", "make_compatible", "EdgeContinuityReport", "edge_continuity",
-           "interpolate_surface", "surface_parameters"]
+           "interpolate_surface", "surface_parameters", "TrimmedSurface", "AreaResult", "TrimBoundary"]

@@ -17,10 +17,12 @@ from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED  # noqa: E402
 
 from OCP.BRepAdaptor import BRepAdaptor_Surface  # noqa: E402
 
-from cagd import BSplineCurve, BSplineSurface, closest_point  # noqa: E402
-from cagd.occ import read_iges, read_step, write_step  # noqa: E402
+from cagd import BSplineCurve, BSplineSurface, TrimmedSurface, closest_point  # noqa: E402
+from cagd.occ import Imported, read_iges, read_step, write_step  # noqa: E402
 
 CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
+if not CAD.is_dir():                     # a worktree of the checkout: the corpus beside the main one
+    CAD = Path("/work/shared/data/cad")
 pytestmark = pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")
 
 STEP_FILES = ["bug28366_fuselage.stp", "trj7_c2-al-214.stp", "xr1-tu-rod.stp", "bug29478.stp",
@@ -49,8 +51,15 @@ def imported(name):
     return _CACHE[name]
 
 
+def plain(obj):
+    """The surface under a trim (read_step gives TrimmedSurface for trimmed faces)."""
+    return obj.untrimmed if isinstance(obj, TrimmedSurface) else obj
+
+
 def surfaces(name):
-    return [i for i in imported(name) if isinstance(i.object, BSplineSurface)]
+    """The faces' surfaces (untrimmed), as Imported items."""
+    return [Imported(i.name, plain(i.object), i.shape) for i in imported(name)
+            if isinstance(plain(i.object), BSplineSurface)]
 
 
 def curves(name):
@@ -188,10 +197,140 @@ def test_write_read_round_trip_is_exact(name, tmp_path):
     back = {i.name: i.object for i in read_step(tmp_path / "again.step")}
     assert len(back) == len(items)
     for k, i in enumerate(items):
-        a, b = i.object.occ_form(), back[f"o{k}"].occ_form()
+        # write_step of an engine object writes its (untrimmed) surface; trimmed faces: make_face
+        a, b = plain(i.object).occ_form(), plain(back[f"o{k}"]).occ_form()
         assert np.array_equal(a.poles, b.poles), (name, k)
         assert (a.weights is None) == (b.weights is None)
         if a.weights is not None:
             assert np.array_equal(a.weights, b.weights)
         for x, y in zip(a[2:], b[2:]):
             assert np.array_equal(np.asarray(x), np.asarray(y))
+
+
+# --- trimmed faces (issue 15): area and classification against OCCT ---------------------------------------
+TRIM_FILES = ["trj4_k1_geo-tc-214.stp", "wing_fuselage.step", "occ22470.igs",
+              "trj12_gd1-id-214.stp"]      # every trimmed face of these
+SAMPLED_FILES = ["bug24595_281390.stp", "trj3_s1-id-203.stp"]
+TRIM_SAMPLE = 12             # faces drawn (seeded) from SAMPLED_FILES
+AREA_REL = 1e-8
+CLASSIFY_POINTS = 60
+TIGHT_EDGES = 1e-7           # relative: faces with larger edge tolerances are defined only that well
+DOMAIN_SLACK = 1e-9          # relative: faces whose pcurves leave the surface's range by more are not compared
+
+
+def trimmed_items():
+    rng = np.random.default_rng(15)
+    out = [(n, i) for n in TRIM_FILES for i in imported(n) if isinstance(i.object, TrimmedSurface)]
+    rest = [(n, i) for n in SAMPLED_FILES for i in imported(n) if isinstance(i.object, TrimmedSurface)]
+    picks = rng.choice(len(rest), size=min(TRIM_SAMPLE, len(rest)), replace=False)
+    return out + [rest[k] for k in sorted(picks)]
+
+
+def leaves_domain(ts):
+    """How far (relative) the loops leave a bounded direction of the surface's domain:
+    OCCT extrapolates the surface there, the engine does not."""
+    (u0, u1), (v0, v1) = ts.domain
+    flat = ts._flattened()
+    over = 0.0
+    if not ts.periodic_u:
+        over = max(over, u0 - flat.lo[0], flat.hi[0] - u1)
+    if not ts.periodic_v:
+        over = max(over, v0 - flat.lo[1], flat.hi[1] - v1)
+    return max(over, 0.0) / max(u1 - u0, v1 - v0)
+
+
+def swapped_area(ts):
+    """The area by the other potential (u and v exchanged: F = int |S_u x S_v| dv): an
+    independent quadrature of the same integral."""
+    swap = np.array([[0.0, 1.0], [1.0, 0.0]])
+    return TrimmedSurface(ts.untrimmed.swapped(), [[c.transformed(swap) for c in loop] for loop in ts.loops],
+                          tol=ts.tol).area()
+
+
+def edge_tolerance(face):
+    from OCP.TopAbs import TopAbs_EDGE
+    from cagd.occ import subshapes
+    return max(BRep_Tool.Tolerance_s(e) for e in subshapes(face, TopAbs_EDGE))
+
+
+def test_trimmed_areas_against_brepgprop():
+    """area() = the area by the other potential to 1e-9, and = BRepGProp to 1e-8 where the
+    face is defined that well: its edge tolerances within TIGHT_EDGES of its size and its
+    pcurves inside the surface's range (files' pcurves stray from their 3-D edges by up to
+    the edge tolerance, 0.033 mm on bug24595_281390: the face is only defined to that, and
+    OCCT extrapolates surfaces where pcurves leave their range, the engine does not)."""
+    from cagd.occ import area
+    worst_occt, worst_self, compared, loose = 0.0, 0.0, 0, []
+    for name, item in trimmed_items():
+        ts = item.object
+        mine = ts.area()
+        rel_self = abs(swapped_area(ts) - mine) / mine
+        worst_self = max(worst_self, rel_self)
+        assert rel_self <= 1e-9, (name, item.name, rel_self)
+        if leaves_domain(ts) > DOMAIN_SLACK or edge_tolerance(item.shape) > TIGHT_EDGES * ts.size:
+            loose.append((name, item.name))
+            continue
+        occt = area(item.shape, 1e-12)
+        if not occt > 0:                 # BRepGProp gives a negative area on an extrusion of trj4_k1_geo-tc-214
+            loose.append((name, item.name))
+            continue
+        rel = abs(mine - occt) / occt
+        worst_occt = max(worst_occt, rel)
+        compared += 1
+        assert rel <= AREA_REL, (name, item.name, rel)
+    assert compared >= 25
+    print(f"\narea: {len(loose) + compared} trimmed faces, the two potentials agree to {worst_self:.3g}; "
+          f"{compared} against BRepGProp, worst {worst_occt:.3g}; {len(loose)} loosely defined faces not compared")
+
+
+def test_trimmed_contains_against_the_face_classifier():
+    """contains = BRepClass_FaceClassifier at random (u, v) of the loops' box farther than
+    the chord bound plus 1e-9 (relative) from the boundary (OCCT's parameters: u mirrored on
+    REVERSED faces; faces whose OCCT parameters are angles are classified at their 3-D points)."""
+    from OCP.BRepClass import BRepClass_FaceClassifier
+    from OCP.gp import gp_Pnt2d
+    from OCP.TopAbs import TopAbs_IN, TopAbs_ON
+    from cagd.occ.trim import _Identity, parameter_maps
+    from cagd.occ.convert import _face_box
+    rng = np.random.default_rng(16)
+    checked = faces = 0
+    for name, item in trimmed_items():
+        ts, face = item.object, item.shape
+        box = BRepAdaptor_Surface(face, True)
+        geom = _face_box(BRep_Tool.Surface_s(face), box.FirstUParameter(), box.LastUParameter(),
+                         box.FirstVParameter(), box.LastVParameter())
+        flip = face.Orientation() == TopAbs_REVERSED
+        engine = ts.untrimmed.reversed("u") if flip else ts.untrimmed
+        identity = all(isinstance(m, _Identity) for m in parameter_maps(geom, engine))
+        flat = ts._flattened()
+        u = flat.lo[0] + (flat.hi[0] - flat.lo[0]) * rng.random(4 * CLASSIFY_POINTS)
+        v = flat.lo[1] + (flat.hi[1] - flat.lo[1]) * rng.random(4 * CLASSIFY_POINTS)
+        p = np.stack([u, v], axis=1)
+        d = np.min([_segment_distances(p, flat.A[s:s + 4096], flat.B[s:s + 4096])
+                    for s in range(0, len(flat.A), 4096)], axis=0)
+        far = d > float(flat.bound.max()) + 1e-9 * flat.scale
+        u, v = u[far][:CLASSIFY_POINTS], v[far][:CLASSIFY_POINTS]
+        ours = ts.contains(u, v)
+        (a, b), _ = ts.domain
+        for k in range(len(u)):
+            if identity:
+                x = a + b - u[k] if flip else u[k]
+                c = BRepClass_FaceClassifier(face, gp_Pnt2d(float(x), float(v[k])), 1e-9)
+            else:
+                c = BRepClass_FaceClassifier(face, gp_Pnt(*map(float, ts(u[k], v[k]))), 1e-7)
+            state = c.State()
+            if state == TopAbs_ON:
+                continue
+            assert (state == TopAbs_IN) == bool(ours[k]), (name, item.name, u[k], v[k])
+            checked += 1
+        faces += 1
+    assert faces >= 40 and checked >= 30 * faces
+    print(f"\ncontains: {checked} points on {faces} trimmed faces agree with BRepClass_FaceClassifier")
+
+
+def _segment_distances(p, a, b):
+    d = b - a
+    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    t = np.clip(np.einsum("pkj,kj->pk", p[:, None, :] - a[None], d) / dd, 0.0, 1.0)
+    q = a[None] + t[..., None] * d[None]
+    return np.linalg.norm(p[:, None, :] - q, axis=-1).min(axis=1)

@@ -1,0 +1,509 @@
+"""OCCT faces <-> :class:`cagd.TrimmedSurface` (issue 15).
+
+Reading: a face's wires give loops of pcurves (BRepTools_WireExplorer on the face taken
+FORWARD, each edge's pcurve on its range, run backwards for a REVERSED edge; a seam
+edge gives its two pcurves, a degenerated edge its pole line). The pcurves are
+converted exactly (Geom2dConvert: lines, conics and B-splines become 2-D B-splines or
+NURBS on their range) in OCCT's (U, V), then mapped into the engine surface's
+parameters:
+
+- B-spline, Bezier, plane and extrusion/revolution faces of B-spline curves keep OCCT's
+  parameters (the engine surface is the same B-spline);
+- an angle direction of an analytic surface (cylinder, cone, sphere, torus, revolution)
+  is, on the engine's NURBS form, the rational quadratic circle's parameter: on each
+  knot span [a, b] of sweep d = b - a, tan((theta - m) / 2) = (2 s - 1) tan(d / 4),
+  m = (a + b) / 2, t = a + s d (:func:`cagd.surfaces.revolution.arc_angle`; which map a
+  direction has is measured on the face, OCCT vs engine points, to 1e-9 of the size).
+  Pcurves constant in such a direction, and iso-lines along it, map exactly; any other
+  pcurve is fitted (C1 cubic, :func:`cagd.surfaces.trimmed.hermite_fit`) within
+  PCURVE_FIT_TOL of the parameter box;
+- a REVERSED face gives the surface with u reversed (as :func:`cagd.occ.from_occ` always
+  did), the loops mirrored and run backwards, so that the normal is the face's.
+
+Periodic directions: consecutive pcurves are moved by whole periods to meet, and each
+loop by whole periods into the engine surface's window.
+
+Writing: a face on the engine surface's exact B-spline with one edge per loop curve
+(BRepBuilderAPI_MakeEdge of the Geom2d curve on the surface, sharing vertices), 3-D
+curves by BRepLib.BuildCurves3d_s; curves collapsing to a point become degenerated
+edges, and pairs of pcurves one period apart on the same iso-line a seam edge.
+"""
+from __future__ import annotations
+
+from typing import List, Tuple, Union
+
+import numpy as np
+from OCP.BRep import BRep_Builder
+from OCP.BRepAdaptor import BRepAdaptor_Curve2d
+from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeVertex,
+                                BRepBuilderAPI_MakeWire)
+from OCP.BRepCheck import BRepCheck_Analyzer
+from OCP.BRepLib import BRepLib
+from OCP.BRepTools import BRepTools_WireExplorer
+from OCP.Geom import Geom_BezierSurface, Geom_BSplineSurface, Geom_Plane, Geom_Surface
+from OCP.GeomAbs import GeomAbs_C2
+from OCP.Geom2d import Geom2d_Line, Geom2d_TrimmedCurve
+from OCP.gp import gp_Pnt
+from OCP.ShapeFix import ShapeFix_Face
+from OCP.TopAbs import TopAbs_FORWARD, TopAbs_REVERSED, TopAbs_WIRE
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS_Face
+
+from ..curves.bspline import BSplineCurve
+from ..errors import CagdError
+from ..surfaces.base import Surface
+from ..surfaces.bspline import BSplineSurface
+from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, hermite_fit
+from .compat import as_edge, as_face, as_wire
+
+MAP_TOL = 1e-9          # relative (surface size): an assumed parameter map must reproduce OCCT's points to this
+PCURVE_FIT_TOL = 1e-12  # relative (parameter box): fitted pcurves (non-iso pcurves on angle directions)
+MAX_GAP = 1e-2          # relative (parameter box): a wire whose pcurves do not meet within this is refused
+BOX_TOL = 1e-9          # relative (parameter box): a loop of iso-lines on the box's sides is "the box"
+DEGENERATE_TOL = 1e-7   # 3-D (mm): an edge whose image is within this of one point is degenerated
+CONSTANT_TOL = 1e-12    # relative (parameter box): a pcurve coordinate varying less is constant (an iso-line)
+CURVE3D_TOL = 1e-12     # relative (surface size): BuildCurves3d's approximation of the edges' 3-D curves
+MAX_CURVE3D_SEGMENTS = 1000
+MAP_SAMPLES = 7         # points per direction of the map test
+
+
+# --- parameter maps ------------------------------------------------------------------------------
+class _ArcMap:
+    """OCCT angle -> engine parameter along one direction of a rational-circle NURBS
+    form with knots ``knots`` (distinct, the spans' ends are angles) and ``period``
+    (inf for a bounded direction); see the module docstring."""
+
+    def __init__(self, knots: np.ndarray, period: float):
+        self.knots = knots
+        self.period = period
+
+    def _split(self, theta: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        a = self.knots[0]
+        if np.isfinite(self.period):
+            k = np.floor((theta - a) / self.period)
+            w = theta - k * self.period
+            return w, k * self.period
+        return theta, np.zeros_like(theta)
+
+    def __call__(self, theta: np.ndarray) -> np.ndarray:
+        w, shift = self._split(np.asarray(theta, dtype=float))
+        K = self.knots
+        j = np.clip(np.searchsorted(K, w, side="right") - 1, 0, len(K) - 2)
+        a, b = K[j], K[j + 1]
+        d = b - a
+        s = (np.tan((w - 0.5 * (a + b)) / 2.0) / np.tan(d / 4.0) + 1.0) / 2.0
+        t = a + s * d
+        at_knot = np.isin(w, K)
+        t = np.where(at_knot, w, t)
+        return t + shift
+
+    def derivative(self, theta: np.ndarray) -> np.ndarray:
+        """dt/dtheta = d sec^2(x / 2) / (4 tan(d / 4)), x = theta - m."""
+        c, x = self._local(theta)
+        return c / np.cos(x / 2.0) ** 2
+
+    def second_derivative(self, theta: np.ndarray) -> np.ndarray:
+        """d2t/dtheta2 = d sec^2(x / 2) tan(x / 2) / (4 tan(d / 4))."""
+        c, x = self._local(theta)
+        return c * np.tan(x / 2.0) / np.cos(x / 2.0) ** 2
+
+    def _local(self, theta: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        w, _ = self._split(np.asarray(theta, dtype=float))
+        K = self.knots
+        j = np.clip(np.searchsorted(K, w, side="right") - 1, 0, len(K) - 2)
+        a, b = K[j], K[j + 1]
+        d = b - a
+        return d / (4.0 * np.tan(d / 4.0)), w - 0.5 * (a + b)
+
+
+class _Identity:
+    knots = np.empty(0)
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        return np.asarray(x, dtype=float)
+
+    def derivative(self, x: np.ndarray) -> np.ndarray:
+        return np.ones_like(np.asarray(x, dtype=float))
+
+    def second_derivative(self, x: np.ndarray) -> np.ndarray:
+        return np.zeros_like(np.asarray(x, dtype=float))
+
+
+Map = Union[_ArcMap, _Identity]
+
+
+def _point(p) -> np.ndarray:
+    return np.array([p.X(), p.Y(), p.Z()])
+
+
+def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.0) -> Tuple[Map, Map]:
+    """The maps (u, v) OCCT -> engine of the face's surface ``geom`` and its engine
+    B-spline (not reversed), chosen among identity and the rational circle's per
+    direction by comparing points on a MAP_SAMPLES x MAP_SAMPLES grid inside the
+    engine's domain (the same numbers in OCCT's parameters where both are angles),
+    to MAP_TOL of the size plus ``slack`` (an approximation's tolerance).
+
+    Raises:
+        CagdError: no combination reproduces OCCT's points within that.
+    """
+    from .convert import _basis
+    if isinstance(_basis(geom), (Geom_BSplineSurface, Geom_BezierSurface, Geom_Plane)) and slack == 0.0:
+        return _Identity(), _Identity()       # GeomConvert keeps their parameters
+    (a0, a1), (b0, b1) = engine.domain
+    grid = np.meshgrid(np.linspace(a0, a1, MAP_SAMPLES + 2)[1:-1], np.linspace(b0, b1, MAP_SAMPLES + 2)[1:-1],
+                       indexing="ij")
+    U, V = grid[0].ravel(), grid[1].ravel()
+    want = np.array([_point(geom.Value(float(x), float(y))) for x, y in zip(U, V)])
+    tol = MAP_TOL * max(engine.size, 1e-300) + slack
+    pu = engine.domain[0][1] - engine.domain[0][0] if engine.periodic_u else float("inf")
+    pv = engine.domain[1][1] - engine.domain[1][0] if engine.periodic_v else float("inf")
+    cu: List[Map] = [_Identity(), _ArcMap(np.unique(engine.knots_u), pu)]
+    cv: List[Map] = [_Identity(), _ArcMap(np.unique(engine.knots_v), pv)]
+    best = (np.inf, None)
+    for mu in cu:
+        for mv in cv:
+            with np.errstate(all="ignore"):
+                x, y = mu(U), mv(V)
+            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+                continue
+            try:
+                got = engine(x, y)
+            except CagdError:
+                continue
+            err = float(np.linalg.norm(got - want, axis=1).max())
+            if err <= tol:
+                return mu, mv
+            best = min(best, (err, None), key=lambda e: e[0])
+    raise CagdError(f"face: no parameter map between OCCT's surface ({type(geom).__name__}) and its B-spline "
+                    f"reproduces OCCT's points (best {best[0]:.3g}, tol {tol:.3g})")
+
+
+# --- reading ---------------------------------------------------------------------------------------
+def _pcurve(edge, face: TopoDS_Face) -> BSplineCurve:
+    """The edge's pcurve on the face over the edge's range, as an engine 2-D B-spline,
+    running along the edge as oriented in the wire."""
+    from .convert import _as_bspline2d, _curve_from_bspline
+    adaptor = BRepAdaptor_Curve2d(edge, face)
+    first, last = adaptor.FirstParameter(), adaptor.LastParameter()
+    curve = adaptor.Curve()
+    if curve is None:
+        raise CagdError("face: an edge has no pcurve on the face")
+    if isinstance(curve, Geom2d_Line):
+        p, q = curve.Value(first), curve.Value(last)
+        out = BSplineCurve(np.array([[p.X(), p.Y()], [q.X(), q.Y()]]), 1, [first, first, last, last])
+    else:
+        if abs(curve.FirstParameter() - first) > 0 or abs(curve.LastParameter() - last) > 0:
+            curve = Geom2d_TrimmedCurve(curve, first, last)
+        out = _curve_from_bspline(_as_bspline2d(curve), 2)
+    return out.reversed() if edge.Orientation() == TopAbs_REVERSED else out
+
+
+def _wires(face: TopoDS_Face) -> List[List[BSplineCurve]]:
+    out = []
+    ex = TopExp_Explorer(face, TopAbs_WIRE)
+    while ex.More():
+        wire = as_wire(ex.Current())
+        loop = []
+        wex = BRepTools_WireExplorer(wire, face)
+        while wex.More():
+            loop.append(_pcurve(wex.Current(), face))
+            wex.Next()
+        if loop:
+            out.append(loop)
+        ex.Next()
+    return out
+
+
+def _translated(c: BSplineCurve, du: float, dv: float) -> BSplineCurve:
+    if du == 0 and dv == 0:
+        return c
+    return c.with_control_points(c.control_points + np.array([du, dv]))
+
+
+def _chained(loop: List[BSplineCurve], periods: Tuple[float, float]) -> List[BSplineCurve]:
+    """Each curve moved by whole periods to start where the previous one ends."""
+    out = [loop[0]]
+    for c in loop[1:]:
+        end, start = out[-1](out[-1].domain[1]), c(c.domain[0])
+        shift = [0.0, 0.0]
+        for k in (0, 1):
+            if np.isfinite(periods[k]):
+                shift[k] = periods[k] * float(np.round((end[k] - start[k]) / periods[k]))
+        out.append(_translated(c, *shift))
+    return out
+
+
+def _into_window(loop: List[BSplineCurve], periods: Tuple[float, float],
+                 window: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:
+    P = np.concatenate([c.control_points for c in loop])
+    shift = [0.0, 0.0]
+    for k in (0, 1):
+        if np.isfinite(periods[k]):
+            lo, hi = window[k]
+            centre = 0.5 * (P[:, k].min() + P[:, k].max())
+            shift[k] = periods[k] * float(np.round((0.5 * (lo + hi) - centre) / periods[k]))
+    return [_translated(c, *shift) for c in loop]
+
+
+def _crossings_of(c: BSplineCurve, k: int, knots: np.ndarray) -> np.ndarray:
+    """Parameters where coordinate k of c crosses a value of ``knots`` (sampled, then
+    bisected to rounding)."""
+    a, b = c.domain
+    t = np.linspace(a, b, 257)
+    x = c(t)[:, k]
+    out = []
+    for K in knots:
+        s = np.sign(x - K)
+        idx = np.flatnonzero(s[:-1] * s[1:] < 0)
+        for i in idx:
+            lo, hi = t[i], t[i + 1]
+            flo = x[i] - K
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                fm = float(c(mid)[k]) - K
+                if (fm < 0) == (flo < 0):
+                    lo, flo = mid, fm
+                else:
+                    hi = mid
+            out.append(0.5 * (lo + hi))
+    return np.array(out)
+
+
+def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSplineCurve:
+    """The curve in engine parameters (see the module docstring): exact for identity
+    maps, constant coordinates and iso-lines along a mapped direction; else fitted."""
+    maps = (mu, mv)
+    P = c.control_points
+    ident = [isinstance(m, _Identity) for m in maps]
+    if all(ident):
+        return c
+    const = [bool(np.all(np.abs(P[:, k] - P[0, k]) <= CONSTANT_TOL * scale)) for k in (0, 1)]
+    if all(ident[k] or const[k] for k in (0, 1)):
+        Q = P.copy()
+        for k in (0, 1):
+            if not ident[k]:
+                Q[:, k] = float(maps[k](np.array([P[0, k]]))[0])
+        return c.with_control_points(Q)
+    for k in (0, 1):                      # an iso-line along mapped direction k: a straight segment
+        other = 1 - k
+        if const[other] and not ident[k]:
+            x = P[:, k]
+            if np.all(np.diff(x) >= 0) or np.all(np.diff(x) <= 0):
+                ends = c(np.array(c.domain))
+                y = ends[:, other] if ident[other] else maps[other](ends[:, other])
+                e = np.empty((2, 2))
+                e[:, k] = maps[k](ends[:, k])
+                e[:, other] = y
+                a, b = c.domain
+                return BSplineCurve(e, 1, [a, a, b, b])
+    a, b = c.domain
+    extra = [_crossings_of(c, k, maps[k].knots) for k in (0, 1) if not ident[k]]
+    breaks = np.unique(np.concatenate([[a], c._breaks_within(a, b), *extra, [b]]))
+
+    def f(t: np.ndarray) -> np.ndarray:
+        uv = c(t)
+        return np.stack([mu(uv[:, 0]), mv(uv[:, 1])], axis=1)
+
+    def df(t: np.ndarray) -> np.ndarray:
+        d = c.derivatives(t, 1)
+        return np.stack([mu.derivative(d[0, :, 0]) * d[1, :, 0], mv.derivative(d[0, :, 1]) * d[1, :, 1]], axis=1)
+
+    def ddf(t: np.ndarray) -> np.ndarray:
+        d = c.derivatives(t, 2)
+        return np.stack([m.second_derivative(d[0, :, k]) * d[1, :, k] ** 2 + m.derivative(d[0, :, k]) * d[2, :, k]
+                         for k, m in enumerate(maps)], axis=1)
+
+    fit, err, ok = hermite_fit(f, df, breaks, tol, ddf)
+    if not ok:
+        raise CagdError(f"face: a pcurve could not be mapped to the B-spline's parameters within {tol:.3g} "
+                        f"(reached {err:.3g})")
+    return fit
+
+
+def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:
+    """One loop of iso-lines on the sides of the parameter box."""
+    if len(loops) != 1:
+        return False
+    (u0, u1), (v0, v1) = domain
+    tol = BOX_TOL * max(u1 - u0, v1 - v0)
+    for c in loops[0]:
+        P = c.control_points
+        on_u = np.all(np.abs(P[:, 0] - P[0, 0]) <= tol) and min(abs(P[0, 0] - u0), abs(P[0, 0] - u1)) <= tol
+        on_v = np.all(np.abs(P[:, 1] - P[0, 1]) <= tol) and min(abs(P[0, 1] - v0), abs(P[0, 1] - v1)) <= tol
+        if not (on_u or on_v):
+            return False
+    return True
+
+
+def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurface, reversed_: bool,
+                      slack: float = 0.0) -> Union[BSplineSurface, TrimmedSurface]:
+    """The TrimmedSurface of an OCCT face on ``engine`` (the B-spline of ``geom``, the
+    face's surface on its UV box; u reversed when ``reversed_``), or ``engine``
+    (reversed) itself when the face's boundary is its parameter box. ``slack``: the
+    tolerance of an approximated surface (offsets)."""
+    fwd = as_face(face.Oriented(TopAbs_FORWARD))
+    wires = _wires(fwd)
+    surface = engine.reversed("u") if reversed_ else engine
+    if not wires:
+        return surface
+    mu, mv = parameter_maps(geom, engine, slack)
+    (a0, a1), (b0, b1) = engine.domain
+    size = max(a1 - a0, b1 - b0)
+    periods = (a1 - a0 if engine.periodic_u else float("inf"), b1 - b0 if engine.periodic_v else float("inf"))
+    from .convert import _basis
+    basis = _basis(geom)                   # a trimmed surface is not periodic, its basis may be
+    occ_periods = (float(basis.UPeriod()) if basis.IsUPeriodic() else float("inf"),
+                   float(basis.VPeriod()) if basis.IsVPeriodic() else float("inf"))
+    loops = []
+    for w in wires:
+        w = _into_window(_chained(w, occ_periods), occ_periods, engine.domain)
+        loops.append([_mapped(c, mu, mv, PCURVE_FIT_TOL * size, size) for c in w])
+    loops = [_into_window(_chained(lp, periods), periods, engine.domain) for lp in loops]
+    if _is_box(loops, engine.domain):
+        return surface
+    if reversed_:
+        loops = [[_mirrored(c, a0 + a1) for c in lp[::-1]] for lp in loops]
+    gap, over = _gaps(loops), _overshoot(loops, surface)
+    if max(gap, over) > MAX_GAP * size:
+        raise CagdError(f"face: its wires do not close in (u, v) within {MAX_GAP:g} of the parameter box "
+                        f"(gap {gap:.3g}, outside the box by {over:.3g})")
+    boxes = [np.ptp(np.concatenate([_samples(c) for c in lp]), axis=0).prod() for lp in loops]
+    order = [int(np.argmax(boxes))] + [i for i in range(len(loops)) if i != int(np.argmax(boxes))]
+    tol = max(CLOSURE_TOL * size, 2.0 * gap, 2.0 * over)
+    return TrimmedSurface(surface, [loops[i] for i in order], tol=tol)
+
+
+def _mirrored(c: BSplineCurve, total: float) -> BSplineCurve:
+    """c under u -> total - u, run backwards."""
+    P = c.control_points.copy()
+    P[:, 0] = total - P[:, 0]
+    return c.with_control_points(P).reversed()
+
+
+def _gaps(loops: List[List[BSplineCurve]]) -> float:
+    gap = 0.0
+    for lp in loops:
+        for i, c in enumerate(lp):
+            n = lp[(i + 1) % len(lp)]
+            gap = max(gap, float(np.linalg.norm(c(c.domain[1]) - n(n.domain[0]))))
+    return gap
+
+
+def _samples(c: BSplineCurve, per_span: int = 16) -> np.ndarray:
+    """Points of c (its control points can lie far off a rational curve)."""
+    a, b = c.domain
+    br = np.concatenate([[a], c._breaks_within(a, b), [b]])
+    t = (br[:-1, None] + (br[1:] - br[:-1])[:, None] * np.linspace(0, 1, per_span)[None]).ravel()
+    return c(np.append(t, b))
+
+
+def _overshoot(loops: List[List[BSplineCurve]], surface: Surface) -> float:
+    (u0, u1), (v0, v1) = surface.domain
+    P = np.concatenate([_samples(c) for lp in loops for c in lp])
+    out = 0.0
+    if not surface.periodic_u:
+        out = max(out, u0 - P[:, 0].min(), P[:, 0].max() - u1)
+    if not surface.periodic_v:
+        out = max(out, v0 - P[:, 1].min(), P[:, 1].max() - v1)
+    return max(out, 0.0)
+
+
+# --- writing ---------------------------------------------------------------------------------------
+def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
+    """The OCCT face of a TrimmedSurface (see the module docstring), checked by
+    BRepCheck_Analyzer (ShapeFix_Face once if needed).
+
+    Raises:
+        CagdError: OCCT could not build the edges, wires or face, or the face is invalid.
+    """
+    from .convert import to_occ
+    nurbs = ts.surface.to_nurbs()
+    geom = to_occ(nurbs)
+    builder = BRep_Builder()
+    wires = []
+    known: List[Tuple[np.ndarray, object]] = []        # one vertex per 3-D point (closed edges, poles)
+    merge = max(tol, DEGENERATE_TOL)
+
+    def vertex(p: np.ndarray):
+        for q, v in known:
+            if np.linalg.norm(p - q) <= merge:
+                return v
+        v = BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex()
+        known.append((p, v))
+        return v
+
+    for i, loop in enumerate(ts.loops):
+        starts = [c(c.domain[0]) for c in loop]
+        p3 = [nurbs(float(p[0]), float(p[1])) for p in _clipped(starts, nurbs)]
+        vertices = [vertex(p) for p in p3]
+        maker = BRepBuilderAPI_MakeWire()
+        for j, c in enumerate(loop):
+            pc = to_occ(c, plane=True)
+            a, b = c.domain
+            v1, v2 = vertices[j], vertices[(j + 1) % len(loop)]
+            image = _image(nurbs, c)
+            if np.ptp(image, axis=0).max() <= DEGENERATE_TOL:
+                edge = _degenerated(builder, pc, geom, v1, a, b, tol)
+            else:
+                em = BRepBuilderAPI_MakeEdge(pc, geom, v1, v2, a, b)
+                if not em.IsDone():
+                    raise CagdError(f"loops[{i}][{j}]: OCCT could not make an edge on the surface "
+                                    f"(error {em.Error()})")
+                edge = em.Edge()
+            maker.Add(edge)
+            if not maker.IsDone():
+                raise CagdError(f"loops[{i}][{j}]: does not connect to the previous edge (OCCT wire error "
+                                f"{maker.Error()})")
+        wires.append(maker.Wire())
+    fm = BRepBuilderAPI_MakeFace(geom, wires[0], True)
+    for w in wires[1:]:
+        fm.Add(w)
+    if not fm.IsDone():
+        raise CagdError(f"surface: OCCT could not make the trimmed face (error {fm.Error()})")
+    face = fm.Face()
+    BRepLib.BuildCurves3d_s(face, CURVE3D_TOL * max(nurbs.size, 1e-300), GeomAbs_C2, 14, MAX_CURVE3D_SEGMENTS)
+    if not BRepCheck_Analyzer(face).IsValid():
+        fixer = ShapeFix_Face(face)
+        fixer.Perform()
+        face = as_face(fixer.Face())
+        if not BRepCheck_Analyzer(face).IsValid():
+            raise CagdError("surface: OCCT reports the trimmed face as invalid (BRepCheck), also after ShapeFix")
+    return face
+
+
+def _clipped(points: List[np.ndarray], s: BSplineSurface) -> List[np.ndarray]:
+    (u0, u1), (v0, v1) = s.domain
+    out = []
+    for p in points:
+        q = p.copy()
+        if not s.periodic_u:
+            q[0] = min(max(q[0], u0), u1)
+        if not s.periodic_v:
+            q[1] = min(max(q[1], v0), v1)
+        out.append(q)
+    return out
+
+
+def _image(s: BSplineSurface, c: BSplineCurve) -> np.ndarray:
+    uv = c(np.linspace(*c.domain, 9))
+    q = _clipped(list(uv), s)
+    uv = np.array(q)
+    return s(uv[:, 0], uv[:, 1])
+
+
+def _degenerated(builder: BRep_Builder, pc, geom: Geom_Surface, vertex, a: float, b: float, tol: float):
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS_Edge
+    edge = TopoDS_Edge()
+    builder.MakeEdge(edge)
+    builder.UpdateEdge(edge, pc, geom, TopLoc_Location(), tol)
+    builder.Degenerated(edge, True)
+    builder.Range(edge, a, b)
+    v1 = vertex.Oriented(TopAbs_FORWARD)
+    v2 = vertex.Oriented(TopAbs_REVERSED)
+    builder.Add(edge, v1)
+    builder.Add(edge, v2)
+    return as_edge(edge)
+
+
+__all__ = ["trimmed_from_face", "make_trimmed_face", "parameter_maps", "TrimmedSurface"]
