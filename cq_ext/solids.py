@@ -29,7 +29,8 @@ from OCP.TopoDS import TopoDS_Edge, TopoDS_Face, TopoDS_Shape, TopoDS_Solid
 from cagd.curves.base import Curve
 from cagd.errors import CagdError
 from cagd.occ import check_valid, make_face, make_solid, sewing, subshapes, volume
-from cagd.occ.shapes import face_list, occt_coordinates
+from cagd.occ.convert import occt_coordinates
+from cagd.occ.shapes import face_list
 from cagd.occ.wrapped import occ_edges, occt_errors
 from cagd.surfaces.base import Surface
 from cagd.surfaces.revolution import revolve
@@ -193,7 +194,7 @@ def revolution_angle(angle_degrees) -> float:
 
 def revolution_input(profile: Curve, axis_point: np.ndarray, axis_end: np.ndarray) -> None:
     """The profile and the axis within OCCT's coordinate range (before OCCT sees them;
-    :data:`cagd.occ.shapes.COORDINATE_LIMIT`), the axis points distinct.
+    :data:`cagd.occ.convert.MAX_COORDINATE`), the axis points distinct.
 
     Raises:
         CagdError: naming ``profile``, ``axisStart`` or ``axisEnd``.

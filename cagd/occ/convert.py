@@ -45,6 +45,19 @@ KNOT_SNAP_TOL = 1e-9       # a face box end this close to a knot (relative to th
 # the smallest approximate= tolerance for offsets: OCCT's geometric resolution (1e-7 mm);
 # from_occ(offset surface, approximate=1e-300) ran over 60 s (issue 14)
 APPROXIMATE_MIN_TOL = Precision.Confusion_s()
+# OCCT reads coordinates beyond Precision::Infinite() (2e100) as infinite; geometry
+# handed to it stays within half of that (measured: a revolution about an axis at 1e300
+# raised Standard_ConstructionError, one at 1e100 works)
+MAX_COORDINATE = 0.5 * Precision.Infinite_s()
+
+
+def occt_coordinates(value: np.ndarray, name: str) -> np.ndarray:
+    """``value`` (finite coordinates) unless one exceeds MAX_COORDINATE (1e100) in size."""
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.size and not float(np.abs(arr).max()) <= MAX_COORDINATE:
+        raise CagdError(f"{name}: coordinates up to {float(np.abs(arr).max()):.3g} exceed OCCT's range "
+                        f"(|x| <= {MAX_COORDINATE:.0e}); scale the model")
+    return arr
 
 OccGeometry = Union[Geom_BSplineCurve, Geom_BezierCurve, Geom_BSplineSurface, Geom_BezierSurface]
 
@@ -65,6 +78,7 @@ def _ints(values) -> Array1OfInteger:
 
 
 def _points(poles: np.ndarray):
+    occt_coordinates(poles, "obj")
     if poles.shape[1] == 2:
         a = Array1OfPnt2d(1, len(poles))
         for i, (x, y) in enumerate(poles.tolist(), 1):
@@ -77,6 +91,7 @@ def _points(poles: np.ndarray):
 
 
 def _net(poles: np.ndarray) -> Array2OfPnt:
+    occt_coordinates(poles, "obj")
     nu, nv = poles.shape[:2]
     a = Array2OfPnt(1, nu, 1, nv)
     for i, row in enumerate(poles.tolist(), 1):

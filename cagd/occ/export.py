@@ -134,17 +134,20 @@ def export_model(model: Model, step: Optional[Path] = None, iges: Optional[Path]
     result = ExportResult(model.name or "model", step, iges, volume_tol=volume_tol)
     items, faces, curves = [], 0, 0
     for e in entries:
-        if e.solid:
-            solid = solid_from_surfaces(e.objects, nurbs=True)
-            vol = enclosed_volume(e.objects)
-            result.solids.append(SolidCheck(e.name, len(subshapes(solid, TopAbs_FACE)), check_valid(solid),
-                                            volume(solid), vol.value, vol.error, closed_form_volume(e)))
-            items.append((e.name, solid))
-            faces += len(e.objects)
-        else:
-            for label, obj in e.labels():
-                items.append((label, make_edge(obj) if e.kind == "curve" else make_face(obj, nurbs=True)))
-                faces, curves = faces + (e.kind != "curve"), curves + (e.kind == "curve")
+        try:
+            if e.solid:
+                solid = solid_from_surfaces(e.objects, nurbs=True)
+                vol = enclosed_volume(e.objects)
+                result.solids.append(SolidCheck(e.name, len(subshapes(solid, TopAbs_FACE)), check_valid(solid),
+                                                volume(solid), vol.value, vol.error, closed_form_volume(e)))
+                items.append((e.name, solid))
+                faces += len(e.objects)
+            else:
+                for label, obj in e.labels():
+                    items.append((label, make_edge(obj) if e.kind == "curve" else make_face(obj, nurbs=True)))
+                    faces, curves = faces + (e.kind != "curve"), curves + (e.kind == "curve")
+        except CagdError as exc:                           # e.g. coordinates beyond OCCT's range
+            raise CagdError(f"model: entry {e.name!r}: {exc}") from None
         work.step(f"shape {e.name}")
     if not items:
         raise CagdError("model: no entry is exported")

@@ -30,7 +30,6 @@ from OCP.IFSelect import IFSelect_RetDone
 from OCP.IGESData import IGESData_IGESWriter
 from OCP.IGESSelect import IGESSelect_WorkLibrary
 from OCP.IGESCAFControl import IGESCAFControl_Reader, IGESCAFControl_Writer
-from OCP.Precision import Precision
 from OCP.Interface import Interface_Static
 from OCP.STEPCAFControl import STEPCAFControl_Reader, STEPCAFControl_Writer
 from OCP.STEPControl import STEPControl_AsIs
@@ -55,8 +54,9 @@ from ..errors import CagdError
 from ..knots.vectors import is_clamped
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
+from ..surfaces.trimmed import TrimmedSurface
 from .compat import IndexedDataMapOfShapeListOfShape, LabelSequence
-from .convert import from_occ
+from .convert import MAX_COORDINATE, from_occ
 from .shapes import make_edge, make_face, subshapes
 from .wrapped import describe, is_shape, occ_shape
 
@@ -65,7 +65,6 @@ STEP_SCHEMAS = ("AP203", "AP214CD", "AP214DIS", "AP214IS", "AP242DIS")   # OCCT'
 MIN_EXTENT = 1e-6          # mm: a face whose bounding box diagonal is smaller is refused on write; OCCT's
 #                            STEP reader drops faces at its Precision::Confusion (1e-7): measured, a
 #                            B-spline face of diagonal 1.6e-8 reads back as nothing, one of 1.6e-7 reads
-MAX_COORDINATE = 0.5 * Precision.Infinite_s()   # 1e100 mm: larger coordinates are refused on write
 Item = Union[Curve, Surface, TopoDS_Shape]
 Objects = Union[Item, Iterable[Union[Item, Tuple[str, Item]]], Dict[str, Item]]
 
@@ -167,6 +166,8 @@ def _named(objects) -> List[Tuple[str, Item]]:
         name, obj = it if isinstance(it, tuple) else (None, it)
         if isinstance(obj, Curve):
             shape = make_edge(_exchange_form(obj))
+        elif isinstance(obj, TrimmedSurface):                 # its own wires (cagd.occ.trim)
+            shape = make_face(obj)
         elif isinstance(obj, Surface):
             shape = make_face(_exchange_form(obj), nurbs=True)
         elif is_shape(obj):

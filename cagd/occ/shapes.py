@@ -40,19 +40,6 @@ from .wrapped import describe, is_shape, occ_faces, occ_shape, occt_errors
 SLIVER_RANGE = 10 * Precision.PConfusion_s()
 
 
-# OCCT reads coordinates beyond Precision::Infinite() (2e100) as infinite; geometry
-# handed to it stays within half of that (measured: a revolution about an axis at 1e300
-# raised Standard_ConstructionError, one at 1e100 works)
-COORDINATE_LIMIT = 0.5 * Precision.Infinite_s()
-
-
-def occt_coordinates(value: np.ndarray, name: str) -> np.ndarray:
-    """``value`` (finite coordinates) unless one exceeds COORDINATE_LIMIT (1e100) in size."""
-    arr = np.asarray(value, dtype=np.float64)
-    if arr.size and not float(np.abs(arr).max()) <= COORDINATE_LIMIT:
-        raise CagdError(f"{name}: coordinates up to {float(np.abs(arr).max()):.3g} exceed OCCT's range "
-                        f"(|x| <= {COORDINATE_LIMIT:.0e}); scale the model")
-    return arr
 
 
 def _shape(shape, name: str = "shape") -> TopoDS_Shape:

@@ -147,3 +147,15 @@ def test_default_tolerance_grows_with_degree_and_weights():
     report = verify(high)
     assert report.passed, str(report)
     assert report.stage("occt").tolerance == default_tolerance(high)
+
+
+def test_coordinates_beyond_occts_range_are_refused_before_occt():
+    """OCCT reads coordinates beyond Precision::Infinite (2e100) as infinite: to_occ, and
+    so every path to OCCT (faces, edges, files), refuses poles beyond MAX_COORDINATE."""
+    from cagd.occ.convert import MAX_COORDINATE
+    far = cagd.BSplineCurve([[0, 0, 0], [1, 1, 0], [3 * MAX_COORDINATE, 0, 0]], 2)
+    with pytest.raises(CagdError, match="exceed OCCT's range"):
+        to_occ(far)
+    with pytest.raises(CagdError, match="exceed OCCT's range"):
+        to_occ(cagd.sphere(1e200))
+    to_occ(cagd.sphere(0.1 * MAX_COORDINATE))             # within the range: converts

@@ -24,7 +24,8 @@ from OCP.TopoDS import TopoDS_Face  # noqa: E402
 
 import cagd  # noqa: E402
 from cagd import BSplineSurface, CagdError, TrimmedSurface  # noqa: E402
-from cagd.occ import area, check_valid, from_occ, make_face, read_step, to_occ, write_step  # noqa: E402
+from cagd.occ import (area, check_valid, from_occ, make_face, read_iges, read_step, to_occ, write_iges,  # noqa: E402
+                      write_step)
 from cagd.occ.shapes import subshapes  # noqa: E402
 from cagd.occ.trim import _ArcMap  # noqa: E402
 
@@ -175,10 +176,14 @@ def test_make_face_is_valid_with_the_engine_area(name):
 
 
 @pytest.mark.parametrize("name", list(ENGINE_CASES))
-def test_step_round_trip_keeps_the_area(name, tmp_path):
+@pytest.mark.parametrize("kind", ["step", "iges"])
+def test_file_round_trip_keeps_the_area(name, kind, tmp_path):
+    """write_step/write_iges of the engine object itself write the trimmed face (they
+    wrote the untrimmed surface before)."""
     ts = ENGINE_CASES[name]()
-    path = write_step([("trimmed", make_face(ts))], tmp_path / "t.step")
-    (item,) = read_step(path)
+    write, read = (write_step, read_step) if kind == "step" else (write_iges, read_iges)
+    path = write([("trimmed", ts)], tmp_path / f"t.{kind}")
+    (item,) = read(path)
     back = item.object
     if not isinstance(back, TrimmedSurface):         # the trim was the (new) face's parameter box
         (u0, u1), (v0, v1) = back.domain
