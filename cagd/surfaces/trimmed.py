@@ -62,6 +62,8 @@ GAUSS_POINTS = 10          # Gauss-Legendre nodes per interval (area, boundary f
 AREA_TOL = 1e-12           # default relative accuracy goal of area()
 MAX_START_INTERVALS = 16  # boundary intervals per curve the adaptive area rule starts from at most
 MAX_AREA_SPLITS = 32       # sub-intervals per knot span of the inner (u) integral at most
+MAX_AREA_INTERVALS = 1 << 14   # live boundary intervals of the adaptive area rule at most (each level
+#                                could double them: a face of wing_fuselage.step ran for minutes)
 BOUNDARY_TOL = 1e-9        # default 3-D accuracy of boundary() approximations, relative to the surface's size
 MAX_FIT_PIECES = 1 << 12   # cubic pieces per boundary curve at most
 TESSELLATION_POINTS = 24   # default interior grid points per direction of tessellate()
@@ -825,6 +827,8 @@ def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray,
         if done.all():
             return total, residual, True
         keep = ~done
+        if 2 * int(keep.sum()) > MAX_AREA_INTERVALS:        # bounded work: report, do not halve on
+            return total + float((left + right)[keep].sum()), residual + float(diff[keep].sum()), False
         lo, hi, owner = np.concatenate([lo[keep], mid[keep]]), np.concatenate([mid[keep], hi[keep]]), \
             np.concatenate([owner[keep], owner[keep]])
         whole = np.concatenate([left[keep], right[keep]])
