@@ -189,9 +189,13 @@ def _check_extent(shape: TopoDS_Shape, name: object) -> None:
     MAX_COORDINATE, which OCCT treats as infinite."""
     whole = Bnd_Box()
     BRepBndLib.Add_s(shape, whole, False)
-    if not whole.IsVoid() and not max(abs(x) for x in whole.Get()) <= MAX_COORDINATE:
-        raise CagdError(f"objects: {name!r} reaches coordinates of {max(abs(x) for x in whole.Get()):.3g} mm; "
-                        f"files hold at most {MAX_COORDINATE:g} (OCCT treats larger values as infinite)")
+    if not whole.IsVoid():
+        # CornerMin/CornerMax, not Get(): OCCT 8's Get() returns a struct OCP cannot convert
+        lo, hi = whole.CornerMin(), whole.CornerMax()
+        reach = max(abs(c) for p in (lo, hi) for c in (p.X(), p.Y(), p.Z()))
+        if not reach <= MAX_COORDINATE:
+            raise CagdError(f"objects: {name!r} reaches coordinates of {reach:.3g} mm; files hold at most "
+                            f"{MAX_COORDINATE:g} (OCCT treats larger values as infinite)")
     for k, face in enumerate(subshapes(shape, TopAbs_FACE)):
         box = Bnd_Box()
         BRepBndLib.Add_s(face, box, False)
