@@ -16,14 +16,21 @@ def bernstein(n: int, t: ArrayLike) -> np.ndarray:
     """All n+1 Bernstein polynomials of degree n at ``t``: shape ``np.shape(t) + (n+1,)``;
     n at most :data:`cagd.MAX_DEGREE` (CagdError beyond)."""
     n = _degree(n, "n", 0)
-    t = parameters(t)[..., None]
-    i = np.arange(n + 1)
-    c = np.array([comb(n, k) for k in range(n + 1)], dtype=np.float64)
-    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        B = c * t ** i * (1.0 - t) ** (n - i)
+    B = bernstein_values(n, parameters(t))
     if not np.all(np.isfinite(B)):
         raise CagdError(f"t: the degree-{n} Bernstein polynomials overflow at these parameters (|t| too large)")
     return B
+
+
+def bernstein_values(n: int, x: np.ndarray) -> np.ndarray:
+    """The kernel of :func:`bernstein`, unchecked (hot paths, n and x already valid):
+    C(n,i) x^i (1-x)^(n-i), shape ``np.shape(x) + (n+1,)``; in [0, 1] each to a few ulps
+    (a subnormal x^i underflows to a negligible term)."""
+    i = np.arange(n + 1)
+    binom = np.array([comb(n, k) for k in range(n + 1)], dtype=np.float64)
+    xx = np.asarray(x, dtype=np.float64)[..., None]
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        return binom * xx ** i * (1.0 - xx) ** (n - i)
 
 
 def bernstein_to_power(n: int) -> np.ndarray:

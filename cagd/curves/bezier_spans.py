@@ -14,12 +14,12 @@ ulps and all terms are non-negative, so the error is ~ p ulps of the control net
 """
 from __future__ import annotations
 
-from math import comb
 from typing import Optional, Tuple
 
 import numpy as np
 
 from .._checks import frozen
+from ..basis.bernstein import bernstein_values
 from .._value import Value
 
 _CHUNK_VALUES = 1 << 22      # gathered net values per evaluation chunk (32 MiB of float64)
@@ -84,8 +84,6 @@ class BernsteinSpans(Value):
         self.nets = frozen(np.ascontiguousarray(nets, dtype=np.float64))
         self.degree = self.nets.shape[1] - 1
         self.dim = self.nets.shape[2]
-        p = self.degree
-        self._binom = frozen(np.array([comb(p, i) for i in range(p + 1)], dtype=np.float64))
 
     def derived(self, order: int) -> "BernsteinSpans":
         """The ``order``-th derivative: hodographs p (P_{i+1} - P_i) / (b - a) per span
@@ -105,15 +103,12 @@ class BernsteinSpans(Value):
         out = np.empty((t.shape[0], D))
         step = max(1, _CHUNK_VALUES // ((p + 1) * max(D, 1)))
         last = len(self.breaks) - 2
-        i = np.arange(p + 1)
         for s in range(0, t.shape[0], step):
             tc = t[s:s + step]
             j = np.clip(np.searchsorted(self.breaks, tc, side="right") - 1, 0, last)
             lo, hi = self.breaks[j], self.breaks[j + 1]
-            x = np.clip((tc - lo) / (hi - lo), 0.0, 1.0)[:, None]
-            with np.errstate(under="ignore"):
-                B = self._binom * x ** i * (1.0 - x) ** (p - i)              # (m, p+1)
-            out[s:s + step] = np.einsum("mi,mid->md", B, self.nets[j])
+            x = np.clip((tc - lo) / (hi - lo), 0.0, 1.0)
+            out[s:s + step] = np.einsum("mi,mid->md", bernstein_values(p, x), self.nets[j])
         return out
 
 
@@ -160,13 +155,3 @@ def refined_points(knots: np.ndarray, degree: int, points: np.ndarray,
         alpha = ((x - lo) / (hi - lo))[..., None]
         level = (1.0 - alpha) * level[:, :-1] + alpha * level[:, 1:]
     return level[:, 0]
-
-
-def bernstein_values(n: int, x: np.ndarray) -> np.ndarray:
-    """The n+1 Bernstein polynomials C(n,i) x^i (1-x)^(n-i) at x in [0, 1]: (len(x), n+1)
-    (each to a few ulps; a subnormal x^i underflows to a negligible term)."""
-    i = np.arange(n + 1)
-    binom = np.array([comb(n, k) for k in range(n + 1)], dtype=np.float64)
-    xx = np.asarray(x, dtype=np.float64)[:, None]
-    with np.errstate(under="ignore"):
-        return binom * xx ** i * (1.0 - xx) ** (n - i)

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from ..basis.bspline import basis_derivatives, basis_matrix
 from ..curves.bspline import BSplineCurve
-from ..curves.bezier_spans import bernstein_values
+from ..basis.bernstein import bernstein_values
 from ..curves.ppform import PP_MAX_DEGREE, PPForm
 from ..errors import CagdError
 from ..knots import vectors as kv
