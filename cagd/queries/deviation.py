@@ -145,8 +145,11 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     bad = np.flatnonzero(~conv)
     message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "
                                        f"(first: index {int(bad[0])})")
-    return Deviation(d, params, feet, lower, is_signed, float(d.max()), float(d.min()),
-                     float(d.mean()), float(np.sqrt(np.mean(d * d))), float(np.abs(d).max()),
+    # mean and RMS in units of max |d|: d * d overflowed for distances beyond 1e154 (RMS inf)
+    max_abs = float(np.abs(d).max())
+    unit = max_abs if max_abs > 0 else 1.0
+    mean, rms = unit * float(np.mean(d / unit)), unit * float(np.sqrt(np.mean((d / unit) ** 2)))
+    return Deviation(d, params, feet, lower, is_signed, float(d.max()), float(d.min()), mean, rms, max_abs,
                      {float(p): float(v) for p, v in zip(pct, np.percentile(d, pct))}, owner.astype(int),
                      not bad.size, message)
 

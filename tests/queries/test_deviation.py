@@ -76,3 +76,15 @@ def test_bad_input():
         deviation(plane(), [[0.0, 0.0, 0.1]], percentiles=(50, 101))
     with pytest.raises(CagdError, match="obj"):
         deviation("plane", [[0.0, 0.0, 0.1]])
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1.0, 1e200, 1e300])
+def test_statistics_do_not_overflow_at_any_scale(scale):
+    """The mean and RMS of distances near 1e300 were inf (d * d overflowed): a point
+    cloud and a sphere scaled together give the same statistics, scaled."""
+    pts = np.array([[2.0, 0, 0], [0, 3.0, 0], [0, 0, 0.5]])
+    ref = deviation(cagd.sphere(1.0), pts)
+    got = deviation(cagd.sphere(scale), pts * scale)
+    for name in ("mean", "rms", "max_abs", "max", "min"):
+        assert getattr(got, name) == pytest.approx(getattr(ref, name) * scale, rel=1e-12), name
+    assert ref.rms == pytest.approx(np.sqrt((1 + 4 + 0.25) / 3), rel=1e-12)
