@@ -18,6 +18,7 @@ from .._checks import affine_map, parameters, positive, scalar
 from .._checks import order as _order
 from .._deprecation import changed
 from .._periodic import wrap
+from .._quadrature import adaptive
 from .._value import Value
 from ..errors import CagdError
 
@@ -278,33 +279,12 @@ class Curve(Value):
                             f"use tol >= {floor:.3g}")
         edges = np.unique(np.concatenate([[start, end], self._breaks_within(start, end)]))
         lo, hi = edges[:-1], edges[1:]
-        whole = self._gl(lo, hi)
-        bound = tol if tol is not None else max(rel * abs(float(whole.sum())), floor)
+        bound = tol if tol is not None else max(rel * abs(float(self._gl(lo, hi).sum())), floor)
         if not bound > 0.0:                                     # a constant curve at the origin
             return ArcLength(0.0, 0.0, True, "the curve is a point", len(lo))
-        total, err, evaluated, pending = 0.0, 0.0, len(lo), 0.0
-        why = f"after {ARC_LENGTH_MAX_LEVELS} halvings (ARC_LENGTH_MAX_LEVELS)"
-        for _ in range(ARC_LENGTH_MAX_LEVELS):
-            mid = 0.5 * (lo + hi)
-            left, right = self._gl(lo, mid), self._gl(mid, hi)
-            evaluated += 2 * len(lo)
-            diff = np.abs(left + right - whole)
-            done = diff <= bound * (hi - lo) / (end - start)
-            total += (left + right)[done].sum()
-            err += diff[done].sum()
-            keep = ~done
-            pending = float(diff[keep].sum())
-            if not keep.any():
-                return ArcLength(sign * total, err, True, f"within {bound:.3g}", evaluated)
-            if 2 * int(keep.sum()) > ARC_LENGTH_MAX_INTERVALS:
-                whole = (left + right)[keep]
-                why = f"after {evaluated} intervals (ARC_LENGTH_MAX_INTERVALS)"
-                break
-            lo, hi = np.concatenate([lo[keep], mid[keep]]), np.concatenate([mid[keep], hi[keep]])
-            whole = np.concatenate([left[keep], right[keep]])
-        estimate = err + pending
-        return ArcLength(sign * (total + float(whole.sum())), estimate, False,
-                         f"not within {bound:.3g} {why}; error estimate {estimate:.3g}", evaluated)
+        q = adaptive(lambda a, b, _: self._gl(a, b), lo, hi, None, bound, 0.0, ARC_LENGTH_MAX_LEVELS,
+                     ARC_LENGTH_MAX_INTERVALS, "ARC_LENGTH_MAX")
+        return ArcLength(sign * q.value, q.error, q.converged, q.message, q.intervals)
 
     def _gl(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         half = 0.5 * (hi - lo)

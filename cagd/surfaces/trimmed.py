@@ -32,6 +32,7 @@ from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._periodic import wrap
+from .._quadrature import adaptive
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -60,7 +61,8 @@ CHUNK = 1 << 20            # (point, chord) pairs handled at once: bounds the me
 CROSSING_TOL = 1e-13       # relative orientation below which two chords only touch (no crossing)
 GAUSS_POINTS = 10          # Gauss-Legendre nodes per interval (area, boundary fits)
 AREA_TOL = 1e-12           # default relative accuracy goal of area()
-MAX_START_INTERVALS = 16  # boundary intervals per curve the adaptive area rule starts from at most
+CROSSING_SAMPLES = 8       # samples per pcurve span where knot-line crossings are looked for
+MAX_START_INTERVALS = 1024  # boundary intervals per curve the adaptive area rule starts from at most
 MAX_AREA_SPLITS = 32       # sub-intervals per knot span of the inner (u) integral at most
 MAX_AREA_INTERVALS = 1 << 14   # live boundary intervals of the adaptive area rule at most (each level
 #                                could double them: a face of wing_fuselage.step ran for minutes)
@@ -350,9 +352,24 @@ class TrimmedSurface(Surface):
     # --- area ----------------------------------------------------------------------------------
     def area_report(self, rel_tol: float = AREA_TOL) -> AreaResult:
         """The area int_D |S_u x S_v| du dv over the trimmed domain D by Green's theorem
-        (see the module docstring) with its error estimate."""
+        (see the module docstring) with its error estimate. The inner integral runs
+        along the direction with fewer knot spans over the loops (u, or v on the
+        surface and loops with u and v exchanged: the same area)."""
         rel_tol = _checks.positive(rel_tol, "rel_tol")
-        return _area(self, rel_tol)
+        return _area(self if self._inner_direction() == 0 else self._exchanged(), rel_tol)
+
+    def _inner_direction(self) -> int:
+        """0 (u) or 1 (v): the direction with fewer knot spans over the loops."""
+        flat = self._flattened()
+        spans = [len(_knot_lines(self, k, float(flat.lo[k]), float(flat.hi[k]))) for k in (0, 1)]
+        return 0 if spans[0] <= spans[1] else 1
+
+    def _exchanged(self) -> "TrimmedSurface":
+        """The same face with u and v exchanged (surface and loops; a reflection of the
+        domain, so the loops are re-oriented)."""
+        swap = np.array([[0.0, 1.0], [1.0, 0.0]])
+        loops = [[c.transformed(swap) for c in loop] for loop in self.loops]
+        return TrimmedSurface(self.surface.to_nurbs().swapped(), loops, tol=self.tol)
 
     def area(self, rel_tol: float = AREA_TOL) -> float:
         """The area of the trimmed surface (:meth:`area_report` ``.value``)."""
@@ -726,22 +743,53 @@ def _inside_domain(surface: Surface, u: np.ndarray, v: np.ndarray) -> Tuple[np.n
     return u, v
 
 
+def _knot_lines(ts: TrimmedSurface, k: int, lo: float, hi: float) -> np.ndarray:
+    """The surface's distinct knots in direction k (0: u, 1: v) strictly inside (lo, hi),
+    repeated by periods in a periodic direction: where S is not smooth."""
+    s = ts.surface.to_nurbs()
+    knots = np.unique(s.knots_u if k == 0 else s.knots_v)
+    if (s.periodic_u, s.periodic_v)[k]:
+        (a, b) = s.domain[k]
+        period = b - a
+        k0, k1 = int(np.floor((lo - a) / period)) - 1, int(np.ceil((hi - a) / period)) + 1
+        knots = np.unique(np.concatenate([knots + j * period for j in range(k0, k1 + 1)]))
+    return knots[(knots > lo) & (knots < hi)]
+
+
 def _u_breaks(ts: TrimmedSurface, flat: _Flattened, splits: int) -> np.ndarray:
     """u_ref = the loops' smallest u, then the surface's u knots (repeated by periods in
     a periodic direction) up to the largest, each span split ``splits`` times."""
-    s = ts.surface.to_nurbs()
     lo, hi = float(flat.lo[0]), float(flat.hi[0])
-    knots = np.unique(s.knots_u)
-    if s.periodic_u:
-        (a, b) = s.domain[0]
-        period = b - a
-        k0, k1 = int(np.floor((lo - a) / period)) - 1, int(np.ceil((hi - a) / period)) + 1
-        knots = np.unique(np.concatenate([knots + k * period for k in range(k0, k1 + 1)]))
-    inner = knots[(knots > lo) & (knots < hi)]
-    edges = np.concatenate([[lo], inner, [hi]])
+    edges = np.concatenate([[lo], _knot_lines(ts, 0, lo, hi), [hi]])
     t = np.linspace(0.0, 1.0, splits + 1)[:-1]
     fine = (edges[:-1, None] + (edges[1:] - edges[:-1])[:, None] * t[None]).ravel()
     return np.concatenate([fine, [hi]])
+
+
+def _knot_crossings(ts: TrimmedSurface, c: BSplineCurve, a: float, b: float) -> np.ndarray:
+    """Parameters in (a, b) where the pcurve c crosses a knot line of the surface (the
+    integrand of the boundary rule is only C^(p-1) there: splitting the rule's intervals
+    at them keeps Gauss-Legendre convergent at its own rate): sign changes on a sample
+    of CROSSING_SAMPLES per span, then bisection to the parameter's rounding."""
+    br = np.concatenate([[a], c._breaks_within(a, b), [b]])
+    t = (br[:-1, None] + (br[1:] - br[:-1])[:, None] * np.linspace(0.0, 1.0, CROSSING_SAMPLES + 1)[None, :-1]).ravel()
+    t = np.concatenate([t, [b]])
+    P = c(t)
+    found = []
+    for k in (0, 1):
+        lines = _knot_lines(ts, k, float(P[:, k].min()), float(P[:, k].max()))
+        if not len(lines):
+            continue
+        f = P[:, k][:, None] - lines[None, :]
+        i, j = np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)
+        lo, hi, level, flo = t[i], t[i + 1], lines[j], f[i, j]
+        for _ in range(MAX_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            fm = c(mid)[:, k] - level
+            left = np.sign(fm) == np.sign(flo)
+            lo, flo, hi = np.where(left, mid, lo), np.where(left, fm, flo), np.where(left, hi, mid)
+        found.append(0.5 * (lo + hi))
+    return np.unique(np.concatenate(found)) if found else np.empty(0)
 
 
 def _jacobian_grid(surface: Surface, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
@@ -781,10 +829,11 @@ def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarr
     return out
 
 
-def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray,
+def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray, bound: Optional[float],
                        rel_tol: float) -> Tuple[float, float, bool]:
-    """oint G dv over every chain curve, adaptive Gauss-Legendre (halves against the
-    whole); (value, residual, converged)."""
+    """oint G dv over every chain curve, adaptive Gauss-Legendre (cagd._quadrature: an
+    absolute error ``bound``, or None: ``rel_tol`` of the sum of |parts|); (value,
+    error estimate, converged)."""
     curves = flat.curves
     lo_list, hi_list, cid = [], [], []
     for k, c in enumerate(curves):
@@ -795,6 +844,7 @@ def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray,
         br = np.concatenate([[a], c._breaks_within(a, b), [b]])
         if len(br) > MAX_START_INTERVALS + 1:   # many short spans (fits): start coarser, adapt
             br = br[np.unique(np.linspace(0, len(br) - 1, MAX_START_INTERVALS + 1).astype(int))]
+        br = np.unique(np.concatenate([br, _knot_crossings(ts, c, a, b)]))
         lo_list.append(br[:-1])
         hi_list.append(br[1:])
         cid.append(np.full(len(br) - 1, k))
@@ -813,42 +863,30 @@ def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray,
         G = _potential(ts, us.ravel(), vs.ravel(), edges).reshape(t.shape)
         return half * ((G * dvs) @ _GL_W)
 
-    whole = rule(lo, hi, owner)
-    scale = max(float(np.abs(whole).sum()), 1e-300)
-    span = max(float((hi - lo).sum()), 1e-300)
-    total, residual = 0.0, 0.0
-    for _ in range(MAX_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        left, right = rule(lo, mid, owner), rule(mid, hi, owner)
-        diff = np.abs(left + right - whole)
-        done = diff <= rel_tol * scale * (hi - lo) / span
-        total += float((left + right)[done].sum())
-        residual += float(diff[done].sum())
-        if done.all():
-            return total, residual, True
-        keep = ~done
-        if 2 * int(keep.sum()) > MAX_AREA_INTERVALS:        # bounded work: report, do not halve on
-            return total + float((left + right)[keep].sum()), residual + float(diff[keep].sum()), False
-        lo, hi, owner = np.concatenate([lo[keep], mid[keep]]), np.concatenate([mid[keep], hi[keep]]), \
-            np.concatenate([owner[keep], owner[keep]])
-        whole = np.concatenate([left[keep], right[keep]])
-    return total + float(whole.sum()), residual + float(np.abs(whole).sum()), False
+    q = adaptive(rule, lo, hi, owner, bound, rel_tol, MAX_BISECTIONS, MAX_AREA_INTERVALS)
+    return q.value, q.error, q.converged
 
 
 def _area(ts: TrimmedSurface, rel_tol: float) -> AreaResult:
+    """The area by Green's theorem, A = oint G dv with G(u, v) = int |S_u x S_v| du
+    (do Carmo 2-5 for the area element; Green's theorem on the trimmed domain): the
+    inner rule refined (u spans split 1, 2, 4, ... times) until two refinements agree;
+    the goal, rel_tol times the first estimate, is shared between the outer quadrature
+    (a quarter) and the change between refinements."""
     flat = ts._flattened()
-    previous: Optional[float] = None
-    splits = 1
+    value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, 1), None, rel_tol)
+    goal = max(rel_tol * abs(value), 1e-300)
+    splits = 2
     while True:
-        value, residual, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, splits), rel_tol)
-        if previous is not None:
-            error = abs(value - previous) + residual
-            if error <= rel_tol * abs(value) or 2 * splits > MAX_AREA_SPLITS:
-                converged = ok and error <= max(rel_tol * abs(value), 1e-300)
-                msg = "" if converged else (f"area: error estimate {error:.3g} above the goal "
-                                            f"{rel_tol:.3g} relative")
-                return AreaResult(float(value), float(error), bool(converged), msg)
         previous = value
+        value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, splits), 0.25 * goal, rel_tol)
+        error += abs(value - previous)
+        goal = max(rel_tol * abs(value), 1e-300)
+        if (ok and error <= goal) or 2 * splits > MAX_AREA_SPLITS:
+            converged = ok and error <= goal
+            msg = "" if converged else (f"area: error estimate {error:.3g} above the goal {goal:.3g} "
+                                        f"({rel_tol:.3g} relative)")
+            return AreaResult(float(value), float(error), bool(converged), msg)
         splits *= 2
 
 
