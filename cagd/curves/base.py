@@ -94,7 +94,12 @@ class Curve(Value):
         ``order`` at most :data:`cagd.MAX_ORDER`."""
         order = _order(order, "order")
         flat, shape = self._flat_parameters(t)
-        out = self._evaluate(flat, order)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = self._evaluate(flat, order)
+        if not np.isfinite(out).all():
+            k = int(np.argmax(~np.isfinite(out).reshape(order + 1, -1).all(axis=1)))
+            raise CagdError(f"t: the derivative of order {k} overflows there (beyond the floating-point range; "
+                            f"coordinates up to {float(np.abs(self.to_nurbs().control_points).max()):.3g})")
         return out.reshape((order + 1,) + shape + (self.dim,))
 
     def __call__(self, t: ArrayLike) -> np.ndarray:
