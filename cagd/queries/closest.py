@@ -899,6 +899,13 @@ def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: boo
 def _closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,
                    param_tol: Optional[float] = None, max_iterations: int = 50) -> ClosestPoints:
     """:func:`closest_point` without the notice on ``tol`` (for the engine's own callers)."""
+    from ..surfaces.trimmed import TrimmedSurface
+    if isinstance(obj, TrimmedSurface):                  # the face itself (cagd.queries.trimmed)
+        if all_minima:
+            raise CagdError("all_minima: not available on a TrimmedSurface (use its untrimmed surface)")
+        from .trimmed import closest_on_trimmed
+        p = projector(obj.untrimmed)
+        return closest_on_trimmed(obj, points, p, p._stop_tolerances(tol, param_tol), max_iterations)
     p = projector(obj) if isinstance(obj, (Curve, Surface)) else Projector(obj)
     stop = p._stop_tolerances(tol, param_tol)
     if all_minima:

@@ -1,0 +1,223 @@
+"""Closest points on a trimmed face (issue 15): the nearest point of the face itself,
+interior or on a boundary edge, with a certified lower bound.
+
+The face F = S(D) is a part of its surface S, so the untrimmed answer (certified over S)
+is F's wherever its foot lies in D, and its lower bound holds for F everywhere. For the
+other points F's distance is the smaller of
+
+- the distance to the boundary S(dD): every loop curve's 3-D image (``boundary()``:
+  exact iso-curves, or fits within their reported error), the foot then moved onto the
+  face itself, S(c(t)), so the distance found is attained by a point of F;
+- an interior minimum inside D: branch and bound over the surface's Bezier cells, each
+  classified against the trim (a cell outside D is dropped, only feet inside D count),
+  with the projector's second-order lower bounds (Piegl & Tiller 6.1 for the Newton step;
+  the bounds as in :mod:`cagd.queries.closest`).
+
+The lower bound reported is the largest of the untrimmed one and the minimum of the
+boundary curves' bounds (less the fits' error) and the bounds of the cells left.
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Optional, Tuple
+import weakref
+
+import numpy as np
+
+from ..errors import CagdError
+from ._local import split_boxes
+from .bounds import robust_distance
+
+if TYPE_CHECKING:
+    from ..surfaces.trimmed import TrimBoundary, TrimmedSurface
+    from .closest import ClosestPoints, Projector
+
+#: relative gap below which a cell's lower bound counts as reaching the distance found
+CELL_GAP = 1e-10
+#: rounds of the branch and bound at most (each halves the open cells' boxes)
+MAX_TRIM_ROUNDS = 60
+#: open (point, box) rows at most per round (bounded work: the bound reached is reported)
+MAX_TRIM_ROWS = 2_000_000
+#: margin on the gradient's variation bound before a box is said to hold no stationary point
+CRITICAL_SAFETY = 1.0 + 1e-9
+#: (box, chord) pairs tested at once when cells are classified against the trim
+CLASSIFY_CHUNK = 1 << 22
+
+_PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _prepared(ts: "TrimmedSurface", p: "Projector") -> Tuple["TrimBoundary", np.ndarray]:
+    """The face's 3-D boundary curves and the classes (:func:`box_classes`) of the
+    projector's cells, computed once per face (the face is a value)."""
+    try:
+        hit = _PREPARED.get(ts)
+    except TypeError:
+        hit = None
+    if hit is not None and hit[0] is p:
+        return hit[1], hit[2]
+    bd, cls = ts.boundary(), box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
+    try:
+        _PREPARED[ts] = (p, bd, cls)
+    except TypeError:
+        pass
+    return bd, cls
+
+
+def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Per parameter box [lo, hi] (model parameters, (n, 2)): -1 outside the trimmed domain
+    D, 1 inside it, 0 where a loop may cross it (a chord's box, widened by its bound,
+    meets the box). Periodic faces: every box 0 (no pruning)."""
+    n = len(lo)
+    out = np.zeros(n, dtype=np.int8)
+    if ts.periodic_u or ts.periodic_v or not n:
+        return out
+    flat = ts._flattened()
+    A, B, r = flat.A, flat.B, flat.bound + flat.band
+    cmin, cmax = np.minimum(A, B) - r[:, None], np.maximum(A, B) + r[:, None]
+    crossed = np.zeros(n, dtype=bool)
+    step = max(1, CLASSIFY_CHUNK // max(len(A), 1))
+    for s in range(0, n, step):
+        l, h = lo[s:s + step, None, :], hi[s:s + step, None, :]
+        crossed[s:s + step] = np.any(np.all((cmin[None] <= h) & (cmax[None] >= l), axis=2), axis=1)
+    c = 0.5 * (lo + hi)
+    inside = ts.contains(c[:, 0], c[:, 1])
+    out[~crossed] = np.where(inside[~crossed], 1, -1)
+    return out
+
+
+def closest_on_trimmed(ts: "TrimmedSurface", points: np.ndarray, p: "Projector", stop: Tuple[Optional[float], ...],
+                       max_iterations: int) -> "ClosestPoints":
+    """The closest points of the face ``ts`` (see the module docstring); ``p`` the
+    projector of its untrimmed surface, ``stop`` its (tol, param_tol) in frame units."""
+    from dataclasses import replace
+    base = p._closest(points, *stop, max_iterations)
+    uv = base.params
+    inside = ts.contains(uv[:, 0], uv[:, 1])
+    if inside.all():
+        return base
+    model = p._points(points)
+    o = np.flatnonzero(~inside)
+    Xm = model[o]
+    surface = ts.untrimmed
+    # --- the boundary: every loop curve's 3-D image, the foot moved onto the face
+    bd, cls = _prepared(ts, p)
+    best = np.full(len(o), np.inf)
+    best_uv = np.zeros((len(o), 2))
+    best_ok = np.ones(len(o), dtype=bool)
+    lb_edge = np.full(len(o), np.inf)
+    from .closest import _closest_point
+    for loop, images, exact in zip(ts.loops, bd.curves, bd.exact):
+        for c, C, ex in zip(loop, images, exact):
+            r = _closest_point(C, Xm, tol=None, max_iterations=max_iterations)
+            q = c(r.params)
+            d = robust_distance(surface(q[:, 0], q[:, 1]), Xm)
+            win = d < best
+            best[win], best_uv[win], best_ok[win] = d[win], q[win], r.point_converged[win]
+            lb_edge = np.minimum(lb_edge, np.maximum(r.lower_bounds - (0.0 if ex else bd.error), 0.0))
+    # --- the interior: branch and bound over the cells that meet D
+    X, _far = p._inward(Xm)
+    s = p.frame.scale
+    U = best / s
+    live = np.flatnonzero(cls >= 0)
+    LB = np.full(len(o), np.inf)
+    pid_l, cell_l = [], []
+    chunk = max(1, MAX_TRIM_ROWS // max(len(live), 1))
+    for c0 in range(0, len(o), chunk):
+        i = np.arange(c0, min(c0 + chunk, len(o)))
+        lbs = np.sqrt(((X[i][:, None, :] - p.centers[live][None]) ** 2).sum(-1)) - p.radii[live][None]
+        a, c = np.nonzero(lbs < U[i][:, None])
+        pid_l.append(i[a])
+        cell_l.append(live[c])
+    pid, cell = np.concatenate(pid_l), np.concatenate(cell_l)
+    lo, hi = p.lo[cell], p.hi[cell]
+    box = cls[cell]
+    x_best = np.full((len(o), 2), np.nan)
+    converged_all = True
+    for _ in range(MAX_TRIM_ROUNDS):
+        if not len(pid):
+            break
+        gap = CELL_GAP * U + 1e-13 * p.size
+        flat = _no_critical_point(p, X, pid, cell, lo, hi)     # f has no stationary point there
+        pid, cell, lo, hi, box = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat]
+        if not len(pid):
+            break
+        y, g2, ok = p._newton_rows(X, pid, 0.5 * (lo + hi), lo, hi, p._cell_piece[cell], max_iterations, *stop)
+        dy = np.sqrt(g2)
+        yuv = p.frame.params(y)
+        admit = (box == 1) | ts.contains(yuv[:, 0], yuv[:, 1])
+        cand = np.flatnonzero(admit & (dy < U[pid]))
+        if cand.size:
+            order = cand[np.lexsort((dy[cand], pid[cand]))]
+            first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
+            U[pid[first]], x_best[pid[first]] = dy[first], y[first]
+            best_ok[pid[first]] = ok[first]
+        lb = np.sqrt(np.maximum(p._bound(X, pid, cell, lo, hi, y), 0.0))
+        closed = lb >= U[pid] - gap[pid]
+        np.minimum.at(LB, pid[closed], lb[closed])
+        keep = ~closed
+        pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
+        if 2 * len(pid) > MAX_TRIM_ROWS:
+            converged_all = False
+            break
+        pid, cell, lo, hi, lb = split_boxes(pid, cell, lo, hi, lb)
+        box = np.concatenate([box, box])
+        straddle = np.flatnonzero(box == 0)
+        if straddle.size:                    # the halves of a crossed box: classify again
+            b = box_classes(ts, p.frame.params(lo[straddle]), p.frame.params(hi[straddle]))
+            box[straddle] = b
+        keep = box >= 0
+        pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
+    else:
+        converged_all = not len(pid)
+    if len(pid):                                 # boxes left open: their bounds still hold
+        np.minimum.at(LB, pid, lb)
+    interior = np.flatnonzero(np.isfinite(x_best[:, 0]))
+    uv_o, feet_o = best_uv.copy(), surface(best_uv[:, 0], best_uv[:, 1])
+    if interior.size:
+        uv_o[interior] = p.frame.params(x_best[interior])
+        feet_o[interior] = p.frame.outward(p.value(x_best[interior]))
+    d_o = robust_distance(feet_o, Xm)
+    lower_o = np.maximum(base.lower_bounds[o], np.minimum(lb_edge, LB * s))
+    lower_o = np.minimum(lower_o * (1.0 - 1e-13), d_o)
+    params, feet, dist = base.params.copy(), base.feet.copy(), base.distances.copy()
+    lower, conv = base.lower_bounds.copy(), base.point_converged.copy()
+    params[o], feet[o], dist[o], lower[o], conv[o] = uv_o, feet_o, d_o, lower_o, best_ok
+    if not np.all(np.isfinite(dist)):
+        raise CagdError("points: a distance to the face exceeds the float64 range")
+    message = base.message
+    bad = np.flatnonzero(~conv)
+    if bad.size and not message:
+        message = (f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
+                   f"their distances are the best found, lower_bounds still hold")
+    if not converged_all:
+        message = (message + "; " if message else "") + (
+            f"trimmed face: the branch and bound stopped at its work bound (MAX_TRIM_ROUNDS = {MAX_TRIM_ROUNDS}, "
+            f"MAX_TRIM_ROWS = {MAX_TRIM_ROWS}); lower_bounds still hold")
+    return replace(base, params=params, feet=feet, distances=dist, lower_bounds=lower, point_converged=conv,
+                   converged=bool(conv.all()), message=message)
+
+
+def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,
+                       hi: np.ndarray) -> np.ndarray:
+    """True for the (point, box) rows where f = |S - X|^2 has no stationary point in the
+    box: some component of grad f = 2 J^T r at the centre c exceeds its variation over
+    the box, |g_a(z) - g_a(c)| <= sum_b 2 (L_a L_b + R M_ab) h_b (mean value theorem;
+    H_ab = 2 (S_a . S_b + r . S_ab), L and M the cell's derivative bounds, h the box's
+    half-widths, R >= |r| over the box). The face's minimum is at a stationary point
+    inside D or on the boundary, so such boxes cannot hold it."""
+    out = np.zeros(len(pid), dtype=bool)
+    for c0 in range(0, len(pid), CLASSIFY_CHUNK // 64):
+        sl = slice(c0, c0 + CLASSIFY_CHUNK // 64)
+        c = 0.5 * (lo[sl] + hi[sl])
+        h = 0.5 * (hi[sl] - lo[sl])
+        ce = cell[sl]
+        S, J = p.evaluate(c, 1, p._cell_piece[ce])[:2]
+        r = S - X[pid[sl]]
+        g = 2.0 * np.einsum("nd,ndk->nk", r, J)
+        L, M = p.L[ce], p.M[ce]
+        R = np.linalg.norm(r, axis=1) + (L * h).sum(axis=1)
+        var = 2.0 * (L * (L * h).sum(axis=1, keepdims=True) + R[:, None] * np.einsum("nab,nb->na", M, h))
+        out[sl] = np.any(np.abs(g) > CRITICAL_SAFETY * var, axis=1)
+    return out
+
+
+__all__ = ["closest_on_trimmed", "box_classes"]

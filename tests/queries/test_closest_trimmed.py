@@ -1,0 +1,127 @@
+"""Closest points on trimmed faces (issue 15, cagd.queries.trimmed): the nearest point of
+the face itself. Oracles: closed forms on a flat disk and annulus (the phantom corner of
+the issue: 0 from the untrimmed square, r_corner - r from the face), brute force (dense
+samples of the face's interior and boundary, then the best sample refined) on a bumpy
+patch, OCCT's BRepExtrema_DistShapeShape on the face written to OCCT, and the
+certificate: lower_bounds <= distances, feet on the face."""
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from cagd import BSplineSurface, CagdError, TrimmedSurface, closest_point, deviation
+from trim_shapes import circle, curved_patch, rectangle, square_patch
+
+RNG = np.random.default_rng(150)
+
+
+def disk_face(side=2.0, c=(0.5, 0.5), r=0.3):
+    return TrimmedSurface(square_patch(side), [[circle(c, r)]])
+
+
+def test_phantom_corner_is_the_distance_to_the_disk():
+    """The issue's case: a point at a corner of the square around a disk-shaped cap is 0
+    from the untrimmed surface and |corner - centre| - r from the face."""
+    ts = disk_face()                       # S = (2u, 2v, 0), disk centre (1, 1), radius 0.6
+    X = np.array([[0.0, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.5]])
+    assert np.all(closest_point(ts.untrimmed, X).distances[:2] <= 1e-15)
+    r = closest_point(ts, X)
+    expect = [math.sqrt(2) - 0.6, math.sqrt(2) - 0.6, math.hypot(math.sqrt(2) - 0.6, 0.5)]
+    assert r.distances == pytest.approx(expect, rel=1e-12)
+    assert np.all(r.lower_bounds <= r.distances)
+    assert np.all(r.lower_bounds >= (1 - 1e-8) * r.distances)
+    assert np.all(ts.contains(r.params[:, 0], r.params[:, 1]))
+
+
+def test_flat_annulus_against_the_closed_form():
+    """Points over a flat annulus (hole radius a, outer radius b): the distance is the
+    height over the ring where the projection lands in it, else the distance to the
+    nearer circle."""
+    a, b, c = 0.15, 0.4, np.array([0.5, 0.5])
+    ts = TrimmedSurface(square_patch(1.0), [[circle(c, b)], [circle(c, a, clockwise=True)]])
+    X = np.concatenate([RNG.random((3000, 2)) * 1.4 - 0.2, RNG.normal(0, 0.3, (3000, 1))], axis=1)
+    rho = np.hypot(X[:, 0] - c[0], X[:, 1] - c[1])
+    radial = np.where(rho < a, a - rho, np.where(rho > b, rho - b, 0.0))
+    expect = np.hypot(radial, X[:, 2])
+    r = closest_point(ts, X)
+    assert np.abs(r.distances - expect).max() <= 1e-12
+    assert np.all(r.lower_bounds <= r.distances)
+    assert np.median(r.distances - r.lower_bounds) <= 1e-9
+
+
+def brute(ts, X, n=801):
+    """Dense samples of the face (interior grid points in D and the boundary curves)."""
+    s = ts.untrimmed
+    (u0, u1), (v0, v1) = s.domain
+    uu, vv = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
+    m = ts.contains(uu.ravel(), vv.ravel())
+    Q = [s(uu.ravel()[m], vv.ravel()[m])]
+    for loop in ts.loops:
+        for c in loop:
+            q = c(np.linspace(*c.domain, 20001))
+            Q.append(s(q[:, 0], q[:, 1]))
+    return cKDTree(np.concatenate(Q)).query(X)[0]
+
+
+@pytest.mark.parametrize("holes", [0, 1])
+def test_bumpy_face_against_brute_force(holes):
+    """A bicubic bump trimmed to a disk (with a hole off-centre): never farther than the
+    dense samples, within the sampling's reach of them, and the feet lie on the face."""
+    loops = [[circle((0.5, 0.5), 0.4)]] + ([[circle((0.6, 0.45), 0.12, clockwise=True)]] if holes else [])
+    ts = TrimmedSurface(curved_patch(), loops)
+    X = np.concatenate([RNG.random((1500, 2)) * 1.6 - 0.3, RNG.normal(0, 0.4, (1500, 1))], axis=1)
+    r = closest_point(ts, X)
+    b = brute(ts, X)
+    assert np.all(r.distances <= b + 1e-12)
+    assert np.all(b - r.distances <= 2e-3)                 # the samples' spacing on the face
+    assert np.all(r.lower_bounds <= r.distances)
+    assert np.all(ts.contains(r.params[:, 0], r.params[:, 1]))
+    assert np.abs(ts.untrimmed(r.params[:, 0], r.params[:, 1]) - r.feet).max() <= 1e-14
+    plain = closest_point(ts.untrimmed, X)
+    assert np.all(r.distances >= plain.distances - 1e-15)       # the face is part of the surface
+    assert np.sum(r.distances > plain.distances + 1e-6) > 300  # ... and the trim matters here
+
+
+def test_against_occt_distance_to_the_face():
+    """BRepExtrema_DistShapeShape from each point to the face written by cagd.occ: the
+    engine's distance is never larger (+1e-9 relative), and equal where both are sure."""
+    pytest.importorskip("OCP")
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+    from OCP.gp import gp_Pnt
+    from cagd.occ import to_occ
+    ts = TrimmedSurface(curved_patch(), [[circle((0.5, 0.5), 0.4)], [circle((0.6, 0.45), 0.12, clockwise=True)]])
+    face = to_occ(ts)
+    X = np.concatenate([RNG.random((60, 2)) * 1.6 - 0.3, RNG.normal(0, 0.4, (60, 1))], axis=1)
+    ours = closest_point(ts, X).distances
+    occt = []
+    for x in X:
+        v = BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, x))).Vertex()
+        d = BRepExtrema_DistShapeShape(v, face)
+        assert d.IsDone()
+        occt.append(d.Value())
+    occt = np.array(occt)
+    assert np.all(ours <= occt * (1 + 1e-9) + 1e-12)
+    assert np.abs(ours - occt).max() <= 1e-7              # OCCT's own tolerance on the face
+
+
+def test_deviation_uses_the_trim():
+    """deviation() measures to the face: a point above the hole's centre is as far as the
+    hole's rim, not its height."""
+    ts = TrimmedSurface(square_patch(1.0), [rectangle(0, 1, 0, 1), [circle((0.5, 0.5), 0.2, clockwise=True)]])
+    dev = deviation([ts], np.array([[0.5, 0.5, 0.03]]))
+    assert dev.distances[0] == pytest.approx(math.hypot(0.2, 0.03), rel=1e-12)
+
+
+def test_all_minima_is_refused_on_a_trimmed_face():
+    with pytest.raises(CagdError, match="all_minima"):
+        closest_point(disk_face(), np.zeros(3), all_minima=True)
+
+
+def test_face_inside_its_surface_gives_the_untrimmed_answer():
+    """Where every untrimmed foot lies inside the trim the result is the untrimmed one."""
+    ts = TrimmedSurface(curved_patch(), [rectangle(0.0, 1.0, 0.0, 1.0)])
+    X = np.concatenate([RNG.random((200, 2)) * 0.6 + 0.2, RNG.normal(0, 0.01, (200, 1))], axis=1)
+    a, b = closest_point(ts, X), closest_point(ts.untrimmed, X)
+    assert np.array_equal(a.distances, b.distances) and isinstance(ts.untrimmed, BSplineSurface)
