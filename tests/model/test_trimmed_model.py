@@ -10,7 +10,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import cagd
 from cagd import CagdError, TrimmedSurface
 from cagd.model import ModelError, dumps, entry_dict, load_model, objects_to_dict, parse_json
 

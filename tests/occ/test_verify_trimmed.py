@@ -116,12 +116,16 @@ def test_the_iges_seam_disk_is_compared_a_period_away():
     assert compared(s)[0] == inside                   # all inside points differ without the shifts
 
 
-def test_boundary_distances_are_brute_force_distances():
-    """_distances (blocked) against the direct all-pairs minimum."""
+def test_far_from_the_boundary_against_brute_force_distances():
+    """_far_from (a grid of cells): every point it calls far is farther than h from every
+    boundary point (brute force), and every point farther than 2 sqrt(2) h is far."""
     rng = np.random.default_rng(3)
-    P, Q = rng.random((50, 2)), rng.random((3000, 2))
-    want = np.hypot(P[:, None, 0] - Q[None, :, 0], P[:, None, 1] - Q[None, :, 1]).min(axis=1)
-    assert np.array_equal(V._distances(P, Q, chunk=1000), want)
+    P, Q = rng.random((4000, 2)), rng.random((300, 2)) * 0.5 + 0.25
+    h = 0.01
+    d = np.hypot(P[:, None, 0] - Q[None, :, 0], P[:, None, 1] - Q[None, :, 1]).min(axis=1)
+    far = V._far_from(P, Q, h)
+    assert np.all(d[far] > h) and np.all(far[d > 2 * math.sqrt(2) * h])
+    assert 0 < far.sum() < len(P)
     c = circle((0.5, 0.5), 0.3)
     pts = V._dense(c, 1e-3)
     assert np.linalg.norm(np.diff(pts, axis=0), axis=1).max() <= 1e-3
