@@ -54,7 +54,11 @@ def to_cq(obj: Union[Curve, Surface], nurbs: bool = False) -> Union["cq.Edge", "
     the object's exact OCCT B-spline; spheres, tori, cylinders, cones and other
     surfaces of revolution get OCCT's analytic surface (the same point set, by angle;
     what CadQuery's ``shell`` and :func:`cq_ext.thicken` need) unless ``nurbs=True``
-    (see :func:`cagd.occ.make_face`).
+    (see :func:`cagd.occ.make_face`). A :class:`cagd.TrimmedSurface` gives the trimmed
+    face: its surface's B-spline bounded by wires of its loops' pcurves, with 3-D edges
+    (:func:`cagd.occ.make_trimmed_face`; ``nurbs`` does not apply). Measure it with
+    :func:`cagd.occ.area`: CadQuery's ``Face.Area()`` integrates at OCCT's default
+    precision (on a disk trimmed from a B-spline square: 1.8e-4 relative off).
 
     Raises:
         CagdError: not an engine curve or surface, or OCCT refuses it.
@@ -101,7 +105,9 @@ def from_shape(shape, dim: int = 3):
     """The engine B-spline of an edge or face of CadQuery, build123d or OCCT (also a
     Workplane, compound, wire, build123d ``Sketch``/``Curve`` holding exactly one):
     any geometry OCCT converts to a B-spline, on the edge's range / the face's UV
-    bounds (see :func:`cagd.occ.from_occ`).
+    bounds (see :func:`cagd.occ.from_occ`). A face whose boundary is not its UV box
+    keeps its trim: a :class:`cagd.TrimmedSurface` of its wires' pcurves (a plate with
+    a hole: the outer loop and the hole).
 
     Raises:
         CagdError: not one edge or face, or geometry OCCT cannot convert.

@@ -227,6 +227,36 @@ class _Builder:
             raise ModelError(path, f"must be {want}; {where} is a {type_name}")
         return obj
 
+    def surface(self, value: Any, path: str) -> Any:
+        """A surface field: {"ref": "<earlier entry>"} or an inline object {"type": ...};
+        one surface (not an ellipsoid's eight patches) that can be trimmed (not a
+        trimmed_surface: refer to its surface instead)."""
+        want = 'a surface: {"ref": "<name>"} or an inline object {"type": ...}'
+        if not isinstance(value, dict):
+            raise ModelError(path, f"must be {want}, got {R.show(value)}")
+        if "ref" in value:
+            _keys(value, path, ("ref",), ())
+            ref = R.string(value["ref"], R.key_path(path, "ref"))
+            entry = self._lookup(ref, R.key_path(path, "ref"))
+            objects, type_name, where = entry.objects, entry.type, f"entry {ref!r} ({entry.path})"
+        else:
+            type_name = _type(value, path, inline=True)
+            spec = TYPES[type_name]
+            _keys(value, path, INLINE_KEYS + spec.fields, spec.required)
+            if "description" in value:
+                R.string(value["description"], R.key_path(path, "description"))
+            objects = self._build(value, path, type_name)[1] if spec.kind == "surface" else []
+            where = "the inline object"
+        if TYPES[type_name].kind != "surface":
+            raise ModelError(path, f"must be a surface; {where} is a {type_name} curve")
+        if type_name == "trimmed_surface":
+            raise ModelError(path, f"{where} is already trimmed; trim its surface instead (one "
+                                   f"trimmed_surface with all the loops)")
+        if len(objects) != 1:
+            raise ModelError(path, f"must be one surface; {where} is a {type_name} of {len(objects)} patches "
+                                   f"(trim one of them: an entry of its own)")
+        return objects[0]
+
     def _lookup(self, ref: str, path: str) -> Entry:
         if ref in self.done:
             return self.done[ref]

@@ -16,6 +16,7 @@ from .._deprecation import deprecated
 from ..curves.composite import GAP_TOL
 from ..curves.cubic_spline import END_CONDITIONS
 from ..surfaces.coons import CORNER_TOL
+from ..surfaces.trimmed import TrimmedSurface
 from ..fitting.parameters import PARAMETERS
 from . import _read as R
 from ._read import ModelError
@@ -52,6 +53,27 @@ class Fields:
         items = R.array(self.obj[key], self.at(key), "curves", min_count)
         self.values[key] = [self.resolver.curve(c, f"{self.at(key)}[{i}]") for i, c in enumerate(items)]
         return self.values[key]
+
+    def surface(self, key: str) -> Any:
+        self.values[key] = self.resolver.surface(self.obj[key], self.at(key))
+        return self.values[key]
+
+    def loops(self, key: str) -> List[List[Curve]]:
+        """An array of loops, each an array of at least one 2-D curve (reference or inline)."""
+        where = self.at(key)
+        out: List[List[Curve]] = []
+        for i, loop in enumerate(R.array(self.obj[key], where, "loops (arrays of 2-D curves)", 1)):
+            lp = f"{where}[{i}]"
+            row = []
+            for j, c in enumerate(R.array(loop, lp, "2-D curves in (u, v)", 1)):
+                curve = self.resolver.curve(c, f"{lp}[{j}]")
+                if curve.dim != 2:
+                    raise ModelError(f"{lp}[{j}]", f"a trimming curve lies in the surface's (u, v) domain: it "
+                                                   f"must be 2-D (control points [u, v]), got a {curve.dim}-D curve")
+                row.append(curve)
+            out.append(row)
+        self.values[key] = out
+        return out
 
 
 @dataclass(frozen=True)
@@ -229,6 +251,15 @@ def _loft(f: Fields):
                 f.opt("parameters", _name_or(_numbers), default="chord"))
 
 
+def _trimmed_surface(f: Fields):
+    """cagd.TrimmedSurface(surface, loops, tol): loops[0] the outer loop, the others holes
+    (the engine reverses a loop that runs the wrong way and checks closure, domain and
+    crossings; its errors come back at loops[i][j])."""
+    surface = f.surface("surface")
+    loops = f.loops("loops")
+    return TrimmedSurface(surface, loops, f.opt("tol", R.positive))
+
+
 def _bezier_triangle(f: Fields):
     P = f.req("control_points", R.points, 3, (3,))
     return BezierTriangle(P, f.opt("weights", R.weights, len(P)))
@@ -305,6 +336,7 @@ TYPES: Dict[str, TypeSpec] = {
     "loft": TypeSpec("surface", ("sections",), ("degree_v", "parameters"), _loft, "loft",
                      {"curves": "sections"}),
     "bezier_triangle": TypeSpec("surface", ("control_points",), ("weights",), _bezier_triangle, "BezierTriangle"),
+    "trimmed_surface": TypeSpec("surface", ("surface", "loops"), ("tol",), _trimmed_surface, "TrimmedSurface"),
 }
 
 SOLID_TYPES = tuple(name for name, spec in TYPES.items() if spec.solid is not None)

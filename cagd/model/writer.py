@@ -17,14 +17,17 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
+from ..surfaces.trimmed import TrimmedSurface
 from ..triangles.bezier_triangle import BezierTriangle
 from .loader import FORMAT, VERSION, Model
 
 
 def entry_dict(name: str, obj: Any, export: bool = True, description: Optional[str] = None) -> dict:
     """A model entry holding ``obj``'s data: bezier_curve, bspline_curve, bezier_surface,
-    bspline_surface or bezier_triangle; any other engine curve or surface is written
-    as its exact ``to_nurbs()`` form. Curves must be 2-D or 3-D, surfaces 3-D.
+    bspline_surface, bezier_triangle or trimmed_surface (its surface inline, as one of
+    the others, its loops as 2-D bspline_curve entries and its ``tol``); any other
+    engine curve or surface is written as its exact ``to_nurbs()`` form. Curves must be
+    2-D or 3-D, surfaces 3-D.
 
     Raises:
         CagdError: not an engine curve or surface, or of an unsupported dimension.
@@ -64,6 +67,9 @@ def _data(obj: Any) -> dict:
             if getattr(obj, flag):
                 out[flag] = True
         return out
+    if isinstance(obj, TrimmedSurface):          # before the fallback: to_nurbs() drops the trim
+        return {"type": "trimmed_surface", "surface": _data(obj.surface),
+                "loops": [[_data(c) for c in loop] for loop in obj.loops], "tol": obj.tol}
     if isinstance(obj, BezierTriangle):
         return {"type": "bezier_triangle", "control_points": obj.control_points.tolist(), **weights}
     return _data(obj.to_nurbs())

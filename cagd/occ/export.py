@@ -1,7 +1,9 @@
 """``cagd export``: a model (cagd.model) to STEP and IGES, with the round-trip report.
 
 Curves become edges, surfaces faces with natural bounds (the exact NURBS form:
-``make_face(nurbs=True)``, as the files get it), and entries marked
+``make_face(nurbs=True)``, as the files get it), trimmed surfaces faces bounded by their
+loops (:func:`cagd.occ.make_trimmed_face`, checked for area and classification by
+:func:`cagd.occ.verify`'s trim stages), and entries marked
 ``"solid": true`` are sewn into closed solids (BRepBuilderAPI_Sewing, then
 BRepCheck). Every object is put through :func:`cagd.occ.verify`; every solid's
 volume by OCCT is compared with the engine's own quadrature
@@ -22,6 +24,7 @@ from .._atomic import check_target, write_files
 from .._progress import Progress
 from ..errors import CagdError
 from ..model.loader import Entry, Model
+from ..surfaces.base import Surface
 from ..surfaces.properties import enclosed_volume
 from .files import iges_bytes, read_iges, read_step, step_bytes
 from .shapes import check_valid, make_edge, make_face, solid_from_surfaces, subshapes, volume
@@ -176,6 +179,6 @@ def _written(data: bytes, read, name: str, result: ExportResult):
     def write(temp: Path) -> None:
         temp.write_bytes(data)
         back = read(temp)
-        n_faces = sum(1 for b in back if hasattr(b.object, "degree_u"))
+        n_faces = sum(1 for b in back if isinstance(b.object, Surface))   # a TrimmedSurface too
         result.read_back.append((name, len(back), n_faces, len(back) - n_faces))
     return write

@@ -173,3 +173,46 @@ def test_cagd_occ_takes_build123d_shapes(tmp_path):
 def test_refusals_name_library_and_type(call, message):
     with pytest.raises(CagdError, match=f"^{message}"):
         call()
+
+
+# --- trimmed faces (issue 15) ------------------------------------------------------------------
+def _disk(r=0.3, side=2.0):
+    """A disk of radius r in (u, v) cut from S(u, v) = (side u, side v, 0): pi (side r)^2."""
+    w = math.sqrt(0.5)
+    unit = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], float)
+    loop = cagd.BSplineCurve(unit * r + 0.5, 2, [0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1],
+                             [1, w, 1, w, 1, w, 1, w, 1])
+    patch = cagd.BSplineSurface(np.array([[[0, 0, 0], [0, side, 0]], [[side, 0, 0], [side, side, 0]]], float), 1, 1)
+    return cagd.TrimmedSurface(patch, [[loop]])
+
+
+def test_to_b3d_of_a_trimmed_surface_is_a_trimmed_face():
+    """pi r^2 by OCCT's BRepGProp to 1e-9, valid, extruded in a BuildPart to area x height."""
+    from cagd.occ import area
+    face = cq_ext.to_b3d(_disk())
+    assert isinstance(face, bd.Face) and check_valid(face.wrapped)
+    assert area(face.wrapped) == pytest.approx(math.pi * 0.36, rel=1e-9)
+    with bd.BuildPart() as part:
+        bd.extrude(face, amount=0.5)
+    assert volume(part.part.wrapped) == pytest.approx(math.pi * 0.36 * 0.5, rel=1e-8)
+    back = cq_ext.from_shape(face)
+    assert isinstance(back, cagd.TrimmedSurface) and back.area() == pytest.approx(math.pi * 0.36, rel=1e-12)
+
+
+def test_from_shape_of_a_build123d_face_with_a_hole_keeps_the_trim():
+    """A 4 x 4 square minus a unit circle: 16 - pi; contains = the point set at S(u, v)."""
+    with bd.BuildSketch() as sk:
+        bd.Rectangle(4, 4)
+        bd.Circle(1, mode=bd.Mode.SUBTRACT)
+    (face,) = sk.sketch.faces()
+    ts = cq_ext.from_shape(face)
+    assert isinstance(ts, cagd.TrimmedSurface) and len(ts.loops) == 2
+    assert ts.area() == pytest.approx(16 - math.pi, rel=1e-12)
+    (u0, u1), (v0, v1) = ts.domain
+    rng = np.random.default_rng(15)
+    u, v = u0 + (u1 - u0) * rng.random(3000), v0 + (v1 - v0) * rng.random(3000)
+    p = ts(u, v)
+    x, y = p[:, 0], p[:, 1]
+    far = (np.abs(np.hypot(x, y) - 1) > 1e-6) & (2 - np.maximum(np.abs(x), np.abs(y)) > 1e-6)
+    want = (np.maximum(np.abs(x), np.abs(y)) < 2) & (np.hypot(x, y) > 1)
+    assert np.array_equal(ts.contains(u, v)[far], want[far]) and 0 < want[far].sum() < far.sum()

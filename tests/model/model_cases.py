@@ -12,6 +12,12 @@ PROFILE = [[0.0, 0.0, 20.0], [8.0, 0.0, 16.0], [9.0, 0.0, 5.0], [0.0, 0.0, 0.0]]
 NET = [[[10.0 * i, 10.0 * j, math.sin(i + 2 * j)] for j in range(4)] for i in range(5)]
 W5x4 = [[1.0 + 0.1 * i + 0.05 * j for j in range(4)] for i in range(5)]
 TRI = [[float(i), float(j), 0.3 * i * j + k] for i, j, k in index_triples(3)]
+W = math.sqrt(0.5)
+CIRCLE_UV = dict(degree=2, knots=[0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1], weights=[1, W, 1, W, 1, W, 1, W, 1],
+                 control_points=[[0.8, 0.5], [0.8, 0.8], [0.5, 0.8], [0.2, 0.8], [0.2, 0.5], [0.2, 0.2], [0.5, 0.2],
+                                 [0.8, 0.2], [0.8, 0.5]])
+SQUARE_UV = [[[0.05, 0.05], [0.95, 0.05]], [[0.95, 0.05], [0.95, 0.95]], [[0.95, 0.95], [0.05, 0.95]],
+             [[0.05, 0.95], [0.05, 0.05]]]
 
 
 def doc(*objects):
@@ -122,4 +128,12 @@ CASES = [
     ("bezier_triangle", dict(control_points=TRI), lambda: cagd.BezierTriangle(TRI)),
     ("bezier_triangle", dict(control_points=TRI, weights=[1, 2, 1, 1, 3, 1, 1, 1, 0.5, 1]),
      lambda: cagd.BezierTriangle(TRI, [1, 2, 1, 1, 3, 1, 1, 1, 0.5, 1])),
+    ("trimmed_surface", dict(surface={"type": "bspline_surface", "control_points": NET, "degree_u": 2, "degree_v": 3},
+                             loops=[[{"type": "bspline_curve", **CIRCLE_UV}]]),
+     lambda: cagd.TrimmedSurface(cagd.BSplineSurface(NET, 2, 3),
+                                 [[cagd.BSplineCurve(CIRCLE_UV["control_points"], 2, CIRCLE_UV["knots"],
+                                                     CIRCLE_UV["weights"])]])),
+    ("trimmed_surface", dict(surface={"type": "sphere", "radius": 12.5},
+                             loops=[[{"type": "bezier_curve", "control_points": ab} for ab in SQUARE_UV]], tol=1e-6),
+     lambda: cagd.TrimmedSurface(cagd.sphere(12.5), [[cagd.BezierCurve(ab) for ab in SQUARE_UV]], tol=1e-6)),
 ]

@@ -108,13 +108,51 @@ def analytic_surface(surface: "cagd.Surface") -> Optional[Tuple[object, Tuple[fl
     return geom, p.analytic_bounds, p.turn < 0
 
 
+def curve2d_to_part(curve: "cagd.Curve") -> "Part.Geom2d.BSplineCurve2d":
+    """A 2-D engine curve (a trimming curve in (u, v)) as a Part.Geom2d.BSplineCurve2d
+    with the same parametrisation."""
+    f = curve.to_nurbs().occ_form()
+    bc = Part.Geom2d.BSplineCurve2d()
+    weights = None if f.weights is None else [float(w) for w in f.weights]
+    poles = [App.Base.Vector2d(float(p[0]), float(p[1])) for p in f.poles]
+    args = [poles, [int(m) for m in f.multiplicities], [float(k) for k in f.knots], bool(f.periodic), int(f.degree)]
+    bc.buildFromPolesMultsKnots(*args, *([weights] if weights is not None else []))
+    return bc
+
+
+def trimmed_face(ts: "cagd.TrimmedSurface") -> "Part.Face":
+    """The face of a :class:`cagd.TrimmedSurface`: its surface's exact B-spline
+    (:func:`surface_to_part`, the engine's parameters) bounded by one wire per loop, an
+    edge per loop curve (the Geom2d curve on the surface; FreeCAD builds its 3-D curve),
+    the holes cut by ``Face.cutHoles`` (``Part.Face(surface, [wires])`` gives an invalid
+    face in FreeCAD 0.20), then ``validate()``.
+
+    Raises:
+        ValueError: FreeCAD's face is not valid (e.g. a loop along a collapsed edge).
+    """
+    surface = surface_to_part(ts.surface)
+    wires = [Part.Wire([curve2d_to_part(c).toShape(surface, *map(float, c.domain)) for c in loop])
+             for loop in ts.loops]
+    face = Part.Face(surface, wires[0])
+    if len(wires) > 1:
+        face.cutHoles(wires[1:])
+    face.validate()
+    if not face.isValid():
+        raise ValueError("surface: FreeCAD could not make a valid face of the trimmed surface's loops")
+    return face
+
+
 def to_shape(geometry: EngineGeometry, nurbs: bool = False) -> "Part.Shape":
     """An edge for an engine curve, a face for an engine surface: the face of its
     exact B-spline, or for a surface of revolution with a construction record the
     face of FreeCAD's analytic surface (:func:`analytic_surface`), oriented so that
-    its normal is the engine's, unless ``nurbs=True``."""
+    its normal is the engine's, unless ``nurbs=True``; for a
+    :class:`cagd.TrimmedSurface` the face bounded by its loops (:func:`trimmed_face`;
+    before, the untrimmed surface was shown)."""
     if isinstance(geometry, cagd.Curve):
         return curve_to_part(geometry).toShape()
+    if isinstance(geometry, cagd.TrimmedSurface):
+        return trimmed_face(geometry)
     if isinstance(geometry, cagd.Surface):
         form = None if nurbs else analytic_surface(geometry)
         if form is None:
