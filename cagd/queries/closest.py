@@ -59,7 +59,11 @@ GRID_VOXELS = 2e6       # voxels of a Projector's grid, at most
 GRID_ENTRIES = 4e6      # (voxel, cell) entries of the grid, at most (a random 300 x 300 net made 84e6)
 POINT_CHUNK = 16384     # query points handled at once, at most (memory O(chunk), not O(N))
 MIN_CHUNK = 32          # ... at least
-PAIR_BUDGET = 4e6       # ... and at most this many (point, cell) pairs if each met every cell
+PAIR_BUDGET = 4e6       # (point, cell) pairs formed at once, at most
+CANDIDATES = 512        # cells per point kept for branch and bound (smallest sphere bounds), at least
+BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
+BRANCH_FLOOR = 65536    # ... plus this many (a few points on a large object)
+BRANCH_MAX = 2_000_000  # ... and at most this many in all
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
@@ -314,7 +318,13 @@ class Projector:
 
         A voxel lists every cell whose sphere comes within T of it, by its bound over the
         voxel: a point with d <= T takes the prefix of cells with bound below d (the
-        others are >= d away); points with d > T, or outside the grid, every cell."""
+        others are >= d away); points with d > T, or outside the grid, every cell.
+
+        Bounded work and memory (issue 14): every point keeps at most K = max(CANDIDATES,
+        PAIR_BUDGET / N) cells: the first K of its voxel's prefix (the first key left out
+        bounds the rest: keys are non-decreasing), or the K of smallest sphere bound (the
+        next one bounds the rest), so the certificate stays ``lower_bounds <= distance to
+        every cell``. Pairs are formed PAIR_BUDGET at a time."""
         N = len(X)
         fast = (count > 0) & (d <= self.T)
         # per voxel segment, the number of keys <= d (vectorized bisection)
@@ -331,25 +341,52 @@ class Projector:
             ends[act[~go]] = lo[~go]
             act, lo, hi, qa = act[go], lo[go], hi[go], qa[go]
         n = np.where(fast, ends - start, 0)
-        pid = np.repeat(np.arange(N), n)
-        offs = np.arange(len(pid)) - np.repeat(np.cumsum(n) - n, n)
-        cell = self._grid_cells[start[pid] + offs]
-        lb = _distances(X, pid, self.mid_points, cell) - self.mid_radii[cell]
         rest = d.copy()                        # every cell left out is >= d away
+        K = max(CANDIDATES, int(PAIR_BUDGET // N))
+        # a long prefix is cut after its first K cells: the keys are non-decreasing lower
+        # bounds over the voxel, so the first key left out bounds every cell left out
+        cut = np.flatnonzero(n > K)
+        rest[cut] = np.minimum(rest[cut], key[start[cut] + K])
+        n = np.minimum(n, K)
+        P: List[np.ndarray] = []
+        C: List[np.ndarray] = []
+        B: List[np.ndarray] = []
+        # groups of consecutive points with at most PAIR_BUDGET pairs (one point at least)
+        cum = np.cumsum(n)
+        g0 = 0
+        while g0 < N:
+            base = cum[g0 - 1] if g0 else 0
+            g1 = max(g0 + 1, int(np.searchsorted(cum, base + PAIR_BUDGET, side="right")))
+            ng = n[g0:g1]
+            pid = np.repeat(np.arange(g0, g1), ng)
+            offs = np.arange(len(pid)) - np.repeat(np.cumsum(ng) - ng, ng)
+            cell = self._grid_cells[start[pid] + offs]
+            lb = _distances(X, pid, self.mid_points, cell) - self.mid_radii[cell]
+            P.append(pid)
+            C.append(cell)
+            B.append(lb)
+            g0 = g1
         far = np.flatnonzero(~fast)
         if far.size:
             m = len(self.radii)
-            chunk = max(1, 2_000_000 // m)
-            P, C, B = [pid], [cell], [lb]
+            chunk = max(1, int(2_000_000 // m))
             for c0 in range(0, len(far), chunk):
                 i = far[c0:c0 + chunk]
                 lbs = np.sqrt(((X[i][:, None, :] - self.centers[None]) ** 2).sum(-1)) - self.radii[None]
-                a, c = np.nonzero(lbs < d[i][:, None])
+                if m > K:               # the K smallest per point; the next one bounds the rest
+                    part = np.argpartition(lbs, K, axis=1)
+                    rows = np.arange(len(i))[:, None]
+                    np.minimum.at(rest, i, lbs[rows[:, 0], part[:, K]])
+                    sub = lbs[rows, part[:, :K]]
+                    a, j = np.nonzero(sub < d[i][:, None])
+                    c = part[a, j]
+                    B.append(sub[a, j])
+                else:
+                    a, c = np.nonzero(lbs < d[i][:, None])
+                    B.append(lbs[a, c])
                 P.append(i[a])
                 C.append(c)
-                B.append(lbs[a, c])
-            pid, cell, lb = np.concatenate(P), np.concatenate(C), np.concatenate(B)
-        return pid, cell, lb, rest
+        return np.concatenate(P), np.concatenate(C), np.concatenate(B), rest
 
     # --- queries -----------------------------------------------------------------------------
     def _stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]
@@ -373,8 +410,8 @@ class Projector:
                  max_rounds: int = 40) -> ClosestPoints:
         model = self._points(points)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
-        chunk = int(np.clip(PAIR_BUDGET // len(self.radii), MIN_CHUNK, POINT_CHUNK))
-        if len(model) > chunk:          # a point may pair with every cell: N * cells bounded
+        chunk = int(np.clip(PAIR_BUDGET // min(len(self.radii), CANDIDATES), MIN_CHUNK, POINT_CHUNK))
+        if len(model) > chunk:          # at most CANDIDATES cells per point: pairs bounded
             return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds)
                             for i in range(0, len(model), chunk)])
         X, far = self._inward(model)
@@ -394,6 +431,9 @@ class Projector:
         keep = lb_s < d[pid] - gap[pid]
         _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]
+        budget = min(BRANCH_PER_POINT * N + BRANCH_FLOOR, BRANCH_MAX)
+        if len(pid) > budget:       # bounded work: per point the cells of smallest bound (the rest into LB)
+            pid, cell, _ = _cap(pid, cell, lb_s[keep], max(1, budget // N), LB)
         home = self.cells.locate(xe)
         hp = home[pid]
         if self.k == 1:
@@ -455,7 +495,7 @@ class Projector:
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
             pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_])
-            if len(pid) > min(256 * N + 16 * len(self.radii), 2_000_000):   # bounded work
+            if len(pid) > budget:                        # bounded work
                 break
             keep = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~keep], lb[~keep])
@@ -764,6 +804,25 @@ def _c2_breaks(pieces: BezierPieces, known: Optional[List[Optional[np.ndarray]]]
             ok[sl] = diff <= 1e-10 * scale + 1e-300
         out.append(np.asarray(ok.reshape(n - 1, -1).all(axis=1)))
     return out
+
+
+def _cap(pid: np.ndarray, cell: np.ndarray, lb: np.ndarray, K: int, rest: np.ndarray
+         ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per point (pid sorted), the K pairs of smallest lower bound lb; the smallest bound
+    dropped enters rest[p] (rest = min(rest, dropped)): the certificate over the cells
+    left out stays valid."""
+    if not len(pid):
+        return pid, cell, lb
+    counts = np.bincount(pid, minlength=len(rest))
+    if counts.max() <= K:
+        return pid, cell, lb
+    order = np.lexsort((lb, pid))
+    pid, cell, lb = pid[order], cell[order], lb[order]
+    first = np.searchsorted(pid, pid, side="left")
+    rank = np.arange(len(pid)) - first
+    keep = rank < K
+    np.minimum.at(rest, pid[rank == K], lb[rank == K])
+    return pid[keep], cell[keep], lb[keep]
 
 
 def _rows(A: np.ndarray, i: np.ndarray) -> np.ndarray:
