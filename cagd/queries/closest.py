@@ -65,7 +65,7 @@ FINE_POINTS = 65536     # closest_point of at least this many points on a surfac
 FINE_CELLS = 4096       # ... at least this many cells (1e6 points on a sphere: 4.2x faster than 288 cells)
 TREE_TOP = 64           # nodes of the hierarchy's top level, at most
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
-BRANCH_FLOOR = 65536    # ... plus this many (a few points on a large object)
+BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
 BRANCH_MAX = 2_000_000  # ... and at most this many in all
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
@@ -521,7 +521,7 @@ class Projector:
         keep = lb_s < d[pid] - gap[pid]
         _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]
-        budget = min(BRANCH_PER_POINT * N + BRANCH_FLOOR, BRANCH_MAX)
+        budget = min(BRANCH_PER_POINT * N + BRANCH_PER_CELL * len(self.radii), BRANCH_MAX)
         if len(pid) > budget:       # bounded work: per point the cells of smallest bound (the rest into LB)
             pid, cell, _ = _cap(pid, cell, lb_s[keep], max(1, budget // N), LB)
         home = self.cells.locate(xe)

@@ -170,7 +170,7 @@ def test_caps_keep_the_certificate(monkeypatch):
     monkeypatch.setattr(cl, "CANDIDATES", 4)
     monkeypatch.setattr(cl, "PAIR_BUDGET", 4.0)
     monkeypatch.setattr(cl, "BRANCH_PER_POINT", 2)
-    monkeypatch.setattr(cl, "BRANCH_FLOOR", 0)
+    monkeypatch.setattr(cl, "BRANCH_PER_CELL", 0)
     capped = Projector(s).closest(X)
     assert np.all(capped.distances >= brute - REL * size)
     assert np.all(capped.lower_bounds <= brute + REL * size)
