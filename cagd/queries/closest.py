@@ -518,6 +518,7 @@ class Projector:
         # around x*'s cell
         gap = 1e-10 * d + 1e-13 * self.size
         pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
+        cut = LB < d                    # the candidate list was cut (rest lowered below d)
         keep = lb_s < d[pid] - gap[pid]
         _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]
@@ -597,7 +598,15 @@ class Projector:
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
         LB = np.minimum(LB * (1.0 - 1e-13), d)
-        return self._result(x, d, conv, LB, model, far)
+        res = self._result(x, d, conv, LB, model, far)
+        # the few points whose candidate list was cut and whose certificate is open (a
+        # point near the centre of a sphere meets every cell) are solved again in a group
+        # small enough to keep every cell (K >= cells); the better distance and the larger
+        # of both lower bounds are kept
+        redo = np.flatnonzero(cut & (LB < d - gap))
+        if 0 < len(redo) < N and len(redo) * len(self.radii) <= PAIR_BUDGET:
+            res = _merge(res, redo, self._closest(model[redo], tol, param_tol, max_iterations, max_rounds))
+        return res
 
     def local_minima(self, point: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, *,
                      param_tol: Optional[float] = None) -> ClosestPoints:
@@ -822,6 +831,20 @@ class Projector:
             f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
             f"their distances are the best found, lower_bounds still hold")
         return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
+
+
+def _merge(res: ClosestPoints, rows: np.ndarray, sub: ClosestPoints) -> ClosestPoints:
+    """``res`` with its ``rows`` replaced by the results ``sub`` of the same points where
+    those are closer (feet, parameters, convergence), the lower bound the larger of both
+    (each holds), at most the distance."""
+    f = {n: np.array(getattr(res, n)) for n in ("params", "feet", "distances", "point_converged", "lower_bounds")}
+    better = sub.distances <= f["distances"][rows]
+    r = rows[better]
+    for n in ("params", "feet", "distances", "point_converged"):
+        f[n][r] = getattr(sub, n)[better]
+    f["lower_bounds"][rows] = np.maximum(f["lower_bounds"][rows], sub.lower_bounds)
+    f["lower_bounds"] = np.minimum(f["lower_bounds"], f["distances"])
+    return _concat([ClosestPoints(f["params"], f["feet"], f["distances"], f["point_converged"], f["lower_bounds"])])
 
 
 def _concat(parts: List[ClosestPoints]) -> ClosestPoints:

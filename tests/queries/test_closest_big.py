@@ -208,3 +208,24 @@ def test_sphere_far_points_through_the_hierarchy():
     exact = np.linalg.norm(X, axis=1) - 1.0
     np.testing.assert_allclose(r.distances, exact, rtol=1e-13)
     assert np.all(r.lower_bounds <= r.distances) and np.all(r.distances - r.lower_bounds <= 1e-9 * exact)
+
+
+def test_points_whose_candidates_were_cut_are_solved_again(monkeypatch):
+    """A point near the centre of a sphere meets most of its cells; when its candidate list is cut (here
+    at 32 cells of 288), the point is solved again in a small group that keeps every cell,
+    so its certificate is as tight as without caps (without that second pass, its lower
+    bound stays loose); the points outside (about 8 candidates each) are not cut."""
+    monkeypatch.setattr(cl, "CANDIDATES", 32)
+    monkeypatch.setattr(cl, "PAIR_BUDGET", 32.0 * 40)
+    rng = np.random.default_rng(9)
+    u = rng.normal(size=(40, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    X = u * np.r_[rng.uniform(0.1, 0.15, 2), rng.uniform(1.3, 1.6, 38)][:, None]
+    exact = np.abs(np.linalg.norm(X, axis=1) - 1.0)
+    r = Projector(cagd.sphere(1.0)).closest(X)
+    np.testing.assert_allclose(r.distances, exact, atol=1e-12)
+    assert np.all(r.lower_bounds <= r.distances) and np.all(r.distances - r.lower_bounds <= 1e-9)
+    monkeypatch.setattr(cl, "_merge", lambda res, rows, sub: res)
+    loose = Projector(cagd.sphere(1.0)).closest(X)
+    assert np.all(loose.lower_bounds <= loose.distances)
+    assert (loose.distances - loose.lower_bounds)[:2].min() > 1e-6          # the cut did bind
