@@ -32,6 +32,17 @@ same answer scaled; points farther than FAR_POINT (1e50) object sizes are moved 
 along their direction (their foot moves by ~1e-50 of the size). Memory is bounded:
 points go in chunks (POINT_CHUNK, PAIR_BUDGET), the voxel grid holds at most
 GRID_ENTRIES entries, and large objects get one cell per Bezier piece.
+
+Bounded work (issue 14): points the voxel grid does not serve (farther than T, or
+outside it) descend a binary hierarchy of the cells (boxes of their control points)
+instead of meeting every cell; every point keeps at most K = max(CANDIDATES,
+PAIR_BUDGET / N) candidate cells and the branch and bound at most
+min(BRANCH_PER_POINT N + BRANCH_PER_CELL cells, BRANCH_MAX) open pairs per chunk; what a
+cap leaves out enters ``lower_bounds`` with its own bound, so the certificate holds
+whatever is cut (it is only less tight: on crumpled random nets and curves whose every
+cell's hull meets thousands of others). Points whose candidate list was cut are solved
+again in a group small enough to keep every cell. Surface queries of FINE_POINTS points
+or more use finer cells (FINE_CELLS).
 """
 from __future__ import annotations
 
