@@ -32,6 +32,17 @@ same answer scaled; points farther than FAR_POINT (1e50) object sizes are moved 
 along their direction (their foot moves by ~1e-50 of the size). Memory is bounded:
 points go in chunks (POINT_CHUNK, PAIR_BUDGET), the voxel grid holds at most
 GRID_ENTRIES entries, and large objects get one cell per Bezier piece.
+
+Bounded work (issue 14): points the voxel grid does not serve (farther than T, or
+outside it) descend a binary hierarchy of the cells (boxes of their control points)
+instead of meeting every cell; every point keeps at most K = max(CANDIDATES,
+PAIR_BUDGET / N) candidate cells and the branch and bound at most
+min(BRANCH_PER_POINT N + BRANCH_PER_CELL cells, BRANCH_MAX) open pairs per chunk; what a
+cap leaves out enters ``lower_bounds`` with its own bound, so the certificate holds
+whatever is cut (it is only less tight: on crumpled random nets and curves whose every
+cell's hull meets thousands of others). Points whose candidate list was cut are solved
+again in a group small enough to keep every cell. Surface queries of FINE_POINTS points
+or more use finer cells (FINE_CELLS).
 """
 from __future__ import annotations
 
@@ -59,7 +70,14 @@ GRID_VOXELS = 2e6       # voxels of a Projector's grid, at most
 GRID_ENTRIES = 4e6      # (voxel, cell) entries of the grid, at most (a random 300 x 300 net made 84e6)
 POINT_CHUNK = 16384     # query points handled at once, at most (memory O(chunk), not O(N))
 MIN_CHUNK = 32          # ... at least
-PAIR_BUDGET = 4e6       # ... and at most this many (point, cell) pairs if each met every cell
+PAIR_BUDGET = 4e6       # (point, cell) pairs formed at once, at most
+CANDIDATES = 512        # cells per point kept for branch and bound (smallest sphere bounds), at least
+FINE_POINTS = 65536     # closest_point of at least this many points on a surface uses ...
+FINE_CELLS = 4096       # ... at least this many cells (2e4 points around a sphere: 288 cells 4.9 s, 4232 1.3 s CPU)
+TREE_TOP = 64           # nodes of the hierarchy's top level, at most
+BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
+BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
+BRANCH_MAX = 2_000_000  # ... and at most this many in all
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
@@ -95,6 +113,7 @@ class ClosestPoints(ReadOnlyArrays):
 
 
 _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_FINE_CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
 class Projector:
@@ -107,9 +126,11 @@ class Projector:
         cells: target number of cells (default: 16 per Bezier piece, at least 64 (curves) or
             256 (surfaces), at most 512 or 4096); pieces of larger geometric extent get more
             (see :func:`_cell_counts`).
+        fine: surfaces get at least FINE_CELLS cells by default (for large queries: the set-up
+            costs more, each point less; :func:`closest_point` uses it from FINE_POINTS points).
     """
 
-    def __init__(self, obj: Union[Curve, Surface], cells: Optional[int] = None):
+    def __init__(self, obj: Union[Curve, Surface], cells: Optional[int] = None, *, fine: bool = False):
         if not isinstance(obj, (Curve, Surface)):
             raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
         self.triangle = isinstance(obj, Surface) and not obj.rectangular
@@ -119,7 +140,7 @@ class Projector:
         self.frame = Frame.of(raw.control_points, raw.breaks)
         self.pieces = self.frame.pieces(raw)
         k, m = self.pieces.k, len(self.pieces)
-        default = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(256, 16 * m))
+        default = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(FINE_CELLS if fine else 256, 16 * m))
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
         self.cells: BezierPieces = self.pieces.subdivided(_cell_counts(self.pieces, target))
         # power-form table for evaluation (the Bernstein path above degree 7, where the
@@ -169,6 +190,7 @@ class Projector:
         self.size = max(float(np.ptp(P, axis=0).max()), 1e-300)
         self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
         self._build_grid()
+        self._build_tree()
 
     # --- evaluation --------------------------------------------------------------------
     def _lead(self, d: np.ndarray) -> np.ndarray:
@@ -283,6 +305,101 @@ class Projector:
         count = np.where(inside, self._grid_start[vid + 1] - start, 0)
         return vid, start, count
 
+    # --- hierarchy of cells (far points) ------------------------------------------------------
+    def _build_tree(self) -> None:
+        """A binary hierarchy of the cells for points the voxel grid does not serve: the
+        leaves are the cells in Z (Morton) order of their grid indices (neighbours in
+        parameter space stay together), each node the union of two nodes of the level
+        below, with the axis-aligned box of its cells' control points (the cells lie in
+        their convex hulls, Farin 3.3) and the box of its cells' midpoint images, and one
+        midpoint image as its representative (an upper bound on the nearest midpoint)."""
+        m = len(self.radii)
+        shape = self.cells.shape
+        if self.k == 1:
+            order = np.arange(m)
+        else:
+            i, j = np.divmod(np.arange(m), shape[1])
+            code = np.zeros(m, dtype=np.int64)
+            for b in range(31):
+                code |= ((i >> b) & 1).astype(np.int64) << (2 * b + 1)
+                code |= ((j >> b) & 1).astype(np.int64) << (2 * b)
+            order = np.argsort(code, kind="stable")
+        blo, bhi = self.cells.hull_boxes()
+        self._hull_lo, self._hull_hi = blo, bhi
+        levels = [(blo[order], bhi[order], self.mid_points[order], self.mid_points[order], self.mid_points[order])]
+        while len(levels[-1][0]) > TREE_TOP:
+            lo, hi, mlo, mhi, rep = levels[-1]
+            first = np.arange(0, len(lo), 2)
+            levels.append((np.minimum.reduceat(lo, first, axis=0), np.maximum.reduceat(hi, first, axis=0),
+                           np.minimum.reduceat(mlo, first, axis=0), np.maximum.reduceat(mhi, first, axis=0),
+                           rep[first]))
+        self._tree_order = order
+        self._tree = levels
+
+    def _tree_pairs(self, X: np.ndarray, t: np.ndarray, nearest: bool
+                    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Descend the hierarchy for points X with thresholds t (N,), level by level over
+        (point, node) pairs, keeping the nodes whose lower bound is below t.
+
+        nearest=False: the bound is the distance to the node's box of control points
+        (at the leaves also the hull-sphere bounds |X - c| - r, whichever is larger), t
+        stays; returns the (point, cell, bound) pairs below t and per point a lower bound
+        over every cell left out (t, or a smaller bound of a node dropped when a point
+        holds more than K = max(CANDIDATES, PAIR_BUDGET / N) nodes: those of smallest
+        bound are kept). nearest=True: the bound is the distance to the box of the
+        node's midpoint images and t is lowered to the distance of each node's
+        representative midpoint; returns the cell of the nearest midpoint per point
+        (as ``cell``, in point order)."""
+        N = len(X)
+        levels = self._tree
+        top = len(levels) - 1
+        n0 = len(levels[top][0])
+        t = np.array(t, dtype=np.float64)
+        rest = t.copy()
+        K = max(CANDIDATES, int(PAIR_BUDGET // max(N, 1)))
+        pid = np.repeat(np.arange(N), n0)
+        node = np.tile(np.arange(n0), N)
+        lb = np.zeros(0)
+        for lv in range(top, -1, -1):
+            lo, hi, mlo, mhi, rep = levels[lv]
+            if nearest:
+                lb = _box_distances(X, pid, mlo, mhi, node)
+                ub = _distances(X, pid, rep, node)
+                _min_into(t, pid, ub)
+                keep = lb <= t[pid]
+            else:
+                lb = _box_distances(X, pid, lo, hi, node)
+                if lv == 0:
+                    lb = np.maximum(lb, self._cell_bounds(X, pid, self._tree_order[node], False))
+                keep = lb < t[pid]
+            pid, node, lb = pid[keep], node[keep], lb[keep]
+            # at most K nodes per point (memory and work bounded): those of smallest bound
+            # (a seed from the others' nearest midpoint only; candidates: rest bounds them)
+            pid, node, lb = _cap(pid, node, lb, K, rest)
+            if lv:                                      # the children (pid stays sorted)
+                nb = len(levels[lv - 1][0])
+                two = np.minimum(2, nb - 2 * node)
+                pid = np.repeat(pid, two)
+                node = np.repeat(2 * node, two) + (np.arange(int(two.sum())) -
+                                                   np.repeat(np.cumsum(two) - two, two))
+        if nearest:
+            d = _distances(X, pid, levels[0][4], node)
+            best = np.full(N, np.inf)
+            _min_into(best, pid, d)
+            hit = d <= best[pid]
+            seed = np.zeros(N, dtype=np.intp)
+            seed[pid[hit][::-1]] = self._tree_order[node[hit][::-1]]     # the first of ties
+            return pid, seed, best, rest
+        return pid, self._tree_order[node], lb, rest
+
+    def _cell_bounds(self, X: np.ndarray, pid: np.ndarray, cell: np.ndarray, box: bool = True) -> np.ndarray:
+        """Lower bounds of |S - X[pid]| over the cells: the largest of the two hull-sphere
+        bounds |X - c| - r (about the box centre and about the midpoint's image) and
+        (``box``) the distance to the box of the control points (convex hull, Farin 3.3)."""
+        lb = np.maximum(_distances(X, pid, self.centers, cell) - self.radii[cell],
+                        _distances(X, pid, self.mid_points, cell) - self.mid_radii[cell])
+        return np.maximum(lb, _box_distances(X, pid, self._hull_lo, self._hull_hi, cell)) if box else lb
+
     SEEDS = 4      # cells per voxel tried for the seed
 
     def seeds(self, X: np.ndarray, start: np.ndarray, count: np.ndarray) -> np.ndarray:
@@ -300,11 +417,10 @@ class Projector:
         cells[pid, offs] = cell
         seed = cells[np.arange(N), dist.argmin(axis=1)]
         none = np.flatnonzero(k == 0)
-        m = len(self.radii)
-        chunk = max(1, 2_000_000 // m)
+        chunk = max(1, int(PAIR_BUDGET // (2 * TREE_TOP)))
         for c0 in range(0, len(none), chunk):
             i = none[c0:c0 + chunk]
-            seed[i] = (((X[i][:, None, :] - self.mid_points[None]) ** 2).sum(-1)).argmin(axis=1)
+            seed[i] = self._tree_pairs(X[i], np.full(len(i), np.inf), True)[1]
         return seed
 
     def candidates(self, X: np.ndarray, d: np.ndarray, vid: np.ndarray, start: np.ndarray, count: np.ndarray
@@ -314,7 +430,14 @@ class Projector:
 
         A voxel lists every cell whose sphere comes within T of it, by its bound over the
         voxel: a point with d <= T takes the prefix of cells with bound below d (the
-        others are >= d away); points with d > T, or outside the grid, every cell."""
+        others are >= d away); points with d > T, or outside the grid, every cell.
+
+        Bounded work and memory (issue 14): every point keeps at most K = max(CANDIDATES,
+        PAIR_BUDGET / N) cells: the first K of its voxel's prefix (the first key left out
+        bounds the rest: keys are non-decreasing); points the grid does not serve descend
+        the hierarchy (:meth:`_tree_pairs`: at most K nodes per point, a node dropped
+        bounds its cells), so the certificate stays ``lower_bounds <= distance to every
+        cell``. Pairs are formed PAIR_BUDGET at a time."""
         N = len(X)
         fast = (count > 0) & (d <= self.T)
         # per voxel segment, the number of keys <= d (vectorized bisection)
@@ -331,25 +454,41 @@ class Projector:
             ends[act[~go]] = lo[~go]
             act, lo, hi, qa = act[go], lo[go], hi[go], qa[go]
         n = np.where(fast, ends - start, 0)
-        pid = np.repeat(np.arange(N), n)
-        offs = np.arange(len(pid)) - np.repeat(np.cumsum(n) - n, n)
-        cell = self._grid_cells[start[pid] + offs]
-        lb = _distances(X, pid, self.mid_points, cell) - self.mid_radii[cell]
         rest = d.copy()                        # every cell left out is >= d away
+        K = max(CANDIDATES, int(PAIR_BUDGET // N))
+        # a long prefix is cut after its first K cells: the keys are non-decreasing lower
+        # bounds over the voxel, so the first key left out bounds every cell left out
+        cut = np.flatnonzero(n > K)
+        rest[cut] = np.minimum(rest[cut], key[start[cut] + K])
+        n = np.minimum(n, K)
+        P: List[np.ndarray] = []
+        C: List[np.ndarray] = []
+        B: List[np.ndarray] = []
+        # groups of consecutive points with at most PAIR_BUDGET pairs (one point at least)
+        cum = np.cumsum(n)
+        g0 = 0
+        while g0 < N:
+            base = cum[g0 - 1] if g0 else 0
+            g1 = max(g0 + 1, int(np.searchsorted(cum, base + PAIR_BUDGET, side="right")))
+            ng = n[g0:g1]
+            pid = np.repeat(np.arange(g0, g1), ng)
+            offs = np.arange(len(pid)) - np.repeat(np.cumsum(ng) - ng, ng)
+            cell = self._grid_cells[start[pid] + offs]
+            lb = self._cell_bounds(X, pid, cell)
+            P.append(pid)
+            C.append(cell)
+            B.append(lb)
+            g0 = g1
         far = np.flatnonzero(~fast)
-        if far.size:
-            m = len(self.radii)
-            chunk = max(1, 2_000_000 // m)
-            P, C, B = [pid], [cell], [lb]
-            for c0 in range(0, len(far), chunk):
-                i = far[c0:c0 + chunk]
-                lbs = np.sqrt(((X[i][:, None, :] - self.centers[None]) ** 2).sum(-1)) - self.radii[None]
-                a, c = np.nonzero(lbs < d[i][:, None])
-                P.append(i[a])
-                C.append(c)
-                B.append(lbs[a, c])
-            pid, cell, lb = np.concatenate(P), np.concatenate(C), np.concatenate(B)
-        return pid, cell, lb, rest
+        chunk = max(1, int(PAIR_BUDGET // (2 * max(K, TREE_TOP))))
+        for c0 in range(0, len(far), chunk):            # the hierarchy: O(log cells + output) per point
+            i = far[c0:c0 + chunk]
+            a, c, b, r = self._tree_pairs(X[i], d[i], False)
+            rest[i] = np.minimum(rest[i], r)
+            P.append(i[a])
+            C.append(c)
+            B.append(b)
+        return np.concatenate(P), np.concatenate(C), np.concatenate(B), rest
 
     # --- queries -----------------------------------------------------------------------------
     def _stop_tolerances(self, tol: Optional[float], param_tol: Optional[float]
@@ -373,8 +512,8 @@ class Projector:
                  max_rounds: int = 40) -> ClosestPoints:
         model = self._points(points)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
-        chunk = int(np.clip(PAIR_BUDGET // len(self.radii), MIN_CHUNK, POINT_CHUNK))
-        if len(model) > chunk:          # a point may pair with every cell: N * cells bounded
+        chunk = int(np.clip(PAIR_BUDGET // min(len(self.radii), CANDIDATES), MIN_CHUNK, POINT_CHUNK))
+        if len(model) > chunk:          # at most CANDIDATES cells per point: pairs bounded
             return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds)
                             for i in range(0, len(model), chunk)])
         X, far = self._inward(model)
@@ -391,9 +530,13 @@ class Projector:
         # around x*'s cell
         gap = 1e-10 * d + 1e-13 * self.size
         pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
+        cut = LB < d                    # the candidate list was cut (rest lowered below d)
         keep = lb_s < d[pid] - gap[pid]
         _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]
+        budget = min(BRANCH_PER_POINT * N + BRANCH_PER_CELL * len(self.radii), BRANCH_MAX)
+        if len(pid) > budget:       # bounded work: per point the cells of smallest bound (the rest into LB)
+            pid, cell, _ = _cap(pid, cell, lb_s[keep], max(1, budget // N), LB)
         home = self.cells.locate(xe)
         hp = home[pid]
         if self.k == 1:
@@ -426,15 +569,17 @@ class Projector:
             keep = ~(near & shut[pid])
             pid, cell, near, step = pid[keep], cell[keep], near[keep], step[keep]
         lo, hi = self.lo[cell], self.hi[cell]
-        lb = np.empty(len(pid))
-        i = np.flatnonzero(near)
+        # each cell's own bounds expanded at the cell's midpoint (S, J, H there are stored:
+        # no evaluation); the pairs it leaves open: near ones by the expansion at x* with
+        # the block bounds, then all by the cell's own bounds expanded at its point
+        # nearest to x*
+        lb = self._mid_bound(X, pid, cell, lo, hi)
+        i = np.flatnonzero(near & (np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid]))
         h, lv, pi = home[pid[i]], step[i], pid[i]
-        lb[i] = box_lower_bound(_rows(X, pi), lo[i], hi[i], _rows(xe, pi), _rows(Sx, pi), _rows(Jx, pi), _rows(Hx, pi),
-                                self.block[0][lv, h], self.block[1][lv, h], self.block[2][lv, h])
-        # near pairs the block bounds leave open, and the others: each cell's own bounds,
-        # expanded at the cell's point nearest to x*
-        i = np.flatnonzero(~near | (np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid]))
-        lb[i] = np.where(near[i], lb[i], -np.inf)
+        lb[i] = np.maximum(lb[i], box_lower_bound(_rows(X, pi), lo[i], hi[i], _rows(xe, pi), _rows(Sx, pi),
+                                                  _rows(Jx, pi), _rows(Hx, pi), self.block[0][lv, h],
+                                                  self.block[1][lv, h], self.block[2][lv, h]))
+        i = np.flatnonzero(np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid])
         lb[i] = np.maximum(lb[i], self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i])))
         lb = np.sqrt(np.maximum(lb, 0.0))
         for _ in range(max_rounds):
@@ -455,7 +600,7 @@ class Projector:
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
             pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_])
-            if len(pid) > min(256 * N + 16 * len(self.radii), 2_000_000):   # bounded work
+            if len(pid) > budget:                        # bounded work
                 break
             keep = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~keep], lb[~keep])
@@ -465,7 +610,15 @@ class Projector:
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
         LB = np.minimum(LB * (1.0 - 1e-13), d)
-        return self._result(x, d, conv, LB, model, far)
+        res = self._result(x, d, conv, LB, model, far)
+        # the few points whose candidate list was cut and whose certificate is open (a
+        # point near the centre of a sphere meets every cell) are solved again in a group
+        # small enough to keep every cell (K >= cells); the better distance and the larger
+        # of both lower bounds are kept
+        redo = np.flatnonzero(cut & (LB < d - gap))
+        if 0 < len(redo) < N and len(redo) * len(self.radii) <= PAIR_BUDGET:
+            res = _merge(res, redo, self._closest(model[redo], tol, param_tol, max_iterations, max_rounds))
+        return res
 
     def local_minima(self, point: ArrayLike, tol: Optional[float] = None, max_iterations: int = 50, *,
                      param_tol: Optional[float] = None) -> ClosestPoints:
@@ -629,6 +782,18 @@ class Projector:
             out[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], c[sl], S, J, H, self.L[ce], self.M[ce], self.T3[ce])
         return out
 
+    def _mid_bound(self, X, pid, cell, lo, hi) -> np.ndarray:
+        """:meth:`_bound` of whole cells expanded at their midpoints, from the stored S, J,
+        H there (no evaluation), in chunks of EVAL_CHUNK."""
+        out = np.empty(len(pid))
+        for c0 in range(0, len(pid), EVAL_CHUNK):
+            sl = slice(c0, c0 + EVAL_CHUNK)
+            ce = cell[sl]
+            out[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], self.mids[ce], self.mid_points[ce],
+                                      self.mid_jacobians[ce], self.mid_hessians[ce], self.L[ce], self.M[ce],
+                                      self.T3[ce])
+        return out
+
     def _points(self, points: ArrayLike) -> np.ndarray:
         X = _checks.finite_array(points, "points")
         if X.ndim == 1:
@@ -678,6 +843,20 @@ class Projector:
             f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
             f"their distances are the best found, lower_bounds still hold")
         return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
+
+
+def _merge(res: ClosestPoints, rows: np.ndarray, sub: ClosestPoints) -> ClosestPoints:
+    """``res`` with its ``rows`` replaced by the results ``sub`` of the same points where
+    those are closer (feet, parameters, convergence), the lower bound the larger of both
+    (each holds), at most the distance."""
+    f = {n: np.array(getattr(res, n)) for n in ("params", "feet", "distances", "point_converged", "lower_bounds")}
+    better = sub.distances <= f["distances"][rows]
+    r = rows[better]
+    for n in ("params", "feet", "distances", "point_converged"):
+        f[n][r] = getattr(sub, n)[better]
+    f["lower_bounds"][rows] = np.maximum(f["lower_bounds"][rows], sub.lower_bounds)
+    f["lower_bounds"] = np.minimum(f["lower_bounds"], f["distances"])
+    return _concat([ClosestPoints(f["params"], f["feet"], f["distances"], f["point_converged"], f["lower_bounds"])])
 
 
 def _concat(parts: List[ClosestPoints]) -> ClosestPoints:
@@ -766,6 +945,35 @@ def _c2_breaks(pieces: BezierPieces, known: Optional[List[Optional[np.ndarray]]]
     return out
 
 
+def _box_distances(X: np.ndarray, pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, node: np.ndarray) -> np.ndarray:
+    """Distance from X[pid] to the axis-aligned boxes [lo, hi][node] (0 inside)."""
+    acc = np.zeros(len(pid))
+    for a in range(X.shape[1]):
+        x = X[:, a].take(pid)
+        t = np.maximum(lo[:, a].take(node) - x, 0.0) + np.maximum(x - hi[:, a].take(node), 0.0)
+        acc += t * t
+    return np.sqrt(acc)
+
+
+def _cap(pid: np.ndarray, cell: np.ndarray, lb: np.ndarray, K: int, rest: np.ndarray
+         ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per point (pid sorted), the K pairs of smallest lower bound lb; the smallest bound
+    dropped enters rest[p] (rest = min(rest, dropped)): the certificate over the cells
+    left out stays valid."""
+    if not len(pid):
+        return pid, cell, lb
+    counts = np.bincount(pid, minlength=len(rest))
+    if counts.max() <= K:
+        return pid, cell, lb
+    order = np.lexsort((lb, pid))
+    pid, cell, lb = pid[order], cell[order], lb[order]
+    first = np.searchsorted(pid, pid, side="left")
+    rank = np.arange(len(pid)) - first
+    keep = rank < K
+    np.minimum.at(rest, pid[rank == K], lb[rank == K])
+    return pid[keep], cell[keep], lb[keep]
+
+
 def _rows(A: np.ndarray, i: np.ndarray) -> np.ndarray:
     """A[i] gathered on the last axis of A.T (component-first storage), returned as the
     transposed view: per-component columns stay contiguous."""
@@ -847,16 +1055,21 @@ def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: np.ndarr
             np.maximum.reduceat(step, first))
 
 
-def projector(obj: Union[Curve, Surface]) -> Projector:
-    """The cached :class:`Projector` of ``obj`` (rebuilt when the object is new)."""
+def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
+    """The cached :class:`Projector` of ``obj`` (rebuilt when the object is new); for a
+    query of at least FINE_POINTS points on a surface the ``fine`` one (cached apart,
+    unless the default one has FINE_CELLS cells already)."""
+    fine = points >= FINE_POINTS and isinstance(obj, Surface)
     try:
         p = _CACHE.get(obj)
+        if fine and (p is None or len(p.cells) < FINE_CELLS):
+            p = _FINE_CACHE.get(obj)
     except TypeError:
-        return Projector(obj)
+        return Projector(obj, fine=fine)
     if p is None:
-        p = Projector(obj)
+        p = Projector(obj, fine=fine)
         try:
-            _CACHE[obj] = p
+            (_FINE_CACHE if fine else _CACHE)[obj] = p
         except TypeError:
             pass
     return p
@@ -899,14 +1112,19 @@ def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: boo
 def _closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,
                    param_tol: Optional[float] = None, max_iterations: int = 50) -> ClosestPoints:
     """:func:`closest_point` without the notice on ``tol`` (for the engine's own callers)."""
+    try:                            # the number of points picks the projector (validated later)
+        shape = np.shape(points)
+    except (TypeError, ValueError):
+        shape = ()
+    count = int(shape[0]) if len(shape) == 2 else 1
     from ..surfaces.trimmed import TrimmedSurface
     if isinstance(obj, TrimmedSurface):                  # the face itself (cagd.queries.trimmed)
         if all_minima:
             raise CagdError("all_minima: not available on a TrimmedSurface (use its untrimmed surface)")
         from .trimmed import closest_on_trimmed
-        p = projector(obj.untrimmed)
+        p = projector(obj.untrimmed, count)
         return closest_on_trimmed(obj, points, p, p._stop_tolerances(tol, param_tol), max_iterations)
-    p = projector(obj) if isinstance(obj, (Curve, Surface)) else Projector(obj)
+    p = projector(obj, count) if isinstance(obj, (Curve, Surface)) else Projector(obj)
     stop = p._stop_tolerances(tol, param_tol)
     if all_minima:
         return p._local_minima(points, *stop, max_iterations)
