@@ -164,10 +164,16 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     # in chunks of DEVIATION_CHUNK points: the closest-point queries' working memory is
     # bounded by the chunk, the results are written into (N,)-sized arrays (issue 14:
     # 10^7 points through one query ran out of memory)
-    parts = [_deviation_chunk(objs, X[s:s + DEVIATION_CHUNK], signed, tol, param_tol)
-             for s in range(0, max(len(X), 1), DEVIATION_CHUNK)]
-    is_signed = all(p[6] for p in parts)
-    d, params, feet, lower, owner, conv = (np.concatenate([p[i] for p in parts]) for i in range(6))
+    out: List[np.ndarray] = []
+    is_signed = True
+    for s in range(0, max(len(X), 1), DEVIATION_CHUNK):
+        part = _deviation_chunk(objs, X[s:s + DEVIATION_CHUNK], signed, tol, param_tol)
+        if not out:                                   # (N,)-sized results, filled chunk by chunk
+            out = [np.empty((len(X),) + a.shape[1:], a.dtype) for a in part[:6]]
+        for a, b in zip(out, part[:6]):
+            a[s:s + len(b)] = b
+        is_signed = is_signed and part[6]
+    d, params, feet, lower, owner, conv = out
     bad = np.flatnonzero(~conv)
     message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "
                                        f"(first: index {int(bad[0])})")
