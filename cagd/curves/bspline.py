@@ -24,8 +24,8 @@ from .ppform import PP_MAX_DEGREE, PPForm
 if TYPE_CHECKING:
     from .bezier import BezierCurve
 
-#: Values of the de Boor levels held at once by the blossom evaluation (32 MiB of float64).
-_ELEVATE_VALUES = 1 << 22
+#: Values of the de Boor levels (and blossom arguments) held at once by the blossom evaluation (8 MiB).
+_ELEVATE_VALUES = 1 << 20
 
 
 class OccForm(NamedTuple):
@@ -623,11 +623,11 @@ def _elevated_by_blossom(knots: np.ndarray, degree: int, points: np.ndarray) -> 
     v = np.repeat(vals, mults + 1)
     m = len(v) - q - 1
     keep = np.array([np.delete(np.arange(q), j) for j in range(q)])        # (q, p)
-    idx = np.arange(m)[:, None, None] + 1 + keep[None]                       # (m, q, p) into v
     step = max(1, _ELEVATE_VALUES // (q * p))
     out = np.empty((m, P.shape[1]))
     for c0 in range(0, m, step):
-        args = v[idx[c0:c0 + step]].reshape(-1, p)
+        idx = np.arange(c0, min(c0 + step, m))[:, None, None] + 1 + keep[None]   # (c, q, p) into v
+        args = v[idx].reshape(-1, p)
         terms = _blossoms(u, p, P, args)
         if terms is None:       # cannot happen on clamped knots (every row is inside)
             raise CagdError("knots: degree elevation needs clamped knots")
