@@ -316,8 +316,13 @@ class BSplineCurve(Curve):
         if np.any(mults[inner] > p) or np.any(mults[~inner] > p + 1):
             i = int(np.argmax(np.where(inner, mults > p, mults > p + 1)))
             raise CagdError(f"new_knots: knot {vals[i]} would reach multiplicity {mults[i]} > degree = {p}")
+        u, n = self._u, len(self._hom)
+        if u[0] != u[p] or u[n] != u[n + p]:
+            # an unclamped end: a row f(x^p) at a knot of multiplicity p + 1 is a control
+            # point of the piece on either side, which its values alone do not tell
+            return self._insert_each(ks)
         rows = merged[np.arange(count)[:, None] + 1 + np.arange(p)]      # Q_j = f(v_(j+1), ..., v_(j+p))
-        hom = _blossoms(self._u, p, self._hom, rows)
+        hom = _blossoms(u, p, self._hom, rows)
         if hom is None:
             return self._insert_each(ks)
         return self._rebuild(hom, kv.validate(merged, p, count))
@@ -538,7 +543,10 @@ def _blossoms(knots: np.ndarray, degree: int, points: np.ndarray, args: np.ndarr
     gives E^t_0 = f(y_1..y_t, u_(a+1)..u_(a+p-t)). Every y lies in [u_a, u_(a+p-t+1)]
     (the old knots around the row), so every alpha is in [0, 1]: convex combinations
     only, as in Boehm's insertion (Oslo algorithm; Cohen, Lyche & Riesenfeld 1980),
-    at any degree. A de Boor triangle over all p arguments on one span extrapolates
+    at any degree. Rows of p equal values at a knot of multiplicity p + 1 (a
+    discontinuity) are ambiguous, either piece's control point: callers give clamped
+    knots, where that happens only at the ends (the first and the last point). A de
+    Boor triangle over all p arguments on one span extrapolates
     by up to (spread of the arguments / span width)^p instead: a degree-20 refinement
     by one knot was off by 1e-3. Vectorized over the rows with the same t; memory
     bounded by _ELEVATE_VALUES per chunk; wide points (surface rows, D > t + 1) go

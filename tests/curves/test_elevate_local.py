@@ -212,3 +212,16 @@ def test_high_degree_many_poles_elevate_is_linear():
     t = rng.random(400)
     ref = scipy_interpolate.BSpline(c.knots, P, 25)(t)
     assert np.abs(e(t) - ref).max() <= 1e-12 * np.abs(P).max()
+
+
+def test_refine_unclamped_end_with_a_discontinuity():
+    """Found by a randomized check against one-by-one insertion: the domain end 0.472
+    has multiplicity p + 1 with a knot beyond it, so the rows f(0.472, 0.472) are the
+    control points of the pieces on both sides (the values alone do not tell which);
+    such curves are refined one knot at a time."""
+    k = [0.064, 0.064, 0.095, 0.195, 0.427, 0.472, 0.472, 0.472, 0.717]
+    c = BSplineCurve(np.random.default_rng(0).random((6, 2)), 2, k)
+    r = c.refine([0.13549092, 0.195])
+    ref = c.insert_knot(0.13549092).insert_knot(0.195)
+    assert np.array_equal(r.knots, ref.knots)
+    assert np.abs(r.control_points - ref.control_points).max() <= 1e-15
