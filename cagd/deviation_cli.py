@@ -5,11 +5,13 @@ file (read through cagd.occ). Exit codes: 0 done, 2 bad input."""
 from __future__ import annotations
 
 import argparse
+import codecs
 import re
 import sys
 import warnings
+from array import array
 from pathlib import Path
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import Iterator, List, Optional, Sequence, TextIO, Tuple, Union
 
 import numpy as np
 
@@ -18,35 +20,65 @@ from .errors import CagdError
 from .surfaces.base import Surface
 
 
+#: Bytes per read when checking the CSV's encoding (the file is never held whole).
+_READ_BYTES = 1 << 20
+#: Decoded text kept from the start of the file to find a header and the separator.
+_HEAD_CHARS = 1 << 16
+
+
 def read_points(path: Path) -> np.ndarray:
     """(N, 2 or 3) points from a CSV file: comma, semicolon or whitespace separated; a
     first line that is not numbers is a header.
 
+    Read in chunks (issue 14: a 10^7-row file was read whole, as bytes and as text,
+    before parsing): the UTF-8 check streams _READ_BYTES at a time, numpy's C parser
+    reads the file itself, and a file it refuses is read line by line into a compact
+    array of doubles. Memory O(N) floats, not the file's size in Python objects.
+
     Raises:
-        CagdError: no points, ragged rows, non-numbers (naming the line), NaN/inf.
+        CagdError: no points, ragged rows, non-numbers (naming the line), NaN/inf, not UTF-8.
     """
-    try:
-        raw = Path(path).read_bytes()
-    except OSError as exc:
-        raise CagdError(f"points: cannot read {str(path)!r}: {exc.strerror or exc}") from None
-    try:
-        content = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        at = raw.count(b"\n", 0, exc.start) + 1
-        raise CagdError(f"points: {path} is not UTF-8 text (byte {raw[exc.start]:#04x} on line {at})") from None
-    del raw
-    pts = _fast_points(path, content)
+    head = _check_utf8(Path(path))
+    pts = _fast_points(path, head)
     if pts is None:
-        pts = _checked_points(content, path)
+        pts = _checked_points(path)
     if not np.all(np.isfinite(pts)):
         raise CagdError("points: contains NaN or inf")
     return pts
 
 
+def _check_utf8(path: Path) -> str:
+    """The first _HEAD_CHARS characters of the file after checking that all of it is
+    UTF-8 (an incremental decoder over chunks of _READ_BYTES)."""
+    decoder = codecs.getincrementaldecoder("utf-8-sig")()
+    head: List[str] = []
+    kept = lines = 0
+    try:
+        with open(path, "rb") as f:
+            while True:
+                chunk = f.read(_READ_BYTES)
+                try:
+                    text = decoder.decode(chunk, final=not chunk)
+                except UnicodeDecodeError as exc:
+                    at = lines + chunk.count(b"\n", 0, max(exc.start, 0)) + 1
+                    bad = chunk[exc.start] if 0 <= exc.start < len(chunk) else 0
+                    raise CagdError(f"points: {path} is not UTF-8 text (byte {bad:#04x} on line {at})") from None
+                if kept < _HEAD_CHARS:
+                    head.append(text[:_HEAD_CHARS - kept])
+                    kept += len(head[-1])
+                lines += chunk.count(b"\n")
+                if not chunk:
+                    break
+    except OSError as exc:
+        raise CagdError(f"points: cannot read {str(path)!r}: {exc.strerror or exc}") from None
+    return "".join(head)
+
+
 def _fast_points(path: Path, content: str) -> Optional[np.ndarray]:
     """numpy's C parser (np.loadtxt, reading the file in chunks) for a well-formed file:
     O(n) memory, no Python loop per line; None when it refuses the file, which
-    :func:`_checked_points` then reads line by line to name the offending line."""
+    :func:`_checked_points` then reads line by line to name the offending line.
+    ``content`` is the start of the file (the header and the first data line)."""
     head = re.match(r"[^\r\n]*", content).group().strip()        # type: ignore[union-attr]
     header = bool(head) and not head.startswith("#") and not _numbers(head)
     data = ""
@@ -74,30 +106,49 @@ def _numbers(text: str) -> bool:
     return True
 
 
-def _checked_points(content: str, path: Path) -> np.ndarray:
-    rows: List[List[float]] = []
-    for number, line in enumerate(re.split(r"\r\n|\n|\r", content), 1):
-        text = line.strip()
-        if not text or text.startswith("#"):
-            continue
-        if "," in text or ";" in text:
-            fields = [f.strip() for f in re.split("[,;]", text)]
-            if any(not f for f in fields):
-                raise CagdError(f"points: line {number} has an empty field: {text[:60]!r}")
-        else:
-            fields = text.split()
-        try:
-            rows.append([float(f) for f in fields])
-        except ValueError:
-            if not rows and number == 1:
-                continue                                  # a header
-            raise CagdError(f"points: line {number} is not numbers: {text[:60]!r}") from None
-        if len(rows[-1]) != len(rows[0]) or len(rows[-1]) not in (2, 3):
-            raise CagdError(f"points: line {number} has {len(rows[-1])} values; every line needs the same "
-                            "2 or 3 coordinates")
-    if not rows:
+def _checked_points(path: Path) -> np.ndarray:
+    """The file line by line (streamed, the values in a compact array of doubles),
+    naming the first offending line."""
+    values = array("d")
+    width = 0
+    count = 0
+    with open(path, encoding="utf-8-sig", newline="") as f:
+        for number, line in enumerate(_lines(f), 1):
+            text = line.strip()
+            if not text or text.startswith("#"):
+                continue
+            if "," in text or ";" in text:
+                fields = [x.strip() for x in re.split("[,;]", text)]
+                if any(not x for x in fields):
+                    raise CagdError(f"points: line {number} has an empty field: {text[:60]!r}")
+            else:
+                fields = text.split()
+            try:
+                row = [float(x) for x in fields]
+            except ValueError:
+                if not count and number == 1:
+                    continue                                  # a header
+                raise CagdError(f"points: line {number} is not numbers: {text[:60]!r}") from None
+            if not count:
+                width = len(row)
+            if len(row) != width or len(row) not in (2, 3):
+                raise CagdError(f"points: line {number} has {len(row)} values; every line needs the same "
+                                "2 or 3 coordinates")
+            values.extend(row)
+            count += 1
+    if not count:
         raise CagdError(f"points: {path} holds no points")
-    return np.array(rows)
+    return np.frombuffer(values, dtype=np.float64).reshape(count, width).copy()
+
+
+def _lines(f: TextIO) -> Iterator[str]:
+    """Lines split at \\r\\n, \\n or \\r (as a split of the whole text), read lazily
+    (the file opened with newline="" keeps every line ending)."""
+    for raw in f:
+        parts = re.split(r"\r\n|\n|\r", raw)
+        if parts and parts[-1] == "":
+            parts.pop()
+        yield from parts
 
 
 def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List[Tuple[str, Union[Curve, Surface]]]]:

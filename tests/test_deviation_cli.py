@@ -205,7 +205,7 @@ def test_the_fast_reader_agrees_with_the_line_by_line_one(tmp_path, text):
     pts.write_text(text, newline="")
     got = read_points(pts)
     content = text.lstrip("\ufeff")
-    assert np.array_equal(got, _checked_points(content, pts))
+    assert np.array_equal(got, _checked_points(pts))
     fast = _fast_points(pts, content)
     assert fast is None or np.array_equal(fast, got)
 
@@ -218,3 +218,27 @@ def test_many_rows_read_through_the_fast_path(tmp_path):
     from cagd.deviation_cli import _fast_points
     assert _fast_points(pts, pts.read_text()) is not None
     assert np.array_equal(read_points(pts), X)
+
+
+def test_reading_in_chunks(tmp_path, monkeypatch):
+    """read_points streams the file (issue 14: a 10^7-row CSV was held whole as bytes
+    and as text): with 64-byte reads the points, a late bad byte's line number and the
+    line-by-line fallback agree with numpy's whole-file parse."""
+    import cagd.deviation_cli as cli
+    monkeypatch.setattr(cli, "_READ_BYTES", 64)
+    rng = np.random.default_rng(3)
+    X = rng.normal(size=(400, 3))
+    pts = tmp_path / "p.csv"
+    np.savetxt(pts, X, delimiter=",", header="x,y,z", comments="", fmt="%.17g")
+    got = read_points(pts)
+    assert np.array_equal(got, np.loadtxt(pts, delimiter=",", skiprows=1))
+    assert np.array_equal(cli._checked_points(pts), got)
+    raw = pts.read_bytes().splitlines(keepends=True)
+    raw[300] = raw[300].replace(b",", b"\xff,", 1)
+    bad = tmp_path / "bad.csv"
+    bad.write_bytes(b"".join(raw))
+    with pytest.raises(cagd.CagdError, match="byte 0xff on line 301"):
+        read_points(bad)
+    spaced = tmp_path / "spaced.csv"                 # numpy refuses "1 ,2": the fallback reads it
+    spaced.write_text("".join(f"{float(a)!r} ,{float(b)!r} ,{float(c)!r}\n" for a, b, c in X))
+    assert np.array_equal(read_points(spaced), X)

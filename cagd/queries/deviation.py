@@ -94,6 +94,36 @@ def _objects(obj: Objects) -> list:
     return objs
 
 
+#: Points measured per closest-point query by :func:`deviation` (bounds its working memory).
+DEVIATION_CHUNK = 1 << 16
+#: Points drawn at most by :func:`deviation_map` (every k-th, and the largest |d|).
+MAP_POINTS = 200_000
+
+
+def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Optional[float],
+                     param_tol: Optional[float]) -> tuple:
+    """(d, params, feet, lower_bounds, owner, point_converged, signed) of the points X
+    against the nearest of ``objs``."""
+    best: Optional[List[np.ndarray]] = None
+    is_signed = True
+    for k, o in enumerate(objs):
+        r = _closest_point(o, X, tol=tol, param_tol=param_tol)
+        sign = _signs(o, r.params, r.feet, X) if signed is not False else None
+        if signed and sign is None:
+            raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
+        d = r.distances if sign is None else sign * r.distances
+        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged]
+        is_signed = is_signed and sign is not None
+        if best is None:
+            best = fields
+        else:
+            closer = np.abs(d) < np.abs(best[0])
+            for i in range(6):
+                best[i] = np.where(closer.reshape((-1,) + (1,) * (best[i].ndim - 1)), fields[i], best[i])
+    assert best is not None                     # _objects gives at least one object
+    return (*best, is_signed)
+
+
 def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
               percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: Optional[float] = None, *,
               param_tol: Optional[float] = None) -> Deviation:
@@ -116,6 +146,9 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     Raises:
         CagdError: not a curve or surface, empty/NaN points, wrong dimension, bad percentiles,
             tol or param_tol <= 0.
+
+    The points are measured DEVIATION_CHUNK at a time (the closest-point queries'
+    working memory is bounded by the chunk; the results are O(N)).
     """
     if tol is not None:
         changed("deviation", TOL_CHANGED)
@@ -124,24 +157,23 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     if np.any((pct < 0) | (pct > 100)):
         raise CagdError(f"percentiles: must lie in [0, 100], got {pct.tolist()}")
     X = np.atleast_2d(_checks.finite_array(points, "points"))
-    best: Optional[List[np.ndarray]] = None
+    if signed:
+        for o in objs:
+            if isinstance(o, Curve) and o.dim != 2:
+                raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
+    # in chunks of DEVIATION_CHUNK points: the closest-point queries' working memory is
+    # bounded by the chunk, the results are written into (N,)-sized arrays (issue 14:
+    # 10^7 points through one query ran out of memory)
+    out: List[np.ndarray] = []
     is_signed = True
-    for k, o in enumerate(objs):
-        r = _closest_point(o, points, tol=tol, param_tol=param_tol)
-        sign = _signs(o, r.params, r.feet, X) if signed is not False else None
-        if signed and sign is None:
-            raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
-        d = r.distances if sign is None else sign * r.distances
-        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged]
-        is_signed = is_signed and sign is not None
-        if best is None:
-            best = fields
-        else:
-            closer = np.abs(d) < np.abs(best[0])
-            for i in range(6):
-                best[i] = np.where(closer.reshape((-1,) + (1,) * (best[i].ndim - 1)), fields[i], best[i])
-    assert best is not None                     # _objects gives at least one object
-    d, params, feet, lower, owner, conv = best
+    for s in range(0, max(len(X), 1), DEVIATION_CHUNK):
+        part = _deviation_chunk(objs, X[s:s + DEVIATION_CHUNK], signed, tol, param_tol)
+        if not out:                                   # (N,)-sized results, filled chunk by chunk
+            out = [np.empty((len(X),) + a.shape[1:], a.dtype) for a in part[:6]]
+        for a, b in zip(out, part[:6]):
+            a[s:s + len(b)] = b
+        is_signed = is_signed and part[6]
+    d, params, feet, lower, owner, conv = out
     bad = np.flatnonzero(~conv)
     message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "
                                        f"(first: index {int(bad[0])})")
@@ -158,7 +190,9 @@ def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike]
                   title: str = "deviation", samples: int = 40) -> Path:
     """Write a PNG colour map of the deviations: the points coloured by signed distance
     (diverging colour map, symmetric about 0) over a wireframe of the surface(s) (or the
-    curves), with a colour bar. Returns the path. matplotlib is imported here only."""
+    curves), with a colour bar; beyond MAP_POINTS points every k-th is drawn (and the
+    largest |d|; the colour scale and title use all). Returns the path. matplotlib is
+    imported here only."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -167,6 +201,12 @@ def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike]
     res = deviation(objs, points) if result is None else result
     X = np.atleast_2d(_checks.finite_array(points, "points"))
     lim = max(res.max_abs, 1e-300)
+    dist = res.distances
+    if len(X) > MAP_POINTS:
+        # every k-th point and the largest |d|: a scatter of 10^7 points would take
+        # minutes and gigabytes in matplotlib, and the picture cannot show more
+        keep = np.unique(np.append(np.arange(0, len(X), -(-len(X) // MAP_POINTS)), np.argmax(np.abs(dist))))
+        X, dist = X[keep], dist[keep]
     cmap = "coolwarm" if res.signed else "viridis"
     vmin = -lim if res.signed else 0.0
     fig = plt.figure(figsize=(6.4, 4.8), dpi=110)
@@ -182,14 +222,14 @@ def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike]
                 G = o(U, V * (1.0 - U))
             ax.plot_wireframe(G[..., 0], G[..., 1], G[..., 2], color="0.75", lw=0.4,
                               rstride=max(1, samples // 20), cstride=max(1, samples // 20))
-        sc = ax.scatter(X[:, 0], X[:, 1], X[:, 2], c=res.distances, cmap=cmap, vmin=vmin, vmax=lim, s=6)
+        sc = ax.scatter(X[:, 0], X[:, 1], X[:, 2], c=dist, cmap=cmap, vmin=vmin, vmax=lim, s=6)
     else:
         ax = fig.add_subplot()
         for o in objs:
             if isinstance(o, Curve):
                 C = o(np.linspace(*o.domain, 20 * samples))
                 ax.plot(C[:, 0], C[:, 1] if C.shape[1] > 1 else 0 * C[:, 0], color="0.4", lw=1.2)
-        sc = ax.scatter(X[:, 0], X[:, 1] if X.shape[1] > 1 else 0 * X[:, 0], c=res.distances, cmap=cmap,
+        sc = ax.scatter(X[:, 0], X[:, 1] if X.shape[1] > 1 else 0 * X[:, 0], c=dist, cmap=cmap,
                         vmin=vmin, vmax=lim, s=8)
         ax.set_aspect("equal", adjustable="datalim")
     fig.colorbar(sc, ax=ax, shrink=0.8, label="signed distance" if res.signed else "distance")

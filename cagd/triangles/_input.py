@@ -10,6 +10,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._checks import MAX_DEGREE
 from ..errors import CagdError
 from .basis import index_triples
 
@@ -62,6 +63,7 @@ def _table(value: Any, name: str) -> Tuple[int, Dict[Triple, Any]]:
                             f"have degree {n}")
     if n < 1:
         raise CagdError(f"{name}: the degree must be at least 1, the triples give degree {n}")
+    _max_degree(n, name)
     for t in index_triples(n):
         if t not in table:
             raise CagdError(f"{name}: missing triple {t} (degree {n} needs all {(n + 1) * (n + 2) // 2} "
@@ -69,11 +71,21 @@ def _table(value: Any, name: str) -> Tuple[int, Dict[Triple, Any]]:
     return n, table
 
 
+def _max_degree(n: int, name: str) -> None:
+    """Degrees above :data:`cagd.MAX_DEGREE` are refused (issue 14: the documented limit
+    of every polynomial degree; the multinomials n!/(i! j! k!) leave the float range
+    above 170 and the dense net holds (n+1)^2 points)."""
+    if n > MAX_DEGREE:
+        raise CagdError(f"{name}: the triples give degree {n}, above the maximum degree "
+                        f"cagd.MAX_DEGREE = {MAX_DEGREE}")
+
+
 def _degree_from_count(count: int, name: str) -> int:
     n = int(round((np.sqrt(8.0 * count + 1.0) - 3.0) / 2.0))
     if n < 1 or (n + 1) * (n + 2) // 2 != count:
         raise CagdError(f"{name}: {count} entries is not (n+1)(n+2)/2 for a degree n >= 1 "
                         f"(3, 6, 10, 15, ... entries in index_triples(n) order)")
+    _max_degree(n, name)
     return n
 
 

@@ -32,11 +32,15 @@ if TYPE_CHECKING:
     from ..surfaces.bezier import BezierSurface
     from ..surfaces.bspline import BSplineSurface
 
-_CHUNK = 1 << 13      # points per de Casteljau pass (bounds the (chunk, n+1, n+1, D) temporaries)
+_CHUNK = 1 << 13      # points per pass at most
+_CHUNK_VALUES = 1 << 22   # values of a pass's (chunk, n+1, n+1, D) net or (chunk, N) basis (32 MiB)
 
 
-def _chunks(count: int) -> List[slice]:
-    return [slice(s, s + _CHUNK) for s in range(0, max(count, 1), _CHUNK)]
+def _chunks(count: int, per_point: int = 1) -> List[slice]:
+    """Slices of at most _CHUNK points and _CHUNK_VALUES / per_point points (a degree-128
+    de Casteljau pass of 8,192 points held 3.3 GB)."""
+    step = max(1, min(_CHUNK, _CHUNK_VALUES // max(per_point, 1)))
+    return [slice(s, s + step) for s in range(0, max(count, 1), step)]
 
 
 class BezierTriangle(Surface):
@@ -184,7 +188,9 @@ class BezierTriangle(Surface):
             for b in range(min(dv, n - a) + 1):
                 m = n - a - b
                 coef = factorial(n) / factorial(m)
-                out[a, b] = coef * (tb._bernstein(m, u, v) @ tb.to_flat(net))
+                flat = tb.to_flat(net)
+                for c in _chunks(u.shape[0], len(flat)):      # the (chunk, N) basis bounded
+                    out[a, b, c] = coef * (tb._bernstein(m, u[c], v[c]) @ flat)
                 net = net[:-1, 1:] - net[:-1, :-1]
             row = row[1:, :-1] - row[:-1, :-1]
         if not self.is_rational:
@@ -253,8 +259,9 @@ class BezierTriangle(Surface):
         Raises:
             CagdError: NaN/inf, (u, v) outside the triangle."""
         x, shape = self._points(u, v)
-        B = tb._bernstein(self.degree, x[:, 0], x[:, 1])
-        return self._project(B @ self._hom).reshape(shape + (self.dim,))
+        hom = np.concatenate([tb._bernstein(self.degree, x[c, 0], x[c, 1]) @ self._hom
+                              for c in _chunks(len(x), len(self._hom))])
+        return self._project(hom).reshape(shape + (self.dim,))
 
     def de_casteljau(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Triangular de Casteljau (seed 003, 3.1): n levels of
@@ -264,7 +271,8 @@ class BezierTriangle(Surface):
         Raises:
             CagdError: NaN/inf, (u, v) outside the triangle."""
         x, shape = self._points(u, v)
-        hom = np.concatenate([tb.multilinear(self._net, [x[c]] * self.degree) for c in _chunks(len(x))])
+        hom = np.concatenate([tb.multilinear(self._net, [x[c]] * self.degree)
+                              for c in _chunks(len(x), self._net[..., 0].size * self._net.shape[-1])])
         return self._project(hom).reshape(shape + (self.dim,))
 
     def blossom(self, *args: ArrayLike, homogeneous: bool = False) -> np.ndarray:
@@ -298,7 +306,7 @@ class BezierTriangle(Surface):
 
         Raises:
             CagdError: direction not summing to 0, order < 0, (u, v) outside the triangle."""
-        order = _checks.integer(order, "order", 0)
+        order = _checks.order(order, "order")
         d = tb.barycentric(direction, "direction", direction=True)
         u, v = _checks.parameters(u, "u"), _checks.parameters(v, "v")
         try:
@@ -313,7 +321,7 @@ class BezierTriangle(Surface):
         for s, r in enumerate(rs):
             if r <= n:
                 coef = factorial(n) / factorial(n - r)
-                for c in _chunks(len(x)):
+                for c in _chunks(len(x), self._net[..., 0].size * self._net.shape[-1]):
                     hom[s, c] = coef * tb.multilinear(self._net, [d[c]] * r + [x[c]] * (n - r))
         res = rational_derivatives(hom)[-1] if self.is_rational else hom[-1]
         return res.reshape(shape + (self.dim,))
@@ -366,8 +374,11 @@ class BezierTriangle(Surface):
 
     def degree_elevate(self, times: int = 1) -> "BezierTriangle":
         """Degree n -> n + times: Q_ijk = (i P_{i-1,j,k} + j P_{i,j-1,k} + k P_{i,j,k-1}) / (n+1)
-        per step (Farin ch. 17), on homogeneous points for rational triangles."""
-        times = _checks.integer(times, "times", 0)
+        per step (Farin ch. 17), on homogeneous points for rational triangles.
+
+        Raises:
+            CagdError: ``times`` not an integer >= 0, n + times > :data:`cagd.MAX_DEGREE`."""
+        times = _checks.elevation(times, self.degree)
         net = self._net
         for _ in range(times):
             n = net.shape[0] - 1

@@ -485,3 +485,75 @@ def test_to_nurbs_degree_one_by_hand():
 def test_rational_triangle_overflowing_homogeneous_net_is_an_error():
     with pytest.raises(CagdError, match="overflow"):
         BezierTriangle([[-1e300, 0, 0]] + [[1, 1, 1]] * 9, [1e12] + [1] * 9)
+
+
+# --- limits (issue 14) ---------------------------------------------------------------------
+def _exact_triangle_value(P, n, u, v):
+    """sum n!/(i! j! k!) u^i v^j w^k P_ijk in exact integer arithmetic (u, v and the
+    points are dyadic rationals), rounded once to float."""
+    from fractions import Fraction
+    (nu, du), (nv, dv) = Fraction(u).as_integer_ratio(), Fraction(v).as_integer_ratio()
+    den = max(du, dv)
+    nu, nv = nu * (den // du), nv * (den // dv)
+    nw = den - nu - nv
+    ratios = [[Fraction(float(x)).as_integer_ratio() for x in p] for p in P]
+    L = max(d for row in ratios for _, d in row)
+    total = [0] * P.shape[1]
+    for (i, j, k), row in zip(index_triples(n), ratios):
+        b = factorial(n) // (factorial(i) * factorial(j) * factorial(k)) * nu ** i * nv ** j * nw ** k
+        for d, (num, dd) in enumerate(row):
+            total[d] += b * num * (L // dd)
+    return np.array([float(Fraction(t, den ** n * L)) for t in total])
+
+
+def test_degree_above_max_degree_is_refused():
+    """BezierTriangle had no MAX_DEGREE check (the multinomials overflow above 170)."""
+    from cagd import MAX_DEGREE
+    n = MAX_DEGREE + 1
+    N = (n + 1) * (n + 2) // 2
+    with pytest.raises(CagdError, match=r"control_points: .*degree 129.*MAX_DEGREE = 128"):
+        BezierTriangle(np.zeros((N, 3)))
+    with pytest.raises(CagdError, match="control_points: .*MAX_DEGREE"):
+        BezierTriangle({t: (0.0, 0.0) for t in index_triples(n)})
+    ok = BezierTriangle(np.zeros((3, 2)))
+    with pytest.raises(CagdError, match="weights: .*MAX_DEGREE"):
+        ok.with_weights({t: 1.0 for t in index_triples(n)})
+    with pytest.raises(CagdError, match="times: raising degree 1 by 128"):
+        ok.degree_elevate(MAX_DEGREE)
+    with pytest.raises(CagdError, match="times"):
+        ok.degree_elevate(10 ** 18)
+    with pytest.raises(CagdError, match="order"):
+        ok.directional_derivative(0.2, 0.3, (1, 0, -1), 10 ** 18)
+
+
+def test_max_degree_triangle_evaluates_exactly_in_bounded_memory():
+    """Degree 128 against exact rational arithmetic; the Bernstein matrix is built
+    per chunk (it was (points, 8385) at once: 2,000 points held ~0.5 GB)."""
+    import tracemalloc
+    from cagd import MAX_DEGREE
+    n = MAX_DEGREE
+    rng = np.random.default_rng(7)
+    P = rng.random(((n + 1) * (n + 2) // 2, 3))
+    T = BezierTriangle(P)
+    u, v = rng.random(2000) * 0.6, rng.random(2000) * 0.4
+    tracemalloc.start()
+    try:
+        got = T(u, v)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 200e6
+    for r in (0, 1234):
+        assert np.abs(got[r] - _exact_triangle_value(P, n, u[r], v[r])).max() <= 1e-12
+    assert np.abs(T.de_casteljau(u[:20], v[:20]) - got[:20]).max() <= 1e-12
+
+
+@pytest.mark.parametrize("n,times", [(3, 5), (40, 60)])
+def test_high_degree_elevation_is_the_same_triangle(n, times):
+    rng = np.random.default_rng(n)
+    N = (n + 1) * (n + 2) // 2
+    T = BezierTriangle(rng.random((N, 3)), rng.uniform(0.5, 2.0, N))
+    E = T.degree_elevate(times)
+    assert E.degree == n + times
+    u, v = rng.random(200) * 0.5, rng.random(200) * 0.5
+    assert np.abs(E(u, v) - T.de_casteljau(u, v)).max() <= 1e-12
