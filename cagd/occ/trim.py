@@ -33,7 +33,7 @@ from __future__ import annotations
 from typing import List, Tuple, Union
 
 import numpy as np
-from OCP.BRep import BRep_Builder
+from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve2d
 from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeVertex,
                                 BRepBuilderAPI_MakeWire)
@@ -409,6 +409,10 @@ def _overshoot(loops: List[List[BSplineCurve]], surface: Surface) -> float:
 
 
 # --- writing ---------------------------------------------------------------------------------------
+#: a vertex's tolerance covers the 3-D gap it closes between consecutive pcurves, with this margin
+VERTEX_MARGIN = 1.5
+
+
 def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
     """The OCCT face of a TrimmedSurface (see the module docstring), checked by
     BRepCheck_Analyzer (ShapeFix_Face once if needed).
@@ -424,18 +428,27 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
     known: List[Tuple[np.ndarray, object]] = []        # one vertex per 3-D point (closed edges, poles)
     merge = max(tol, DEGENERATE_TOL)
 
-    def vertex(p: np.ndarray):
+    def vertex(p: np.ndarray, gap: float):
         for q, v in known:
-            if np.linalg.norm(p - q) <= merge:
+            if np.linalg.norm(p - q) <= max(merge, gap):
+                builder.UpdateVertex(v, max(BRep_Tool.Tolerance_s(v), VERTEX_MARGIN * (gap + np.linalg.norm(p - q))))
                 return v
         v = BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex()
+        if gap > 0.0:                               # the loop's closing gap there (up to ts.tol)
+            builder.UpdateVertex(v, max(BRep_Tool.Tolerance_s(v), VERTEX_MARGIN * gap))
         known.append((p, v))
         return v
 
     for i, loop in enumerate(ts.loops):
         starts = [c(c.domain[0]) for c in loop]
-        p3 = [nurbs(float(p[0]), float(p[1])) for p in _clipped(starts, nurbs)]
-        vertices = [vertex(p) for p in p3]
+        ends = [c(c.domain[1]) for c in loop]
+        p3, e3 = [nurbs(float(p[0]), float(p[1])) for p in _clipped(starts, nurbs)], \
+            [nurbs(float(p[0]), float(p[1])) for p in _clipped(ends, nurbs)]
+        # the gap each vertex closes, plus how far OCCT's extrapolation of the surface
+        # may put a pcurve's end that leaves the domain (the engine clips it)
+        reach = [_clip_reach(nurbs, starts[j]) + _clip_reach(nurbs, ends[j - 1]) for j in range(len(loop))]
+        gaps = [float(np.linalg.norm(p3[j] - e3[j - 1])) + reach[j] for j in range(len(loop))]
+        vertices = [vertex(p, g) for p, g in zip(p3, gaps)]
         maker = BRepBuilderAPI_MakeWire()
         for j, c in enumerate(loop):
             pc = to_occ(c, plane=True)
@@ -469,6 +482,18 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
         if not BRepCheck_Analyzer(face).IsValid():
             raise CagdError("surface: OCCT reports the trimmed face as invalid (BRepCheck), also after ShapeFix")
     return face
+
+
+def _clip_reach(s: BSplineSurface, p: np.ndarray) -> float:
+    """A bound on |S(p) - S(clipped p)| for a (u, v) outside the domain by a little: the
+    first partials at the clipped point times the distance clipped (twice, for the
+    curvature over that distance)."""
+    q = _clipped([p], s)[0]
+    du, dv = abs(float(p[0] - q[0])), abs(float(p[1] - q[1]))
+    if du == 0.0 and dv == 0.0:
+        return 0.0
+    d = s.derivatives(float(q[0]), float(q[1]), 1, 1)
+    return 2.0 * (float(np.linalg.norm(d[1, 0])) * du + float(np.linalg.norm(d[0, 1])) * dv)
 
 
 def _clipped(points: List[np.ndarray], s: BSplineSurface) -> List[np.ndarray]:
