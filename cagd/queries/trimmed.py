@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Optional, Tuple
 import weakref
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import CagdError
 from ._local import split_boxes
@@ -84,12 +85,12 @@ def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndar
     return out
 
 
-def closest_on_trimmed(ts: "TrimmedSurface", points: np.ndarray, p: "Projector", stop: Tuple[Optional[float], ...],
-                       max_iterations: int) -> "ClosestPoints":
+def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
+                       stop: Tuple[Optional[float], Optional[float]], max_iterations: int) -> "ClosestPoints":
     """The closest points of the face ``ts`` (see the module docstring); ``p`` the
     projector of its untrimmed surface, ``stop`` its (tol, param_tol) in frame units."""
     from dataclasses import replace
-    base = p._closest(points, *stop, max_iterations)
+    base = p._closest(points, stop[0], stop[1], max_iterations)
     uv = base.params
     inside = ts.contains(uv[:, 0], uv[:, 1])
     if inside.all():
@@ -124,9 +125,9 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: np.ndarray, p: "Projector",
     for c0 in range(0, len(o), chunk):
         i = np.arange(c0, min(c0 + chunk, len(o)))
         lbs = np.sqrt(((X[i][:, None, :] - p.centers[live][None]) ** 2).sum(-1)) - p.radii[live][None]
-        a, c = np.nonzero(lbs < U[i][:, None])
-        pid_l.append(i[a])
-        cell_l.append(live[c])
+        row, col = np.nonzero(lbs < U[i][:, None])
+        pid_l.append(i[row])
+        cell_l.append(live[col])
     pid, cell = np.concatenate(pid_l), np.concatenate(cell_l)
     lo, hi = p.lo[cell], p.hi[cell]
     box = cls[cell]
