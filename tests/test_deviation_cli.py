@@ -139,7 +139,7 @@ def test_report_and_picture_are_written_together(tmp_path, capsys):
                  "--png", str(tmp_path / "map.svg")]) == 0
     assert (tmp_path / "map.svg").read_text().lstrip().startswith("<?xml")
     assert "map.svg" in (tmp_path / "r.md").read_text()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "map.svg", "pts.csv", "r.md"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "map.svg", "pts.csv", "r.md", "r.points.csv"]
 
 
 @pytest.mark.skipif(not __import__("os").path.exists("/dev/full"), reason="no /dev/full")
@@ -242,3 +242,42 @@ def test_reading_in_chunks(tmp_path, monkeypatch):
     spaced = tmp_path / "spaced.csv"                 # numpy refuses "1 ,2": the fallback reads it
     spaced.write_text("".join(f"{float(a)!r} ,{float(b)!r} ,{float(c)!r}\n" for a, b, c in X))
     assert np.array_equal(read_points(spaced), X)
+
+
+def test_per_point_table_beside_the_report(tmp_path):
+    """The per-point CSV (issue 15): one row per point, the nearest face's index, the
+    distance and bound of deviation() and the foot, each double round-tripped."""
+    model = write_model(tmp_path, [{"name": "egg", "type": "ellipsoid", "a": 30, "b": 20, "c": 15}])
+    patches = cagd.ellipsoid(30, 20, 15)
+    rng = np.random.default_rng(7)
+    X = rng.normal(0, 25, (500, 3))
+    pts = tmp_path / "pts.csv"
+    np.savetxt(pts, X, delimiter=",")
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md")]) == 0
+    table = tmp_path / "r.points.csv"
+    assert table.read_text().splitlines()[0] == "x,y,z,face,distance,lower_bound,foot_x,foot_y,foot_z"
+    T = np.loadtxt(table, delimiter=",", skiprows=1)
+    from cagd.queries.deviation import deviation
+    res = deviation(patches, X)
+    assert T.shape == (500, 9)
+    assert np.array_equal(T[:, :3], X) and np.array_equal(T[:, 3].astype(int), res.owner)
+    assert np.array_equal(T[:, 4], res.distances) and np.array_equal(T[:, 6:], res.feet)
+    assert np.all(T[:, 5] <= np.abs(T[:, 4]))
+    assert "per point: `" in (tmp_path / "r.md").read_text()
+
+
+def test_a_step_face_with_a_hole_is_measured_as_the_face(tmp_path):
+    """cagd deviation FILE.step measures to the trimmed faces: a point above the hole's
+    centre of a plate is as far as the hole's rim, not its height."""
+    pytest.importorskip("OCP")
+    from cagd.occ import write_step
+    from trim_shapes import circle, rectangle, square_patch
+    plate = cagd.TrimmedSurface(square_patch(1.0), [rectangle(0, 1, 0, 1), [circle((0.5, 0.5), 0.2, clockwise=True)]])
+    write_step([("plate", plate)], tmp_path / "plate.step")
+    pts = tmp_path / "p.csv"
+    pts.write_text("0.5,0.5,0.03\n0.1,0.1,0.03\n")
+    out = tmp_path / "r.md"
+    assert main(["deviation", str(tmp_path / "plate.step"), str(pts), "-o", str(out), "--csv",
+                 str(tmp_path / "t.csv")]) == 0
+    d = np.abs(np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)[:, 4])
+    assert d == pytest.approx([np.hypot(0.2, 0.03), 0.03], rel=1e-9)
