@@ -58,6 +58,7 @@ from OCP.GeomAbs import GeomAbs_C2
 from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 from OCP.ShapeUpgrade import ShapeUpgrade_ShapeDivideContinuity
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_FORWARD, TopAbs_IN, TopAbs_OUT
+from OCP.TopoDS import TopoDS_Face
 
 from .. import _checks
 from .._validate import check_name
@@ -308,7 +309,11 @@ def verify(obj: Union[Curve, Surface], name: str = "object", samples: int = 41, 
     samples = _checks.integer(samples, "samples", 4, 100_000)
     s = _Samples(nurbs, samples)
     tol = default_tolerance(nurbs) if tol is None else _checks.scalar(tol, "tol")
-    ref = s.engine(nurbs)
+    s.check({})                                # the derivative scales, before evaluating
+    try:
+        ref = s.engine(nurbs)
+    except CagdError as exc:                   # a derivative beyond the float range
+        raise CagdError(f"obj: cannot be compared ({exc})") from None
     s.check(ref)
     report = VerifyReport(name, repr(obj).strip("<>"), s.size, s.count)
     if "to_nurbs" in stages and not isinstance(obj, (BSplineCurve, BSplineSurface)):
@@ -418,7 +423,7 @@ class _TrimCheck:
         return StageResult(stage, {"area": dev_area, "inside": wrong / max(n, 1)}, tol, note)
 
 
-def occt_face_area(face) -> float:
+def occt_face_area(face: TopoDS_Face) -> float:
     """OCCT's area of a face: BRepGProp.SurfaceProperties (:func:`cagd.occ.area`, relative
     precision AREA_EPS) of the face split where its surface or pcurves are less than C2
     (ShapeUpgrade_ShapeDivideContinuity: exact segments). BRepGProp integrates across
