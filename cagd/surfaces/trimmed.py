@@ -355,8 +355,7 @@ class TrimmedSurface(Surface):
         (see the module docstring) with its error estimate. The inner integral runs
         along the direction with fewer knot spans over the loops (u, or v on the
         surface and loops with u and v exchanged: the same area)."""
-        rel_tol = _checks.positive(rel_tol, "rel_tol")
-        return _area(self if self._inner_direction() == 0 else self._exchanged(), rel_tol)
+        return trimmed_integral(self, _checks.positive(rel_tol, "rel_tol"))
 
     def _inner_direction(self) -> int:
         """0 (u) or 1 (v): the direction with fewer knot spans over the loops."""
@@ -725,12 +724,24 @@ class _Flattened:
 
 
 # --- area ---------------------------------------------------------------------------------------
-def _jacobian(surface: Surface, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    d = surface.derivatives(u, v, 1, 1)
+#: what the trimmed quadrature integrates: None, the area element |S_u x S_v|; else a
+#: centre c, the volume element (S - c) . (S_u x S_v) / 3 (divergence theorem)
+Density = Optional[np.ndarray]
+
+
+def _element(d: np.ndarray, centre: Density) -> np.ndarray:
+    """The density from the partials d (S, S_u, S_v at [0, 0], [1, 0], [0, 1])."""
     su, sv = d[1, 0], d[0, 1]
     if su.shape[-1] == 2:
         return np.abs(su[..., 0] * sv[..., 1] - su[..., 1] * sv[..., 0])
-    return np.linalg.norm(np.cross(su, sv), axis=-1)
+    n = np.cross(su, sv)
+    if centre is None:
+        return np.linalg.norm(n, axis=-1)
+    return np.einsum("...k,...k", d[0, 0] - centre, n) / 3.0
+
+
+def _jacobian(surface: Surface, u: np.ndarray, v: np.ndarray, centre: Density = None) -> np.ndarray:
+    return _element(surface.derivatives(u, v, 1, 1), centre)
 
 
 def _inside_domain(surface: Surface, u: np.ndarray, v: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -792,19 +803,16 @@ def _knot_crossings(ts: TrimmedSurface, c: BSplineCurve, a: float, b: float) -> 
     return np.unique(np.concatenate(found)) if found else np.empty(0)
 
 
-def _jacobian_grid(surface: Surface, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
-    """|S_u x S_v| on the grid us x vs (the surface's fast grid path), (len(us), len(vs))."""
+def _jacobian_grid(surface: Surface, us: np.ndarray, vs: np.ndarray, centre: Density = None) -> np.ndarray:
+    """The density on the grid us x vs (the surface's fast grid path), (len(us), len(vs))."""
     us, vs = _inside_domain(surface, us, vs)
     us = surface._wrap(us, 0, surface.periodic_u, "u")
     vs = surface._wrap(vs, 1, surface.periodic_v, "v")
-    d = surface._grid(us, vs, 1, 1)
-    su, sv = d[1, 0], d[0, 1]
-    if su.shape[-1] == 2:
-        return np.abs(su[..., 0] * sv[..., 1] - su[..., 1] * sv[..., 0])
-    return np.linalg.norm(np.cross(su, sv), axis=-1)
+    return _element(surface._grid(us, vs, 1, 1), centre)
 
 
-def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarray) -> np.ndarray:
+def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarray,
+               centre: Density = None) -> np.ndarray:
     """G(u, v) = int_{edges[0]}^u |S_u x S_v|(s, v) ds by Gauss-Legendre on each interval
     of ``edges``: the whole intervals left of u on the grid of their nodes x the v's
     (cumulated), the last, partial one point by point; in chunks."""
@@ -815,7 +823,7 @@ def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarr
     step = max(1, (CHUNK // 4) // max(len(X), 1))
     for s in range(0, len(u), step):
         uu, vv = u[s:s + step], v[s:s + step]
-        g = _jacobian_grid(ts.surface, X, vv).reshape(len(lo), GAUSS_POINTS, len(vv))
+        g = _jacobian_grid(ts.surface, X, vv, centre).reshape(len(lo), GAUSS_POINTS, len(vv))
         whole = half[:, None] * np.einsum("jkn,k->jn", g, _GL_W)
         cum = np.concatenate([np.zeros((1, len(vv))), np.cumsum(whole, axis=0)])
         j = np.clip(np.searchsorted(edges, uu, side="right") - 1, 0, len(lo) - 1)
@@ -824,13 +832,13 @@ def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarr
         h = 0.5 * (b - a)
         x = (0.5 * (a + b))[:, None] + h[:, None] * _GL_X[None]
         xu, yv = _inside_domain(ts.surface, x.ravel(), np.repeat(vv, GAUSS_POINTS))
-        part = h * (_jacobian(ts.surface, xu, yv).reshape(x.shape) @ _GL_W)
+        part = h * (_jacobian(ts.surface, xu, yv, centre).reshape(x.shape) @ _GL_W)
         out[s:s + step] = full + part
     return out
 
 
 def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray, bound: Optional[float],
-                       rel_tol: float) -> Tuple[float, float, bool]:
+                       rel_tol: float, centre: Density = None) -> Tuple[float, float, bool]:
     """oint G dv over every chain curve, adaptive Gauss-Legendre (cagd._quadrature: an
     absolute error ``bound``, or None: ``rel_tol`` of the sum of |parts|); (value,
     error estimate, converged)."""
@@ -860,34 +868,46 @@ def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray, 
             sel = owner == k
             d = curves[k].derivatives(t[sel], 1)
             us[sel], vs[sel], dvs[sel] = d[0, ..., 0], d[0, ..., 1], d[1, ..., 1]
-        G = _potential(ts, us.ravel(), vs.ravel(), edges).reshape(t.shape)
+        G = _potential(ts, us.ravel(), vs.ravel(), edges, centre).reshape(t.shape)
         return half * ((G * dvs) @ _GL_W)
 
     q = adaptive(rule, lo, hi, owner, bound, rel_tol, MAX_BISECTIONS, MAX_AREA_INTERVALS)
     return q.value, q.error, q.converged
 
 
-def _area(ts: TrimmedSurface, rel_tol: float) -> AreaResult:
+def _area(ts: TrimmedSurface, rel_tol: float, centre: Density = None, floor: float = 0.0) -> AreaResult:
     """The area by Green's theorem, A = oint G dv with G(u, v) = int |S_u x S_v| du
-    (do Carmo 2-5 for the area element; Green's theorem on the trimmed domain): the
-    inner rule refined (u spans split 1, 2, 4, ... times) until two refinements agree;
-    the goal, rel_tol times the first estimate, is shared between the outer quadrature
-    (a quarter) and the change between refinements."""
+    (do Carmo 2-5 for the area element; Green's theorem on the trimmed domain), or with
+    a ``centre`` the volume contribution int_D (S - c) . (S_u x S_v) / 3: the inner rule
+    refined (u spans split 1, 2, 4, ... times) until two refinements agree; the goal,
+    rel_tol times the first estimate (at least ``floor``), is shared between the outer
+    quadrature (a quarter) and the change between refinements."""
     flat = ts._flattened()
-    value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, 1), None, rel_tol)
-    goal = max(rel_tol * abs(value), 1e-300)
+    value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, 1), None, rel_tol, centre)
+    goal = max(rel_tol * abs(value), floor, 1e-300)
     splits = 2
     while True:
         previous = value
-        value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, splits), 0.25 * goal, rel_tol)
+        value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, splits), 0.25 * goal, rel_tol, centre)
         error += abs(value - previous)
-        goal = max(rel_tol * abs(value), 1e-300)
+        goal = max(rel_tol * abs(value), floor, 1e-300)
         if (ok and error <= goal) or 2 * splits > MAX_AREA_SPLITS:
             converged = ok and error <= goal
             msg = "" if converged else (f"area: error estimate {error:.3g} above the goal {goal:.3g} "
                                         f"({rel_tol:.3g} relative)")
             return AreaResult(float(value), float(error), bool(converged), msg)
         splits *= 2
+
+
+def trimmed_integral(ts: TrimmedSurface, rel_tol: float = AREA_TOL, centre: Density = None,
+                     floor: float = 0.0) -> AreaResult:
+    """The area (``centre`` None) or the volume contribution about ``centre`` of a
+    trimmed face, along the direction with fewer knot spans (see :meth:`area_report`;
+    exchanging u and v flips S_u x S_v, so the volume changes sign back)."""
+    if ts._inner_direction() == 0:
+        return _area(ts, rel_tol, centre, floor)
+    r = _area(ts._exchanged(), rel_tol, centre, floor)
+    return r if centre is None else AreaResult(-r.value, r.error, r.converged, r.message)
 
 
 # --- boundary -----------------------------------------------------------------------------------
