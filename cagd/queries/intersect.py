@@ -118,7 +118,10 @@ def intersect(a: Union[Curve, Surface, Plane], b: Union[Curve, Surface, Plane, N
     ``converged`` False.
 
     Surface–plane and surface–surface requests go to
-    :mod:`cagd.queries.intersect_surfaces` (branches in ``curves``).
+    :mod:`cagd.queries.intersect_surfaces` (branches in ``curves``). A
+    :class:`cagd.TrimmedSurface` is intersected as its face: the untrimmed answer with
+    points outside the trim dropped and branches cut where they leave it (those ends
+    'trim'; :func:`cagd.queries.trimmed.clip_to_trims`).
 
     Raises:
         CagdError: not curves/surfaces/planes, two planes, different dimensions,
@@ -127,6 +130,13 @@ def intersect(a: Union[Curve, Surface, Plane], b: Union[Curve, Surface, Plane, N
             angle_tol < 0.
     """
     tol = _checks.positive(tol, "tol")
+    from ..surfaces.trimmed import TrimmedSurface
+    if isinstance(a, TrimmedSurface) or isinstance(b, TrimmedSurface):     # the faces: clipped to their trims
+        from .trimmed import clip_to_trims
+        res = intersect(a.untrimmed if isinstance(a, TrimmedSurface) else a,
+                        b.untrimmed if isinstance(b, TrimmedSurface) else b, tol, angle_tol=angle_tol,
+                        max_depth=max_depth, max_pairs=max_pairs)
+        return clip_to_trims(res, a, b)
     if isinstance(a, Plane) and isinstance(b, Plane):
         raise CagdError("a, b: two planes: intersect them with their normals (a line or nothing), "
                         "not with this curve and surface query")

@@ -31,6 +31,7 @@ from .bounds import robust_distance
 if TYPE_CHECKING:
     from ..surfaces.trimmed import TrimBoundary, TrimmedSurface
     from .closest import ClosestPoints, Projector
+    from .intersect import IntersectionResult
 
 #: relative gap below which a cell's lower bound counts as reaching the distance found
 CELL_GAP = 1e-10
@@ -221,4 +222,85 @@ def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.
     return out
 
 
-__all__ = ["closest_on_trimmed", "box_classes"]
+
+
+# --- intersections clipped to the trims ----------------------------------------------------------
+#: samples per branch (at least; more per span of its 3-D curve) where the trims are tested
+CLIP_SAMPLES = 512
+#: ... per span of the branch's curve
+CLIP_SAMPLES_PER_SPAN = 16
+#: bisection steps locating where a branch leaves a trim (the parameter to 2^-48 of a step)
+CLIP_BISECTIONS = 48
+
+
+def _branch_inside(branch: object, a: object, b: object, t: np.ndarray) -> np.ndarray:
+    """Whether the branch's points at t lie on both faces (inside both trims)."""
+    from ..surfaces.trimmed import TrimmedSurface
+    uva, uvb = branch.surface_params(t)            # type: ignore[attr-defined]
+    ok = np.ones(len(t), dtype=bool)
+    if isinstance(a, TrimmedSurface):
+        ok &= a.contains(uva[:, 0], uva[:, 1])
+    if isinstance(b, TrimmedSurface) and uvb is not None:
+        ok &= b.contains(uvb[:, 0], uvb[:, 1])
+    return ok
+
+
+def _clip_branch(branch: object, a: object, b: object) -> list:
+    """The pieces of one branch on both faces: the curve sampled, each change of
+    inside/outside located by bisection, the curve and its parameter curves cut there
+    (their ends 'trim'). Excursions shorter than a sample step may be missed."""
+    from dataclasses import replace
+    c = branch.curve                                # type: ignore[attr-defined]
+    t0, t1 = c.domain
+    spans = max(len(np.unique(c.knots)) - 1, 1)
+    t = np.linspace(t0, t1, max(CLIP_SAMPLES, CLIP_SAMPLES_PER_SPAN * spans) + 1)
+    ok = _branch_inside(branch, a, b, t)
+    if ok.all():
+        return [branch]
+    if not ok.any():
+        return []
+    k = np.flatnonzero(ok[1:] != ok[:-1])
+    lo, hi, lo_ok = t[k], t[k + 1], ok[k]
+    for _ in range(CLIP_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        m_ok = _branch_inside(branch, a, b, mid)
+        same = m_ok == lo_ok
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+    cuts = np.where(lo_ok, lo, hi)                  # the last inside parameter of each change
+    bounds = np.concatenate([[t0], cuts, [t1]])
+    inside_runs = np.concatenate([[ok[0]], ~lo_ok])  # whether each run between cuts is inside
+    pieces = []
+    for j, inside in enumerate(inside_runs):
+        s, e = float(bounds[j]), float(bounds[j + 1])
+        if not inside or e <= s:
+            continue
+        ends = (branch.ends[0] if j == 0 else "trim", branch.ends[1] if j == len(inside_runs) - 1 else "trim")  # type: ignore[attr-defined]
+        pb = branch.params_b.segment(s, e) if branch.params_b is not None else None  # type: ignore[attr-defined]
+        pieces.append(replace(branch, curve=c.segment(s, e), params_a=branch.params_a.segment(s, e),  # type: ignore
+                              params_b=pb, closed=False, ends=ends))
+    return pieces
+
+
+def clip_to_trims(res: "IntersectionResult", a: object, b: object) -> "IntersectionResult":
+    """An intersection of the untrimmed surfaces restricted to the faces: points whose
+    parameters lie outside a trim are dropped, branches cut where they leave a trim
+    (their ends there 'trim'); overlaps are kept as found on the untrimmed surfaces (the
+    message says so)."""
+    from dataclasses import replace
+    from ..surfaces.trimmed import TrimmedSurface
+
+    def on(obj: object, param: object) -> bool:
+        if not isinstance(obj, TrimmedSurface):
+            return True
+        uv = np.asarray(param, float).reshape(-1, 2)
+        return bool(obj.contains(uv[:, 0], uv[:, 1]).all())
+
+    points = tuple(p for p in res.points if on(a, p.param_a) and on(b, p.param_b))
+    curves = tuple(piece for branch in res.curves for piece in _clip_branch(branch, a, b))
+    message = res.message
+    if res.overlaps:
+        message = (message + "; " if message else "") + "overlaps are those of the untrimmed surfaces (not clipped)"
+    return replace(res, points=points, curves=curves, message=message)
+
+
+__all__ = ["closest_on_trimmed", "box_classes", "clip_to_trims"]
