@@ -41,8 +41,14 @@ MAX_TRIM_ROUNDS = 60
 MAX_TRIM_ROWS = 2_000_000
 #: margin on the gradient's variation bound before a box is said to hold no stationary point
 CRITICAL_SAFETY = 1.0 + 1e-9
-#: (box, chord) pairs tested at once when cells are classified against the trim
-CLASSIFY_CHUNK = 1 << 22
+#: cells per direction of the grid of chord boxes (box_classes)
+GRID = 128
+#: grid cells of boxes expanded at once
+GRID_CHUNK = 1 << 18
+#: face points per loop curve giving the first upper bound of the boundary distance
+EDGE_SAMPLES = 33
+#: (point, box) rows evaluated at once by the stationary-point test
+ROW_CHUNK = 1 << 16
 
 _PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -64,6 +70,64 @@ def _prepared(ts: "TrimmedSurface", p: "Projector") -> Tuple["TrimBoundary", np.
     return bd, cls
 
 
+class _ChordGrid:
+    """The loops' chord boxes (cmin, cmax) registered in a GRID x GRID grid over their
+    extent (CSR: cell -> chords), so that a parameter box meets only the chords of the
+    cells it covers."""
+
+    def __init__(self, A: np.ndarray, B: np.ndarray, r: np.ndarray):
+        cmin, cmax = np.minimum(A, B) - r[:, None], np.maximum(A, B) + r[:, None]
+        self.cmin, self.cmax, self.A, self.r = cmin, cmax, A, r
+        d = B - A
+        length = np.hypot(d[:, 0], d[:, 1])
+        self.normal = np.where(length[:, None] > 0, np.stack([-d[:, 1], d[:, 0]], axis=1)
+                               / np.maximum(length, 1e-300)[:, None], 0.0)
+        self.lo, hi = cmin.min(axis=0), cmax.max(axis=0)
+        self.step = np.maximum((hi - self.lo) / GRID, 1e-300)
+        i0, i1 = self._cells(cmin), self._cells(cmax)
+        cu, cv = i1[:, 0] - i0[:, 0] + 1, i1[:, 1] - i0[:, 1] + 1
+        n = cu * cv
+        chord = np.repeat(np.arange(len(cmin)), n)
+        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        cell = (i0[chord, 0] + k // cv[chord]) * GRID + i0[chord, 1] + k % cv[chord]
+        order = np.argsort(cell, kind="stable")
+        self.chords = chord[order]
+        self.start = np.searchsorted(cell[order], np.arange(GRID * GRID + 1))
+
+    def _cells(self, x: np.ndarray) -> np.ndarray:
+        return np.clip(np.floor((x - self.lo) / self.step), 0, GRID - 1).astype(np.int64)
+
+    def meets(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Per box [lo, hi]: whether some chord box meets it (in chunks of pairs)."""
+        n = len(lo)
+        out = np.zeros(n, dtype=bool)
+        i0, i1 = self._cells(lo), self._cells(hi)
+        away = np.any((hi < self.lo) | (lo > self.lo + GRID * self.step), axis=1)
+        cu, cv = i1[:, 0] - i0[:, 0] + 1, i1[:, 1] - i0[:, 1] + 1
+        cells = np.where(away, 0, cu * cv)
+        ends = np.cumsum(cells)
+        b0 = 0
+        while b0 < n:                                # boxes -> cells -> chords, GRID_CHUNK cells at a time
+            b1 = max(int(np.searchsorted(ends, ends[b0] - cells[b0] + GRID_CHUNK, side="right")), b0 + 1)
+            m = cells[b0:b1]
+            box = np.repeat(np.arange(b0, b1), m)
+            k = np.arange(int(m.sum())) - np.repeat(np.cumsum(m) - m, m)
+            cell = (i0[box, 0] + k // cv[box]) * GRID + i0[box, 1] + k % cv[box]
+            cnt = self.start[cell + 1] - self.start[cell]
+            pb = np.repeat(box, cnt)
+            off = np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+            seg = self.chords[np.repeat(self.start[cell], cnt) + off]
+            hit = np.all((self.cmin[seg] <= hi[pb]) & (self.cmax[seg] >= lo[pb]), axis=1)
+            seg, pb = seg[hit], pb[hit]
+            # ... and the chord's line (widened by its bound) meets the box (separating axis)
+            nrm, c, h = self.normal[seg], 0.5 * (lo[pb] + hi[pb]), 0.5 * (hi[pb] - lo[pb])
+            reach = np.abs(nrm[:, 0]) * h[:, 0] + np.abs(nrm[:, 1]) * h[:, 1] + self.r[seg]
+            hit = np.abs(np.einsum("nk,nk->n", nrm, c - self.A[seg])) <= reach * (1.0 + 1e-12)
+            out[np.unique(pb[hit])] = True
+            b0 = b1
+        return out
+
+
 def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Per parameter box [lo, hi] (model parameters, (n, 2)): -1 outside the trimmed domain
     D, 1 inside it, 0 where a loop may cross it (a chord's box, widened by its bound,
@@ -73,13 +137,11 @@ def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndar
     if ts.periodic_u or ts.periodic_v or not n:
         return out
     flat = ts._flattened()
-    A, B, r = flat.A, flat.B, flat.bound + flat.band
-    cmin, cmax = np.minimum(A, B) - r[:, None], np.maximum(A, B) + r[:, None]
-    crossed = np.zeros(n, dtype=bool)
-    step = max(1, CLASSIFY_CHUNK // max(len(A), 1))
-    for s in range(0, n, step):
-        l, h = lo[s:s + step, None, :], hi[s:s + step, None, :]
-        crossed[s:s + step] = np.any(np.all((cmin[None] <= h) & (cmax[None] >= l), axis=2), axis=1)
+    grid: Optional[_ChordGrid] = getattr(flat, "_box_grid", None)
+    if grid is None:
+        grid = _ChordGrid(flat.A, flat.B, flat.bound + flat.band)
+        setattr(flat, "_box_grid", grid)           # derived from the immutable loops: kept with them
+    crossed = grid.meets(lo, hi)
     c = 0.5 * (lo + hi)
     inside = ts.contains(c[:, 0], c[:, 1])
     out[~crossed] = np.where(inside[~crossed], 1, -1)
@@ -107,14 +169,34 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     best_ok = np.ones(len(o), dtype=bool)
     lb_edge = np.full(len(o), np.inf)
     from .closest import _closest_point
-    for loop, images, exact in zip(ts.loops, bd.curves, bd.exact):
-        for c, C, ex in zip(loop, images, exact):
-            r = _closest_point(C, Xm, tol=None, max_iterations=max_iterations)
-            q = c(r.params)
-            d = robust_distance(surface(q[:, 0], q[:, 1]), Xm)
-            win = d < best
-            best[win], best_uv[win], best_ok[win] = d[win], q[win], r.point_converged[win]
-            lb_edge = np.minimum(lb_edge, np.maximum(r.lower_bounds - (0.0 if ex else bd.error), 0.0))
+    pairs = [(c, C, 0.0 if ex else bd.error) for loop, images, exact in zip(ts.loops, bd.curves, bd.exact)
+             for c, C, ex in zip(loop, images, exact)]
+    # an upper bound first, from face points S(c(t)) on every loop curve; then each curve
+    # is asked only for the points its control-point ball does not rule out
+    samples = np.concatenate([c(np.linspace(*c.domain, EDGE_SAMPLES)) for c, _, _ in pairs])
+    F = surface(samples[:, 0], samples[:, 1])
+    for s0 in range(0, len(o), max(1, ROW_CHUNK // len(F))):
+        sl = slice(s0, s0 + max(1, ROW_CHUNK // len(F)))
+        D = np.sqrt(((Xm[sl, None, :] - F[None]) ** 2).sum(-1))
+        k = D.argmin(axis=1)
+        best[sl], best_uv[sl] = D[np.arange(len(k)), k], samples[k]
+    for c, C, err in pairs:
+        P = C.control_points
+        centre = 0.5 * (P.min(axis=0) + P.max(axis=0))
+        radius = float(np.sqrt(((P - centre) ** 2).sum(-1)).max())
+        ball = robust_distance(Xm, np.broadcast_to(centre, Xm.shape)) - radius
+        ask = np.flatnonzero(ball - err < best)
+        rest = np.setdiff1d(np.arange(len(o)), ask)
+        lb_edge[rest] = np.minimum(lb_edge[rest], np.maximum(ball[rest] - err, 0.0))
+        if not ask.size:
+            continue
+        r = _closest_point(C, Xm[ask], tol=None, max_iterations=max_iterations)
+        q = c(r.params)
+        d = robust_distance(surface(q[:, 0], q[:, 1]), Xm[ask])
+        win = d < best[ask]
+        w = ask[win]
+        best[w], best_uv[w], best_ok[w] = d[win], q[win], r.point_converged[win]
+        lb_edge[ask] = np.minimum(lb_edge[ask], np.maximum(r.lower_bounds - err, 0.0))
     # --- the interior: branch and bound over the cells that meet D
     X, _far = p._inward(Xm)
     s = p.frame.scale
@@ -162,6 +244,8 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
             break
         pid, cell, lo, hi, lb = split_boxes(pid, cell, lo, hi, lb)
         box = np.concatenate([box, box])
+        flat = _no_critical_point(p, X, pid, cell, lo, hi)     # before the (costlier) trim test
+        pid, cell, lo, hi, box, lb = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat], lb[~flat]
         straddle = np.flatnonzero(box == 0)
         if straddle.size:                    # the halves of a crossed box: classify again
             b = box_classes(ts, p.frame.params(lo[straddle]), p.frame.params(hi[straddle]))
@@ -207,8 +291,8 @@ def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.
     half-widths, R >= |r| over the box). The face's minimum is at a stationary point
     inside D or on the boundary, so such boxes cannot hold it."""
     out = np.zeros(len(pid), dtype=bool)
-    for c0 in range(0, len(pid), CLASSIFY_CHUNK // 64):
-        sl = slice(c0, c0 + CLASSIFY_CHUNK // 64)
+    for c0 in range(0, len(pid), ROW_CHUNK):
+        sl = slice(c0, c0 + ROW_CHUNK)
         c = 0.5 * (lo[sl] + hi[sl])
         h = 0.5 * (hi[sl] - lo[sl])
         ce = cell[sl]

@@ -14,3 +14,14 @@ def test_surface_benchmark_runs_and_agrees(capsys):
     pytest.importorskip("scipy")
     assert surface_grid.main(["--grid", "40", "--repeat", "1", "--subsample", "50"]) == 0
     assert "within 1e-12 of the engine" in capsys.readouterr().out
+
+
+def test_trimmed_benchmark_runs(capsys):
+    """benchmarks/trimmed.py at tiny sizes: it runs, and the engine's contains agrees with
+    BRepClass_FaceClassifier on the points it compares (where OCCT is installed)."""
+    from benchmarks import trimmed
+    assert trimmed.main(["--points", "2000", "--occt-points", "200", "--closest", "300"]) == 0
+    out = capsys.readouterr().out
+    assert "contains:" in out and "closest, points over the face" in out
+    if "BRepClass_FaceClassifier" in out:
+        assert "same answer on 100.0000%" in out
