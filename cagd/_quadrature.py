@@ -31,25 +31,27 @@ class Quadrature:
 
 
 def adaptive(rule: Rule, lo: np.ndarray, hi: np.ndarray, tags: Optional[np.ndarray], bound: Optional[float],
-             rel_tol: float, max_levels: int, max_intervals: int, what: str = "") -> Quadrature:
+             rel_tol: float, max_levels: int, max_intervals: int, what: str = "", floor: float = 0.0) -> Quadrature:
     """Integrate by halving (see the module docstring) from the intervals ``lo`` to ``hi``.
 
     ``bound`` is the absolute error goal; None: ``rel_tol`` times the sum of |rule| over
-    the starting intervals. At most ``max_levels`` halvings and ``max_intervals`` live
+    the starting intervals, at least ``floor`` (an integrand that vanishes: no goal of
+    rounding size). At most ``max_levels`` halvings and ``max_intervals`` live
     intervals: beyond them the value comes back unconverged with the estimate reached
-    (``what`` names the bounds in the message)."""
+    (``what``: the names of those two bounds, "LEVELS_NAME, INTERVALS_NAME")."""
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     tags = np.zeros(len(lo), dtype=int) if tags is None else np.asarray(tags)
     if not len(lo):
         return Quadrature(0.0, 0.0, True, "no interval", 0)
     whole = rule(lo, hi, tags)
     if bound is None:
-        bound = rel_tol * float(np.abs(whole).sum())
+        bound = max(rel_tol * float(np.abs(whole).sum()), floor)
     span = float((hi - lo).sum())
     if not bound > 0.0 or not span > 0.0:               # a zero integrand: nothing to resolve
         return Quadrature(float(whole.sum()), 0.0, True, "a zero integral", len(lo))
     total, err, pending, evaluated = 0.0, 0.0, 0.0, len(lo)
-    why = f"after {max_levels} halvings{what and ' (' + what + ' levels)'}"
+    names = what.split(", ") + ["", ""] if what else ["", ""]
+    why = f"after {max_levels} halvings{names[0] and ' (' + names[0] + ')'}"
     for _ in range(max_levels):
         mid = 0.5 * (lo + hi)
         left, right = rule(lo, mid, tags), rule(mid, hi, tags)
@@ -68,7 +70,7 @@ def adaptive(rule: Rule, lo: np.ndarray, hi: np.ndarray, tags: Optional[np.ndarr
         pending = float(diff[keep].sum())
         if 2 * int(keep.sum()) > max_intervals:
             whole = pair[keep]
-            why = f"after {evaluated} intervals{what and ' (' + what + ' intervals)'}"
+            why = f"after {evaluated} intervals{names[1] and ' (' + names[1] + ')'}"
             break
         lo, hi, tags = np.concatenate([lo[keep], mid[keep]]), np.concatenate([mid[keep], hi[keep]]), \
             np.concatenate([tags[keep], tags[keep]])

@@ -35,6 +35,9 @@ ARC_LENGTH_MIN_TOL = 1e-15
 #: work bounds of arc_length: halvings, and live intervals (each 30 evaluations per level)
 ARC_LENGTH_MAX_LEVELS = 30
 ARC_LENGTH_MAX_INTERVALS = 1 << 16
+#: a curve whose coordinates over its domain's length times this overflow is measured on
+#: its copy over [0, 1] (|C'| of the given one could leave the float range)
+DOMAIN_HEADROOM = 1e8
 
 
 @dataclass(frozen=True)
@@ -139,7 +142,7 @@ class Curve(Value):
         they overflow all the same (one span 1e-300 wide among unit ones)."""
         a, b = self.domain
         h = b - a
-        if GEOMETRY_DOMAIN_MIN <= h <= 1.0 / GEOMETRY_DOMAIN_MIN:
+        if not self._needs_unit_domain():
             out = self.derivatives(t, order)
         else:
             flat, shape = self._flat_parameters(t)
@@ -150,6 +153,17 @@ class Curve(Value):
             raise CagdError(f"t: the derivatives overflow at t = {_first_bad(~finite, t)} (a span far narrower "
                             f"than the others); the differential geometry is not representable there")
         return out
+
+    def _needs_unit_domain(self) -> bool:
+        """True where derivatives are computed on the copy over [0, 1]: a domain width
+        outside [GEOMETRY_DOMAIN_MIN, 1 / GEOMETRY_DOMAIN_MIN], or coordinates so large
+        for the width that |C'| could overflow (size / width * DOMAIN_HEADROOM)."""
+        a, b = self.domain
+        h = b - a
+        if not GEOMETRY_DOMAIN_MIN <= h <= 1.0 / GEOMETRY_DOMAIN_MIN:
+            return True
+        with np.errstate(over="ignore"):
+            return not np.isfinite(float(np.abs(self.to_nurbs().control_points).max()) / h * DOMAIN_HEADROOM)
 
     def _unit_copy(self) -> "Curve":
         """This curve on the parameter domain [0, 1] (its NURBS form reparametrised), cached."""
@@ -276,6 +290,13 @@ class Curve(Value):
             start, end, sign = end, start, -1.0
         if start == end:
             return ArcLength(0.0, 0.0, True, "empty parameter range", 0)
+        h = b - a
+        if self._needs_unit_domain():                                  # |C'| may leave the float
+            unit = self._unit_copy()                                   # range: the length does not
+            report = unit.arc_length_report(min(max((start - a) / h, 0.0), 1.0),   # depend on the
+                                            min(max((end - a) / h, 0.0), 1.0), tol, rel_tol=rel_tol)
+            return ArcLength(sign * report.length, report.error, report.converged, report.message,
+                             report.intervals)                         # parametrisation
         size = float(np.abs(self(np.linspace(start, end, 17))).max())
         floor = ARC_LENGTH_MIN_TOL * size
         if tol is not None and tol < floor:
@@ -288,7 +309,7 @@ class Curve(Value):
         if not bound > 0.0:                                     # a constant curve at the origin
             return ArcLength(0.0, 0.0, True, "the curve is a point", len(lo))
         q = adaptive(lambda a, b, _: self._gl(a, b), lo, hi, None, bound, 0.0, ARC_LENGTH_MAX_LEVELS,
-                     ARC_LENGTH_MAX_INTERVALS, "ARC_LENGTH_MAX")
+                     ARC_LENGTH_MAX_INTERVALS, "ARC_LENGTH_MAX_LEVELS, ARC_LENGTH_MAX_INTERVALS")
         return ArcLength(sign * q.value, q.error, q.converged, q.message, q.intervals)
 
     def _gl(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:

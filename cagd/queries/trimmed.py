@@ -14,7 +14,9 @@ other points F's distance is the smaller of
   the bounds as in :mod:`cagd.queries.closest`).
 
 The lower bound reported is the largest of the untrimmed one and the minimum of the
-boundary curves' bounds (less the fits' error) and the bounds of the cells left.
+boundary curves' bounds (less FIT_ERROR_SAFETY times the fits' measured error, where an
+edge is a fit: that part of the certificate rests on the fit's sampled error) and the
+bounds of the cells left.
 """
 from __future__ import annotations
 
@@ -29,12 +31,15 @@ from ._local import split_boxes
 from .bounds import robust_distance
 
 if TYPE_CHECKING:
+    from ..curves.bspline import BSplineCurve
     from ..surfaces.trimmed import TrimBoundary, TrimmedSurface
     from .closest import ClosestPoints, Projector
     from .intersect import IntersectionResult
 
 #: relative gap below which a cell's lower bound counts as reaching the distance found
 CELL_GAP = 1e-10
+#: outside points whose branch and bound runs together (the row bound holds per group)
+TRIM_POINT_CHUNK = 1024
 #: rounds of the branch and bound at most (each halves the open cells' boxes)
 MAX_TRIM_ROUNDS = 60
 #: open (point, box) rows at most per round (bounded work: the bound reached is reported)
@@ -47,6 +52,11 @@ GRID = 128
 GRID_CHUNK = 1 << 18
 #: face points per loop curve giving the first upper bound of the boundary distance
 EDGE_SAMPLES = 33
+#: the boundary fits' error is measured at samples (TrimBoundary.error), not bounded: the
+#: lower bound from a fitted edge subtracts this multiple of it
+FIT_ERROR_SAFETY = 4.0
+#: a box touches a crease when its side is within KINK_TOL (relative to the domain) of it
+KINK_TOL = 1e-12
 #: (point, box) rows evaluated at once by the stationary-point test
 ROW_CHUNK = 1 << 16
 
@@ -169,7 +179,8 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     best_ok = np.ones(len(o), dtype=bool)
     lb_edge = np.full(len(o), np.inf)
     from .closest import _closest_point
-    pairs = [(c, C, 0.0 if ex else bd.error) for loop, images, exact in zip(ts.loops, bd.curves, bd.exact)
+    pairs = [(c, C, 0.0 if ex else FIT_ERROR_SAFETY * bd.error)
+             for loop, images, exact in zip(ts.loops, bd.curves, bd.exact)
              for c, C, ex in zip(loop, images, exact)]
     # an upper bound first, from face points S(c(t)) on every loop curve; then each curve
     # is asked only for the points its control-point ball does not rule out
@@ -197,16 +208,60 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
         w = ask[win]
         best[w], best_uv[w], best_ok[w] = d[win], q[win], r.point_converged[win]
         lb_edge[ask] = np.minimum(lb_edge[ask], np.maximum(r.lower_bounds - err, 0.0))
-    # --- the interior: branch and bound over the cells that meet D
+    # --- the interior: branch and bound over the cells that meet D, TRIM_POINT_CHUNK
+    # points at a time (the work bound holds per group)
     X, _far = p._inward(Xm)
     s = p.frame.scale
     U = best / s
-    live = np.flatnonzero(cls >= 0)
     LB = np.full(len(o), np.inf)
+    x_best = np.full((len(o), 2), np.nan)
+    stopped = np.zeros(len(o), dtype=bool)
+    for c0 in range(0, len(o), TRIM_POINT_CHUNK):
+        sl = slice(c0, c0 + TRIM_POINT_CHUNK)
+        U[sl], x_best[sl], best_ok[sl], LB[sl], stopped[sl] = _interior(ts, p, X[sl], U[sl], best_ok[sl], cls, stop,
+                                                                         max_iterations)
+    newton_ok = best_ok.copy()
+    best_ok &= ~stopped
+    interior = np.flatnonzero(np.isfinite(x_best[:, 0]))
+    uv_o, feet_o = best_uv.copy(), surface(best_uv[:, 0], best_uv[:, 1])
+    if interior.size:
+        uv_o[interior] = p.frame.params(x_best[interior])
+        feet_o[interior] = p.frame.outward(p.value(x_best[interior]))
+    d_o = robust_distance(feet_o, Xm)
+    lower_o = np.maximum(base.lower_bounds[o], np.minimum(lb_edge, LB * s))
+    lower_o = np.minimum(lower_o * (1.0 - 1e-13), d_o)
+    params, feet, dist = base.params.copy(), base.feet.copy(), base.distances.copy()
+    lower, conv = base.lower_bounds.copy(), base.point_converged.copy()
+    params[o], feet[o], dist[o], lower[o], conv[o] = uv_o, feet_o, d_o, lower_o, best_ok
+    if not np.all(np.isfinite(dist)):
+        raise CagdError("points: a distance to the face exceeds the float64 range")
+    parts = [base.message] if base.message else []
+    bad = np.flatnonzero(~newton_ok)
+    if bad.size and not base.message:
+        parts.append(f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(o[bad[0]])}); "
+                     f"their distances are the best found, lower_bounds still hold")
+    if stopped.any():
+        parts.append(f"trimmed face: the branch and bound stopped at its work bound (MAX_TRIM_ROUNDS = "
+                     f"{MAX_TRIM_ROUNDS}, MAX_TRIM_ROWS = {MAX_TRIM_ROWS}) at {int(stopped.sum())} points (first: "
+                     f"index {int(o[np.flatnonzero(stopped)[0]])}); their lower_bounds still hold")
+    message = "; ".join(parts)
+    return replace(base, params=params, feet=feet, distances=dist, lower_bounds=lower, point_converged=conv,
+                   converged=bool(conv.all()), message=message)
+
+
+def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray, best_ok: np.ndarray,
+              cls: np.ndarray, stop: Tuple[Optional[float], Optional[float]], max_iterations: int
+              ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Branch and bound for points X (frame units) with upper bounds U: (U, the frame
+    parameters of interior feet that beat U (NaN where none), their Newton flags, the
+    lower bounds over the cells, and which points kept boxes open at the work bound)."""
+    U, best_ok = U.copy(), best_ok.copy()
+    live = np.flatnonzero(cls >= 0)
+    LB = np.full(len(X), np.inf)
     pid_l, cell_l = [], []
     chunk = max(1, MAX_TRIM_ROWS // max(len(live), 1))
-    for c0 in range(0, len(o), chunk):
-        i = np.arange(c0, min(c0 + chunk, len(o)))
+    for c0 in range(0, len(X), chunk):
+        i = np.arange(c0, min(c0 + chunk, len(X)))
         lbs = np.sqrt(((X[i][:, None, :] - p.centers[live][None]) ** 2).sum(-1)) - p.radii[live][None]
         row, col = np.nonzero(lbs < U[i][:, None])
         pid_l.append(i[row])
@@ -214,8 +269,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     pid, cell = np.concatenate(pid_l), np.concatenate(cell_l)
     lo, hi = p.lo[cell], p.hi[cell]
     box = cls[cell]
-    x_best = np.full((len(o), 2), np.nan)
-    converged_all = True
+    x_best = np.full((len(X), 2), np.nan)
     for _ in range(MAX_TRIM_ROUNDS):
         if not len(pid):
             break
@@ -240,7 +294,6 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
         keep = ~closed
         pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
         if 2 * len(pid) > MAX_TRIM_ROWS:
-            converged_all = False
             break
         pid, cell, lo, hi, lb = split_boxes(pid, cell, lo, hi, lb)
         box = np.concatenate([box, box])
@@ -252,34 +305,11 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
             box[straddle] = b
         keep = box >= 0
         pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
-    else:
-        converged_all = not len(pid)
+    stopped = np.zeros(len(X), dtype=bool)
     if len(pid):                                 # boxes left open: their bounds still hold
         np.minimum.at(LB, pid, lb)
-    interior = np.flatnonzero(np.isfinite(x_best[:, 0]))
-    uv_o, feet_o = best_uv.copy(), surface(best_uv[:, 0], best_uv[:, 1])
-    if interior.size:
-        uv_o[interior] = p.frame.params(x_best[interior])
-        feet_o[interior] = p.frame.outward(p.value(x_best[interior]))
-    d_o = robust_distance(feet_o, Xm)
-    lower_o = np.maximum(base.lower_bounds[o], np.minimum(lb_edge, LB * s))
-    lower_o = np.minimum(lower_o * (1.0 - 1e-13), d_o)
-    params, feet, dist = base.params.copy(), base.feet.copy(), base.distances.copy()
-    lower, conv = base.lower_bounds.copy(), base.point_converged.copy()
-    params[o], feet[o], dist[o], lower[o], conv[o] = uv_o, feet_o, d_o, lower_o, best_ok
-    if not np.all(np.isfinite(dist)):
-        raise CagdError("points: a distance to the face exceeds the float64 range")
-    message = base.message
-    bad = np.flatnonzero(~conv)
-    if bad.size and not message:
-        message = (f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
-                   f"their distances are the best found, lower_bounds still hold")
-    if not converged_all:
-        message = (message + "; " if message else "") + (
-            f"trimmed face: the branch and bound stopped at its work bound (MAX_TRIM_ROUNDS = {MAX_TRIM_ROUNDS}, "
-            f"MAX_TRIM_ROWS = {MAX_TRIM_ROWS}); lower_bounds still hold")
-    return replace(base, params=params, feet=feet, distances=dist, lower_bounds=lower, point_converged=conv,
-                   converged=bool(conv.all()), message=message)
+        stopped[np.unique(pid[lb < U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size])] = True
+    return U, x_best, best_ok, LB, stopped
 
 
 def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,
@@ -289,8 +319,20 @@ def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.
     the box, |g_a(z) - g_a(c)| <= sum_b 2 (L_a L_b + R M_ab) h_b (mean value theorem;
     H_ab = 2 (S_a . S_b + r . S_ab), L and M the cell's derivative bounds, h the box's
     half-widths, R >= |r| over the box). The face's minimum is at a stationary point
-    inside D or on the boundary, so such boxes cannot hold it."""
+    inside D or on the boundary, so such boxes cannot hold it, except where f is not
+    smooth: a component a is not used on a box that touches a crease across a (a break
+    between the pieces' C2 runs, where S may have a kink and the minimum sit on it
+    without a stationary point) or an end of the domain in a (which a trim may reach)."""
     out = np.zeros(len(pid), dtype=bool)
+    usable = np.ones((len(pid), p.k), dtype=bool)
+    for a in range(p.k):
+        b, run = p.pieces.breaks[a], p._run[a]
+        kinks = b[1:-1][run[1:] != run[:-1]]
+        if not p.wrap[a]:
+            kinks = np.concatenate([[b[0]], kinks, [b[-1]]])
+        eps = KINK_TOL * float(b[-1] - b[0])
+        usable[:, a] = np.searchsorted(kinks, hi[:, a] + eps, side="right") == \
+            np.searchsorted(kinks, lo[:, a] - eps, side="left")
     for c0 in range(0, len(pid), ROW_CHUNK):
         sl = slice(c0, c0 + ROW_CHUNK)
         c = 0.5 * (lo[sl] + hi[sl])
@@ -302,7 +344,7 @@ def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.
         L, M = p.L[ce], p.M[ce]
         R = np.linalg.norm(r, axis=1) + (L * h).sum(axis=1)
         var = 2.0 * (L * (L * h).sum(axis=1, keepdims=True) + R[:, None] * np.einsum("nab,nb->na", M, h))
-        out[sl] = np.any(np.abs(g) > CRITICAL_SAFETY * var, axis=1)
+        out[sl] = np.any((np.abs(g) > CRITICAL_SAFETY * var) & usable[sl], axis=1)
     return out
 
 
@@ -353,16 +395,46 @@ def _clip_branch(branch: object, a: object, b: object) -> list:
     cuts = np.where(lo_ok, lo, hi)                  # the last inside parameter of each change
     bounds = np.concatenate([[t0], cuts, [t1]])
     inside_runs = np.concatenate([[ok[0]], ~lo_ok])  # whether each run between cuts is inside
-    pieces = []
+    closed = bool(branch.closed)                    # type: ignore[attr-defined]
+    curves = (c, branch.params_a, branch.params_b)  # type: ignore[attr-defined]
+    runs = []
     for j, inside in enumerate(inside_runs):
         s, e = float(bounds[j]), float(bounds[j + 1])
-        if not inside or e <= s:
-            continue
-        ends = (branch.ends[0] if j == 0 else "trim", branch.ends[1] if j == len(inside_runs) - 1 else "trim")  # type: ignore[attr-defined]
-        pb = branch.params_b.segment(s, e) if branch.params_b is not None else None  # type: ignore[attr-defined]
-        pieces.append(replace(branch, curve=c.segment(s, e), params_a=branch.params_a.segment(s, e),  # type: ignore
-                              params_b=pb, closed=False, ends=ends))
+        if inside and e > s:
+            runs.append((j, [None if x is None else x.segment(s, e) for x in curves]))
+    if closed and len(runs) > 1 and inside_runs[0] and inside_runs[-1]:
+        # a loop cut open: its last run goes on through the seam into its first
+        (_, last), (_, first) = runs[-1], runs[0]
+        runs = [(1, [None if x is None or y is None else _joined(x, y) for x, y in zip(last, first)])] + runs[1:-1]
+    pieces = []
+    for j, (cv, pa, pb) in runs:
+        start = branch.ends[0] if (j == 0 and not closed) else "trim"           # type: ignore[attr-defined]
+        end = branch.ends[1] if (j == len(inside_runs) - 1 and not closed) else "trim"  # type: ignore[attr-defined]
+        pieces.append(replace(branch, curve=cv, params_a=pa, params_b=pb, closed=False,  # type: ignore[type-var]
+                              ends=(start, end)))
     return pieces
+
+
+def _joined(a: "BSplineCurve", b: "BSplineCurve") -> "BSplineCurve":
+    """a then b, b moved to start where a ends (a loop's parameter curves differ by a
+    period across the seam) and re-parametrised to follow on: one clamped curve, C0 at
+    the joint (knot multiplicity p there)."""
+    from ..curves.bspline import BSplineCurve
+    if b.degree < a.degree:
+        b = b.elevate(a.degree - b.degree)
+    elif a.degree < b.degree:
+        a = a.elevate(b.degree - a.degree)
+    p = a.degree
+    a1, b0 = a.domain[1], b.domain[0]
+    Pb = b.control_points + (a.control_points[-1] - b.control_points[0])
+    wa, wb = a.weights, b.weights
+    weights = None
+    if wa is not None or wb is not None:
+        wa = np.ones(len(a.control_points)) if wa is None else wa
+        wb = np.ones(len(Pb)) if wb is None else wb
+        weights = np.concatenate([wa, (wb * (wa[-1] / wb[0]))[1:]])
+    knots = np.concatenate([a.knots[:-1], b.knots[p + 1:] - b0 + a1])
+    return BSplineCurve(np.concatenate([a.control_points, Pb[1:]]), p, knots, weights)
 
 
 def clip_to_trims(res: "IntersectionResult", a: object, b: object) -> "IntersectionResult":

@@ -838,7 +838,7 @@ def _potential(ts: TrimmedSurface, u: np.ndarray, v: np.ndarray, edges: np.ndarr
 
 
 def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray, bound: Optional[float],
-                       rel_tol: float, centre: Density = None) -> Tuple[float, float, bool]:
+                       rel_tol: float, centre: Density = None, floor: float = 0.0) -> Tuple[float, float, bool]:
     """oint G dv over every chain curve, adaptive Gauss-Legendre (cagd._quadrature: an
     absolute error ``bound``, or None: ``rel_tol`` of the sum of |parts|); (value,
     error estimate, converged)."""
@@ -871,7 +871,8 @@ def _boundary_integral(ts: TrimmedSurface, flat: _Flattened, edges: np.ndarray, 
         G = _potential(ts, us.ravel(), vs.ravel(), edges, centre).reshape(t.shape)
         return half * ((G * dvs) @ _GL_W)
 
-    q = adaptive(rule, lo, hi, owner, bound, rel_tol, MAX_BISECTIONS, MAX_AREA_INTERVALS)
+    q = adaptive(rule, lo, hi, owner, bound, rel_tol, MAX_BISECTIONS, MAX_AREA_INTERVALS,
+                 "MAX_BISECTIONS, MAX_AREA_INTERVALS", floor)
     return q.value, q.error, q.converged
 
 
@@ -883,7 +884,7 @@ def _area(ts: TrimmedSurface, rel_tol: float, centre: Density = None, floor: flo
     rel_tol times the first estimate (at least ``floor``), is shared between the outer
     quadrature (a quarter) and the change between refinements."""
     flat = ts._flattened()
-    value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, 1), None, rel_tol, centre)
+    value, error, ok = _boundary_integral(ts, flat, _u_breaks(ts, flat, 1), None, rel_tol, centre, floor)
     goal = max(rel_tol * abs(value), floor, 1e-300)
     splits = 2
     while True:
@@ -893,8 +894,8 @@ def _area(ts: TrimmedSurface, rel_tol: float, centre: Density = None, floor: flo
         goal = max(rel_tol * abs(value), floor, 1e-300)
         if (ok and error <= goal) or 2 * splits > MAX_AREA_SPLITS:
             converged = ok and error <= goal
-            msg = "" if converged else (f"area: error estimate {error:.3g} above the goal {goal:.3g} "
-                                        f"({rel_tol:.3g} relative)")
+            msg = "" if converged else (f"{'area' if centre is None else 'volume'}: error estimate "
+                                        f"{error:.3g} above the goal {goal:.3g} ({rel_tol:.3g} relative)")
             return AreaResult(float(value), float(error), bool(converged), msg)
         splits *= 2
 
@@ -903,7 +904,12 @@ def trimmed_integral(ts: TrimmedSurface, rel_tol: float = AREA_TOL, centre: Dens
                      floor: float = 0.0) -> AreaResult:
     """The area (``centre`` None) or the volume contribution about ``centre`` of a
     trimmed face, along the direction with fewer knot spans (see :meth:`area_report`;
-    exchanging u and v flips S_u x S_v, so the volume changes sign back)."""
+    exchanging u and v flips S_u x S_v, so the volume changes sign back). With a centre
+    the absolute goal is at least ``floor``, by default rel_tol * size^3 (the face's
+    size): a face whose plane passes through c contributes 0, which must be found
+    without halving down to rounding."""
+    if centre is not None and floor <= 0.0:
+        floor = rel_tol * ts.untrimmed.size ** 3
     if ts._inner_direction() == 0:
         return _area(ts, rel_tol, centre, floor)
     r = _area(ts._exchanged(), rel_tol, centre, floor)

@@ -215,3 +215,13 @@ def test_nets_near_the_float_limit_evaluate_like_de_casteljau(degree):
     u, v = 0.3, 0.6
     rows = [cagd.BezierCurve(net[:, j])(u) for j in range(4)]
     assert np.abs(s(u, v) - cagd.BezierCurve(np.array(rows))(v)).max() <= 1e-13 * 1e300
+
+
+def test_steep_curve_is_measured_on_its_unit_copy():
+    """Coordinates 1e300 over a domain 1e-10 long: |C'| = 1e310 overflows, yet the length
+    (1e300) and the tangent do not depend on the parametrisation (found in review:
+    arc_length returned 0.0, then raised naming t)."""
+    c = cagd.BSplineCurve(np.array([[0.0, 0.0], [1e300, 0.0]]), 1, [0, 0, 1e-10, 1e-10])
+    assert c.arc_length() == pytest.approx(1e300, rel=1e-12)
+    assert c.arc_length(2.5e-11, 5e-11) == pytest.approx(2.5e299, rel=1e-12)
+    assert np.allclose(c.tangent(5e-11), [1.0, 0.0])

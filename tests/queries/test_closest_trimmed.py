@@ -47,7 +47,7 @@ def test_flat_annulus_against_the_closed_form():
     r = closest_point(ts, X)
     assert np.abs(r.distances - expect).max() <= 1e-12
     assert np.all(r.lower_bounds <= r.distances)
-    assert np.median(r.distances - r.lower_bounds) <= 1e-9
+    assert np.median(r.distances - r.lower_bounds) <= 1e-8     # FIT_ERROR_SAFETY x the circles' fit error
 
 
 def brute(ts, X, n=801):
@@ -125,3 +125,33 @@ def test_face_inside_its_surface_gives_the_untrimmed_answer():
     X = np.concatenate([RNG.random((200, 2)) * 0.6 + 0.2, RNG.normal(0, 0.01, (200, 1))], axis=1)
     a, b = closest_point(ts, X), closest_point(ts.untrimmed, X)
     assert np.array_equal(a.distances, b.distances) and isinstance(ts.untrimmed, BSplineSurface)
+
+
+def test_minimum_on_a_crease_is_kept():
+    """A degree-1 W-shaped sheet (creases at the inner knots): the face's nearest point is
+    on a ridge, where the distance has no stationary point from either side; boxes that
+    touch a crease keep that component out of the stationary-point test (found in
+    review: 2.0767 with a lower bound above the true 2.0156)."""
+    us, zs = [0, .25, .5, .75, 1], [0, 1, 0, 1.2, 0]
+    P = np.array([[[u, 0, z], [u, 1, z]] for u, z in zip(us, zs)], float)
+    S = BSplineSurface(P, 1, 1, knots_u=[0, 0, .25, .5, .75, 1, 1], knots_v=[0, 0, 1, 1])
+    ts = TrimmedSurface(S, [rectangle(0, 0.6, 0, 1)])
+    X = np.array([[0.5, 0.5, 3.0]])
+    r = closest_point(ts, X)
+    true = float(np.linalg.norm(S(0.25, 0.5) - X[0]))
+    assert r.distances[0] == pytest.approx(true, rel=1e-12)
+    assert r.lower_bounds[0] <= r.distances[0]
+
+
+def test_the_work_bound_is_reported(monkeypatch):
+    """With a tiny row budget the branch and bound stops: converged False, the points
+    concerned not converged, the message says so, and the lower bounds still hold (found
+    in review: converged stayed True)."""
+    import cagd.queries.trimmed as T
+    monkeypatch.setattr(T, "MAX_TRIM_ROWS", 64)
+    ts = TrimmedSurface(curved_patch(), [[circle((0.5, 0.5), 0.4)], [circle((0.5, 0.5), 0.15, clockwise=True)]])
+    X = np.concatenate([RNG.random((300, 2)) * 0.3 + 0.35, RNG.normal(0.3, 0.05, (300, 1))], axis=1)
+    r = closest_point(ts, X)
+    assert not r.converged and "work bound" in r.message
+    assert not r.point_converged.all()
+    assert np.all(r.lower_bounds <= brute(ts, X) + 1e-12)

@@ -61,3 +61,24 @@ def test_two_trimmed_faces():
     assert trims >= 2
     length = sum(br.curve.arc_length() for br in res.curves)
     assert length < sum(br.curve.arc_length() for br in plain.curves)
+
+
+def test_a_loop_cut_open_is_one_piece_through_its_seam():
+    """A dome cut by z = 0.5 gives a closed loop; a trim v >= 0.55 that holds the loop's
+    seam leaves one arc (the runs before and after the seam joined), both ends 'trim'
+    on v = 0.55, every point on the plane (found in review: two pieces with 'closed' ends)."""
+    x = np.linspace(0, 1, 3)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    S = BSplineSurface(np.stack([X, Y, np.array([[0, 0.5, 0], [0.5, 1.5, 0.5], [0, 0.5, 0]])], -1), 2, 2)
+    level = plane([0, 0, 0.5], [0, 0, 1])
+    assert intersect(S, level).curves[0].closed
+    res = intersect(TrimmedSurface(S, [rectangle(0, 1, 0.55, 1)]), level)
+    assert len(res.curves) == 1
+    br = res.curves[0]
+    assert br.ends == ("trim", "trim") and not br.closed
+    uv, _ = br.surface_params(np.array(br.curve.domain))
+    assert np.abs(uv[:, 1] - 0.55).max() <= 1e-9
+    t = np.linspace(*br.curve.domain, 2001)
+    assert np.abs(br.curve(t)[:, 2] - 0.5).max() <= 1e-8
+    uv, _ = br.surface_params(t)
+    assert uv[:, 1].min() >= 0.55 - 1e-9
