@@ -169,17 +169,36 @@ def box_gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarr
 def box_pairs(a: Pieces, b: Pieces, tol: float, chunk: int = 1 << 22) -> Tuple[np.ndarray, np.ndarray]:
     """Index pairs (i, j) of pieces a[i], b[j] whose control-hull boxes come within tol:
     the broad phase, per piece and not per pair (all pairs of two 27 x 27 patch nets are
-    531,441, of which a few hundred meet), in row blocks of at most ``chunk`` tests."""
+    531,441, of which a few hundred meet). A sweep along the first coordinate: b sorted
+    by its boxes' lower ends, each a[i] is tested against the b's whose lower end lies in
+    [lo - W - tol, hi + tol] (W the widest b box), at most ``chunk`` tests at a time."""
     lo_a, hi_a = boxes(a.ctrl)
     lo_b, hi_b = boxes(b.ctrl)
-    rows = max(1, chunk // max(len(lo_b), 1))
+    if not len(lo_a) or not len(lo_b):
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    order = np.argsort(lo_b[:, 0], kind="stable")
+    key = lo_b[order, 0]
+    width = float((hi_b[:, 0] - lo_b[:, 0]).max())
+    first = np.searchsorted(key, lo_a[:, 0] - width - tol, side="left")
+    count = np.searchsorted(key, hi_a[:, 0] + tol, side="right") - first
+    count = np.maximum(count, 0)
+    ends = np.cumsum(count)
     out_i, out_j = [], []
-    for r in range(0, len(lo_a), rows):
-        gap = np.maximum(0.0, np.maximum(lo_a[r:r + rows, None] - hi_b[None], lo_b[None] - hi_a[r:r + rows, None]))
-        i, j = np.nonzero(np.einsum("ijd,ijd->ij", gap, gap) <= tol * tol)
-        out_i.append(i + r)
-        out_j.append(j)
-    return np.concatenate(out_i), np.concatenate(out_j)
+    r0, n = 0, len(lo_a)
+    while r0 < n:
+        r1 = max(int(np.searchsorted(ends, ends[r0] - count[r0] + chunk, side="right")), r0 + 1)
+        c = count[r0:r1]
+        i = np.repeat(np.arange(r0, r1), c)
+        k = np.arange(int(c.sum())) - np.repeat(np.cumsum(c) - c, c)
+        j = order[np.repeat(first[r0:r1], c) + k]
+        gap = np.maximum(0.0, np.maximum(lo_a[i] - hi_b[j], lo_b[j] - hi_a[i]))
+        hit = np.einsum("nd,nd->n", gap, gap) <= tol * tol
+        out_i.append(i[hit])
+        out_j.append(j[hit])
+        r0 = r1
+    i, j = np.concatenate(out_i), np.concatenate(out_j)
+    o = np.lexsort((j, i))
+    return i[o], j[o]
 
 
 def slab_gap(ctrl_a: np.ndarray, ctrl_b: np.ndarray, direction: np.ndarray) -> np.ndarray:

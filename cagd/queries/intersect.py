@@ -224,9 +224,13 @@ def _initial_pairs(A: sd.Geometry, B: Optional[sd.Geometry], tol: float):
     kind 0 = ordinary, 1 = a piece with itself, 2 = a piece and the next one
     (self-intersection only)."""
     Ka = len(A.pieces.ctrl)
-    if B is None:
-        i, j = np.triu_indices(Ka)
-        kind = np.where(i == j, 1, np.where(j == i + 1, 2, 0))
+    if B is None:           # each piece with itself and its successor, and the pairs that meet
+        i, j = sd.box_pairs(A.pieces, A.pieces, tol)
+        far = j > i + 1
+        d = np.arange(Ka)
+        i = np.concatenate([d, d[:-1], i[far]])
+        j = np.concatenate([d, d[1:], j[far]])
+        kind = np.concatenate([np.ones(Ka, int), np.full(Ka - 1, 2), np.zeros(int(far.sum()), int)])
         return A.pieces.take(i), A.pieces.take(j), kind
     i, j = sd.box_pairs(A.pieces, B.pieces, tol)
     return A.pieces.take(i), B.pieces.take(j), np.zeros(len(i), int)

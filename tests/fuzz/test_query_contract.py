@@ -47,10 +47,12 @@ def _grid(obj, count: int = 41) -> np.ndarray:
 
 
 def _distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """|a_i - b_j| for all pairs, in a unit of the coordinates' size (a plain norm
-    underflows at 1e-300 and overflows at 1e155)."""
-    unit = max(float(np.abs(a).max(initial=0.0)), float(np.abs(b).max(initial=0.0)), 1e-300)
-    return np.linalg.norm((a[:, None, :] - b[None, :, :]) / unit, axis=-1) * unit
+    """|a_i - b_j| for all pairs, each in a unit of its own difference's size (a plain
+    norm underflows at 1e-300 and overflows at 1e155; one unit for all pairs underflowed
+    a point at 1e123 beside one at 1e300)."""
+    d = a[:, None, :] - b[None, :, :]
+    unit = np.maximum(np.abs(d).max(axis=-1, initial=0.0), 1e-300)
+    return np.linalg.norm(d / unit[..., None], axis=-1) * unit
 
 
 def _size(obj) -> float:
