@@ -32,6 +32,7 @@ from .bounds import robust_distance
 
 if TYPE_CHECKING:
     from ..curves.bspline import BSplineCurve
+    from ..surfaces.base import Surface
     from ..surfaces.trimmed import TrimBoundary, TrimmedSurface
     from .closest import ClosestPoints, Projector
     from .intersect import IntersectionResult
@@ -184,11 +185,12 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
              for c, C, ex in zip(loop, images, exact)]
     # an upper bound first, from face points S(c(t)) on every loop curve; then each curve
     # is asked only for the points its control-point ball does not rule out
-    samples = np.concatenate([c(np.linspace(*c.domain, EDGE_SAMPLES)) for c, _, _ in pairs])
+    samples = _on_domain(surface, np.concatenate([c(np.linspace(*c.domain, EDGE_SAMPLES)) for c, _, _ in pairs]))
     F = surface(samples[:, 0], samples[:, 1])
     for s0 in range(0, len(o), max(1, ROW_CHUNK // len(F))):
         sl = slice(s0, s0 + max(1, ROW_CHUNK // len(F)))
-        D = np.sqrt(((Xm[sl, None, :] - F[None]) ** 2).sum(-1))
+        with np.errstate(over="ignore"):              # points beyond 1e154: inf, asked below
+            D = np.sqrt(((Xm[sl, None, :] - F[None]) ** 2).sum(-1))
         k = D.argmin(axis=1)
         best[sl], best_uv[sl] = D[np.arange(len(k)), k], samples[k]
     for c, C, err in pairs:
@@ -202,7 +204,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
         if not ask.size:
             continue
         r = _closest_point(C, Xm[ask], tol=None, max_iterations=max_iterations)
-        q = c(r.params)
+        q = _on_domain(surface, c(r.params))
         d = robust_distance(surface(q[:, 0], q[:, 1]), Xm[ask])
         win = d < best[ask]
         w = ask[win]
@@ -247,6 +249,18 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     message = "; ".join(parts)
     return replace(base, params=params, feet=feet, distances=dist, lower_bounds=lower, point_converged=conv,
                    converged=bool(conv.all()), message=message)
+
+
+def _on_domain(surface: "Surface", uv: np.ndarray) -> np.ndarray:
+    """(u, v) of loop curves clipped into the surface's bounded directions: files' pcurves
+    leave the range by up to 2e-5 of it (the face is the surface's part inside)."""
+    (u0, u1), (v0, v1) = surface.domain
+    out = np.array(uv, dtype=float)
+    if not surface.periodic_u:
+        out[:, 0] = np.clip(out[:, 0], u0, u1)
+    if not surface.periodic_v:
+        out[:, 1] = np.clip(out[:, 1], v0, v1)
+    return out
 
 
 def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray, best_ok: np.ndarray,
