@@ -160,6 +160,8 @@ class Curve(Value):
         for the width that |C'| could overflow (size / width * DOMAIN_HEADROOM)."""
         a, b = self.domain
         h = b - a
+        if a == 0.0 and b == 1.0:                    # already the unit copy's domain
+            return False
         if not GEOMETRY_DOMAIN_MIN <= h <= 1.0 / GEOMETRY_DOMAIN_MIN:
             return True
         with np.errstate(over="ignore"):

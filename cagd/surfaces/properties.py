@@ -59,10 +59,10 @@ def _integral(surfaces: Iterable[Surface], nodes: int, kind: str) -> Integral:
     surfaces = list(surfaces)
     if not surfaces or not all(isinstance(s, Surface) for s in surfaces):
         raise CagdError("surfaces: expected one or more cagd surfaces")
-    # the volume about a common centre (the same for a closed set, fewer digits lost far
-    # from the origin): the middle of the control points' box
+    # the volume element about the origin, as always (a set that is not quite closed,
+    # e.g. a revolved surface with separate caps, depends on the centre)
     P = np.concatenate([s.to_nurbs().control_points.reshape(-1, s.dim) for s in surfaces])
-    centre = 0.5 * (P.min(axis=0) + P.max(axis=0))
+    centre = np.zeros(P.shape[1])
     plain = [s for s in surfaces if not isinstance(s, TrimmedSurface)]
     value = sum(_integrate(s, nodes, kind, centre) for s in plain)
     finer = sum(_integrate(s, nodes + 8, kind, centre) for s in plain)
