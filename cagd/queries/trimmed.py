@@ -252,15 +252,10 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
 
 
 def _on_domain(surface: "Surface", uv: np.ndarray) -> np.ndarray:
-    """(u, v) of loop curves clipped into the surface's bounded directions: files' pcurves
-    leave the range by up to 2e-5 of it (the face is the surface's part inside)."""
-    (u0, u1), (v0, v1) = surface.domain
-    out = np.array(uv, dtype=float)
-    if not surface.periodic_u:
-        out[:, 0] = np.clip(out[:, 0], u0, u1)
-    if not surface.periodic_v:
-        out[:, 1] = np.clip(out[:, 1], v0, v1)
-    return out
+    """(u, v) of loop curves clipped into the surface's bounded directions (files'
+    pcurves leave the range by up to 2e-5 of it): cagd.surfaces.trimmed's clip."""
+    from ..surfaces.trimmed import _inside_domain
+    return np.stack(_inside_domain(surface, uv[:, 0], uv[:, 1]), axis=1)
 
 
 def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray, best_ok: np.ndarray,
