@@ -108,7 +108,20 @@ def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = 
         if u[0] < a or u[-1] > b:
             raise CagdError(f"knots: the domain [{a}, {b}] does not contain the parameters "
                             f"[{u[0]}, {u[-1]}]")
-    span = kv.find_span(U, p, u, count)
+    curve = collocate(Q, p, u, U)
+    _check_residual(curve(u), Q, _frame(Q)[1], "interpolate", f"degree {p}, {count} points")
+    return curve
+
+
+def collocate(Q: np.ndarray, p: int, u: np.ndarray, U: np.ndarray) -> BSplineCurve:
+    """The degree-p B-spline on the knots U through the points Q at the increasing
+    parameters u (validated by the caller): the banded collocation solve of
+    :func:`interpolate` without its residual check, for callers that measure the
+    curve's error themselves (the intersection branch fit, whose tolerance is a distance).
+
+    Raises:
+        CagdError: Schoenberg-Whitney violated, or a singular system."""
+    span = kv.find_span(U, p, u, len(Q))
     N = basis_functions(U, p, u, span)                      # (count, p+1): the band of each row
     _schoenberg_whitney(N, span - p, u)
     center, scale = _frame(Q)
@@ -116,9 +129,7 @@ def interpolate(points: ArrayLike, degree: int = 3, parameters: ParameterSpec = 
     ends = N[[0, -1], [0, -1]] == 1.0                 # clamped ends interpolate exactly
     P[0] = Q[0] if ends[0] else P[0]
     P[-1] = Q[-1] if ends[1] else P[-1]
-    curve = BSplineCurve(P, p, U)
-    _check_residual(curve(u), Q, scale, "interpolate", f"degree {p}, {count} points")
-    return curve
+    return BSplineCurve(P, p, U)
 
 
 #: Largest accepted miss of a fitted curve at its points, relative to the point spread
