@@ -39,7 +39,12 @@ def _interpolate(Q, deg: int, t):
                     return c
         except CagdError:
             pass
+    up = np.concatenate([[True], np.diff(t) > 0])           # a knot at most twice (degree 1)
+    Q, t = Q[up], t[up]
+    if len(t) < 2:
+        raise CagdError("parameters: the branch's points have one parameter")
     line = BSplineCurve(Q, 1, np.concatenate([t[:1], t, t[-1:]]))
+    deg = min(deg, len(t) - 1)
     return line.elevate(deg - 1) if deg > 1 else line
 
 
@@ -112,7 +117,10 @@ def _piecewise(runs_t, runs_x):
 
 
 def _thin(xs, P):
-    """Drop points closer than a quarter of the next segment to the previous kept one."""
+    """Drop points closer than a quarter of the next segment to the previous kept one
+    (a run of one point, at a branch end after a jump, stays one point)."""
+    if len(P) < 2:
+        return xs, P
     keep = [0]
     seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
     for i in range(1, len(P) - 1):

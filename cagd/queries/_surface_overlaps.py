@@ -15,6 +15,10 @@ from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
 
 _N = 5                        # samples per direction on a piece (odd: the centre is one)
+#: projection starts lie this fraction of a piece inside it: a start on a collapsed edge
+#: (a pole) cannot move along it (the partial vanishes there) and Newton stopped at the
+#: pole, 0.34 from the foot (boxed_sphere.step Document[190] x [191], issue 16)
+SEED_INSET = 1e-3
 
 
 @dataclass(frozen=True)
@@ -54,8 +58,10 @@ def grid_seeds(H: sd.Geometry, P: np.ndarray, lo: np.ndarray, hi: np.ndarray, n:
     samples of H's parameter boxes (lo, hi) (N, 2) or (1, 2). Robust where one start for
     a whole piece is not: at poles and apexes, where Newton from a piece's centre can
     stop far from the foot of a corner."""
-    x = _grid(np.broadcast_to(lo, P.shape[:1] + (2,)) if len(lo) == 1 else lo,
-              np.broadcast_to(hi, P.shape[:1] + (2,)) if len(hi) == 1 else hi, n)      # (N, n*n, 2)
+    lo = np.broadcast_to(lo, P.shape[:1] + (2,)) if len(lo) == 1 else lo
+    hi = np.broadcast_to(hi, P.shape[:1] + (2,)) if len(hi) == 1 else hi
+    inset = SEED_INSET * (hi - lo)
+    x = _grid(lo + inset, hi - inset, n)      # (N, n*n, 2)
     Q = H.points(x.reshape(-1, 2)).reshape(len(P), n * n, -1)
     k = np.argmin(np.einsum("nsd,nsd->ns", Q - P[:, None], Q - P[:, None]), axis=1)
     return x[np.arange(len(P)), k]
