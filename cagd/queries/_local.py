@@ -217,33 +217,6 @@ def _foot_move(Jc: np.ndarray, d: np.ndarray) -> np.ndarray:
         return np.sqrt((v * v).sum(0))
 
 
-def _sigma_min(J: np.ndarray) -> np.ndarray:
-    """Smallest singular value of J (n, dim, k), k = 1 or 2, computed from above-safe
-    formulas (lambda_min = det / lambda_max of J^T J, det by Lagrange's identity)."""
-    if J.shape[2] == 1:
-        return np.sqrt((J[:, :, 0] ** 2).sum(1))
-    u, v = J[:, :, 0], J[:, :, 1]
-    a, c, bb = (u * u).sum(1), (v * v).sum(1), (u * v).sum(1)
-    if J.shape[1] == 3:
-        det = (np.cross(u, v) ** 2).sum(1)
-    elif J.shape[1] == 2:
-        det = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) ** 2
-    else:
-        det = np.maximum(a * c - bb * bb, 0.0)
-    lmax = 0.5 * (a + c) + np.sqrt(0.25 * (a - c) ** 2 + bb * bb)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lmin = np.where(lmax > 0, det / lmax, 0.0)
-    return np.sqrt(lmin) * (1.0 - 1e-10)
-
-
-def _lambda_min(H: np.ndarray) -> np.ndarray:
-    """Smallest eigenvalue of symmetric (n, k, k), k = 1 or 2."""
-    if H.shape[1] == 1:
-        return H[:, 0, 0]
-    a, b, c = H[:, 0, 0], H[:, 0, 1], H[:, 1, 1]
-    return 0.5 * (a + c) - np.sqrt(0.25 * (a - c) ** 2 + b * b)
-
-
 def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
                     H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray) -> np.ndarray:
     """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
