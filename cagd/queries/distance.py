@@ -45,6 +45,8 @@ NORMAL_RTOL = 1e-12       # ... and for a normal line to feed the fit (its angle
 FIT_WINDOW = 1e-10        # minima within min(tol, FIT_WINDOW * size) of the best feed the fit
 POOL_SIZE = 64            # normal lines kept for the fit
 MAX_FLATS = 4             # centres and axes tried per call
+POLISH_ROUNDS = 4         # Newton steps of each projection polishing a new best pair (_polished)
+POLISH_RTOL = 1e-13       # ... each kept while the distance grows by at most this (rounding)
 ANISOTROPY = 1e-3         # a patch is halved one way only where its phi coefficients vary this much less the other way
 _PHI4 = 1.1673039782614187   # x^5 = x + 1: the spread starts' fractions j / _PHI4^i mod 1 in their pairs'
 _SPREAD = _PHI4 ** -np.arange(1.0, 5.0)  # boxes, i = 1..4 over the parameters (Roberts' R_4 sequence)
@@ -164,6 +166,47 @@ def _stationary(r: np.ndarray, J: np.ndarray, rtol: float = STATIONARY_RTOL) -> 
     """(N, k): r . dr/dz_i is zero to ``rtol`` of |dr/dz_i| |r| (r normal to the object there)."""
     g = np.einsum("nkd,nd->nk", J, r)
     return np.abs(g) <= rtol * np.linalg.norm(J, axis=2) * np.linalg.norm(r, axis=1)[:, None]
+
+
+def _foot_newton(G: sd.Geometry, q: np.ndarray, x: np.ndarray, dist: float) -> Tuple[np.ndarray, float]:
+    """Newton on the gradient of |G(x) - q|^2 / 2 from x (Piegl & Tiller 6.1):
+    (J J^T + r . G_xx) dx = -J r, each step kept while |J r| falls and the distance grows by
+    at most POLISH_RTOL. No line search on the distance: near a foot it changes by the
+    square of the parameter error and is lost in rounding at 1e-8 (relative) from the foot,
+    where the gradient is still plainly measurable."""
+    def grad(z):
+        p, d, h = G.derivatives(z[None], 2)
+        r = p[0] - q
+        return r, d[0], h[0]
+    r, J, H2 = grad(x)
+    g = J @ r
+    for _ in range(POLISH_ROUNDS):
+        H = J @ J.T + np.einsum("ijd,d->ij", H2, r)
+        try:
+            step = -np.linalg.solve(H, g)
+        except np.linalg.LinAlgError:
+            break
+        z = G.clamp((x + step)[None])[0]
+        r2, J2, H22 = grad(z)
+        g2 = J2 @ r2
+        d2 = float(np.linalg.norm(r2))
+        if not (np.linalg.norm(g2) < np.linalg.norm(g) and d2 <= dist * (1.0 + POLISH_RTOL)):
+            break
+        x, r, J, H2, g, dist = z, r2, J2, H22, g2, d2
+    return x, dist
+
+
+def _polished(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, dist: float
+              ) -> Tuple[np.ndarray, np.ndarray, float]:
+    """(x, y, distance) after a projection of b's point onto a, then of a's point onto b,
+    each by :func:`_foot_newton`. On a continuum of minima the joint minimisation
+    (:func:`sd.refine`) is singular along the continuum and stops with gradients of 1e-8
+    relative; the two projections are regular problems that make each gradient vanish,
+    as the stationarity test of :func:`_isolated` needs (concentric spheres placed at
+    random were reported isolated and hit the pair cap, issue 16)."""
+    x, dist = _foot_newton(A, B.points(y[None])[0], x, dist)
+    y, dist = _foot_newton(B, A.points(x[None])[0], y, dist)
+    return x, y, dist
 
 
 def _isolated(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, touching: bool) -> bool:
@@ -348,6 +391,7 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
         k = int(np.argmin(dist))
         if dist[k] < best:
             best, bx, by = float(dist[k]), x[k], y[k]
+            bx, by, best = _polished(A, B, bx, by, best)
             if best > 0:
                 direction = B.points(by[None])[0] - A.points(bx[None])[0]
             degenerate = not _isolated(A, B, bx, by, best <= TOUCH_RTOL * size)

@@ -10,7 +10,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from cagd import BezierCurve, BezierSurface, BSplineCurve, BSplineSurface, CagdError, cylinder, sphere, torus
 from cagd.queries.distance import DistanceResult, min_distance
@@ -333,6 +333,9 @@ def test_random_surfaces_certificate_holds(a, b, lift):
 
 @settings(max_examples=8, deadline=None)
 @given(st.integers(0, 10 ** 6), st.floats(0.5, 3.0), st.floats(0.1, 2.0), st.booleans())
+# hypothesis 6.170's derandomised example: the joint Newton stopped 2e-8 (relative gradient)
+# from stationary, the minimum was called isolated and the pair cap was hit (now polished)
+@example(seed=1, r=0.5, gap=1.8205533649568226, cylinders=False)
 def test_symmetric_continua_anywhere(seed, r, gap, cylinders):
     # concentric spheres or coaxial cylinders, placed and turned at random: the minimum
     # gap is attained on a 2-D set, certified, and not isolated
