@@ -132,6 +132,14 @@ def positive(value: Any, name: str) -> float:
     return x
 
 
+def nonnegative(value: Any, name: str) -> float:
+    """A finite float >= 0 (a distance tolerance that may be zero)."""
+    x = scalar(value, name)
+    if not x >= 0.0:
+        raise CagdError(f"{name}: must be >= 0, got {x!r}")
+    return x
+
+
 def angle(value: Any, name: str = "angle_tol") -> float:
     """An angle tolerance in radians: a finite float >= 0."""
     x = scalar(value, name)

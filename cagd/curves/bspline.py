@@ -22,6 +22,7 @@ from .bezier_spans import BernsteinSpans, bezier_spans
 from .ppform import PP_MAX_DEGREE, PPForm
 
 if TYPE_CHECKING:
+    from ..knots.removal import KnotRemoval
     from .bezier import BezierCurve
 
 #: Values of the de Boor levels (and blossom arguments) held at once by the blossom evaluation (8 MiB).
@@ -436,6 +437,35 @@ class BSplineCurve(Curve):
             u, hom = _elevated_by_blossom(u, p, hom)
             p += 1
         return c._rebuild(hom, u, p)
+
+    def remove_knots(self, tol: float) -> "KnotRemoval":
+        """Remove as many interior knots as keep the curve within ``tol`` of itself at
+        equal parameters: Tiller's knot removal with its error bound (Piegl & Tiller 5.4,
+        A5.8, and 9.4.4; :mod:`cagd.knots.removal`; the seeds do not treat it). A rational
+        curve works in homogeneous coordinates with eq. 5.30's tolerance. A periodic
+        curve comes back clamped (as :meth:`elevate`).
+
+        Returns a :class:`cagd.knots.removal.KnotRemoval`: the new curve (``result``),
+        the number of knots removed, the certified ``error_bound`` (<= tol) and the
+        ``deviation`` measured at DEVIATION_SAMPLES parameters per knot span.
+
+        Raises:
+            CagdError: ``tol`` not a finite number >= 0."""
+        from ..knots import removal as rm
+        tol = _checks.nonnegative(tol, "tol")
+        c = self.clamped()
+        hom = c._hom
+        htol = rm.homogeneous_tol(hom, tol) if c.is_rational else tol
+        u, P, removed, bound = rm.remove_knots(c._u, hom[:, None, :], c.degree, htol)
+        out = c._rebuild(P[:, 0, :], u)
+        t = rm._span_samples(c._u, c.degree)
+        dev = float(np.sqrt(((self(t) - out(t)) ** 2).sum(-1)).max())
+        bound = tol * bound / htol if htol > 0 else 0.0
+        left = len(kv.distinct_with_multiplicities(out._u[c.degree:len(out._u) - c.degree], 0.0)[0]) - 2
+        msg = f"{removed} knot(s) removed, {left} interior knot value(s) left"
+        if self.periodic:
+            msg += "; the periodic curve came back clamped"
+        return rm.KnotRemoval(out, removed, min(bound, tol), dev, True, msg)
 
     def _elevate_segments(self, times: int) -> "BSplineCurve":
         """Exact elevation of a clamped curve segment by segment: elevated Bezier nets

@@ -9,7 +9,7 @@ algorithms on the rows of the homogeneous control net, seen as one curve whose
 """
 from __future__ import annotations
 
-from typing import List, NamedTuple, Optional, Tuple
+from typing import TYPE_CHECKING, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -22,6 +22,9 @@ from ..curves.ppform import PP_MAX_DEGREE, PPForm
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Surface, rational_partials
+
+if TYPE_CHECKING:
+    from ..knots.removal import KnotRemoval
 
 _CHUNK = 1 << 14
 _GATHER_VALUES = 1 << 22    # local net values gathered per chunk of the basis path (32 MiB)
@@ -443,6 +446,37 @@ class BSplineSurface(Surface):
 
     def refine(self, direction: str, new_knots: ArrayLike) -> "BSplineSurface":
         return self._from_row_curve(direction, self._row_curve(direction).refine(new_knots))
+
+    def remove_knots(self, tol: float, direction: str) -> "KnotRemoval":
+        """Remove as many interior knots of ``direction`` ('u' or 'v') as keep the surface
+        within ``tol`` of itself at equal parameters: Tiller's knot removal applied to all
+        rows at once, each removal bounded by the largest error over the rows (Piegl &
+        Tiller 5.4 and 9.4.4; :mod:`cagd.knots.removal`). A periodic ``direction`` comes
+        back clamped.
+
+        Returns a :class:`cagd.knots.removal.KnotRemoval` (``result`` the surface).
+
+        Raises:
+            CagdError: ``tol`` not a finite number >= 0, ``direction`` not 'u' or 'v'."""
+        from ..knots import removal as rm
+        tol = _checks.nonnegative(tol, "tol")
+        c = self._row_curve(direction).clamped()
+        D = self._hom.shape[2]
+        hom = c._hom.reshape(len(c._hom), -1, D)
+        htol = rm.homogeneous_tol(hom, tol) if self.is_rational else tol
+        u, P, removed, bound = rm.remove_knots(c._u, hom, c.degree, htol)
+        out = self._from_row_curve(direction, BSplineCurve(P.reshape(len(P), -1), c.degree, u))
+        t = rm._span_samples(c._u, c.degree)
+        other = rm._span_samples(self._v if direction == "u" else self._u,
+                                 self.degree_v if direction == "u" else self.degree_u)
+        us, vs = (t, other) if direction == "u" else (other, t)
+        diff = self.grid(us, vs) - out.grid(us, vs)
+        dev = float(np.sqrt((diff * diff).sum(-1)).max())
+        bound = tol * bound / htol if htol > 0 else 0.0
+        msg = f"{removed} knot(s) removed in {direction}"
+        if (self.periodic_u if direction == "u" else self.periodic_v):
+            msg += f"; the periodic {direction} direction came back clamped"
+        return rm.KnotRemoval(out, removed, min(bound, tol), dev, True, msg)
 
     def elevate(self, direction: str, times: int = 1) -> "BSplineSurface":
         """Degree elevation in one direction (a periodic direction comes back clamped)."""
