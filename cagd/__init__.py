@@ -16,7 +16,7 @@ from .curves.polynomial import HERMITE_M, HERMITE_M_INV, PolynomialCurve, four_p
 from .curves.hermite import HermiteCurve, HermiteSpline, hermite_basis
 from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
-from .fitting import approximate, bezier_through_points, interpolate, parametrize
+from .fitting import CurveFit, approximate, bezier_through_points, fit_curve, interpolate, parametrize
 from .operations import ContinuityReport, continuity, join, join_bezier, join_control_points
 from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Primitive, Revolution,
@@ -32,7 +32,7 @@ __all__ = [
     "CagdError", "MAX_DEGREE", "MAX_ORDER", "Curve", "BSplineCurve", "OccForm", "SurfaceOccForm", "BezierCurve",
     "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
-    "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize",
+    "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize", "fit_curve", "CurveFit",
     "ContinuityReport", "continuity", "join", "join_bezier", "join_control_points",
     "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "RevolvedSurface",
     "Revolution", "Primitive", "revolve", "sphere", "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant",

@@ -1,5 +1,7 @@
-"""Fitting: curves through points (interpolation) and near points (least squares), and
+"""Fitting: curves through points (interpolation), near points (least squares with a
+given count) and within a tolerance of points (:func:`fit_curve`, the count chosen), and
 the parameters of the points (:data:`PARAMETERS`, the one list of rule names)."""
+from .fit import CurveFit, fit_curve
 from .interpolation import (
     approximate,
     approximation_knots,
@@ -9,5 +11,5 @@ from .interpolation import (
 )
 from .parameters import PARAMETERS, spline_parameters
 
-__all__ = ["PARAMETERS", "approximate", "approximation_knots", "bezier_through_points", "interpolate",
-           "parametrize", "spline_parameters"]
+__all__ = ["CurveFit", "PARAMETERS", "approximate", "approximation_knots", "bezier_through_points", "fit_curve",
+           "interpolate", "parametrize", "spline_parameters"]

@@ -1,0 +1,102 @@
+"""Benchmark: fitting a curve to points within a tolerance (issue 17), the engine beside
+OCCT's GeomAPI_PointsToBSpline (degree 3..8, C2) and scipy's make_splprep in one run.
+
+The anchor data: ``--points`` points (default 2,000) on a 100 mm 3-D curve of varying
+curvature. Every fit's largest distance from the points is measured the same way, by the
+engine's certified closest points on the fitted curve (OCCT's and scipy's curves are
+converted exactly). scipy's smoothing factor is chosen per tolerance as
+s = m (tol / 2)^2 (a smoothing spline is fitted to a residual sum, not to a tolerance),
+and the engine is then asked for scipy's achieved deviation too, so the counts compare at
+equal error.
+
+Run: python -m benchmarks.fitting [--points N] [--tols 0.1,0.01,0.001]
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+import cagd
+from cagd.fitting.fit import fit_curve
+
+
+def anchor_curve(m: int = 2000) -> np.ndarray:
+    """m points on a 100 mm long-ish 3-D curve whose curvature varies along it."""
+    s = np.linspace(0.0, 1.0, m)
+    return np.stack([100.0 * s, 20.0 * np.sin(2 * np.pi * s * (1 + 2 * s)),
+                     10.0 * np.cos(3 * np.pi * s ** 2)], axis=1)
+
+
+def max_distance(curve: cagd.BSplineCurve, Q: np.ndarray) -> float:
+    return float(cagd.closest_point(curve, Q).distances.max())
+
+
+def occt_fit(Q: np.ndarray, tol: float) -> Optional[Tuple[cagd.BSplineCurve, float]]:
+    try:
+        from OCP.GeomAbs import GeomAbs_C2
+        from OCP.GeomAPI import GeomAPI_PointsToBSpline
+        from OCP.gp import gp_Pnt
+        from OCP.TColgp import TColgp_Array1OfPnt
+        from cagd.occ import from_occ
+    except ImportError:
+        return None
+    arr = TColgp_Array1OfPnt(1, len(Q))
+    for i, q in enumerate(Q, 1):
+        arr.SetValue(i, gp_Pnt(*map(float, q)))
+    t0 = time.perf_counter()
+    fit = GeomAPI_PointsToBSpline(arr, 3, 8, GeomAbs_C2, tol)
+    dt = time.perf_counter() - t0
+    return from_occ(fit.Curve()), dt
+
+
+def scipy_fit(Q: np.ndarray, tol: float) -> Optional[Tuple[cagd.BSplineCurve, float]]:
+    try:
+        from scipy.interpolate import make_splprep
+    except ImportError:
+        return None
+    t0 = time.perf_counter()
+    spl, _ = make_splprep(Q.T, k=3, s=len(Q) * (tol / 2) ** 2)
+    dt = time.perf_counter() - t0
+    c = np.asarray(spl.c)
+    c = c if c.shape[0] == len(spl.t) - 4 else c.T
+    return cagd.BSplineCurve(c, 3, spl.t), dt
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--points", type=int, default=2000)
+    ap.add_argument("--tols", default="0.1,0.01,0.001")
+    args = ap.parse_args(argv)
+    Q = anchor_curve(args.points)
+    print(f"fit_curve: {len(Q)} points on a 100 mm 3-D curve; max distance by certified closest points")
+    print(f"{'tol':>7s} {'method':28s} {'poles':>6s} {'max distance':>13s} {'time s':>8s}")
+    ok = True
+    for tol in map(float, args.tols.split(",")):
+        t0 = time.perf_counter()
+        r = fit_curve(Q, tol)
+        dt = time.perf_counter() - t0
+        ok &= r.converged and r.max_error <= tol
+        n_engine = len(r.curve.control_points)
+        print(f"{tol:7g} {'cagd.fit_curve':28s} {n_engine:6d} {r.max_error:13.3g} {dt:8.3f}")
+        occ = occt_fit(Q, tol)
+        if occ is not None:
+            c, t_occ = occ
+            n = len(c.control_points)
+            print(f"{'':7s} {'OCCT PointsToBSpline':28s} {n:6d} {max_distance(c, Q):13.3g} {t_occ:8.3f}"
+                  f"   engine/OCCT: poles {n_engine / n:.2f}, time {dt / t_occ:.2f}")
+        sp = scipy_fit(Q, tol)
+        if sp is not None:
+            c, t_sp = sp
+            dev = max_distance(c, Q)
+            r2 = fit_curve(Q, dev)
+            n, n2 = len(c.control_points), len(r2.curve.control_points)
+            print(f"{'':7s} {'scipy make_splprep':28s} {n:6d} {dev:13.3g} {t_sp:8.3f}"
+                  f"   engine at scipy's deviation: {n2} poles ({n2 / n:.2f}x), {r2.max_error:.3g}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,577 @@
+"""A B-spline curve within a tolerance of given points, with as few control points as
+the tolerance allows (issue 17).
+
+Seed 002 (1.1) separates interpolation (through the points) from approximation and
+fitting (near them) but gives no fitting algorithm; this follows the standard literature:
+
+- least squares with the end points held (Piegl & Tiller, The NURBS Book, 9.4.1,
+  eq. 9.63-9.67), weighted, plus an optional smoothing energy
+  ``smoothing * int_0^1 |C^(r)(u)|^2 du`` (r = 2 or 3; Dierckx, Curve and Surface Fitting
+  with Splines, 5.2), in the points' normalised frame; REGULARISATION times the same
+  energy keeps the normal equations definite where a knot span holds no point;
+- end tangent directions held exactly: P_1 = P_0 + a T_0 (and P_(n-1) = P_n - b T_1) with
+  the magnitudes a, b chosen by the least squares too (the reduced problem in a, b is
+  quadratic: two extra right-hand sides and a 2 x 2 solve);
+- parameter correction (Hoschek 1988; Piegl & Tiller 9.4.1): between solves every
+  point's parameter moves to its foot on the current curve (Newton on
+  (C(t) - Q) . C'(t) = 0);
+- knot placement by equidistributing the error (de Boor, A Practical Guide to Splines,
+  XII: a degree-p fit misses by about c h^(p+1) on a span of width h): a span whose
+  points miss by E_i is worth (E_i / tol)^(1/(p+1)) spans, the new breakpoints divide
+  that density into equal parts; rounds grow the count until every point is within tol,
+  then shrink it while they stay, then Tiller's knot removal (:mod:`cagd.knots.removal`)
+  takes out what its bound allows and the curve is fitted once more on those knots;
+- the error reported is the certified closest-point distance of every point from the
+  result (:func:`cagd.closest_point`), not the distance at the fitting parameters.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .. import _checks
+from .._results import ReadOnlyArrays
+from ..basis.banded import banded_product, solve_banded_rows
+from ..basis.bspline import basis_derivatives
+from ..curves.bspline import BSplineCurve
+from ..errors import CagdError
+from ..knots import vectors as kv
+from .interpolation import _frame, parametrize
+from .parameters import ParameterSpec
+
+#: rounds of fitting at most (each: a solve, parameter correction, a new knot vector)
+MAX_FIT_ROUNDS = 40
+#: parameter-correction passes per round at most (each: Newton feet, then a new solve);
+#: they stop early when the largest miss improves by less than CORRECTION_GAIN
+MAX_CORRECTIONS = 64
+CORRECTION_GAIN = 0.1
+#: a fit whose largest miss is this many times tol after four passes, and still shrinks by
+#: less than FAST_GAIN per pass, stops correcting
+FAR_FROM_TOL = 3.0
+FAST_GAIN = 0.5
+#: Newton steps of one parameter-correction pass
+FOOT_NEWTON_STEPS = 2
+#: relative weight of the regulariser int |C''|^2 (int |C'|^2 for degree 1), added only
+#: where the points alone leave the curve undetermined
+REGULARISATION = 1e-9
+#: while the fit misses tol, the new knots equidistribute the error for GROW_TARGET * tol
+GROW_TARGET = 0.7
+#: the error model's span count for tol is tried with this margin first
+SHRINK_SAFETY = 1.08
+#: the search for the smallest span count stops when it is known within this fraction
+SHRINK_RESOLUTION = 0.05
+#: one shrinking step keeps at least this fraction of the spans (the error model of a
+#: least-squares fit is optimistic: its misses are not local)
+MAX_SHRINK = 0.7
+#: a span's error counts at least ERROR_FLOOR * tol in the density (every part of the
+#: curve keeps some knots)
+ERROR_FLOOR = 1e-2
+#: growth of the span count per round at most
+MAX_GROWTH = 16.0
+
+
+@dataclass(frozen=True)
+class CurveFit(ReadOnlyArrays):
+    """The result of :func:`fit_curve`.
+
+    curve: the fitted B-spline; max_error / rms_error: the largest and the root-mean-square
+    certified distance of the points from it (closest points, not fitting parameters);
+    params: (m,) the points' foot parameters on it; rounds: fitting rounds run;
+    converged: max_error <= tol (else ``message`` says what stopped the fit)."""
+    curve: BSplineCurve
+    max_error: float
+    rms_error: float
+    params: np.ndarray
+    rounds: int
+    converged: bool
+    message: str
+
+
+class _Problem:
+    """The data of one fit in the normalised frame: points Qn (m, d), weights w (m,),
+    degree p, smoothing energy order r and weight lam, end tangent directions."""
+
+    def __init__(self, Qn: np.ndarray, w: np.ndarray, p: int, lam: float, r: int,
+                 tangents: Tuple[Optional[np.ndarray], Optional[np.ndarray]]):
+        self.Q, self.w, self.p, self.lam, self.r = Qn, w / w.sum(), p, lam, r
+        self.tangents = tangents
+        self._cached: Tuple[bytes, np.ndarray] = (b"", np.zeros((0, 0)))
+
+    def _energies(self, U: np.ndarray, t: np.ndarray, n: int, d: int, start: np.ndarray,
+                  width: int) -> np.ndarray:
+        """The band of lam E_r, plus REGULARISATION E_2 where the data alone may not fix
+        the curve (fewer weighted points than control points, or a knot span without
+        one); relative to the data term's scale, 1 / (number of spans). Cached for the
+        last knot vector (the parameter corrections of one round share it)."""
+        p = self.p
+        brk = np.unique(U[p:len(U) - p])
+        held = np.bincount(np.clip(np.searchsorted(brk, t[self.w > 0], side="right") - 1, 0, len(brk) - 2),
+                           minlength=len(brk) - 1)
+        regularise = bool(np.count_nonzero(self.w) < n or held.min() == 0)
+        key = U.tobytes() + bytes([regularise])
+        if self._cached[0] != key:
+            band = np.zeros((n * d, width))
+            spans = len(brk) - 1
+            for order, weight in ((self.r, self.lam), (min(2, p), REGULARISATION / spans * regularise)):
+                if weight > 0.0 and order <= p:
+                    _energy(band, start, U, p, d, order, weight / _energy_unit(U, p, order))
+            self._cached = (key, band)
+        return self._cached[1]
+
+    def solve(self, U: np.ndarray, t: np.ndarray, T: Optional[np.ndarray] = None, mu: float = 0.0
+              ) -> Tuple[np.ndarray, np.ndarray]:
+        """Control points (n, d) minimising sum_k w_k |M_k (C(t_k) - Q_k)|^2 + lam E_r
+        + REGULARISATION E_2 with P_0 = Q_0, P_n = Q_m and the tangent directions held,
+        and the misses |C(t_k) - Q_k| of that curve. M_k = I (point distance), or with the
+        unit tangents T (m, d) of the current curve at t_k, M_k^T M_k = mu I
+        + (I - T_k T_k^T): the tangent distance, i.e. Gauss-Newton on the distances with
+        the feet eliminated (Wang, Pottmann & Liu, ACM TOG 25(2), 2006), which converges
+        where alternating with parameter correction alone crawls."""
+        p, Q = self.p, self.Q
+        d = Q.shape[1]
+        n = len(U) - p - 1
+        span = kv.find_span(U, p, t, n)
+        N = basis_derivatives(U, p, t, span, 0)[0]
+        cols = span[:, None] - p + np.arange(p + 1)
+        M = None if T is None else (1.0 + mu) * np.eye(d) - T[:, :, None] * T[:, None, :]
+        start, A = _blocks(n, d, p)
+        _accumulate(A, start, cols, N, self.w, d, M)
+        MQ = Q if M is None else np.einsum("kab,kb->ka", M, Q)
+        rhs = np.zeros(n * d)
+        for a in range(d):
+            rhs += np.bincount(cols.ravel() * d + a, (N * self.w[:, None] * MQ[:, a, None]).ravel(),
+                               minlength=n * d)
+        A += self._energies(U, t, n, d, start, A.shape[1])
+        band = A.copy()
+        # fixed poles: P_0, P_n, and P_1 = P_0 + a T0, P_(n-1) = P_n - b T1
+        fixed = {0: [Q[0]], n - 1: [Q[-1]]}
+        free_dirs = []
+        T0, T1 = self.tangents
+        if T0 is not None:
+            fixed[1] = [Q[0], T0]
+            free_dirs.append(1)
+        if T1 is not None:
+            fixed[n - 2] = [Q[-1], -T1]
+            free_dirs.append(n - 2)
+        k = 1 + len(free_dirs)
+        idx = sorted(fixed)
+        values = np.zeros((len(idx), d, k))                 # per fixed pole and coordinate
+        for row, f in enumerate(idx):
+            values[row, :, 0] = fixed[f][0]
+            if len(fixed[f]) > 1:
+                values[row, :, 1 + free_dirs.index(f)] = fixed[f][1]
+        width = A.shape[1]
+        B = np.zeros((n * d, k))
+        B[:, 0] = rhs
+        scalars = np.array([f * d + a for f in idx for a in range(d)])
+        fixed_values = values.reshape(-1, k)
+        for I, v in zip(scalars, fixed_values):
+            rows = np.arange(max(0, I - width), min(n * d, I + width + 1))
+            off = I - start[rows]
+            inside = (off >= 0) & (off < width)
+            rows, off = rows[inside], off[inside]
+            B[rows] -= A[rows, off, None] * v[None]
+            A[rows, off] = 0.0
+        for I, v in zip(scalars, fixed_values):
+            A[I] = 0.0
+            A[I, I - start[I]] = 1.0
+            B[I] = v
+        X = solve_banded_rows(start, A, B, "points")
+        x0 = X[:, 0]
+        if k == 1:
+            P = x0.reshape(n, d)
+        else:
+            # the reduced problem in the tangent magnitudes: x(a) = x0 + sum a_j x_j
+            xs = X[:, 1:]
+            Ax = banded_product(start, band, xs)
+            G = xs.T @ Ax
+            g = xs.T @ (banded_product(start, band, x0[:, None])[:, 0] - rhs)
+            mag = _magnitudes(G, g)
+            P = (x0 + xs @ mag).reshape(n, d)
+            for row, f in enumerate(idx):                  # the constraints, bit for bit
+                P[f] = values[row, :, 0] + values[row, :, 1:] @ mag
+        for row, f in enumerate(idx):
+            if len(fixed[f]) == 1:
+                P[f] = values[row, :, 0]
+        return P, self._misses(N, span, P)
+
+    def _misses(self, N: np.ndarray, span: np.ndarray, P: np.ndarray) -> np.ndarray:
+        return np.sqrt(((_combine(N[None], P, span - self.p)[0] - self.Q) ** 2).sum(-1))
+
+
+#: weight mu of the point distance beside the tangent distance in the Gauss-Newton
+#: passes (keeps the system definite along the curve, damps the steps): its first value,
+#: its range and its factor per pass
+TDM_WEIGHT_START = 1e-2
+TDM_WEIGHT_MIN = 1e-6
+TDM_WEIGHT_MAX = 1.0
+TDM_WEIGHT_STEP = 10.0
+
+
+def _blocks(n: int, d: int, p: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(start, zero band) of the banded n d x n d normal matrix, unknowns pole-major
+    (pole i, coordinate a at i d + a): rows reach p poles either side."""
+    width = min((2 * p + 1) * d, n * d)
+    start = np.clip((np.arange(n * d) // d - p) * d, 0, n * d - width)
+    return start, np.zeros((n * d, width))
+
+
+#: the smallest tangent magnitude |P_1 - P_0| (normalised frame): a held tangent keeps its
+#: sense even where the least squares would reverse it
+MIN_TANGENT = 1e-6
+
+
+def _magnitudes(G: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """argmin a^T G a + 2 g^T a subject to a >= MIN_TANGENT (at most two unknowns: the
+    unconstrained minimum, else each bound fixed in turn)."""
+    k = len(g)
+    best, value = np.full(k, MIN_TANGENT), np.inf
+    for fixed in range(1 << k):                      # the active set: bounds held at MIN_TANGENT
+        a = np.full(k, MIN_TANGENT)
+        free = [i for i in range(k) if not fixed >> i & 1]
+        if free:
+            Gf = G[np.ix_(free, free)]
+            rhs = -g[free] - G[np.ix_(free, [i for i in range(k) if fixed >> i & 1])] @ a[
+                [i for i in range(k) if fixed >> i & 1]]
+            try:
+                a[free] = np.linalg.solve(Gf, rhs)
+            except np.linalg.LinAlgError:
+                continue
+        if np.all(a >= MIN_TANGENT):
+            f = float(a @ G @ a + 2 * g @ a)
+            if f < value:
+                best, value = a, f
+    return best
+
+
+#: points per chunk when the normal matrix is accumulated (bounded working memory)
+ACCUMULATE_CHUNK = 8192
+
+
+def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.ndarray, w: np.ndarray,
+                d: int, M: Optional[np.ndarray] = None) -> None:
+    """band += sum_k w_k (V_k V_k^T) (x) M_k at the poles cols[k] (the normal matrix
+    N^T W N, coordinates coupled by M_k (m, d, d), or M_k = I when None). The products
+    are summed per knot span first (np.add.reduceat over the points sorted by span), then
+    added to the band once per span: the scatter is O(spans), not O(points)."""
+    width = band.shape[1]
+    flat = band.ravel()
+    a = np.arange(d)
+    order = np.argsort(cols[:, 0], kind="stable")
+    first = cols[order, 0]
+    cut = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
+    for c0 in range(0, len(cut), ACCUMULATE_CHUNK):
+        lo = cut[c0]
+        hi = cut[c0 + ACCUMULATE_CHUNK] if c0 + ACCUMULATE_CHUNK < len(cut) else len(order)
+        rows = order[lo:hi]
+        VV = V[rows]
+        vv = VV[:, :, None] * VV[:, None, :] * w[rows, None, None]               # (m, q, q)
+        if M is not None:
+            vv = vv[..., None, None] * M[rows, None, None]                      # (m, q, q, d, d)
+        S = np.add.reduceat(vv, cut[c0:c0 + ACCUMULATE_CHUNK] - lo, axis=0)
+        cc = cols[rows[cut[c0:c0 + ACCUMULATE_CHUNK] - lo]]                     # (spans, q)
+        if M is None:
+            I = cc[:, :, None, None] * d + a
+            J = cc[:, None, :, None] * d + a
+            S = np.broadcast_to(S[..., None], S.shape + (d,))
+        else:
+            I = cc[:, :, None, None, None] * d + a[:, None]
+            J = cc[:, None, :, None, None] * d + a
+        index = np.broadcast_to(I * width + J - start[I], S.shape)
+        flat += np.bincount(index.ravel(), S.ravel(), minlength=flat.size)
+
+
+def _gauss(U: np.ndarray, p: int) -> Tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre points and weights, p + 1 per non-empty knot span (exact for the
+    products of basis derivatives)."""
+    x, wt = np.polynomial.legendre.leggauss(p + 1)
+    brk = np.unique(U[p:len(U) - p])
+    a, b = brk[:-1, None], brk[1:, None]
+    return (0.5 * (a + b) + 0.5 * (b - a) * x).ravel(), (0.5 * (b - a) * wt).ravel()
+
+
+def _energy(band: np.ndarray, start: np.ndarray, U: np.ndarray, p: int, d: int, order: int,
+            weight: float) -> None:
+    """band += weight * [int N_i^(order) N_j^(order)] (x) I_d."""
+    n = len(U) - p - 1
+    t, wt = _gauss(U, p)
+    span = kv.find_span(U, p, t, n)
+    D = basis_derivatives(U, p, t, span, order)[order]
+    _accumulate(band, start, span[:, None] - p + np.arange(p + 1), D, wt * weight, d)
+
+
+def _energy_unit(U: np.ndarray, p: int, order: int) -> float:
+    """The scale of int |N^(order)|^2 on these knots (the energy of the unit hat sum of
+    one span), so that the regulariser is relative to the data term."""
+    h = float(np.diff(np.unique(U[p:len(U) - p])).min())
+    return max(h ** (1 - 2 * order), 1.0)
+
+
+def _values(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray, order: int) -> np.ndarray:
+    """C and its derivatives up to ``order`` at t from the local basis: (order + 1, len(t), d)."""
+    span = kv.find_span(U, p, t, len(P))
+    D = basis_derivatives(U, p, t, span, order)                    # (order + 1, len(t), p + 1)
+    return _combine(D, P, span - p)
+
+
+def _combine(D: np.ndarray, P: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """sum_j D[..., j] P[first + j]: (k, len(t), d) from the local basis values (k, len(t), q)."""
+    out = D[..., 0, None] * P[first]
+    for j in range(1, D.shape[-1]):
+        out += D[..., j, None] * P[first + j]
+    return out
+
+
+def _feet(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Parameters moved towards the points' feet: FOOT_NEWTON_STEPS of Newton on
+    f(t) = (C(t) - Q) . C'(t), Gauss-Newton where f' is small; the ends stay at 0 and 1."""
+    t = t.copy()
+    for _ in range(FOOT_NEWTON_STEPS):
+        D = _values(U, p, P, t[1:-1], 2)
+        r = D[0] - Q[1:-1]
+        f = (r * D[1]).sum(-1)
+        g2 = (D[1] * D[1]).sum(-1)
+        df = g2 + (r * D[2]).sum(-1)
+        df = np.where(df > 0.25 * g2, df, g2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(df > 0.0, f / df, 0.0)
+        t[1:-1] = np.clip(t[1:-1] - step, 0.0, 1.0)
+    return t
+
+
+def _misses(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray) -> np.ndarray:
+    return np.sqrt(((_values(U, p, P, t, 0)[0] - Q) ** 2).sum(-1))
+
+
+def _fit_on(problem: _Problem, U: np.ndarray, t: np.ndarray, tol: float
+            ) -> Tuple[BSplineCurve, np.ndarray, np.ndarray]:
+    """The least-squares curve on the knots U, then Gauss-Newton passes: a tangent-distance
+    solve at the points' feet on the best curve so far, new feet (parameter correction);
+    the point-distance weight mu follows Levenberg-Marquardt (divided by TDM_WEIGHT_STEP
+    after a pass that lowers the largest miss, multiplied after one that does not, which
+    is then dropped). Returns the best curve, its feet and the misses there. Passes stop
+    when the largest miss improves by less than CORRECTION_GAIN, or is still
+    FAR_FROM_TOL * tol after four and converging slowly (more knots are needed anyway)."""
+    p, Q = problem.p, problem.Q
+
+    def feet(P: np.ndarray, start: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        tt = _feet(U, p, P, Q, start)
+        D = _values(U, p, P, tt, 1)
+        return P, tt, np.sqrt(((D[0] - Q) ** 2).sum(-1)), D[1]
+
+    best = feet(problem.solve(U, t)[0], t)
+    mu = TDM_WEIGHT_START
+    for passes in range(MAX_CORRECTIONS):
+        length = np.sqrt((best[3] ** 2).sum(-1))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            T = np.where(length[:, None] > 0.0, best[3] / length[:, None], 0.0)
+        trial = feet(problem.solve(U, best[1], T, mu)[0], best[1])
+        if not trial[2].max() < best[2].max():
+            mu *= TDM_WEIGHT_STEP
+            if mu > TDM_WEIGHT_MAX:
+                break
+            continue
+        gain = 1.0 - trial[2].max() / best[2].max()
+        best, mu = trial, max(mu / TDM_WEIGHT_STEP, TDM_WEIGHT_MIN)
+        if gain < CORRECTION_GAIN or (passes >= 3 and best[2].max() > FAR_FROM_TOL * tol and gain < FAST_GAIN):
+            break
+    return BSplineCurve(best[0], p, U), best[1], best[2]
+
+
+def _knots(breaks: np.ndarray, p: int) -> np.ndarray:
+    return np.concatenate([np.zeros(p), breaks, np.ones(p)])
+
+
+def _span_errors(breaks: np.ndarray, t: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """E_i, the largest miss of the points whose parameter lies in span i."""
+    s = len(breaks) - 1
+    span = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, s - 1)
+    E = np.zeros(s)
+    np.maximum.at(E, span, e)
+    return E
+
+
+def _worth(E: np.ndarray, tol: float, p: int) -> np.ndarray:
+    """Spans each old span is worth for the error tol: (E_i / tol)^(1/(p+1)), E_i at least
+    ERROR_FLOOR * tol."""
+    return (np.maximum(E, ERROR_FLOOR * tol) / tol) ** (1.0 / (p + 1))
+
+
+def _redistributed(breaks: np.ndarray, c: np.ndarray, count: int) -> np.ndarray:
+    """``count`` spans whose breakpoints divide the piecewise constant density c_i / h_i
+    (c_i per old span) into equal parts."""
+    cum = np.concatenate([[0.0], np.cumsum(c)])
+    new = np.interp(np.linspace(0.0, cum[-1], count + 1), cum, breaks)
+    new[0], new[-1] = 0.0, 1.0
+    return np.unique(new)
+
+
+def _split_bad(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float) -> np.ndarray:
+    """Every span with a point missing tol split at the error-weighted mean parameter
+    of its points (midpoint when that falls on a breakpoint)."""
+    s = len(breaks) - 1
+    span = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, s - 1)
+    bad = np.zeros(s, bool)
+    bad[span[e > tol]] = True
+    wsum = np.bincount(span, e * e, minlength=s)
+    tsum = np.bincount(span, e * e * t, minlength=s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        at = np.where(wsum > 0, tsum / wsum, 0.5 * (breaks[:-1] + breaks[1:]))
+    lo, hi = breaks[:-1], breaks[1:]
+    margin = 0.1 * (hi - lo)
+    at = np.clip(at, lo + margin, hi - margin)
+    return np.unique(np.concatenate([breaks, at[bad]]))
+
+
+def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: ParameterSpec = "centripetal", *,
+              start_tangent: Optional[ArrayLike] = None, end_tangent: Optional[ArrayLike] = None,
+              weights: Optional[ArrayLike] = None, smoothing: float = 0.0, smoothing_order: Optional[int] = None,
+              max_control_points: Optional[int] = None) -> CurveFit:
+    """A clamped degree-p B-spline on [0, 1] through the first and the last point and
+    within ``tol`` (a distance) of every point, with few control points (see the module
+    docstring for the method and its sources).
+
+    Args:
+        points: (m, d) points in order along the curve, m >= 2.
+        tol: the largest allowed distance of a point from the curve (> 0).
+        degree: 1 .. MAX_DEGREE.
+        parameters: the initial parameters ("centripetal", "chord", "uniform" or m values).
+        start_tangent, end_tangent: directions the curve must leave the first point and
+            arrive at the last with (held exactly; the magnitudes are fitted).
+        weights: (m,) non-negative weights of the points in the least squares (the
+            tolerance holds for every point with a positive weight).
+        smoothing: weight of int |C^(smoothing_order)|^2 against the mean squared miss,
+            in the points' frame scaled to the unit ball and parameters on [0, 1].
+        smoothing_order: 2 (bending, the default; 1 for degree 1) or 3 (curvature
+            variation), at most the degree.
+        max_control_points: a cap on the count (default: the number of points).
+
+    Returns:
+        CurveFit; ``converged`` False (with the achieved error) when the cap or
+        MAX_FIT_ROUNDS is reached before tol is met.
+
+    Raises:
+        CagdError: bad points, tol, degree, parameters, tangents, weights or smoothing.
+    """
+    Q = _checks.points(points, "points", min_count=2)
+    m, d = Q.shape
+    tol = _checks.positive(tol, "tol")
+    p = _checks.degree(degree, "degree", 1)
+    smoothing = _checks.nonnegative(smoothing, "smoothing")
+    r = min(2, p) if smoothing_order is None else _checks.integer(smoothing_order, "smoothing_order", 1, p)
+    w = np.ones(m) if weights is None else _checks.finite_array(weights, "weights", ndim=1)
+    if w.shape != (m,) or np.any(w < 0) or not w.sum() > 0:
+        raise CagdError(f"weights: expected {m} non-negative values, not all zero")
+    u = parametrize(Q, parameters)
+    u = (u - u[0]) / (u[-1] - u[0])
+    tangents: List[Optional[np.ndarray]] = []
+    for name, T in (("start_tangent", start_tangent), ("end_tangent", end_tangent)):
+        if T is None:
+            tangents.append(None)
+            continue
+        T = _checks.finite_array(T, name, ndim=1)
+        length = float(np.linalg.norm(T)) if T.shape == (d,) else 0.0
+        if not length > 0.0:
+            raise CagdError(f"{name}: expected a non-zero vector of {d} coordinates")
+        tangents.append(T / length)
+    if p == 1 and any(T is not None for T in tangents):
+        raise CagdError("start_tangent: a degree-1 curve cannot hold end tangents; use degree >= 2")
+    least = p + 1 + (tangents[0] is not None and tangents[1] is not None and p < 3)
+    most = max(least, m if max_control_points is None else
+               _checks.integer(max_control_points, "max_control_points", least))
+    center, scale = _frame(Q)
+    problem = _Problem((Q - center) / scale, w, p, smoothing, r, (tangents[0], tangents[1]))
+    tol_n = tol / scale
+    counted = w > 0
+    most_spans = most - p
+    breaks = np.linspace(0.0, 1.0, least - p + 1)        # one Bezier span (two for p < 3 with tangents)
+    fits = 0
+
+    def attempt(b: np.ndarray, start: np.ndarray) -> Tuple[BSplineCurve, np.ndarray, np.ndarray, float]:
+        nonlocal fits
+        fits += 1
+        c, tt, ee = _fit_on(problem, _knots(b, p), start, tol_n)
+        return c, tt, ee * counted, float(ee[counted].max())
+
+    # grow: until every point is within tol (or the cap)
+    curve, t, e, worst = attempt(breaks, u)
+    failed = 0                                           # a span count known to miss tol
+    while worst > tol_n and fits < MAX_FIT_ROUNDS:
+        s = len(breaks) - 1
+        if s >= most_spans:
+            break
+        failed = s
+        E = _span_errors(breaks, t, e)
+        c = _worth(E, GROW_TARGET * tol_n, p)
+        count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol_n)), s + 1,
+                            min(most_spans, MAX_GROWTH * s + 1)))
+        breaks = _redistributed(breaks, c, count)
+        curve, t, e, worst = attempt(breaks, u)
+    best = (curve, t, e, breaks, worst)
+    failed = 0           # the growth's misses had other knots: no lower bound for the search
+    # shrink: bisect the span count between the last miss and the best fit, the knots
+    # equidistributing the best fit's error
+    while best[4] <= tol_n and fits < MAX_FIT_ROUNDS:
+        hi = len(best[3]) - 1
+        c = _worth(_span_errors(best[3], best[1], best[2]), tol_n, p)
+        guess = max(int(np.ceil(SHRINK_SAFETY * c.sum())), int(np.ceil(MAX_SHRINK * hi)))
+        step = max(1, int(np.ceil(SHRINK_RESOLUTION * hi)))
+        if hi - failed <= step:
+            break
+        count = min(guess, hi - step) if failed == 0 else (failed + hi) // 2
+        trial = _redistributed(best[3], c, count)
+        curve, t, e, worst = attempt(trial, best[1])
+        if worst <= tol_n:
+            best = (curve, t, e, trial, worst)
+        else:
+            failed = count
+    curve, t = best[0], best[1]
+    if best[4] <= tol_n:
+        curve, t = _after_removal(problem, curve, t, tol_n, counted)
+    P = curve.control_points * scale + center
+    P[0], P[-1] = Q[0], Q[-1]                      # the end points, bit for bit
+    if tangents[0] is not None:                    # the tangent lines, in the model's frame
+        P[1] = Q[0] + tangents[0] * max(float((P[1] - Q[0]) @ tangents[0]), MIN_TANGENT * scale)
+    if tangents[1] is not None:
+        P[-2] = Q[-1] - tangents[1] * max(float((Q[-1] - P[-2]) @ tangents[1]), MIN_TANGENT * scale)
+    result = BSplineCurve(P, p, curve.knots)
+    return _measured(result, Q, t, counted, tol, fits)
+
+
+def _after_removal(problem: _Problem, curve: BSplineCurve, t: np.ndarray, tol_n: float,
+                   counted: np.ndarray) -> Tuple[BSplineCurve, np.ndarray]:
+    """Tiller's knot removal within the slack tol - max miss, then one more fit on the
+    knots left; kept only if every point stays within tol."""
+    slack = tol_n - float(_misses(curve.knots, problem.p, curve.control_points, problem.Q, t)[counted].max())
+    if not slack > 0.0 or len(curve.knots) <= 2 * (problem.p + 1):
+        return curve, t
+    removal = curve.remove_knots(slack)
+    if removal.removed == 0:
+        return curve, t
+    reduced = removal.result
+    assert isinstance(reduced, BSplineCurve)
+    U = np.asarray(reduced.knots)
+    c2, t2, e2 = _fit_on(problem, U, t, tol_n)
+    if float(e2[counted].max()) <= tol_n:
+        return c2, t2
+    return curve, t
+
+
+def _measured(curve: BSplineCurve, Q: np.ndarray, t: np.ndarray, counted: np.ndarray, tol: float,
+              rounds: int) -> CurveFit:
+    from ..queries.closest import closest_point
+    near = closest_point(curve, Q)
+    at_t = _misses(curve.knots, curve.degree, curve.control_points, Q, t)
+    dist = np.minimum(near.distances, at_t)
+    params = np.where(near.distances <= at_t, near.params, t)
+    dist_c = dist[counted]
+    worst, rms = float(dist_c.max()), float(np.sqrt(np.mean(dist_c ** 2)))
+    ok = worst <= tol
+    n = curve.control_points.shape[0]
+    message = (f"{n} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
+               f"tol {tol:g} not met: {n} control points (the cap or {MAX_FIT_ROUNDS} rounds reached), "
+               f"largest distance {worst:.3g}")
+    return CurveFit(curve, worst, rms, params, rounds, ok, message)

@@ -1,0 +1,191 @@
+"""fit_curve (issue 17): a B-spline within tol of points, with few control points.
+
+Oracles: brute force (the fit sampled densely: every point's distance to the samples is
+an upper bound of its true distance, and at most the chord sagitta above it), closed
+forms (a Bezier sample comes back as itself), the constraints measured on the result,
+and OCCT's GeomAPI_PointsToBSpline on the same data (counts at the same tolerance)."""
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import cagd
+from cagd import BSplineCurve, CagdError, fit_curve
+from benchmarks.fitting import anchor_curve
+
+SETTINGS = settings(max_examples=20, deadline=None)
+
+
+def sampled_distances(curve: BSplineCurve, Q: np.ndarray, samples: int = 200_001):
+    """Per point: the distance to the nearest of ``samples`` points of the curve (>= the
+    true distance) and the bound of how much larger than the true distance it can be
+    (half the largest chord between neighbouring samples)."""
+    from scipy.spatial import cKDTree
+    S = curve(np.linspace(*curve.domain, samples))
+    chord = float(np.sqrt((np.diff(S, axis=0) ** 2).sum(-1)).max())
+    best, _ = cKDTree(S).query(Q)
+    return best, 0.5 * chord
+
+
+@pytest.mark.parametrize("tol", [0.1, 0.01])
+def test_anchor_curve_within_tol_by_brute_force(tol):
+    Q = anchor_curve(2000)
+    r = fit_curve(Q, tol)
+    assert r.converged and r.max_error <= tol, r.message
+    sampled, slack = sampled_distances(r.curve, Q)
+    assert float(sampled.max()) <= tol + slack
+    # the certified distances are the true ones: never above the samples' upper bound,
+    # at most the sampling slack below it
+    assert np.all(np.abs(np.minimum(sampled, 10 * tol) - np.minimum(
+        np.asarray(cagd.closest_point(r.curve, Q).distances), 10 * tol)) <= slack + 1e-12)
+    assert r.max_error == pytest.approx(float(cagd.closest_point(r.curve, Q).distances.max()), abs=1e-12)
+    assert r.rms_error <= r.max_error
+    assert np.array_equal(r.curve.control_points[0], Q[0]) and np.array_equal(r.curve.control_points[-1], Q[-1])
+    assert r.curve.domain == (0.0, 1.0) and r.curve.degree == 3
+    assert r.params.shape == (len(Q),)
+
+
+def test_fewer_poles_than_occt_at_the_same_tolerance():
+    pytest.importorskip("OCP")
+    from benchmarks.fitting import occt_fit
+    Q = anchor_curve(2000)
+    for tol in (0.001,):                 # OCCT takes 5-10 s at 0.1 and 0.01 (benchmarks/fitting.py)
+        occ, _ = occt_fit(Q, tol)
+        r = fit_curve(Q, tol)
+        assert r.converged
+        assert len(r.curve.control_points) <= 0.6 * len(occ.control_points)
+
+
+def test_bezier_sample_comes_back_as_itself():
+    rng = np.random.default_rng(0)
+    P = rng.random((4, 3)) * 10
+    Q = BSplineCurve(P, 3)(np.linspace(0.0, 1.0, 200) ** 1.3)
+    r = fit_curve(Q, 1e-10)
+    assert r.converged and r.curve.control_points.shape == (4, 3)
+    assert np.abs(r.curve.control_points - P).max() <= 1e-10 * np.abs(P).max()
+
+
+def test_a_line_needs_two_spans_at_most():
+    Q = np.stack([np.linspace(0, 5, 50), np.linspace(1, 2, 50)], axis=1)
+    r = fit_curve(Q, 1e-9, degree=1)
+    assert r.converged and r.max_error <= 1e-9
+    assert len(r.curve.control_points) == 2
+
+
+def test_end_tangents_held_exactly():
+    s = np.linspace(0.0, 1.0, 300)
+    Q = np.stack([np.cos(3 * s), np.sin(3 * s), s], axis=1)
+    T0, T1 = np.array([0.0, 1.0, 0.2]), np.array([-1.0, 0.0, 0.0])
+    r = fit_curve(Q, 1e-3, start_tangent=T0, end_tangent=T1)
+    assert r.converged and r.max_error <= 1e-3
+    P = r.curve.control_points
+    for d, T in ((P[1] - P[0], T0), (P[-1] - P[-2], T1)):    # C'(0) = 3 (P1 - P0) / u_4 ...
+        u = d / np.linalg.norm(d)
+        assert np.linalg.norm(np.cross(u, T / np.linalg.norm(T))) <= 1e-15
+        assert float(u @ T) > 0.0                       # the sense too, not only the line
+    for d, T in ((r.curve.derivative(0.0), T0), (r.curve.derivative(1.0), T1)):   # as evaluated
+        assert np.linalg.norm(np.cross(d / np.linalg.norm(d), T / np.linalg.norm(T))) <= 1e-10
+    assert np.array_equal(r.curve(0.0), Q[0]) and np.allclose(r.curve(1.0), Q[-1], rtol=0, atol=1e-15)
+
+
+def test_below_the_noise_says_so():
+    rng = np.random.default_rng(3)
+    s = np.linspace(0, 1, 400)
+    Q = np.stack([s, np.sin(4 * s)], axis=1) + rng.normal(0, 0.01, (400, 2))
+    r = fit_curve(Q, 0.001, max_control_points=40)
+    assert not r.converged and r.max_error > 0.001
+    assert "not met" in r.message and len(r.curve.control_points) <= 40
+    ok = fit_curve(Q, 0.05)
+    assert ok.converged and ok.max_error <= 0.05 and len(ok.curve.control_points) < 20
+
+
+def test_zero_weight_points_are_not_held():
+    s = np.linspace(0, 1, 200)
+    Q = np.stack([s, s ** 2], axis=1)
+    Q[100] += [0.0, 5.0]                                # an outlier
+    w = np.ones(200)
+    w[100] = 0.0
+    r = fit_curve(Q, 1e-4, weights=w)
+    assert r.converged and r.max_error <= 1e-4
+    near = cagd.closest_point(r.curve, Q).distances
+    assert float(near[100]) > 4.0 and float(np.delete(near, 100).max()) <= 1e-4
+    assert len(r.curve.control_points) <= 20
+    clean = fit_curve(np.delete(Q, 100, axis=0), 1e-4, parameters="uniform")
+    assert clean.converged and len(clean.curve.control_points) == 4     # y = x^2, one span
+
+
+def test_smoothing_lowers_the_bending_energy():
+    rng = np.random.default_rng(5)
+    s = np.linspace(0, 1, 500)
+    Q = np.stack([s, np.sin(6 * s)], axis=1) + rng.normal(0, 0.003, (500, 2))
+
+    def energy(c):
+        u = np.linspace(0, 1, 20001)
+        return float(np.trapz((c.derivative(u, 2) ** 2).sum(-1), u)) if hasattr(np, "trapz") else \
+            float(np.trapezoid((c.derivative(u, 2) ** 2).sum(-1), u))
+    plain = fit_curve(Q, 0.02)
+    smooth = fit_curve(Q, 0.02, smoothing=1e-4)
+    assert plain.converged and smooth.converged
+    assert energy(smooth.curve) < energy(plain.curve)
+
+
+@pytest.mark.parametrize("degree, dim", [(1, 2), (2, 2), (3, 3), (5, 3)])
+def test_degrees_and_dimensions(degree, dim):
+    s = np.linspace(0, 1, 300)
+    Q = np.stack([s, np.sin(5 * s), np.cos(3 * s)][:dim], axis=1)
+    r = fit_curve(Q, 1e-3, degree=degree)
+    assert r.converged and r.curve.degree == degree and r.curve.dim == dim
+    sampled, slack = sampled_distances(r.curve, Q, 100_001)
+    assert float(sampled.max()) <= 1e-3 + slack
+
+
+def test_two_and_three_points():
+    r = fit_curve([[0, 0], [1, 1]], 1e-6)
+    assert r.converged and r.max_error == 0.0
+    r = fit_curve([[0, 0], [1, 2], [3, 1]], 1e-6)
+    assert r.converged and r.max_error <= 1e-6
+
+
+@st.composite
+def smooth_points(draw):
+    count = draw(st.integers(4, 9))
+    seed = draw(st.integers(0, 2 ** 31))
+    rng = np.random.default_rng(seed)
+    P = np.cumsum(rng.normal(size=(count, 3)), axis=0)
+    c = BSplineCurve(P, 3)
+    m = draw(st.integers(20, 400))
+    t = np.sort(rng.random(m))
+    return c(np.r_[0.0, t, 1.0]), draw(st.sampled_from([1e-1, 1e-2, 1e-3]))
+
+
+@SETTINGS
+@given(smooth_points())
+def test_every_point_within_tol_property(data):
+    Q, tol = data
+    r = fit_curve(Q, tol)
+    assert r.converged, r.message
+    assert r.max_error <= tol
+    sampled, slack = sampled_distances(r.curve, Q, 50_001)
+    assert float(sampled.max()) <= tol + slack
+    assert len(r.curve.control_points) <= len(Q) + 3
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(points=[[0, 0]], tol=0.1), "points"),
+    (dict(points=[[0, 0], [np.nan, 1]], tol=0.1), "points"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.0), "tol"),
+    (dict(points=[[0, 0], [1, 1]], tol=-1), "tol"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, degree=0), "degree"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, smoothing=-1), "smoothing"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, smoothing_order=4), "smoothing_order"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, weights=[1]), "weights"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, weights=[-1, 1]), "weights"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, start_tangent=[0, 0]), "start_tangent"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, end_tangent=[1, 0, 0]), "end_tangent"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, degree=1, start_tangent=[1, 0]), "tangent"),
+    (dict(points=[[0, 0], [1, 1]], tol=0.1, max_control_points=1), "max_control_points"),
+    (dict(points=[[0, 0], [0, 0], [1, 1]], tol=0.1), "points"),
+])
+def test_bad_input_names_the_argument(kwargs, word):
+    with pytest.raises(CagdError, match=word):
+        fit_curve(**kwargs)
