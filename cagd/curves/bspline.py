@@ -23,6 +23,7 @@ from .ppform import PP_MAX_DEGREE, PPForm
 
 if TYPE_CHECKING:
     from ..knots.removal import KnotRemoval
+    from ..knots.reduction import DegreeReduction
     from .bezier import BezierCurve
 
 #: Values of the de Boor levels (and blossom arguments) held at once by the blossom evaluation (8 MiB).
@@ -458,14 +459,54 @@ class BSplineCurve(Curve):
         htol = rm.homogeneous_tol(hom, tol) if c.is_rational else tol
         u, P, removed, bound = rm.remove_knots(c._u, hom[:, None, :], c.degree, htol)
         out = c._rebuild(P[:, 0, :], u)
-        t = rm._span_samples(c._u, c.degree)
-        dev = float(np.sqrt(((self(t) - out(t)) ** 2).sum(-1)).max())
+        dev = self._deviation_from(c, out)
         bound = tol * bound / htol if htol > 0 else 0.0
         left = len(kv.distinct_with_multiplicities(out._u[c.degree:len(out._u) - c.degree], 0.0)[0]) - 2
         msg = f"{removed} knot(s) removed, {left} interior knot value(s) left"
         if self.periodic:
             msg += "; the periodic curve came back clamped"
         return rm.KnotRemoval(out, removed, min(bound, tol), dev, True, msg)
+
+    def reduce_degree(self, tol: float) -> "DegreeReduction":
+        """The curve one degree lower, within ``tol`` of this one at equal parameters if
+        the shape allows: each Bezier piece reduced with its ends held and its convex-hull
+        error bound, then Tiller's knot removal on the rest of the tolerance (Piegl &
+        Tiller 5.6, A5.11; :mod:`cagd.knots.reduction`). A rational curve works in
+        homogeneous coordinates (eq. 5.30's tolerance); a periodic one comes back clamped.
+
+        Returns a :class:`cagd.knots.reduction.DegreeReduction`: ``result`` (degree p - 1),
+        the certified ``error_bound``, the measured ``deviation``, ``converged`` when the
+        bound is within tol (the reduced curve is returned either way).
+
+        Raises:
+            CagdError: ``tol`` not a finite number >= 0, degree 1 (nothing below it), a
+                rational curve whose reduced weights would not be positive (its shape
+                needs the degree)."""
+        from ..knots import reduction as rd
+        from ..knots import removal as rm
+        tol = _checks.nonnegative(tol, "tol")
+        if self.degree < 2:
+            raise CagdError("degree: a degree-1 curve cannot be reduced further")
+        c = self.clamped()
+        breaks, nets = c.bezier_net()
+        unit = rm.homogeneous_tol(c._hom, 1.0) if c.is_rational else 1.0   # homogeneous per model unit
+        u, P, q, bound = rd.reduce_degree(breaks, nets[:, :, None, :], tol * unit)
+        rd.check_weights(P, c.is_rational, c.degree)
+        out = c._rebuild(P[:, 0, :], u, q)
+        bound /= unit
+        dev = self._deviation_from(c, out)
+        ok = bool(bound <= tol)
+        msg = (f"degree {c.degree} -> {q}, {len(out.control_points)} control points, within {bound:.3g}"
+               if ok else f"degree {c.degree} -> {q}: the bound {bound:.3g} exceeds tol {tol:g} (measured "
+               f"deviation {dev:.3g}); the shape needs degree {c.degree} there")
+        return rd.DegreeReduction(out, float(bound), dev, ok, msg)
+
+    def _deviation_from(self, c: "BSplineCurve", out: "BSplineCurve") -> float:
+        """Largest |self(t) - out(t)| at DEVIATION_SAMPLES parameters per knot span of c
+        (this curve clamped)."""
+        from ..knots import removal as rm
+        t = rm._span_samples(c._u, c.degree)
+        return float(np.sqrt(((self(t) - out(t)) ** 2).sum(-1)).max())
 
     def _elevate_segments(self, times: int) -> "BSplineCurve":
         """Exact elevation of a clamped curve segment by segment: elevated Bezier nets

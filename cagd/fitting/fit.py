@@ -438,7 +438,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         points: (m, d) points in order along the curve, m >= 2.
         tol: the largest allowed distance of a point from the curve (> 0).
         degree: 1 .. MAX_DEGREE.
-        parameters: the initial parameters ("centripetal", "chord", "uniform" or m values).
+        parameters: the initial parameters: a rule of :data:`cagd.fitting.PARAMETERS` or m values.
         start_tangent, end_tangent: directions the curve must leave the first point and
             arrive at the last with (held exactly; the magnitudes are fitted).
         weights: (m,) non-negative weights of the points in the least squares (the

@@ -25,6 +25,7 @@ from .base import Surface, rational_partials
 
 if TYPE_CHECKING:
     from ..knots.removal import KnotRemoval
+    from ..knots.reduction import DegreeReduction
 
 _CHUNK = 1 << 14
 _GATHER_VALUES = 1 << 22    # local net values gathered per chunk of the basis path (32 MiB)
@@ -466,17 +467,53 @@ class BSplineSurface(Surface):
         htol = rm.homogeneous_tol(hom, tol) if self.is_rational else tol
         u, P, removed, bound = rm.remove_knots(c._u, hom, c.degree, htol)
         out = self._from_row_curve(direction, BSplineCurve(P.reshape(len(P), -1), c.degree, u))
-        t = rm._span_samples(c._u, c.degree)
-        other = rm._span_samples(self._v if direction == "u" else self._u,
-                                 self.degree_v if direction == "u" else self.degree_u)
-        us, vs = (t, other) if direction == "u" else (other, t)
-        diff = self.grid(us, vs) - out.grid(us, vs)
-        dev = float(np.sqrt((diff * diff).sum(-1)).max())
+        dev = self._deviation_from(out, direction, c)
         bound = tol * bound / htol if htol > 0 else 0.0
         msg = f"{removed} knot(s) removed in {direction}"
         if (self.periodic_u if direction == "u" else self.periodic_v):
             msg += f"; the periodic {direction} direction came back clamped"
         return rm.KnotRemoval(out, removed, min(bound, tol), dev, True, msg)
+
+    def _deviation_from(self, out: "BSplineSurface", direction: str, c: BSplineCurve) -> float:
+        """Largest |self - out| on a grid of DEVIATION_SAMPLES parameters per knot span of
+        the row curve c (``direction``) and of the other direction."""
+        from ..knots import removal as rm
+        t = rm._span_samples(c._u, c.degree)
+        other = rm._span_samples(self._v if direction == "u" else self._u,
+                                 self.degree_v if direction == "u" else self.degree_u)
+        us, vs = (t, other) if direction == "u" else (other, t)
+        diff = self.grid(us, vs) - out.grid(us, vs)
+        return float(np.sqrt((diff * diff).sum(-1)).max())
+
+    def reduce_degree(self, tol: float, direction: str) -> "DegreeReduction":
+        """The surface one degree lower in ``direction`` ('u' or 'v'), every row reduced
+        together (:meth:`BSplineCurve.reduce_degree`; Piegl & Tiller 5.6, A5.11): the bound
+        is the largest over the rows. A periodic ``direction`` comes back clamped.
+
+        Returns a :class:`cagd.knots.reduction.DegreeReduction` (``result`` the surface).
+
+        Raises:
+            CagdError: ``tol`` not a finite number >= 0, ``direction`` not 'u' or 'v', the
+                degree in ``direction`` is 1, reduced weights that would not be positive."""
+        from ..knots import reduction as rd
+        from ..knots import removal as rm
+        tol = _checks.nonnegative(tol, "tol")
+        c = self._row_curve(direction).clamped()
+        if c.degree < 2:
+            raise CagdError(f"direction: the degree in {direction} is 1; it cannot be reduced further")
+        D = self._hom.shape[2]
+        breaks, nets = c.bezier_net()
+        unit = rm.homogeneous_tol(self._hom, 1.0) if self.is_rational else 1.0
+        u, P, q, bound = rd.reduce_degree(breaks, nets.reshape(nets.shape[:2] + (-1, D)), tol * unit)
+        rd.check_weights(P, self.is_rational, c.degree)
+        out = self._from_row_curve(direction, BSplineCurve(P.reshape(len(P), -1), q, u))
+        bound /= unit
+        dev = self._deviation_from(out, direction, c)
+        ok = bool(bound <= tol)
+        msg = (f"degree {c.degree} -> {q} in {direction}, within {bound:.3g}" if ok else
+               f"degree {c.degree} -> {q} in {direction}: the bound {bound:.3g} exceeds tol {tol:g} "
+               f"(measured deviation {dev:.3g})")
+        return rd.DegreeReduction(out, float(bound), dev, ok, msg)
 
     def elevate(self, direction: str, times: int = 1) -> "BSplineSurface":
         """Degree elevation in one direction (a periodic direction comes back clamped)."""
