@@ -1,6 +1,7 @@
 """The ``cagd`` command: ``cagd demo`` (the main job on the built-in model),
-``cagd export MODEL.json`` (a model file to STEP/IGES with the round-trip report) and
-``cagd deviation MODEL points.csv`` (a point cloud against the model).
+``cagd export MODEL.json`` (a model file to STEP/IGES with the round-trip report),
+``cagd deviation MODEL points.csv`` (a point cloud against the model) and
+``cagd fit points.csv --tol T -o fit.step`` (a curve within tol of the points).
 
 Exit codes: 0 success; 1 a check failed (an oracle, the round trip, a solid);
 2 bad input or an output that cannot be written (an invalid model file: the message
@@ -39,6 +40,8 @@ def _parser() -> argparse.ArgumentParser:
                                               "(default: next to the report, .points.csv)")
     dev.add_argument("--object", action="append", help="measure to this entry only (repeatable; default: "
                                                        "every exported surface, or every curve if none)")
+    from .fit_cli import add_parser
+    add_parser(sub)
     return parser
 
 
@@ -86,6 +89,9 @@ def _run(args) -> int:
     if args.command == "deviation":
         from .deviation_cli import run_deviation
         return run_deviation(args)
+    if args.command == "fit":
+        from .fit_cli import run_fit
+        return run_fit(args)
     return _export(args)
 
 
