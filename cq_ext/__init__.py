@@ -41,9 +41,9 @@ else:
 if _cq is not None:
     from .cq_api import close_with_caps, free_edges, sew_shell, sew_solid, thicken  # noqa: F401
     from .workplane import (METHODS, bezierCurve, bezierSurface, bezierTriangle, bsplineSurface,  # noqa: F401
-                            cagdCurve, cagdSurface, closeWithCaps, coonsPatch, hermiteCurve, interpCurve,
-                            intersectFaces, joinCurves, loftSurface, nurbsCurve, projectPoints, revolveSurface,
-                            ruledSurface, sewSolid, thickenSurface)
+                            cagdCurve, cagdSurface, closeWithCaps, coonsPatch, fitCurve, hermiteCurve,
+                            interpCurve, intersectFaces, joinCurves, loftSurface, nurbsCurve, projectPoints,
+                            rebuild, removeKnots, revolveSurface, ruledSurface, sewSolid, thickenSurface)
 
     for _method in METHODS:
         setattr(_cq.Workplane, _method.__name__, _method)

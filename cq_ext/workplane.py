@@ -321,6 +321,94 @@ def intersectFaces(self: T, other: Optional[FaceLike] = None, tol: float = 1e-7)
     return self.newObject([to_cq(branch.curve) for branch in result.curves])
 
 
+def fitCurve(self: T, points: Optional[Points] = None, tol: float = 1e-3, degree: int = 3,
+             parameters: Union[str, Sequence[float]] = "centripetal", start_tangent: Optional[Points] = None,
+             end_tangent: Optional[Points] = None, max_control_points: Optional[int] = None,
+             forConstruction: bool = False, makeWire: bool = False) -> T:
+    """A B-spline edge within ``tol`` of the points (:func:`cagd.fit_curve`, the fewest
+    control points it finds; the error measured by certified closest points): the points
+    given (local coordinates), or else the vertices on the stack in order (global).
+    End tangent directions are held exactly when given; ``max_control_points`` caps the
+    count.
+
+    Raises:
+        CagdError: no points, bad arguments, or ``tol`` not met (the message gives the
+            achieved error; raise ``tol`` or give more control points' worth of data)."""
+    if points is None:
+        verts = [o for o in self.objects if isinstance(o, cq.Vertex)]
+        if not verts:
+            raise CagdError("points: none given and no vertices on the stack")
+        P = np.array([v.toTuple() for v in verts], dtype=float)
+        tangents = [None if t is None else np.array(as_points(t, n), float)
+                    for t, n in ((start_tangent, "start_tangent"), (end_tangent, "end_tangent"))]
+        fit = cagd.fit_curve(P, tol, degree, parameters, start_tangent=tangents[0], end_tangent=tangents[1],
+                             max_control_points=max_control_points)
+        curve = fit.curve
+    else:
+        P = local_points(self, points, False, "points")
+        tangents = [None if t is None else as_points(t, n)
+                    for t, n in ((start_tangent, "start_tangent"), (end_tangent, "end_tangent"))]
+        fit = cagd.fit_curve(P, tol, degree, parameters, start_tangent=tangents[0], end_tangent=tangents[1],
+                             max_control_points=max_control_points)
+        curve = placed(fit.curve, self.plane)
+    if not fit.converged:
+        raise CagdError(f"tol: {fit.message}")
+    edge = to_cq(curve)
+    if makeWire:
+        wire = cq.Wire.assembleEdges([edge])
+        if not forConstruction:
+            self._addPendingWire(wire)
+        return self.newObject([wire])
+    if not forConstruction:
+        self._addPendingEdge(edge)
+    return self.newObject([edge])
+
+
+def _stacked_geometry(wp: cq.Workplane, what: str) -> list:
+    """The engine curve or surface of every edge and face on the stack (global)."""
+    from .convert import from_shape
+    items = [o for o in wp.objects if isinstance(o, (cq.Edge, cq.Face))]
+    if not items:
+        raise CagdError(f"{what}: no edges or faces on the stack")
+    return [from_shape(o) for o in items]
+
+
+def rebuild(self: T, count: Union[int, Tuple[int, int]], degree: Union[int, Tuple[int, int]] = 3) -> T:
+    """Every edge and face on the stack rebuilt to ``count`` control points of ``degree``
+    (a pair (u, v) for faces) by :func:`cagd.rebuild`; the stack becomes the new edges and
+    faces. A trimmed face is refused (rebuild its untrimmed surface and trim again).
+
+    Raises:
+        CagdError: nothing on the stack, a trimmed face, bad count or degree."""
+    out = []
+    for obj in _stacked_geometry(self, "rebuild"):
+        if isinstance(obj, cagd.TrimmedSurface):
+            raise CagdError("rebuild: a trimmed face on the stack; rebuild its untrimmed surface "
+                            "(cagd.rebuild(face.untrimmed, ...)) and trim it again")
+        out.append(to_cq(cagd.rebuild(obj, count, degree).result))
+    return self.newObject(out)
+
+
+def removeKnots(self: T, tol: float) -> T:
+    """Every edge and face on the stack with as many knots removed as keep it within
+    ``tol`` of itself (Tiller's knot removal with its bound; faces in u, then in v); the
+    stack becomes the new edges and faces.
+
+    Raises:
+        CagdError: nothing on the stack, a trimmed face, a bad tol."""
+    out = []
+    for obj in _stacked_geometry(self, "removeKnots"):
+        if isinstance(obj, cagd.TrimmedSurface):
+            raise CagdError("removeKnots: a trimmed face on the stack; remove knots from its untrimmed surface")
+        if isinstance(obj, Surface):
+            first = obj.remove_knots(0.5 * tol, "u")
+            obj = first.result.remove_knots(tol - first.error_bound, "v").result
+        else:
+            obj = obj.remove_knots(tol).result
+        out.append(to_cq(obj))
+    return self.newObject(out)
+
+
 METHODS = [cagdCurve, bezierCurve, nurbsCurve, interpCurve, hermiteCurve, joinCurves, cagdSurface, bezierSurface,
            bsplineSurface, coonsPatch, loftSurface, ruledSurface, bezierTriangle, revolveSurface, sewSolid,
-           closeWithCaps, thickenSurface, projectPoints, intersectFaces]
+           closeWithCaps, thickenSurface, projectPoints, intersectFaces, fitCurve, rebuild, removeKnots]

@@ -106,6 +106,10 @@ CALLS = {
     "projectPoints": (lambda: cq.Workplane().sphere(1.0).faces(), ([(2, 0, 0), (0, 0, 3)],), {}, cq.Vertex),
     "intersectFaces": (lambda: cq.Workplane().sphere(1.0).faces(),
                        (cq.Face.makePlane(4, 4, (0, 0, 0.5), (0, 0, 1)),), {}, cq.Edge),
+    "fitCurve": (cq.Workplane, ([(0, 0), (1, 1), (2, 0), (3, 1), (4, 0)],), {"tol": 0.01}, cq.Edge),
+    "rebuild": (lambda: cq.Workplane().nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1)]), (6,), {}, cq.Edge),
+    "removeKnots": (lambda: cq.Workplane().nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1), (4, 0)]), (1e-6,), {},
+                    cq.Edge),
 }
 
 

@@ -1,0 +1,66 @@
+"""Workplane.fitCurve / rebuild / removeKnots (issue 17): the edge on the stack is within
+tol of the points (measured on the edge read back through OCCT, by certified closest
+points), end tangents held, workplane placement applied, the vertices on the stack used
+when no points are given; rebuild and removeKnots replace the stack's edges and faces with
+the asked size / within tol of the originals."""
+import numpy as np
+import pytest
+
+cq = pytest.importorskip("cadquery")
+
+import cagd  # noqa: E402
+import cq_ext  # noqa: E402,F401
+from cagd import CagdError  # noqa: E402
+from cq_ext import from_shape  # noqa: E402
+
+S = np.linspace(0.0, 1.0, 300)
+PTS = np.stack([60 * S, 10 * np.sin(5 * S), 3 * np.cos(4 * S)], axis=1)
+
+
+def test_fit_curve_edge_within_tol():
+    wp = cq.Workplane("XY").fitCurve(PTS, tol=0.01)
+    edge = wp.val()
+    assert isinstance(edge, cq.Edge) and len(wp.ctx.pendingEdges) == 1
+    back = from_shape(edge)
+    assert float(cagd.closest_point(back, PTS).distances.max()) <= 0.01 + 1e-9
+
+
+def test_fit_curve_on_an_offset_workplane_and_from_vertices():
+    wp = cq.Workplane("XZ", origin=(0, 5, 0)).fitCurve(PTS[:, :2], tol=0.005)
+    back = from_shape(wp.val())
+    plane = cq.Workplane("XZ", origin=(0, 5, 0)).plane
+    glob = np.array([plane.toWorldCoords((x, y, 0)).toTuple() for x, y in PTS[:, :2]])
+    assert float(cagd.closest_point(back, glob).distances.max()) <= 0.005 + 1e-9
+    stacked = cq.Workplane("XY").newObject([cq.Vertex.makeVertex(*p) for p in PTS[::10]])
+    e = from_shape(stacked.fitCurve(tol=0.01).val())
+    assert float(cagd.closest_point(e, PTS[::10]).distances.max()) <= 0.01 + 1e-9
+
+
+def test_fit_curve_holds_end_tangents_and_refuses_an_unmet_tol():
+    wp = cq.Workplane("XY").fitCurve(PTS, tol=0.01, start_tangent=(1, 0.5, 0), end_tangent=(1, -1, 0))
+    c = from_shape(wp.val())
+    d0, d1 = c.derivative(c.domain[0]), c.derivative(c.domain[1])
+    for d, T in ((d0, np.array([1, 0.5, 0])), (d1, np.array([1, -1, 0]))):
+        assert np.linalg.norm(np.cross(d / np.linalg.norm(d), T / np.linalg.norm(T))) <= 1e-9
+    noisy = PTS + np.random.default_rng(0).normal(0, 0.05, PTS.shape)
+    with pytest.raises(CagdError, match="tol"):
+        cq.Workplane("XY").fitCurve(noisy, tol=1e-6, max_control_points=20)
+    with pytest.raises(CagdError, match="points"):
+        cq.Workplane("XY").fitCurve(tol=0.1)
+
+
+def test_rebuild_and_remove_knots_on_the_stack():
+    c = cagd.fit_curve(PTS, 0.01).curve
+    wp = cq.Workplane("XY").cagdCurve(c).rebuild(20, 3)
+    back = from_shape(wp.val())
+    assert len(back.control_points) == 20 and back.degree == 3
+    dense = c.refine(np.linspace(0.05, 0.95, 30))
+    fewer = from_shape(cq.Workplane("XY").cagdCurve(dense).removeKnots(1e-9).val())
+    assert len(fewer.control_points) == len(c.control_points)
+    t = np.linspace(0, 1, 501)
+    assert np.abs(fewer(t) - c(t)).max() <= 1e-8
+    surf = cagd.BSplineSurface(np.random.default_rng(1).random((5, 5, 3)), 3, 3)
+    face = from_shape(cq.Workplane("XY").cagdSurface(surf).rebuild((7, 6), (3, 2)).val())
+    assert face.control_points.shape[:2] == (7, 6) and (face.degree_u, face.degree_v) == (3, 2)
+    with pytest.raises(CagdError, match="no edges or faces"):
+        cq.Workplane("XY").rebuild(5)
