@@ -9,7 +9,12 @@ s = m (tol / 2)^2 (a smoothing spline is fitted to a residual sum, not to a tole
 and the engine is then asked for scipy's achieved deviation too, so the counts compare at
 equal error.
 
-Run: python -m benchmarks.fitting [--points N] [--tols 0.1,0.01,0.001]
+The surface anchor: a 100 x 100 grid of a 100 mm bumpy height field, fitted by
+``cagd.fit_surface`` and OCCT's GeomAPI_PointsToBSplineSurface (degree 3..8, C2) at
+tol 0.01 and 0.001, and with noise (sigma 0.005) at tol 0.02 beside the noise-free fit
+at the same tol.
+
+Run: python -m benchmarks.fitting [--points N] [--tols 0.1,0.01,0.001] [--no-surface]
 """
 from __future__ import annotations
 
@@ -65,10 +70,65 @@ def scipy_fit(Q: np.ndarray, tol: float) -> Optional[Tuple[cagd.BSplineCurve, fl
     return cagd.BSplineCurve(c, 3, spl.t), dt
 
 
+def anchor_grid(n: int = 100) -> np.ndarray:
+    """An n x n grid of a 100 mm bumpy height field."""
+    x = np.linspace(0.0, 100.0, n)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    Z = 5 * np.sin(X / 15) * np.cos(Y / 20) + 3 * np.exp(-((X - 60) ** 2 + (Y - 40) ** 2) / 200)
+    return np.stack([X, Y, Z], axis=-1)
+
+
+def occt_surface_fit(Q: np.ndarray, tol: float):
+    try:
+        from OCP.GeomAbs import GeomAbs_C2
+        from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface
+        from OCP.gp import gp_Pnt
+        from OCP.TColgp import TColgp_Array2OfPnt
+        from cagd.occ import from_occ
+    except ImportError:
+        return None
+    m, n, _ = Q.shape
+    arr = TColgp_Array2OfPnt(1, m, 1, n)
+    for i in range(m):
+        for j in range(n):
+            arr.SetValue(i + 1, j + 1, gp_Pnt(*map(float, Q[i, j])))
+    t0 = time.perf_counter()
+    fit = GeomAPI_PointsToBSplineSurface(arr, 3, 8, GeomAbs_C2, tol)
+    dt = time.perf_counter() - t0
+    return from_occ(fit.Surface()), dt
+
+
+def surfaces() -> bool:
+    from cagd.fitting.fit_surface import fit_surface
+    Q = anchor_grid()
+    rng = np.random.default_rng(0)
+    noisy = Q.copy()
+    noisy[..., 2] += rng.normal(0.0, 0.005, Q.shape[:2])
+    print(f"\nfit_surface: {Q.shape[0]} x {Q.shape[1]} grid of a 100 mm height field")
+    print(f"{'tol':>7s} {'method':28s} {'poles':>9s} {'max distance':>13s} {'time s':>8s}")
+    ok = True
+    for label, data, tol in (("", Q, 0.01), ("", Q, 0.001), ("noisy", noisy, 0.02), ("clean", Q, 0.02)):
+        t0 = time.perf_counter()
+        r = fit_surface(data, tol)
+        dt = time.perf_counter() - t0
+        ok &= r.converged
+        nu, nv = r.surface.control_points.shape[:2]
+        print(f"{tol:7g} {('cagd.fit_surface ' + label).strip():28s} {nu:4d}x{nv:<4d} {r.max_error:13.3g} {dt:8.3f}")
+        occ = occt_surface_fit(data, tol) if label != "clean" else None
+        if occ is not None:
+            S, t_occ = occ
+            ou, ov = S.control_points.shape[:2]
+            dev = float(cagd.closest_point(S, data.reshape(-1, 3)).distances.max())
+            print(f"{'':7s} {'OCCT PointsToBSplineSurface':28s} {ou:4d}x{ov:<4d} {dev:13.3g} {t_occ:8.3f}"
+                  f"   engine/OCCT: poles {nu * nv / (ou * ov):.2f}, time {dt / t_occ:.2f}")
+    return ok
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--points", type=int, default=2000)
     ap.add_argument("--tols", default="0.1,0.01,0.001")
+    ap.add_argument("--no-surface", action="store_true")
     args = ap.parse_args(argv)
     Q = anchor_curve(args.points)
     print(f"fit_curve: {len(Q)} points on a 100 mm 3-D curve; max distance by certified closest points")
@@ -95,6 +155,8 @@ def main(argv: Optional[List[str]] = None) -> int:
             n, n2 = len(c.control_points), len(r2.curve.control_points)
             print(f"{'':7s} {'scipy make_splprep':28s} {n:6d} {dev:13.3g} {t_sp:8.3f}"
                   f"   engine at scipy's deviation: {n2} poles ({n2 / n:.2f}x), {r2.max_error:.3g}")
+    if not args.no_surface:
+        ok &= surfaces()
     return 0 if ok else 1
 
 

@@ -1,0 +1,169 @@
+"""A B-spline surface within a tolerance of a grid of points, with the control-point counts
+chosen (issue 17; seed 002 names the task, the method is the standard literature).
+
+The grid Q (m, n, d) gets averaged parameters per direction (Piegl & Tiller 9.2.5,
+:func:`cagd.surfaces.surface_parameters`), and a tensor-product least-squares fit with the
+corner rows held: along u for every column, then along v (the tensor least squares
+separates; Piegl & Tiller 9.4.3). The knots of each direction are placed as in
+:func:`cagd.fit_curve` (de Boor's equidistribution of the error), each direction by its
+own error: the residuals of fitting the grid's columns along u alone (the u knots'
+part of the error) and its rows along v alone (the v knots' part). Rounds grow the
+span counts until every grid point is within tol at its parameters (an upper bound of
+its distance), then try smaller counts while they stay within; the reported errors are
+the certified closest-point distances of every point from the result.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Tuple, Union
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .. import _checks
+from .._results import ReadOnlyArrays
+from ..errors import CagdError
+from ..surfaces.bspline import BSplineSurface
+from .fit import GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _redistributed, _span_errors, _worth
+from .interpolation import _frame
+from .rebuild import _fit_rows
+
+
+@dataclass(frozen=True)
+class SurfaceFit(ReadOnlyArrays):
+    """The result of :func:`fit_surface`: ``surface``; ``max_error`` / ``rms_error`` the
+    largest and root-mean-square certified distance of the grid points from it;
+    ``params`` (m, n, 2) their feet; ``rounds``; ``converged`` (max_error <= tol) and
+    ``message``."""
+    surface: BSplineSurface
+    max_error: float
+    rms_error: float
+    params: np.ndarray
+    rounds: int
+    converged: bool
+    message: str
+
+
+def _knots(breaks: np.ndarray, p: int) -> np.ndarray:
+    return np.concatenate([np.zeros(p), breaks, np.ones(p)])
+
+
+def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
+         ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray, np.ndarray]:
+    """The separable least-squares surface on the breakpoints, its misses at the
+    parameters (m, n), and the per-direction residuals (m, n): along u alone, along v alone."""
+    m, n, d = Q.shape
+    U, V = _knots(bu, pu), _knots(bv, pv)
+    cu, cv = len(U) - pu - 1, len(V) - pv - 1
+    rows = _fit_rows(U, pu, u, cu, Q.reshape(m, n * d))                          # (cu, n d)
+    P = _fit_rows(V, pv, v, cv, rows.reshape(cu, n, d).transpose(1, 0, 2).reshape(n, cu * d))
+    S = BSplineSurface(P.reshape(cv, cu, d).transpose(1, 0, 2), pu, pv, U, V)
+    miss = np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1))
+    from ..curves.bspline import BSplineCurve
+    along_u = BSplineCurve(rows, pu, U)(u).reshape(m, n, d)
+    cols = _fit_rows(V, pv, v, cv, Q.transpose(1, 0, 2).reshape(n, m * d))
+    along_v = BSplineCurve(cols, pv, V)(v).reshape(n, m, d).transpose(1, 0, 2)
+    ru = np.sqrt(((along_u - Q) ** 2).sum(-1))
+    rv = np.sqrt(((along_v - Q) ** 2).sum(-1))
+    return S, miss, ru, rv
+
+
+def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, most: int) -> np.ndarray:
+    """The next breakpoints of one direction from its residuals e (per parameter t): the
+    same breakpoints where every span is within GROW_TARGET * tol, else more."""
+    E = _span_errors(breaks, t, e)
+    if E.max(initial=0.0) <= GROW_TARGET * tol:
+        return breaks
+    s = len(breaks) - 1
+    c = _worth(E, GROW_TARGET * tol, p)
+    count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol)), s + 1, min(most, MAX_GROWTH * s + 1)))
+    return _redistributed(breaks, c, count) if count > s else breaks
+
+
+def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
+                parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None
+                ) -> SurfaceFit:
+    """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
+    the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
+    points; see the module docstring.
+
+    Args:
+        points: (m, n, d) grid, rows along u.
+        tol: the largest allowed distance of a point from the surface (> 0).
+        degree: per direction, or a pair (degree_u, degree_v).
+        parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
+        max_control_points: a cap (count_u, count_v) (default: the grid's size).
+
+    Returns:
+        SurfaceFit; ``converged`` False (with the achieved error) when the cap or
+        MAX_FIT_ROUNDS is reached first.
+
+    Raises:
+        CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters.
+    """
+    from ..queries.closest import closest_point
+    from ..surfaces.fitting import surface_parameters
+    Q = _checks.finite_array(points, "points", ndim=3)
+    m, n, d = Q.shape
+    if m < 2 or n < 2:
+        raise CagdError(f"points: expected a grid of at least 2 x 2 points, got {m} x {n}")
+    tol = _checks.positive(tol, "tol")
+    pu, pv = degree if isinstance(degree, (tuple, list)) else (degree, degree)
+    pu, pv = _checks.degree(pu, "degree", 1), _checks.degree(pv, "degree", 1)
+    cap_u, cap_v = (m, n) if max_control_points is None else max_control_points
+    cap_u = _checks.integer(cap_u, "max_control_points", pu + 1)
+    cap_v = _checks.integer(cap_v, "max_control_points", pv + 1)
+    u, v = surface_parameters(Q, parameters)
+    u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
+    center, scale = _frame(Q.reshape(-1, d))
+    Qn = (Q - center) / scale
+    tol_n = tol / scale
+    most_u, most_v = max(1, max(cap_u, pu + 1) - pu), max(1, max(cap_v, pv + 1) - pv)
+    bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+    rounds = 0
+    S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
+    while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
+        rounds += 1
+        nu = _grown(bu, u, ru.max(axis=1), tol_n / np.sqrt(2.0), pu, most_u)
+        nv = _grown(bv, v, rv.max(axis=0), tol_n / np.sqrt(2.0), pv, most_v)
+        if len(nu) == len(bu) and len(nv) == len(bv):
+            # each direction alone is within its share: refine the one with the larger residual
+            if ru.max() >= rv.max() and len(bu) - 1 < most_u:
+                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
+            elif len(bv) - 1 < most_v:
+                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
+            else:
+                break
+        bu, bv = nu, nv
+        S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
+    best = (S, bu, bv, float(miss.max()))
+    # shrink: both directions by MAX_SHRINK while the fit stays within tol
+    while best[3] <= tol_n and rounds < MAX_FIT_ROUNDS:
+        su, sv = len(best[1]) - 1, len(best[2]) - 1
+        if su <= 1 and sv <= 1:
+            break
+        rounds += 1
+        cu = _worth(_span_errors(best[1], u, miss.max(axis=1)), tol_n, pu)
+        cv = _worth(_span_errors(best[2], v, miss.max(axis=0)), tol_n, pv)
+        tu = _redistributed(best[1], cu, max(1, int(MAX_SHRINK * su))) if su > 1 else best[1]
+        tv = _redistributed(best[2], cv, max(1, int(MAX_SHRINK * sv))) if sv > 1 else best[2]
+        S2, miss2, _, _ = _fit(Qn, u, v, tu, tv, pu, pv)
+        if miss2.max() > tol_n:
+            break
+        best, miss = (S2, tu, tv, float(miss2.max())), miss2
+    S = best[0]
+    P = S.control_points * scale + center
+    P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
+    out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
+    near = closest_point(out, Q.reshape(-1, d))
+    at = np.sqrt(((out.grid(u, v) - Q) ** 2).sum(-1)).ravel()
+    dist = np.minimum(np.asarray(near.distances), at)
+    grid_uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
+    params = np.where((np.asarray(near.distances) <= at)[:, None], np.asarray(near.params), grid_uv)
+    worst, rms = float(dist.max()), float(np.sqrt(np.mean(dist ** 2)))
+    shape = out.control_points.shape[:2]
+    ok = worst <= tol
+    msg = (f"{shape[0]} x {shape[1]} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
+           f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points (the cap or {MAX_FIT_ROUNDS} rounds "
+           f"reached), largest distance {worst:.3g}")
+    return SurfaceFit(out, worst, rms, params.reshape(m, n, 2), rounds, ok, msg)

@@ -1,0 +1,75 @@
+"""fit_surface (issue 17) on grids: every point within tol (brute force: a KD-tree on a
+dense sampling of the result), a bicubic patch sampled at its own parameters comes back
+as itself, noise does not multiply the control points, bad input names the argument."""
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from cagd import BSplineSurface, CagdError, fit_surface
+from benchmarks.fitting import anchor_grid
+
+
+def sampled(surface, Q, n=700):
+    t = np.linspace(0, 1, n)
+    S = surface.grid(t, t).reshape(-1, 3)
+    d, _ = cKDTree(S).query(Q.reshape(-1, 3))
+    G = surface.grid(t, t)
+    step = max(float(np.sqrt((np.diff(G, axis=0) ** 2).sum(-1)).max()),
+               float(np.sqrt((np.diff(G, axis=1) ** 2).sum(-1)).max()))
+    return d, step                          # d >= the true distance; at most ~step above it
+
+
+@pytest.mark.parametrize("tol", [0.01, 0.001])
+def test_height_field_within_tol(tol):
+    Q = anchor_grid(60)
+    r = fit_surface(Q, tol)
+    assert r.converged and r.max_error <= tol, r.message
+    d, step = sampled(r.surface, Q)
+    assert float(d.max()) <= tol + step
+    assert r.rms_error <= r.max_error and r.params.shape == (60, 60, 2)
+    assert np.array_equal(r.surface.control_points[0, 0], Q[0, 0])
+    assert np.array_equal(r.surface.control_points[-1, -1], Q[-1, -1])
+    nu, nv = r.surface.control_points.shape[:2]
+    assert nu * nv < 0.25 * Q.shape[0] * Q.shape[1]
+
+
+def test_bicubic_patch_comes_back():
+    rng = np.random.default_rng(3)
+    X, Y = np.meshgrid(np.arange(4.0), np.arange(4.0), indexing="ij")
+    P = rng.random((4, 4, 3)) + np.stack([X, Y, np.zeros((4, 4))], axis=-1)
+    S = BSplineSurface(P, 3, 3)
+    t = np.linspace(0, 1, 25)
+    r = fit_surface(S.grid(t, t), 1e-10, parameters="uniform")
+    assert r.converged and r.surface.control_points.shape == (4, 4, 3)
+    assert np.abs(r.surface.control_points - P).max() <= 1e-10
+
+
+def test_noise_does_not_multiply_the_poles():
+    Q = anchor_grid(60)
+    noisy = Q.copy()
+    noisy[..., 2] += np.random.default_rng(0).normal(0, 0.005, Q.shape[:2])
+    clean, r = fit_surface(Q, 0.02), fit_surface(noisy, 0.02)
+    assert clean.converged and r.converged and r.max_error <= 0.02
+    count = lambda f: int(np.prod(f.surface.control_points.shape[:2]))   # noqa: E731
+    assert count(r) <= 1.5 * count(clean)
+
+
+def test_cap_reported():
+    Q = anchor_grid(40)
+    r = fit_surface(Q, 1e-6, max_control_points=(6, 6))
+    assert not r.converged and "not met" in r.message and r.max_error > 1e-6
+    assert r.surface.control_points.shape[:2] == (6, 6) or max(r.surface.control_points.shape[:2]) <= 6
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(points=np.zeros((1, 5, 3)), tol=0.1), "points"),
+    (dict(points=np.zeros((5, 3)), tol=0.1), "points"),
+    (dict(points=np.full((3, 3, 3), np.nan), tol=0.1), "points"),
+    (dict(points=anchor_grid(5), tol=0.0), "tol"),
+    (dict(points=anchor_grid(5), tol=0.1, degree=0), "degree"),
+    (dict(points=anchor_grid(5), tol=0.1, parameters="arc"), "parameters"),
+    (dict(points=anchor_grid(5), tol=0.1, max_control_points=(1, 9)), "max_control_points"),
+])
+def test_bad_input(kwargs, word):
+    with pytest.raises(CagdError, match=word):
+        fit_surface(**kwargs)
