@@ -163,23 +163,10 @@ class _Problem:
             values[row, :, 0] = fixed[f][0]
             if len(fixed[f]) > 1:
                 values[row, :, 1 + free_dirs.index(f)] = fixed[f][1]
-        width = A.shape[1]
         B = np.zeros((n * d, k))
         B[:, 0] = rhs
         scalars = np.array([f * d + a for f in idx for a in range(d)])
-        fixed_values = values.reshape(-1, k)
-        for I, v in zip(scalars, fixed_values):
-            rows = np.arange(max(0, I - width), min(n * d, I + width + 1))
-            off = I - start[rows]
-            inside = (off >= 0) & (off < width)
-            rows, off = rows[inside], off[inside]
-            B[rows] -= A[rows, off, None] * v[None]
-            A[rows, off] = 0.0
-        for I, v in zip(scalars, fixed_values):
-            A[I] = 0.0
-            A[I, I - start[I]] = 1.0
-            B[I] = v
-        X = solve_banded_rows(start, A, B, "points")
+        X = solve_fixed(start, A, B, scalars, values.reshape(-1, k))
         x0 = X[:, 0]
         if k == 1:
             P = x0.reshape(n, d)
@@ -200,6 +187,26 @@ class _Problem:
 
     def _misses(self, N: np.ndarray, span: np.ndarray, P: np.ndarray) -> np.ndarray:
         return np.sqrt(((_combine(N[None], P, span - self.p)[0] - self.Q) ** 2).sum(-1))
+
+
+def solve_fixed(start: np.ndarray, A: np.ndarray, B: np.ndarray, scalars: np.ndarray, values: np.ndarray
+                ) -> np.ndarray:
+    """The banded system A X = B (rows of :func:`_blocks`; A is modified) with the unknowns
+    ``scalars`` held at ``values`` (len(scalars), B.shape[1]): their columns move to the
+    right-hand side, their rows become identities."""
+    size, width = A.shape
+    for I, v in zip(scalars, values):
+        rows = np.arange(max(0, I - width), min(size, I + width + 1))
+        off = I - start[rows]
+        inside = (off >= 0) & (off < width)
+        rows, off = rows[inside], off[inside]
+        B[rows] -= A[rows, off, None] * v[None]
+        A[rows, off] = 0.0
+    for I, v in zip(scalars, values):
+        A[I] = 0.0
+        A[I, I - start[I]] = 1.0
+        B[I] = v
+    return solve_banded_rows(start, A, B, "points")
 
 
 #: weight mu of the point distance beside the tangent distance in the Gauss-Newton
