@@ -31,6 +31,7 @@ def add_parser(sub: Any) -> None:
     fit.add_argument("--parameters", default="centripetal", help="initial parameters of the points "
                                                                  "(uniform, chord, centripetal)")
     fit.add_argument("--max-poles", type=int, help="at most this many control points")
+    fit.add_argument("--periodic", action="store_true", help="a closed curve, C^(degree-1) at its seam")
     fit.add_argument("--smoothing", type=float, default=0.0, help="weight of the bending energy (0)")
     fit.add_argument("--report", type=Path, help="also write the report (Markdown) here")
     fit.add_argument("--png", type=Path, help="also draw the points, coloured by distance, and the fit")
@@ -87,14 +88,15 @@ def run_fit(args: argparse.Namespace) -> int:
         raise CagdError(f"--png {args.png}: the picture is a .png file")
     pts = read_points(args.points)
     fit = fit_curve(pts, args.tol, args.degree, args.parameters, smoothing=args.smoothing,
-                    max_control_points=args.max_poles)
+                    max_control_points=args.max_poles, periodic=args.periodic)
     distances = np.asarray(closest_point(fit.curve, pts).distances)
     curve = fit.curve
     lines: List[str] = [
         f"# Fit of {args.points.name}", "",
         f"- points: {len(pts)} ({pts.shape[1]}-D); tolerance {args.tol:g}",
         f"- curve: degree {curve.degree}, {len(curve.control_points)} control points, "
-        f"{len(np.unique(curve.knots)) - 1} knot spans, parameters on [0, 1]",
+        f"{len(np.unique(curve.knots)) - 1} knot spans, parameters on [0, 1]"
+        + (", periodic (closed)" if curve.periodic else ""),
         f"- largest distance {fit.max_error:.6g}, root mean square {fit.rms_error:.6g}; points over tol: "
         f"{int(np.count_nonzero(distances > args.tol))} (certified closest points)",
         f"- {'every point within tol' if fit.converged else 'TOL NOT MET'}: {fit.message}",

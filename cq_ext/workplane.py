@@ -324,12 +324,12 @@ def intersectFaces(self: T, other: Optional[FaceLike] = None, tol: float = 1e-7)
 def fitCurve(self: T, points: Optional[Points] = None, tol: float = 1e-3, degree: int = 3,
              parameters: Union[str, Sequence[float]] = "centripetal", start_tangent: Optional[Points] = None,
              end_tangent: Optional[Points] = None, max_control_points: Optional[int] = None,
-             forConstruction: bool = False, makeWire: bool = False) -> T:
+             periodic: bool = False, forConstruction: bool = False, makeWire: bool = False) -> T:
     """A B-spline edge within ``tol`` of the points (:func:`cagd.fit_curve`, the fewest
     control points it finds; the error measured by certified closest points): the points
     given (local coordinates), or else the vertices on the stack in order (global).
     End tangent directions are held exactly when given; ``max_control_points`` caps the
-    count.
+    count; ``periodic`` fits a closed curve (C^(degree-1) at its seam; a closed wire).
 
     Raises:
         CagdError: no points, bad arguments, or ``tol`` not met (the message gives the
@@ -342,19 +342,19 @@ def fitCurve(self: T, points: Optional[Points] = None, tol: float = 1e-3, degree
         tangents = [None if t is None else np.array(as_points(t, n), float)
                     for t, n in ((start_tangent, "start_tangent"), (end_tangent, "end_tangent"))]
         fit = cagd.fit_curve(P, tol, degree, parameters, start_tangent=tangents[0], end_tangent=tangents[1],
-                             max_control_points=max_control_points)
+                             max_control_points=max_control_points, periodic=periodic)
         curve = fit.curve
     else:
         P = local_points(self, points, False, "points")
         tangents = [None if t is None else as_points(t, n)
                     for t, n in ((start_tangent, "start_tangent"), (end_tangent, "end_tangent"))]
         fit = cagd.fit_curve(P, tol, degree, parameters, start_tangent=tangents[0], end_tangent=tangents[1],
-                             max_control_points=max_control_points)
+                             max_control_points=max_control_points, periodic=periodic)
         curve = placed(fit.curve, self.plane)
     if not fit.converged:
         raise CagdError(f"tol: {fit.message}")
     edge = to_cq(curve)
-    if makeWire:
+    if makeWire or periodic:
         wire = cq.Wire.assembleEdges([edge])
         if not forConstruction:
             self._addPendingWire(wire)

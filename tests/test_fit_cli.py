@@ -76,3 +76,14 @@ def test_bad_input_is_exit_2_and_writes_nothing(tmp_path, capsys, args, word):
     err = capsys.readouterr().err
     assert err.startswith("cagd fit: ") and word in err
     assert not list(tmp_path.glob("fit.*"))
+
+
+def test_periodic_flag(tmp_path, capsys):
+    phi = np.linspace(0, 2 * np.pi, 300, endpoint=False)
+    pts = tmp_path / "ring.csv"
+    np.savetxt(pts, np.stack([5 * np.cos(phi), 3 * np.sin(phi)], axis=1), delimiter=",")
+    out = tmp_path / "ring.json"
+    assert main(["fit", str(pts), "--tol", "0.001", "--periodic", "-o", str(out)]) == 0
+    curve, = cagd.model.load_model(out)["fit"].objects
+    assert curve.periodic
+    assert "periodic (closed)" in capsys.readouterr().out

@@ -92,13 +92,20 @@ class CurveFit(ReadOnlyArrays):
 
 class _Problem:
     """The data of one fit in the normalised frame: points Qn (m, d), weights w (m,),
-    degree p, smoothing energy order r and weight lam, end tangent directions."""
+    degree p, smoothing energy order r and weight lam, end tangent directions; periodic:
+    the knots are the unwrapped vector of :func:`cagd.knots.periodic_extend` and its
+    n + p control points the n distinct ones and the first p again (the unknowns are the
+    n, folded so that the cyclic normal matrix is banded: :func:`_fold`)."""
 
     def __init__(self, Qn: np.ndarray, w: np.ndarray, p: int, lam: float, r: int,
-                 tangents: Tuple[Optional[np.ndarray], Optional[np.ndarray]]):
+                 tangents: Tuple[Optional[np.ndarray], Optional[np.ndarray]], periodic: bool = False):
         self.Q, self.w, self.p, self.lam, self.r = Qn, w / w.sum(), p, lam, r
-        self.tangents = tangents
+        self.tangents, self.periodic = tangents, periodic
         self._cached: Tuple[bytes, np.ndarray] = (b"", np.zeros((0, 0)))
+
+    def layout(self, cols: np.ndarray, n: int) -> np.ndarray:
+        """The unknowns' positions of the unwrapped pole indices ``cols``."""
+        return _fold(cols % n, n) if self.periodic else cols
 
     def _energies(self, U: np.ndarray, t: np.ndarray, n: int, d: int, start: np.ndarray,
                   width: int) -> np.ndarray:
@@ -117,7 +124,8 @@ class _Problem:
             spans = len(brk) - 1
             for order, weight in ((self.r, self.lam), (min(2, p), REGULARISATION / spans * regularise)):
                 if weight > 0.0 and order <= p:
-                    _energy(band, start, U, p, d, order, weight / _energy_unit(U, p, order))
+                    _energy(band, start, U, p, d, order, weight / _energy_unit(U, p, order),
+                            lambda c: self.layout(c, n))
             self._cached = (key, band)
         return self._cached[1]
 
@@ -132,12 +140,13 @@ class _Problem:
         where alternating with parameter correction alone crawls."""
         p, Q = self.p, self.Q
         d = Q.shape[1]
-        n = len(U) - p - 1
-        span = kv.find_span(U, p, t, n)
+        full = len(U) - p - 1
+        n = full - p if self.periodic else full
+        span = kv.find_span(U, p, t, full)
         N = basis_derivatives(U, p, t, span, 0)[0]
-        cols = span[:, None] - p + np.arange(p + 1)
+        cols = self.layout(span[:, None] - p + np.arange(p + 1), n)
         M = None if T is None else (1.0 + mu) * np.eye(d) - T[:, :, None] * T[:, None, :]
-        start, A = _blocks(n, d, p)
+        start, A = _blocks(n, d, p, self.periodic)
         _accumulate(A, start, cols, N, self.w, d, M)
         MQ = Q if M is None else np.einsum("kab,kb->ka", M, Q)
         rhs = np.zeros(n * d)
@@ -146,6 +155,11 @@ class _Problem:
                                minlength=n * d)
         A += self._energies(U, t, n, d, start, A.shape[1])
         band = A.copy()
+        if self.periodic:                                  # nothing held; back to pole order
+            X = solve_banded_rows(start, A, rhs[:, None], "points")[:, 0].reshape(n, d)
+            P = X[_fold(np.arange(n), n)]
+            P_full = P[np.arange(full) % n]
+            return P_full, self._misses(N, span, P_full)
         # fixed poles: P_0, P_n, and P_1 = P_0 + a T0, P_(n-1) = P_n - b T1
         fixed = {0: [Q[0]], n - 1: [Q[-1]]}
         free_dirs = []
@@ -218,12 +232,21 @@ TDM_WEIGHT_MAX = 1.0
 TDM_WEIGHT_STEP = 10.0
 
 
-def _blocks(n: int, d: int, p: int) -> Tuple[np.ndarray, np.ndarray]:
+def _blocks(n: int, d: int, p: int, periodic: bool = False) -> Tuple[np.ndarray, np.ndarray]:
     """(start, zero band) of the banded n d x n d normal matrix, unknowns pole-major
-    (pole i, coordinate a at i d + a): rows reach p poles either side."""
-    width = min((2 * p + 1) * d, n * d)
-    start = np.clip((np.arange(n * d) // d - p) * d, 0, n * d - width)
+    (pole i, coordinate a at i d + a): rows reach p poles either side, or 2 p + 1
+    positions when periodic (the folded order of :func:`_fold`)."""
+    reach = 2 * p + 1 if periodic else p
+    width = min((2 * reach + 1) * d, n * d)
+    start = np.clip((np.arange(n * d) // d - reach) * d, 0, n * d - width)
     return start, np.zeros((n * d, width))
+
+
+def _fold(i: np.ndarray, n: int) -> np.ndarray:
+    """Position of pole i of a cyclic sequence in the folded order 0, n-1, 1, n-2, 2, ...:
+    neighbours within p of each other (cyclically) are within 2 p + 1 positions, so the
+    cyclic band of a periodic fit becomes an ordinary band (no n x n matrix)."""
+    return np.where(i < (n + 1) // 2, 2 * i, 2 * (n - 1 - i) + 1)
 
 
 #: the smallest tangent magnitude |P_1 - P_0| (normalised frame): a held tangent keeps its
@@ -301,13 +324,15 @@ def _gauss(U: np.ndarray, p: int) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def _energy(band: np.ndarray, start: np.ndarray, U: np.ndarray, p: int, d: int, order: int,
-            weight: float) -> None:
-    """band += weight * [int N_i^(order) N_j^(order)] (x) I_d."""
+            weight: float, layout=None) -> None:
+    """band += weight * [int N_i^(order) N_j^(order)] (x) I_d (pole indices through
+    ``layout`` when given: a periodic fit's folded positions)."""
     n = len(U) - p - 1
     t, wt = _gauss(U, p)
     span = kv.find_span(U, p, t, n)
     D = basis_derivatives(U, p, t, span, order)[order]
-    _accumulate(band, start, span[:, None] - p + np.arange(p + 1), D, wt * weight, d)
+    cols = span[:, None] - p + np.arange(p + 1)
+    _accumulate(band, start, cols if layout is None else layout(cols), D, wt * weight, d)
 
 
 def _energy_unit(U: np.ndarray, p: int, order: int) -> float:
@@ -332,20 +357,24 @@ def _combine(D: np.ndarray, P: np.ndarray, first: np.ndarray) -> np.ndarray:
     return out
 
 
-def _feet(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray) -> np.ndarray:
+def _feet(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray, periodic: bool = False
+          ) -> np.ndarray:
     """Parameters moved towards the points' feet: FOOT_NEWTON_STEPS of Newton on
-    f(t) = (C(t) - Q) . C'(t), Gauss-Newton where f' is small; the ends stay at 0 and 1."""
+    f(t) = (C(t) - Q) . C'(t), Gauss-Newton where f' is small; the ends stay at 0 and 1
+    (periodic: every parameter moves, modulo the period 1)."""
     t = t.copy()
+    inner = slice(None) if periodic else slice(1, -1)
     for _ in range(FOOT_NEWTON_STEPS):
-        D = _values(U, p, P, t[1:-1], 2)
-        r = D[0] - Q[1:-1]
+        D = _values(U, p, P, t[inner], 2)
+        r = D[0] - Q[inner]
         f = (r * D[1]).sum(-1)
         g2 = (D[1] * D[1]).sum(-1)
         df = g2 + (r * D[2]).sum(-1)
         df = np.where(df > 0.25 * g2, df, g2)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.where(df > 0.0, f / df, 0.0)
-        t[1:-1] = np.clip(t[1:-1] - step, 0.0, 1.0)
+        moved = t[inner] - step
+        t[inner] = np.mod(moved, 1.0) if periodic else np.clip(moved, 0.0, 1.0)
     return t
 
 
@@ -365,7 +394,7 @@ def _fit_on(problem: _Problem, U: np.ndarray, t: np.ndarray, tol: float
     p, Q = problem.p, problem.Q
 
     def feet(P: np.ndarray, start: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        tt = _feet(U, p, P, Q, start)
+        tt = _feet(U, p, P, Q, start, problem.periodic)
         D = _values(U, p, P, tt, 1)
         return P, tt, np.sqrt(((D[0] - Q) ** 2).sum(-1)), D[1]
 
@@ -436,10 +465,12 @@ def _split_bad(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float) -> 
 def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: ParameterSpec = "centripetal", *,
               start_tangent: Optional[ArrayLike] = None, end_tangent: Optional[ArrayLike] = None,
               weights: Optional[ArrayLike] = None, smoothing: float = 0.0, smoothing_order: Optional[int] = None,
-              max_control_points: Optional[int] = None) -> CurveFit:
+              max_control_points: Optional[int] = None, periodic: bool = False) -> CurveFit:
     """A clamped degree-p B-spline on [0, 1] through the first and the last point and
     within ``tol`` (a distance) of every point, with few control points (see the module
-    docstring for the method and its sources).
+    docstring for the method and its sources); with ``periodic`` a closed curve, C^(p-1)
+    at its seam, through no point in particular (the points in order round the loop; a
+    last point equal to the first is dropped).
 
     Args:
         points: (m, d) points in order along the curve, m >= 2.
@@ -455,6 +486,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         smoothing_order: 2 (bending, the default; 1 for degree 1) or 3 (curvature
             variation), at most the degree.
         max_control_points: a cap on the count (default: the number of points).
+        periodic: fit a closed periodic curve (no end tangents then).
 
     Returns:
         CurveFit; ``converged`` False (with the achieved error) when the cap or
@@ -472,8 +504,19 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     w = np.ones(m) if weights is None else _checks.finite_array(weights, "weights", ndim=1)
     if w.shape != (m,) or np.any(w < 0) or not w.sum() > 0:
         raise CagdError(f"weights: expected {m} non-negative values, not all zero")
-    u = parametrize(Q, parameters)
-    u = (u - u[0]) / (u[-1] - u[0])
+    periodic = bool(periodic)
+    if periodic:
+        if m > 2 and np.array_equal(Q[0], Q[-1]):
+            Q, w = Q[:-1], w[:-1]
+            m -= 1
+        if start_tangent is not None or end_tangent is not None:
+            raise CagdError("start_tangent: a periodic curve has no ends; leave the tangents out")
+        if m < p + 1:
+            raise CagdError(f"points: a closed degree-{p} fit needs at least {p + 1} distinct points, got {m}")
+        u = _closed_parameters(Q, parameters)
+    else:
+        u = parametrize(Q, parameters)
+        u = (u - u[0]) / (u[-1] - u[0])
     tangents: List[Optional[np.ndarray]] = []
     for name, T in (("start_tangent", start_tangent), ("end_tangent", end_tangent)):
         if T is None:
@@ -490,17 +533,19 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     most = max(least, m if max_control_points is None else
                _checks.integer(max_control_points, "max_control_points", least))
     center, scale = _frame(Q)
-    problem = _Problem((Q - center) / scale, w, p, smoothing, r, (tangents[0], tangents[1]))
+    problem = _Problem((Q - center) / scale, w, p, smoothing, r, (tangents[0], tangents[1]), periodic)
     tol_n = tol / scale
     counted = w > 0
-    most_spans = most - p
-    breaks = np.linspace(0.0, 1.0, least - p + 1)        # one Bezier span (two for p < 3 with tangents)
+    most_spans = most if periodic else most - p          # a periodic curve has one pole per span
+    # one Bezier span (two for p < 3 with tangents); periodic: p + 1 spans, the fewest
+    breaks = np.linspace(0.0, 1.0, (p + 2) if periodic else (least - p + 1))
+    knots = (lambda b: kv.periodic_extend(b, p)) if periodic else (lambda b: _knots(b, p))
     fits = 0
 
     def attempt(b: np.ndarray, start: np.ndarray) -> Tuple[BSplineCurve, np.ndarray, np.ndarray, float]:
         nonlocal fits
         fits += 1
-        c, tt, ee = _fit_on(problem, _knots(b, p), start, tol_n)
+        c, tt, ee = _fit_on(problem, knots(b), start, tol_n)
         return c, tt, ee * counted, float(ee[counted].max())
 
     # grow: until every point is within tol (or the cap)
@@ -536,6 +581,10 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         else:
             failed = count
     curve, t = best[0], best[1]
+    if periodic:
+        n = len(best[3]) - 1
+        result = BSplineCurve(curve.control_points[:n] * scale + center, p, best[3], periodic=True)
+        return _measured(result, Q, t, counted, tol, fits)
     if best[4] <= tol_n:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
     P = curve.control_points * scale + center
@@ -546,6 +595,21 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         P[-2] = Q[-1] - tangents[1] * max(float((Q[-1] - P[-2]) @ tangents[1]), MIN_TANGENT * scale)
     result = BSplineCurve(P, p, curve.knots)
     return _measured(result, Q, t, counted, tol, fits)
+
+
+def _closed_parameters(Q: np.ndarray, parameters: ParameterSpec) -> np.ndarray:
+    """Parameters 0 = t_0 < ... < t_(m-1) < 1 of points round a closed loop: the rule's
+    interval lengths of the m chords, the closing one (last to first) included; explicit
+    values must be increasing in [0, 1)."""
+    from .parameters import chords, interval_lengths
+    if not isinstance(parameters, str):
+        t = _checks.increasing(parameters, len(Q), "parameters")
+        if t[0] < 0.0 or t[-1] >= 1.0:
+            raise CagdError(f"parameters: a closed fit's parameters lie in [0, 1), got {t[0]} .. {t[-1]}")
+        return t
+    h = interval_lengths(chords(np.vstack([Q, Q[:1]]), "points"), parameters)
+    cum = np.concatenate([[0.0], np.cumsum(h)])
+    return cum[:-1] / cum[-1]
 
 
 def _after_removal(problem: _Problem, curve: BSplineCurve, t: np.ndarray, tol_n: float,
@@ -571,7 +635,7 @@ def _measured(curve: BSplineCurve, Q: np.ndarray, t: np.ndarray, counted: np.nda
               rounds: int) -> CurveFit:
     from ..queries.closest import closest_point
     near = closest_point(curve, Q)
-    at_t = _misses(curve.knots, curve.degree, curve.control_points, Q, t)
+    at_t = np.sqrt(((curve(t) - Q) ** 2).sum(-1))
     dist = np.minimum(near.distances, at_t)
     params = np.where(near.distances <= at_t, near.params, t)
     dist_c = dist[counted]

@@ -64,3 +64,14 @@ def test_rebuild_and_remove_knots_on_the_stack():
     assert face.control_points.shape[:2] == (7, 6) and (face.degree_u, face.degree_v) == (3, 2)
     with pytest.raises(CagdError, match="no edges or faces"):
         cq.Workplane("XY").rebuild(5)
+
+
+def test_periodic_fit_is_a_closed_wire_that_extrudes():
+    phi = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    ring = np.stack([10 * np.cos(phi), 6 * np.sin(phi)], axis=1)
+    wp = cq.Workplane("XY").fitCurve(ring, tol=0.01, periodic=True)
+    wire = wp.val()
+    assert isinstance(wire, cq.Wire) and wire.IsClosed()
+    solid = wp.extrude(2.0).val()
+    assert solid.isValid()
+    assert solid.Volume() == pytest.approx(np.pi * 10 * 6 * 2.0, rel=1e-3)

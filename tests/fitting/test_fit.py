@@ -189,3 +189,46 @@ def test_every_point_within_tol_property(data):
 def test_bad_input_names_the_argument(kwargs, word):
     with pytest.raises(CagdError, match=word):
         fit_curve(**kwargs)
+
+
+# --- periodic (closed) fits ---------------------------------------------------------------
+def closed_points(m=400):
+    phi = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    r = 10 + 2 * np.sin(5 * phi)
+    return np.stack([r * np.cos(phi), r * np.sin(phi), np.cos(3 * phi)], axis=1)
+
+
+@pytest.mark.parametrize("tol", [0.1, 0.001])
+def test_periodic_fit_within_tol_and_smooth_at_the_seam(tol):
+    Q = closed_points()
+    r = fit_curve(Q, tol, periodic=True)
+    assert r.converged and r.curve.periodic and r.max_error <= tol
+    sampled, slack = sampled_distances(r.curve, Q)
+    assert float(sampled.max()) <= tol + slack
+    c = r.curve
+    delta = 1e-7
+    for k in range(c.degree):                      # C^(p-1) across the seam, measured
+        a, b = c.derivative(delta, k) if k else c(delta), c.derivative(1.0 - delta, k) if k else c(1.0 - delta)
+        nxt = float(np.abs(c.derivative(np.linspace(0, 1, 2001), k + 1)).max())
+        assert np.abs(a - b).max() <= 4 * delta * nxt
+
+
+def test_periodic_repeated_first_point_and_bad_input():
+    Q = closed_points(200)
+    r1 = fit_curve(Q, 0.01, periodic=True)
+    r2 = fit_curve(np.vstack([Q, Q[:1]]), 0.01, periodic=True)
+    assert np.array_equal(r1.curve.control_points, r2.curve.control_points)
+    with pytest.raises(CagdError, match="tangent"):
+        fit_curve(Q, 0.01, periodic=True, start_tangent=[1, 0, 0])
+    with pytest.raises(CagdError, match="points"):
+        fit_curve(Q[:3], 0.01, periodic=True)
+
+
+def test_periodic_circle_needs_few_poles():
+    phi = np.linspace(0, 2 * np.pi, 300, endpoint=False)
+    Q = np.stack([5 * np.cos(phi), 5 * np.sin(phi)], axis=1)
+    r = fit_curve(Q, 1e-3, periodic=True)
+    assert r.converged and len(r.curve.control_points) <= 12
+    t = np.linspace(0, 1, 5001)
+    radius = np.sqrt((r.curve(t) ** 2).sum(-1))
+    assert np.abs(radius - 5.0).max() <= 1e-3 * 1.5
