@@ -16,8 +16,8 @@ from .curves.polynomial import HERMITE_M, HERMITE_M_INV, PolynomialCurve, four_p
 from .curves.hermite import HermiteCurve, HermiteSpline, hermite_basis
 from .curves.cubic_spline import CubicSpline, natural_cubic_spline
 from .curves.composite import CompositeCurve
-from .fitting import (CurveFit, Fairing, Rebuild, SurfaceFit, approximate, bezier_through_points, fair_curve,
-                      fit_curve, fit_surface, interpolate, parametrize, rebuild)
+from .fitting import (CurveFit, Fairing, Rebuild, SurfaceFairing, SurfaceFit, approximate, bezier_through_points,
+                      fair_curve, fair_surface, fit_curve, fit_surface, interpolate, parametrize, rebuild)
 from .operations import ContinuityReport, continuity, join, join_bezier, join_control_points
 from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Primitive, Revolution,
@@ -34,7 +34,7 @@ __all__ = [
     "PolynomialCurve", "four_point_cubic", "HERMITE_M", "HERMITE_M_INV",
     "HermiteCurve", "HermiteSpline", "hermite_basis", "CubicSpline", "natural_cubic_spline",
     "CompositeCurve", "approximate", "bezier_through_points", "interpolate", "parametrize", "fit_curve", "CurveFit",
-    "rebuild", "Rebuild", "fit_surface", "SurfaceFit", "fair_curve", "Fairing",
+    "rebuild", "Rebuild", "fit_surface", "SurfaceFit", "fair_curve", "Fairing", "fair_surface", "SurfaceFairing",
     "ContinuityReport", "continuity", "join", "join_bezier", "join_control_points",
     "Surface", "BezierSurface", "BSplineSurface", "CoonsPatch", "HermiteCoonsPatch", "RevolvedSurface",
     "Revolution", "Primitive", "revolve", "sphere", "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant",

@@ -18,6 +18,7 @@ for every t (the convex hull property), and that bound is what is held.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Tuple
 
 import numpy as np
 
@@ -29,6 +30,9 @@ from ..errors import CagdError
 from ..knots import vectors as kv
 from .fit import _accumulate, _blocks, _energy, _gauss, solve_fixed
 from .interpolation import _frame
+
+if TYPE_CHECKING:
+    from ..surfaces.bspline import BSplineSurface
 
 #: parameters per knot span at which the faired curve is held near the original
 FAIR_SAMPLES = 8
@@ -162,3 +166,136 @@ def fair_curve(curve: BSplineCurve, tol: float, keep: str = "G2") -> Fairing:
 def _banded_apply(start: np.ndarray, A: np.ndarray, x: np.ndarray) -> np.ndarray:
     from ..basis.banded import banded_product
     return banded_product(start, A, x[:, None])[:, 0]
+
+
+#: poles held along every boundary edge per kept continuity of a surface: rows 0 and 1
+#: carry the edge and its cross-boundary tangent, row 2 the cross curvature
+SURFACE_KEEP = {"G0": 1, "G1": 2, "G2": 3}
+
+
+@dataclass(frozen=True)
+class SurfaceFairing(ReadOnlyArrays):
+    """The result of :func:`fair_surface`: ``surface`` (same knots and degrees), the
+    thin-plate energy int int |S_uu|^2 + 2 |S_uv|^2 + |S_vv|^2 du dv before and after,
+    ``max_deviation`` the certified bound max |P - P0| of |S(u, v) - S0(u, v)| (at most
+    tol), ``mu`` the weight used, ``converged`` True and ``message``."""
+    surface: object
+    energy_before: float
+    energy_after: float
+    max_deviation: float
+    mu: float
+    converged: bool
+    message: str
+
+
+def _gram(U: np.ndarray, p: int, order: int) -> np.ndarray:
+    """[int N_i^(order) N_j^(order)] of one direction's basis, (n, n) (n poles of one
+    direction: its square, not the net's)."""
+    n = len(U) - p - 1
+    t, w = _gauss(U, p)
+    span = kv.find_span(U, p, t, n)
+    D = basis_derivatives(U, p, t, span, order)[order] if order <= p else np.zeros((len(t), p + 1))
+    G = np.zeros((n, n))
+    cols = span[:, None] - p + np.arange(p + 1)
+    np.add.at(G, (np.repeat(cols, p + 1, axis=1), np.tile(cols, (1, p + 1))),
+              (D[:, :, None] * D[:, None, :] * w[:, None, None]).reshape(len(t), -1))
+    return G
+
+
+def _thin_plate_band(Uu: np.ndarray, pu: int, Uv: np.ndarray, pv: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(start, band) of the thin-plate energy matrix G2u (x) G0v + 2 G1u (x) G1v + G0u (x) G2v
+    over the net's poles in row-major order (i nv + j): |I - J| <= pu nv + pv."""
+    g = [(_gram(Uu, pu, k), _gram(Uv, pv, k)) for k in range(3)]
+    nu, nv = g[0][0].shape[0], g[0][1].shape[0]
+    size = nu * nv
+    reach = pu * nv + pv
+    width = min(2 * reach + 1, size)
+    start = np.clip(np.arange(size) - reach, 0, size - width)
+    band = np.zeros((size, width))
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    for di in range(-pu, pu + 1):
+        for dj in range(-pv, pv + 1):
+            i2, j2 = i + di, j + dj
+            ok = (i2 >= 0) & (i2 < nu) & (j2 >= 0) & (j2 < nv)
+            a, b, a2, b2 = i[ok], j[ok], i2[ok], j2[ok]
+            value = (g[2][0][a, a2] * g[0][1][b, b2] + 2.0 * g[1][0][a, a2] * g[1][1][b, b2]
+                     + g[0][0][a, a2] * g[2][1][b, b2])
+            I, J = a * nv + b, a2 * nv + b2
+            band[I, J - start[I]] += value
+    return start, band
+
+
+def fair_surface(surface: "BSplineSurface", tol: float, keep: str = "G1") -> SurfaceFairing:
+    """The surface with its thin-plate energy lowered while it stays within ``tol`` (a
+    distance, certified by the convex hull: max |P - P0|) of itself, with ``keep`` ("G0",
+    "G1", "G2") held exactly along all four boundary edges: the first 1, 2 or 3 rows of
+    control points at every edge are fixed, so the edges, their cross-boundary tangents
+    (G1 to any neighbour stays as it was) and cross curvatures are the original's. The new
+    control points minimise |P - P0|^2 + mu E_thin-plate(P) (one banded solve per mu, the
+    band pu nv + pv wide), mu the largest found by FAIR_BISECTIONS bisections on log mu.
+
+    Raises:
+        CagdError: not a polynomial BSplineSurface, a bad tol or keep, a net too small
+            to move any control point."""
+    from ..surfaces.bspline import BSplineSurface     # noqa: F811 (the class at run time)
+    if not isinstance(surface, BSplineSurface):
+        raise CagdError(f"surface: expected a cagd BSplineSurface, got {type(surface).__name__}")
+    if surface.is_rational:
+        raise CagdError("surface: fair_surface works on polynomial B-spline surfaces; rebuild a rational one "
+                        "first (cagd.rebuild)")
+    tol = _checks.nonnegative(tol, "tol")
+    if keep not in SURFACE_KEEP:
+        raise CagdError(f"keep: one of {', '.join(SURFACE_KEEP)}, got {keep!r}")
+    S0 = surface
+    if S0.periodic_u or S0.periodic_v:
+        raise CagdError("surface: a periodic surface has no boundary to hold; fair_surface takes open nets")
+    P0 = np.asarray(S0.control_points, float)
+    nu, nv, d = P0.shape
+    held = SURFACE_KEEP[keep]
+    if nu <= 2 * held or nv <= 2 * held:
+        raise CagdError(f"surface: a {nu} x {nv} net has no control point free of the {held} boundary "
+                        f"row(s) keep={keep!r} holds")
+    Uu, Uv = np.asarray(S0.knots_u, float), np.asarray(S0.knots_v, float)
+    start, E = _thin_plate_band(Uu, S0.degree_u, Uv, S0.degree_v)
+    center, scale = _frame(P0.reshape(-1, d))
+    X0 = ((P0 - center) / scale).reshape(-1, d)
+    ring = np.zeros((nu, nv), bool)
+    ring[:held], ring[-held:], ring[:, :held], ring[:, -held:] = True, True, True, True
+    fixed = np.flatnonzero(ring.ravel())
+    eye = np.zeros_like(E)
+    eye[np.arange(nu * nv), np.arange(nu * nv) - start] = 1.0
+    unit = float(np.abs(E).max()) or 1.0
+    tol_n = tol / scale
+
+    def solve(mu: float) -> np.ndarray:
+        return solve_fixed(start, eye + (mu / unit) * E, X0.copy(), fixed, X0[fixed].copy())
+
+    def bound(X: np.ndarray) -> float:
+        return float(np.sqrt(((X - X0) ** 2).sum(-1)).max())
+
+    best_mu, best = 0.0, X0
+    lo, hi = FAIR_LOG_MU_MIN, FAIR_LOG_MU_MAX
+    X = solve(10.0 ** hi)
+    if bound(X) <= tol_n:
+        best_mu, best = 10.0 ** hi, X
+    else:
+        for _ in range(FAIR_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            X = solve(10.0 ** mid)
+            if bound(X) <= tol_n:
+                lo, best_mu, best = mid, 10.0 ** mid, X
+            else:
+                hi = mid
+    P = (best * scale + center).reshape(nu, nv, d)
+    P[ring] = P0[ring]                                   # the held rows, bit for bit
+    out = BSplineSurface(P, S0.degree_u, S0.degree_v, Uu, Uv)
+    from ..basis.banded import banded_product
+
+    def thin_plate(Q: np.ndarray) -> float:
+        flat = Q.reshape(-1, d)
+        return float((flat * banded_product(start, E, flat)).sum())
+    e0, e1 = thin_plate(P0), thin_plate(P)
+    dev = float(np.sqrt(((P - P0) ** 2).sum(-1)).max())
+    msg = (f"thin-plate energy {e0:.4g} -> {e1:.4g}, within {dev:.3g} (tol {tol:g}), {keep} held along "
+           f"the four edges")
+    return SurfaceFairing(out, e0, e1, dev, best_mu, True, msg)

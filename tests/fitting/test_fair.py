@@ -80,3 +80,44 @@ def test_three_dimensional_curves():
 def test_bad_input(args, kwargs, word):
     with pytest.raises(CagdError, match=word):
         fair_curve(*args, **kwargs)
+
+
+# --- surfaces -----------------------------------------------------------------------------
+def bumpy_net(seed=0, n=14, noise=0.05):
+    rng = np.random.default_rng(seed)
+    x = np.linspace(0, 10, n)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    return cagd.BSplineSurface(np.stack([X, Y, np.sin(X / 3) + rng.normal(0, noise, X.shape)], -1), 3, 3)
+
+
+@pytest.mark.parametrize("tol", [0.01, 0.2])
+def test_surface_energy_down_within_tol(tol):
+    S = bumpy_net()
+    r = cagd.fair_surface(S, tol)
+    assert r.energy_after < r.energy_before and r.max_deviation <= tol * (1 + 1e-12)
+    u = np.linspace(0, 1, 151)
+    assert float(np.sqrt(((r.surface.grid(u, u) - S.grid(u, u)) ** 2).sum(-1)).max()) <= tol * (1 + 1e-12)
+
+
+@pytest.mark.parametrize("keep, order", [("G0", 0), ("G1", 1), ("G2", 2)])
+def test_surface_edges_keep_their_continuity(keep, order):
+    S = bumpy_net(1)
+    r = cagd.fair_surface(S, 0.1, keep=keep)
+    t = np.linspace(0, 1, 61)
+    for k in range(order + 1):          # cross-boundary derivatives up to the kept order, all 4 edges
+        for a, b in (((0.0,), t), ((1.0,), t), (t, (0.0,)), (t, (1.0,))):
+            du, dv = (k, 0) if len(a) == 1 else (0, k)
+            assert np.abs(r.surface.grid(a, b, du, dv) - S.grid(a, b, du, dv)).max() <= 1e-9 * max(1.0, 10.0 ** k)
+    du = (order + 1, 0)                 # one order up moves (something was faired near the edge)
+    assert np.abs(r.surface.grid((0.0,), t, *du) - S.grid((0.0,), t, *du)).max() > 1e-6
+
+
+def test_surface_bad_input():
+    with pytest.raises(CagdError, match="surface"):
+        cagd.fair_surface(cagd.sphere(1.0), 0.1)
+    with pytest.raises(CagdError, match="no control point free"):
+        cagd.fair_surface(cagd.BSplineSurface(np.random.default_rng(0).random((4, 4, 3)), 3, 3), 0.1)
+    with pytest.raises(CagdError, match="keep"):
+        cagd.fair_surface(bumpy_net(), 0.1, keep="C1")
+    with pytest.raises(CagdError, match="tol"):
+        cagd.fair_surface(bumpy_net(), -0.1)
