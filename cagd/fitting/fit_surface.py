@@ -85,10 +85,11 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
                 ) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
-    points; see the module docstring.
+    points; see the module docstring. Scattered points (N, 3) are parametrised by their
+    projection onto their least-squares plane (:func:`fit_scattered`).
 
     Args:
-        points: (m, n, d) grid, rows along u.
+        points: (m, n, d) grid, rows along u; or (N, 3) scattered points.
         tol: the largest allowed distance of a point from the surface (> 0).
         degree: per direction, or a pair (degree_u, degree_v).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
@@ -103,6 +104,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     """
     from ..queries.closest import closest_point
     from ..surfaces.fitting import surface_parameters
+    if np.ndim(points) == 2:
+        return fit_scattered(points, tol, degree, max_control_points)
     Q = _checks.finite_array(points, "points", ndim=3)
     m, n, d = Q.shape
     if m < 2 or n < 2:
@@ -167,3 +170,112 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
            f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points (the cap or {MAX_FIT_ROUNDS} rounds "
            f"reached), largest distance {worst:.3g}")
     return SurfaceFit(out, worst, rms, params.reshape(m, n, 2), rounds, ok, msg)
+
+
+#: weight of the thin-plate regulariser of a scattered fit, relative to the data term
+#: (knot cells without points stay defined; 1e-9 moves an exact fit by ~1e-9 of its size)
+SCATTER_REGULARISATION = 1e-9
+#: the points' second principal spread below this fraction of the first: they lie on a line
+PLANE_SPREAD_TOL = 1e-9
+#: points per chunk of the scattered normal equations
+SCATTER_CHUNK = 65536
+
+
+def _plane_parameters(Q: np.ndarray) -> np.ndarray:
+    """(u, v) in [0, 1]^2: the points projected onto their two principal directions (the
+    least-squares plane), scaled to the bounding box of the projection."""
+    c = Q.mean(axis=0)
+    _, sigma, vt = np.linalg.svd(Q - c, full_matrices=False)
+    uv = (Q - c) @ vt[:2].T
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    if not sigma[1] > PLANE_SPREAD_TOL * sigma[0] or not np.all(hi - lo > 0.0):
+        raise CagdError("points: the scattered points lie on a line; no surface is defined by them")
+    return (uv - lo) / (hi - lo)
+
+
+def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
+                     ) -> Tuple[BSplineSurface, np.ndarray]:
+    """The least-squares tensor B-spline on the breakpoints through the scattered points
+    at their parameters (normal equations, the band pu nv + pv wide, a thin-plate
+    regulariser of SCATTER_REGULARISATION), and its misses there."""
+    from ..basis.banded import solve_banded_rows
+    from ..basis.bspline import basis_derivatives
+    from ..knots import vectors as kv
+    from .fair import _thin_plate_band
+    from .fit import _accumulate
+    U, V = _knots(bu, pu), _knots(bv, pv)
+    nu, nv = len(U) - pu - 1, len(V) - pv - 1
+    start, E = _thin_plate_band(U, pu, V, pv)
+    A = np.zeros_like(E)
+    d = Q.shape[1]
+    rhs = np.zeros((nu * nv, d))
+    w = 1.0 / len(Q)
+    a, b = np.meshgrid(np.arange(pu + 1), np.arange(pv + 1), indexing="ij")
+    for c0 in range(0, len(Q), SCATTER_CHUNK):
+        u, v = uv[c0:c0 + SCATTER_CHUNK, 0], uv[c0:c0 + SCATTER_CHUNK, 1]
+        su, sv = kv.find_span(U, pu, u, nu), kv.find_span(V, pv, v, nv)
+        Nu, Nv = basis_derivatives(U, pu, u, su, 0)[0], basis_derivatives(V, pv, v, sv, 0)[0]
+        B = (Nu[:, :, None] * Nv[:, None, :]).reshape(len(u), -1)
+        cols = ((su - pu)[:, None] + a.ravel()) * nv + (sv - pv)[:, None] + b.ravel()
+        _accumulate(A, start, cols, B, np.full(len(u), w), 1)
+        for k in range(d):
+            rhs[:, k] += np.bincount(cols.ravel(), (B * w * Q[c0:c0 + SCATTER_CHUNK, k, None]).ravel(),
+                                     minlength=nu * nv)
+    A += SCATTER_REGULARISATION * float(np.abs(A).max()) / (float(np.abs(E).max()) or 1.0) * E
+    P = solve_banded_rows(start, A, rhs, "points").reshape(nu, nv, d)
+    S = BSplineSurface(P, pu, pv, U, V)
+    miss = np.sqrt(((S(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
+    return S, miss
+
+
+def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
+                  max_control_points: Optional[Tuple[int, int]] = None) -> SurfaceFit:
+    """A B-spline surface within ``tol`` of scattered points (N, 3) (a scan of a sheet):
+    parameters from the projection onto the points' least-squares plane (so the points
+    must be a graph over that plane), least squares over all control points with a tiny
+    thin-plate regulariser, knots per direction equidistributing the largest miss of
+    the points in each span (as :func:`fit_surface`), grown until every point is within
+    tol at its parameters; errors reported by certified closest points. No parameter
+    correction yet (the base surface is the plane).
+
+    Raises:
+        CagdError: not (N >= 4, 3) finite points, collinear points, bad tol or degree."""
+    from ..queries.closest import closest_point
+    Q = _checks.points(points, "points", min_count=4)
+    if Q.shape[1] != 3:
+        raise CagdError(f"points: scattered points are (N, 3), got {Q.shape[1]}-D points")
+    tol = _checks.positive(tol, "tol")
+    pu, pv = degree if isinstance(degree, (tuple, list)) else (degree, degree)
+    pu, pv = _checks.degree(pu, "degree", 1), _checks.degree(pv, "degree", 1)
+    side = int(np.sqrt(len(Q)))
+    cap_u, cap_v = (max(side, pu + 1), max(side, pv + 1)) if max_control_points is None else max_control_points
+    cap_u = _checks.integer(cap_u, "max_control_points", pu + 1)
+    cap_v = _checks.integer(cap_v, "max_control_points", pv + 1)
+    uv = _plane_parameters(Q)
+    center, scale = _frame(Q)
+    Qn = (Q - center) / scale
+    tol_n = tol / scale
+    most_u, most_v = cap_u - pu, cap_v - pv
+    bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+    S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+    rounds = 0
+    while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
+        rounds += 1
+        nu = _grown(bu, uv[:, 0], miss, tol_n, pu, most_u)
+        nv = _grown(bv, uv[:, 1], miss, tol_n, pv, most_v)
+        if len(nu) == len(bu) and len(nv) == len(bv):
+            break
+        bu, bv = nu, nv
+        S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+    out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)
+    near = closest_point(out, Q)
+    at = np.sqrt(((out(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
+    dist = np.minimum(np.asarray(near.distances), at)
+    params = np.where((np.asarray(near.distances) <= at)[:, None], np.asarray(near.params), uv)
+    worst, rms = float(dist.max()), float(np.sqrt(np.mean(dist ** 2)))
+    shape = out.control_points.shape[:2]
+    ok = worst <= tol
+    msg = (f"{shape[0]} x {shape[1]} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
+           f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points (the cap or {MAX_FIT_ROUNDS} rounds "
+           f"reached), largest distance {worst:.3g}")
+    return SurfaceFit(out, worst, rms, params, rounds, ok, msg)

@@ -73,3 +73,42 @@ def test_cap_reported():
 def test_bad_input(kwargs, word):
     with pytest.raises(CagdError, match=word):
         fit_surface(**kwargs)
+
+
+# --- scattered points ---------------------------------------------------------------------
+def scattered(n=4000, seed=0):
+    rng = np.random.default_rng(seed)
+    X, Y = rng.random(n) * 100, rng.random(n) * 100
+    Z = 5 * np.sin(X / 15) * np.cos(Y / 20)
+    return np.stack([X, Y, Z], axis=1)
+
+
+def test_scattered_points_within_tol():
+    Q = scattered()
+    r = fit_surface(Q, 0.01)
+    assert r.converged and r.max_error <= 0.01, r.message
+    d, step = sampled(r.surface, Q)
+    assert float(d.max()) <= 0.01 + step
+    assert r.params.shape == (len(Q), 2)
+    nu, nv = r.surface.control_points.shape[:2]
+    assert nu * nv < len(Q) / 4
+
+
+def test_scattered_graph_of_a_bicubic_comes_back_close():
+    rng = np.random.default_rng(1)
+    X, Y = np.meshgrid(np.linspace(0, 3, 4), np.linspace(0, 3, 4), indexing="ij")
+    S = BSplineSurface(np.stack([X, Y, rng.random((4, 4))], -1), 3, 3)
+    uv = rng.random((3000, 2))
+    Q = S(uv[:, 0], uv[:, 1])
+    r = fit_surface(Q, 1e-6)
+    assert r.converged and r.max_error <= 1e-6
+
+
+@pytest.mark.parametrize("points, word", [
+    (np.zeros((3, 3)), "points"),
+    (np.random.default_rng(0).random((50, 2)), "points"),
+    (np.stack([np.arange(10.0), np.arange(10.0), np.arange(10.0)], axis=1), "line"),
+])
+def test_scattered_bad_input(points, word):
+    with pytest.raises(CagdError, match=word):
+        fit_surface(points, 0.1)
