@@ -1,5 +1,6 @@
 """``cagd fit points.csv --tol 0.01 -o fit.step``: a B-spline curve within a tolerance of
-measured points (:func:`cagd.fit_curve`), written as STEP, IGES or a JSON model file
+measured points (:func:`cagd.fit_curve`; with ``--surface`` a surface through scattered
+points, :func:`cagd.fit_surface`), written as STEP, IGES or a JSON model file
 (by the suffix of ``-o``), with a report of the errors (Markdown, on stdout and with
 ``--report``) and a picture (``--png``: the points coloured by their distance, the fit
 and its control polygon). Exit codes: 0 every point within tol, 1 tol not met (the fit
@@ -32,6 +33,8 @@ def add_parser(sub: Any) -> None:
                                                                  "(uniform, chord, centripetal)")
     fit.add_argument("--max-poles", type=int, help="at most this many control points")
     fit.add_argument("--periodic", action="store_true", help="a closed curve, C^(degree-1) at its seam")
+    fit.add_argument("--surface", action="store_true", help="a B-spline surface through scattered x,y,z "
+                                                             "points (a scanned sheet, a graph over its plane)")
     fit.add_argument("--smoothing", type=float, default=0.0, help="weight of the bending energy (0)")
     fit.add_argument("--report", type=Path, help="also write the report (Markdown) here")
     fit.add_argument("--png", type=Path, help="also draw the points, coloured by distance, and the fit")
@@ -87,16 +90,29 @@ def run_fit(args: argparse.Namespace) -> int:
     if args.png is not None and args.png.suffix.lower() != ".png":
         raise CagdError(f"--png {args.png}: the picture is a .png file")
     pts = read_points(args.points)
-    fit = fit_curve(pts, args.tol, args.degree, args.parameters, smoothing=args.smoothing,
-                    max_control_points=args.max_poles, periodic=args.periodic)
-    distances = np.asarray(closest_point(fit.curve, pts).distances)
-    curve = fit.curve
+    fit: Any
+    curve: Any                                          # what is written: the fitted curve or surface
+    if args.surface:
+        from .fitting import fit_surface
+        if args.periodic:
+            raise CagdError("--periodic: a periodic fit is a curve's; leave it out with --surface")
+        fit = fit_surface(pts, args.tol, args.degree,
+                          max_control_points=None if args.max_poles is None else (args.max_poles, args.max_poles))
+        curve = fit.surface
+        nu, nv = curve.control_points.shape[:2]
+        what = f"- surface: degree {curve.degree_u} x {curve.degree_v}, {nu} x {nv} control points, on [0, 1]^2"
+    else:
+        fit = fit_curve(pts, args.tol, args.degree, args.parameters, smoothing=args.smoothing,
+                        max_control_points=args.max_poles, periodic=args.periodic)
+        curve = fit.curve
+        what = (f"- curve: degree {curve.degree}, {len(curve.control_points)} control points, "
+                f"{len(np.unique(curve.knots)) - 1} knot spans, parameters on [0, 1]"
+                + (", periodic (closed)" if curve.periodic else ""))
+    distances = np.asarray(closest_point(curve, pts).distances)
     lines: List[str] = [
         f"# Fit of {args.points.name}", "",
         f"- points: {len(pts)} ({pts.shape[1]}-D); tolerance {args.tol:g}",
-        f"- curve: degree {curve.degree}, {len(curve.control_points)} control points, "
-        f"{len(np.unique(curve.knots)) - 1} knot spans, parameters on [0, 1]"
-        + (", periodic (closed)" if curve.periodic else ""),
+        what,
         f"- largest distance {fit.max_error:.6g}, root mean square {fit.rms_error:.6g}; points over tol: "
         f"{int(np.count_nonzero(distances > args.tol))} (certified closest points)",
         f"- {'every point within tol' if fit.converged else 'TOL NOT MET'}: {fit.message}",
@@ -112,7 +128,12 @@ def run_fit(args: argparse.Namespace) -> int:
         outputs.append((args.output, data, "--output"))
     if args.report is not None:
         outputs.append((args.report, "\n".join(lines), "--report"))
-    if args.png is not None:
+    if args.png is not None and args.surface:
+        from .plotting import plot_surfaces
+        surface = curve
+        outputs.append((args.png, lambda temp: plot_surfaces(temp, f"fit_surface: tol {args.tol:g}, max "
+                                                             f"{fit.max_error:.3g}", [surface]), "--png"))
+    elif args.png is not None:
         drawn = _Drawn(fit, args.tol, distances)
         outputs.append((args.png, lambda temp: _picture(temp, pts, drawn), "--png"))
     write_files(outputs)

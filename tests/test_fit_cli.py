@@ -87,3 +87,19 @@ def test_periodic_flag(tmp_path, capsys):
     curve, = cagd.model.load_model(out)["fit"].objects
     assert curve.periodic
     assert "periodic (closed)" in capsys.readouterr().out
+
+
+def test_surface_flag_fits_scattered_points(tmp_path, capsys):
+    pytest.importorskip("OCP")
+    from cagd.occ import read_step
+    rng = np.random.default_rng(2)
+    X, Y = rng.random(3000) * 50, rng.random(3000) * 50
+    P = np.stack([X, Y, 2 * np.sin(X / 10) * np.cos(Y / 15)], axis=1)
+    pts = tmp_path / "scan.csv"
+    np.savetxt(pts, P, delimiter=",")
+    out, png = tmp_path / "sheet.step", tmp_path / "sheet.png"
+    assert main(["fit", str(pts), "--tol", "0.01", "--surface", "-o", str(out), "--png", str(png)]) == 0
+    face = list(read_step(out))[0].object
+    assert float(cagd.closest_point(face, P).distances.max()) <= 0.01 + 1e-9
+    assert "surface: degree 3 x 3" in capsys.readouterr().out and png.stat().st_size > 10_000
+    assert main(["fit", str(pts), "--tol", "0.01", "--surface", "--periodic", "-o", str(out)]) == 2
