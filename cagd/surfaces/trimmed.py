@@ -653,12 +653,29 @@ class _Flattened:
             total = int(partners.sum())
         if not total:
             return
+        # of these pairs, only those of chords of two different curves (a curve with its gap
+        # closer counts as one), both original (not periodic copies), in their order: in a
+        # strip the entries run by chord index, so the originals come first and the chords
+        # of one curve are consecutive; an entry's partners start after its curve's run
+        orig = self.original[s]
+        key = np.where(orig, self.loop_of[s] * (int(self.position.max(initial=0)) + 2) + self.position[s], -1)
+        fresh = np.ones(len(s), dtype=bool)
+        fresh[1:] = (strip[1:] != strip[:-1]) | (key[1:] != key[:-1])
+        starts = np.flatnonzero(fresh)
+        run_end = np.append(starts[1:], len(s))[np.cumsum(fresh) - 1]
+        orig_end = self.strip_start[strip] + np.bincount(strip, weights=orig, minlength=len(counts)).astype(
+            np.int64)[strip]
+        partners = np.where(orig & (partners > 0), np.maximum(orig_end - run_end, 0), 0)
+        total = int(partners.sum())
+        if not total:
+            return
         first = np.repeat(np.arange(len(s)), partners)
-        second = first + 1 + (np.arange(total) - np.repeat(np.cumsum(partners) - partners, partners))
+        second = run_end[first] + (np.arange(total) - np.repeat(np.cumsum(partners) - partners, partners))
         i, j = s[first], s[second]
-        same = (self.loop_of[i] == self.loop_of[j]) & (self.position[i] == self.position[j])
-        keep = ~same & self.original[i] & self.original[j]
-        i, j = i[keep], j[keep]
+        # a proper crossing needs overlapping boxes (a cheap filter first)
+        lo, hi = np.minimum(self.A, self.B), np.maximum(self.A, self.B)
+        meet = (lo[i, 0] <= hi[j, 0]) & (lo[j, 0] <= hi[i, 0]) & (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])
+        i, j = i[meet], j[meet]
         shared = (np.all(self.A[i] == self.B[j], axis=1) | np.all(self.B[i] == self.A[j], axis=1) |
                   np.all(self.A[i] == self.A[j], axis=1) | np.all(self.B[i] == self.B[j], axis=1))
         i, j = i[~shared], j[~shared]
@@ -706,21 +723,40 @@ class _Flattened:
     def check_nesting(self) -> None:
         """Every hole inside the outer loop and outside the other holes (tested at the
         start of its first curve, by the winding number of the chords of each loop)."""
-        for i in range(1, self.loop_count):
-            p = self.A[np.flatnonzero(self.loop_of == i)[0]].copy()
-            p[0], p[1] = self._window(p[:1], 0)[0], self._window(p[1:], 1)[0]
-            for k in range(self.loop_count):
-                if k == i:
-                    continue
-                sel = self.loop_of == k
-                w = int(_crossings(p[0], p[1], self.A[sel], self.B[sel]).sum())
-                d = float(_segment_distance(p, self.A[sel], self.B[sel]).min())
-                if d <= float(self.bound[sel].max()) + self.band:
-                    continue                          # touching: no verdict from this point
-                if k == 0 and w == 0:
-                    raise CagdError(f"loops[{i}]: the hole lies outside the outer loop loops[0]")
-                if k > 0 and w != 0:
-                    raise CagdError(f"loops[{i}]: the hole lies inside the hole loops[{k}]")
+        n = self.loop_count
+        if n < 2:
+            return
+        first = np.searchsorted(self.loop_of[self.original], np.arange(1, n))   # originals are in loop order
+        P = self.A[np.flatnonzero(self.original)[first]]
+        P = np.stack([self._window(P[:, 0], 0), self._window(P[:, 1], 1)], axis=1)
+        reach = np.full(n, -np.inf)
+        np.maximum.at(reach, self.loop_of, self.bound)
+        reach += self.band
+        far = float(reach.max())
+        vlo = np.minimum(self.A[:, 1], self.B[:, 1]) - far
+        vhi = np.maximum(self.A[:, 1], self.B[:, 1]) + far
+        uhi = np.maximum(self.A[:, 0], self.B[:, 0]) + far
+        rows = max(1, CHUNK // max(len(self.A), 1))
+        for s in range(0, n - 1, rows):             # holes s + 1 .. against every loop at once
+            p = P[s:s + rows]
+            # only chords within the largest reach of a point can touch it or cross its ray
+            # (a crossing needs the point's v in the chord's v-range and the chord's u beyond it)
+            holes, seg = np.nonzero((vlo[None] <= p[:, 1, None]) & (p[:, 1, None] <= vhi[None]) &
+                                    (p[:, 0, None] <= uhi[None]))
+            sign = _crossings(p[holes, 0], p[holes, 1], self.A[seg], self.B[seg])
+            loops = self.loop_of[seg]
+            w = np.bincount(holes * n + loops, weights=sign, minlength=len(p) * n).reshape(len(p), n)
+            d = np.full((len(p), n), np.inf)
+            np.minimum.at(d, (holes, loops), _segment_distance(p[holes], self.A[seg], self.B[seg]))
+            i = np.arange(s + 1, s + 1 + len(p))[:, None]
+            k = np.arange(n)[None]
+            bad = (k != i) & ~(d <= reach[None]) & (((k == 0) & (w == 0)) | ((k > 0) & (w != 0)))
+            if bad.any():                             # touching (d within reach): no verdict from this point
+                r, c = np.unravel_index(int(np.argmax(bad)), bad.shape)
+                hole = s + 1 + int(r)
+                if c == 0:
+                    raise CagdError(f"loops[{hole}]: the hole lies outside the outer loop loops[0]")
+                raise CagdError(f"loops[{hole}]: the hole lies inside the hole loops[{int(c)}]")
 
 
 # --- area ---------------------------------------------------------------------------------------
