@@ -53,7 +53,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
-from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, hermite_fit
+from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, _end, hermite_fit
 from .compat import as_edge, as_face, as_wire
 
 MAP_TOL = 1e-9          # relative (surface size): an assumed parameter map must reproduce OCCT's points to this
@@ -224,7 +224,7 @@ def _chained(loop: List[BSplineCurve], periods: Tuple[float, float]) -> List[BSp
     """Each curve moved by whole periods to start where the previous one ends."""
     out = [loop[0]]
     for c in loop[1:]:
-        end, start = out[-1](out[-1].domain[1]), c(c.domain[0])
+        end, start = _end(out[-1], 1), _end(c, 0)
         shift = [0.0, 0.0]
         for k in (0, 1):
             if np.isfinite(periods[k]):
@@ -363,11 +363,12 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
         return surface
     if reversed_:
         loops = [[_mirrored(c, a0 + a1) for c in lp[::-1]] for lp in loops]
-    gap, over = _gaps(loops), _overshoot(loops, surface)
+    points = [np.concatenate([_samples(c) for c in lp]) for lp in loops]
+    gap, over = _gaps(loops), _overshoot(points, surface)
     if max(gap, over) > MAX_GAP * size:
         raise CagdError(f"face: its wires do not close in (u, v) within {MAX_GAP:g} of the parameter box "
                         f"(gap {gap:.3g}, outside the box by {over:.3g})")
-    boxes = [np.ptp(np.concatenate([_samples(c) for c in lp]), axis=0).prod() for lp in loops]
+    boxes = [np.ptp(P, axis=0).prod() for P in points]
     order = [int(np.argmax(boxes))] + [i for i in range(len(loops)) if i != int(np.argmax(boxes))]
     tol = max(CLOSURE_TOL * size, 2.0 * gap, 2.0 * over)
     return TrimmedSurface(surface, [loops[i] for i in order], tol=tol)
@@ -385,7 +386,7 @@ def _gaps(loops: List[List[BSplineCurve]]) -> float:
     for lp in loops:
         for i, c in enumerate(lp):
             n = lp[(i + 1) % len(lp)]
-            gap = max(gap, float(np.linalg.norm(c(c.domain[1]) - n(n.domain[0]))))
+            gap = max(gap, float(np.linalg.norm(_end(c, 1) - _end(n, 0))))
     return gap
 
 
@@ -397,9 +398,10 @@ def _samples(c: BSplineCurve, per_span: int = 16) -> np.ndarray:
     return c(np.append(t, b))
 
 
-def _overshoot(loops: List[List[BSplineCurve]], surface: Surface) -> float:
+def _overshoot(points: List[np.ndarray], surface: Surface) -> float:
+    """How far the loops' sample points (per loop) leave the bounded directions."""
     (u0, u1), (v0, v1) = surface.domain
-    P = np.concatenate([_samples(c) for lp in loops for c in lp])
+    P = np.concatenate(points)
     out = 0.0
     if not surface.periodic_u:
         out = max(out, u0 - P[:, 0].min(), P[:, 0].max() - u1)

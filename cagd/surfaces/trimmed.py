@@ -114,6 +114,17 @@ def _hom_pieces(curve: BSplineCurve) -> Tuple[np.ndarray, np.ndarray]:
     return breaks, nets
 
 
+def _end(c: Curve, side: int) -> np.ndarray:
+    """``c(c.domain[side])`` (side 0: the start, 1: the end): for a clamped end of a
+    B-spline its control point, which evaluation gives there bit for bit
+    (:meth:`cagd.BSplineCurve._clamped_ends`), without the evaluation."""
+    if isinstance(c, BSplineCurve) and not c.periodic:
+        u, p, n = c._u, c.degree, len(c._hom)
+        if (u[0] == u[p]) if side == 0 else (u[-1] == u[n]):
+            return np.array(c.control_points[0 if side == 0 else -1], dtype=np.float64)
+    return c(c.domain[side])
+
+
 def _halves(Q: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """de Casteljau at 1/2 of many homogeneous nets (k, p + 1, 3): the two halves."""
     left, right = [Q[:, 0]], [Q[:, -1]]
@@ -406,7 +417,7 @@ def _check_closed(chains: List[Tuple[BSplineCurve, ...]], tol: float) -> None:
     for i, chain in enumerate(chains):
         for j, c in enumerate(chain):
             nxt = chain[(j + 1) % len(chain)]
-            end, start = c(c.domain[1]), nxt(nxt.domain[0])
+            end, start = _end(c, 1), _end(nxt, 0)
             gap = float(np.linalg.norm(end - start))
             if gap > tol:
                 k = (j + 1) % len(chain)
@@ -469,7 +480,7 @@ class _Flattened:
                 chain.append(c)
                 names.append(j)
                 nxt = loop[(j + 1) % len(loop)]
-                end, start = c(c.domain[1]), nxt(nxt.domain[0])
+                end, start = _end(c, 1), _end(nxt, 0)
                 if np.any(end != start):
                     chain.append(BSplineCurve(np.stack([end, start]), 1))
                     names.append(-1)
