@@ -247,26 +247,27 @@ def _into_window(loop: List[BSplineCurve], periods: Tuple[float, float],
 
 def _crossings_of(c: BSplineCurve, k: int, knots: np.ndarray) -> np.ndarray:
     """Parameters where coordinate k of c crosses a value of ``knots`` (sampled, then
-    bisected to rounding)."""
+    bisected to rounding, all crossings at once)."""
     a, b = c.domain
     t = np.linspace(a, b, 257)
     x = c(t)[:, k]
-    out = []
+    which, idx = [], []
     for K in knots:
         s = np.sign(x - K)
-        idx = np.flatnonzero(s[:-1] * s[1:] < 0)
-        for i in idx:
-            lo, hi = t[i], t[i + 1]
-            flo = x[i] - K
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                fm = float(c(mid)[k]) - K
-                if (fm < 0) == (flo < 0):
-                    lo, flo = mid, fm
-                else:
-                    hi = mid
-            out.append(0.5 * (lo + hi))
-    return np.array(out)
+        i = np.flatnonzero(s[:-1] * s[1:] < 0)
+        which.append(np.full(len(i), K))
+        idx.append(i)
+    if not knots.size or not sum(len(i) for i in idx):
+        return np.array([])
+    K, i = np.concatenate(which), np.concatenate(idx)
+    lo, hi = t[i], t[i + 1]
+    flo = x[i] - K
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        fm = c(mid)[:, k] - K
+        left = (fm < 0) == (flo < 0)
+        lo, flo, hi = np.where(left, mid, lo), np.where(left, fm, flo), np.where(left, hi, mid)
+    return 0.5 * (lo + hi)
 
 
 def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSplineCurve:
@@ -304,12 +305,22 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
         uv = c(t)
         return np.stack([mu(uv[:, 0]), mv(uv[:, 1])], axis=1)
 
+    last: List[Tuple[bytes, np.ndarray]] = []
+
+    def second(t: np.ndarray) -> np.ndarray:
+        """c.derivatives(t, 2), once for df and ddf at the same t (its orders 0 and 1 are
+        c.derivatives(t, 1) bit for bit: rational derivatives are built order by order)."""
+        key = t.tobytes()
+        if not last or last[0][0] != key:
+            last[:] = [(key, c.derivatives(t, 2))]
+        return last[0][1]
+
     def df(t: np.ndarray) -> np.ndarray:
-        d = c.derivatives(t, 1)
+        d = second(t)
         return np.stack([mu.derivative(d[0, :, 0]) * d[1, :, 0], mv.derivative(d[0, :, 1]) * d[1, :, 1]], axis=1)
 
     def ddf(t: np.ndarray) -> np.ndarray:
-        d = c.derivatives(t, 2)
+        d = second(t)
         return np.stack([m.second_derivative(d[0, :, k]) * d[1, :, k] ** 2 + m.derivative(d[0, :, k]) * d[2, :, k]
                          for k, m in enumerate(maps)], axis=1)
 

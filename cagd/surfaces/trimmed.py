@@ -25,7 +25,7 @@ knot spans (subdivided), the boundary integral adaptively (halves against the wh
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -989,13 +989,46 @@ def _hermite_nets(lo: np.ndarray, hi: np.ndarray, f: Callable[[np.ndarray], np.n
     """Bezier nets (k, p + 1, dim) of the Hermite interpolants on [lo, hi]: cubic from
     f, f' (p = 3), quintic from f, f', f'' (p = 5) at both ends (Farin, Curves and
     Surfaces for CAGD, 7.1 and 7.5: the end derivatives of a Bezier curve)."""
-    h = (hi - lo)[:, None]
-    fa, fb, da, db = f(lo), f(hi), df(lo), df(hi)
-    if ddf is None:
+    ends = [(f(lo), f(hi)), (df(lo), df(hi))] + ([(ddf(lo), ddf(hi))] if ddf is not None else [])
+    return _nets_from_ends(hi - lo, ends)
+
+
+def _nets_from_ends(width: np.ndarray, ends: List[Tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """The nets of :func:`_hermite_nets` from the end values [(f(lo), f(hi)), (f'(lo),
+    f'(hi)), optionally (f''(lo), f''(hi))] of pieces of widths ``width``."""
+    h = width[:, None]
+    (fa, fb), (da, db) = ends[0], ends[1]
+    if len(ends) == 2:
         return np.stack([fa, fa + h / 3 * da, fb - h / 3 * db, fb], axis=1)
-    aa, ab = ddf(lo), ddf(hi)
+    aa, ab = ends[2]
     return np.stack([fa, fa + h / 5 * da, fa + 2 * h / 5 * da + h * h / 20 * aa,
                      fb - 2 * h / 5 * db + h * h / 20 * ab, fb - h / 5 * db, fb], axis=1)
+
+
+class _EndValues:
+    """f, f' (and f'') at parameters, each parameter evaluated once (bisection reuses a
+    piece's ends; the functions are evaluated point by point, so a value does not depend
+    on the other parameters of a call)."""
+
+    def __init__(self, funcs: List[Callable[[np.ndarray], np.ndarray]]):
+        self.funcs = funcs
+        self.row: Dict[int, int] = {}
+        self.values: List[Optional[np.ndarray]] = [None] * len(funcs)
+
+    def missing(self, t: np.ndarray) -> np.ndarray:
+        """The distinct parameters of ``t`` not evaluated yet (first appearance order)."""
+        fresh = list(dict.fromkeys(k for k in t.view(np.int64).tolist() if k not in self.row))
+        return np.array(fresh, dtype=np.int64).view(np.float64)
+
+    def add(self, t: np.ndarray, values: List[np.ndarray]) -> None:
+        base = len(self.row)
+        for i, k in enumerate(t.view(np.int64).tolist()):
+            self.row[k] = base + i
+        self.values = [v if old is None else np.concatenate([old, v]) for old, v in zip(self.values, values)]
+
+    def at(self, t: np.ndarray) -> List[np.ndarray]:
+        idx = np.array([self.row[k] for k in t.view(np.int64).tolist()], dtype=np.intp)
+        return [v[idx] for v in self.values if v is not None]
 
 
 def hermite_fit(f: Callable[[np.ndarray], np.ndarray], df: Callable[[np.ndarray], np.ndarray],
@@ -1004,37 +1037,44 @@ def hermite_fit(f: Callable[[np.ndarray], np.ndarray], df: Callable[[np.ndarray]
     """A piecewise Hermite B-spline (interior knots of full multiplicity): cubic and C1
     through f, f' at its breakpoints, or quintic and C2 with f'' (``ddf``), pieces
     bisected until f is within ``tol`` of it at 5 interior points of each (at most
-    MAX_FIT_PIECES pieces): (curve, measured error, converged)."""
+    MAX_FIT_PIECES pieces): (curve, measured error, converged). Each breakpoint's
+    f, f' (f'') is evaluated once, together with the new pieces' check points."""
     lo, hi = breaks[:-1].astype(float), breaks[1:].astype(float)
     checks = np.array([0.1, 0.3, 0.5, 0.7, 0.9])
     p = 3 if ddf is None else 5
     from math import comb
     bern = np.array([[comb(p, k) * s ** k * (1 - s) ** (p - k) for k in range(p + 1)] for s in checks])
-    done_lo: List[np.ndarray] = []
-    done_hi: List[np.ndarray] = []
+    done: List[Tuple[np.ndarray, np.ndarray]] = []
     error, ok = 0.0, True
+    known = _EndValues([f, df] + ([ddf] if ddf is not None else []))
+    count = 0
     while len(lo):
-        nets = _hermite_nets(lo, hi, f, df, ddf)
-        approx = np.einsum("sk,nkd->nsd", bern, nets)
         t = lo[:, None] + (hi - lo)[:, None] * checks[None, :]
-        exact = f(t.ravel()).reshape(approx.shape)
+        new = known.missing(np.concatenate([lo, hi]))
+        both = f(np.concatenate([new, t.ravel()]))
+        if len(new):
+            known.add(new, [both[:len(new)]] + [g(new) for g in known.funcs[1:]])
+        a, b = known.at(lo), known.at(hi)
+        nets = _nets_from_ends(hi - lo, list(zip(a, b)))
+        approx = np.einsum("sk,nkd->nsd", bern, nets)
+        exact = both[len(new):].reshape(approx.shape)
         err = np.linalg.norm(exact - approx, axis=-1).max(axis=1)
         good = err <= tol
-        if sum([len(x) for x in done_lo]) + 2 * int(np.count_nonzero(~good)) + int(np.count_nonzero(good)) \
-                > MAX_FIT_PIECES:
+        if count + 2 * int(np.count_nonzero(~good)) + int(np.count_nonzero(good)) > MAX_FIT_PIECES:
             good[:] = True
             ok = False
         error = max(error, float(err[good].max(initial=0.0)))
-        done_lo.append(lo[good])
-        done_hi.append(hi[good])
+        done.append((lo[good], nets[good]))
+        count += int(np.count_nonzero(good))
         mid = 0.5 * (lo + hi)
         lo, hi = np.concatenate([lo[~good], mid[~good]]), np.concatenate([mid[~good], hi[~good]])
-    lo, hi = np.concatenate(done_lo), np.concatenate(done_hi)
-    order = np.argsort(lo)
-    lo, hi = lo[order], hi[order]
-    nets = _hermite_nets(lo, hi, f, df, ddf)
+    starts = np.concatenate([d[0] for d in done])
+    order = np.argsort(starts)
+    nets = np.concatenate([d[1] for d in done])[order]
+    lo = starts[order]
+    end = float(breaks[-1])
     P = np.concatenate([nets[:, :-1].reshape(-1, nets.shape[2]), nets[-1:, -1]])
-    knots = np.concatenate([np.full(p + 1, lo[0]), np.repeat(lo[1:], p), np.full(p + 1, hi[-1])])
+    knots = np.concatenate([np.full(p + 1, lo[0]), np.repeat(lo[1:], p), np.full(p + 1, end)])
     return BSplineCurve(P, p, knots), error, ok
 
 
