@@ -290,7 +290,7 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
         if const[other] and not ident[k]:
             x = P[:, k]
             if np.all(np.diff(x) >= 0) or np.all(np.diff(x) <= 0):
-                ends = c(np.array(c.domain))
+                ends = np.stack([_end(c, 0), _end(c, 1)])
                 y = ends[:, other] if ident[other] else maps[other](ends[:, other])
                 e = np.empty((2, 2))
                 e[:, k] = maps[k](ends[:, k])

@@ -34,7 +34,7 @@ from .. import _checks
 from .._periodic import wrap
 from .._quadrature import adaptive
 from ..curves.base import Curve
-from ..curves.bspline import BSplineCurve
+from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
 from .base import Surface
 
@@ -164,6 +164,7 @@ def _flatten_many(curves: Sequence[BSplineCurve], tol: float) -> List[Tuple[np.n
     all curves of one degree are bisected together (one numpy pass per level)."""
     out: List[Tuple[np.ndarray, np.ndarray]] = [(np.empty(0), np.empty(0))] * len(curves)
     groups: dict = {}
+    prime_bezier_nets(curves)
     for k, c in enumerate(curves):
         groups.setdefault(c.degree, []).append(k)
     for ks in groups.values():
@@ -263,6 +264,7 @@ class TrimmedSurface(Surface):
                 n = c.to_nurbs()
                 chain.append(n.clamped() if n.periodic else n)
             chains.append(tuple(chain))
+        prime_bezier_nets([c for chain in chains for c in chain])     # all Bezier nets in one pass
         _check_closed(chains, tol)
         _check_domain(surface, chains, tol)
         self._fill(surface, tuple(chains), float(tol), ())
@@ -431,9 +433,9 @@ def _check_domain(surface: Surface, chains: List[Tuple[BSplineCurve, ...]], tol:
     for i, chain in enumerate(chains):
         for j, c in enumerate(chain):
             P = c.control_points
-            _, nets = _hom_pieces(c)
             lo, hi = P.min(axis=0), P.max(axis=0)
             if c.is_rational:                        # the Bezier nets' hull is tighter than the poles'
+                _, nets = _hom_pieces(c)
                 cart = _cartesian(nets).reshape(-1, 2)
                 lo, hi = cart.min(axis=0), cart.max(axis=0)
             for k, (periodic, a, b, name) in enumerate(((surface.periodic_u, u0, u1, "u"),
@@ -469,7 +471,6 @@ class _Flattened:
         ftol = FLATTEN_TOL * self.scale
         self.curves: List[BSplineCurve] = []     # every chain curve, with straight gap closers (area)
         self.nets: List[np.ndarray] = []         # their Bezier pieces, then those of periodic copies
-        A, B, bound, owner, loop_of, curve_of, pos = [], [], [], [], [], [], []
         self.chain_len: List[int] = []          # pieces per loop, closers included
         self.loop_len: List[int] = []           # curves per loop
         chains: List[Tuple[int, List[BSplineCurve], List[int]]] = []
@@ -487,21 +488,29 @@ class _Flattened:
             self.chain_len.append(len(chain))
             self.loop_len.append(len(loop))
             chains.append((i, chain, names))
-        flat = iter(_flatten_many([piece for _, chain, _ in chains for piece in chain], ftol))
-        for i, chain, names in chains:
-            for position, (piece, name) in enumerate(zip(chain, names)):
-                Q, b = next(flat)
-                P = _cartesian(Q)
-                k = len(self.curves)
-                self.curves.append(piece)
-                self.nets.append(Q)
-                A.append(P[:, 0])
-                B.append(P[:, -1])
-                bound.append(b)
-                owner.append(np.stack([np.full(len(Q), k), np.arange(len(Q))], axis=1))
-                loop_of.append(np.full(len(Q), i))
-                curve_of.append(np.full(len(Q), name))
-                pos.append(np.full(len(Q), names[position] if name >= 0 else names[position - 1]))
+        flat = _flatten_many([piece for _, chain, _ in chains for piece in chain], ftol)
+        self.curves = [piece for _, chain, _ in chains for piece in chain]
+        self.nets = [Q for Q, _ in flat]
+        counts = np.array([len(Q) for Q in self.nets])
+        # per piece: its loop, its name (-1: a gap closer), its curve's position (a closer's
+        # is the curve before it), then repeated per chord
+        loop_ids = np.concatenate([np.full(len(chain), i) for i, chain, _ in chains])
+        name_ids = np.concatenate([names for _, _, names in chains])
+        pos_ids = np.concatenate([[names[q] if names[q] >= 0 else names[q - 1] for q in range(len(names))]
+                                  for _, _, names in chains])
+        cuts = np.cumsum(counts)[:-1]
+
+        def pieces(values: np.ndarray) -> List[np.ndarray]:
+            return np.split(values, cuts)
+
+        A = pieces(_cartesian(np.concatenate([Q[:, 0] for Q in self.nets])))
+        B = pieces(_cartesian(np.concatenate([Q[:, -1] for Q in self.nets])))
+        bound = [b for _, b in flat]
+        owner = pieces(np.stack([np.repeat(np.arange(len(counts)), counts),
+                                 np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)], axis=1))
+        loop_of = pieces(np.repeat(loop_ids, counts))
+        curve_of = pieces(np.repeat(name_ids, counts))
+        pos = pieces(np.repeat(pos_ids, counts))
         outer = np.concatenate(A[:self.chain_len[0]] + B[:self.chain_len[0]])
         self.window = outer.min(axis=0) - 4 * self.band
         # holes of a face whose outer loop spans a whole period: their copies one period
@@ -531,8 +540,10 @@ class _Flattened:
         self.curve_of = np.concatenate(curve_of)
         self.position = np.concatenate(pos)
         self.original = self.curve_of != -2
-        ends = np.array([[n[0, 0, :2] / n[0, 0, 2], n[-1, -1, :2] / n[-1, -1, 2]] for n in self.nets])
-        self.curve_start, self.curve_end = ends[self.owner[:, 0], 0], ends[self.owner[:, 0], 1]
+        first = np.stack([n[0, 0] for n in self.nets])
+        last = np.stack([n[-1, -1] for n in self.nets])
+        self.curve_start = (first[:, :2] / first[:, 2:])[self.owner[:, 0]]
+        self.curve_end = (last[:, :2] / last[:, 2:])[self.owner[:, 0]]
         self.loop_count = len(loops)
         self.lo = np.minimum(self.lo, np.minimum(self.A, self.B).min(axis=0))
         self.hi = np.maximum(self.hi, np.maximum(self.A, self.B).max(axis=0))
