@@ -159,21 +159,31 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
     pv = engine.domain[1][1] - engine.domain[1][0] if engine.periodic_v else float("inf")
     cu: List[Map] = [_Identity(), _ArcMap(np.unique(engine.knots_u), pu)]
     cv: List[Map] = [_Identity(), _ArcMap(np.unique(engine.knots_v), pv)]
-    best = (np.inf, None)
+    combos = []
     for mu in cu:
         for mv in cv:
             with np.errstate(all="ignore"):
                 x, y = mu(U), mv(V)
-            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-                continue
+            if np.all(np.isfinite(x)) and np.all(np.isfinite(y)):
+                combos.append((mu, mv, x, y))
+    try:                                   # every candidate in one evaluation (the surface's set-up once)
+        points = np.split(engine(np.concatenate([c[2] for c in combos]), np.concatenate([c[3] for c in combos])),
+                          len(combos)) if combos else []
+    except CagdError:                      # a candidate leaves the domain: one at a time
+        points = []
+        for _, _, x, y in combos:
             try:
-                got = engine(x, y)
+                points.append(engine(x, y))
             except CagdError:
-                continue
-            err = float(np.linalg.norm(got - want, axis=1).max())
-            if err <= tol:
-                return mu, mv
-            best = min(best, (err, None), key=lambda e: e[0])
+                points.append(None)
+    best = (np.inf, None)
+    for (mu, mv, _, _), got in zip(combos, points):
+        if got is None:
+            continue
+        err = float(np.linalg.norm(got - want, axis=1).max())
+        if err <= tol:
+            return mu, mv
+        best = min(best, (err, None), key=lambda e: e[0])
     raise CagdError(f"face: no parameter map between OCCT's surface ({type(geom).__name__}) and its B-spline "
                     f"reproduces OCCT's points (best {best[0]:.3g}, tol {tol:.3g})")
 
@@ -188,14 +198,17 @@ def _pcurve(edge, face: TopoDS_Face) -> BSplineCurve:
     curve = adaptor.Curve()
     if curve is None:
         raise CagdError("face: an edge has no pcurve on the face")
+    backwards = edge.Orientation() == TopAbs_REVERSED
     if isinstance(curve, Geom2d_Line):
         p, q = curve.Value(first), curve.Value(last)
-        out = BSplineCurve(np.array([[p.X(), p.Y()], [q.X(), q.Y()]]), 1, [first, first, last, last])
+        ends = [[p.X(), p.Y()], [q.X(), q.Y()]]
+        # reversed, a segment keeps its knots (reversed() maps the ends exactly)
+        return BSplineCurve(np.array(ends[::-1] if backwards else ends), 1, [first, first, last, last])
     else:
         if abs(curve.FirstParameter() - first) > 0 or abs(curve.LastParameter() - last) > 0:
             curve = Geom2d_TrimmedCurve(curve, first, last)
         out = _curve_from_bspline(_as_bspline2d(curve), 2)
-    return out.reversed() if edge.Orientation() == TopAbs_REVERSED else out
+    return out.reversed() if backwards else out
 
 
 def _wires(face: TopoDS_Face) -> List[List[BSplineCurve]]:
