@@ -166,6 +166,7 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
                 x, y = mu(U), mv(V)
             if np.all(np.isfinite(x)) and np.all(np.isfinite(y)):
                 combos.append((mu, mv, x, y))
+    points: List[Optional[np.ndarray]]
     try:                                   # every candidate in one evaluation (the surface's set-up once)
         points = np.split(engine(np.concatenate([c[2] for c in combos]), np.concatenate([c[3] for c in combos])),
                           len(combos)) if combos else []
