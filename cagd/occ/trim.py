@@ -168,8 +168,8 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
                 combos.append((mu, mv, x, y))
     points: List[Optional[np.ndarray]]
     try:                                   # every candidate in one evaluation (the surface's set-up once)
-        points = np.split(engine(np.concatenate([c[2] for c in combos]), np.concatenate([c[3] for c in combos])),
-                          len(combos)) if combos else []
+        points = list(np.split(engine(np.concatenate([c[2] for c in combos]), np.concatenate([c[3] for c in combos])),
+                               len(combos))) if combos else []
     except CagdError:                      # a candidate leaves the domain: one at a time
         points = []
         for _, _, x, y in combos:
