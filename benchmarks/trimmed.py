@@ -7,7 +7,8 @@
 - closest: points per second on that face trimmed and untrimmed (the issue's floor:
   trimmed >= 0.5 x untrimmed), points at Gaussian distances of 1% of the face's size.
 - files (with --files DIR): the time to read every STEP/IGES file below DIR through
-  cagd.occ (OCCT's reader plus the conversion) beside OCCT's reader alone.
+  cagd.occ (OCCT's reader plus the conversion) beside OCCT's reader alone, in all and
+  for the slowest files.
 
 Run: python -m benchmarks.trimmed [--points N] [--closest M] [--files DIR]
 """
@@ -101,15 +102,15 @@ def bench_closest(ts: TrimmedSurface, n: int) -> None:
               f"({rates[1] / rates[0]:.2f}x; issue 15 asks >= 0.5x)")
 
 
-def bench_files(folder: Path) -> None:
+def bench_files(folder: Path, slowest: int = 5) -> None:
     import warnings
     from OCP.IFSelect import IFSelect_RetDone
     from OCP.IGESControl import IGESControl_Reader
     from OCP.STEPControl import STEPControl_Reader
     from cagd.occ import read_iges, read_step
     files = sorted(p for p in folder.rglob("*") if p.suffix.lower() in (".stp", ".step", ".igs", ".iges"))
-    t_occt = t_ours = 0.0
     faces = 0
+    rows = []                                  # (cagd.occ s, OCCT's reader s, name) per file
     for p in files:
         iges = p.suffix.lower() in (".igs", ".iges")
         t = time.perf_counter()
@@ -117,7 +118,7 @@ def bench_files(folder: Path) -> None:
         if reader.ReadFile(str(p)) == IFSelect_RetDone:
             reader.TransferRoots()
             reader.OneShape()
-        t_occt += time.perf_counter() - t
+        occt = time.perf_counter() - t
         t = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -125,9 +126,12 @@ def bench_files(folder: Path) -> None:
                 faces += sum(1 for i in (read_iges if iges else read_step)(p) if hasattr(i.object, "rectangular"))
             except cagd.CagdError:
                 pass
-        t_ours += time.perf_counter() - t
+        rows.append((time.perf_counter() - t, occt, p.name))
+    t_ours, t_occt = sum(r[0] for r in rows), sum(r[1] for r in rows)
     print(f"files: {len(files)} files, {faces} faces: cagd.occ {t_ours:.1f} s, OCCT's reader alone {t_occt:.1f} s "
           f"({t_ours / max(t_occt, 1e-9):.1f}x)")
+    for ours, occt, name in sorted(rows, reverse=True)[:slowest]:
+        print(f"  {name}: cagd.occ {ours:.2f} s, OCCT's reader alone {occt:.2f} s")
 
 
 def main(argv: Optional[List[str]] = None) -> int:

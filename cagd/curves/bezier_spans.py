@@ -14,7 +14,7 @@ ulps and all terms are non-negative, so the error is ~ p ulps of the control net
 """
 from __future__ import annotations
 
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -49,6 +49,33 @@ def bezier_spans(knots: np.ndarray, degree: int, points: np.ndarray) -> Tuple[np
         M = _blossom_nets(kn, a, b, np.broadcast_to(np.eye(p + 1), (len(span), p + 1, p + 1)), p)
         return breaks, np.einsum("sjk,skd->sjd", M, local)
     return breaks, _blossom_nets(kn, a, b, local, p)
+
+
+def bezier_spans_many(knots: List[np.ndarray], degree: int,
+                      points: List[np.ndarray]) -> List[Tuple[np.ndarray, np.ndarray]]:
+    """:func:`bezier_spans` of several B-splines of one degree and point dimension D at
+    once (one de Boor pass over all their spans; the same numbers, span by span),
+    D <= degree + 1 (the narrow case of :func:`bezier_spans`)."""
+    p = degree
+    lens_u = np.array([len(u) for u in knots])
+    lens_p = np.array([len(P) for P in points])
+    U = np.concatenate([np.asarray(u, dtype=np.float64) for u in knots])
+    P = np.concatenate([np.asarray(Q, dtype=np.float64) for Q in points])
+    ou, op = np.cumsum(lens_u) - lens_u, np.cumsum(lens_p) - lens_p
+    owner = np.repeat(np.arange(len(knots)), lens_u)
+    i = np.arange(len(U)) - ou[owner]                         # the knot's index in its own vector
+    nxt = np.minimum(np.arange(len(U)) + 1, len(U) - 1)
+    span = np.flatnonzero((i >= p) & (i < lens_p[owner]) & (U < U[nxt]))
+    cid = owner[span]
+    a, b = U[span], U[span + 1]
+    if p == 0:
+        nets = P[op[cid] + i[span]][:, None, :]
+    else:
+        local = P[(op[cid] + i[span] - p)[:, None] + np.arange(p + 1)]
+        kn = U[(span - p + 1)[:, None] + np.arange(2 * p)]
+        nets = _blossom_nets(kn, a, b, local, p)
+    cuts = np.searchsorted(cid, np.arange(len(knots) + 1))
+    return [(np.concatenate([a[lo:hi], b[hi - 1:hi]]), nets[lo:hi]) for lo, hi in zip(cuts[:-1], cuts[1:])]
 
 
 def _blossom_nets(kn: np.ndarray, a: np.ndarray, b: np.ndarray, local: np.ndarray, p: int) -> np.ndarray:

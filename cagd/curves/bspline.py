@@ -8,7 +8,7 @@ Rational curves work in homogeneous coordinates (w P, w) throughout.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Tuple
+from typing import TYPE_CHECKING, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -18,7 +18,7 @@ from ..basis.bernstein import elevation_matrix
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .base import Curve, rational_derivatives
-from .bezier_spans import BernsteinSpans, bezier_spans
+from .bezier_spans import BernsteinSpans, bezier_spans, bezier_spans_many
 from .ppform import PP_MAX_DEGREE, PPForm
 
 if TYPE_CHECKING:
@@ -712,3 +712,17 @@ def _elevated_by_blossom(knots: np.ndarray, degree: int, points: np.ndarray) -> 
             raise CagdError("knots: degree elevation needs clamped knots")
         out[c0:c0 + step] = terms.reshape(-1, q, P.shape[1]).mean(axis=1)
     return v, out
+
+
+def prime_bezier_nets(curves: Sequence[BSplineCurve]) -> None:
+    """Compute and cache the Bezier nets (:meth:`BSplineCurve.bezier_net`) of many curves
+    at once: one de Boor pass per degree and dimension (the same numbers as one curve at
+    a time; :func:`cagd.curves.bezier_spans.bezier_spans_many`)."""
+    groups: Dict[Tuple[int, int], List[BSplineCurve]] = {}
+    for c in curves:
+        if 0 not in c._spans and c._hom.shape[1] <= c.degree + 1:
+            groups.setdefault((c.degree, c._hom.shape[1]), []).append(c)
+    for (p, _), cs in groups.items():
+        unique = list({id(c): c for c in cs}.values())
+        for c, (breaks, nets) in zip(unique, bezier_spans_many([c._u for c in unique], p, [c._hom for c in unique])):
+            c._spans[0] = BernsteinSpans(breaks, nets)

@@ -342,7 +342,7 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
         if reader.ReadFile(copy) != IFSelect_RetDone:
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
         unread, errors = _unread(reader.ChangeReader().Model() if kind == "STEP" else reader.Model(), kind)
-        if errors and not os.environ.get(_PROBE_FLAG):
+        if errors and not os.environ.get(_PROBE_FLAG) and not _probe_forked(reader, doc, kind, unread, path):
             _probe(copy, kind, unread, path)
         if not reader.Transfer(doc):
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
@@ -444,6 +444,71 @@ def _probe(path, kind: str, unread: Tuple[str, ...], shown: object = None) -> No
     if run.returncode < 0 or run.returncode > 128:
         raise CagdError(f"path: {kind} file {str(shown)!r} has {len(unread)} damaged entities that OCCT's "
                         f"transfer crashes on (signal {abs(run.returncode) % 128}); first: {unread[0]}")
+
+
+def _can_fork() -> bool:
+    """Whether the transfer can be tried in a forked copy of this process: Linux and a
+    Python interpreter (not FreeCAD's embedded one, whose GUI threads must not be
+    forked). A fork copies only the calling thread; it holds the GIL, and OCP keeps the
+    GIL through OCCT calls, so no other thread is inside OCCT then (idle thread pools,
+    numpy's BLAS workers, hold no lock the child's transfer needs)."""
+    return sys.platform.startswith("linux") and hasattr(os, "fork") and \
+        "python" in Path(sys.executable).name.lower()
+
+
+def _probe_forked(reader, doc, kind: str, unread: Tuple[str, ...], shown: object) -> bool:
+    """:func:`_probe` in a forked copy of this process, which transfers the model already
+    parsed (no new interpreter, no second parse): True when it ran, False where a fork
+    cannot be used (:func:`_can_fork`; then the caller runs :func:`_probe`). CagdError if
+    OCCT dies or hangs there."""
+    if not _can_fork():
+        return False
+    import select
+    import signal
+    import time
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)    # 3.12+: "multi-threaded" (see _can_fork)
+        pid = os.fork()
+    if pid == 0:                                             # the child: transfer, nothing else
+        code = 1
+        try:
+            import faulthandler
+            faulthandler.disable()                           # a crash is the expected outcome
+            null = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(null, 1)
+            os.dup2(null, 2)
+            reader.Transfer(doc)
+            code = 0
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + PROBE_TIMEOUT
+    try:
+        fd = os.pidfd_open(pid)
+    except (AttributeError, OSError):
+        fd = -1
+    status = 0
+    try:
+        while True:
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                break
+            left = deadline - time.monotonic()
+            if left <= 0:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                raise CagdError(f"path: OCCT did not finish reading {kind} file {str(shown)!r} in "
+                                f"{PROBE_TIMEOUT:g} s; {len(unread)} damaged entities, first {unread[0]}")
+            if fd >= 0:
+                select.select([fd], [], [], left)
+            else:
+                time.sleep(min(0.01, left))
+    finally:
+        if fd >= 0:
+            os.close(fd)
+    if os.WIFSIGNALED(status):
+        raise CagdError(f"path: {kind} file {str(shown)!r} has {len(unread)} damaged entities that OCCT's "
+                        f"transfer crashes on (signal {os.WTERMSIG(status)}); first: {unread[0]}")
+    return True
 
 
 def _label_name(label: TDF_Label) -> str:

@@ -30,7 +30,7 @@ edges, and pairs of pcurves one period apart on the same iso-line a seam edge.
 """
 from __future__ import annotations
 
-from typing import List, Tuple, Union
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 from OCP.BRep import BRep_Builder, BRep_Tool
@@ -53,7 +53,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
-from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, hermite_fit
+from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, _end, hermite_fit
 from .compat import as_edge, as_face, as_wire
 
 MAP_TOL = 1e-9          # relative (surface size): an assumed parameter map must reproduce OCCT's points to this
@@ -159,21 +159,32 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
     pv = engine.domain[1][1] - engine.domain[1][0] if engine.periodic_v else float("inf")
     cu: List[Map] = [_Identity(), _ArcMap(np.unique(engine.knots_u), pu)]
     cv: List[Map] = [_Identity(), _ArcMap(np.unique(engine.knots_v), pv)]
-    best = (np.inf, None)
+    combos = []
     for mu in cu:
         for mv in cv:
             with np.errstate(all="ignore"):
                 x, y = mu(U), mv(V)
-            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-                continue
+            if np.all(np.isfinite(x)) and np.all(np.isfinite(y)):
+                combos.append((mu, mv, x, y))
+    points: List[Optional[np.ndarray]]
+    try:                                   # every candidate in one evaluation (the surface's set-up once)
+        points = list(np.split(engine(np.concatenate([c[2] for c in combos]), np.concatenate([c[3] for c in combos])),
+                               len(combos))) if combos else []
+    except CagdError:                      # a candidate leaves the domain: one at a time
+        points = []
+        for _, _, x, y in combos:
             try:
-                got = engine(x, y)
+                points.append(engine(x, y))
             except CagdError:
-                continue
-            err = float(np.linalg.norm(got - want, axis=1).max())
-            if err <= tol:
-                return mu, mv
-            best = min(best, (err, None), key=lambda e: e[0])
+                points.append(None)
+    best = (np.inf, None)
+    for (mu, mv, _, _), got in zip(combos, points):
+        if got is None:
+            continue
+        err = float(np.linalg.norm(got - want, axis=1).max())
+        if err <= tol:
+            return mu, mv
+        best = min(best, (err, None), key=lambda e: e[0])
     raise CagdError(f"face: no parameter map between OCCT's surface ({type(geom).__name__}) and its B-spline "
                     f"reproduces OCCT's points (best {best[0]:.3g}, tol {tol:.3g})")
 
@@ -188,14 +199,17 @@ def _pcurve(edge, face: TopoDS_Face) -> BSplineCurve:
     curve = adaptor.Curve()
     if curve is None:
         raise CagdError("face: an edge has no pcurve on the face")
+    backwards = edge.Orientation() == TopAbs_REVERSED
     if isinstance(curve, Geom2d_Line):
         p, q = curve.Value(first), curve.Value(last)
-        out = BSplineCurve(np.array([[p.X(), p.Y()], [q.X(), q.Y()]]), 1, [first, first, last, last])
+        ends = [[p.X(), p.Y()], [q.X(), q.Y()]]
+        # reversed, a segment keeps its knots (reversed() maps the ends exactly)
+        return BSplineCurve(np.array(ends[::-1] if backwards else ends), 1, [first, first, last, last])
     else:
         if abs(curve.FirstParameter() - first) > 0 or abs(curve.LastParameter() - last) > 0:
             curve = Geom2d_TrimmedCurve(curve, first, last)
         out = _curve_from_bspline(_as_bspline2d(curve), 2)
-    return out.reversed() if edge.Orientation() == TopAbs_REVERSED else out
+    return out.reversed() if backwards else out
 
 
 def _wires(face: TopoDS_Face) -> List[List[BSplineCurve]]:
@@ -224,7 +238,7 @@ def _chained(loop: List[BSplineCurve], periods: Tuple[float, float]) -> List[BSp
     """Each curve moved by whole periods to start where the previous one ends."""
     out = [loop[0]]
     for c in loop[1:]:
-        end, start = out[-1](out[-1].domain[1]), c(c.domain[0])
+        end, start = _end(out[-1], 1), _end(c, 0)
         shift = [0.0, 0.0]
         for k in (0, 1):
             if np.isfinite(periods[k]):
@@ -247,26 +261,27 @@ def _into_window(loop: List[BSplineCurve], periods: Tuple[float, float],
 
 def _crossings_of(c: BSplineCurve, k: int, knots: np.ndarray) -> np.ndarray:
     """Parameters where coordinate k of c crosses a value of ``knots`` (sampled, then
-    bisected to rounding)."""
+    bisected to rounding, all crossings at once)."""
     a, b = c.domain
     t = np.linspace(a, b, 257)
     x = c(t)[:, k]
-    out = []
+    which, idx = [], []
     for K in knots:
         s = np.sign(x - K)
-        idx = np.flatnonzero(s[:-1] * s[1:] < 0)
-        for i in idx:
-            lo, hi = t[i], t[i + 1]
-            flo = x[i] - K
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                fm = float(c(mid)[k]) - K
-                if (fm < 0) == (flo < 0):
-                    lo, flo = mid, fm
-                else:
-                    hi = mid
-            out.append(0.5 * (lo + hi))
-    return np.array(out)
+        i = np.flatnonzero(s[:-1] * s[1:] < 0)
+        which.append(np.full(len(i), K))
+        idx.append(i)
+    if not knots.size or not sum(len(i) for i in idx):
+        return np.array([])
+    K, i = np.concatenate(which), np.concatenate(idx)
+    lo, hi = t[i], t[i + 1]
+    flo = x[i] - K
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        fm = c(mid)[:, k] - K
+        left = (fm < 0) == (flo < 0)
+        lo, flo, hi = np.where(left, mid, lo), np.where(left, fm, flo), np.where(left, hi, mid)
+    return 0.5 * (lo + hi)
 
 
 def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSplineCurve:
@@ -289,7 +304,7 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
         if const[other] and not ident[k]:
             x = P[:, k]
             if np.all(np.diff(x) >= 0) or np.all(np.diff(x) <= 0):
-                ends = c(np.array(c.domain))
+                ends = np.stack([_end(c, 0), _end(c, 1)])
                 y = ends[:, other] if ident[other] else maps[other](ends[:, other])
                 e = np.empty((2, 2))
                 e[:, k] = maps[k](ends[:, k])
@@ -304,12 +319,22 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
         uv = c(t)
         return np.stack([mu(uv[:, 0]), mv(uv[:, 1])], axis=1)
 
+    last: List[Tuple[bytes, np.ndarray]] = []
+
+    def second(t: np.ndarray) -> np.ndarray:
+        """c.derivatives(t, 2), once for df and ddf at the same t (its orders 0 and 1 are
+        c.derivatives(t, 1) bit for bit: rational derivatives are built order by order)."""
+        key = t.tobytes()
+        if not last or last[0][0] != key:
+            last[:] = [(key, c.derivatives(t, 2))]
+        return last[0][1]
+
     def df(t: np.ndarray) -> np.ndarray:
-        d = c.derivatives(t, 1)
+        d = second(t)
         return np.stack([mu.derivative(d[0, :, 0]) * d[1, :, 0], mv.derivative(d[0, :, 1]) * d[1, :, 1]], axis=1)
 
     def ddf(t: np.ndarray) -> np.ndarray:
-        d = c.derivatives(t, 2)
+        d = second(t)
         return np.stack([m.second_derivative(d[0, :, k]) * d[1, :, k] ** 2 + m.derivative(d[0, :, k]) * d[2, :, k]
                          for k, m in enumerate(maps)], axis=1)
 
@@ -363,14 +388,55 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
         return surface
     if reversed_:
         loops = [[_mirrored(c, a0 + a1) for c in lp[::-1]] for lp in loops]
-    gap, over = _gaps(loops), _overshoot(loops, surface)
+    # the loops' sample points (_samples) decide how far they leave the box and which is
+    # the outer one; their control hulls bound both, and the samples are computed only
+    # where the bounds do not decide (the result is the same either way)
+    hulls = [[_hull(c) for c in lp] for lp in loops]
+    points: List[np.ndarray] = []
+    gap = _gaps(loops)
+    if _overshoot([h for lp in hulls for h in lp], surface) < 0.5 * (CLOSURE_TOL * size):
+        over = 0.0                         # 2 over < CLOSURE_TOL size: it cannot change tol
+    else:
+        points = [np.concatenate([_samples(c) for c in lp]) for lp in loops]
+        over = _overshoot(points, surface)
     if max(gap, over) > MAX_GAP * size:
+        over = _overshoot([np.concatenate([_samples(c) for c in lp]) for lp in loops], surface)
         raise CagdError(f"face: its wires do not close in (u, v) within {MAX_GAP:g} of the parameter box "
                         f"(gap {gap:.3g}, outside the box by {over:.3g})")
-    boxes = [np.ptp(np.concatenate([_samples(c) for c in lp]), axis=0).prod() for lp in loops]
-    order = [int(np.argmax(boxes))] + [i for i in range(len(loops)) if i != int(np.argmax(boxes))]
+    outer = _outer_by_hulls(loops, hulls) if len(loops) > 1 else 0
+    if outer is None:
+        points = points or [np.concatenate([_samples(c) for c in lp]) for lp in loops]
+        boxes = [np.ptp(P, axis=0).prod() for P in points]
+        outer = int(np.argmax(boxes))
+    order = [outer] + [i for i in range(len(loops)) if i != outer]
     tol = max(CLOSURE_TOL * size, 2.0 * gap, 2.0 * over)
     return TrimmedSurface(surface, [loops[i] for i in order], tol=tol)
+
+
+#: relative (to the largest coordinate of a curve's control points, times its weights'
+#: ratio): how far rounding may put an evaluated point beyond the control points' box
+#: (the curve lies in their hull; the engine's evaluation errs by 1.7e-14 at degree 20)
+EVAL_MARGIN = 1e-12
+
+
+def _hull(c: BSplineCurve) -> np.ndarray:
+    """(2, 2): a box [lo, hi] holding every evaluated point of c (rounding included)."""
+    P = c.control_points
+    ratio = 1.0 if c.weights is None else float(c.weights.max() / c.weights.min())
+    margin = EVAL_MARGIN * float(np.abs(P).max()) * ratio
+    return np.stack([P.min(axis=0) - margin, P.max(axis=0) + margin])
+
+
+def _outer_by_hulls(loops: List[List[BSplineCurve]], hulls: List[List[np.ndarray]]) -> Optional[int]:
+    """The loop whose sampled box (np.ptp of its _samples, their product) is the largest,
+    where the bounds decide: at least the box of its curves' ends (samples themselves),
+    at most that of the control hulls. None where they do not."""
+    low = np.array([np.ptp(np.array([e for c in lp for e in (_end(c, 0), _end(c, 1))]), axis=0).prod()
+                    for lp in loops])
+    high = np.array([np.ptp(np.concatenate(h), axis=0).prod() for h in hulls])
+    i = int(np.argmax(low))
+    others = np.delete(high, i)
+    return i if bool(np.all(low[i] > others)) else None
 
 
 def _mirrored(c: BSplineCurve, total: float) -> BSplineCurve:
@@ -385,7 +451,7 @@ def _gaps(loops: List[List[BSplineCurve]]) -> float:
     for lp in loops:
         for i, c in enumerate(lp):
             n = lp[(i + 1) % len(lp)]
-            gap = max(gap, float(np.linalg.norm(c(c.domain[1]) - n(n.domain[0]))))
+            gap = max(gap, float(np.linalg.norm(_end(c, 1) - _end(n, 0))))
     return gap
 
 
@@ -397,9 +463,10 @@ def _samples(c: BSplineCurve, per_span: int = 16) -> np.ndarray:
     return c(np.append(t, b))
 
 
-def _overshoot(loops: List[List[BSplineCurve]], surface: Surface) -> float:
+def _overshoot(points: List[np.ndarray], surface: Surface) -> float:
+    """How far the loops' sample points (arrays of points) leave the bounded directions."""
     (u0, u1), (v0, v1) = surface.domain
-    P = np.concatenate([_samples(c) for lp in loops for c in lp])
+    P = np.concatenate(points)
     out = 0.0
     if not surface.periodic_u:
         out = max(out, u0 - P[:, 0].min(), P[:, 0].max() - u1)
