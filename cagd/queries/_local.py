@@ -218,7 +218,7 @@ def _foot_move(Jc: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 
 def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
-                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray) -> np.ndarray:
+                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False):
     """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
     expansion at c: g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2 with m a lower bound
     of the smallest Hessian eigenvalue over the box, the larger of
@@ -236,7 +236,12 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     power of two nearest the first-derivative bound L_a (at least a quarter of the
     largest), so that a large second derivative along one direction is weighed against
     the first derivative along that direction: m bounds the smallest eigenvalue of
-    diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2."""
+    diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2.
+
+    ``convexity``: also return m and the box's reach R (n, k) of the minimiser: where
+    m > 0, g is strongly convex on the box in y, so its minimiser x^ over the box obeys
+    m/2 |y^ - y(c)|^2 <= g(c) - g(x^) <= |grad_y g(c)| |y^ - y(c)|, i.e.
+    |x^_a - c_a| <= R_a = 2 |grad_y g(c)| / (m s_a) (inf where m <= 0)."""
     n, dim = S.shape
     k = c.shape[1]
     r = [S[:, d] - Xp[:, d] for d in range(dim)]
@@ -333,7 +338,15 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         with np.errstate(divide="ignore", invalid="ignore"):
             ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
         q = q + np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
-    return f2 + q - 1e-15 * f2
+    bound = f2 + q - 1e-15 * f2
+    if not convexity:
+        return bound
+    gy = grad[0] * si[0] * grad[0] * si[0]
+    for a in range(1, k):
+        gy = gy + grad[a] * si[a] * grad[a] * si[a]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = np.where(m > 0, 2.0 * np.sqrt(gy) / m, np.inf)
+    return bound, m, np.stack([rho * si[a] for a in range(k)], axis=1)
 
 
 def pair_distances(X: np.ndarray, pid: np.ndarray, Y: np.ndarray, cell: np.ndarray) -> np.ndarray:

@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 #: relative gap below which a cell's lower bound counts as reaching the distance found
 CELL_GAP = 1e-10
 #: outside points whose branch and bound runs together (the row bound holds per group)
-TRIM_POINT_CHUNK = 1024
+TRIM_POINT_CHUNK = 8192
 #: rounds of the branch and bound at most (each halves the open cells' boxes)
 MAX_TRIM_ROUNDS = 60
 #: open (point, box) rows at most per round (bounded work: the bound reached is reported)
@@ -60,6 +60,10 @@ FIT_ERROR_SAFETY = 4.0
 KINK_TOL = 1e-12
 #: (point, box) rows evaluated at once by the stationary-point test
 ROW_CHUNK = 1 << 16
+#: margin on the reach of a convex box's minimiser (rounding in its bound)
+CONVEX_SAFETY = 1.0 + 1e-6
+#: a box cut down to its minimiser's reach by at least this factor per side is not halved
+SHRUNK = 0.5
 
 _PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -221,7 +225,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     for c0 in range(0, len(o), TRIM_POINT_CHUNK):
         sl = slice(c0, c0 + TRIM_POINT_CHUNK)
         U[sl], x_best[sl], best_ok[sl], LB[sl], stopped[sl] = _interior(ts, p, X[sl], U[sl], best_ok[sl], cls, stop,
-                                                                         max_iterations)
+                                                                         max_iterations, lb_edge[sl] / s)
     newton_ok = best_ok.copy()
     best_ok &= ~stopped
     interior = np.flatnonzero(np.isfinite(x_best[:, 0]))
@@ -259,11 +263,14 @@ def _on_domain(surface: "Surface", uv: np.ndarray) -> np.ndarray:
 
 
 def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray, best_ok: np.ndarray,
-              cls: np.ndarray, stop: Tuple[Optional[float], Optional[float]], max_iterations: int
-              ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+              cls: np.ndarray, stop: Tuple[Optional[float], Optional[float]], max_iterations: int,
+              edge: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Branch and bound for points X (frame units) with upper bounds U: (U, the frame
     parameters of interior feet that beat U (NaN where none), their Newton flags, the
-    lower bounds over the cells, and which points kept boxes open at the work bound)."""
+    lower bounds over the cells, and which points kept boxes open at the work bound).
+    ``edge``: the boundary's lower bounds (frame units); a box whose bound reaches it
+    is closed (the certificate, min(edge, cells), cannot be lowered by it: a fitted
+    edge's error is then the gap)."""
     U, best_ok = U.copy(), best_ok.copy()
     live = np.flatnonzero(cls >= 0)
     LB = np.full(len(X), np.inf)
@@ -277,6 +284,11 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
         cell_l.append(live[col])
     pid, cell = np.concatenate(pid_l), np.concatenate(cell_l)
     lo, hi = p.lo[cell], p.hi[cell]
+    # the cells' second-order bounds at their midpoints (stored S, J, H: no evaluation)
+    lb = np.sqrt(np.maximum(p._mid_bound(X, pid, cell, lo, hi), 0.0))
+    closed = lb >= np.minimum(U[pid] - (CELL_GAP * U[pid] + 1e-13 * p.size), edge[pid])
+    np.minimum.at(LB, pid[closed], lb[closed])
+    pid, cell, lo, hi = pid[~closed], cell[~closed], lo[~closed], hi[~closed]
     box = cls[cell]
     x_best = np.full((len(X), 2), np.nan)
     for _ in range(MAX_TRIM_ROUNDS):
@@ -297,15 +309,29 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
             first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
             U[pid[first]], x_best[pid[first]] = dy[first], y[first]
             best_ok[pid[first]] = ok[first]
-        lb = np.sqrt(np.maximum(p._bound(X, pid, cell, lo, hi, y), 0.0))
-        closed = lb >= U[pid] - gap[pid]
+        lb, reach = _convex_bound(p, X, pid, cell, lo, hi, y)
+        lb = np.sqrt(np.maximum(lb, 0.0))
+        closed = lb >= np.minimum(U[pid] - gap[pid], edge[pid])
         np.minimum.at(LB, pid[closed], lb[closed])
         keep = ~closed
-        pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
-        if 2 * len(pid) > MAX_TRIM_ROWS:
+        pid, cell, lo, hi, box, lb, y, reach = (pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep],
+                                                y[keep], reach[keep])
+        # where g is strongly convex on the box, the face's minimum over box & D, unless on
+        # the boundary of D (the edges), is g's minimiser over the box: within reach of y
+        reach = reach * CONVEX_SAFETY + KINK_TOL * (hi - lo)
+        nlo, nhi = np.maximum(lo, y - reach), np.minimum(hi, y + reach)
+        shrunk = np.all(nhi - nlo <= SHRUNK * (hi - lo), axis=1)
+        lo, hi = nlo, nhi
+        if len(pid) + np.count_nonzero(~shrunk) > MAX_TRIM_ROWS:
             break
-        pid, cell, lo, hi, lb = split_boxes(pid, cell, lo, hi, lb)
-        box = np.concatenate([box, box])
+        s_ = np.flatnonzero(shrunk)
+        g_ = np.flatnonzero(~shrunk)
+        pid2, cell2, lo2, hi2, lb2 = split_boxes(pid[g_], cell[g_], lo[g_], hi[g_], lb[g_])
+        pid = np.concatenate([pid[s_], pid2])
+        cell = np.concatenate([cell[s_], cell2])
+        lo, hi = np.concatenate([lo[s_], lo2]), np.concatenate([hi[s_], hi2])
+        lb = np.concatenate([lb[s_], lb2])
+        box = np.concatenate([box[s_], box[g_], box[g_]])
         flat = _no_critical_point(p, X, pid, cell, lo, hi)     # before the (costlier) trim test
         pid, cell, lo, hi, box, lb = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat], lb[~flat]
         straddle = np.flatnonzero(box == 0)
@@ -317,8 +343,24 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     stopped = np.zeros(len(X), dtype=bool)
     if len(pid):                                 # boxes left open: their bounds still hold
         np.minimum.at(LB, pid, lb)
-        stopped[np.unique(pid[lb < U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size])] = True
+        stopped[np.unique(pid[lb < np.minimum(U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size, edge[pid])])] = True
     return U, x_best, best_ok, LB, stopped
+
+
+def _convex_bound(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,
+                  hi: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """The projector's second-order lower bound of g = |S - X|^2 over each box, expanded
+    at y in the box, and the reach (n, k) from y of g's minimiser over the box where g is
+    strongly convex there (inf elsewhere): :func:`cagd.queries._local.box_lower_bound`."""
+    from ._local import box_lower_bound
+    out, reach = np.empty(len(pid)), np.empty((len(pid), p.k))
+    for c0 in range(0, len(pid), ROW_CHUNK):
+        sl = slice(c0, c0 + ROW_CHUNK)
+        ce = cell[sl]
+        S, J, H = p.evaluate(y[sl], 2, p._cell_piece[ce])
+        out[sl], _, reach[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], y[sl], S, J, H, p.L[ce], p.M[ce],
+                                                p.T3[ce], convexity=True)
+    return out, reach
 
 
 def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,
