@@ -145,10 +145,13 @@ class _ChordGrid:
         return out
 
 
-def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray, exact_cells: Optional[int] = None
+                ) -> np.ndarray:
     """Per parameter box [lo, hi] (model parameters, (n, 2)): -1 outside the trimmed domain
     D, 1 inside it, 0 where a loop may cross it (a chord's box, widened by its bound,
-    meets the box). Periodic faces: every box 0 (no pruning)."""
+    meets the box; or, with ``exact_cells``, the box covers more than that many cells of
+    the chord grid, one of them met by a chord: large boxes are not tested chord by chord).
+    Periodic faces: every box 0 (no pruning)."""
     n = len(lo)
     out = np.zeros(n, dtype=np.int8)
     if ts.periodic_u or ts.periodic_v or not n:
@@ -172,8 +175,8 @@ def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndar
         return P[a1, b1] - P[a0, b1] - P[a1, b0] + P[a0, b0]
     out[(count(table[0]) == n) & ~away] = 1
     out[count(table[1]) == n] = -1
-    rest = np.flatnonzero(out == 0)
-    if rest.size:                                  # boxes over a cell that a chord meets
+    rest = np.flatnonzero(out == 0) if exact_cells is None else np.flatnonzero((out == 0) & (n <= exact_cells))
+    if rest.size:                                  # small boxes over a cell that a chord meets
         crossed = grid.meets(lo[rest], hi[rest])
         c = 0.5 * (lo[rest] + hi[rest])
         inside = ts.contains(c[:, 0], c[:, 1])
@@ -304,7 +307,8 @@ def _joined_loops(ts: "TrimmedSurface", bd: "TrimBoundary") -> list:
         p = max(C.degree for C in images)
         parts = [C.elevate(p - C.degree) if C.degree < p else C for C in images]
         err = 0.0 if all(exact) else FIT_ERROR_SAFETY * bd.error
-        P, W, K = [parts[0].control_points], [_weights(parts[0])], [parts[0].knots[:-1]]
+        P, W = [parts[0].control_points], [_weights(parts[0])]
+        K: list = [parts[0].knots[:-1]]
         starts = [float(parts[0].domain[0])]
         offsets = [float(parts[0].domain[0])]
         end = float(parts[0].domain[1])
