@@ -99,7 +99,7 @@ def bench_closest(ts: TrimmedSurface, n: int, spread: float = 0.01) -> None:
             r = cagd.closest_point(obj, X)
             rates.append(len(X) / (time.perf_counter() - t))
             assert np.all(r.lower_bounds <= r.distances)
-        print(f"closest at {spread:.0%}, {what}: untrimmed {rates[0]:,.0f} points/s, trimmed {rates[1]:,.0f} points/s "
+        print(f"closest, {what} at {spread:.0%}: untrimmed {rates[0]:,.0f} points/s, trimmed {rates[1]:,.0f} points/s "
               f"({rates[1] / rates[0]:.2f}x; issue 15 asks >= 0.5x)")
 
 
