@@ -5,13 +5,19 @@ The face F = S(D) is a part of its surface S, so the untrimmed answer (certified
 is F's wherever its foot lies in D, and its lower bound holds for F everywhere. For the
 other points F's distance is the smaller of
 
-- the distance to the boundary S(dD): every loop curve's 3-D image (``boundary()``:
-  exact iso-curves, or fits within their reported error), the foot then moved onto the
-  face itself, S(c(t)), so the distance found is attained by a point of F;
+- the distance to the boundary S(dD): each loop's 3-D image (``boundary()``: exact
+  iso-curves, or fits within their reported error), its curves joined into one curve
+  (one query per loop), the foot then moved onto the face itself, S(c(t)), so the
+  distance found is attained by a point of F;
 - an interior minimum inside D: branch and bound over the surface's Bezier cells, each
   classified against the trim (a cell outside D is dropped, only feet inside D count),
   with the projector's second-order lower bounds (Piegl & Tiller 6.1 for the Newton step;
-  the bounds as in :mod:`cagd.queries.closest`).
+  the bounds as in :mod:`cagd.queries.closest`). Where g = |S - X|^2 is strongly convex
+  on a box (the bound's m > 0), the face's minimum over box & D, unless on dD, is g's
+  minimiser over the box, which the bound's quadratic confines to a small box about the
+  Newton point: the box is cut down to it (and then usually classified outside D). A
+  box whose bound reaches the edges' lower bound is closed (it cannot lower the
+  certificate).
 
 The lower bound reported is the largest of the untrimmed one and the minimum of the
 boundary curves' bounds (less FIT_ERROR_SAFETY times the fits' measured error, where an
@@ -51,8 +57,6 @@ CRITICAL_SAFETY = 1.0 + 1e-9
 GRID = 128
 #: grid cells of boxes expanded at once
 GRID_CHUNK = 1 << 18
-#: face points per loop curve giving the first upper bound of the boundary distance
-EDGE_SAMPLES = 33
 #: the boundary fits' error is measured at samples (TrimBoundary.error), not bounded: the
 #: lower bound from a fitted edge subtracts this multiple of it
 FIT_ERROR_SAFETY = 4.0
