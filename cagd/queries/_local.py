@@ -218,7 +218,7 @@ def _foot_move(Jc: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 
 def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
-                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray) -> np.ndarray:
+                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False):
     """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
     expansion at c: g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2 with m a lower bound
     of the smallest Hessian eigenvalue over the box, the larger of
@@ -236,7 +236,12 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     power of two nearest the first-derivative bound L_a (at least a quarter of the
     largest), so that a large second derivative along one direction is weighed against
     the first derivative along that direction: m bounds the smallest eigenvalue of
-    diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2."""
+    diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2.
+
+    ``convexity``: also return m and, for c in the box, the box (tlo, thi) (n, k) of offsets
+    from c that holds g's minimiser x^ over the box where m > 0 (g strongly convex there:
+    g(x^) >= g(c) + the quadratic at x^ - c, and g(x^) <= g(c); the whole box where
+    m <= 0)."""
     n, dim = S.shape
     k = c.shape[1]
     r = [S[:, d] - Xp[:, d] for d in range(dim)]
@@ -325,6 +330,7 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     m2 = 2.0 * (lmin_h - np.sqrt(E2) - 1e-12 * scale)
     m = np.maximum(m1, m2)
     q = 0.0
+    parts = []
     for a in range(k):
         ma = m * (sc[a] * sc[a])
         g = grad[a]
@@ -332,8 +338,25 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
         with np.errstate(divide="ignore", invalid="ignore"):
             ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
-        q = q + np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
-    return f2 + q - 1e-15 * f2
+        qa = np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
+        q = q + qa
+        parts.append((g, ma, tlo, thi, qa))
+    bound = f2 + q - 1e-15 * f2
+    if not convexity:
+        return bound
+    # the minimiser x^ over the box has g(x^) <= g(c), so sum_a q_a(t_a) <= 0 at t = x^ - c,
+    # q_a(t) = grad_a t + m_a t^2 / 2 >= its minimum qmin_a over the box's range: each
+    # q_a(t_a) <= qmin_a - sum_b qmin_b (+ a rounding margin), an interval of t_a
+    lo_t, hi_t = [], []
+    for g, ma, tlo, thi, qa in parts:
+        rhs = qa - q + 1e-13 * f2 + 1e-300
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            root = np.sqrt(g * g + 2.0 * ma * rhs)
+            a0 = np.where(m > 0, (-g - root) / ma, -np.inf)
+            a1 = np.where(m > 0, (-g + root) / ma, np.inf)
+        lo_t.append(np.maximum(a0, tlo))
+        hi_t.append(np.minimum(a1, thi))
+    return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
 
 
 def pair_distances(X: np.ndarray, pid: np.ndarray, Y: np.ndarray, cell: np.ndarray) -> np.ndarray:

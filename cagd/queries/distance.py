@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import List, Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import _checks
 from ..curves.base import Curve
@@ -324,10 +325,17 @@ def _first_pairs(a: sd.Pieces, b: sd.Pieces, max_pairs: int, chunk: int = 1 << 2
     return ia, ib, floor
 
 
-def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Optional[float] = None, *,
-                 max_depth: int = 40, max_pairs: int = 20000, refine_per_level: int = 8) -> DistanceResult:
+def min_distance(a: Union[Curve, Surface, ArrayLike], b: Union[Curve, Surface, ArrayLike],
+                 tol: Optional[float] = None, *, max_depth: int = 40, max_pairs: int = 20000, refine_per_level: int = 8,
+                 _trims: tuple = (None, None), _ceiling: Optional[float] = None) -> DistanceResult:
     """The global minimum distance between ``a`` and ``b`` (engine curves or surfaces of
     the same dimension), with a certified lower bound.
+
+    A :class:`cagd.TrimmedSurface` counts as the face itself, not its untrimmed surface
+    (:mod:`cagd.queries._distance_trimmed`: its boundary edges, and the pairs inside its
+    trim); against a face the other object may also be an (N, dim) point set: the
+    nearest of its points' closest points on the face (:func:`cagd.closest_point`; the
+    parameter on the point set is the point's index).
 
     Stops when distance - lower_bound <= ``tol``, an absolute distance in model units
     (default DEFAULT_RTOL = 1e-9 times the size of the larger object, but at least
@@ -346,7 +354,12 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
         CagdError: not curves/surfaces, different dimensions, tol <= 0 or NaN, bad
             limits; a distance beyond the float64 range.
     """
-    A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")
+    from ..surfaces.trimmed import TrimmedSurface
+    if _trims == (None, None) and (isinstance(a, TrimmedSurface) or isinstance(b, TrimmedSurface)):
+        from ._distance_trimmed import trimmed_min_distance
+        return trimmed_min_distance(a, b, tol, max_depth=max_depth, max_pairs=max_pairs,
+                                    refine_per_level=refine_per_level, ceiling=_ceiling)
+    A, B = sd.Geometry(a, "a"), sd.Geometry(b, "b")      # type: ignore[arg-type]
     if A.dim != B.dim:
         raise CagdError(f"a, b: objects of different dimension ({A.dim}-D and {B.dim}-D)")
     # work in the frame of both objects together (O(1): no squared distance overflows or
@@ -372,6 +385,11 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
     max_depth = _checks.integer(max_depth, "max_depth", 0, 200)
     max_pairs = _checks.integer(max_pairs, "max_pairs", 16)
     refine_per_level = _checks.integer(refine_per_level, "refine_per_level", 1, 4096)
+    ceiling = np.inf if _ceiling is None else float(_ceiling) / scale     # a distance known (frame units)
+    trims = None
+    if _trims != (None, None):
+        from ._distance_trimmed import TrimTest
+        trims = TrimTest(A, B, *_trims)
     ia, ib, floor = _first_pairs(A.pieces, B.pieces, max_pairs)   # floor: bounds of pairs dropped at the cap
     pa, pb = A.pieces.take(ia), B.pieces.take(ib)
     best = np.inf
@@ -388,10 +406,17 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
 
     def improve(x, y, dist):
         nonlocal best, bx, by, direction, degenerate
+        if trims is not None:               # only pairs of points of the faces count
+            on = trims.inside(x, y)
+            if not on.any():
+                return
+            x, y, dist = x[on], y[on], dist[on]
         k = int(np.argmin(dist))
         if dist[k] < best:
             best, bx, by = float(dist[k]), x[k], y[k]
-            bx, by, best = _polished(A, B, bx, by, best)
+            px, py, pd = _polished(A, B, bx, by, best)
+            if trims is None or trims.inside(px[None], py[None])[0]:
+                bx, by, best = px, py, pd
             if best > 0:
                 direction = B.points(by[None])[0] - A.points(bx[None])[0]
             degenerate = not _isolated(A, B, bx, by, best <= TOUCH_RTOL * size)
@@ -409,6 +434,12 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
         flats = flats + new[:MAX_FLATS - len(flats)]
 
     for depth in range(max_depth + 1):
+        if trims is not None:               # pairs off the faces, or with no stationary point, go
+            keep = trims.keep(pa, pb)
+            pa, pb = pa.take(keep), pb.take(keep)
+            if not len(pa.ctrl):
+                lower = min(floor, settled, best, ceiling)
+                break
         bound, split_a, split_b, modes_a, modes_b = _bounds(pa, pb, direction, flats)
         # upper bounds: corners, then Newton from the most promising pairs
         ca, la = _corners(pa.ctrl)
@@ -427,7 +458,7 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
             # a continuum of minima: fit a centre or an axis to the normal lines of the minima, at
             # first also of minima from points spread over the pairs that may hold the minimum
             learn(x, y, dist)
-            open_ = np.flatnonzero(bound < best - tol)
+            open_ = np.flatnonzero(bound < min(best, ceiling) - tol)
             if not flats and open_.size:
                 pick = open_[np.linspace(0, open_.size - 1, refine_per_level).astype(int)]
                 xs = pa.lo[pick] + spread_a * (pa.hi[pick] - pa.lo[pick])
@@ -437,11 +468,12 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
                 learn(x, y, dist)
             if len(flats) > known:
                 bound, split_a, split_b, modes_a, modes_b = _bounds(pa, pb, direction, flats)
-        alive = bound < best - tol
+        cap = min(best, ceiling)
+        alive = bound < cap - tol
         if not alive.all():
             settled = min(settled, float(bound[~alive].min()))
-        lower = min(float(bound[alive].min()) if alive.any() else np.inf, floor, settled, best)
-        if best - lower <= tol:
+        lower = min(float(bound[alive].min()) if alive.any() else np.inf, floor, settled, cap)
+        if cap - lower <= tol:
             break
         if not alive.any():            # only pairs dropped at the cap could hold a closer point
             message = (f"pair cap {max_pairs} reached: the pairs dropped there bound the distance from "
@@ -464,12 +496,14 @@ def min_distance(a: Union[Curve, Surface], b: Union[Curve, Surface], tol: Option
         pa, pb, _ = sd.split_pairs(pa.take(go), pb.take(go), split_a[go], split_b[go],
                                    None if modes_a is None else modes_a[fits],
                                    None if modes_b is None else modes_b[fits])
+    if bx is None or by is None:            # trimmed: no pair of face points beat the ceiling
+        return DistanceResult(np.inf, (None, None), (None, None), float(lower) * scale, tol * scale,
+                              bool(min(best, ceiling) - lower <= tol), True, message)
     # polish the best point (the Hessian test wants a stationary point)
-    assert bx is not None and by is not None                # the corners of the first level set them
     x, y, dist, _ = sd.refine(A, B, bx[None], by[None], True, 20)
     improve(x, y, dist)
-    lower = min(lower, best)
-    converged = best - lower <= tol
+    lower = min(lower, best, ceiling)
+    converged = min(best, ceiling) - lower <= tol
     pA, pB = frame.outward(A.points(bx[None]))[0], frame.outward(B.points(by[None]))[0]
     pA.flags.writeable = pB.flags.writeable = False
     distance = float(robust_distance(pA, pB))

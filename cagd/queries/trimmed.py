@@ -5,13 +5,19 @@ The face F = S(D) is a part of its surface S, so the untrimmed answer (certified
 is F's wherever its foot lies in D, and its lower bound holds for F everywhere. For the
 other points F's distance is the smaller of
 
-- the distance to the boundary S(dD): every loop curve's 3-D image (``boundary()``:
-  exact iso-curves, or fits within their reported error), the foot then moved onto the
-  face itself, S(c(t)), so the distance found is attained by a point of F;
+- the distance to the boundary S(dD): each loop's 3-D image (``boundary()``: exact
+  iso-curves, or fits within their reported error), its curves joined into one curve
+  (one query per loop), the foot then moved onto the face itself, S(c(t)), so the
+  distance found is attained by a point of F;
 - an interior minimum inside D: branch and bound over the surface's Bezier cells, each
   classified against the trim (a cell outside D is dropped, only feet inside D count),
   with the projector's second-order lower bounds (Piegl & Tiller 6.1 for the Newton step;
-  the bounds as in :mod:`cagd.queries.closest`).
+  the bounds as in :mod:`cagd.queries.closest`). Where g = |S - X|^2 is strongly convex
+  on a box (the bound's m > 0), the face's minimum over box & D, unless on dD, is g's
+  minimiser over the box, which the bound's quadratic confines to a small box about the
+  Newton point: the box is cut down to it (and then usually classified outside D). A
+  box whose bound reaches the edges' lower bound is closed (it cannot lower the
+  certificate).
 
 The lower bound reported is the largest of the untrimmed one and the minimum of the
 boundary curves' bounds (less FIT_ERROR_SAFETY times the fits' measured error, where an
@@ -40,7 +46,7 @@ if TYPE_CHECKING:
 #: relative gap below which a cell's lower bound counts as reaching the distance found
 CELL_GAP = 1e-10
 #: outside points whose branch and bound runs together (the row bound holds per group)
-TRIM_POINT_CHUNK = 1024
+TRIM_POINT_CHUNK = 8192
 #: rounds of the branch and bound at most (each halves the open cells' boxes)
 MAX_TRIM_ROUNDS = 60
 #: open (point, box) rows at most per round (bounded work: the bound reached is reported)
@@ -51,8 +57,6 @@ CRITICAL_SAFETY = 1.0 + 1e-9
 GRID = 128
 #: grid cells of boxes expanded at once
 GRID_CHUNK = 1 << 18
-#: face points per loop curve giving the first upper bound of the boundary distance
-EDGE_SAMPLES = 33
 #: the boundary fits' error is measured at samples (TrimBoundary.error), not bounded: the
 #: lower bound from a fitted edge subtracts this multiple of it
 FIT_ERROR_SAFETY = 4.0
@@ -60,6 +64,12 @@ FIT_ERROR_SAFETY = 4.0
 KINK_TOL = 1e-12
 #: (point, box) rows evaluated at once by the stationary-point test
 ROW_CHUNK = 1 << 16
+#: a foot on a joined loop within this share of its domain from a joint is at the joint
+JOINT_TOL = 1e-12
+#: margin on the reach of a convex box's minimiser (rounding in its bound)
+CONVEX_SAFETY = 1.0 + 1e-6
+#: a box cut down to its minimiser's reach by at least this factor per side is not halved
+SHRUNK = 0.5
 
 _PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -139,10 +149,13 @@ class _ChordGrid:
         return out
 
 
-def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray, exact_cells: Optional[int] = None
+                ) -> np.ndarray:
     """Per parameter box [lo, hi] (model parameters, (n, 2)): -1 outside the trimmed domain
     D, 1 inside it, 0 where a loop may cross it (a chord's box, widened by its bound,
-    meets the box). Periodic faces: every box 0 (no pruning)."""
+    meets the box; or, with ``exact_cells``, the box covers more than that many cells of
+    the chord grid, one of them met by a chord: large boxes are not tested chord by chord).
+    Periodic faces: every box 0 (no pruning)."""
     n = len(lo)
     out = np.zeros(n, dtype=np.int8)
     if ts.periodic_u or ts.periodic_v or not n:
@@ -152,10 +165,40 @@ def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndar
     if grid is None:
         grid = _ChordGrid(flat.A, flat.B, flat.bound + flat.band)
         setattr(flat, "_box_grid", grid)           # derived from the immutable loops: kept with them
-    crossed = grid.meets(lo, hi)
-    c = 0.5 * (lo + hi)
-    inside = ts.contains(c[:, 0], c[:, 1])
-    out[~crossed] = np.where(inside[~crossed], 1, -1)
+    table = getattr(grid, "_table", None)
+    if table is None:
+        table = _state_table(ts, grid)
+        setattr(grid, "_table", table)
+    # first from the grid's cells: a box over cells of one side only is on that side
+    i0, i1 = grid._cells(lo), grid._cells(hi)
+    away = np.any((lo < grid.lo) | (hi > grid.lo + GRID * grid.step), axis=1)
+    n = (i1[:, 0] - i0[:, 0] + 1) * (i1[:, 1] - i0[:, 1] + 1)
+
+    def count(P: np.ndarray) -> np.ndarray:
+        a0, a1, b0, b1 = i0[:, 0], i1[:, 0] + 1, i0[:, 1], i1[:, 1] + 1
+        return P[a1, b1] - P[a0, b1] - P[a1, b0] + P[a0, b0]
+    out[(count(table[0]) == n) & ~away] = 1
+    out[count(table[1]) == n] = -1
+    rest = np.flatnonzero(out == 0) if exact_cells is None else np.flatnonzero((out == 0) & (n <= exact_cells))
+    if rest.size:                                  # small boxes over a cell that a chord meets
+        crossed = grid.meets(lo[rest], hi[rest])
+        c = 0.5 * (lo[rest] + hi[rest])
+        inside = ts.contains(c[:, 0], c[:, 1])
+        out[rest[~crossed]] = np.where(inside[~crossed], 1, -1)
+    return out
+
+
+def _state_table(ts: "TrimmedSurface", grid: _ChordGrid) -> np.ndarray:
+    """Summed-area tables (2, GRID + 1, GRID + 1) of the grid's cells that no chord box
+    meets with their centre inside D (0) and outside it (1): such a cell lies on one side
+    of every loop (each loop lies in its chords' widened boxes)."""
+    empty = (grid.start[1:] - grid.start[:-1]).reshape(GRID, GRID) == 0
+    k = (np.arange(GRID) + 0.5)
+    cu, cv = np.meshgrid(grid.lo[0] + k * grid.step[0], grid.lo[1] + k * grid.step[1], indexing="ij")
+    inside = ts.contains(cu.ravel(), cv.ravel()).reshape(GRID, GRID)
+    out = np.zeros((2, GRID + 1, GRID + 1), dtype=np.int64)
+    out[0, 1:, 1:] = np.cumsum(np.cumsum(empty & inside, axis=0), axis=1)
+    out[1, 1:, 1:] = np.cumsum(np.cumsum(empty & ~inside, axis=0), axis=1)
     return out
 
 
@@ -180,20 +223,9 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     best_ok = np.ones(len(o), dtype=bool)
     lb_edge = np.full(len(o), np.inf)
     from .closest import _closest_point
-    pairs = [(c, C, 0.0 if ex else FIT_ERROR_SAFETY * bd.error)
-             for loop, images, exact in zip(ts.loops, bd.curves, bd.exact)
-             for c, C, ex in zip(loop, images, exact)]
-    # an upper bound first, from face points S(c(t)) on every loop curve; then each curve
-    # is asked only for the points its control-point ball does not rule out
-    samples = _on_domain(surface, np.concatenate([c(np.linspace(*c.domain, EDGE_SAMPLES)) for c, _, _ in pairs]))
-    F = surface(samples[:, 0], samples[:, 1])
-    for s0 in range(0, len(o), max(1, ROW_CHUNK // len(F))):
-        sl = slice(s0, s0 + max(1, ROW_CHUNK // len(F)))
-        with np.errstate(over="ignore"):              # points beyond 1e154: inf, asked below
-            D = np.sqrt(((Xm[sl, None, :] - F[None]) ** 2).sum(-1))
-        k = D.argmin(axis=1)
-        best[sl], best_uv[sl] = D[np.arange(len(k)), k], samples[k]
-    for c, C, err in pairs:
+    # each loop (its curves' images joined into one curve), the outer one first, is asked
+    # for the points its control-point ball does not rule out
+    for loop, C, starts, offsets, err in _joined_loops(ts, bd):
         P = C.control_points
         centre = 0.5 * (P.min(axis=0) + P.max(axis=0))
         radius = float(np.sqrt(((P - centre) ** 2).sum(-1)).max())
@@ -204,11 +236,21 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
         if not ask.size:
             continue
         r = _closest_point(C, Xm[ask], tol=None, max_iterations=max_iterations)
-        q = _on_domain(surface, c(r.params))
+        j = np.clip(np.searchsorted(offsets, r.params, side="right") - 1, 0, len(loop) - 1)
+        q = np.empty((len(j), 2))
+        for i in np.unique(j):                    # the joined parameter back to its loop curve's
+            m = j == i
+            c = loop[i]
+            q[m] = c(np.clip(r.params[m] - offsets[i] + starts[i], *c.domain))
+        q = _on_domain(surface, q)
         d = robust_distance(surface(q[:, 0], q[:, 1]), Xm[ask])
         win = d < best[ask]
         w = ask[win]
-        best[w], best_uv[w], best_ok[w] = d[win], q[win], r.point_converged[win]
+        # a foot at a joint is the corner between two curves (no stationary point there:
+        # Newton stops on the kink unconverged; the lower bound certifies it)
+        width = float(C.domain[1] - C.domain[0])
+        ok = r.point_converged | (np.abs(r.params[:, None] - offsets[None, 1:]) <= JOINT_TOL * width).any(axis=1)
+        best[w], best_uv[w], best_ok[w] = d[win], q[win], ok[win]
         lb_edge[ask] = np.minimum(lb_edge[ask], np.maximum(r.lower_bounds - err, 0.0))
     # --- the interior: branch and bound over the cells that meet D, TRIM_POINT_CHUNK
     # points at a time (the work bound holds per group)
@@ -221,7 +263,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     for c0 in range(0, len(o), TRIM_POINT_CHUNK):
         sl = slice(c0, c0 + TRIM_POINT_CHUNK)
         U[sl], x_best[sl], best_ok[sl], LB[sl], stopped[sl] = _interior(ts, p, X[sl], U[sl], best_ok[sl], cls, stop,
-                                                                         max_iterations)
+                                                                         max_iterations, lb_edge[sl] / s)
     newton_ok = best_ok.copy()
     best_ok &= ~stopped
     interior = np.flatnonzero(np.isfinite(x_best[:, 0]))
@@ -251,6 +293,56 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
                    converged=bool(conv.all()), message=message)
 
 
+def _joined_loops(ts: "TrimmedSurface", bd: "TrimBoundary") -> list:
+    """Per loop of ``ts``: (its 2-D curves, the joined 3-D curve, the curves' own start
+    parameters, where each starts on the joined curve, the error bound): the loop's
+    boundary images as one clamped B-spline (degrees raised to the highest, knots
+    shifted to follow on, full multiplicity at the joints, weights scaled to agree
+    there), each curve's first control point set to the previous curve's last (the
+    joined curve is within that gap of the images: the partition of unity), so the
+    bound is the fits' (FIT_ERROR_SAFETY times the error, 0 for exact iso-curves) plus
+    the largest gap. Cached with the boundary (an immutable value)."""
+    hit = getattr(bd, "_joined_loops", None)
+    if hit is not None:
+        return hit
+    from ..curves.bspline import BSplineCurve
+    out = []
+    for loop, images, exact in zip(ts.loops, bd.curves, bd.exact):
+        p = max(C.degree for C in images)
+        parts = [C.elevate(p - C.degree) if C.degree < p else C for C in images]
+        err = 0.0 if all(exact) else FIT_ERROR_SAFETY * bd.error
+        P, W = [parts[0].control_points], [_weights(parts[0])]
+        K: list = [parts[0].knots[:-1]]
+        starts = [float(parts[0].domain[0])]
+        offsets = [float(parts[0].domain[0])]
+        end = float(parts[0].domain[1])
+        rational = any(C.weights is not None for C in parts)
+        for C in parts[1:]:
+            gap = float(np.linalg.norm(C.control_points[0] - P[-1][-1]))
+            err = max(err, (0.0 if all(exact) else FIT_ERROR_SAFETY * bd.error) + gap)
+            w = _weights(C)
+            W.append((w * (W[-1][-1] / w[0]))[1:])
+            P.append(C.control_points[1:])
+            t0, t1 = C.domain
+            starts.append(float(t0))
+            offsets.append(end)
+            K.append(C.knots[p + 1:-1] - t0 + end)
+            end += float(t1 - t0)
+        K.append([end])
+        J = BSplineCurve(np.concatenate(P), p, np.concatenate([np.asarray(k, float) for k in K]),
+                         np.concatenate(W) if rational else None)
+        out.append((loop, J, np.array(starts), np.array(offsets), err))
+    try:
+        object.__setattr__(bd, "_joined_loops", out)
+    except (AttributeError, TypeError):
+        pass
+    return out
+
+
+def _weights(C: "BSplineCurve") -> np.ndarray:
+    return np.ones(len(C.control_points)) if C.weights is None else np.asarray(C.weights, float)
+
+
 def _on_domain(surface: "Surface", uv: np.ndarray) -> np.ndarray:
     """(u, v) of loop curves clipped into the surface's bounded directions (files'
     pcurves leave the range by up to 2e-5 of it): cagd.surfaces.trimmed's clip."""
@@ -259,11 +351,14 @@ def _on_domain(surface: "Surface", uv: np.ndarray) -> np.ndarray:
 
 
 def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray, best_ok: np.ndarray,
-              cls: np.ndarray, stop: Tuple[Optional[float], Optional[float]], max_iterations: int
-              ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+              cls: np.ndarray, stop: Tuple[Optional[float], Optional[float]], max_iterations: int,
+              edge: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Branch and bound for points X (frame units) with upper bounds U: (U, the frame
     parameters of interior feet that beat U (NaN where none), their Newton flags, the
-    lower bounds over the cells, and which points kept boxes open at the work bound)."""
+    lower bounds over the cells, and which points kept boxes open at the work bound).
+    ``edge``: the boundary's lower bounds (frame units); a box whose bound reaches it
+    is closed (the certificate, min(edge, cells), cannot be lowered by it: a fitted
+    edge's error is then the gap)."""
     U, best_ok = U.copy(), best_ok.copy()
     live = np.flatnonzero(cls >= 0)
     LB = np.full(len(X), np.inf)
@@ -271,12 +366,20 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     chunk = max(1, MAX_TRIM_ROWS // max(len(live), 1))
     for c0 in range(0, len(X), chunk):
         i = np.arange(c0, min(c0 + chunk, len(X)))
-        lbs = np.sqrt(((X[i][:, None, :] - p.centers[live][None]) ** 2).sum(-1)) - p.radii[live][None]
+        acc = np.zeros((len(i), len(live)))
+        for a in range(X.shape[1]):               # coordinate by coordinate (no (n, m, 3) array)
+            acc += np.subtract.outer(X[i, a], p.centers[live, a]) ** 2
+        lbs = np.sqrt(acc) - p.radii[live][None]
         row, col = np.nonzero(lbs < U[i][:, None])
         pid_l.append(i[row])
         cell_l.append(live[col])
     pid, cell = np.concatenate(pid_l), np.concatenate(cell_l)
     lo, hi = p.lo[cell], p.hi[cell]
+    # the cells' second-order bounds at their midpoints (stored S, J, H: no evaluation)
+    lb = np.sqrt(np.maximum(p._mid_bound(X, pid, cell, lo, hi), 0.0))
+    closed = lb >= np.minimum(U[pid] - (CELL_GAP * U[pid] + 1e-13 * p.size), edge[pid])
+    np.minimum.at(LB, pid[closed], lb[closed])
+    pid, cell, lo, hi = pid[~closed], cell[~closed], lo[~closed], hi[~closed]
     box = cls[cell]
     x_best = np.full((len(X), 2), np.nan)
     for _ in range(MAX_TRIM_ROUNDS):
@@ -297,15 +400,30 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
             first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
             U[pid[first]], x_best[pid[first]] = dy[first], y[first]
             best_ok[pid[first]] = ok[first]
-        lb = np.sqrt(np.maximum(p._bound(X, pid, cell, lo, hi, y), 0.0))
-        closed = lb >= U[pid] - gap[pid]
+        lb, reach = _convex_bound(p, X, pid, cell, lo, hi, y)
+        lb = np.sqrt(np.maximum(lb, 0.0))
+        closed = lb >= np.minimum(U[pid] - gap[pid], edge[pid])
         np.minimum.at(LB, pid[closed], lb[closed])
         keep = ~closed
-        pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
-        if 2 * len(pid) > MAX_TRIM_ROWS:
+        pid, cell, lo, hi, box, lb, y = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep], y[keep]
+        reach = (reach[0][keep], reach[1][keep])
+        # where g is strongly convex on the box, the face's minimum over box & D, unless on
+        # the boundary of D (the edges), is g's minimiser over the box: within reach of y
+        t0, t1 = reach
+        pad = (CONVEX_SAFETY - 1.0) * (t1 - t0) + KINK_TOL * (hi - lo)
+        nlo, nhi = np.maximum(lo, y + t0 - pad), np.minimum(hi, y + t1 + pad)
+        shrunk = np.all(nhi - nlo <= SHRUNK * (hi - lo), axis=1)
+        lo, hi = nlo, nhi
+        if len(pid) + np.count_nonzero(~shrunk) > MAX_TRIM_ROWS:
             break
-        pid, cell, lo, hi, lb = split_boxes(pid, cell, lo, hi, lb)
-        box = np.concatenate([box, box])
+        s_ = np.flatnonzero(shrunk)
+        g_ = np.flatnonzero(~shrunk)
+        pid2, cell2, lo2, hi2, lb2 = split_boxes(pid[g_], cell[g_], lo[g_], hi[g_], lb[g_])
+        pid = np.concatenate([pid[s_], pid2])
+        cell = np.concatenate([cell[s_], cell2])
+        lo, hi = np.concatenate([lo[s_], lo2]), np.concatenate([hi[s_], hi2])
+        lb = np.concatenate([lb[s_], lb2])
+        box = np.concatenate([box[s_], box[g_], box[g_]])
         flat = _no_critical_point(p, X, pid, cell, lo, hi)     # before the (costlier) trim test
         pid, cell, lo, hi, box, lb = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat], lb[~flat]
         straddle = np.flatnonzero(box == 0)
@@ -317,8 +435,25 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     stopped = np.zeros(len(X), dtype=bool)
     if len(pid):                                 # boxes left open: their bounds still hold
         np.minimum.at(LB, pid, lb)
-        stopped[np.unique(pid[lb < U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size])] = True
+        stopped[np.unique(pid[lb < np.minimum(U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size, edge[pid])])] = True
     return U, x_best, best_ok, LB, stopped
+
+
+def _convex_bound(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,
+                  hi: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, Tuple[np.ndarray, np.ndarray]]:
+    """The projector's second-order lower bound of g = |S - X|^2 over each box, expanded
+    at y in the box, and the offsets (t0, t1) (n, k) from y of a box that holds g's
+    minimiser over the box (the whole box where g is not shown strongly convex there):
+    :func:`cagd.queries._local.box_lower_bound`."""
+    from ._local import box_lower_bound
+    out, t0, t1 = np.empty(len(pid)), np.empty((len(pid), p.k)), np.empty((len(pid), p.k))
+    for c0 in range(0, len(pid), ROW_CHUNK):
+        sl = slice(c0, c0 + ROW_CHUNK)
+        ce = cell[sl]
+        S, J, H = p.evaluate(y[sl], 2, p._cell_piece[ce])
+        out[sl], _, (t0[sl], t1[sl]) = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], y[sl], S, J, H, p.L[ce],
+                                                       p.M[ce], p.T3[ce], convexity=True)
+    return out, (t0, t1)
 
 
 def _no_critical_point(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,
