@@ -103,7 +103,7 @@ def fair_curve(curve: BSplineCurve, tol: float, keep: str = "G2") -> Fairing:
         raise CagdError("curve: fair_curve works on polynomial B-splines; rebuild a rational curve first "
                         "(cagd.rebuild)")
     tol = _checks.nonnegative(tol, "tol")
-    if keep not in KEEP:
+    if not isinstance(keep, str) or keep not in KEEP:
         raise CagdError(f"keep: one of {', '.join(KEEP)}, got {keep!r}")
     c0 = curve.clamped()
     p, n, d = c0.degree, len(c0.control_points), c0.dim
@@ -244,7 +244,7 @@ def fair_surface(surface: "BSplineSurface", tol: float, keep: str = "G1") -> Sur
         raise CagdError("surface: fair_surface works on polynomial B-spline surfaces; rebuild a rational one "
                         "first (cagd.rebuild)")
     tol = _checks.nonnegative(tol, "tol")
-    if keep not in SURFACE_KEEP:
+    if not isinstance(keep, str) or keep not in SURFACE_KEEP:
         raise CagdError(f"keep: one of {', '.join(SURFACE_KEEP)}, got {keep!r}")
     S0 = surface
     if S0.periodic_u or S0.periodic_v:

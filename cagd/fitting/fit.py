@@ -52,6 +52,7 @@ CORRECTION_GAIN = 0.1
 #: less than FAST_GAIN per pass, stops correcting
 FAR_FROM_TOL = 3.0
 FAST_GAIN = 0.5
+FAR_PASSES = 4
 #: Newton steps of one parameter-correction pass
 FOOT_NEWTON_STEPS = 2
 #: relative weight of the regulariser int |C''|^2 (int |C'|^2 for degree 1), added only
@@ -99,8 +100,10 @@ class _Problem:
 
     def __init__(self, Qn: np.ndarray, w: np.ndarray, p: int, lam: float, r: int,
                  tangents: Tuple[Optional[np.ndarray], Optional[np.ndarray]], periodic: bool = False):
+        w = w / w.max()
         self.Q, self.w, self.p, self.lam, self.r = Qn, w / w.sum(), p, lam, r
         self.tangents, self.periodic = tangents, periodic
+        self.least = p + 1                                  # the fewest control points allowed
         self._cached: Tuple[bytes, np.ndarray] = (b"", np.zeros((0, 0)))
 
     def layout(self, cols: np.ndarray, n: int) -> np.ndarray:
@@ -412,7 +415,8 @@ def _fit_on(problem: _Problem, U: np.ndarray, t: np.ndarray, tol: float
             continue
         gain = 1.0 - trial[2].max() / best[2].max()
         best, mu = trial, max(mu / TDM_WEIGHT_STEP, TDM_WEIGHT_MIN)
-        if gain < CORRECTION_GAIN or (passes >= 3 and best[2].max() > FAR_FROM_TOL * tol and gain < FAST_GAIN):
+        slow_and_far = passes + 1 >= FAR_PASSES and best[2].max() > FAR_FROM_TOL * tol and gain < FAST_GAIN
+        if gain < CORRECTION_GAIN or slow_and_far:
             break
     return BSplineCurve(best[0], p, U), best[1], best[2]
 
@@ -443,23 +447,6 @@ def _redistributed(breaks: np.ndarray, c: np.ndarray, count: int) -> np.ndarray:
     new = np.interp(np.linspace(0.0, cum[-1], count + 1), cum, breaks)
     new[0], new[-1] = 0.0, 1.0
     return np.unique(new)
-
-
-def _split_bad(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float) -> np.ndarray:
-    """Every span with a point missing tol split at the error-weighted mean parameter
-    of its points (midpoint when that falls on a breakpoint)."""
-    s = len(breaks) - 1
-    span = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, s - 1)
-    bad = np.zeros(s, bool)
-    bad[span[e > tol]] = True
-    wsum = np.bincount(span, e * e, minlength=s)
-    tsum = np.bincount(span, e * e * t, minlength=s)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        at = np.where(wsum > 0, tsum / wsum, 0.5 * (breaks[:-1] + breaks[1:]))
-    lo, hi = breaks[:-1], breaks[1:]
-    margin = 0.1 * (hi - lo)
-    at = np.clip(at, lo + margin, hi - margin)
-    return np.unique(np.concatenate([breaks, at[bad]]))
 
 
 def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: ParameterSpec = "centripetal", *,
@@ -502,7 +489,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     smoothing = _checks.nonnegative(smoothing, "smoothing")
     r = min(2, p) if smoothing_order is None else _checks.integer(smoothing_order, "smoothing_order", 1, p)
     w = np.ones(m) if weights is None else _checks.finite_array(weights, "weights", ndim=1)
-    if w.shape != (m,) or np.any(w < 0) or not w.sum() > 0:
+    if w.shape != (m,) or np.any(w < 0) or not w.max() > 0:
         raise CagdError(f"weights: expected {m} non-negative values, not all zero")
     periodic = bool(periodic)
     if periodic:
@@ -530,11 +517,15 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     if p == 1 and any(T is not None for T in tangents):
         raise CagdError("start_tangent: a degree-1 curve cannot hold end tangents; use degree >= 2")
     least = p + 1 + (tangents[0] is not None and tangents[1] is not None and p < 3)
-    most = max(least, m if max_control_points is None else
-               _checks.integer(max_control_points, "max_control_points", least))
+    held = sum(T is not None for T in tangents)          # each held tangent frees one more pole
+    most = max(least, m + held if max_control_points is None else
+               min(_checks.integer(max_control_points, "max_control_points", least), max(least, m + held)))
     center, scale = _frame(Q)
     problem = _Problem((Q - center) / scale, w, p, smoothing, r, (tangents[0], tangents[1]), periodic)
+    problem.least = least
     tol_n = tol / scale
+    if not tol_n > 0.0:
+        raise CagdError(f"tol: {tol!r} is below the floating-point resolution of points {scale:.3g} in size")
     counted = w > 0
     most_spans = most if periodic else most - p          # a periodic curve has one pole per span
     # one Bezier span (two for p < 3 with tangents); periodic: p + 1 spans, the fewest
@@ -563,7 +554,9 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         breaks = _redistributed(breaks, c, count)
         curve, t, e, worst = attempt(breaks, u)
     best = (curve, t, e, breaks, worst)
-    failed = 0           # the growth's misses had other knots: no lower bound for the search
+    # the growth's misses had other knots: no lower bound for the search but the fewest
+    # spans allowed (p + 1 periodic; one, or two with both tangents at degree < 3)
+    failed = (p + 1 if periodic else least - p) - 1
     # shrink: bisect the span count between the last miss and the best fit, the knots
     # equidistributing the best fit's error
     while best[4] <= tol_n and fits < MAX_FIT_ROUNDS:
@@ -624,6 +617,8 @@ def _after_removal(problem: _Problem, curve: BSplineCurve, t: np.ndarray, tol_n:
         return curve, t
     reduced = removal.result
     assert isinstance(reduced, BSplineCurve)
+    if len(reduced.control_points) < problem.least:       # held tangents need their poles
+        return curve, t
     U = np.asarray(reduced.knots)
     c2, t2, e2 = _fit_on(problem, U, t, tol_n)
     if float(e2[counted].max()) <= tol_n:

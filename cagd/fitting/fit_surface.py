@@ -24,9 +24,14 @@ from .. import _checks
 from .._results import ReadOnlyArrays
 from ..errors import CagdError
 from ..surfaces.bspline import BSplineSurface
-from .fit import GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _redistributed, _span_errors, _worth
+from .fit import GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed, _span_errors, _worth
 from .interpolation import _frame
-from .rebuild import _fit_rows
+from .rebuild import _fit_rows, _pair
+
+
+#: the share of tol each direction's own residual is grown to (the two add up to at most
+#: about sqrt(2) of it where they are independent)
+DIRECTION_SHARE = 1.0 / np.sqrt(2.0)
 
 
 @dataclass(frozen=True)
@@ -44,8 +49,17 @@ class SurfaceFit(ReadOnlyArrays):
     message: str
 
 
-def _knots(breaks: np.ndarray, p: int) -> np.ndarray:
-    return np.concatenate([np.zeros(p), breaks, np.ones(p)])
+def _degrees_and_caps(degree, caps, default: Tuple[int, int]) -> Tuple[int, int, int, int]:
+    """(pu, pv, cap_u, cap_v) checked: a degree or a pair, a cap pair or None (the default
+    size, at least degree + 1)."""
+    pu, pv = _pair(degree, "degree")
+    pu, pv = _checks.degree(pu, "degree", 1), _checks.degree(pv, "degree", 1)
+    if caps is None:
+        return pu, pv, max(default[0], pu + 1), max(default[1], pv + 1)
+    if not isinstance(caps, (tuple, list)) or len(caps) != 2:
+        raise CagdError(f"max_control_points: expected a pair (count_u, count_v), got {caps!r}")
+    return (pu, pv, _checks.integer(caps[0], "max_control_points", pu + 1),
+            _checks.integer(caps[1], "max_control_points", pv + 1))
 
 
 def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
@@ -111,24 +125,22 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     if m < 2 or n < 2:
         raise CagdError(f"points: expected a grid of at least 2 x 2 points, got {m} x {n}")
     tol = _checks.positive(tol, "tol")
-    pu, pv = degree if isinstance(degree, (tuple, list)) else (degree, degree)
-    pu, pv = _checks.degree(pu, "degree", 1), _checks.degree(pv, "degree", 1)
-    cap_u, cap_v = (m, n) if max_control_points is None else max_control_points
-    cap_u = _checks.integer(cap_u, "max_control_points", pu + 1)
-    cap_v = _checks.integer(cap_v, "max_control_points", pv + 1)
+    pu, pv, cap_u, cap_v = _degrees_and_caps(degree, max_control_points, (m, n))
+    if m < pu + 1 or n < pv + 1:
+        raise CagdError(f"degree: a {m} x {n} grid fits at most degree {m - 1} x {n - 1}, got {pu} x {pv}")
     u, v = surface_parameters(Q, parameters)
     u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
     center, scale = _frame(Q.reshape(-1, d))
     Qn = (Q - center) / scale
     tol_n = tol / scale
-    most_u, most_v = max(1, max(cap_u, pu + 1) - pu), max(1, max(cap_v, pv + 1) - pv)
+    most_u, most_v = cap_u - pu, cap_v - pv
     bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
     rounds = 0
     S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
-        nu = _grown(bu, u, ru.max(axis=1), tol_n / np.sqrt(2.0), pu, most_u)
-        nv = _grown(bv, v, rv.max(axis=0), tol_n / np.sqrt(2.0), pv, most_v)
+        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
+        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
         if len(nu) == len(bu) and len(nv) == len(bv):
             # each direction alone is within its share: refine the one with the larger residual
             if ru.max() >= rv.max() and len(bu) - 1 < most_u:
@@ -245,12 +257,8 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     if Q.shape[1] != 3:
         raise CagdError(f"points: scattered points are (N, 3), got {Q.shape[1]}-D points")
     tol = _checks.positive(tol, "tol")
-    pu, pv = degree if isinstance(degree, (tuple, list)) else (degree, degree)
-    pu, pv = _checks.degree(pu, "degree", 1), _checks.degree(pv, "degree", 1)
     side = int(np.sqrt(len(Q)))
-    cap_u, cap_v = (max(side, pu + 1), max(side, pv + 1)) if max_control_points is None else max_control_points
-    cap_u = _checks.integer(cap_u, "max_control_points", pu + 1)
-    cap_v = _checks.integer(cap_v, "max_control_points", pv + 1)
+    pu, pv, cap_u, cap_v = _degrees_and_caps(degree, max_control_points, (side, side))
     uv = _plane_parameters(Q)
     center, scale = _frame(Q)
     Qn = (Q - center) / scale

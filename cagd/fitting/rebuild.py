@@ -34,6 +34,8 @@ from .interpolation import _frame, _least_squares
 REBUILD_SAMPLES = 12
 #: samples per span (of the original and of the result) at which the deviation is measured
 DEVIATION_PER_SPAN = 16
+#: the largest control-point count per direction rebuild accepts (the samples grow with it)
+MAX_REBUILD_COUNT = 10_000
 
 
 @dataclass(frozen=True)
@@ -85,7 +87,11 @@ def _fit_rows(U: np.ndarray, p: int, t: np.ndarray, count: int, Q: np.ndarray) -
     P = np.empty((count, Q.shape[1]))
     P[0], P[-1] = Qn[0], Qn[-1]
     if count > 2:
-        P[1:-1] = _least_squares(U, p, t[1:-1], count, Qn)
+        try:
+            P[1:-1] = _least_squares(U, p, t[1:-1], count, Qn)
+        except CagdError as exc:
+            raise CagdError(f"count: {count} control points of degree {p} cannot be fitted here "
+                            f"({str(exc).split(': ', 1)[-1]})") from None
     P = P * scale + center
     P[0], P[-1] = Q[0], Q[-1]
     return P
@@ -104,10 +110,10 @@ def rebuild(obj: Union[Curve, Surface], count: Union[int, Tuple[int, int]],
     out: Union[BSplineCurve, BSplineSurface]
     if isinstance(obj, Curve):
         p = _checks.degree(degree, "degree", 1)
-        n = _checks.integer(count, "count", p + 1)
+        n = _checks.integer(count, "count", p + 1, MAX_REBUILD_COUNT)
         a, b = obj.domain
         U = _knots(obj, 0, n, p, a, b)
-        t = _samples([np.unique(U[p:len(U) - p]), _breaks(obj)], REBUILD_SAMPLES)
+        t = _samples([np.unique(U[p:len(U) - p]), _breaks(obj)], max(REBUILD_SAMPLES, p + 2))
         out = BSplineCurve(_fit_rows(U, p, t, n, obj(t)), p, U)
         check = _samples([np.unique(U[p:len(U) - p]), _breaks(obj)], DEVIATION_PER_SPAN)
         dev = float(closest_point(out, obj(check)).distances.max())
@@ -116,11 +122,12 @@ def rebuild(obj: Union[Curve, Surface], count: Union[int, Tuple[int, int]],
         pu, pv = _pair(degree, "degree")
         nu, nv = _pair(count, "count")
         pu, pv = _checks.degree(pu, "degree", 1), _checks.degree(pv, "degree", 1)
-        nu, nv = _checks.integer(nu, "count", pu + 1), _checks.integer(nv, "count", pv + 1)
+        nu, nv = _checks.integer(nu, "count", pu + 1, MAX_REBUILD_COUNT), _checks.integer(nv, "count", pv + 1,
+                                                                                           MAX_REBUILD_COUNT)
         (a, b), (c, d) = obj.domain
         U, V = _knots(obj, 0, nu, pu, a, b), _knots(obj, 1, nv, pv, c, d)
-        su = _samples([np.unique(U[pu:len(U) - pu]), _breaks(obj, 0)], REBUILD_SAMPLES)
-        sv = _samples([np.unique(V[pv:len(V) - pv]), _breaks(obj, 1)], REBUILD_SAMPLES)
+        su = _samples([np.unique(U[pu:len(U) - pu]), _breaks(obj, 0)], max(REBUILD_SAMPLES, pu + 2))
+        sv = _samples([np.unique(V[pv:len(V) - pv]), _breaks(obj, 1)], max(REBUILD_SAMPLES, pv + 2))
         G = obj.grid(su, sv)                                         # (mu, mv, dim)
         dim = G.shape[2]
         rows = _fit_rows(U, pu, su, nu, G.reshape(len(su), -1)).reshape(nu, len(sv), dim)

@@ -121,3 +121,10 @@ def test_surface_bad_input():
         cagd.fair_surface(bumpy_net(), 0.1, keep="C1")
     with pytest.raises(CagdError, match="tol"):
         cagd.fair_surface(bumpy_net(), -0.1)
+
+
+def test_keep_of_the_wrong_type():
+    with pytest.raises(CagdError, match="keep"):
+        fair_curve(wiggly(), 0.1, keep=["G1"])
+    with pytest.raises(CagdError, match="keep"):
+        cagd.fair_surface(bumpy_net(), 0.1, keep=["G1"])

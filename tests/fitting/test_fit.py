@@ -232,3 +232,33 @@ def test_periodic_circle_needs_few_poles():
     t = np.linspace(0, 1, 5001)
     radius = np.sqrt((r.curve(t) ** 2).sum(-1))
     assert np.abs(radius - 5.0).max() <= 1e-3 * 1.5
+
+
+# --- review findings: each once wrong or escaping --------------------------------------------
+@pytest.mark.parametrize("degree", [3, 4, 5])
+@pytest.mark.parametrize("tol", [1.0, 0.1])
+def test_periodic_fits_at_loose_tolerances_keep_their_fewest_spans(degree, tol):
+    phi = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    r = fit_curve(np.stack([5 * np.cos(phi), 3 * np.sin(phi)], axis=1), tol, degree=degree, periodic=True)
+    assert r.converged and len(r.curve.control_points) >= degree + 1
+
+
+def test_degree_two_keeps_both_tangents_at_a_loose_tolerance():
+    s = np.linspace(0, 1, 100)
+    A = np.stack([np.cos(s), np.sin(s), 0.3 * s], axis=1)
+    T0, T1 = np.array([0, 1, .3]), np.array([-1, 0, -.2])
+    r = fit_curve(A, 1.0, degree=2, start_tangent=T0, end_tangent=T1)
+    P = r.curve.control_points
+    for d, T in ((P[1] - P[0], T0), (P[-1] - P[-2], T1)):
+        assert np.linalg.norm(np.cross(d / np.linalg.norm(d), T / np.linalg.norm(T))) <= 1e-15
+
+
+def test_huge_equal_weights_and_tiny_tol():
+    s = np.linspace(0, 1, 100)
+    A = np.stack([np.cos(s), np.sin(s), 0.3 * s], axis=1)
+    r = fit_curve(A, 1e-3, weights=np.full(100, 1e308))
+    assert r.converged and len(r.curve.control_points) == len(fit_curve(A, 1e-3).curve.control_points)
+    with pytest.raises(CagdError, match="tol"):
+        fit_curve(A * 1e3, 5e-324)
+    r = fit_curve(A[:5], 1e-3, start_tangent=[0, 1, 0.3])          # m points + a tangent: m + 1 poles
+    assert r.converged

@@ -112,3 +112,20 @@ def test_scattered_graph_of_a_bicubic_comes_back_close():
 def test_scattered_bad_input(points, word):
     with pytest.raises(CagdError, match=word):
         fit_surface(points, 0.1)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(degree=(3, 3, 3)), "degree"),
+    (dict(max_control_points=5), "max_control_points"),
+    (dict(max_control_points=(5,)), "max_control_points"),
+])
+def test_degree_and_cap_shapes(kwargs, word):
+    with pytest.raises(CagdError, match=word):
+        fit_surface(anchor_grid(6), 0.1, **kwargs)
+
+
+def test_small_grids():
+    g = np.random.default_rng(0).random((3, 3, 3))
+    assert fit_surface(g, 0.1, degree=2).converged
+    with pytest.raises(CagdError, match="degree"):
+        fit_surface(g, 0.1)

@@ -60,3 +60,10 @@ def test_surface_rebuild_of_a_sphere():
 def test_bad_input(args, word):
     with pytest.raises(CagdError, match=word):
         rebuild(*args)
+
+
+def test_high_degree_identity_and_count_cap():
+    c = BSplineCurve(np.random.default_rng(1).random((21, 3)), 20)
+    assert rebuild(c, 21, 20).deviation <= 1e-10
+    with pytest.raises(CagdError, match="count"):
+        rebuild(ARC, 10 ** 6, 3)
