@@ -2,8 +2,8 @@
 cloud against faces (seed 004, ch. 1 §4, positional relations between shapes).
 
 IntersectionCurve (``Part::FeaturePython``): ``cagd.intersect`` of the two linked
-faces' B-spline forms (``conversion.face_to_surface``: the face's parameter box,
-trimming curves inside it ignored); each branch is the engine's fitted cubic B-spline,
+faces as the engine's trimmed surfaces (``conversion.face_to_trimmed``: the B-spline
+form bounded by the face's pcurves; branches clipped to both trims); each branch is the engine's fitted cubic B-spline,
 converted exactly into a ``Part.BSplineCurve``; the shape is the compound of the
 branch edges. ``AchievedTolerance`` is the largest distance of the fitted branches
 from both surfaces that the engine measured (dense samples), ``BranchCount`` the
@@ -20,7 +20,7 @@ properties, the table in the report view; the view provider colours the points.
 from __future__ import annotations
 
 import dataclasses
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -66,12 +66,23 @@ def linked_face(link, name: str):
     return element
 
 
-def face_surface(face, where: str):
-    """face_to_surface with an error naming where the face came from."""
+def face_surface(face, where: str, notes: Optional[List[str]] = None):
+    """The face as the engine measures it (``conversion.face_to_trimmed``: a
+    cagd.TrimmedSurface bounded by its pcurves, or its surface when the boundary is the
+    parameter box), with an error naming where the face came from. A trim that cannot
+    be used leaves the untrimmed surface; its reason goes to ``notes`` (the object's
+    warnings) or the report view."""
     try:
-        return conversion.face_to_surface(face)
+        surface, reason = conversion.face_to_trimmed(face)
     except Exception as exc:
         raise cagd.CagdError(f"{where}: the face cannot be converted to a B-spline surface ({exc})") from None
+    if reason is not None:
+        note = f"{where}: {reason}; measured over the untrimmed surface"
+        if notes is None:
+            App.Console.PrintWarning(note + "\n")
+        else:
+            notes.append(note)
+    return surface
 
 
 def _tolerance(obj) -> float:
