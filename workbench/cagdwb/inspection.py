@@ -231,6 +231,55 @@ def signed_deviation(faces: Sequence[Tuple[str, object]], points: np.ndarray):
                                percentiles={p: float(v) for p, v in zip(pct, np.percentile(d, pct))})
 
 
+#: grid of the drawn triangulation of a face bounded by its parameter box (per direction)
+FACE_GRID = 24
+#: points compared with the drawn face's vertices at once (nearest-point colouring)
+NEAREST_CHUNK = 4096
+
+
+def _nearest_values(vertices: np.ndarray, pts: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """values[k] of the point nearest each vertex (brute force, NEAREST_CHUNK points at once)."""
+    best = np.full(len(vertices), np.inf)
+    out = np.zeros(len(vertices))
+    for s in range(0, len(pts), NEAREST_CHUNK):
+        d2 = ((vertices[:, None, :] - pts[None, s:s + NEAREST_CHUNK, :]) ** 2).sum(axis=2)
+        k = np.argmin(d2, axis=1)
+        d = d2[np.arange(len(vertices)), k]
+        closer = d < best
+        best[closer], out[closer] = d[closer], values[s + k[closer]]
+    return out
+
+
+def face_meshes(obj) -> List[Tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The deviation map's faces as drawn: per linked face (vertices (n, 3), triangles
+    (m, 3), value per vertex = the signed distance of the nearest measured point); a
+    trimmed face is its trimmed triangulation (``TrimmedSurface.tessellate``), not its
+    parameter box; a face bounded by its box a FACE_GRID x FACE_GRID grid."""
+    pts = np.array([(p.x, p.y, p.z) for p in obj.Coordinates], dtype=np.float64).reshape(-1, 3)
+    dist = np.asarray(obj.Distances, dtype=np.float64)
+    out = []
+    for label, face in linked_faces(obj.Faces):
+        s = face_surface(face, label)
+        if isinstance(s, cagd.TrimmedSurface):
+            V, T = s.tessellate()
+        else:
+            (u0, u1), (v0, v1) = s.domain
+            u, v = np.meshgrid(np.linspace(u0, u1, FACE_GRID + 1), np.linspace(v0, v1, FACE_GRID + 1), indexing="ij")
+            V = s(u.ravel(), v.ravel())
+            k = (np.arange(FACE_GRID)[:, None] * (FACE_GRID + 1) + np.arange(FACE_GRID)[None, :]).ravel()
+            T = np.concatenate([np.stack([k, k + FACE_GRID + 1, k + FACE_GRID + 2], 1),
+                                np.stack([k, k + FACE_GRID + 2, k + 1], 1)])
+        values = _nearest_values(V, pts, dist) if len(pts) == len(dist) and len(pts) else np.zeros(len(V))
+        out.append((np.asarray(V, dtype=np.float64), np.asarray(T, dtype=np.int64), values))
+    return out
+
+
+def mesh_area(V: np.ndarray, T: np.ndarray) -> float:
+    """Sum of the triangles' areas |(b - a) x (c - a)| / 2."""
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    return float(0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
+
+
 class DeviationMap(Stateless):
     """Proxy of the deviation map (an App::FeaturePython: the result is data, drawn
     by :class:`cagdwb.viewproviders.DeviationViewProvider`)."""

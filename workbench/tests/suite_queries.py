@@ -332,6 +332,14 @@ def test_deviation_map_and_intersection_use_the_trim():
     want = np.array([math.hypot(r, h), h, h / 2])
     MEASURED["trimmed deviation"] = float(np.abs(got - want).max())
     check(np.abs(got - want).max() <= 1e-9, f"holed plate distances {got} against {want}")
+    (verts, tris, values), = inspection.face_meshes(obj)           # drawn: the trimmed triangulation
+    face = plate.Shape.getElement(name)
+    drawn = inspection.mesh_area(verts, tris)
+    MEASURED["trimmed drawn area"] = abs(drawn - face.Area) / face.Area
+    check(abs(drawn - face.Area) <= 0.01 * face.Area, f"drawn area {drawn:.6g}, face {face.Area:.6g}")
+    r_v = np.hypot(verts[:, 0] - 5, verts[:, 1] - 5)
+    check(r_v.min() >= r * (1 - 1e-6) and np.all(np.isin(values, np.array(obj.Distances))),
+          f"drawn vertices inside the hole (min radius {r_v.min():.6g}) or values not the points' distances")
     cutter = doc.addObject("Part::Feature", "Cutter")
     cutter.Shape = Part.makePlane(20, 20, V(5, 15, -5), V(1, 0, 0))      # x = 5, y in [-5, 15]
     doc.recompute()
