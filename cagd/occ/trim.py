@@ -321,18 +321,9 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
 
 
 def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:
-    """One loop of iso-lines on the sides of the parameter box."""
-    if len(loops) != 1:
-        return False
-    (u0, u1), (v0, v1) = domain
-    tol = BOX_TOL * max(u1 - u0, v1 - v0)
-    for c in loops[0]:
-        P = c.control_points
-        on_u = np.all(np.abs(P[:, 0] - P[0, 0]) <= tol) and min(abs(P[0, 0] - u0), abs(P[0, 0] - u1)) <= tol
-        on_v = np.all(np.abs(P[:, 1] - P[0, 1]) <= tol) and min(abs(P[0, 1] - v0), abs(P[0, 1] - v1)) <= tol
-        if not (on_u or on_v):
-            return False
-    return True
+    """One loop of iso-lines on the sides of the parameter box (:func:`cagd.surfaces._trim_box.is_box`)."""
+    from ..surfaces._trim_box import is_box
+    return is_box(loops, domain, BOX_TOL)
 
 
 def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurface, reversed_: bool,

@@ -255,10 +255,6 @@ def face_to_surface(face) -> "cagd.BSplineSurface":
     return s
 
 
-#: a pcurve within this fraction of the parameter box's size from a side of the box is on it
-BOX_SIDE_TOL = 1e-9
-
-
 def _pcurve(face, edge) -> "cagd.BSplineCurve":
     """The edge's pcurve on ``face`` (Part's ``curveOnSurface``) over the edge's range,
     as an engine 2-D B-spline (Part's exact ``toBSpline``: lines, circles, ellipses as
@@ -304,20 +300,6 @@ def _exact_conic2d(curve, first: float, last: float) -> Optional["cagd.BSplineCu
     return cagd.BSplineCurve(P, 2, first + (last - first) * knots, w)
 
 
-def _on_box(loops, domain) -> bool:
-    """One loop of iso-lines on the sides of the parameter box (the face is its box)."""
-    if len(loops) != 1:
-        return False
-    (u0, u1), (v0, v1) = domain
-    tol = BOX_SIDE_TOL * max(u1 - u0, v1 - v0)
-    for c in loops[0]:
-        P = c.control_points
-        if not any(np.all(np.abs(P[:, k] - side) <= tol) for k, sides in ((0, (u0, u1)), (1, (v0, v1)))
-                   for side in sides):
-            return False
-    return True
-
-
 def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
     """The face as the engine sees it: ``(cagd.TrimmedSurface, None)`` on
     :func:`face_to_surface`'s surface bounded by the face's wires' pcurves (Part's
@@ -325,13 +307,14 @@ def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
     surface's; loops oriented by the engine), or ``(untrimmed surface, None)`` when the
     boundary is the parameter box, or ``(untrimmed surface, reason)`` when the pcurves
     cannot make a valid trim (the caller reports the reason)."""
+    from cagd.surfaces._trim_box import is_box
     surface = face_to_surface(face)
     nf = face if isinstance(face.Surface, (Part.BSplineSurface, Part.BezierSurface)) else face.toNurbs().Faces[0]
     try:
         wires = [nf.OuterWire] + [w for w in nf.Wires if not w.isSame(nf.OuterWire)]
         loops = [[_pcurve(nf, e) for e in w.OrderedEdges] for w in wires]
         loops = [lp for lp in loops if lp]
-        if not loops or _on_box(loops, surface.domain):
+        if not loops or is_box(loops, surface.domain):
             return surface, None
         return cagd.TrimmedSurface(surface, loops), None
     except Exception as exc:                # the untrimmed surface, with the reason reported

@@ -1,0 +1,29 @@
+"""Pure-numpy helper shared by the bridges that build a :class:`cagd.TrimmedSurface`
+from a CAD face (``cagd.occ.trim`` on OCP, the FreeCAD workbench on Part): is the
+face's boundary just its parameter box (then the plain surface is the face)?"""
+from __future__ import annotations
+
+from typing import Sequence, Tuple
+
+import numpy as np
+
+from ..curves.bspline import BSplineCurve
+
+BOX_TOL = 1e-9          # relative (parameter box): a loop of iso-lines on the box's sides is "the box"
+
+
+def is_box(loops: Sequence[Sequence[BSplineCurve]],
+           domain: Tuple[Tuple[float, float], Tuple[float, float]], rel_tol: float = BOX_TOL) -> bool:
+    """One loop whose curves all have their control points on one side of the box
+    ``domain`` (u = u0, u = u1, v = v0 or v = v1 within ``rel_tol`` times its size)."""
+    if len(loops) != 1:
+        return False
+    (u0, u1), (v0, v1) = domain
+    tol = rel_tol * max(u1 - u0, v1 - v0)
+    for c in loops[0]:
+        P = c.control_points
+        on_u = np.all(np.abs(P[:, 0] - P[0, 0]) <= tol) and min(abs(P[0, 0] - u0), abs(P[0, 0] - u1)) <= tol
+        on_v = np.all(np.abs(P[:, 1] - P[0, 1]) <= tol) and min(abs(P[0, 1] - v0), abs(P[0, 1] - v1)) <= tol
+        if not (on_u or on_v):
+            return False
+    return True
