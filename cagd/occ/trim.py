@@ -214,37 +214,6 @@ def _wires(face: TopoDS_Face) -> List[List[BSplineCurve]]:
     return out
 
 
-def _translated(c: BSplineCurve, du: float, dv: float) -> BSplineCurve:
-    if du == 0 and dv == 0:
-        return c
-    return c.with_control_points(c.control_points + np.array([du, dv]))
-
-
-def _chained(loop: List[BSplineCurve], periods: Tuple[float, float]) -> List[BSplineCurve]:
-    """Each curve moved by whole periods to start where the previous one ends."""
-    out = [loop[0]]
-    for c in loop[1:]:
-        end, start = out[-1](out[-1].domain[1]), c(c.domain[0])
-        shift = [0.0, 0.0]
-        for k in (0, 1):
-            if np.isfinite(periods[k]):
-                shift[k] = periods[k] * float(np.round((end[k] - start[k]) / periods[k]))
-        out.append(_translated(c, *shift))
-    return out
-
-
-def _into_window(loop: List[BSplineCurve], periods: Tuple[float, float],
-                 window: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:
-    P = np.concatenate([c.control_points for c in loop])
-    shift = [0.0, 0.0]
-    for k in (0, 1):
-        if np.isfinite(periods[k]):
-            lo, hi = window[k]
-            centre = 0.5 * (P[:, k].min() + P[:, k].max())
-            shift[k] = periods[k] * float(np.round((0.5 * (lo + hi) - centre) / periods[k]))
-    return [_translated(c, *shift) for c in loop]
-
-
 def _crossings_of(c: BSplineCurve, k: int, knots: np.ndarray) -> np.ndarray:
     """Parameters where coordinate k of c crosses a value of ``knots`` (sampled, then
     bisected to rounding)."""
@@ -318,6 +287,9 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
         raise CagdError(f"face: a pcurve could not be mapped to the B-spline's parameters within {tol:.3g} "
                         f"(reached {err:.3g})")
     return fit
+
+
+from ..surfaces._trim_box import chained as _chained, into_window as _into_window  # noqa: E402
 
 
 def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:

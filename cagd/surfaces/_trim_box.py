@@ -1,9 +1,10 @@
 """Pure-numpy helper shared by the bridges that build a :class:`cagd.TrimmedSurface`
 from a CAD face (``cagd.occ.trim`` on OCP, the FreeCAD workbench on Part): is the
-face's boundary just its parameter box (then the plain surface is the face)?"""
+face's boundary just its parameter box (then the plain surface is the face)? And the
+chaining of a loop's pcurves across a periodic seam (each moved by whole periods)."""
 from __future__ import annotations
 
-from typing import Sequence, Tuple
+from typing import List, Sequence, Tuple
 
 import numpy as np
 
@@ -27,3 +28,34 @@ def is_box(loops: Sequence[Sequence[BSplineCurve]],
         if not (on_u or on_v):
             return False
     return True
+
+
+def translated(c: BSplineCurve, du: float, dv: float) -> BSplineCurve:
+    if du == 0 and dv == 0:
+        return c
+    return c.with_control_points(c.control_points + np.array([du, dv]))
+
+
+def chained(loop: Sequence[BSplineCurve], periods: Tuple[float, float]) -> List[BSplineCurve]:
+    """Each curve moved by whole periods to start where the previous one ends."""
+    out = [loop[0]]
+    for c in loop[1:]:
+        end, start = out[-1](out[-1].domain[1]), c(c.domain[0])
+        shift = [0.0, 0.0]
+        for k in (0, 1):
+            if np.isfinite(periods[k]):
+                shift[k] = periods[k] * float(np.round((end[k] - start[k]) / periods[k]))
+        out.append(translated(c, *shift))
+    return out
+
+
+def into_window(loop: Sequence[BSplineCurve], periods: Tuple[float, float],
+                window: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:
+    P = np.concatenate([c.control_points for c in loop])
+    shift = [0.0, 0.0]
+    for k in (0, 1):
+        if np.isfinite(periods[k]):
+            lo, hi = window[k]
+            centre = 0.5 * (P[:, k].min() + P[:, k].max())
+            shift[k] = periods[k] * float(np.round((0.5 * (lo + hi) - centre) / periods[k]))
+    return [translated(c, *shift) for c in loop]

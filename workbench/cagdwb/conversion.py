@@ -307,13 +307,16 @@ def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
     surface's; loops oriented by the engine), or ``(untrimmed surface, None)`` when the
     boundary is the parameter box, or ``(untrimmed surface, reason)`` when the pcurves
     cannot make a valid trim (the caller reports the reason)."""
-    from cagd.surfaces._trim_box import is_box
+    from cagd.surfaces._trim_box import chained, into_window, is_box
     surface = face_to_surface(face)
     nf = face if isinstance(face.Surface, (Part.BSplineSurface, Part.BezierSurface)) else face.toNurbs().Faces[0]
     try:
         wires = [nf.OuterWire] + [w for w in nf.Wires if not w.isSame(nf.OuterWire)]
         loops = [[_pcurve(nf, e) for e in w.OrderedEdges] for w in wires]
-        loops = [lp for lp in loops if lp]
+        a, b, c, d = nf.Surface.bounds()        # a seam's two pcurves: chained by whole periods
+        periods = (b - a if face.Surface.isUPeriodic() else float("inf"),
+                   d - c if face.Surface.isVPeriodic() else float("inf"))
+        loops = [into_window(chained(lp, periods), periods, surface.domain) for lp in loops if lp]
         if not loops or is_box(loops, surface.domain):
             return surface, None
         return cagd.TrimmedSurface(surface, loops), None
