@@ -234,7 +234,7 @@ def signed_deviation(faces: Sequence[Tuple[str, object]], points: np.ndarray):
 #: grid of the drawn triangulation of a face bounded by its parameter box (per direction)
 FACE_GRID = 24
 #: points compared with the drawn face's vertices at once (nearest-point colouring)
-NEAREST_CHUNK = 4096
+NEAREST_CHUNK = 256          # (vertices x 256 x 3 doubles at once: 12 MB for 2,000 vertices)
 
 
 def _nearest_values(vertices: np.ndarray, pts: np.ndarray, values: np.ndarray) -> np.ndarray:
