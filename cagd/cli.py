@@ -37,7 +37,9 @@ def _parser() -> argparse.ArgumentParser:
     dev.add_argument("-o", "--output", type=Path, required=True, help="the report to write (Markdown)")
     dev.add_argument("--png", type=Path, help="the colour map (default: next to the report, .png)")
     dev.add_argument("--csv", type=Path, help="per-point results: point, face, distance, lower bound, foot "
-                                              "(default: next to the report, .points.csv)")
+                                              "(always written here; default: next to the report, .points.csv, "
+                                              "for up to 100,000 points)")
+    dev.add_argument("--no-csv", action="store_true", help="no per-point results")
     dev.add_argument("--object", action="append", help="measure to this entry only (repeatable; default: "
                                                        "every exported surface, or every curve if none)")
     from .fit_cli import add_parser

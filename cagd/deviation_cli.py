@@ -186,6 +186,10 @@ def _picture_formats() -> Tuple[str, ...]:
 #: rows formatted at once by write_point_table (the text of 10^7 rows would be ~1.5 GB)
 TABLE_CHUNK = 1 << 16
 
+#: the per-point CSV is written by default (beside the report) only up to this many points
+#: (~15 MB); a larger scan needs ``--csv PATH`` (an explicit request) and ``--no-csv`` skips it
+TABLE_DEFAULT_POINTS = 100_000
+
 
 def write_point_table(path: Path, pts: np.ndarray, result: "Deviation") -> None:
     """The per-point CSV: x, y[, z], face (index of the nearest object), distance (signed
@@ -208,14 +212,17 @@ def write_point_table(path: Path, pts: np.ndarray, result: "Deviation") -> None:
 def run_deviation(args: argparse.Namespace) -> int:
     """The command; its outputs (report and colour map) are checked before any work and
     written all or nothing (:mod:`cagd._atomic`)."""
-    from ._atomic import check_target, write_files
+    from ._atomic import Output, check_target, write_files
     from .queries.deviation import deviation, deviation_map
     try:
         check_target(args.output, "--output")
         png = args.png or args.output.with_suffix(".png")
         check_target(png, "--png")
-        table = args.csv or args.output.with_suffix(".points.csv")
-        check_target(table, "--csv")
+        if args.csv is not None and args.no_csv:
+            raise CagdError("--csv and --no-csv: give one of them")
+        table: Optional[Path] = None if args.no_csv else (args.csv or args.output.with_suffix(".points.csv"))
+        if table is not None:
+            check_target(table, "--csv")
         formats = _picture_formats()
         if png.suffix.lower().lstrip(".") not in formats:
             raise CagdError(f"--png {png}: unknown picture type {png.suffix!r} (one of: {', '.join(formats)})")
@@ -228,6 +235,15 @@ def run_deviation(args: argparse.Namespace) -> int:
     except KeyError as exc:
         print(f"cagd deviation: --object {exc.args[0]}: no such entry in {args.model}", file=sys.stderr)
         return 2
+    if table is not None and args.csv is None and len(pts) > TABLE_DEFAULT_POINTS:
+        table = None
+        table_line = (f"- per point: not written ({len(pts)} points > {TABLE_DEFAULT_POINTS} written by default; "
+                      f"give --csv PATH to write them)")
+    elif table is None:
+        table_line = "- per point: not written (--no-csv)"
+    else:
+        table_line = (f"- per point: `{table}` (x, y, z, face, distance, lower bound, foot x, y, z; face k is the "
+                      f"k-th object: " + ", ".join(f"{k} = {n}" for k, (n, _) in enumerate(items)) + ")")
     gap = float(np.max(np.abs(result.distances) - result.lower_bounds))
     assert result.owner is not None                     # deviation() of a list says which object is nearest
     nearest = np.bincount(result.owner, minlength=len(items))
@@ -238,10 +254,12 @@ def run_deviation(args: argparse.Namespace) -> int:
              f"({'signed along the surface normal' if result.signed else 'unsigned'}), certified to within "
              f"{gap:.2g} (largest distance - certified lower bound)",
              f"- colour map: `{png}`",
-             f"- per point: `{table}` (x, y, z, face, distance, lower bound, foot x, y, z; face k is the k-th "
-             f"object: " + ", ".join(f"{k} = {n}" for k, (n, _) in enumerate(items)) + ")", "", result.table(), ""]
-    write_files([(png, lambda temp: deviation_map(objects, pts, temp, result, title=args.model.name), "--png"),
-                 (table, lambda temp: write_point_table(temp, pts, result), "--csv"),
-                 (args.output, "\n".join(lines), "--output")])
+             table_line, "", result.table(), ""]
+    outputs: List[Output] = [(png, lambda temp: deviation_map(objects, pts, temp, result, title=args.model.name),
+                              "--png")]
+    if table is not None:
+        outputs.append((table, lambda temp: write_point_table(temp, pts, result), "--csv"))
+    outputs.append((args.output, "\n".join(lines), "--output"))
+    write_files(outputs)
     print("\n".join(lines))
     return 0

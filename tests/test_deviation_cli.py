@@ -281,3 +281,53 @@ def test_a_step_face_with_a_hole_is_measured_as_the_face(tmp_path):
                  str(tmp_path / "t.csv")]) == 0
     d = np.abs(np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)[:, 4])
     assert d == pytest.approx([np.hypot(0.2, 0.03), 0.03], rel=1e-9)
+
+
+def _sphere_scan(tmp_path, n):
+    """n points at known offsets from a sphere of radius 10 (model file, points file)."""
+    model = write_model(tmp_path, [{"name": "ball", "type": "sphere", "radius": 10}])
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(n, 3))
+    X = d / np.linalg.norm(d, axis=1)[:, None] * (10 + rng.uniform(-0.5, 0.5, (n, 1)))
+    pts = tmp_path / "pts.csv"
+    np.savetxt(pts, X, delimiter=",")
+    return model, pts
+
+
+def test_a_scan_beyond_the_default_table_size_writes_no_table_unless_asked(tmp_path, capsys, monkeypatch):
+    """Issue 15: the per-point CSV is written beside the report only up to
+    TABLE_DEFAULT_POINTS points; beyond, the report and stdout say so and give --csv;
+    an explicit --csv PATH is always written (every row)."""
+    import cagd.deviation_cli as dc
+    assert dc.TABLE_DEFAULT_POINTS == 100_000
+    monkeypatch.setattr(dc, "TABLE_DEFAULT_POINTS", 40)
+    model, pts = _sphere_scan(tmp_path, 41)
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md")]) == 0
+    assert not (tmp_path / "r.points.csv").exists()
+    said = "not written (41 points > 40 written by default; give --csv PATH"
+    assert said in capsys.readouterr().out and said in (tmp_path / "r.md").read_text()
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r2.md"), "--csv",
+                 str(tmp_path / "all.csv")]) == 0
+    T = np.loadtxt(tmp_path / "all.csv", delimiter=",", skiprows=1)
+    assert T.shape == (41, 9)
+    assert np.abs(T[:, 4]) == pytest.approx(np.abs(np.linalg.norm(T[:, :3], axis=1) - 10), abs=1e-9)
+    assert not (tmp_path / "r2.points.csv").exists()
+    (tmp_path / "at").mkdir()
+    model40, pts40 = _sphere_scan(tmp_path / "at", 40)                # at the limit: written by default
+    assert main(["deviation", str(model40), str(pts40), "-o", str(tmp_path / "at" / "r.md")]) == 0
+    assert np.loadtxt(tmp_path / "at" / "r.points.csv", delimiter=",", skiprows=1).shape == (40, 9)
+
+
+def test_no_csv_writes_no_table(tmp_path, capsys):
+    model, pts = _sphere_scan(tmp_path, 20)
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md"), "--no-csv"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "pts.csv", "r.md", "r.png"]
+    assert "per point: not written (--no-csv)" in (tmp_path / "r.md").read_text()
+
+
+def test_csv_and_no_csv_together_exit_2_before_any_work(tmp_path, capsys):
+    model, pts = _sphere_scan(tmp_path, 5)
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md"), "--no-csv", "--csv",
+                 str(tmp_path / "t.csv")]) == 2
+    assert "--csv and --no-csv" in capsys.readouterr().err
+    assert not (tmp_path / "r.md").exists() and not (tmp_path / "t.csv").exists()

@@ -228,37 +228,6 @@ def _wires(face: TopoDS_Face) -> List[List[BSplineCurve]]:
     return out
 
 
-def _translated(c: BSplineCurve, du: float, dv: float) -> BSplineCurve:
-    if du == 0 and dv == 0:
-        return c
-    return c.with_control_points(c.control_points + np.array([du, dv]))
-
-
-def _chained(loop: List[BSplineCurve], periods: Tuple[float, float]) -> List[BSplineCurve]:
-    """Each curve moved by whole periods to start where the previous one ends."""
-    out = [loop[0]]
-    for c in loop[1:]:
-        end, start = _end(out[-1], 1), _end(c, 0)
-        shift = [0.0, 0.0]
-        for k in (0, 1):
-            if np.isfinite(periods[k]):
-                shift[k] = periods[k] * float(np.round((end[k] - start[k]) / periods[k]))
-        out.append(_translated(c, *shift))
-    return out
-
-
-def _into_window(loop: List[BSplineCurve], periods: Tuple[float, float],
-                 window: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:
-    P = np.concatenate([c.control_points for c in loop])
-    shift = [0.0, 0.0]
-    for k in (0, 1):
-        if np.isfinite(periods[k]):
-            lo, hi = window[k]
-            centre = 0.5 * (P[:, k].min() + P[:, k].max())
-            shift[k] = periods[k] * float(np.round((0.5 * (lo + hi) - centre) / periods[k]))
-    return [_translated(c, *shift) for c in loop]
-
-
 def _crossings_of(c: BSplineCurve, k: int, knots: np.ndarray) -> np.ndarray:
     """Parameters where coordinate k of c crosses a value of ``knots`` (sampled, then
     bisected to rounding, all crossings at once)."""
@@ -345,19 +314,13 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
     return fit
 
 
+from ..surfaces._trim_box import chained as _chained, into_window as _into_window  # noqa: E402
+
+
 def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:
-    """One loop of iso-lines on the sides of the parameter box."""
-    if len(loops) != 1:
-        return False
-    (u0, u1), (v0, v1) = domain
-    tol = BOX_TOL * max(u1 - u0, v1 - v0)
-    for c in loops[0]:
-        P = c.control_points
-        on_u = np.all(np.abs(P[:, 0] - P[0, 0]) <= tol) and min(abs(P[0, 0] - u0), abs(P[0, 0] - u1)) <= tol
-        on_v = np.all(np.abs(P[:, 1] - P[0, 1]) <= tol) and min(abs(P[0, 1] - v0), abs(P[0, 1] - v1)) <= tol
-        if not (on_u or on_v):
-            return False
-    return True
+    """One loop of iso-lines on the sides of the parameter box (:func:`cagd.surfaces._trim_box.is_box`)."""
+    from ..surfaces._trim_box import is_box
+    return is_box(loops, domain, BOX_TOL)
 
 
 def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurface, reversed_: bool,

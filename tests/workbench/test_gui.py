@@ -12,7 +12,7 @@ import pytest
 from wb_runner import ADDON, output_dir, need, report, run_group
 
 TIMEOUT = 240
-STEPS = 13                    # the macro's step count
+STEPS = 14                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
@@ -70,4 +70,11 @@ def test_gui_commands_and_screenshots(freecad_env):
     print("  coloured model pixels: " + ", ".join(f"{k} {v}" for k, v in coloured.items()))
     pale = {k: v for k, v in coloured.items() if v < COLOURED[k]}
     assert not pale, f"deviation map without its coloured points: {pale}"
+    # the trimmed face drawn as itself: coloured pixels of the holed plate / the whole plate
+    # = area ratio 1 - 16 pi / 100 (the UV box would give 1)
+    holed, whole = (coloured_pixels(out / f"Cagd_DeviationMap{n}.png", out / f"Cagd_DeviationMap{n}-hidden.png")
+                    for n in ("Holed", "Whole"))
+    ratio, expected = holed / max(whole, 1), 1 - 16 * np.pi / 100
+    print(f"  trimmed deviation map: {holed} / {whole} coloured pixels = {ratio:.4f} (area ratio {expected:.4f})")
+    assert whole > 5000 and abs(ratio - expected) <= 0.05 * expected, (holed, whole, ratio)
     assert os.path.getsize(out / "macro.log") > 0

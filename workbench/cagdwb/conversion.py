@@ -253,3 +253,72 @@ def face_to_surface(face) -> "cagd.BSplineSurface":
     if v0 > c + eps or v1 < d - eps:
         s = s.segment("v", max(v0, c), min(v1, d))
     return s
+
+
+def _pcurve(face, edge) -> "cagd.BSplineCurve":
+    """The edge's pcurve on ``face`` (Part's ``curveOnSurface``) over the edge's range,
+    as an engine 2-D B-spline (Part's exact ``toBSpline``: lines, circles, ellipses as
+    rational B-splines), running along the edge as oriented in its wire."""
+    found = face.curveOnSurface(edge)
+    if not found:
+        raise cagd.CagdError("an edge has no pcurve on the face")
+    curve, first, last = found[0], float(found[1]), float(found[2])
+    c = _exact_conic2d(curve, first, last)
+    if c is not None:
+        return c.reversed() if edge.Orientation == "Reversed" else c
+    b = curve.toBSpline(first, last)          # exact for B-spline and Bezier pcurves
+    poles = np.array([[p.x, p.y] for p in b.getPoles()], dtype=np.float64)
+    weights = b.getWeights() if b.isRational() else None
+    c = cagd.BSplineCurve.from_occ_form(poles, weights, b.getKnots(), b.getMultiplicities(), b.Degree,
+                                        periodic=b.isPeriodic(), dim=2)
+    return c.reversed() if edge.Orientation == "Reversed" else c
+
+
+def _exact_conic2d(curve, first: float, last: float) -> Optional["cagd.BSplineCurve"]:
+    """A line, circle or ellipse pcurve (Part's own ``toBSpline`` approximates 2-D
+    conics: 2e-8 off a circle of radius 0.3) as the exact B-spline over [first, last]:
+    the segment, or C + a cos(t) X + b sin(t) Y as the rational quadratic arc of
+    ``cagd.surfaces.revolution.arc_parameters`` (Piegl & Tiller A7.1; same point set
+    and direction, another parametrisation). None for other curve types."""
+    from cagd.surfaces.revolution import arc_parameters
+    kind = type(curve).__name__
+    if kind.startswith("Line2d"):
+        p, q = curve.value(first), curve.value(last)
+        return cagd.BSplineCurve(np.array([[p.x, p.y], [q.x, q.y]]), 1, [first, first, last, last])
+    if kind.startswith(("Circle2d", "ArcOfCircle2d")):
+        a = b = float(curve.Radius)
+    elif kind.startswith(("Ellipse2d", "ArcOfEllipse2d")):
+        a, b = float(curve.MajorRadius), float(curve.MinorRadius)
+    else:
+        return None
+    centre = np.array([curve.Location.x, curve.Location.y])
+    x_axis = np.array([curve.XAxis.x, curve.XAxis.y])
+    y_axis = np.array([curve.YAxis.x, curve.YAxis.y])
+    x_axis, y_axis = x_axis / np.linalg.norm(x_axis), y_axis / np.linalg.norm(y_axis)
+    cos_f, sin_f, w, knots = arc_parameters(first, last - first)
+    P = centre + a * cos_f[:, None] * x_axis + b * sin_f[:, None] * y_axis
+    return cagd.BSplineCurve(P, 2, first + (last - first) * knots, w)
+
+
+def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
+    """The face as the engine sees it: ``(cagd.TrimmedSurface, None)`` on
+    :func:`face_to_surface`'s surface bounded by the face's wires' pcurves (Part's
+    ``curveOnSurface`` on the face's NURBS form, whose parameters are the engine
+    surface's; loops oriented by the engine), or ``(untrimmed surface, None)`` when the
+    boundary is the parameter box, or ``(untrimmed surface, reason)`` when the pcurves
+    cannot make a valid trim (the caller reports the reason)."""
+    from cagd.surfaces._trim_box import chained, into_window, is_box
+    surface = face_to_surface(face)
+    nf = face if isinstance(face.Surface, (Part.BSplineSurface, Part.BezierSurface)) else face.toNurbs().Faces[0]
+    try:
+        wires = [nf.OuterWire] + [w for w in nf.Wires if not w.isSame(nf.OuterWire)]
+        loops = [[_pcurve(nf, e) for e in w.OrderedEdges] for w in wires]
+        a, b, c, d = nf.Surface.bounds()        # a seam's two pcurves: chained by whole periods
+        periods = (b - a if face.Surface.isUPeriodic() else float("inf"),
+                   d - c if face.Surface.isVPeriodic() else float("inf"))
+        loops = [into_window(chained(lp, periods), periods, surface.domain) for lp in loops if lp]
+        if not loops or is_box(loops, surface.domain):
+            return surface, None
+        return cagd.TrimmedSurface(surface, loops), None
+    except Exception as exc:                # the untrimmed surface, with the reason reported
+        return surface, f"trim not used ({type(exc).__name__}: {exc})"

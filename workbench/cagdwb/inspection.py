@@ -2,8 +2,8 @@
 cloud against faces (seed 004, ch. 1 §4, positional relations between shapes).
 
 IntersectionCurve (``Part::FeaturePython``): ``cagd.intersect`` of the two linked
-faces' B-spline forms (``conversion.face_to_surface``: the face's parameter box,
-trimming curves inside it ignored); each branch is the engine's fitted cubic B-spline,
+faces as the engine's trimmed surfaces (``conversion.face_to_trimmed``: the B-spline
+form bounded by the face's pcurves; branches clipped to both trims); each branch is the engine's fitted cubic B-spline,
 converted exactly into a ``Part.BSplineCurve``; the shape is the compound of the
 branch edges. ``AchievedTolerance`` is the largest distance of the fitted branches
 from both surfaces that the engine measured (dense samples), ``BranchCount`` the
@@ -20,7 +20,7 @@ properties, the table in the report view; the view provider colours the points.
 from __future__ import annotations
 
 import dataclasses
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -66,12 +66,23 @@ def linked_face(link, name: str):
     return element
 
 
-def face_surface(face, where: str):
-    """face_to_surface with an error naming where the face came from."""
+def face_surface(face, where: str, notes: Optional[List[str]] = None):
+    """The face as the engine measures it (``conversion.face_to_trimmed``: a
+    cagd.TrimmedSurface bounded by its pcurves, or its surface when the boundary is the
+    parameter box), with an error naming where the face came from. A trim that cannot
+    be used leaves the untrimmed surface; its reason goes to ``notes`` (the object's
+    warnings) or the report view."""
     try:
-        return conversion.face_to_surface(face)
+        surface, reason = conversion.face_to_trimmed(face)
     except Exception as exc:
         raise cagd.CagdError(f"{where}: the face cannot be converted to a B-spline surface ({exc})") from None
+    if reason is not None:
+        note = f"{where}: {reason}; measured over the untrimmed surface"
+        if notes is None:
+            App.Console.PrintWarning(note + "\n")
+        else:
+            notes.append(note)
+    return surface
 
 
 def _tolerance(obj) -> float:
@@ -218,6 +229,55 @@ def signed_deviation(faces: Sequence[Tuple[str, object]], points: np.ndarray):
     return dataclasses.replace(dev, distances=d, max=float(d.max()), min=float(d.min()), mean=float(d.mean()),
                                rms=float(np.sqrt(np.mean(d * d))), max_abs=float(np.abs(d).max()),
                                percentiles={p: float(v) for p, v in zip(pct, np.percentile(d, pct))})
+
+
+#: grid of the drawn triangulation of a face bounded by its parameter box (per direction)
+FACE_GRID = 24
+#: points compared with the drawn face's vertices at once (nearest-point colouring)
+NEAREST_CHUNK = 256          # (vertices x 256 x 3 doubles at once: 12 MB for 2,000 vertices)
+
+
+def _nearest_values(vertices: np.ndarray, pts: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """values[k] of the point nearest each vertex (brute force, NEAREST_CHUNK points at once)."""
+    best = np.full(len(vertices), np.inf)
+    out = np.zeros(len(vertices))
+    for s in range(0, len(pts), NEAREST_CHUNK):
+        d2 = ((vertices[:, None, :] - pts[None, s:s + NEAREST_CHUNK, :]) ** 2).sum(axis=2)
+        k = np.argmin(d2, axis=1)
+        d = d2[np.arange(len(vertices)), k]
+        closer = d < best
+        best[closer], out[closer] = d[closer], values[s + k[closer]]
+    return out
+
+
+def face_meshes(obj) -> List[Tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The deviation map's faces as drawn: per linked face (vertices (n, 3), triangles
+    (m, 3), value per vertex = the signed distance of the nearest measured point); a
+    trimmed face is its trimmed triangulation (``TrimmedSurface.tessellate``), not its
+    parameter box; a face bounded by its box a FACE_GRID x FACE_GRID grid."""
+    pts = np.array([(p.x, p.y, p.z) for p in obj.Coordinates], dtype=np.float64).reshape(-1, 3)
+    dist = np.asarray(obj.Distances, dtype=np.float64)
+    out = []
+    for label, face in linked_faces(obj.Faces):
+        s = face_surface(face, label)
+        if isinstance(s, cagd.TrimmedSurface):
+            V, T = s.tessellate()
+        else:
+            (u0, u1), (v0, v1) = s.domain
+            u, v = np.meshgrid(np.linspace(u0, u1, FACE_GRID + 1), np.linspace(v0, v1, FACE_GRID + 1), indexing="ij")
+            V = s(u.ravel(), v.ravel())
+            k = (np.arange(FACE_GRID)[:, None] * (FACE_GRID + 1) + np.arange(FACE_GRID)[None, :]).ravel()
+            T = np.concatenate([np.stack([k, k + FACE_GRID + 1, k + FACE_GRID + 2], 1),
+                                np.stack([k, k + FACE_GRID + 2, k + 1], 1)])
+        values = _nearest_values(V, pts, dist) if len(pts) == len(dist) and len(pts) else np.zeros(len(V))
+        out.append((np.asarray(V, dtype=np.float64), np.asarray(T, dtype=np.int64), values))
+    return out
+
+
+def mesh_area(V: np.ndarray, T: np.ndarray) -> float:
+    """Sum of the triangles' areas |(b - a) x (c - a)| / 2."""
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    return float(0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
 
 
 class DeviationMap(Stateless):

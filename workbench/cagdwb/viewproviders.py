@@ -166,6 +166,7 @@ def attach(obj) -> None:
 
 # --- deviation map ------------------------------------------------------------------------------
 LEGEND_STEPS = 32
+FACE_TRANSPARENCY = 0.5          # the measured faces drawn behind the coloured points
 
 
 class DeviationViewProvider(Stateless):
@@ -236,8 +237,38 @@ class DeviationViewProvider(Stateless):
         cloud.numPoints = len(flat)
         for node in (pick, light, style, coords, material, binding, cloud):
             root.addChild(node)
+        root.addChild(self.faces(obj, limit))
         if getattr(self.vobj, "ShowLegend", True):
             root.addChild(self.legend(flat, limit))
+
+    @staticmethod
+    def faces(obj, limit: float) -> coin.SoSeparator:
+        """The linked faces, translucent, coloured by the distance of the nearest point:
+        a trimmed face as its trimmed triangulation (``inspection.face_meshes``)."""
+        from .inspection import colormap, face_meshes
+        sep = coin.SoSeparator()
+        try:
+            meshes = face_meshes(obj)
+        except Exception as exc:             # the points are still drawn; the faces' error is the object's
+            App.Console.PrintWarning(f"{obj.Label}: faces not drawn ({exc})\n")
+            return sep
+        for V, T, values in meshes:
+            part = coin.SoSeparator()
+            coords = coin.SoCoordinate3()
+            coords.point.setValues(0, len(V), [tuple(map(float, p)) for p in V])
+            material = coin.SoMaterial()
+            colors = [tuple(map(float, c)) for c in colormap(values, limit)]
+            material.diffuseColor.setValues(0, len(colors), colors)
+            material.transparency = FACE_TRANSPARENCY
+            binding = coin.SoMaterialBinding()
+            binding.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
+            mesh = coin.SoIndexedFaceSet()
+            index = [int(i) for t in T for i in (*t, -1)]
+            mesh.coordIndex.setValues(0, len(index), index)
+            for node in (coords, material, binding, mesh):
+                part.addChild(node)
+            sep.addChild(part)
+        return sep
 
     @staticmethod
     def legend(flat, limit: float) -> coin.SoSeparator:

@@ -368,6 +368,36 @@ def deviation_map_of_points():
 
 
 @step
+def deviation_map_of_a_trimmed_face():
+    """Issue 15: the map draws a trimmed face as its trimmed triangulation. A plate with
+    a hole of radius 4 and the same plate without it, each drawn alone by its map (few
+    points, legend off): test_gui.py compares their coloured pixels with the areas'
+    ratio (1 - 16 pi / 100; a flat face keeps area ratios in any parallel view)."""
+    import Part
+    doc = App.ActiveDocument
+    X = [V(1.0 + 4 * i, 1.0 + 4 * j, 1.2) for i in range(3) for j in range(3) if (i, j) != (1, 1)]
+    for name, shape in (("Holed", Part.makeBox(10, 10, 1).cut(Part.makeCylinder(4, 5, V(5, 5, -1)))),
+                        ("Whole", Part.makeBox(10, 10, 1))):
+        plate = doc.addObject("Part::Feature", "Plate" + name)
+        plate.Shape = shape
+        plate.Placement = App.Placement(V(0, -80, 0), App.Rotation())
+        doc.recompute()
+        k = next(i for i, f in enumerate(plate.Shape.Faces) if abs(f.CenterOfMass.z - 1.0) < 1e-9)
+        path = os.path.join(OUT, f"plate_{name}.csv")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write("".join(f"{p.x:.17g},{p.y - 80:.17g},{p.z:.17g}\n" for p in X))
+        from cagdwb import inspection
+        obj = inspection.make_deviation_map([(plate, f"Face{k + 1}")], csv_file=path, doc=doc)
+        doc.recompute()
+        obj.ViewObject.ShowLegend = False
+        obj.ViewObject.PointSize = 1.0
+        check(obj.isValid() and obj.Message == "ok", f"{name} plate map: {obj.Message}")
+        render(f"Cagd_DeviationMap{name}", [obj], [obj])
+        obj.ViewObject.Visibility = False
+    log("deviation map of a trimmed face: rendered holed and whole plates")
+
+
+@step
 def bad_value_keeps_gui_alive():
     obj = STATE["Cagd_BSplineSurface"]
     obj.DegreeU = 9

@@ -269,6 +269,97 @@ def test_deviation_map_reversed_face_and_errors():
     check(np.allclose(colors, [[0, 0, 1], [0, 0, 1], [0, 0.85, 0], [1, 0, 0], [1, 0, 0]]), f"colours {colors}")
 
 
+# --- trimmed faces (issue 15) -----------------------------------------------------------
+def _holed_plate(doc, r=2.0):
+    """A 10 x 10 x 1 plate with a hole of radius r through (5, 5); its top face (z = 1)."""
+    plate = doc.addObject("Part::Feature", "HoledPlate")
+    plate.Shape = Part.makeBox(10, 10, 1).cut(Part.makeCylinder(r, 5, V(5, 5, -1)))
+    doc.recompute()
+    k = next(i for i, f in enumerate(plate.Shape.Faces)
+             if len(f.Wires) == 2 and abs(f.CenterOfMass.z - 1.0) < 1e-9)
+    return plate, f"Face{k + 1}"
+
+
+@case
+def test_face_to_trimmed_keeps_the_faces_trim():
+    """conversion.face_to_trimmed: a holed plate's face is a TrimmedSurface of the
+    face's area (Part's Area), not its 10 x 10 box; the hole's centre is outside; a
+    face bounded by its parameter box stays the untrimmed surface; a disk cut from a
+    B-spline plane by a circle has area pi r^2."""
+    from cagdwb import conversion
+    doc = new_doc("trimmed")
+    plate, name = _holed_plate(doc)
+    face = plate.Shape.getElement(name)
+    ts, why = conversion.face_to_trimmed(face)
+    check(why is None and type(ts).__name__ == "TrimmedSurface", f"holed plate: {type(ts).__name__}, {why}")
+    rel = abs(ts.area() - face.Area) / face.Area
+    MEASURED["trimmed plate area"] = rel
+    check(rel <= 1e-9, f"holed plate: area {ts.area():.15g} against Part's {face.Area:.15g}")
+    centre = face.Surface.parameter(V(5, 5, 1))
+    corner = face.Surface.parameter(V(0.5, 0.5, 1))
+    inside = ts.contains(np.array([centre[0], corner[0]]), np.array([centre[1], corner[1]]))
+    check(list(np.asarray(inside, dtype=bool)) == [False, True], f"contains: hole, corner -> {inside}")
+    side, why = conversion.face_to_trimmed(Part.makeCylinder(3, 4).Faces[0])
+    check(why is None and type(side).__name__ != "TrimmedSurface", f"cylinder side: {type(side).__name__}")
+    # a periodic face whose boundary runs along its seam (the bore of a cross hole):
+    # the seam's two pcurves are chained by whole periods; OCCT's boolean gives
+    # approximated pcurves there, so the area agrees to their accuracy only
+    bored = Part.makeCylinder(5, 20).cut(Part.makeCylinder(1, 20, V(0, -10, 10), V(0, 1, 0)))
+    bore = next(f for f in bored.Faces if isinstance(f.Surface, Part.Cylinder) and abs(f.Surface.Radius - 1) < 1e-9)
+    bt, why = conversion.face_to_trimmed(bore)
+    rel = abs(bt.area() - bore.Area) / bore.Area if why is None else float("inf")
+    MEASURED["trimmed bore area"] = rel
+    check(type(bt).__name__ == "TrimmedSurface" and rel <= 1e-5, f"bore across its seam: {why}, area {rel:.3g}")
+    bs = Part.BSplineSurface()
+    bs.buildFromPolesMultsKnots([[V(-5, -5, 0), V(-5, 5, 0)], [V(5, -5, 0), V(5, 5, 0)]],
+                                [2, 2], [2, 2], [0, 1], [0, 1], False, False, 1, 1)
+    circle = Part.Geom2d.Circle2d(App.Base.Vector2d(0.5, 0.5), 0.3)
+    disk = Part.Face(bs, Part.Wire([circle.toShape(bs)]))
+    disk.validate()
+    dt, why = conversion.face_to_trimmed(disk)
+    expected = math.pi * 3.0 ** 2                              # 0.3 of a 10-wide parameter square
+    rel = abs(dt.area() - expected) / expected
+    MEASURED["trimmed disk area"] = rel
+    check(why is None and rel <= 1e-9, f"disk: area {dt.area():.15g}, pi r^2 {expected:.15g} ({why})")
+
+
+@case
+def test_deviation_map_and_intersection_use_the_trim():
+    """A point above the hole's centre is as far as the hole's rim (hypot(r, h)), not
+    h; a plane through the hole cuts the face in two branches of total length 10 - 2r."""
+    doc = new_doc("trimmedqueries")
+    r, h = 2.0, 0.5
+    plate, name = _holed_plate(doc, r)
+    X = np.array([[5.0, 5.0, 1 + h], [1.0, 1.0, 1 + h], [9.0, 2.0, 1 - h / 2]])
+    path = os.path.join(OUT, "holed_points.csv")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("".join(f"{x:.17g},{y:.17g},{z:.17g}\n" for x, y, z in X))
+    obj = inspection.make_deviation_map([(plate, name)], csv_file=path, doc=doc)
+    doc.recompute()
+    check(obj.isValid(), f"holed deviation map: {obj.Message}")
+    got = np.abs(np.array(obj.Distances))
+    want = np.array([math.hypot(r, h), h, h / 2])
+    MEASURED["trimmed deviation"] = float(np.abs(got - want).max())
+    check(np.abs(got - want).max() <= 1e-9, f"holed plate distances {got} against {want}")
+    (verts, tris, values), = inspection.face_meshes(obj)           # drawn: the trimmed triangulation
+    face = plate.Shape.getElement(name)
+    drawn = inspection.mesh_area(verts, tris)
+    MEASURED["trimmed drawn area"] = abs(drawn - face.Area) / face.Area
+    check(abs(drawn - face.Area) <= 0.01 * face.Area, f"drawn area {drawn:.6g}, face {face.Area:.6g}")
+    r_v = np.hypot(verts[:, 0] - 5, verts[:, 1] - 5)
+    check(r_v.min() >= r * (1 - 1e-6) and np.all(np.isin(values, np.array(obj.Distances))),
+          f"drawn vertices inside the hole (min radius {r_v.min():.6g}) or values not the points' distances")
+    cutter = doc.addObject("Part::Feature", "Cutter")
+    cutter.Shape = Part.makePlane(20, 20, V(5, 15, -5), V(1, 0, 0))      # x = 5, y in [-5, 15]
+    doc.recompute()
+    cut = inspection.make_intersection((plate, name), (cutter, "Face1"), doc=doc)
+    doc.recompute()
+    length = sum(e.Length for e in cut.Shape.Edges)
+    MEASURED["trimmed intersection length"] = abs(length - (10 - 2 * r))
+    check(cut.BranchCount == 2 and abs(length - (10 - 2 * r)) <= 1e-6,
+          f"plane through the hole: {cut.BranchCount} branches, length {length:.12g} (want {10 - 2 * r})")
+
+
 @case
 def test_query_measurements():
     """Prints the largest values measured by the cases above."""

@@ -1,0 +1,62 @@
+"""Pure-numpy helper shared by the bridges that build a :class:`cagd.TrimmedSurface`
+from a CAD face (``cagd.occ.trim`` on OCP, the FreeCAD workbench on Part): is the
+face's boundary just its parameter box (then the plain surface is the face)? And the
+chaining of a loop's pcurves across a periodic seam (each moved by whole periods)."""
+from __future__ import annotations
+
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+from ..curves.bspline import BSplineCurve
+
+BOX_TOL = 1e-9          # relative (parameter box): a loop of iso-lines on the box's sides is "the box"
+
+
+def is_box(loops: Sequence[Sequence[BSplineCurve]],
+           domain: Tuple[Tuple[float, float], Tuple[float, float]], rel_tol: float = BOX_TOL) -> bool:
+    """One loop whose curves all have their control points on one side of the box
+    ``domain`` (u = u0, u = u1, v = v0 or v = v1 within ``rel_tol`` times its size)."""
+    if len(loops) != 1:
+        return False
+    (u0, u1), (v0, v1) = domain
+    tol = rel_tol * max(u1 - u0, v1 - v0)
+    for c in loops[0]:
+        P = c.control_points
+        on_u = np.all(np.abs(P[:, 0] - P[0, 0]) <= tol) and min(abs(P[0, 0] - u0), abs(P[0, 0] - u1)) <= tol
+        on_v = np.all(np.abs(P[:, 1] - P[0, 1]) <= tol) and min(abs(P[0, 1] - v0), abs(P[0, 1] - v1)) <= tol
+        if not (on_u or on_v):
+            return False
+    return True
+
+
+def translated(c: BSplineCurve, du: float, dv: float) -> BSplineCurve:
+    if du == 0 and dv == 0:
+        return c
+    return c.with_control_points(c.control_points + np.array([du, dv]))
+
+
+def chained(loop: Sequence[BSplineCurve], periods: Tuple[float, float]) -> List[BSplineCurve]:
+    """Each curve moved by whole periods to start where the previous one ends."""
+    from .trimmed import _end            # a clamped curve's end is its end control point, bit for bit
+    out = [loop[0]]
+    for c in loop[1:]:
+        end, start = _end(out[-1], 1), _end(c, 0)
+        shift = [0.0, 0.0]
+        for k in (0, 1):
+            if np.isfinite(periods[k]):
+                shift[k] = periods[k] * float(np.round((end[k] - start[k]) / periods[k]))
+        out.append(translated(c, *shift))
+    return out
+
+
+def into_window(loop: Sequence[BSplineCurve], periods: Tuple[float, float],
+                window: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:
+    P = np.concatenate([c.control_points for c in loop])
+    shift = [0.0, 0.0]
+    for k in (0, 1):
+        if np.isfinite(periods[k]):
+            lo, hi = window[k]
+            centre = 0.5 * (P[:, k].min() + P[:, k].max())
+            shift[k] = periods[k] * float(np.round((0.5 * (lo + hi) - centre) / periods[k]))
+    return [translated(c, *shift) for c in loop]
