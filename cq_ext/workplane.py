@@ -353,7 +353,7 @@ def fitCurve(self: T, points: Optional[Points] = None, tol: float = 1e-3, degree
         curve = placed(fit.curve, self.plane)
     if not fit.converged:
         raise CagdError(f"tol: {fit.message}")
-    edge = to_cq(curve)
+    edge = to_cq(curve)                                 # global already: not _push_curve (it places)
     if makeWire or periodic:
         wire = cq.Wire.assembleEdges([edge])
         if not forConstruction:

@@ -89,6 +89,25 @@ def inflections(curve: BSplineCurve, samples_per_span: int = 64) -> int:
     return int(np.count_nonzero(s[1:] != s[:-1]))
 
 
+def _largest_weight(solve, bound, tol: float, start: np.ndarray) -> Tuple[float, np.ndarray]:
+    """(mu, solve(mu)) for the largest mu whose bound(solve(mu)) <= tol: FAIR_LOG_MU_MAX
+    if it is within, else FAIR_BISECTIONS bisections on log10 mu (mu = 0 and ``start``,
+    the original, when none is)."""
+    best_mu, best = 0.0, start
+    lo, hi = FAIR_LOG_MU_MIN, FAIR_LOG_MU_MAX
+    X = solve(10.0 ** hi)
+    if bound(X) <= tol:
+        return 10.0 ** hi, X
+    for _ in range(FAIR_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        X = solve(10.0 ** mid)
+        if bound(X) <= tol:
+            lo, best_mu, best = mid, 10.0 ** mid, X
+        else:
+            hi = mid
+    return best_mu, best
+
+
 def fair_curve(curve: BSplineCurve, tol: float, keep: str = "G2") -> Fairing:
     """The curve with its curvature variation lowered while it stays within ``tol`` (a
     distance, certified) of itself, ``keep`` ("G0", "G1" or "G2") held exactly at both
@@ -139,19 +158,7 @@ def fair_curve(curve: BSplineCurve, tol: float, keep: str = "G2") -> Fairing:
     def bound(P: np.ndarray) -> float:
         return float(np.sqrt(((P - P0) ** 2).sum(-1)).max())
 
-    best_mu, best = 0.0, P0
-    lo, hi = FAIR_LOG_MU_MIN, FAIR_LOG_MU_MAX
-    P = solve(10.0 ** hi)
-    if bound(P) <= tol_n:
-        best_mu, best = 10.0 ** hi, P
-    else:
-        for _ in range(FAIR_BISECTIONS):
-            mid = 0.5 * (lo + hi)
-            P = solve(10.0 ** mid)
-            if bound(P) <= tol_n:
-                lo, best_mu, best = mid, 10.0 ** mid, P
-            else:
-                hi = mid
+    best_mu, best = _largest_weight(solve, bound, tol_n, P0)
     out_P = best * scale + center
     out_P[ends] = c0.control_points[ends]                  # the held ends, bit for bit
     out = BSplineCurve(out_P, p, U)
@@ -273,19 +280,7 @@ def fair_surface(surface: "BSplineSurface", tol: float, keep: str = "G1") -> Sur
     def bound(X: np.ndarray) -> float:
         return float(np.sqrt(((X - X0) ** 2).sum(-1)).max())
 
-    best_mu, best = 0.0, X0
-    lo, hi = FAIR_LOG_MU_MIN, FAIR_LOG_MU_MAX
-    X = solve(10.0 ** hi)
-    if bound(X) <= tol_n:
-        best_mu, best = 10.0 ** hi, X
-    else:
-        for _ in range(FAIR_BISECTIONS):
-            mid = 0.5 * (lo + hi)
-            X = solve(10.0 ** mid)
-            if bound(X) <= tol_n:
-                lo, best_mu, best = mid, 10.0 ** mid, X
-            else:
-                hi = mid
+    best_mu, best = _largest_weight(solve, bound, tol_n, X0)
     P = (best * scale + center).reshape(nu, nv, d)
     P[ring] = P0[ring]                                   # the held rows, bit for bit
     out = BSplineSurface(P, S0.degree_u, S0.degree_v, Uu, Uv)

@@ -172,16 +172,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q.reshape(-1, d))
     at = np.sqrt(((out.grid(u, v) - Q) ** 2).sum(-1)).ravel()
-    dist = np.minimum(np.asarray(near.distances), at)
     grid_uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
-    params = np.where((np.asarray(near.distances) <= at)[:, None], np.asarray(near.params), grid_uv)
-    worst, rms = float(dist.max()), float(np.sqrt(np.mean(dist ** 2)))
-    shape = out.control_points.shape[:2]
-    ok = worst <= tol
-    msg = (f"{shape[0]} x {shape[1]} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
-           f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points (the cap or {MAX_FIT_ROUNDS} rounds "
-           f"reached), largest distance {worst:.3g}")
-    return SurfaceFit(out, worst, rms, params.reshape(m, n, 2), rounds, ok, msg)
+    fit = _measured(out, near, at, grid_uv, tol, rounds)
+    return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
+                      fit.converged, fit.message)
 
 
 #: weight of the thin-plate regulariser of a scattered fit, relative to the data term
@@ -278,6 +272,12 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q)
     at = np.sqrt(((out(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
+    return _measured(out, near, at, uv, tol, rounds)
+
+
+def _measured(out: BSplineSurface, near, at: np.ndarray, uv: np.ndarray, tol: float, rounds: int) -> SurfaceFit:
+    """The result from the certified closest points ``near`` and the distances ``at`` the
+    fitting parameters ``uv`` (the smaller of the two per point, and its parameters)."""
     dist = np.minimum(np.asarray(near.distances), at)
     params = np.where((np.asarray(near.distances) <= at)[:, None], np.asarray(near.params), uv)
     worst, rms = float(dist.max()), float(np.sqrt(np.mean(dist ** 2)))
