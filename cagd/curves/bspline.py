@@ -56,6 +56,10 @@ class BSplineCurve(Curve):
             non-positive weights, NaN/inf, degree out of range.
     """
 
+    #: the attributes that define the object (equal ones give equal geometry): the
+    #: closest-point projectors are cached by them (cagd.queries.closest.content_key)
+    _content_fields = ("periodic", "degree", "knots", "control_points", "weights")
+
     _modified_copy = "use with_control_points(P), moved_pole(index, point) or with_weights(w)"
 
     def __init__(self, control_points: ArrayLike, degree: int, knots: Optional[ArrayLike] = None,

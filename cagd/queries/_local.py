@@ -421,10 +421,11 @@ def _horner(coef, s, order):
             p1 = p0 if p1 is None else p1 * s + p0
         p0 = p0 * s + coef[a]
     out = [p0]
+    shape = np.broadcast_shapes(np.shape(p0), np.shape(s))
     if order >= 1:
-        out.append(p1 if p1 is not None else np.zeros_like(s))
+        out.append(p1 if p1 is not None else np.zeros(shape))
     if order >= 2:
-        out.append(p2 if p2 is not None else np.zeros_like(s))
+        out.append(p2 if p2 is not None else np.zeros(shape))
     return out
 
 
@@ -513,37 +514,37 @@ class PowerTable:
         """Per homogeneous coordinate, the partials in the object's parameters: curves
         [C, C', C''], surfaces [S, Su, Sv, Suu, Suv, Svv] (as far as ``order``)."""
         idx, s = self._local(x, index)
-        T, D = self.table, self.D
-        out = []
+        # the rows' coefficients gathered at once ((p+1)[(q+1)] D, n); Horner runs on all
+        # coordinates (and u-indices) together: per element the same operations as one
+        # coordinate at a time (results bit for bit), in a few numpy calls (a Newton step
+        # of a handful of points costs its number of calls, not its arithmetic)
+        D, n = self.D, len(idx)
+        C = self.table[:, idx]
         if self.k == 1:
-            ih = self.inv_half[0].take(idx)
             p = self.degrees[0]
-            for d in range(D):
-                r = _horner([T[a * D + d].take(idx) for a in range(p + 1)], s[0], order)
-                if order >= 1:
-                    r[1] = r[1] * ih
-                if order >= 2:
-                    r[2] = 2.0 * r[2] * ih * ih
-                out.append(r)
-            return out
+            ih = self.inv_half[0].take(idx)
+            C = C.reshape(p + 1, D, n)
+            r = _horner([C[a] for a in range(p + 1)], s[0], order)
+            if order >= 1:
+                r[1] = r[1] * ih
+            if order >= 2:
+                r[2] = 2.0 * r[2] * ih * ih
+            return [[part[d] for part in r] for d in range(D)]
         p, q = self.degrees
         nv = self.shape[1]
         ihu, ihv = self.inv_half[0].take(idx // nv), self.inv_half[1].take(idx % nv)
         su, sv = s
-        for d in range(D):
-            Q = [_horner([T[(a * (q + 1) + b) * D + d].take(idx) for b in range(q + 1)], sv, order)
-                 for a in range(p + 1)]
-            r0 = _horner([Qa[0] for Qa in Q], su, order)
-            if order == 0:
-                out.append(r0)
-                continue
-            r1 = _horner([Qa[1] for Qa in Q], su, order - 1)
-            res = [r0[0], r0[1] * ihu, r1[0] * ihv]
-            if order >= 2:
-                r2 = _horner([Qa[2] for Qa in Q], su, 0)
-                res += [2.0 * r0[2] * ihu * ihu, r1[1] * (ihu * ihv), 2.0 * r2[0] * ihv * ihv]
-            out.append(res)
-        return out
+        C = C.reshape(p + 1, q + 1, D, n)
+        Q = _horner([C[:, b] for b in range(q + 1)], sv, order)          # each (p+1, D, n)
+        r0 = _horner([Q[0][a] for a in range(p + 1)], su, order)         # each (D, n)
+        if order == 0:
+            return [[r0[0][d]] for d in range(D)]
+        r1 = _horner([Q[1][a] for a in range(p + 1)], su, order - 1)
+        res = [r0[0], r0[1] * ihu, r1[0] * ihv]
+        if order >= 2:
+            r2 = _horner([Q[2][a] for a in range(p + 1)], su, 0)
+            res += [2.0 * r0[2] * ihu * ihu, r1[1] * (ihu * ihv), 2.0 * r2[0] * ihv * ihv]
+        return [[part[d] for part in res] for d in range(D)]
 
     def _store(self, parts, S, J, H, sl, order):
         k, dim = self.k, self.dim

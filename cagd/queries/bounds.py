@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..curves.base import Curve, rational_derivatives
+from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
 
@@ -212,16 +213,20 @@ class BezierPieces:
     # --- bounds ------------------------------------------------------------------------
     def hull_boxes(self) -> Tuple[np.ndarray, np.ndarray]:
         """Axis-aligned boxes (lo, hi), each (m, dim), containing each piece (convex hull)."""
-        P = self.control_points.reshape(len(self), -1, self.dim)
-        return P.min(axis=1), P.max(axis=1)
+        if "_boxes" not in self.__dict__:
+            P = self.control_points.reshape(len(self), -1, self.dim)
+            object.__setattr__(self, "_boxes", (frozen(P.min(axis=1)), frozen(P.max(axis=1))))
+        return self.__dict__["_boxes"]
 
     def hull_spheres(self) -> Tuple[np.ndarray, np.ndarray]:
         """Spheres (centers (m, dim), radii (m,)) containing each piece: the centre of its
         bounding box and the largest distance from it to a control point."""
-        lo, hi = self.hull_boxes()
-        c = 0.5 * (lo + hi)
-        P = self.control_points.reshape(len(self), -1, self.dim)
-        return c, np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1))
+        if "_spheres" not in self.__dict__:
+            lo, hi = self.hull_boxes()
+            c = 0.5 * (lo + hi)
+            P = self.control_points.reshape(len(self), -1, self.dim)
+            object.__setattr__(self, "_spheres", (frozen(c), frozen(np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1)))))
+        return self.__dict__["_spheres"]
 
     def partial_bounds(self, order: int) -> Dict[Tuple[int, ...], np.ndarray]:
         """Certified bounds B[alpha] (m,) of |d^alpha X| on each piece for every multi-index
@@ -234,7 +239,11 @@ class BezierPieces:
         B[a] = (B_A[a] + sum_{b < a} C(a, b) B_w[a-b] B[b]) / min w, B[0] = R, where a
         derivative of a Bezier piece is bounded by its hodograph control points,
         |d^a A| <= prod p!/(p-a)! / h^a max |Delta^a A_ij| (Farin 5.3; Piegl & Tiller 3.3).
-        For polynomial pieces (w = 1) this is the hodograph bound alone."""
+        For polynomial pieces (w = 1) this is the hodograph bound alone. The bounds of the
+        highest order asked so far are kept (the pieces are immutable)."""
+        known = self.__dict__.get("_partials")
+        if known is not None and known[0] >= order:
+            return {al: b for al, b in known[1].items() if sum(al) <= order}
         m, k, deg = len(self), self.k, self.degrees
         Q, R = self.hull_spheres()
         w = np.ones(self.control_points.shape[:-1]) if self.weights is None else self.weights
@@ -257,6 +266,9 @@ class BezierPieces:
         B: Dict[Tuple[int, ...], np.ndarray] = {(0,) * k: R}
         for al in alphas[1:]:
             acc = hodograph_bound(A, al, True)
+            if self.weights is None:            # w = 1: no Leibniz terms
+                B[al] = acc
+                continue
             for be in alphas:
                 if be == al or any(b > a for a, b in zip(al, be)):
                     continue
@@ -264,7 +276,9 @@ class BezierPieces:
                 diff = tuple(a - b for a, b in zip(al, be))
                 acc = acc + coef * hodograph_bound(w[..., None], diff, True) * B[be]
             B[al] = acc / wmin
-        return B
+        B = {al: frozen(b) for al, b in B.items()}
+        object.__setattr__(self, "_partials", (order, B))
+        return dict(B)
 
     def derivative_bounds(self) -> Tuple[np.ndarray, np.ndarray]:
         """First and second derivative bounds from :meth:`partial_bounds`: L (m, k) with

@@ -46,7 +46,9 @@ or more use finer cells (FINE_CELLS).
 """
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass, replace
+import hashlib
 from typing import List, Optional, Tuple, Union
 import weakref
 
@@ -74,6 +76,11 @@ PAIR_BUDGET = 4e6       # (point, cell) pairs formed at once, at most
 CANDIDATES = 512        # cells per point kept for branch and bound (smallest sphere bounds), at least
 FINE_POINTS = 65536     # closest_point of at least this many points on a surface uses ...
 FINE_CELLS = 4096       # ... at least this many cells (2e4 points around a sphere: 288 cells 4.9 s, 4232 1.3 s CPU)
+LIGHT_POINTS = 64       # closest_point of fewer points builds a light projector (no voxel grid) ...
+LIGHT_CELLS = (16, 64)  # ... of one cell per Bezier piece, at least this many (curves, surfaces)
+LIGHT_BUDGET = 2        # ... and twice the default's per-cell share of the branch budget (a crumpled 16 x 16
+                        # net: 1x left every near point's bound 0, 2x gives bounds within 1e-13)
+CACHE_OBJECTS = 16      # projectors kept by the objects' content (the most recently used)
 TREE_TOP = 64           # nodes of the hierarchy's top level, at most
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
 BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
@@ -112,8 +119,10 @@ class ClosestPoints(ReadOnlyArrays):
     message: str = ""
 
 
+#: per object (by identity, and by content: :func:`projector`) its projectors by tier:
+#: 0 light, 1 default, 2 fine
 _CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-_FINE_CACHE: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+_BY_CONTENT: "OrderedDict[Tuple, dict]" = OrderedDict()
 
 
 class Projector:
@@ -128,9 +137,14 @@ class Projector:
             (see :func:`_cell_counts`).
         fine: surfaces get at least FINE_CELLS cells by default (for large queries: the set-up
             costs more, each point less; :func:`closest_point` uses it from FINE_POINTS points).
+        light: for a few points (issue 16, set-up): about one cell per Bezier piece (at least
+            LIGHT_CELLS) and no voxel grid; every point descends the hierarchy (set-up in
+            milliseconds, each point costs more; :func:`closest_point` uses it below
+            LIGHT_POINTS points).
     """
 
-    def __init__(self, obj: Union[Curve, Surface], cells: Optional[int] = None, *, fine: bool = False):
+    def __init__(self, obj: Union[Curve, Surface], cells: Optional[int] = None, *, fine: bool = False,
+                 light: bool = False):
         if not isinstance(obj, (Curve, Surface)):
             raise CagdError(f"obj: expected a cagd Curve or Surface, got {type(obj).__name__}")
         self.triangle = isinstance(obj, Surface) and not obj.rectangular
@@ -140,9 +154,16 @@ class Projector:
         self.frame = Frame.of(raw.control_points, raw.breaks)
         self.pieces = self.frame.pieces(raw)
         k, m = self.pieces.k, len(self.pieces)
-        default = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(FINE_CELLS if fine else 256, 16 * m))
+        usual = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(FINE_CELLS if fine else 256, 16 * m))
+        default = max(m, LIGHT_CELLS[k - 1]) if light else usual
+        self.light = light
+        # the branch-and-bound budget's per-cell share: a light projector's cells are
+        # larger, certifying them takes the default's cells' share and their own splits
+        self._budget_cells = LIGHT_BUDGET * usual if light else usual
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
-        self.cells: BezierPieces = self.pieces.subdivided(_cell_counts(self.pieces, target))
+        # a light projector of at least LIGHT_CELLS pieces: the pieces are the cells
+        self.cells: BezierPieces = self.pieces if light and cells is None and m >= target else \
+            self.pieces.subdivided(_cell_counts(self.pieces, target))
         # power-form table for evaluation (the Bernstein path above degree 7, where the
         # power basis loses accuracy)
         self._power = PowerTable(self.pieces) if max(self.pieces.degrees) <= 7 else None
@@ -152,8 +173,8 @@ class Projector:
         self.wrap = np.array(self.pieces.periodic, dtype=bool)
         self.lo, self.hi = self.cells.lower, self.cells.upper
         self.centers, self.radii = self.cells.hull_spheres()
+        self.T3 = self.cells.third_derivative_bounds()       # (keeps the lower orders: no second pass)
         self.L, self.M = self.cells.derivative_bounds()
-        self.T3 = self.cells.third_derivative_bounds()
         shape = self.cells.shape
         # per level l = 0..BLOCK: the bounds over the cells within l grid steps
         self.block = [np.stack([_block_max(B, shape, lv) for lv in range(_BLOCK + 1)])
@@ -189,7 +210,11 @@ class Projector:
         P = self.pieces.control_points.reshape(-1, self.dim)
         self.size = max(float(np.ptp(P, axis=0).max()), 1e-300)
         self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
-        self._build_grid()
+        if light:
+            self.T, self._origin = 0.0, None
+            self._grid_cells, self._grid_key = np.zeros(0, dtype=np.intp), np.zeros(0)
+        else:
+            self._build_grid()
         self._build_tree()
 
     # --- evaluation --------------------------------------------------------------------
@@ -292,8 +317,12 @@ class Projector:
         self._origin, self._V, self._dims = origin, V, dims
 
     def _voxels(self, X: np.ndarray):
-        """Voxel index, first grid entry and number of grid entries per point (0 outside)."""
+        """Voxel index, first grid entry and number of grid entries per point (0 outside,
+        and everywhere on a light projector: it has no grid)."""
         N = len(X)
+        if self._origin is None:
+            zero = np.zeros(N, dtype=np.intp)
+            return zero, zero, zero
         with np.errstate(over="ignore", invalid="ignore"):
             zf = np.floor((X - self._origin) / self._V)
         inside = np.all(np.isfinite(zf) & (zf >= 0) & (zf < self._dims), axis=1)
@@ -534,7 +563,7 @@ class Projector:
         keep = lb_s < d[pid] - gap[pid]
         _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]
-        budget = min(BRANCH_PER_POINT * N + BRANCH_PER_CELL * len(self.radii), BRANCH_MAX)
+        budget = min(BRANCH_PER_POINT * N + BRANCH_PER_CELL * max(len(self.radii), self._budget_cells), BRANCH_MAX)
         if len(pid) > budget:       # bounded work: per point the cells of smallest bound (the rest into LB)
             pid, cell, _ = _cap(pid, cell, lb_s[keep], max(1, budget // N), LB)
         home = self.cells.locate(xe)
@@ -1056,23 +1085,64 @@ def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: np.ndarr
 
 
 def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
-    """The cached :class:`Projector` of ``obj`` (rebuilt when the object is new); for a
-    query of at least FINE_POINTS points on a surface the ``fine`` one (cached apart,
-    unless the default one has FINE_CELLS cells already)."""
-    fine = points >= FINE_POINTS and isinstance(obj, Surface)
+    """The cached :class:`Projector` of ``obj`` for a query of ``points`` points: light
+    below LIGHT_POINTS (unless a fuller one is cached), the default one, or for at least
+    FINE_POINTS points on a surface the ``fine`` one.
+
+    Cached by identity (while the object lives) and by content (issue 16: an equal object
+    built again, e.g. by ``cq_ext.from_shape`` on every call, finds the same projector):
+    the CACHE_OBJECTS most recently used contents are kept."""
+    tier = 0 if points < LIGHT_POINTS else (2 if points >= FINE_POINTS and isinstance(obj, Surface) else 1)
     try:
-        p = _CACHE.get(obj)
-        if fine and (p is None or len(p.cells) < FINE_CELLS):
-            p = _FINE_CACHE.get(obj)
+        held = _CACHE.get(obj)
     except TypeError:
-        return Projector(obj, fine=fine)
-    if p is None:
-        p = Projector(obj, fine=fine)
+        held = None
+    key = None
+    if held is None:
+        key = content_key(obj)
+        held = _BY_CONTENT.get(key) if key is not None else None
+        if held is not None:
+            _BY_CONTENT.move_to_end(key)
+    if held is None:
+        held = {}
+    best = next((held[t] for t in range(2, tier - 1, -1) if t in held), None)     # the fullest one
+    if best is None and tier == 2 and 1 in held and len(held[1].cells) >= FINE_CELLS:
+        best = held[1]
+    if best is None:
+        best = Projector(obj, fine=tier == 2, light=tier == 0)
+        held = {**held, tier: best}
         try:
-            (_FINE_CACHE if fine else _CACHE)[obj] = p
+            _CACHE[obj] = held
         except TypeError:
             pass
-    return p
+        key = content_key(obj) if key is None else key
+        if key is not None:
+            _BY_CONTENT[key] = held
+            _BY_CONTENT.move_to_end(key)
+            while len(_BY_CONTENT) > CACHE_OBJECTS:
+                _BY_CONTENT.popitem(last=False)
+    return best
+
+
+def content_key(obj: object) -> Optional[Tuple]:
+    """A key equal for objects of equal content, for the classes that name the attributes
+    defining them (``_content_fields`` in the class itself, not inherited: a subclass may
+    hold more): the class and those attributes (arrays by dtype, shape and a BLAKE2
+    digest of their bytes); None for other objects (cached by identity only)."""
+    fields = type(obj).__dict__.get("_content_fields")
+    if fields is None:
+        return None
+    parts: List[object] = [type(obj).__module__, type(obj).__qualname__]
+    for name in fields:
+        x = getattr(obj, name)
+        if isinstance(x, np.ndarray):
+            a = np.ascontiguousarray(x)
+            parts.append((a.dtype.str, a.shape, hashlib.blake2b(a.view(np.uint8).ravel(), digest_size=16).digest()))
+        elif x is None or isinstance(x, (bool, int, float)):
+            parts.append(x)
+        else:
+            return None
+    return tuple(parts)
 
 
 def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,

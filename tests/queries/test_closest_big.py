@@ -187,7 +187,7 @@ def test_large_query_uses_the_fine_projector(monkeypatch):
     X = np.random.default_rng(7).uniform(-2, 2, (300, 3))
     small = closest_point(S, X[:50])
     big = closest_point(S, X)
-    assert len(cl._FINE_CACHE[S].cells) >= cl.FINE_CELLS > len(cl._CACHE[S].cells)
+    assert len(cl._CACHE[S][2].cells) >= cl.FINE_CELLS > len(cl._CACHE[S][min(cl._CACHE[S])].cells)
     exact = np.abs(np.linalg.norm(X, axis=1) - 1.0)
     np.testing.assert_allclose(big.distances, exact, atol=1e-12)
     np.testing.assert_allclose(small.distances, exact[:50], atol=1e-12)
