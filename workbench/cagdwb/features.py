@@ -259,6 +259,18 @@ def _element(obj, sub: str, name: str):
         raise cagd.CagdError(f"{name}: {obj.Label} has no {sub} ({counts}; {exc})") from None
 
 
+def link_target(link, name: str, what: str):
+    """(object, sub-element names, shape) of a LinkSub value ``(obj, ['Face2'])``;
+    errors name the property (nothing linked, an object without a shape)."""
+    if not link or link[0] is None:
+        raise cagd.CagdError(f"{name}: no {what} linked")
+    obj, subs = link
+    shape = getattr(obj, "Shape", None)
+    if shape is None or shape.isNull():
+        raise cagd.CagdError(f"{name}: {obj.Label} has no shape")
+    return obj, [s for s in (subs or []) if s], shape
+
+
 def linked_edge(link, name: str):
     """The edge of a LinkSub property value ``(obj, ['Edge2'])`` (or a whole object
     whose shape has exactly one edge)."""

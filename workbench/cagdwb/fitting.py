@@ -24,7 +24,7 @@ nor is written back as 0).
 from __future__ import annotations
 
 import contextlib
-from typing import Dict, Iterator, List, Optional, Tuple
+from typing import Dict, Iterator, Optional, Tuple
 
 import numpy as np
 
@@ -33,7 +33,7 @@ import Part
 
 from . import conversion
 from .conversion import cagd
-from .features import Feature, _element, add, add_enum, linked_points, make, vector
+from .features import Feature, _element, add, add_enum, link_target, linked_points, make, vector
 
 PARAMETERS = cagd.fitting.PARAMETERS
 KEEP_CURVE = ("G0", "G1", "G2")
@@ -138,9 +138,6 @@ class Measured(Feature):
         else:
             obj.Message = "ok"
 
-    def control_net(self, obj) -> List[List[App.Vector]]:
-        return Feature.control_net(self, obj)
-
 
 FIT_RESULTS = (("MaxError", 0.0), ("RmsError", 0.0), ("Converged", False))
 
@@ -244,13 +241,7 @@ class FitSurface(Measured):
 def linked_element(link, name: str = "Source"):
     """The edge or face of a LinkSub value ``(obj, ['Edge1'])`` (or a whole object whose
     shape is one face, or else one edge); errors name the property."""
-    if not link or link[0] is None:
-        raise cagd.CagdError(f"{name}: no edge or face linked")
-    obj, subs = link
-    subs = [s for s in (subs or []) if s]
-    shape = getattr(obj, "Shape", None)
-    if shape is None or shape.isNull():
-        raise cagd.CagdError(f"{name}: {obj.Label} has no shape")
+    obj, subs, shape = link_target(link, name, "edge or face")
     if not subs:
         if len(shape.Faces) == 1:
             return shape.Faces[0], f"{obj.Label}"
