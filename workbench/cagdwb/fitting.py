@@ -159,6 +159,13 @@ def _fit_warning(fit, tol: float) -> Optional[str]:
             f"({fit.message}); raise Tolerance or MaxControlPoints")
 
 
+def _cap(obj) -> int:
+    cap = int(obj.MaxControlPoints)
+    if cap < 0:
+        raise cagd.CagdError(f"MaxControlPoints: must be >= 0 (0 = automatic), got {cap}")
+    return cap
+
+
 class FitCurve(Measured):
     """A B-spline within Tolerance of points, with few control points (cagd.fit_curve:
     least squares with parameter correction and adaptive knots, Piegl & Tiller 9.4)."""
@@ -187,9 +194,7 @@ class FitCurve(Measured):
         tangents = [None if v.Length == ZERO else vector(v) for v in (obj.StartTangent, obj.EndTangent)]
         if obj.Periodic and any(t is not None for t in tangents):
             raise cagd.CagdError("StartTangent: a periodic fit has no end tangents; set them to zero")
-        cap = int(obj.MaxControlPoints)
-        if cap < 0:
-            raise cagd.CagdError(f"MaxControlPoints: must be >= 0 (0 = automatic), got {cap}")
+        cap = _cap(obj)
         with renamed(FIT_NAMES):
             fit = cagd.fit_curve(P, tol, int(obj.Degree), obj.Parametrization, start_tangent=tangents[0],
                                  end_tangent=tangents[1], max_control_points=cap or None,
@@ -216,6 +221,8 @@ class FitSurface(Measured):
         add(obj, "Integer", "DegreeV", "Fit", "Degree in v", 3)
         add(obj, "Integer", "GridRows", "Fit", "0 = scattered points; n > 0: the points are a grid of n rows, "
             "row-major", 0)
+        add(obj, "Integer", "MaxControlPoints", "Fit", "Cap on the control-point count in u and in v; 0 = the "
+            "engine's default (the grid's size)", 0)
         add(obj, "Integer", "ControlPointsU", "Status", "Control points of the fit in u", 0)
         add(obj, "Integer", "ControlPointsV", "Status", "Control points of the fit in v", 0)
         _readonly(obj, [n for n, _ in self.RESULTS])
@@ -229,8 +236,10 @@ class FitSurface(Measured):
                                  "(0 = scattered)")
         if rows:
             P = P.reshape(rows, len(P) // rows, 3)
+        cap = _cap(obj)
         with renamed(dict(FIT_NAMES, degree="DegreeU, DegreeV")):
-            fit = cagd.fit_surface(P, tol, (int(obj.DegreeU), int(obj.DegreeV)))
+            fit = cagd.fit_surface(P, tol, (int(obj.DegreeU), int(obj.DegreeV)),
+                                   max_control_points=(cap, cap) if cap else None)
         nu, nv = np.asarray(fit.surface.control_points).shape[:2]
         values = {"MaxError": float(fit.max_error), "RmsError": float(fit.rms_error),
                   "Converged": bool(fit.converged), "ControlPointsU": int(nu), "ControlPointsV": int(nv)}

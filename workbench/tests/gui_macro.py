@@ -105,6 +105,22 @@ def created(name, selection=(), shots=True, inputs=None):
     return obj
 
 
+def property_text(obj, name):
+    """The text the property editor shows for ``obj.name`` (the object selected alone;
+    the editor shows 'MaxError' as 'Max Error')."""
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj)
+    settle(20)
+    for tree in Gui.getMainWindow().findChildren(QtWidgets.QTreeView):
+        model = tree.model()
+        groups = [model.index(r, 0) for r in range(model.rowCount())] if model is not None else []
+        for group in groups:
+            for r in range(model.rowCount(group)):
+                if str(model.index(r, 0, group).data()).replace(" ", "") == name:
+                    return model.index(r, 1, group).data()
+    raise AssertionError(f"{obj.Label}.{name} not in the property editor")
+
+
 STEPS = []
 
 
@@ -420,6 +436,14 @@ def fitting_commands():
     check(obj.Source == cloud and obj.Converged and 0 < obj.MaxError <= obj.Tolerance, f"fit: {obj.Message}")
     far = max(obj.Shape.distToShape(Part.Vertex(p))[0] for p in cloud.Points.Points)
     check(far <= obj.Tolerance + 1e-8, f"a point {far:.3g} from the fitted curve")
+    # the property editor shows small tolerances (a PropertyFloat showed 1e-7 as "0.00")
+    check(property_text(obj, "Tolerance") == "0.0100000000000000", property_text(obj, "Tolerance"))
+    shown = property_text(obj, "MaxError")
+    check(abs(float(shown) - obj.MaxError) <= 1e-16, f"MaxError shown as {shown!r}, is {obj.MaxError!r}")
+    obj.Tolerance = 1e-7
+    check(property_text(obj, "Tolerance") == "0.0000001000000000", f"1e-7 shown as {property_text(obj, 'Tolerance')!r}")
+    obj.Tolerance = 0.01
+    Gui.Selection.clearSelection()
     Gui.ActiveDocument.setEdit(obj.Name, 0)            # the task panel keeps a tolerance of 1e-7
     settle()
     box = obj.ViewObject.Proxy.panel.widgets["Tolerance"]

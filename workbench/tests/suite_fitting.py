@@ -188,6 +188,18 @@ def test_fit_surface_from_mesh_and_grid():
     recompute_ok(obj)
     _within(obj, _stored(cloud), "fit surface, 20 x 15 grid at 0.001")
     exported(obj, compare(obj))
+    obj.MaxControlPoints = 5                              # capped: the best 5 x 5 fit and a warning
+    doc.recompute()
+    check(obj.isValid() and not obj.Converged and obj.Message.startswith("warning:") and
+          "Tolerance" in obj.Message, obj.Message)
+    check((obj.ControlPointsU, obj.ControlPointsV) == (5, 5) and obj.MaxError > obj.Tolerance,
+          f"{obj.ControlPointsU} x {obj.ControlPointsV}, {obj.MaxError}")
+    d = _distances(obj.Shape, _stored(cloud))
+    MEASURED["fit surface capped 5 x 5 (Part, MaxError)"] = (float(d.max()), obj.MaxError)
+    check(abs(d.max() - obj.MaxError) <= SLACK + 1e-6 * obj.MaxError, f"capped: Part {d.max()} vs {obj.MaxError}")
+    obj.MaxControlPoints = 2
+    expect_error(obj, ["MaxControlPoints"])
+    obj.MaxControlPoints = 0
     obj.GridRows = 7
     expect_error(obj, ["GridRows", "300 points"])
     obj.GridRows, obj.DegreeU = 20, 0
