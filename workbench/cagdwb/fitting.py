@@ -33,7 +33,7 @@ import Part
 
 from . import conversion
 from .conversion import cagd
-from .features import Feature, _element, add, add_enum, link_target, linked_points, make, vector
+from .features import Feature, _element, add, add_enum, link_target, linked_edge, linked_points, make, vector
 
 PARAMETERS = cagd.fitting.PARAMETERS
 KEEP_CURVE = ("G0", "G1", "G2")
@@ -159,6 +159,17 @@ def _fit_warning(fit, tol: float) -> Optional[str]:
             f"({fit.message}); raise Tolerance or MaxControlPoints")
 
 
+def edge_tangent(link, name: str, point: np.ndarray, leaving: bool) -> np.ndarray:
+    """The unit tangent of the linked edge at its end nearest ``point``, pointing away
+    from the edge when ``leaving`` (the fit continues it) and into its end otherwise
+    (the fit runs on into the edge)."""
+    edge = linked_edge(link, name)
+    ends = [(edge.FirstParameter, -1.0), (edge.LastParameter, 1.0)]
+    t, outward = min(ends, key=lambda e: float(np.linalg.norm(vector(edge.valueAt(e[0])) - point)))
+    d = vector(edge.tangentAt(t)) * outward
+    return d if leaving else -d
+
+
 def _cap(obj) -> int:
     cap = int(obj.MaxControlPoints)
     if cap < 0:
@@ -172,7 +183,7 @@ class FitCurve(Measured):
 
     TYPE = "Cagd::FitCurve"
     DEFAULT_LABEL = "FitCurve"
-    LINKS = ("Source", "Vertices")
+    LINKS = ("Source", "Vertices", "StartEdge", "EndEdge")
     POINTS = "Source"
     RESULTS = FIT_RESULTS + (("ControlPoints", 0),)
 
@@ -185,15 +196,28 @@ class FitCurve(Measured):
         add(obj, "Integer", "MaxControlPoints", "Fit", "Cap on the control-point count; 0 = the number of points", 0)
         add(obj, "Vector", "StartTangent", "Tangents", "Direction held at the first point; zero = free")
         add(obj, "Vector", "EndTangent", "Tangents", "Direction held at the last point; zero = free")
+        add(obj, "LinkSub", "StartEdge", "Tangents", "An edge the fit continues G1 at its first point (the "
+            "edge's end nearest that point; overrides StartTangent)")
+        add(obj, "LinkSub", "EndEdge", "Tangents", "An edge the fit runs into G1 at its last point (overrides "
+            "EndTangent)")
         add(obj, "Integer", "ControlPoints", "Status", "Control points of the fit", 0)
         _readonly(obj, [n for n, _ in self.RESULTS])
+
+    def claimed(self, obj) -> list:
+        """The points' objects; the tangent edges (neighbouring curves) stay where they are."""
+        return [o for o in Feature.claimed(self, obj)
+                if o not in [getattr(obj, n)[0] for n in ("StartEdge", "EndEdge") if getattr(obj, n)]]
 
     def compute(self, obj):
         tol = _tolerance(obj)
         P = fit_input(obj)
         tangents = [None if v.Length == ZERO else vector(v) for v in (obj.StartTangent, obj.EndTangent)]
+        for k, name in enumerate(("StartEdge", "EndEdge")):
+            if getattr(obj, name):
+                tangents[k] = edge_tangent(getattr(obj, name), name, P[-k], leaving=k == 0)
         if obj.Periodic and any(t is not None for t in tangents):
-            raise cagd.CagdError("StartTangent: a periodic fit has no end tangents; set them to zero")
+            raise cagd.CagdError("StartTangent: a periodic fit has no end tangents; set StartTangent and "
+                                 "EndTangent to zero and clear StartEdge and EndEdge")
         cap = _cap(obj)
         with renamed(FIT_NAMES):
             fit = cagd.fit_curve(P, tol, int(obj.Degree), obj.Parametrization, start_tangent=tangents[0],

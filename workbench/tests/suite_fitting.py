@@ -143,6 +143,31 @@ def test_fit_curve_from_vertices_periodic_and_tangent():
     MEASURED["held start tangent angle (rad)"] = angle
     check(angle <= 1e-9, f"start tangent {tangent} not along (0, 1, 0.2): {angle:.3g} rad")
     check((edge.valueAt(edge.FirstParameter) - verts[0].Shape.Vertexes[0].Point).Length <= 1e-9, "start point")
+    # the start tangent from a linked edge ending at (or near) the first point: G1 continuation
+    first = verts[0].Shape.Vertexes[0].Point
+    line = doc.addObject("Part::Line", "Lead")
+    (line.X1, line.Y1, line.Z1), (line.X2, line.Y2, line.Z2) = (first.x - 10, first.y - 4, first.z + 2), tuple(first)
+    doc.recompute()
+    obj.StartEdge = (line, "Edge1")
+    recompute_ok(obj)
+    for what in ("line ending at the first point", "line starting there"):
+        edge = obj.Shape.Edges[0]
+        along = line.Shape.Edges[0].tangentAt(0.0)
+        want = along if what.startswith("line ending") else -along
+        angle = edge.tangentAt(edge.FirstParameter).getAngle(want)
+        MEASURED[f"StartEdge tangent angle, {what} (rad)"] = angle
+        check(angle <= 1e-9, f"StartEdge ({what}): the fit leaves at {angle:.3g} rad from the edge's direction")
+        (line.X1, line.Y1, line.Z1), (line.X2, line.Y2, line.Z2) = tuple(first), (first.x - 10, first.y - 4,
+                                                                              first.z + 2)
+        doc.recompute()
+        recompute_ok(obj)
+    check(line not in obj.Proxy.claimed(obj), "the tangent edge is claimed")
+    obj.EndEdge = (verts[1], "Vertex1")
+    expect_error(obj, ["EndEdge", "not an edge"])
+    obj.EndEdge = None
+    obj.Periodic = True
+    expect_error(obj, ["StartTangent", "periodic"])
+    obj.Periodic = False
     obj.Vertices = links[:1]
     expect_error(obj, ["Source", "2 points"])
 
