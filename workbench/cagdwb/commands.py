@@ -50,14 +50,18 @@ def selected_faces() -> List[Link]:
 
 
 def _finish(obj) -> None:
-    """Recompute; report an error state; hide the inputs the new object wholly uses
-    (point objects, single curves; as Part Loft hides its sections)."""
+    """Recompute; report an error state; show a warning (a valid object whose Message
+    is not "ok": no intersection, an unmet fitting tolerance) in the status bar; hide
+    the inputs the new object wholly uses (point objects, single curves; as Part Loft
+    hides its sections)."""
     doc = obj.Document
     doc.recompute()
     Gui.Selection.clearSelection()
     if not obj.isValid():
         App.Console.PrintError(f"{obj.Label}: {obj.Message}\n")
         return
+    if obj.Message != "ok" and Gui.getMainWindow() is not None:
+        Gui.getMainWindow().statusBar().showMessage(obj.Message, 8000)
     for o in obj.Proxy.consumed(obj):
         if getattr(o, "ViewObject", None) is not None:
             o.ViewObject.Visibility = False
@@ -180,10 +184,7 @@ class IntersectionCommand(Command):
         faces = selected_faces()
         if len(faces) != 2:
             return _error(f"Intersection curve: select exactly two faces (got {len(faces)})")
-        obj = inspection.make_intersection(faces[0], faces[1])
-        _finish(obj)
-        if obj.isValid() and obj.Message != "ok" and Gui.getMainWindow() is not None:
-            Gui.getMainWindow().statusBar().showMessage(obj.Message, 8000)    # e.g. no intersection
+        _finish(inspection.make_intersection(faces[0], faces[1]))      # no intersection: a warning
 
 
 def selected_clouds() -> list:

@@ -459,8 +459,8 @@ class Fair(Operation):
     def parameters(self, obj) -> None:
         add(obj, PRECISION, "Tolerance", "Fair", "Largest allowed distance from the source (mm, > 0)", 0.01)
         add_enum(obj, "Keep", "Fair", "Continuity held at the ends (a face: along its four edges)", KEEP_CURVE, "G2")
-        add(obj, "Float", "EnergyBefore", "Status", "Fairness energy of the source", 0.0)
-        add(obj, "Float", "EnergyAfter", "Status", "Fairness energy of the result", 0.0)
+        add(obj, PRECISION, "EnergyBefore", "Status", "Fairness energy of the source", 0.0)
+        add(obj, PRECISION, "EnergyAfter", "Status", "Fairness energy of the result", 0.0)
         add(obj, "Integer", "InflectionsBefore", "Status", "Curvature sign changes of the source (curves)", 0)
         add(obj, "Integer", "InflectionsAfter", "Status", "Curvature sign changes of the result (curves)", 0)
         add(obj, "Bool", "Converged", "Status", "The engine's fairing converged", False)
