@@ -36,7 +36,7 @@ from .conversion import cagd
 from .features import Feature, _element, add, add_enum, link_target, linked_edge, linked_points, make, vector
 
 PARAMETERS = cagd.fitting.PARAMETERS
-KEEP_CURVE = ("G0", "G1", "G2")
+KEEP = ("G0", "G1", "G2")
 DIRECTIONS = ("Both", "U", "V")
 #: engine argument names -> the property (or link) they come from, per object kind
 FIT_NAMES = {"tol": "Tolerance", "degree": "Degree", "points": "Source", "parameters": "Parametrization",
@@ -129,7 +129,9 @@ class Measured(Feature):
             obj.Message = "error: " + message
             raise cagd.CagdError(message) from exc
         self.sync_placement(obj)
+        placement = obj.Placement
         obj.Shape = shape
+        obj.Placement = placement
         for name, value in values.items():
             setattr(obj, name, value)
         if warning:
@@ -168,6 +170,11 @@ def edge_tangent(link, name: str, point: np.ndarray, leaving: bool) -> np.ndarra
     t, outward = min(ends, key=lambda e: float(np.linalg.norm(vector(edge.valueAt(e[0])) - point)))
     d = vector(edge.tangentAt(t)) * outward
     return d if leaving else -d
+
+
+def _fit_names(obj) -> Dict[str, str]:
+    """FIT_NAMES with the points named after the link that gave them."""
+    return dict(FIT_NAMES, points="Vertices" if obj.Vertices else "Source")
 
 
 def _cap(obj) -> int:
@@ -219,7 +226,7 @@ class FitCurve(Measured):
             raise cagd.CagdError("StartTangent: a periodic fit has no end tangents; set StartTangent and "
                                  "EndTangent to zero and clear StartEdge and EndEdge")
         cap = _cap(obj)
-        with renamed(FIT_NAMES):
+        with renamed(_fit_names(obj)):
             fit = cagd.fit_curve(P, tol, int(obj.Degree), obj.Parametrization, start_tangent=tangents[0],
                                  end_tangent=tangents[1], max_control_points=cap or None,
                                  periodic=bool(obj.Periodic))
@@ -261,7 +268,7 @@ class FitSurface(Measured):
         if rows:
             P = P.reshape(rows, len(P) // rows, 3)
         cap = _cap(obj)
-        with renamed(dict(FIT_NAMES, degree="DegreeU, DegreeV")):
+        with renamed(dict(_fit_names(obj), degree="DegreeU, DegreeV")):
             fit = cagd.fit_surface(P, tol, (int(obj.DegreeU), int(obj.DegreeV)),
                                    max_control_points=(cap, cap) if cap else None)
         nu, nv = np.asarray(fit.surface.control_points).shape[:2]
@@ -458,7 +465,7 @@ class Fair(Operation):
 
     def parameters(self, obj) -> None:
         add(obj, PRECISION, "Tolerance", "Fair", "Largest allowed distance from the source (mm, > 0)", 0.01)
-        add_enum(obj, "Keep", "Fair", "Continuity held at the ends (a face: along its four edges)", KEEP_CURVE, "G2")
+        add_enum(obj, "Keep", "Fair", "Continuity held at the ends (a face: along its four edges)", KEEP, "G2")
         add(obj, PRECISION, "EnergyBefore", "Status", "Fairness energy of the source", 0.0)
         add(obj, PRECISION, "EnergyAfter", "Status", "Fairness energy of the result", 0.0)
         add(obj, "Integer", "InflectionsBefore", "Status", "Curvature sign changes of the source (curves)", 0)
@@ -522,7 +529,7 @@ def check_operation(kind: str, source) -> dict:
         if kind == "Fair":
             fair = cagd.fair_surface if surface else cagd.fair_curve
             error = None
-            for keep in reversed(KEEP_CURVE):
+            for keep in reversed(KEEP):
                 try:
                     fair(geometry, FAIR_PROBE * _size(geometry), keep)
                 except cagd.CagdError as exc:

@@ -169,7 +169,7 @@ def test_fit_curve_from_vertices_periodic_and_tangent():
     expect_error(obj, ["StartTangent", "periodic"])
     obj.Periodic = False
     obj.Vertices = links[:1]
-    expect_error(obj, ["Source", "2 points"])
+    expect_error(obj, ["Vertices", "2 points"])
 
 
 def _height(x, y):
