@@ -302,9 +302,9 @@ def source_geometry(link, name: str = "Source"):
     if element.ShapeType == "Edge":
         return conversion.edge_to_curve(element)
     surface, reason = conversion.face_to_trimmed(element)
-    if isinstance(surface, cagd.TrimmedSurface):
-        raise cagd.CagdError(f"{name}: {where} is a trimmed face (its boundary is not its parameter box); "
-                             "these operations take whole B-spline faces")
+    if isinstance(surface, cagd.TrimmedSurface) or reason is not None:
+        raise cagd.CagdError(f"{name}: {where} is a trimmed face (its boundary is not its parameter box"
+                             + (f"; {reason}" if reason else "") + "); these operations take whole B-spline faces")
     return surface
 
 

@@ -301,6 +301,21 @@ def test_rebuild_edge_and_face_follow_their_source():
     doc.recompute()
     obj.Source = (box, "")
     expect_error(obj, ["Source", "6 faces"])
+    plate = doc.addObject("Part::Feature", "Holed")
+    plate.Shape = Part.makeBox(10, 10, 1).cut(Part.makeCylinder(3, 5, V(5, 5, -1)))
+    doc.recompute()
+    top = next(k for k, f in enumerate(plate.Shape.Faces) if abs(f.CenterOfMass.z - 1.0) < 1e-9)
+    obj.Source = (plate, f"Face{top + 1}")
+    expect_error(obj, ["Source", "is a trimmed face"])
+    obj.Source = (box, "Face1")                          # a box's face: bounded by its parameter box
+    recompute_ok(obj)
+    _source_within(obj.Shape, box.Shape.Faces[0], obj.Deviation, "rebuild a box face")
+    with_error = None
+    try:
+        fitting.check_operation("Rebuild", (plate, [f"Face{top + 1}"]))
+    except cagd.CagdError as exc:
+        with_error = str(exc)
+    check(with_error and "trimmed face" in with_error, f"the command's check accepted a trimmed face: {with_error}")
 
 
 @case
