@@ -16,7 +16,7 @@ import Points
 
 from suite_support import (OUT, V, cagd, case, check, compare, curves, expect_error, exported, new_doc,
                            recompute_ok, surfaces)
-from cagdwb import conversion, fitting
+from cagdwb import conversion, fitting, inspection
 
 MEASURED = {}                  # largest values measured, printed at the end of the suite
 SLACK = 1e-8                   # Part's distToShape against the engine's certified distances (mm;
@@ -213,6 +213,13 @@ def test_fit_surface_from_mesh_and_grid():
     recompute_ok(obj)
     _within(obj, _stored(cloud), "fit surface, 20 x 15 grid at 0.001")
     exported(obj, compare(obj))
+    # the deviation map of the fit's face and its points: the same largest error
+    dmap = inspection.make_deviation_map([(obj, "Face1")], cloud, doc=doc)
+    doc.recompute()
+    check(dmap.isValid() and dmap.Count == 300, dmap.Message)
+    MEASURED["deviation map of the fit: MaxAbs vs MaxError"] = (dmap.MaxAbs, obj.MaxError)
+    check(abs(dmap.MaxAbs - obj.MaxError) <= 1e-9, f"deviation map MaxAbs {dmap.MaxAbs} != MaxError {obj.MaxError}")
+    doc.removeObject(dmap.Name)
     obj.MaxControlPoints = 5                              # capped: the best 5 x 5 fit and a warning
     doc.recompute()
     check(obj.isValid() and not obj.Converged and obj.Message.startswith("warning:") and
