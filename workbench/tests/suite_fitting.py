@@ -455,6 +455,14 @@ def test_fair_curve_and_face():
         MEASURED["fair G2 ends: gap, angle, curvature difference"] = (gap, angle, dk)
         check(gap <= 1e-9 and angle <= 1e-9 and dk <= 1e-9 * max(1.0, a.curvatureAt(ta)),
               f"ends not held G2: gap {gap:.3g}, angle {angle:.3g}, curvature {dk:.3g}")
+    moved = c.control_points.copy()                     # the source is edited: the fairing follows
+    moved[6] += [0, 3.0, 0]
+    src.Poles = conversion.vectors(moved)
+    energy = obj.EnergyBefore
+    doc.recompute()
+    recompute_ok(obj)
+    check(obj.EnergyBefore != energy and obj.EnergyAfter < obj.EnergyBefore, f"energy {energy} -> {obj.EnergyBefore}")
+    _source_within(obj.Shape, src.Shape, obj.Deviation, "fair curve after the source was edited")
     before = obj.EnergyAfter
     obj.Tolerance = 2.0                                   # more room: lower energy
     recompute_ok(obj)
