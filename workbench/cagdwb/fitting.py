@@ -28,8 +28,6 @@ from typing import Dict, Iterator, Optional, Tuple
 
 import numpy as np
 
-import FreeCAD as App
-import Part
 
 from . import conversion
 from .conversion import cagd
@@ -102,43 +100,14 @@ def _readonly(obj, names) -> None:
 
 
 class Measured(Feature):
-    """A feature whose recompute also writes read-only results (:meth:`results`) and
-    may end valid with a warning (the engine's best result kept)."""
-
-    RESULTS: Tuple[Tuple[str, object], ...] = ()    # (property, value after an error)
+    """A feature whose :meth:`compute` also gives read-only results (Feature.RESULTS)
+    and may end valid with a warning (the engine's best result kept)."""
 
     def compute(self, obj) -> Tuple[object, Dict[str, object], Optional[str]]:
-        """(engine geometry, {result property: value}, warning or None)."""
         raise NotImplementedError
 
     def build(self, obj):
         return self.compute(obj)[0]
-
-    def execute(self, obj) -> None:
-        try:
-            geometry, values, warning = self.compute(obj)
-            self.check_not_a_point(geometry)
-            shape = conversion.to_shape(geometry)
-            if shape.isNull() or not shape.isValid():
-                raise cagd.CagdError("the engine's result does not make a valid OpenCascade shape")
-        except Exception as exc:
-            obj.Shape = Part.Shape()
-            for name, empty in self.RESULTS:
-                setattr(obj, name, empty)
-            message = f"{obj.Label}: {exc}"
-            obj.Message = "error: " + message
-            raise cagd.CagdError(message) from exc
-        self.sync_placement(obj)
-        placement = obj.Placement
-        obj.Shape = shape
-        obj.Placement = placement
-        for name, value in values.items():
-            setattr(obj, name, value)
-        if warning:
-            obj.Message = f"warning: {obj.Label}: {warning}"
-            App.Console.PrintWarning(obj.Message + "\n")
-        else:
-            obj.Message = "ok"
 
 
 FIT_RESULTS = (("MaxError", 0.0), ("RmsError", 0.0), ("Converged", False))
