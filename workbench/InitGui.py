@@ -3,7 +3,8 @@
 
 class CagdWorkbench(Gui.Workbench):  # noqa: F821  (Gui is FreeCADGui, given by FreeCAD)
     """CAGD: parametric Bezier, B-spline/NURBS, spline, Hermite, Coons, triangle and
-    revolution objects from the cagd engine; continuity check, control nets, combs."""
+    revolution objects from the cagd engine; fitting to points, rebuild, knot removal,
+    degree reduction and fairing; continuity check, control nets, combs."""
 
     MenuText = "CAGD"
     ToolTip = "Curves and surfaces from the cagd engine (Bezier, B-spline, NURBS, Coons, ...)"
@@ -14,11 +15,12 @@ class CagdWorkbench(Gui.Workbench):  # noqa: F821  (Gui is FreeCADGui, given by 
 
     def Initialize(self):
         from cagdwb import commands
-        curves, surfaces, tools = commands.register()
+        curves, surfaces, fitting, tools = commands.register()
         self.appendToolbar("CAGD curves", curves)
         self.appendToolbar("CAGD surfaces", surfaces)
+        self.appendToolbar("CAGD fitting", fitting)
         self.appendToolbar("CAGD tools", tools)
-        self.appendMenu("CAGD", curves + ["Separator"] + surfaces + ["Separator"] + tools)
+        self.appendMenu("CAGD", curves + ["Separator"] + surfaces + ["Separator"] + fitting + ["Separator"] + tools)
 
     def Activated(self):
         pass

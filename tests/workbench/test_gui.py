@@ -12,14 +12,14 @@ import pytest
 from wb_runner import ADDON, output_dir, need, report, run_group
 
 TIMEOUT = 240
-STEPS = 14                    # the macro's step count
+STEPS = 15                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
     "Cagd_BezierSurface": 5000, "Cagd_BSplineSurface": 5000, "Cagd_BezierTriangle": 5000,
     "Cagd_CoonsPatch": 5000, "Cagd_Revolution": 5000, "Cagd_ContinuityCheck": 200,
     "Cagd_ToggleComb": 200, "Cagd_ToggleControlNet": 200, "Cagd_IntersectionCurve": 200,
-    "Cagd_DeviationMap": 1000,
+    "Cagd_DeviationMap": 1000, "Cagd_FitCurve": 200, "Cagd_FitSurface": 5000,
 }
 COLOURED = {"Cagd_DeviationMap": 1000}    # step -> minimum number of coloured (non-grey) model pixels
 

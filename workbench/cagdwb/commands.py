@@ -3,7 +3,10 @@ fits (vertices or point objects -> curve poles/points; four edges -> Coons patch
 one edge -> revolution; two edges -> join) and otherwise make an editable example
 object; the continuity check measures two selected edges or faces; the query
 commands make the intersection curve of two selected faces and the deviation map of
-a selected Points object (or a CSV file) against selected faces."""
+a selected Points object (or a CSV file) against selected faces; the fitting commands
+fit a curve or surface to a selected Points object, mesh or vertices, and rebuild,
+remove knots from, reduce the degree of or fair one selected edge or face, refusing
+a selection they cannot use before any object is made."""
 from __future__ import annotations
 
 from typing import Callable, List, Tuple
@@ -11,7 +14,7 @@ from typing import Callable, List, Tuple
 import FreeCAD as App
 import FreeCADGui as Gui
 
-from . import analysis, curves, icon, inspection, surfaces
+from . import analysis, curves, fitting, icon, inspection, surfaces
 from .conversion import cagd
 
 Link = Tuple[object, str]
@@ -47,14 +50,18 @@ def selected_faces() -> List[Link]:
 
 
 def _finish(obj) -> None:
-    """Recompute; report an error state; hide the inputs the new object wholly uses
-    (point objects, single curves; as Part Loft hides its sections)."""
+    """Recompute; report an error state; show a warning (a valid object whose Message
+    is not "ok": no intersection, an unmet fitting tolerance) in the status bar; hide
+    the inputs the new object wholly uses (point objects, single curves; as Part Loft
+    hides its sections)."""
     doc = obj.Document
     doc.recompute()
     Gui.Selection.clearSelection()
     if not obj.isValid():
         App.Console.PrintError(f"{obj.Label}: {obj.Message}\n")
         return
+    if obj.Message != "ok" and Gui.getMainWindow() is not None:
+        Gui.getMainWindow().statusBar().showMessage(obj.Message, 8000)
     for o in obj.Proxy.consumed(obj):
         if getattr(o, "ViewObject", None) is not None:
             o.ViewObject.Visibility = False
@@ -177,10 +184,7 @@ class IntersectionCommand(Command):
         faces = selected_faces()
         if len(faces) != 2:
             return _error(f"Intersection curve: select exactly two faces (got {len(faces)})")
-        obj = inspection.make_intersection(faces[0], faces[1])
-        _finish(obj)
-        if obj.isValid() and obj.Message != "ok" and Gui.getMainWindow() is not None:
-            Gui.getMainWindow().statusBar().showMessage(obj.Message, 8000)    # e.g. no intersection
+        _finish(inspection.make_intersection(faces[0], faces[1]))      # no intersection: a warning
 
 
 def selected_clouds() -> list:
@@ -211,6 +215,53 @@ class DeviationCommand(Command):
         if not clouds and not csv:
             return _error("Deviation map: no points (select a Points object or pick a CSV file)")
         _finish(inspection.make_deviation_map(faces, clouds[0] if clouds else None, csv))
+
+
+def selected_point_objects() -> list:
+    """The selected Points objects and meshes (whole objects), in selection order."""
+    return [s.Object for s in Gui.Selection.getSelectionEx()
+            if s.Object.isDerivedFrom("Points::Feature") or s.Object.isDerivedFrom("Mesh::Feature")]
+
+
+class FitCommand(Command):
+    """Fit a curve or surface: to one selected Points object or mesh (linked as Source),
+    or to selected vertices in order (linked as Vertices)."""
+
+    def __init__(self, name, menu, tip, icon_name, make, min_points: int):
+        self.NAME, self.MENU, self.TIP, self.ICON, self.make, self.min_points = \
+            name, menu, tip, icon_name, make, min_points
+
+    def run(self) -> None:
+        clouds, verts = selected_point_objects(), selected_vertices()
+        if len(clouds) == 1 and not verts:
+            count = len(fitting.source_points(clouds[0]))
+            if count < self.min_points:
+                return _error(f"{self.MENU}: {clouds[0].Label} holds {count} points; at least "
+                              f"{self.min_points} are needed")
+            return _finish(self.make(source=clouds[0]))
+        if not clouds and len(verts) >= self.min_points:
+            return _finish(self.make(vertices=verts))
+        _error(f"{self.MENU}: select one Points object or mesh, or {self.min_points} or more vertices in order "
+               f"(got {len(clouds)} point objects, {len(verts)} vertices)")
+
+
+class OperationCommand(Command):
+    """Rebuild / remove knots / reduce degree / fair one selected edge or face; the
+    selection is checked (fitting.check_operation) before the object is made."""
+
+    def __init__(self, kind, menu, tip):
+        self.kind, self.NAME, self.MENU, self.TIP, self.ICON = kind, "Cagd_" + kind, menu, tip, kind
+
+    def run(self) -> None:
+        picks = selected_faces() + selected_edges()
+        if len(picks) != 1:
+            return _error(f"{self.MENU}: select one edge or one face (got {len(picks)})")
+        obj, sub = picks[0]
+        try:
+            values = fitting.check_operation(self.kind, (obj, [sub]))
+        except cagd.CagdError as exc:
+            return _error(f"{self.MENU}: {obj.Label}.{sub}: {exc}")
+        _finish(fitting.make_operation(self.kind, (obj, sub), **values))
 
 
 class ContinuityCommand(Command):
@@ -306,13 +357,29 @@ SURFACES = [
                                   "BezierTriangle", surfaces.make_bezier_triangle),
     RevolutionCommand(),
 ]
+FITTING = [
+    FitCommand("Cagd_FitCurve", "Fit curve", "B-spline within Tolerance of a selected Points object, mesh or "
+               "vertices (in order); MaxError / RmsError show the achieved error", "FitCurve",
+               fitting.make_fit_curve, 2),
+    FitCommand("Cagd_FitSurface", "Fit surface", "B-spline surface within Tolerance of a selected Points object, "
+               "mesh or vertices (scattered, or a grid: GridRows)", "FitSurface", fitting.make_fit_surface, 4),
+    OperationCommand("Rebuild", "Rebuild", "Rebuild the selected edge or face with Count control points of Degree; "
+                     "Deviation shows how far it moved"),
+    OperationCommand("RemoveKnots", "Remove knots", "Remove as many knots of the selected edge or face as "
+                     "Tolerance allows (Tiller's bound)"),
+    OperationCommand("ReduceDegree", "Reduce degree", "The selected edge or face one degree lower, within "
+                     "Tolerance if its shape allows"),
+    OperationCommand("Fair", "Fair", "Lower the fairness energy of the selected edge or face within Tolerance, "
+                     "Keep (G0/G1/G2) held at its ends or edges"),
+]
 TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand()]
 
 
 def register() -> List[List[str]]:
-    """Add all commands to FreeCAD; returns the names per group (curves, surfaces, tools)."""
+    """Add all commands to FreeCAD; returns the names per group (curves, surfaces,
+    fitting, tools)."""
     groups = []
-    for group in (CURVES, SURFACES, TOOLS):
+    for group in (CURVES, SURFACES, FITTING, TOOLS):
         for cmd in group:
             Gui.addCommand(cmd.NAME, cmd)
         groups.append([cmd.NAME for cmd in group])

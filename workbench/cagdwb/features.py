@@ -116,10 +116,19 @@ class Feature(Stateless):
             if hasattr(obj, "Proxy") and all(hasattr(obj, n) for n in self.LINKS):
                 self.sync_placement(obj)
 
+    RESULTS: Tuple[Tuple[str, object], ...] = ()    # read-only result properties, (name, value after an error)
+
+    def compute(self, obj) -> Tuple[object, dict, Optional[str]]:
+        """(engine geometry, {result property: value}, warning or None): :meth:`build`,
+        no results, no warning, unless overridden (the fitting objects)."""
+        return self.build(obj), {}, None
+
     # --- FreeCAD protocol -------------------------------------------------------------------
     def execute(self, obj) -> None:
+        """Shape and results from :meth:`compute`; a warning leaves the object valid
+        with ``Message`` "warning: ..." (also in the report view)."""
         try:
-            geometry = self.build(obj)
+            geometry, values, warning = self.compute(obj)
             self.check_not_a_point(geometry)
             shape = conversion.to_shape(geometry, nurbs=bool(getattr(obj, "Nurbs", False)))
             if shape.isNull() or not shape.isValid():
@@ -127,6 +136,8 @@ class Feature(Stateless):
                                      "(check for coincident poles or a degenerate net)")
         except Exception as exc:
             obj.Shape = Part.Shape()
+            for name, empty in self.RESULTS:
+                setattr(obj, name, empty)
             message = f"{obj.Label}: {exc}"
             obj.Message = "error: " + message
             raise cagd.CagdError(message) from exc
@@ -134,7 +145,13 @@ class Feature(Stateless):
         placement = obj.Placement
         obj.Shape = shape
         obj.Placement = placement
-        obj.Message = "ok"
+        for name, value in values.items():
+            setattr(obj, name, value)
+        if warning:
+            obj.Message = f"warning: {obj.Label}: {warning}"
+            App.Console.PrintWarning(obj.Message + "\n")
+        else:
+            obj.Message = "ok"
 
     def check_not_a_point(self, geometry) -> None:
         """Raise when all control points of the geometry's NURBS form coincide (the
@@ -257,6 +274,18 @@ def _element(obj, sub: str, name: str):
         shape = obj.Shape
         counts = f"{len(shape.Vertexes)} vertices, {len(shape.Edges)} edges, {len(shape.Faces)} faces"
         raise cagd.CagdError(f"{name}: {obj.Label} has no {sub} ({counts}; {exc})") from None
+
+
+def link_target(link, name: str, what: str):
+    """(object, sub-element names, shape) of a LinkSub value ``(obj, ['Face2'])``;
+    errors name the property (nothing linked, an object without a shape)."""
+    if not link or link[0] is None:
+        raise cagd.CagdError(f"{name}: no {what} linked")
+    obj, subs = link
+    shape = getattr(obj, "Shape", None)
+    if shape is None or shape.isNull():
+        raise cagd.CagdError(f"{name}: {obj.Label} has no shape")
+    return obj, [s for s in (subs or []) if s], shape
 
 
 def linked_edge(link, name: str):

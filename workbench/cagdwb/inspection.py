@@ -29,7 +29,7 @@ import Part
 
 from . import conversion
 from .conversion import cagd
-from .features import Feature, Stateless, _element, add
+from .features import Feature, Stateless, _element, add, link_target
 
 STATS = ("Max", "Min", "Mean", "RMS", "MaxAbs")
 # colour map stops (blue - cyan - green - yellow - red), from -range to +range
@@ -49,13 +49,7 @@ def colormap(values, limit: float) -> np.ndarray:
 def linked_face(link, name: str):
     """The face of a LinkSub value ``(obj, ['Face2'])`` (or a whole object whose shape
     has exactly one face); errors name the property."""
-    if not link or link[0] is None:
-        raise cagd.CagdError(f"{name}: no face linked")
-    obj, subs = link
-    subs = [s for s in (subs or []) if s]
-    shape = getattr(obj, "Shape", None)
-    if shape is None or shape.isNull():
-        raise cagd.CagdError(f"{name}: {obj.Label} has no shape")
+    obj, subs, shape = link_target(link, name, "face")
     if not subs:
         if len(shape.Faces) != 1:
             raise cagd.CagdError(f"{name}: {obj.Label} has {len(shape.Faces)} faces; link one face")

@@ -1,7 +1,7 @@
 """A task panel for every workbench object (double-click, or Edit): one widget per
 scalar or vector property of the object's own groups (integers, floats, angles,
-booleans, enumerations, vectors); each change recomputes at once and the panel
-shows the object's Message. Cancel undoes the changes (one transaction); point and
+tolerances as typed numbers, booleans, enumerations, vectors); each change
+recomputes at once and the panel shows the object's Message. Cancel undoes the changes (one transaction); point and
 knot lists are edited in the property editor."""
 from __future__ import annotations
 
@@ -56,6 +56,10 @@ class TaskPanel:
             box.setValue(value)
             box.valueChanged.connect(lambda v, n=name: self.apply(n, int(v)))
             return box
+        if kind == "App::PropertyPrecision":           # tolerances: a spin box would round 1e-7 to 0
+            box = QtWidgets.QLineEdit(repr(float(value)))
+            box.editingFinished.connect(lambda n=name, b=box: self.apply_text(n, b))
+            return box
         if kind in ("App::PropertyFloat", "App::PropertyAngle"):
             return _spin(float(value), 6, lambda v, n=name: self.apply(n, float(v)))
         if kind == "App::PropertyBool":
@@ -90,6 +94,16 @@ class TaskPanel:
         setattr(self.obj, name, value)
         self.obj.Document.recompute()
         self.message.setText(self.obj.Message)
+
+    def apply_text(self, name: str, box) -> None:
+        """A typed tolerance ('1e-7', '0.001'); text that is not a number is put back."""
+        try:
+            value = float(box.text())
+        except ValueError:
+            box.setText(repr(float(getattr(self.obj, name))))
+            return
+        if value != float(getattr(self.obj, name)):
+            self.apply(name, value)
 
     # --- task dialog protocol ---------------------------------------------------------------
     def accept(self) -> bool:

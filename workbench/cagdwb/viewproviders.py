@@ -24,6 +24,8 @@ ICONS = {
     "Cagd::BezierTriangle": "BezierTriangle", "Cagd::Revolution": "Revolution",
     "Cagd::Primitive": "Revolution",
     "Cagd::IntersectionCurve": "IntersectionCurve", "Cagd::DeviationMap": "DeviationMap",
+    "Cagd::FitCurve": "FitCurve", "Cagd::FitSurface": "FitSurface", "Cagd::Rebuild": "Rebuild",
+    "Cagd::RemoveKnots": "RemoveKnots", "Cagd::ReduceDegree": "ReduceDegree", "Cagd::Fair": "Fair",
 }
 COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples
 NET_COLOR = (0.85, 0.2, 0.1)
@@ -153,10 +155,10 @@ class ViewProvider(Stateless):
 
 def attach(obj) -> None:
     """Give a workbench object its view provider (GUI only)."""
-    from . import curves, inspection
+    from . import curves, fitting, inspection
     is_curve = isinstance(obj.Proxy, (curves.BezierCurve, curves.BSplineCurve, curves.InterpolationCurve,
                                       curves.CubicSpline, curves.HermiteCurve, curves.JoinCurve,
-                                      inspection.IntersectionCurve))
+                                      inspection.IntersectionCurve, fitting.FitCurve)) or fitting.on_edge(obj)
     ViewProvider(obj.ViewObject, is_curve)
     if isinstance(obj.Proxy, inspection.IntersectionCurve):
         obj.ViewObject.ShowControlNet = False        # fitted branches: many poles, not a design net

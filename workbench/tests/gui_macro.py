@@ -105,6 +105,22 @@ def created(name, selection=(), shots=True, inputs=None):
     return obj
 
 
+def property_text(obj, name):
+    """The text the property editor shows for ``obj.name`` (the object selected alone;
+    the editor shows 'MaxError' as 'Max Error')."""
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj)
+    settle(20)
+    for tree in Gui.getMainWindow().findChildren(QtWidgets.QTreeView):
+        model = tree.model()
+        groups = [model.index(r, 0) for r in range(model.rowCount())] if model is not None else []
+        for group in groups:
+            for r in range(model.rowCount(group)):
+                if str(model.index(r, 0, group).data()).replace(" ", "") == name:
+                    return model.index(r, 1, group).data()
+    raise AssertionError(f"{obj.Label}.{name} not in the property editor")
+
+
 STEPS = []
 
 
@@ -123,13 +139,17 @@ def workbench_active():
     check(Gui.activeWorkbench().name() == "CagdWorkbench", "workbench not active")
     import cagdwb
     from cagdwb import commands
-    names = [c.NAME for group in (commands.CURVES, commands.SURFACES, commands.TOOLS) for c in group]
+    groups = (commands.CURVES, commands.SURFACES, commands.FITTING, commands.TOOLS)
+    names = [c.NAME for group in groups for c in group]
     listed = set(Gui.listCommands())
     check(all(n in listed for n in names), "commands not registered")
-    for c in (c for group in (commands.CURVES, commands.SURFACES, commands.TOOLS) for c in group):
+    for c in (c for group in groups for c in group):
         check(os.path.isfile(c.GetResources()["Pixmap"]), f"{c.NAME}: icon missing")
-    bars = {b.windowTitle() for b in Gui.getMainWindow().findChildren(QtWidgets.QToolBar)}
-    check({"CAGD curves", "CAGD surfaces", "CAGD tools"} <= bars, f"toolbars {sorted(bars)}")
+    bars = {b.windowTitle(): b for b in Gui.getMainWindow().findChildren(QtWidgets.QToolBar)}
+    check({"CAGD curves", "CAGD surfaces", "CAGD fitting", "CAGD tools"} <= set(bars), f"toolbars {sorted(bars)}")
+    texts = [a.text().replace("&", "") for a in bars["CAGD fitting"].actions()]
+    menus = [c.MENU for c in commands.FITTING]
+    check(texts == menus, f"CAGD fitting toolbar {texts}, expected {menus}")
     menus = [a.text() for a in Gui.getMainWindow().menuBar().actions()]
     check("CAGD" in [m.replace("&", "") for m in menus], f"menu bar {menus}")
     App.newDocument("GuiTest")
@@ -395,6 +415,78 @@ def deviation_map_of_a_trimmed_face():
         render(f"Cagd_DeviationMap{name}", [obj], [obj])
         obj.ViewObject.Visibility = False
     log("deviation map of a trimmed face: rendered holed and whole plates")
+
+
+@step
+def fitting_commands():
+    """Fit curve on a Points object, Fit surface on a mesh, Rebuild on an edge; wrong
+    selections (two edges, a vertex, a rational arc for Fair) are refused before any
+    object is made, with the reason in the status bar."""
+    import math
+    import Mesh
+    import Part
+    import Points
+    doc = App.ActiveDocument
+    cloud = doc.addObject("Points::Feature", "FitScan")
+    kernel = Points.Points()
+    kernel.addPoints([V(120 + 0.4 * k, 10 * math.sin(k / 12.0), 3 * math.cos(k / 20.0)) for k in range(150)])
+    cloud.Points = kernel
+    doc.recompute()
+    obj = created("Cagd_FitCurve", [(cloud, "")])
+    check(obj.Source == cloud and obj.Converged and 0 < obj.MaxError <= obj.Tolerance, f"fit: {obj.Message}")
+    far = max(obj.Shape.distToShape(Part.Vertex(p))[0] for p in cloud.Points.Points)
+    check(far <= obj.Tolerance + 1e-8, f"a point {far:.3g} from the fitted curve")
+    # the property editor shows small tolerances (a PropertyFloat showed 1e-7 as "0.00")
+    check(property_text(obj, "Tolerance") == "0.0100000000000000", property_text(obj, "Tolerance"))
+    shown = property_text(obj, "MaxError")
+    check(abs(float(shown) - obj.MaxError) <= 1e-16, f"MaxError shown as {shown!r}, is {obj.MaxError!r}")
+    obj.Tolerance = 1e-7
+    check(property_text(obj, "Tolerance") == "0.0000001000000000", f"1e-7 shown as {property_text(obj, 'Tolerance')!r}")
+    obj.Tolerance = 0.01
+    Gui.Selection.clearSelection()
+    Gui.ActiveDocument.setEdit(obj.Name, 0)            # the task panel keeps a tolerance of 1e-7
+    settle()
+    box = obj.ViewObject.Proxy.panel.widgets["Tolerance"]
+    check(isinstance(box, QtWidgets.QLineEdit) and float(box.text()) == 0.01, f"Tolerance widget {box!r}")
+    box.setText("1e-07")
+    box.editingFinished.emit()
+    settle()
+    check(obj.Tolerance == 1e-7, f"panel wrote Tolerance {obj.Tolerance!r}")
+    obj.ViewObject.Proxy.panel.reject()
+    settle()
+    check(obj.Tolerance == 0.01 and obj.isValid(), f"cancel: Tolerance {obj.Tolerance}")
+    facets = []
+    for i in range(10):
+        for j in range(10):
+            p = [V(120 + 4 * (i + a), 40 + 4 * (j + b), math.sin((i + a) / 3.0) * 2) for a, b in
+                 ((0, 0), (1, 0), (1, 1), (0, 1))]
+            facets += [[p[0], p[1], p[2]], [p[0], p[2], p[3]]]
+    mesh = doc.addObject("Mesh::Feature", "FitMesh")
+    mesh.Mesh = Mesh.Mesh(facets)
+    doc.recompute()
+    surface = created("Cagd_FitSurface", [(mesh, "")])
+    check(surface.Converged and surface.MaxError <= surface.Tolerance, f"fit surface: {surface.Message}")
+    status = Gui.getMainWindow().statusBar()
+    base = STATE["Cagd_BezierCurve"]
+    for name, selection, words in (("Cagd_Rebuild", [(base, "Edge1"), (obj, "Edge1")], "select one edge or one face"),
+                                   ("Cagd_FitCurve", [(base, "Edge1")], "select one Points object"),
+                                   ("Cagd_ReduceDegree", [(base, "Vertex1")], "select one edge or one face")):
+        check(run_command(name, selection) == [], f"{name} made an object from a wrong selection")
+        check(words in status.currentMessage(), f"{name}: status bar {status.currentMessage()!r}")
+    arc = doc.addObject("Part::Circle", "FitArc")
+    arc.Angle2 = 90.0
+    doc.recompute()
+    check(run_command("Cagd_Fair", [(arc, "Edge1")]) == [], "Fair accepted a rational arc")
+    check("polynomial" in status.currentMessage(), f"Fair: status bar {status.currentMessage()!r}")
+    rebuilt = created("Cagd_Rebuild", [(arc, "Edge1")], shots=False, inputs=[arc])
+    check(0 < rebuilt.Deviation < 1.0 and rebuilt.ViewObject.Proxy.claimChildren() == [arc],
+          f"rebuild: deviation {rebuilt.Deviation}")
+    check(hasattr(rebuilt.ViewObject, "ShowCurvatureComb"), "the rebuilt edge has no curvature comb")
+    log(f"fit curve: {obj.ControlPoints} poles, max error {obj.MaxError:.3g}; fit surface "
+        f"{surface.ControlPointsU} x {surface.ControlPointsV}, max error {surface.MaxError:.3g}; rebuilt arc "
+        f"deviation {rebuilt.Deviation:.3g}")
+    for o in (obj, surface, rebuilt, cloud, mesh):
+        o.ViewObject.Visibility = False
 
 
 @step

@@ -9,7 +9,9 @@ inputs, exports to STEP and IGES and compares the re-imported geometry. The last
 line of output is ``CAGD_WB_RESULT {json}`` with passed/failed counts, the failing
 names and the largest deviations measured. Cases: conversion and analysis here,
 the objects in suite_objects.py, the query objects
-(intersection curve, deviation map) in suite_queries.py, helpers in suite_support.py.
+(intersection curve, deviation map) in suite_queries.py, the fitting objects in
+suite_fitting.py, helpers in suite_support.py. ``CAGD_WB_CASES=word`` runs only the
+cases whose names contain ``word`` (the summary then counts fewer cases).
 """
 import json
 import math
@@ -229,6 +231,7 @@ def test_seam_crossing_edges_and_faces():
 
 import suite_objects  # noqa: E402,F401  (registers the object cases, in this order)
 import suite_queries  # noqa: E402,F401  (intersection curve and deviation map cases)
+import suite_fitting  # noqa: E402  (fit curve/surface, rebuild, remove knots, reduce degree, fair)
 
 
 # --- analysis -------------------------------------------------------------------------------
@@ -301,7 +304,10 @@ def test_save_and_reload():
 
 def main():
     start = time.time()
+    only = os.environ.get("CAGD_WB_CASES")          # a development aid: run only the cases named so
     for fn in CASES:
+        if only and only not in fn.__name__:
+            continue
         t0 = time.time()
         try:
             fn()
@@ -312,6 +318,7 @@ def main():
         else:
             RESULTS["passed"].append(fn.__name__)
             print(f"ok   {fn.__name__} ({time.time() - t0:.2f} s)")
+    suite_fitting.report()
     summary = {"passed": len(RESULTS["passed"]), "failed": len(RESULTS["failed"]),
                "failures": RESULTS["failed"], "max_deviation": DEV, "worst": WORST,
                "seconds": round(time.time() - start, 2),
