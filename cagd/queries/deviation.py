@@ -24,7 +24,8 @@ from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .closest import TOL_CHANGED, _closest_point
+from .bounds import robust_distance
+from .closest import TOL_CHANGED, _closest_point, projector
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
 
@@ -100,28 +101,67 @@ DEVIATION_CHUNK = 1 << 16
 MAP_POINTS = 200_000
 
 
+def _box_bounds(o: Union[Curve, Surface], X: np.ndarray) -> np.ndarray:
+    """Certified lower bounds (N,) of the distance from the points X to ``o``: the
+    distance to the box of its Bezier control points (the object lies in their convex
+    hull, Farin 3.3; a trimmed face in its surface's), computed in the object's frame."""
+    from ..surfaces.trimmed import TrimmedSurface
+    p = projector(o.untrimmed if isinstance(o, TrimmedSurface) else o)
+    lo, hi = p._hull_lo.min(axis=0), p._hull_hi.max(axis=0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        Xf = p.frame.inward(X)
+        gap = np.maximum(np.maximum(lo - Xf, Xf - hi), 0.0)
+        return robust_distance(gap, np.zeros_like(gap)) * p.frame.scale
+
+
 def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Optional[float],
                      param_tol: Optional[float]) -> tuple:
     """(d, params, feet, lower_bounds, owner, point_converged, signed) of the points X
-    against the nearest of ``objs``."""
+    against the nearest of ``objs`` (on equal distances the first of them).
+
+    Many objects (issue 16): the objects are measured nearest first (by the median of
+    their box bounds over the points), and each only at the points its box bound does not
+    put beyond the distance found so far, so objects far from every point cost their box
+    test only."""
+    N = len(X)
+    bounds = [_box_bounds(o, X) for o in objs] if len(objs) > 1 else [np.zeros(N)]
+    order = np.argsort([float(np.median(b)) for b in bounds], kind="stable")
     best: Optional[List[np.ndarray]] = None
     is_signed = True
-    for k, o in enumerate(objs):
-        r = _closest_point(o, X, tol=tol, param_tol=param_tol)
-        sign = _signs(o, r.params, r.feet, X) if signed is not False else None
+    for k in order.tolist():
+        o = objs[k]
+        rows = np.arange(N) if best is None else np.flatnonzero(bounds[k] <= np.abs(best[0]))
+        if best is not None and not len(rows):
+            continue
+        Xr = X[rows]
+        r = _closest_point(o, Xr, tol=tol, param_tol=param_tol)
+        sign = _signs(o, r.params, r.feet, Xr) if signed is not False else None
         if signed and sign is None:
             raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
         d = r.distances if sign is None else sign * r.distances
         fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged]
         is_signed = is_signed and sign is not None
         if best is None:
-            best = fields
-        else:
-            closer = np.abs(d) < np.abs(best[0])
-            for i in range(6):
-                best[i] = np.where(closer.reshape((-1,) + (1,) * (best[i].ndim - 1)), fields[i], best[i])
+            best = [np.array(f) for f in fields]            # writable copies (results are read-only)
+            continue
+        ad, ab = np.abs(d), np.abs(best[0][rows])
+        closer = (ad < ab) | ((ad == ab) & (k < best[4][rows]))
+        win = rows[closer]
+        for i in range(6):
+            best[i] = _broadcast_rows(best[i], fields[i].shape[1:])
+            val = fields[i][closer]
+            best[i][win] = val.reshape(val.shape + (1,) * (best[i].ndim - val.ndim))
     assert best is not None                     # _objects gives at least one object
     return (*best, is_signed)
+
+
+def _broadcast_rows(a: np.ndarray, row: tuple) -> np.ndarray:
+    """``a`` (N, ...) with rows broadcast against the row shape ``row`` (curve parameters
+    (N,) among surface parameters (N, 2) repeat in both columns)."""
+    shape = np.broadcast_shapes(a.shape[1:], row)
+    if shape == a.shape[1:]:
+        return a
+    return np.array(np.broadcast_to(a.reshape(a.shape + (1,) * (len(shape) - a.ndim + 1)), (len(a),) + shape))
 
 
 def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,

@@ -111,3 +111,34 @@ def test_chunked_equals_unchunked(monkeypatch):
     assert (parts.max, parts.min, parts.mean, parts.rms, parts.percentiles, parts.signed) == \
         (whole.max, whole.min, whole.mean, whole.rms, whole.percentiles, whole.signed)
     assert parts.owner is not None and len(set(parts.owner.tolist())) > 1     # several patches are nearest
+
+
+def test_many_objects_far_ones_cost_their_box_test_only(monkeypatch):
+    """Issue 16: points near one surface measured against it and three surfaces far away
+    give the answer of that surface alone (same distances, feet, bounds; owner its index),
+    and the far surfaces are never queried (their box bounds exceed the distances found);
+    on equal distances the first object owns the point, whatever the order measured."""
+    import sys
+    dv = sys.modules["cagd.queries.deviation"]
+    near = plane()
+    far = [near.transformed(np.eye(3), [0.0, 0.0, z]) for z in (50.0, 80.0, -60.0)]
+    rng = np.random.default_rng(8)
+    X = np.column_stack([rng.uniform(0, 2, 300), rng.uniform(0, 1, 300), rng.normal(0, 0.01, 300)])
+    asked = []
+    real = dv._closest_point
+
+    def spy(o, pts, **kw):
+        asked.append((o, len(pts)))
+        return real(o, pts, **kw)
+
+    monkeypatch.setattr(dv, "_closest_point", spy)
+    alone = deviation(near, X)
+    asked.clear()
+    many = deviation(far[:2] + [near] + far[2:], X)
+    assert [n for o, n in asked] == [300] and asked[0][0] is near
+    np.testing.assert_array_equal(many.distances, alone.distances)
+    np.testing.assert_array_equal(many.feet, alone.feet)
+    np.testing.assert_array_equal(many.lower_bounds, alone.lower_bounds)
+    assert np.all(many.owner == 2)
+    twice = deviation([far[0], near, near], X)
+    assert np.all(twice.owner == 1)
