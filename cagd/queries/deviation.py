@@ -24,7 +24,6 @@ from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import robust_distance
 from .closest import TOL_CHANGED, _closest_point, projector
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
@@ -97,21 +96,34 @@ def _objects(obj: Objects) -> list:
 
 #: Points measured per closest-point query by :func:`deviation` (bounds its working memory).
 DEVIATION_CHUNK = 1 << 16
+#: Points per block of the box bounds of :func:`deviation` over many objects (memory
+#: BOX_ROWS x TREE_TOP x dim doubles).
+BOX_ROWS = 4096
 #: Points drawn at most by :func:`deviation_map` (every k-th, and the largest |d|).
 MAP_POINTS = 200_000
 
 
-def _box_bounds(o: Union[Curve, Surface], X: np.ndarray) -> np.ndarray:
+def _box_bounds(o: Union[Curve, Surface], X: np.ndarray, boxes: str = "nodes") -> np.ndarray:
     """Certified lower bounds (N,) of the distance from the points X to ``o``: the
-    distance to the box of its Bezier control points (the object lies in their convex
-    hull, Farin 3.3; a trimmed face in its surface's), computed in the object's frame."""
+    distance to the box of its Bezier control points (``boxes="whole"``) or to the
+    nearest box of the top level of its closest-point hierarchy ("nodes"; at most
+    TREE_TOP boxes, BOX_ROWS points at a time); the object lies in the convex hulls of
+    those control points (Farin 3.3), a trimmed face in its surface's. Computed in the
+    object's frame, each gap scaled by its largest component (no overflow)."""
     from ..surfaces.trimmed import TrimmedSurface
     p = projector(o.untrimmed if isinstance(o, TrimmedSurface) else o)
-    lo, hi = p._hull_lo.min(axis=0), p._hull_hi.max(axis=0)
+    lo, hi = p._tree[-1][0], p._tree[-1][1]                     # (T, dim) each
+    if boxes == "whole":
+        lo, hi = lo.min(axis=0, keepdims=True), hi.max(axis=0, keepdims=True)
+    out = np.empty(len(X))
     with np.errstate(over="ignore", invalid="ignore"):
-        Xf = p.frame.inward(X)
-        gap = np.maximum(np.maximum(lo - Xf, Xf - hi), 0.0)
-        return robust_distance(gap, np.zeros_like(gap)) * p.frame.scale
+        for s in range(0, len(X), BOX_ROWS):
+            Xf = p.frame.inward(X[s:s + BOX_ROWS])[:, None, :]
+            gap = np.maximum(np.maximum(lo - Xf, Xf - hi), 0.0)     # (n, T, dim)
+            m = gap.max(axis=2, keepdims=True)
+            dist = m[..., 0] * np.sqrt(((gap / np.where(m > 0, m, 1.0)) ** 2).sum(axis=2))
+            out[s:s + BOX_ROWS] = dist.min(axis=1)
+    return out * p.frame.scale
 
 
 def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Optional[float],
@@ -124,15 +136,18 @@ def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Opt
     put beyond the distance found so far, so objects far from every point cost their box
     test only."""
     N = len(X)
-    bounds = [_box_bounds(o, X) for o in objs] if len(objs) > 1 else [np.zeros(N)]
+    bounds = [_box_bounds(o, X, "whole") for o in objs] if len(objs) > 1 else [np.zeros(N)]
     order = np.argsort([float(np.median(b)) for b in bounds], kind="stable")
     best: Optional[List[np.ndarray]] = None
     is_signed = True
     for k in order.tolist():
         o = objs[k]
-        rows = np.arange(N) if best is None else np.flatnonzero(bounds[k] <= np.abs(best[0]))
-        if best is not None and not len(rows):
-            continue
+        rows = np.arange(N)
+        if best is not None:                # the whole box, then the hierarchy's top boxes
+            rows = np.flatnonzero(bounds[k] <= np.abs(best[0]))
+            rows = rows[_box_bounds(o, X[rows]) <= np.abs(best[0][rows])]
+            if not len(rows):
+                continue
         Xr = X[rows]
         r = _closest_point(o, Xr, tol=tol, param_tol=param_tol)
         sign = _signs(o, r.params, r.feet, Xr) if signed is not False else None
