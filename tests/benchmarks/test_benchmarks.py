@@ -25,3 +25,12 @@ def test_trimmed_benchmark_runs(capsys):
     assert "contains:" in out and "closest, points over the face" in out
     if "BRepClass_FaceClassifier" in out:
         assert "same answer on 100.0000%" in out
+
+
+def test_setup_benchmark_runs(capsys):
+    """benchmarks/setup.py at tiny sizes: it runs, an equal object finds its projector by
+    content, and (where OCCT is installed) the engine is never farther than OCCT."""
+    from benchmarks import setup
+    assert setup.main(["--points", "2", "--repeat", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "bumpy 50 x 50" in out and "light set-up" in out
