@@ -36,7 +36,7 @@ from .loft import compatible_plain, unit_nurbs
 
 SKIN_DEGREE = 3          # interpolation degree across the curves (lower with fewer curves)
 REPARAM_SHARE = 0.01     # a family is reparametrised when the common parameters move an intersection by > this * tol
-REFIT_SHARE = 0.1        # a reparametrised curve is fitted to within this * tol of the original (sampled)
+REFIT_SHARE = 0.3        # a reparametrised curve is fitted to within this * tol of the original (sampled)
 REFIT_ROUNDS = 12        # knot-halving rounds of the refit, at most
 REFIT_MAX_POLES = 2000   # poles of a refitted family, at most
 REFIT_SAMPLES = 6        # fit samples per knot span (and checks between them)
