@@ -16,11 +16,20 @@ B-spline surfaces are made compatible (degree elevation, knot merging: Piegl & T
 parameter u_j common to all profiles (likewise v_i for the guides); a network whose
 curves meet at differing parameters is first reparametrised (:func:`_refit`), which is
 an approximation whose error ``max_error`` includes.
+
+``max_error`` bounds the distance of the input curves from the surface: where the
+surface contains the curves f~_i (the input curves exactly, or their refits) up to the
+network's misses, S(u, v_i) - f~_i(u) = sum_j (g~_j(v_i) - X_ij) a_j(u), a_j the cardinal
+interpolation splines along u, is a B-spline whose largest pole bounds it exactly
+(convex hull property; likewise along v); a refit adds its sampled deviation from the
+input curve. ``certify=True`` also measures the distance by the engine's certified
+closest points at samples of every input curve (slower: the surface's closest-point
+set-up dominates).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, List, Sequence, Tuple
+from typing import Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -48,13 +57,17 @@ MAX_CURVES = 200         # curves per family, at most (the pairwise intersection
 @dataclass(frozen=True)
 class GordonSurface(ReadOnlyArrays):
     """Result of :func:`gordon`: ``surface`` (an exact BSplineSurface on [0, 1]^2, u
-    along the profiles, v along the guides); ``max_error`` the largest distance of an
-    input curve from it (certified closest points at samples of every curve);
+    along the profiles, v along the guides); ``max_error`` an upper bound of the distance
+    of the input curves from it (module docstring: exact where the surface contains them
+    as iso-curves, plus the sampled deviation of a reparametrising refit);
     ``intersections`` (m, n, 2) the (u, v) of profile i and guide j on the surface, in
     the sorted order; ``profile_order``, ``guide_order`` the input indices in that
     order; ``reversed_profiles``, ``reversed_guides`` which inputs (by input index) run
     backwards; ``max_miss`` the largest gap between a profile and a guide where they
     meet; ``reparametrised`` which families ('profiles', 'guides') were refitted;
+    ``certified_error`` (``certify=True``, else None) the largest certified closest-point
+    distance of samples of the input curves (ERROR_SAMPLES per Bezier span, at least
+    ERROR_MIN_SAMPLES per curve) from the surface, at most ``max_error``;
     ``converged`` is False when a refit did not reach REFIT_SHARE * tol or max_error
     exceeds tol (``message`` says which)."""
     surface: BSplineSurface
@@ -68,9 +81,10 @@ class GordonSurface(ReadOnlyArrays):
     reparametrised: Tuple[str, ...]
     converged: bool
     message: str = ""
+    certified_error: Optional[float] = None
 
 
-def _family(curves: Sequence[Curve], name: str) -> List[BSplineCurve]:
+def _family(curves: Sequence[Curve], name: str, tol: float) -> List[BSplineCurve]:
     try:
         curves = list(curves)
     except TypeError:
@@ -83,6 +97,9 @@ def _family(curves: Sequence[Curve], name: str) -> List[BSplineCurve]:
         if u.is_rational:
             raise CagdError(f"{name}[{i}]: rational curves are not supported by gordon (the Boolean sum of "
                             "rational skins is not the rational Gordon surface); pass polynomial curves")
+        if u.periodic or np.linalg.norm(u(0.0) - u(1.0)) <= tol:
+            raise CagdError(f"{name}[{i}]: closed curves are not supported by gordon (a closed network "
+                            "needs a periodic skin); split the curve or pass an open network")
         out.append(u)
     return out
 
@@ -98,6 +115,9 @@ def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol
     for i, f in enumerate(profiles):
         for j, g in enumerate(guides):
             res = intersect(f, g, tol)
+            if not res.converged:
+                raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
+                                f"({res.message})")
             if res.overlaps:
                 raise CagdError(f"profiles[{i}], guides[{j}]: the curves overlap along a stretch, "
                                 "not a network crossing")
@@ -105,12 +125,12 @@ def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol
             if len(pts) > 1:
                 spread = max(float(np.linalg.norm(q.point - pts[0].point)) for q in pts)
                 if spread > tol:
-                    a = [round(float(q.param_a), 6) for q in pts]
+                    a = [round(float(np.asarray(q.param_a)), 6) for q in pts]
                     raise CagdError(f"profiles[{i}], guides[{j}]: meet {len(pts)} times (at profile parameters "
                                     f"{a}), a network needs exactly one crossing per pair")
             if pts:
                 best = min(pts, key=lambda p: p.residual)
-                s, t, d = float(best.param_a), float(best.param_b), float(best.residual)
+                s, t, d = float(np.asarray(best.param_a)), float(np.asarray(best.param_b)), best.residual
             else:
                 r = min_distance(f, g)
                 s, t, d = float(r.params[0]), float(r.params[1]), float(r.distance)
@@ -168,12 +188,14 @@ def _pchip(x: np.ndarray, y: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     return r
 
 
-def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: float, name: str) -> Tuple[List[BSplineCurve], float, bool]:
-    """Curves c_k reparametrised so that c~_k(new_j) = c_k(old_kj): c~_k ~ c_k o r_k, r_k the
-    monotone cubic (:func:`_pchip`) with r_k(new_j) = old_kj, fitted by least squares on
-    one common knot vector with the c_k(old_kj) as equality constraints (Piegl & Tiller 9.4.2,
-    constrained fitting through the Lagrange system), spans halved where the sampled
-    parametric error exceeds REFIT_SHARE * tol. Returns the curves, the largest sampled
+def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: float,
+           name: str) -> Tuple[List[BSplineCurve], float, bool]:
+    """Curves c_k reparametrised so that c~_k(new_j) = c_k(old_kj): c~_k ~ c_k o r_k, r_k
+    monotone with r_k(new_j) = old_kj (:func:`_reparametrisation`), fitted by least squares
+    on one common knot vector (the curves' knots mapped by r_k^-1, averaged) with the
+    c_k(old_kj) as equality constraints (Piegl & Tiller 9.4.2, constrained fitting through
+    the Lagrange system), spans halved where the sampled parametric error exceeds
+    REFIT_SHARE * tol. Returns the curves, the largest sampled
     |c~_k(s) - c_k(r_k(s))| and whether it met REFIT_SHARE * tol."""
     p = max(c.degree for c in curves)
     maps = [_reparametrisation(new, o) for o in old]
@@ -208,7 +230,7 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
         K[:npoles, :npoles] = N.T @ N
         K[:npoles, npoles:], K[npoles:, :npoles] = C.T, C
         rhs = np.concatenate([np.stack([N.T @ c(r(s)) for c, r in zip(curves, maps)], axis=0),
-                              np.stack([c(o) for c, o in zip(curves, old)])], axis=1)                            # (count, npoles + ncon, dim)
+                              np.stack([c(o) for c, o in zip(curves, old)])], axis=1)   # (count, npoles + ncon, dim)
         count, dim = rhs.shape[0], rhs.shape[2]
         try:
             sol = np.linalg.solve(K, rhs.transpose(1, 0, 2).reshape(npoles + ncon, -1))
@@ -270,7 +292,8 @@ def _boolean_sum(profiles: List[BSplineCurve], guides: List[BSplineCurve], us: n
     return BSplineSurface(P, pu, pv, U, V), iso_f, iso_g
 
 
-def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6) -> GordonSurface:
+def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6, *,
+           certify: bool = False) -> GordonSurface:
     """The Gordon surface through a network of profiles and guides (Gordon 1969; Piegl &
     Tiller 10.5): S = L_f + L_g - T (module docstring), u along the profiles, v along the
     guides, on [0, 1]^2, skinned with degree min(3, count - 1) on averaged knots.
@@ -284,8 +307,11 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     the other family at parameters that differ by more than REPARAM_SHARE * tol (as
     points), they are reparametrised approximately onto common parameters
     (:func:`_refit`); otherwise the curves are used exactly (degree elevation and knot
-    merging) and the surface contains them as iso-curves. ``max_error`` is measured on
-    the input curves either way. Rational and closed curves are rejected.
+    merging) and the surface contains them as iso-curves. ``max_error`` bounds the
+    distance of the input curves either way (module docstring); ``certify`` measures it
+    by certified closest points too. Rational and closed curves are rejected (CagdError).
+    Bounded: at most MAX_CURVES curves per family, one bounded :func:`cagd.intersect` per
+    pair, at most REFIT_ROUNDS refits of at most REFIT_MAX_POLES poles.
 
     Raises:
         CagdError: fewer than 2 curves in a family (or more than MAX_CURVES), a
@@ -295,9 +321,10 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
             first and last curve, a reparametrisation needing more than REFIT_MAX_POLES.
     """
     tol = _checks.positive(tol, "tol")
-    F, G = _family(profiles, "profiles"), _family(guides, "guides")
+    F, G = _family(profiles, "profiles", tol), _family(guides, "guides", tol)
     if len({c.dim for c in F + G}) > 1:
         raise CagdError("profiles, guides: all curves must have the same dimension")
+    inputs = F + G
     U, V, miss, X = _intersections(F, G, tol)
     pi, gi = np.arange(len(F)), np.arange(len(G))
     gorder, rev_p = _order(U, "profiles", "guides", pi)
@@ -309,11 +336,12 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     G = [G[j].reversed() if r else G[j] for j, r in zip(gi, rev_g)]
     U = np.where(rev_p[:, None], 1.0 - U, U)
     V = np.where(rev_g[None, :], 1.0 - V, V)
-    _ends(F, U, X, tol, "profiles", "guides", pi, gi)
-    _ends(G, V.T, np.swapaxes(X, 0, 1), tol, "guides", "profiles", gi, pi)
+    _ends(F, U, tol, "profiles", "guides", pi, gi)
+    _ends(G, V.T, tol, "guides", "profiles", gi, pi)
     U[:, 0], U[:, -1], V[0], V[-1] = 0.0, 1.0, 0.0, 1.0
     us, vs = U.mean(axis=0), V.mean(axis=1)
-    notes, refitted, ok = [], [], True
+    notes: List[str] = []
+    refitted: List[str] = []
     F, fit_f, ok_f = _compatible_family(F, U, us, tol, "profiles", notes, refitted)
     G, fit_g, ok_g = _compatible_family(G, V.T, vs, tol, "guides", notes, refitted)
     ok = ok_f and ok_g
@@ -322,17 +350,28 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     if err > tol:
         ok = False
         notes.append(f"max_error {err:.3g} > tol {tol:g}")
+    certified = _certified_error(S, inputs) if certify else None
     grid = np.stack(np.broadcast_arrays(us[None, :], vs[:, None]), axis=-1)
     reversed_p = np.zeros(len(pi), bool)
     reversed_p[pi] = rev_p
     reversed_g = np.zeros(len(gi), bool)
     reversed_g[gi] = rev_g
     return GordonSurface(S, err, grid, pi, gi, reversed_p, reversed_g, float(miss.max()), tuple(refitted), ok,
-                         "; ".join(notes))
+                         "; ".join(notes), certified)
 
 
-def _ends(curves: List[BSplineCurve], P: np.ndarray, X: np.ndarray, tol: float, name: str, other: str,
-          index: np.ndarray, other_index: np.ndarray) -> None:
+def _certified_error(surface: BSplineSurface, curves: Sequence[BSplineCurve]) -> float:
+    """Largest certified closest-point distance of samples of the curves from the surface."""
+    from ..queries.closest import closest_point
+    pts = []
+    for c in curves:
+        spans = max(len(np.unique(c.knots)) - 1, 1)
+        pts.append(c(np.linspace(0.0, 1.0, max(ERROR_MIN_SAMPLES, ERROR_SAMPLES * spans))))
+    return float(closest_point(surface, np.concatenate(pts)).distances.max())
+
+
+def _ends(curves: List[BSplineCurve], P: np.ndarray, tol: float, name: str, other: str, index: np.ndarray,
+          other_index: np.ndarray) -> None:
     """Both ends of every curve lie on the first and last curve of the other family."""
     for k, c in enumerate(curves):
         for end, col in ((0.0, 0), (1.0, -1)):

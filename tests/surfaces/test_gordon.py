@@ -92,11 +92,13 @@ def test_coons_boundary_gives_the_coons_patch():
 @pytest.mark.parametrize("m, n", [(3, 3), (4, 5)])
 def test_network_curves_lie_on_the_surface_within_max_error(m, n):
     profiles, guides = interpolated_network(m, n)
-    r = cagd.gordon(profiles, guides, NET_TOL)
+    r = cagd.gordon(profiles, guides, NET_TOL, certify=True)
     assert r.converged, r.message
+    assert r.certified_error <= r.max_error
     assert set(r.reparametrised) == {"profiles", "guides"}      # chord parameters differ per curve
     assert 0 < r.max_error <= NET_TOL
-    assert off_surface(r.surface, profiles + guides) <= r.max_error
+    off = off_surface(r.surface, profiles + guides)
+    assert off <= r.max_error and 0.5 * off <= r.certified_error <= 2 * off
     assert r.max_miss <= NET_TOL
     # the intersection grid: every profile at v_i meets every guide at u_j
     uv = r.intersections.reshape(-1, 2)
@@ -201,6 +203,14 @@ def test_rational_curves_are_rejected():
     arc = cagd.BSplineCurve([[0, 0, 0], [50, 0, 20], [100, 0, 0]], 2, weights=[1, 0.7, 1])
     with pytest.raises(cagd.CagdError, match=r"^profiles\[0\]: rational curves are not supported"):
         cagd.gordon([arc] + profiles[1:], guides)
+
+
+def test_closed_curves_are_rejected():
+    profiles, guides = interpolated_network(3, 3, 10)
+    loop = cagd.BSplineCurve([[0, 0, 0], [100, 0, 0], [100, 100, 0], [0, 100, 0]], 2, [0, 0.25, 0.5, 0.75, 1],
+                             periodic=True)
+    with pytest.raises(cagd.CagdError, match=r"^guides\[2\]: closed curves are not supported"):
+        cagd.gordon(profiles, guides[:2] + [loop])
 
 
 def test_curve_not_ending_on_the_outer_curves():
