@@ -229,3 +229,30 @@ def test_result_is_a_frozen_value(bezier_patch):
     with pytest.raises(ValueError):
         r.intersections[0, 0, 0] = 1.0
     assert isinstance(r, cagd.GordonSurface) and isinstance(r.surface, cagd.BSplineSurface)
+
+
+def test_unevenly_parametrised_profiles_are_refitted_onto_common_parameters():
+    """Profiles of one surface traversed at increasingly uneven speeds (u = t^1 .. t^2.5):
+    they meet guide j at very different parameters; the refit puts them on common ones and
+    the curves still lie on the surface within max_error (certified closest points)."""
+    t = np.linspace(0.0, 1.0, 40)
+    profiles = [cagd.interpolate(height(t ** (1 + 0.5 * k), np.full_like(t, v)), parameters=t)
+                for k, v in enumerate((0.0, 0.3, 0.6, 1.0))]
+    guides = [cagd.interpolate(height(np.full_like(t, u), t), parameters=t) for u in (0, 0.25, 0.5, 0.75, 1)]
+    r = cagd.gordon(profiles, guides, NET_TOL)
+    assert r.converged, r.message
+    assert r.reparametrised == ("profiles",)          # the guides meet the profiles at equal parameters
+    assert off_surface(r.surface, profiles + guides) <= r.max_error <= NET_TOL
+
+
+def test_reparametrisation_functions_are_monotone_and_interpolate():
+    """Brute force on 10^4 samples: the C2 spline when its coefficients increase, else the
+    Fritsch-Carlson cubic; both hit the data and never decrease."""
+    from cagd.surfaces.gordon import _pchip, _reparametrisation
+    s = np.linspace(0.0, 1.0, 10001)
+    for x, y in ((np.array([0, 0.3, 0.7, 1.0]), np.array([0, 0.25, 0.72, 1.0])),
+                 (np.array([0, 0.1, 0.5, 0.9, 1.0]), np.array([0, 0.5, 0.55, 0.6, 1.0]))):
+        for make in (_reparametrisation, _pchip):
+            r = make(x, y)
+            assert np.abs(r(x) - y).max() <= 1e-14
+            assert np.diff(r(s)).min() >= 0
