@@ -1,7 +1,8 @@
 """Gordon surfaces: the surface through a network of profile and guide curves
 (W. J. Gordon, "Spline-blended surface interpolation through curve networks",
-J. Math. Mech. 18, 1969; Piegl & Tiller, The NURBS Book, 10.5; seed 004's contents
-list surfaces from curve networks without the construction, so the books are cited).
+J. Math. Mech. 18, 1969; Piegl & Tiller, The NURBS Book, 10.5. Seed 004's contents
+list parametric and free-form surfaces (ch. 1 §3, ch. 3 §3) without the text, so the
+books are cited).
 
 With the profiles f_i (u along them) meeting the guides g_j (v along them) at
 f_i(u_j) = g_j(v_i) = X_ij, the Gordon surface is the Boolean sum
@@ -51,7 +52,8 @@ REFIT_MAX_POLES = 2000   # poles of a refitted family, at most
 REFIT_SAMPLES = 6        # fit samples per knot span (and checks between them)
 ERROR_SAMPLES = 8        # samples per Bezier span of every input curve for max_error ...
 ERROR_MIN_SAMPLES = 64   # ... at least this many per curve
-MAX_CURVES = 200         # curves per family, at most (the pairwise intersections grow as the product)
+MAX_CURVES = 200         # curves per family, at most
+MAX_PAIRS = 2500         # profile-guide pairs, at most (one intersect each, ~10 ms)
 
 
 @dataclass(frozen=True)
@@ -307,23 +309,28 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     the other family at parameters that differ by more than REPARAM_SHARE * tol (as
     points), they are reparametrised approximately onto common parameters
     (:func:`_refit`); otherwise the curves are used exactly (degree elevation and knot
-    merging) and the surface contains them as iso-curves. ``max_error`` bounds the
+    merging) and the surface contains them as iso-curves up to the network's misses. ``max_error`` bounds the
     distance of the input curves either way (module docstring); ``certify`` measures it
     by certified closest points too. Rational and closed curves are rejected (CagdError).
-    Bounded: at most MAX_CURVES curves per family, one bounded :func:`cagd.intersect` per
+    Bounded: at most MAX_CURVES curves per family and MAX_PAIRS pairs, one bounded :func:`cagd.intersect` per
     pair, at most REFIT_ROUNDS refits of at most REFIT_MAX_POLES poles.
 
     Raises:
-        CagdError: fewer than 2 curves in a family (or more than MAX_CURVES), a
-            non-curve, a rational curve, curves of different dimensions, tol <= 0, a pair
-            that does not meet within tol or meets more than once (naming the pair),
-            a curve meeting the other family in another order or not ending on its
-            first and last curve, a reparametrisation needing more than REFIT_MAX_POLES.
+        CagdError: fewer than 2 curves in a family (or more than MAX_CURVES, or more
+            than MAX_PAIRS profile-guide pairs), a non-curve, a rational or closed
+            curve, curves of different dimensions, tol <= 0, a pair that does not meet
+            within tol, meets more than once or whose intersection search does not
+            settle (naming the pair), a curve meeting the other family in another order
+            or not ending on its first and last curve, a reparametrisation needing more
+            than REFIT_MAX_POLES.
     """
     tol = _checks.positive(tol, "tol")
     F, G = _family(profiles, "profiles", tol), _family(guides, "guides", tol)
     if len({c.dim for c in F + G}) > 1:
         raise CagdError("profiles, guides: all curves must have the same dimension")
+    if len(F) * len(G) > MAX_PAIRS:
+        raise CagdError(f"profiles, guides: {len(F)} x {len(G)} curves make more than {MAX_PAIRS} pairs to "
+                        "intersect; split the network")
     inputs = F + G
     U, V, miss, X = _intersections(F, G, tol)
     pi, gi = np.arange(len(F)), np.arange(len(G))
