@@ -105,8 +105,9 @@ def test_network_curves_lie_on_the_surface_within_max_error(m, n):
     X = r.surface(uv[:, 0], uv[:, 1]).reshape(m, n, 3)
     for i, f in enumerate(profiles):
         assert cagd.closest_point(f, X[i]).distances.max() <= r.max_error
-    # the surface stays close to the one the network was cut from (no wild interior)
-    assert spread(r.surface, cagd.fit_surface(height(*np.meshgrid(GRID, GRID, indexing="ij")), 1e-3).surface) < 0.5
+    # the surface stays close to the one the network was cut from (no wild interior; 3x3: 0.027)
+    cut = cagd.fit_surface(height(*np.meshgrid(GRID, GRID, indexing="ij")), 1e-3).surface
+    assert spread(r.surface, cut) < 0.1
 
 
 @pytest.mark.parametrize("network", ["iso", "interpolated"])
@@ -163,7 +164,7 @@ def test_build123d_agrees_with_fewer_poles():
     X = np.concatenate([c(np.linspace(*c.domain, 50)) for c in profiles + guides])
     feet = cagd.closest_point(r.surface, X).feet
     assert cagd.closest_point(theirs, feet).distances.max() <= r.max_error + their_error
-    assert spread(r.surface, theirs) <= 1e-3
+    assert spread(r.surface, theirs) <= 1e-4       # measured 3.2e-6 (both about 5e-6 off the network)
     ours, their_poles = r.surface.control_points.shape[:2], theirs.control_points.shape[:2]
     assert ours[0] * ours[1] <= their_poles[0] * their_poles[1]
 
