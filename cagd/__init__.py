@@ -23,8 +23,7 @@ from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Primitive, Revolution,
                        RevolvedSurface, Surface, cone, cylinder, ellipsoid, ellipsoid_octant, loft, make_compatible,
                        revolve, ruled, sphere, torus, EdgeContinuityReport, edge_continuity, interpolate_surface,
-                       TrimmedSurface)
-from .surfaces.gordon import GordonSurface, gordon
+                       TrimmedSurface, GordonSurface, gordon)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
 from .analysis import CurvatureComb, curvature_comb
