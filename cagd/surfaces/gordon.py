@@ -54,6 +54,10 @@ ERROR_SAMPLES = 8        # samples per Bezier span of every input curve for max_
 ERROR_MIN_SAMPLES = 64   # ... at least this many per curve
 MAX_CURVES = 200         # curves per family, at most
 MAX_PAIRS = 2500         # profile-guide pairs, at most (one intersect each, ~10 ms)
+INTERSECT_ANGLE_TOL = 1e-6   # cagd.intersect's defaults: tangential contact angle, radians ...
+INTERSECT_DEPTH = 64         # ... subdivision depth ...
+INTERSECT_PAIRS = 20000      # ... live piece pairs ...
+INTERSECT_MIN_TOL = 1e-13    # ... and the smallest tol relative to the objects' size
 
 
 @dataclass(frozen=True)
@@ -108,15 +112,25 @@ def _family(curves: Sequence[Curve], name: str, tol: float) -> List[BSplineCurve
 
 def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol: float):
     """(u, v, miss, X) arrays (m, n), (m, n), (m, n), (m, n, dim): each profile-guide
-    pair's one meeting point (the midpoint where they miss by up to tol)."""
+    pair's one meeting point (the midpoint where they miss by up to tol), by the
+    subdivision of :func:`cagd.intersect` on curves prepared once (Bezier pieces), and
+    :func:`cagd.min_distance` where no point is solved within tol."""
+    from ..queries import _subdivision as sd
     from ..queries.distance import min_distance
-    from ..queries.intersect import intersect
+    from ..queries.intersect import _run
     m, n = len(profiles), len(guides)
+    size = max(float(np.ptp(c.control_points, axis=0).max()) for c in profiles + guides)
+    if tol < INTERSECT_MIN_TOL * size:
+        raise CagdError(f"tol: {tol:g} is below {INTERSECT_MIN_TOL:g} of the network's size {size:.6g}, beyond "
+                        "the precision of doubles there; pass a larger tol")
+    # each curve prepared once for all its pairs (what cagd.intersect does per call)
+    A = [sd.Geometry(f, f"profiles[{i}]") for i, f in enumerate(profiles)]
+    B = [sd.Geometry(g, f"guides[{j}]") for j, g in enumerate(guides)]
     U, V, miss = np.empty((m, n)), np.empty((m, n)), np.empty((m, n))
     X = np.empty((m, n, profiles[0].dim))
     for i, f in enumerate(profiles):
         for j, g in enumerate(guides):
-            res = intersect(f, g, tol)
+            res = _run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
             if not res.converged:
                 raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
                                 f"({res.message})")
