@@ -2,6 +2,8 @@
 surface a network was cut from (spline interpolation reproduces it), cagd's Coons
 patch (a 2 x 2 Gordon surface is the bilinear Coons patch), certified closest points
 of the network curves, build123d's make_gordon_surface, and bad networks."""
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -225,7 +227,7 @@ def test_curve_not_ending_on_the_outer_curves():
 def test_result_is_a_frozen_value(bezier_patch):
     ts = np.array([0.0, 0.5, 1.0])
     r = cagd.gordon(*iso_network(bezier_patch, ts, ts))
-    with pytest.raises(Exception):
+    with pytest.raises(dataclasses.FrozenInstanceError):
         r.max_error = 0.0
     with pytest.raises(ValueError):
         r.intersections[0, 0, 0] = 1.0
