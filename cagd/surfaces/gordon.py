@@ -42,7 +42,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
-from .loft import compatible_plain, unit_nurbs
+from .loft import _SNAP, compatible_plain, unit_nurbs
 
 SKIN_DEGREE = 3          # interpolation degree across the curves (lower with fewer curves)
 REPARAM_SHARE = 0.01     # a family is reparametrised when the common parameters move an intersection by > this * tol
@@ -54,6 +54,7 @@ ERROR_SAMPLES = 8        # samples per Bezier span of every input curve for max_
 ERROR_MIN_SAMPLES = 64   # ... at least this many per curve
 MAX_CURVES = 200         # curves per family, at most
 MAX_PAIRS = 2500         # profile-guide pairs, at most (one intersect each, ~10 ms)
+SEAM_SNAP = 1e-12        # a closed profile meeting guides[0] this close to its start (or end) keeps its start
 INTERSECT_ANGLE_TOL = 1e-6   # cagd.intersect's defaults: tangential contact angle, radians ...
 INTERSECT_DEPTH = 64         # ... subdivision depth ...
 INTERSECT_PAIRS = 20000      # ... live piece pairs ...
@@ -90,7 +91,9 @@ class GordonSurface(ReadOnlyArrays):
     certified_error: Optional[float] = None
 
 
-def _family(curves: Sequence[Curve], name: str, tol: float) -> List[BSplineCurve]:
+def _family(curves: Sequence[Curve], name: str, tol: float, closed_ok: bool = False) -> List[BSplineCurve]:
+    """The curves as polynomial B-splines clamped on [0, 1] (:func:`unit_nurbs`); closed
+    ones (ends within tol) only where ``closed_ok`` and then all of them."""
     try:
         curves = list(curves)
     except TypeError:
@@ -103,11 +106,38 @@ def _family(curves: Sequence[Curve], name: str, tol: float) -> List[BSplineCurve
         if u.is_rational:
             raise CagdError(f"{name}[{i}]: rational curves are not supported by gordon (the Boolean sum of "
                             "rational skins is not the rational Gordon surface); pass polynomial curves")
-        if u.periodic or np.linalg.norm(u(0.0) - u(1.0)) <= tol:
-            raise CagdError(f"{name}[{i}]: closed curves are not supported by gordon (a closed network "
-                            "needs a periodic skin); split the curve or pass an open network")
         out.append(u)
+    closed = [_closed(c, tol) for c in out]
+    if any(closed) and not closed_ok:
+        i = closed.index(True)
+        raise CagdError(f"{name}[{i}]: closed guides are not supported by gordon; pass the closed curves as "
+                        "the profiles (a network closed both ways is not supported either)")
+    if any(closed) and not all(closed):
+        i = closed.index(not closed[0])
+        raise CagdError(f"{name}[{i}]: is {'closed' if closed[i] else 'open'} while {name}[0] is not; "
+                        f"the {name} must be all open or all closed")
     return out
+
+
+def _closed(c: BSplineCurve, tol: float) -> bool:
+    return bool(np.linalg.norm(c(0.0) - c(1.0)) <= tol)
+
+
+def _rotated(c: BSplineCurve, a: float) -> Tuple[BSplineCurve, float]:
+    """A closed curve (clamped on [0, 1], c(0) ~ c(1)) started at parameter a: w = u - a
+    on [a, 1], u + 1 - a on [0, a], exact (the two pieces of c.split(a), joined at the old
+    start with a knot of multiplicity p, the joint pole the midpoint of c(1) and c(0)).
+    Returns the curve and how far the joint moved (half the closing gap)."""
+    p = c.degree
+    near = np.abs(c.knots - a) <= _SNAP
+    a = float(c.knots[near][0]) if near.any() else a        # split at a knot a few ulps off: at the knot
+    left, right = c.split(a)
+    joint = 0.5 * (right.control_points[-1] + left.control_points[0])
+    moved = float(np.linalg.norm(right.control_points[-1] - joint))
+    P = np.concatenate([right.control_points[:-1], joint[None], left.control_points[1:]])
+    knots = np.concatenate([right.knots[:-1] - a, left.knots[p + 1:] + (1.0 - a)])
+    knots[:p + 1], knots[-p - 1:] = 0.0, 1.0
+    return BSplineCurve(P, p, knots), moved
 
 
 def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol: float):
@@ -325,21 +355,31 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     (:func:`_refit`); otherwise the curves are used exactly (degree elevation and knot
     merging) and the surface contains them as iso-curves up to the network's misses. ``max_error`` bounds the
     distance of the input curves either way (module docstring); ``certify`` measures it
-    by certified closest points too. Rational and closed curves are rejected (CagdError).
+    by certified closest points too. Rational curves are rejected (CagdError).
+
+    Closed networks: closed profiles (ends within tol; all or none) around open guides
+    give a surface closed in u: every ring is started (split and rejoined exactly, the
+    joint pole the midpoint of its ends) where it meets ``guides[0]``, which becomes the
+    seam S(0, v) = S(1, v) and is repeated at u = 1 in ``guide_order`` and
+    ``intersections`` (n + 1 columns). The skins are not periodic: the surface is in
+    general only C0 across the seam, and it depends on which guide comes first. Closed
+    guides are rejected (pass them as the profiles), and so is a network closed both
+    ways.
     Bounded: at most MAX_CURVES curves per family and MAX_PAIRS pairs, one bounded :func:`cagd.intersect` per
     pair, at most REFIT_ROUNDS refits of at most REFIT_MAX_POLES poles.
 
     Raises:
         CagdError: fewer than 2 curves in a family (or more than MAX_CURVES, or more
-            than MAX_PAIRS profile-guide pairs), a non-curve, a rational or closed
-            curve, curves of different dimensions, tol <= 0, a pair that does not meet
-            within tol, meets more than once or whose intersection search does not
-            settle (naming the pair), a curve meeting the other family in another order
-            or not ending on its first and last curve, a reparametrisation needing more
-            than REFIT_MAX_POLES.
+            than MAX_PAIRS profile-guide pairs), a non-curve, a rational curve, a
+            closed guide, open and closed profiles mixed, a closed network with fewer
+            than 3 guides, curves of different dimensions, tol <= 0, a pair that does
+            not meet within tol, meets more than once or whose intersection search does
+            not settle (naming the pair), a curve meeting the other family in another
+            order or not ending on its first and last curve, a reparametrisation
+            needing more than REFIT_MAX_POLES.
     """
     tol = _checks.positive(tol, "tol")
-    F, G = _family(profiles, "profiles", tol), _family(guides, "guides", tol)
+    F, G = _family(profiles, "profiles", tol, closed_ok=True), _family(guides, "guides", tol)
     if len({c.dim for c in F + G}) > 1:
         raise CagdError("profiles, guides: all curves must have the same dimension")
     if len(F) * len(G) > MAX_PAIRS:
@@ -348,14 +388,36 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     inputs = F + G
     U, V, miss, X = _intersections(F, G, tol)
     pi, gi = np.arange(len(F)), np.arange(len(G))
-    gorder, rev_p = _order(U, "profiles", "guides", pi)
-    U, V, X, gi = U[:, gorder], V[:, gorder], X[:, gorder], gi[gorder]
+    closed = _closed(F[0], tol)
+    seam = 0.0
+    if closed:      # every profile started where it meets guides[0], that guide repeated at u = 1
+        if len(G) < 3:
+            raise CagdError(f"guides: a closed network needs at least 3 guides, got {len(G)}")
+        for i in range(len(F)):
+            a = float(U[i, 0])
+            if SEAM_SNAP < a < 1.0 - SEAM_SNAP:
+                F[i], gap = _rotated(F[i], a)
+                seam = max(seam, gap)
+            U[i] = np.mod(U[i] - a, 1.0)
+            U[i, 0] = 0.0
+        inner, rev_p = _order(U[:, 1:], "profiles", "guides", pi)
+        gorder = np.concatenate([[0], 1 + inner])
+        F = [c.reversed() if r else c for c, r in zip(F, rev_p)]
+        U[rev_p, 1:] = 1.0 - U[rev_p, 1:]
+        U, V, X, gi = U[:, gorder], V[:, gorder], X[:, gorder], gi[gorder]
+        U = np.concatenate([U, np.ones((len(F), 1))], axis=1)
+        V, X, gi = np.concatenate([V, V[:, :1]], axis=1), np.concatenate([X, X[:, :1]], axis=1), np.append(gi, gi[0])
+        flip_p = np.zeros(len(F), bool)          # reversed already
+    else:
+        gorder, rev_p = _order(U, "profiles", "guides", pi)
+        U, V, X, gi = U[:, gorder], V[:, gorder], X[:, gorder], gi[gorder]
+        flip_p = rev_p
     porder, rev_g = _order(V.T, "guides", "profiles", gi)
     U, V, X, pi = U[porder], V[porder], X[porder], pi[porder]
-    rev_p = rev_p[porder]
-    F = [F[i].reversed() if r else F[i] for i, r in zip(pi, rev_p)]
+    rev_p, flip_p = rev_p[porder], flip_p[porder]
+    F = [F[i].reversed() if r else F[i] for i, r in zip(pi, flip_p)]
     G = [G[j].reversed() if r else G[j] for j, r in zip(gi, rev_g)]
-    U = np.where(rev_p[:, None], 1.0 - U, U)
+    U = np.where(flip_p[:, None], 1.0 - U, U)
     V = np.where(rev_g[None, :], 1.0 - V, V)
     _ends(F, U, tol, "profiles", "guides", pi, gi)
     _ends(G, V.T, tol, "guides", "profiles", gi, pi)
@@ -367,7 +429,7 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     G, fit_g, ok_g = _compatible_family(G, V.T, vs, tol, "guides", notes, refitted)
     ok = ok_f and ok_g
     S, iso_f, iso_g = _boolean_sum(F, G, us, vs, X)
-    err = max(fit_f + iso_f, fit_g + iso_g)
+    err = max(fit_f + iso_f + seam, fit_g + iso_g)
     if err > tol:
         ok = False
         notes.append(f"max_error {err:.3g} > tol {tol:g}")

@@ -208,12 +208,56 @@ def test_rational_curves_are_rejected():
         cagd.gordon([arc] + profiles[1:], guides)
 
 
-def test_closed_curves_are_rejected():
-    profiles, guides = interpolated_network(3, 3, 10)
-    loop = cagd.BSplineCurve([[0, 0, 0], [100, 0, 0], [100, 100, 0], [0, 100, 0]], 2, [0, 0.25, 0.5, 0.75, 1],
-                             periodic=True)
-    with pytest.raises(cagd.CagdError, match=r"^guides\[2\]: closed curves are not supported"):
-        cagd.gordon(profiles, guides[:2] + [loop])
+def tube(u, v):
+    """A closed tube of radius 18-27 mm, 100 mm long (u around, v along)."""
+    r = 20 + 5 * np.sin(np.pi * v) + 2 * np.cos(4 * np.pi * u) * v
+    return np.stack([r * np.cos(2 * np.pi * u), r * np.sin(2 * np.pi * u), 100 * v], axis=-1)
+
+
+def tube_network():
+    """Closed rings (each starting at another angle) and open guides along the tube."""
+    t = np.linspace(0.0, 1.0, 61)
+    rings = [cagd.interpolate(tube(np.mod(t + 0.13 * k, 1.0), np.full_like(t, v)))
+             for k, v in enumerate((0.0, 0.3, 0.7, 1.0))]
+    guides = [cagd.interpolate(tube(np.full_like(t, u), t)) for u in (0.1, 0.35, 0.6, 0.85)]
+    return rings, guides
+
+
+CLOSED_TOL = 1e-3      # 61-point interpolants of the tube miss each other by up to ~1.4e-4
+
+
+def test_closed_profiles_give_a_closed_surface_through_the_network():
+    rings, guides = tube_network()
+    r = cagd.gordon(rings, guides, CLOSED_TOL)
+    assert r.converged, r.message
+    assert r.guide_order.tolist() == [0, 1, 2, 3, 0]            # the seam guide repeated at u = 1
+    assert r.intersections.shape == (4, 5, 2) and r.intersections[0, -1, 0] == 1.0
+    v = np.linspace(0.0, 1.0, 50)
+    S = r.surface
+    assert np.abs(S(np.zeros_like(v), v) - S(np.ones_like(v), v)).max() <= 1e-9      # closed along the seam
+    seam = cagd.closest_point(guides[0], S(np.zeros_like(v), v)).distances         # ... which is guides[0]
+    assert seam.max() <= r.max_error
+    assert off_surface(S, rings + guides) <= r.max_error <= CLOSED_TOL
+
+
+def test_closed_network_reversed_and_shuffled_with_the_same_seam_guide():
+    rings, guides = tube_network()
+    a = cagd.gordon(rings, guides, CLOSED_TOL)
+    b = cagd.gordon([rings[2].reversed(), rings[0], rings[3], rings[1].reversed()],
+                    [guides[0], guides[3], guides[1].reversed(), guides[2]], CLOSED_TOL)
+    assert b.converged and b.reversed_profiles.tolist() == [False, True, True, False]
+    assert b.guide_order.tolist() == [0, 1, 3, 2, 0]             # around the other way, as profile 0 runs
+    assert spread(a.surface, b.surface) <= CLOSED_TOL and spread(b.surface, a.surface) <= CLOSED_TOL
+
+
+def test_closed_guides_and_mixed_profiles_are_rejected():
+    rings, guides = tube_network()
+    with pytest.raises(cagd.CagdError, match=r"^guides\[0\]: closed guides are not supported"):
+        cagd.gordon(guides, rings, CLOSED_TOL)
+    t = np.linspace(0.0, 0.9, 50)
+    arc = cagd.interpolate(tube(t, np.full_like(t, 0.3)))
+    with pytest.raises(cagd.CagdError, match=r"^profiles\[1\]: is open while profiles\[0\] is not"):
+        cagd.gordon([rings[0], arc] + rings[2:], guides, CLOSED_TOL)
 
 
 def test_curve_not_ending_on_the_outer_curves():
