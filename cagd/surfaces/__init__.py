@@ -1,5 +1,5 @@
 """Surfaces: tensor-product Bezier/B-spline/NURBS patches, surfaces of revolution,
-the seed's rational ellipsoid, Coons patches, ruled surfaces and lofts."""
+the seed's rational ellipsoid, Coons patches, ruled surfaces, lofts and Gordon surfaces."""
 from .base import Surface
 from .bspline import BSplineSurface
 from .bezier import BezierSurface
@@ -10,9 +10,11 @@ from .loft import loft, loft_parameters, make_compatible, ruled
 from .continuity import EdgeContinuityReport, edge_continuity
 from .fitting import interpolate_surface, surface_parameters
 from .trimmed import AreaResult, TrimBoundary, TrimmedSurface
+from .gordon import GordonSurface, gordon
 
 __all__ = ["Surface", "BSplineSurface", "BezierSurface", "RevolvedSurface", "Revolution", "Primitive",
            "revolve", "sphere", "torus", "cylinder", "cone",
            "ellipsoid", "ellipsoid_octant", "CoonsPatch", "HermiteCoonsPatch", "ruled", "loft",
            "loft_parameters", "make_compatible", "EdgeContinuityReport", "edge_continuity",
-           "interpolate_surface", "surface_parameters", "TrimmedSurface", "AreaResult", "TrimBoundary"]
+           "interpolate_surface", "surface_parameters", "TrimmedSurface", "AreaResult", "TrimBoundary",
+           "gordon", "GordonSurface"]

@@ -34,3 +34,17 @@ def test_setup_benchmark_runs(capsys):
     assert setup.main(["--points", "2", "--repeat", "1"]) == 0
     out = capsys.readouterr().out
     assert "bumpy 50 x 50" in out and "light set-up" in out
+
+
+def test_gordon_benchmark_runs(capsys):
+    """benchmarks/gordon.py on one small network: it runs, cagd.gordon converges with the
+    network within its max_error (the exit code), and build123d's row prints where present."""
+    from benchmarks import gordon
+    assert gordon.main(["--sizes", "3x3", "--points", "30", "--tol", "1e-4", "--repeat", "1", "--samples", "50"]) == 0
+    out = capsys.readouterr().out
+    assert "cagd.gordon" in out
+    try:
+        import build123d  # noqa: F401
+    except ImportError:
+        return
+    assert "build123d make_gordon" in out

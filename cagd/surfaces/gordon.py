@@ -1,0 +1,481 @@
+"""Gordon surfaces: the surface through a network of profile and guide curves
+(W. J. Gordon, "Spline-blended surface interpolation through curve networks",
+J. Math. Mech. 18, 1969; Piegl & Tiller, The NURBS Book, 10.5. Seed 004's contents
+list parametric and free-form surfaces (ch. 1 §3, ch. 3 §3) without the text, so the
+books are cited).
+
+With the profiles f_i (u along them) meeting the guides g_j (v along them) at
+f_i(u_j) = g_j(v_i) = X_ij, the Gordon surface is the Boolean sum
+
+    S = L_f + L_g - T,
+
+L_f the profiles skinned across v (interpolated at v_i), L_g the guides skinned across
+u (at u_j), T the tensor-product interpolant of the X_ij; with the same interpolation
+(degree, knots) in each direction, S(u, v_i) = f_i(u) and S(u_j, v) = g_j(v). The three
+B-spline surfaces are made compatible (degree elevation, knot merging: Piegl & Tiller
+5.5, 5.3) and summed exactly. Every profile must meet every guide once, at one
+parameter u_j common to all profiles (likewise v_i for the guides); a network whose
+curves meet at differing parameters is first reparametrised (:func:`_refit`), which is
+an approximation whose error ``max_error`` includes.
+
+``max_error`` bounds the distance of the input curves from the surface: where the
+surface contains the curves f~_i (the input curves exactly, or their refits) up to the
+network's misses, S(u, v_i) - f~_i(u) = sum_j (g~_j(v_i) - X_ij) a_j(u), a_j the cardinal
+interpolation splines along u, is a B-spline whose largest pole bounds it exactly
+(convex hull property; likewise along v); a refit adds its sampled deviation from the
+input curve. ``certify=True`` also measures the distance by the engine's certified
+closest points at samples of every input curve (slower: the surface's closest-point
+set-up dominates).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from .. import _checks
+from .._results import ReadOnlyArrays
+from ..basis.bspline import basis_matrix
+from ..curves.base import Curve
+from ..curves.bspline import BSplineCurve
+from ..errors import CagdError
+from ..knots import vectors as kv
+from .bspline import BSplineSurface
+from .loft import _SNAP, compatible_plain, unit_nurbs
+
+SKIN_DEGREE = 3          # interpolation degree across the curves (lower with fewer curves)
+REPARAM_SHARE = 0.01     # a family is reparametrised when the common parameters move an intersection by > this * tol
+REFIT_SHARE = 0.3        # a reparametrised curve is fitted to within this * tol of the original (sampled)
+REFIT_ROUNDS = 12        # knot-halving rounds of the refit, at most
+REFIT_MAX_POLES = 2000   # poles of a refitted family, at most
+REFIT_SAMPLES = 6        # fit samples per knot span (and checks between them)
+ERROR_SAMPLES = 8        # samples per Bezier span of every input curve for max_error ...
+ERROR_MIN_SAMPLES = 64   # ... at least this many per curve
+MAX_CURVES = 200         # curves per family, at most
+MAX_PAIRS = 2500         # profile-guide pairs, at most (one intersect each, ~10 ms)
+SEAM_SNAP = 1e-12        # a closed profile meeting guides[0] this close to its start (or end) keeps its start
+INTERSECT_ANGLE_TOL = 1e-6   # cagd.intersect's defaults: tangential contact angle, radians ...
+INTERSECT_DEPTH = 64         # ... subdivision depth ...
+INTERSECT_PAIRS = 20000      # ... live piece pairs ...
+INTERSECT_MIN_TOL = 1e-13    # ... and the smallest tol relative to the objects' size
+
+
+@dataclass(frozen=True)
+class GordonSurface(ReadOnlyArrays):
+    """Result of :func:`gordon`: ``surface`` (an exact BSplineSurface on [0, 1]^2, u
+    along the profiles, v along the guides); ``max_error`` an upper bound of the distance
+    of the input curves from it (module docstring: exact where the surface contains them
+    as iso-curves, plus the sampled deviation of a reparametrising refit);
+    ``intersections`` (m, n, 2) the (u, v) of profile i and guide j on the surface, in
+    the sorted order; ``profile_order``, ``guide_order`` the input indices in that
+    order; ``reversed_profiles``, ``reversed_guides`` which inputs (by input index) run
+    backwards; ``max_miss`` the largest gap between a profile and a guide where they
+    meet; ``reparametrised`` which families ('profiles', 'guides') were refitted;
+    ``certified_error`` (``certify=True``, else None) the largest certified closest-point
+    distance of samples of the input curves (ERROR_SAMPLES per Bezier span, at least
+    ERROR_MIN_SAMPLES per curve) from the surface, at most ``max_error``;
+    ``converged`` is False when a refit did not reach REFIT_SHARE * tol or max_error
+    exceeds tol (``message`` says which)."""
+    surface: BSplineSurface
+    max_error: float
+    intersections: np.ndarray
+    profile_order: np.ndarray
+    guide_order: np.ndarray
+    reversed_profiles: np.ndarray
+    reversed_guides: np.ndarray
+    max_miss: float
+    reparametrised: Tuple[str, ...]
+    converged: bool
+    message: str = ""
+    certified_error: Optional[float] = None
+
+
+def _family(curves: Sequence[Curve], name: str, tol: float, closed_ok: bool = False) -> List[BSplineCurve]:
+    """The curves as polynomial B-splines clamped on [0, 1] (:func:`unit_nurbs`); closed
+    ones (ends within tol) only where ``closed_ok`` and then all of them."""
+    try:
+        curves = list(curves)
+    except TypeError:
+        raise CagdError(f"{name}: expected a sequence of cagd curves, got {type(curves).__name__}") from None
+    if not 2 <= len(curves) <= MAX_CURVES:
+        raise CagdError(f"{name}: need 2 to {MAX_CURVES} curves, got {len(curves)}")
+    out = []
+    for i, c in enumerate(curves):
+        u = unit_nurbs(c, f"{name}[{i}]")
+        if u.is_rational:
+            raise CagdError(f"{name}[{i}]: rational curves are not supported by gordon (the Boolean sum of "
+                            "rational skins is not the rational Gordon surface); pass polynomial curves")
+        out.append(u)
+    closed = [_closed(c, tol) for c in out]
+    if any(closed) and not closed_ok:
+        i = closed.index(True)
+        raise CagdError(f"{name}[{i}]: closed guides are not supported by gordon; pass the closed curves as "
+                        "the profiles (a network closed both ways is not supported either)")
+    if any(closed) and not all(closed):
+        i = closed.index(not closed[0])
+        raise CagdError(f"{name}[{i}]: is {'closed' if closed[i] else 'open'} while {name}[0] is not; "
+                        f"the {name} must be all open or all closed")
+    return out
+
+
+def _closed(c: BSplineCurve, tol: float) -> bool:
+    return bool(np.linalg.norm(c(0.0) - c(1.0)) <= tol)
+
+
+def _rotated(c: BSplineCurve, a: float) -> Tuple[BSplineCurve, float]:
+    """A closed curve (clamped on [0, 1], c(0) ~ c(1)) started at parameter a: w = u - a
+    on [a, 1], u + 1 - a on [0, a], exact (the two pieces of c.split(a), joined at the old
+    start with a knot of multiplicity p, the joint pole the midpoint of c(1) and c(0)).
+    Returns the curve and how far the joint moved (half the closing gap)."""
+    p = c.degree
+    near = np.abs(c.knots - a) <= _SNAP
+    a = float(c.knots[near][0]) if near.any() else a        # split at a knot a few ulps off: at the knot
+    left, right = c.split(a)
+    joint = 0.5 * (right.control_points[-1] + left.control_points[0])
+    moved = float(np.linalg.norm(right.control_points[-1] - joint))
+    P = np.concatenate([right.control_points[:-1], joint[None], left.control_points[1:]])
+    knots = np.concatenate([right.knots[:-1] - a, left.knots[p + 1:] + (1.0 - a)])
+    knots[:p + 1], knots[-p - 1:] = 0.0, 1.0
+    return BSplineCurve(P, p, knots), moved
+
+
+def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol: float):
+    """(u, v, miss, X) arrays (m, n), (m, n), (m, n), (m, n, dim): each profile-guide
+    pair's one meeting point (the midpoint where they miss by up to tol), by the
+    subdivision of :func:`cagd.intersect` on curves prepared once (Bezier pieces), and
+    :func:`cagd.min_distance` where no point is solved within tol."""
+    from ..queries import _subdivision as sd
+    from ..queries.distance import min_distance
+    from ..queries.intersect import _run
+    m, n = len(profiles), len(guides)
+    size = max(float(np.ptp(c.control_points, axis=0).max()) for c in profiles + guides)
+    if tol < INTERSECT_MIN_TOL * size:
+        raise CagdError(f"tol: {tol:g} is below {INTERSECT_MIN_TOL:g} of the network's size {size:.6g}, beyond "
+                        "the precision of doubles there; pass a larger tol")
+    # each curve prepared once for all its pairs (what cagd.intersect does per call)
+    A = [sd.Geometry(f, f"profiles[{i}]") for i, f in enumerate(profiles)]
+    B = [sd.Geometry(g, f"guides[{j}]") for j, g in enumerate(guides)]
+    U, V, miss = np.empty((m, n)), np.empty((m, n)), np.empty((m, n))
+    X = np.empty((m, n, profiles[0].dim))
+    for i, f in enumerate(profiles):
+        for j, g in enumerate(guides):
+            res = _run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
+            if not res.converged:
+                raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
+                                f"({res.message})")
+            if res.overlaps:
+                raise CagdError(f"profiles[{i}], guides[{j}]: the curves overlap along a stretch, "
+                                "not a network crossing")
+            pts = [p for p in res.points if p.residual <= tol]
+            if len(pts) > 1:
+                spread = max(float(np.linalg.norm(q.point - pts[0].point)) for q in pts)
+                if spread > tol:
+                    a = [round(float(np.asarray(q.param_a)), 6) for q in pts]
+                    raise CagdError(f"profiles[{i}], guides[{j}]: meet {len(pts)} times (at profile parameters "
+                                    f"{a}), a network needs exactly one crossing per pair")
+            if pts:
+                best = min(pts, key=lambda p: p.residual)
+                s, t, d = float(np.asarray(best.param_a)), float(np.asarray(best.param_b)), best.residual
+            else:
+                r = min_distance(f, g)
+                s, t, d = float(r.params[0]), float(r.params[1]), float(r.distance)
+                if d > tol:
+                    raise CagdError(f"profiles[{i}], guides[{j}]: do not meet (they miss each other by {d:.3g} "
+                                    f"> tol {tol:g})")
+            U[i, j], V[i, j], miss[i, j] = s, t, d
+            X[i, j] = 0.5 * (f(s) + g(t))
+    return U, V, miss, X
+
+
+def _order(P: np.ndarray, name: str, other: str, index: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Order of the other family along the curves of this one (rows of P, their
+    parameters at the other family's curves) and which rows run backwards."""
+    order = np.argsort(P[0], kind="stable")
+    Q = P[:, order]
+    d = np.diff(Q, axis=1)
+    up, down = np.all(d > 0, axis=1), np.all(d < 0, axis=1)
+    bad = ~(up | down)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise CagdError(f"{name}[{index[i]}]: meets the {other} in another order than {name}[{index[0]}] "
+                        f"(parameters {np.round(P[i], 6).tolist()}): not a grid-like network")
+    return order, down
+
+
+def _reparametrisation(x: np.ndarray, y: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """A monotone function r with r(x_j) = y_j (both increasing from 0 to 1): the C2
+    cubic spline interpolant on averaged knots (Piegl & Tiller 9.2.1) when its B-spline
+    coefficients increase (then r' >= 0: the derivative's coefficients are positive,
+    Piegl & Tiller 3.3), else the monotone C1 cubic of :func:`_pchip`."""
+    deg = min(3, len(x) - 1)
+    knots = kv.averaged(x, deg)
+    coef = np.linalg.solve(basis_matrix(knots, deg, x, len(x)), y)
+    if np.all(np.diff(coef) > 0):
+        spline = BSplineCurve(coef[:, None], deg, knots)
+        return lambda s: np.clip(spline(s)[:, 0], 0.0, 1.0)
+    return _pchip(x, y)
+
+
+def _pchip(x: np.ndarray, y: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """Monotone piecewise cubic Hermite interpolant of increasing data (Fritsch & Carlson
+    1980, the slopes of Fritsch & Butland): a reparametrisation function."""
+    h, delta = np.diff(x), np.diff(y) / np.diff(x)
+    d = np.zeros_like(x)
+    w1, w2 = 2 * h[1:] + h[:-1], h[1:] + 2 * h[:-1]
+    d[1:-1] = (w1 + w2) / (w1 / delta[:-1] + w2 / delta[1:])
+    d[0], d[-1] = delta[0], delta[-1]
+
+    def r(s: np.ndarray) -> np.ndarray:
+        k = np.clip(np.searchsorted(x, s, side="right") - 1, 0, len(h) - 1)
+        t = (s - x[k]) / h[k]
+        h00, h10, h01, h11 = (1 + 2 * t) * (1 - t) ** 2, t * (1 - t) ** 2, t * t * (3 - 2 * t), t * t * (t - 1)
+        return np.clip(h00 * y[k] + h10 * h[k] * d[k] + h01 * y[k + 1] + h11 * h[k] * d[k + 1], 0.0, 1.0)
+    return r
+
+
+def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: float,
+           name: str) -> Tuple[List[BSplineCurve], float, bool]:
+    """Curves c_k reparametrised so that c~_k(new_j) = c_k(old_kj): c~_k ~ c_k o r_k, r_k
+    monotone with r_k(new_j) = old_kj (:func:`_reparametrisation`), fitted by least squares
+    on one common knot vector (the curves' knots mapped by r_k^-1, averaged) with the
+    c_k(old_kj) as equality constraints (Piegl & Tiller 9.4.2, constrained fitting through
+    the Lagrange system), spans halved where the sampled parametric error exceeds
+    REFIT_SHARE * tol. Returns the curves, the largest sampled
+    |c~_k(s) - c_k(r_k(s))| and whether it met REFIT_SHARE * tol."""
+    p = max(c.degree for c in curves)
+    maps = [_reparametrisation(new, o) for o in old]
+    dense = np.linspace(0.0, 1.0, 1025)
+    mapped = []
+    for c, r in zip(curves, maps):
+        c = c.elevate(p - c.degree) if c.degree < p else c
+        inner = c.knots[p + 1:-p - 1]
+        mapped.append(np.interp(inner, r(dense), dense))           # r^-1 of the curve's knots
+    if len({len(t) for t in mapped}) == 1:
+        inner = np.mean(mapped, axis=0)                              # knot by knot
+    else:
+        pool = np.sort(np.concatenate(mapped))
+        k = max(len(t) for t in mapped)
+        inner = np.quantile(pool, np.arange(1, k + 1) / (k + 1))
+    breaks = np.unique(np.concatenate([[0.0], inner, [1.0]]))
+    target = REFIT_SHARE * tol
+    err = np.inf
+    fitted: List[BSplineCurve] = []
+    for _ in range(REFIT_ROUNDS):
+        knots = np.concatenate([np.zeros(p), breaks, np.ones(p)])
+        npoles = len(knots) - p - 1
+        if npoles > REFIT_MAX_POLES:
+            raise CagdError(f"{name}: reparametrising the curves to common intersection parameters needs more "
+                            f"than {REFIT_MAX_POLES} poles for {target:g}; raise tol")
+        frac = (np.arange(REFIT_SAMPLES) + 0.5) / REFIT_SAMPLES
+        s = (breaks[:-1, None] + np.diff(breaks)[:, None] * frac).ravel()
+        chk = (breaks[:-1, None] + np.diff(breaks)[:, None] * (frac + 0.5 / REFIT_SAMPLES)[:-1]).ravel()
+        N, C = basis_matrix(knots, p, s, npoles), basis_matrix(knots, p, new, npoles)
+        ncon = len(new)
+        K = np.zeros((npoles + ncon, npoles + ncon))
+        K[:npoles, :npoles] = N.T @ N
+        K[:npoles, npoles:], K[npoles:, :npoles] = C.T, C
+        rhs = np.concatenate([np.stack([N.T @ c(r(s)) for c, r in zip(curves, maps)], axis=0),
+                              np.stack([c(o) for c, o in zip(curves, old)])], axis=1)   # (count, npoles + ncon, dim)
+        count, dim = rhs.shape[0], rhs.shape[2]
+        try:
+            sol = np.linalg.solve(K, rhs.transpose(1, 0, 2).reshape(npoles + ncon, -1))
+        except np.linalg.LinAlgError:
+            raise CagdError(f"{name}: the reparametrising fit is singular") from None
+        sol = sol.reshape(npoles + ncon, count, dim)
+        at_chk = np.einsum("ka,acd->ckd", basis_matrix(knots, p, chk, npoles), sol[:npoles])
+        dev = np.linalg.norm(at_chk - np.stack([c(r(chk)) for c, r in zip(curves, maps)]), axis=2)
+        err = float(dev.max())
+        fitted = [BSplineCurve(sol[:npoles, k], p, knots) for k in range(count)]
+        if err <= target:
+            return fitted, err, True
+        bad_spans = np.unique(np.searchsorted(breaks, chk[np.any(dev > target, axis=0)], side="right") - 1)
+        breaks = np.unique(np.concatenate([breaks, 0.5 * (breaks[bad_spans] + breaks[bad_spans + 1])]))
+    return fitted, err, False
+
+
+def _skin_coefficients(params: np.ndarray, degree: int) -> Tuple[np.ndarray, np.ndarray]:
+    """Knots (averaged, Piegl & Tiller eq. 9.8) and the inverse collocation matrix of the
+    interpolation at ``params`` (Piegl & Tiller 9.2.1)."""
+    knots = kv.averaged(params, degree)
+    return knots, np.linalg.inv(basis_matrix(knots, degree, params, len(params)))
+
+
+def _compatible_nets(nets: List[Tuple[np.ndarray, int, np.ndarray]]) -> List[Tuple[np.ndarray, int, np.ndarray]]:
+    """Nets (rows, ..., dim) with (degree, knots) along the rows made compatible along
+    that direction: each as one curve with flattened points (compatible_plain, exact)."""
+    curves = [BSplineCurve(P.reshape(P.shape[0], -1), p, k) for P, p, k in nets]
+    out = compatible_plain(curves)
+    return [(c.control_points.reshape((-1,) + P.shape[1:]), c.degree, c.knots) for c, (P, _, _) in zip(out, nets)]
+
+
+def _boolean_sum(profiles: List[BSplineCurve], guides: List[BSplineCurve], us: np.ndarray, vs: np.ndarray,
+                 X: np.ndarray) -> Tuple[BSplineSurface, float, float]:
+    """S = L_f + L_g - T on [0, 1]^2 (profiles and guides each compatible), with exact
+    bounds of max_u |S(u, v_i) - f_i(u)| and max_v |S(u_j, v) - g_j(v)| over all i, j."""
+    m, n = len(profiles), len(guides)
+    du, dv = min(SKIN_DEGREE, n - 1), min(SKIN_DEGREE, m - 1)
+    Ku, Au = _skin_coefficients(us, du)                  # along u, through the guides
+    Kv, Av = _skin_coefficients(vs, dv)                  # along v, through the profiles
+    F = np.stack([c.control_points for c in profiles])  # (m, nu, dim)
+    G = np.stack([c.control_points for c in guides])    # (n, nv, dim)
+    Lf = np.einsum("ai,ikd->kad", Av, F)                 # (nu, m, dim): poles along v interpolate
+    Lg = np.einsum("aj,jkd->akd", Au, G)                 # (n, nv, dim)
+    T = np.einsum("aj,bi,ijd->abd", Au, Av, X)           # (n, m, dim)
+    pf, Uf = profiles[0].degree, profiles[0].knots
+    qg, Vg = guides[0].degree, guides[0].knots
+    # along u: Lf (pf, Uf), Lg and T (du, Ku); then along v: Lf and T (dv, Kv), Lg (qg, Vg)
+    (Lf, pu, U), (Lg, _, _), (T, _, _) = _compatible_nets([(Lf, pf, Uf), (Lg, du, Ku), (T, du, Ku)])
+    sw = [np.swapaxes(a, 0, 1) for a in (Lf, Lg, T)]
+    (Lf, pv, V), (Lg, _, _), (T, _, _) = _compatible_nets([(sw[0], dv, Kv), (sw[1], qg, Vg), (sw[2], dv, Kv)])
+    P = np.swapaxes(Lf + Lg - T, 0, 1)
+    # S(u, v_i) - f_i(u) = sum_j (g_j(v_i) - X_ij) a_j(u), a_j the cardinal splines along u
+    # (Lf(u, v_i) = f_i(u), T(u, v_i) = sum_j X_ij a_j(u)); its poles bound it (convex hull)
+    Gv = np.stack([c(vs) for c in guides], axis=1)      # (m, n, dim): g_j(v_i)
+    Fu = np.stack([c(us) for c in profiles])            # (m, n, dim): f_i(u_j)
+    iso_f = float(np.linalg.norm(np.einsum("aj,ijd->iad", Au, Gv - X), axis=-1).max())
+    iso_g = float(np.linalg.norm(np.einsum("bi,ijd->jbd", Av, Fu - X), axis=-1).max())
+    return BSplineSurface(P, pu, pv, U, V), iso_f, iso_g
+
+
+def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6, *,
+           certify: bool = False) -> GordonSurface:
+    """The Gordon surface through a network of profiles and guides (Gordon 1969; Piegl &
+    Tiller 10.5): S = L_f + L_g - T (module docstring), u along the profiles, v along the
+    guides, on [0, 1]^2, skinned with degree min(3, count - 1) on averaged knots.
+
+    Every profile must cross every guide exactly once (found by :func:`cagd.intersect`;
+    curves missing each other by up to ``tol``, a distance in model units, are accepted
+    and met at the midpoint; ``max_miss`` reports the largest gap), and both ends of
+    every curve must lie on the first and last curve of the other family. The curves may
+    come in any order and direction: they are sorted along profile 0 and guide 0 and
+    reversed as needed (profile 0 keeps its direction). Where the curves of a family meet
+    the other family at parameters that differ by more than REPARAM_SHARE * tol (as
+    points), they are reparametrised approximately onto common parameters
+    (:func:`_refit`); otherwise the curves are used exactly (degree elevation and knot
+    merging) and the surface contains them as iso-curves up to the network's misses. ``max_error`` bounds the
+    distance of the input curves either way (module docstring); ``certify`` measures it
+    by certified closest points too. Rational curves are rejected (CagdError).
+
+    Closed networks: closed profiles (ends within tol; all or none) around open guides
+    give a surface closed in u: every ring is started (split and rejoined exactly, the
+    joint pole the midpoint of its ends) where it meets ``guides[0]``, which becomes the
+    seam S(0, v) = S(1, v) and is repeated at u = 1 in ``guide_order`` and
+    ``intersections`` (n + 1 columns). The skins are not periodic: the surface is in
+    general only C0 across the seam, and it depends on which guide comes first. Closed
+    guides are rejected (pass them as the profiles), and so is a network closed both
+    ways.
+    Bounded: at most MAX_CURVES curves per family and MAX_PAIRS pairs, one bounded :func:`cagd.intersect` per
+    pair, at most REFIT_ROUNDS refits of at most REFIT_MAX_POLES poles.
+
+    Raises:
+        CagdError: fewer than 2 curves in a family (or more than MAX_CURVES, or more
+            than MAX_PAIRS profile-guide pairs), a non-curve, a rational curve, a
+            closed guide, open and closed profiles mixed, a closed network with fewer
+            than 3 guides, curves of different dimensions, tol <= 0, a pair that does
+            not meet within tol, meets more than once or whose intersection search does
+            not settle (naming the pair), a curve meeting the other family in another
+            order or not ending on its first and last curve, a reparametrisation
+            needing more than REFIT_MAX_POLES.
+    """
+    tol = _checks.positive(tol, "tol")
+    F, G = _family(profiles, "profiles", tol, closed_ok=True), _family(guides, "guides", tol)
+    if len({c.dim for c in F + G}) > 1:
+        raise CagdError("profiles, guides: all curves must have the same dimension")
+    if len(F) * len(G) > MAX_PAIRS:
+        raise CagdError(f"profiles, guides: {len(F)} x {len(G)} curves make more than {MAX_PAIRS} pairs to "
+                        "intersect; split the network")
+    inputs = F + G
+    U, V, miss, X = _intersections(F, G, tol)
+    pi, gi = np.arange(len(F)), np.arange(len(G))
+    closed = _closed(F[0], tol)
+    seam = 0.0
+    if closed:      # every profile started where it meets guides[0], that guide repeated at u = 1
+        if len(G) < 3:
+            raise CagdError(f"guides: a closed network needs at least 3 guides, got {len(G)}")
+        for i in range(len(F)):
+            a = float(U[i, 0])
+            if SEAM_SNAP < a < 1.0 - SEAM_SNAP:
+                F[i], gap = _rotated(F[i], a)
+                seam = max(seam, gap)
+            U[i] = np.mod(U[i] - a, 1.0)
+            U[i, 0] = 0.0
+        inner, rev_p = _order(U[:, 1:], "profiles", "guides", pi)
+        gorder = np.concatenate([[0], 1 + inner])
+        F = [c.reversed() if r else c for c, r in zip(F, rev_p)]
+        U[rev_p, 1:] = 1.0 - U[rev_p, 1:]
+        U, V, X, gi = U[:, gorder], V[:, gorder], X[:, gorder], gi[gorder]
+        U = np.concatenate([U, np.ones((len(F), 1))], axis=1)
+        V, X, gi = np.concatenate([V, V[:, :1]], axis=1), np.concatenate([X, X[:, :1]], axis=1), np.append(gi, gi[0])
+        flip_p = np.zeros(len(F), bool)          # reversed already
+    else:
+        gorder, rev_p = _order(U, "profiles", "guides", pi)
+        U, V, X, gi = U[:, gorder], V[:, gorder], X[:, gorder], gi[gorder]
+        flip_p = rev_p
+    porder, rev_g = _order(V.T, "guides", "profiles", gi)
+    U, V, X, pi = U[porder], V[porder], X[porder], pi[porder]
+    rev_p, flip_p = rev_p[porder], flip_p[porder]
+    F = [F[i].reversed() if r else F[i] for i, r in zip(pi, flip_p)]
+    G = [G[j].reversed() if r else G[j] for j, r in zip(gi, rev_g)]
+    U = np.where(flip_p[:, None], 1.0 - U, U)
+    V = np.where(rev_g[None, :], 1.0 - V, V)
+    _ends(F, U, tol, "profiles", "guides", pi, gi)
+    _ends(G, V.T, tol, "guides", "profiles", gi, pi)
+    U[:, 0], U[:, -1], V[0], V[-1] = 0.0, 1.0, 0.0, 1.0
+    us, vs = U.mean(axis=0), V.mean(axis=1)
+    notes: List[str] = []
+    refitted: List[str] = []
+    F, fit_f, ok_f = _compatible_family(F, U, us, tol, "profiles", notes, refitted)
+    G, fit_g, ok_g = _compatible_family(G, V.T, vs, tol, "guides", notes, refitted)
+    ok = ok_f and ok_g
+    S, iso_f, iso_g = _boolean_sum(F, G, us, vs, X)
+    err = max(fit_f + iso_f + seam, fit_g + iso_g)
+    if err > tol:
+        ok = False
+        notes.append(f"max_error {err:.3g} > tol {tol:g}")
+    certified = _certified_error(S, inputs) if certify else None
+    grid = np.stack(np.broadcast_arrays(us[None, :], vs[:, None]), axis=-1)
+    reversed_p = np.zeros(len(pi), bool)
+    reversed_p[pi] = rev_p
+    reversed_g = np.zeros(len(gi), bool)
+    reversed_g[gi] = rev_g
+    return GordonSurface(S, err, grid, pi, gi, reversed_p, reversed_g, float(miss.max()), tuple(refitted), ok,
+                         "; ".join(notes), certified)
+
+
+def _certified_error(surface: BSplineSurface, curves: Sequence[BSplineCurve]) -> float:
+    """Largest certified closest-point distance of samples of the curves from the surface."""
+    from ..queries.closest import closest_point
+    pts = []
+    for c in curves:
+        spans = max(len(np.unique(c.knots)) - 1, 1)
+        pts.append(c(np.linspace(0.0, 1.0, max(ERROR_MIN_SAMPLES, ERROR_SAMPLES * spans))))
+    return float(closest_point(surface, np.concatenate(pts)).distances.max())
+
+
+def _ends(curves: List[BSplineCurve], P: np.ndarray, tol: float, name: str, other: str, index: np.ndarray,
+          other_index: np.ndarray) -> None:
+    """Both ends of every curve lie on the first and last curve of the other family."""
+    for k, c in enumerate(curves):
+        for end, col in ((0.0, 0), (1.0, -1)):
+            gap = float(np.linalg.norm(c(end) - c(P[k, col])))
+            if gap > tol:
+                which = "start" if end == 0.0 else "end"
+                raise CagdError(f"{name}[{index[k]}]: its {which} is {gap:.3g} from where it meets "
+                                f"{other}[{other_index[col]}]; every curve must end on the first and last "
+                                f"curve of the other family")
+
+
+def _compatible_family(curves: List[BSplineCurve], P: np.ndarray, common: np.ndarray, tol: float, name: str,
+                       notes: List[str], refitted: List[str]) -> Tuple[List[BSplineCurve], float, bool]:
+    """The family on one degree and knot vector, meeting the other family at ``common``:
+    exact (compatible_plain) when the parameters P agree to REPARAM_SHARE * tol as
+    points, else refitted (:func:`_refit`)."""
+    moved = max(float(np.linalg.norm(c(common) - c(p), axis=1).max()) for c, p in zip(curves, P))
+    if moved <= REPARAM_SHARE * tol:
+        return compatible_plain(curves), 0.0, True
+    out, err, ok = _refit(curves, P, common, tol, name)
+    refitted.append(name)
+    if not ok:
+        notes.append(f"{name}: the reparametrising fit reached {err:.3g}, not {REFIT_SHARE * tol:g}")
+    return out, err, ok
