@@ -1100,7 +1100,7 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
     Cached by identity (while the object lives) and by content (issue 16: an equal object
     built again, e.g. by ``cq_ext.from_shape`` on every call, finds the same projector):
     the CACHE_OBJECTS most recently used contents are kept."""
-    tier = 0 if points < LIGHT_POINTS else (2 if points >= FINE_POINTS and isinstance(obj, Surface) else 1)
+    tier = 2 if points >= FINE_POINTS and isinstance(obj, Surface) else (0 if points < LIGHT_POINTS else 1)
     try:
         held = _CACHE.get(obj)
     except TypeError:
