@@ -83,7 +83,7 @@ def _prepared(ts: "TrimmedSurface", p: "Projector") -> Tuple["TrimBoundary", np.
         hit = None
     if hit is not None and hit[0] is p:
         return hit[1], hit[2]
-    bd, cls = ts.boundary(), box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
+    bd, cls = ts._image_boundary(), box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
     try:
         _PREPARED[ts] = (p, bd, cls)
     except TypeError:
