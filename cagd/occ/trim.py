@@ -526,8 +526,8 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
                                     f"(error {em.Error()})")
                 edge = em.Edge()
                 known_curve = None if ts.edges is None else ts.edges[i][j]
-                if known_curve is not None:
-                    _attach_curve(builder, edge, known_curve, c, nurbs, tol)
+                if known_curve is not None and not _attach_curve(builder, edge, known_curve, c, nurbs, tol):
+                    edge = BRepBuilderAPI_MakeEdge(pc, geom, v1, v2, a, b).Edge()   # as without: BuildCurves3d
             maker.Add(edge)
             if not maker.IsDone():
                 raise CagdError(f"loops[{i}][{j}]: does not connect to the previous edge (OCCT wire error "
@@ -550,15 +550,16 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
 
 
 def _attach_curve(builder: BRep_Builder, edge, curve: BSplineCurve, pcurve: BSplineCurve, surface: BSplineSurface,
-                  tol: float) -> None:
+                  tol: float) -> bool:
     """Give the edge (built on its pcurve) the known 3-D curve over the pcurve's range
-    (instead of BuildCurves3d's approximation). Where the two agree at the same
-    parameter about as well as the curve and the point set S(c) do (SAME_PARAMETER_RATIO
-    times the distance of S(c(t)) from the curve, measured: a file's edge tolerance), the
-    edge is SameParameter with that tolerance and the pcurve is kept as it is; else (a
-    conic's rational form, parametrised otherwise) BRepLib.SameParameter reparametrises
-    the pcurve against the curve to ``tol`` and sets the edge's tolerance to what it
-    reaches."""
+    (instead of BuildCurves3d's approximation); False where that would change the pcurve
+    by more than ``tol`` (the caller then builds the edge without it). Where the two agree
+    at the same parameter about as well as the curve and the point set S(c) do
+    (SAME_PARAMETER_RATIO times the distance of S(c(t)) from the curve, measured: a
+    file's edge tolerance), the edge is SameParameter with that tolerance and the pcurve
+    is kept as it is; else (a conic's rational form, parametrised otherwise)
+    BRepLib.SameParameter reparametrises the pcurve against the curve, which must reach
+    VERTEX_MARGIN times ``tol``."""
     from ..surfaces.trimmed import _inside_domain, _samples, edge_deviation
     from .convert import to_occ
     a, b = pcurve.domain
@@ -566,14 +567,16 @@ def _attach_curve(builder: BRep_Builder, edge, curve: BSplineCurve, pcurve: BSpl
     uv = pcurve(t)
     want = surface(*_inside_domain(surface, uv[:, 0], uv[:, 1]))
     same = float(np.linalg.norm(curve(t) - want, axis=1).max())
-    builder.UpdateEdge(edge, to_occ(curve), tol)
-    builder.Range(edge, a, b)
     if same <= max(tol, SAME_PARAMETER_RATIO * edge_deviation(curve, t, want)):
         builder.UpdateEdge(edge, to_occ(curve), max(tol, VERTEX_MARGIN * same))
+        builder.Range(edge, a, b)
         builder.SameParameter(edge, True)
-        return
+        return True
+    builder.UpdateEdge(edge, to_occ(curve), tol)
+    builder.Range(edge, a, b)
     builder.SameParameter(edge, False)
     BRepLib.SameParameter_s(edge, tol)
+    return BRep_Tool.SameParameter_s(edge) and BRep_Tool.Tolerance_s(edge) <= VERTEX_MARGIN * tol
 
 
 def _clip_reach(s: BSplineSurface, p: np.ndarray) -> float:

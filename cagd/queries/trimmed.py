@@ -610,6 +610,8 @@ OVERLAP_DEPTH = 7
 OVERLAP_SAMPLES = 3
 #: Gauss-Legendre nodes per direction of a cell's area
 OVERLAP_GAUSS = 2
+#: edge cells halved per level at most (their samples are projected onto b): beyond, they stay edge cells
+MAX_OVERLAP_CELLS = 1 << 15
 
 
 def _surface_of(a: object) -> "Surface":
@@ -659,7 +661,8 @@ def clip_overlap(ov: object, a: object, b: object) -> Optional[object]:
     the faces, or None where nothing of it is on both: a quadtree of cells over
     ``box_a`` (OVERLAP_START per side), each classified at OVERLAP_SAMPLES^2 samples
     (:func:`_on_both`): all on both faces, kept; none, dropped; else halved, down to
-    OVERLAP_DEPTH levels, where it stays an edge cell. The area is the kept cells' plus
+    OVERLAP_DEPTH levels (or while at most MAX_OVERLAP_CELLS are), where it stays an edge
+    cell. The area is the kept cells' plus
     half the edge cells', within half the edge cells' (:func:`_cell_areas`).
     Approximate: a cell whose samples all agree is taken whole (a trim excursion between
     samples is missed), and ``box_b`` is the box of the region's samples' feet on b."""
@@ -675,7 +678,7 @@ def clip_overlap(ov: object, a: object, b: object) -> Optional[object]:
     gu, gv = u0 + (u1 - u0) * e, v0 + (v1 - v0) * e
     I, J = np.meshgrid(np.arange(OVERLAP_START), np.arange(OVERLAP_START), indexing="ij")
     live = np.stack([gu[I.ravel()], gv[J.ravel()], gu[I.ravel() + 1], gv[J.ravel() + 1]], axis=1)
-    kept, edge = [], np.empty((0, 4))
+    kept, edge, depth = [], np.empty((0, 4)), OVERLAP_DEPTH
     for level in range(OVERLAP_DEPTH + 1):
         if not len(live):
             break
@@ -684,8 +687,8 @@ def clip_overlap(ov: object, a: object, b: object) -> Optional[object]:
         ok = _on_both(a, b, uv).reshape(len(live), -1)
         kept.append(live[ok.all(axis=1)])
         mixed = live[ok.any(axis=1) & ~ok.all(axis=1)]
-        if level == OVERLAP_DEPTH:
-            edge = mixed
+        if level == OVERLAP_DEPTH or len(mixed) > MAX_OVERLAP_CELLS:
+            edge, depth = mixed, level
             break
         mid = 0.5 * (mixed[:, :2] + mixed[:, 2:])
         live = np.concatenate([np.stack([mixed[:, 0], mixed[:, 1], mid[:, 0], mid[:, 1]], axis=1),
@@ -707,7 +710,7 @@ def clip_overlap(ov: object, a: object, b: object) -> Optional[object]:
         blo, bhi = foot.min(axis=0), foot.max(axis=0)
         box_b = ((float(blo[0]), float(bhi[0])), (float(blo[1]), float(bhi[1])))
     note = (f"clipped to the trims on cells ({len(inner)} inside, {len(edge)} on a trim's edge at "
-            f"2^-{OVERLAP_DEPTH} of {OVERLAP_START} per side): area within {half:.3g}")
+            f"2^-{depth} of {OVERLAP_START} per side): area within {half:.3g}")
     message = ov.message + "; " + note if ov.message else note                # type: ignore[attr-defined]
     return replace(ov, box_a=box_a, box_b=box_b, message=message, cells_a=_frozen(inner),    # type: ignore[type-var]
                    edge_cells_a=_frozen(edge), area=area, area_error=half)

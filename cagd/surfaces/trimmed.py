@@ -263,6 +263,7 @@ class TrimmedSurface(Surface):
     """
 
     _modified_copy = "build a new TrimmedSurface"
+    edges: "Edges" = None          # (objects pickled before edges existed have none)
 
     def __init__(self, surface: Surface, loops: Sequence[Sequence[Curve]], tol: Optional[float] = None,
                  edges: Optional[Sequence[Sequence[Optional[Curve]]]] = None):

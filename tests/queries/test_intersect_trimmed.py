@@ -165,3 +165,15 @@ def test_an_untrimmed_pair_keeps_its_overlap():
     (u0, u1), (v0, v1) = ov.box_a
     assert (u0, u1, v0, v1) == pytest.approx((0.25, 1.0, 0.0, 1.0), abs=1e-8)
     assert "clipped" not in ov.message
+
+
+def test_the_cell_bound_stops_the_refinement_with_an_honest_error(monkeypatch):
+    """With MAX_OVERLAP_CELLS = 64 the quadtree stops early: fewer, larger edge cells, a
+    larger reported error that still holds the lens area."""
+    import cagd.queries.trimmed as qt
+    monkeypatch.setattr(qt, "MAX_OVERLAP_CELLS", 64)
+    a = disk_on(sheet(0.0, 2.0), 0.0, 2.0, (0.8, 1.0), 0.5)
+    b = disk_on(sheet(0.5, 2.5), 0.5, 2.5, (1.5, 1.0), 0.5)
+    (ov,) = intersect(a, b).overlaps
+    assert len(ov.edge_cells_a) <= 4 * 64 and "2^-" in ov.message and "2^-7" not in ov.message
+    assert abs(ov.area - lens(0.5, 0.7)) <= ov.area_error

@@ -410,3 +410,17 @@ def test_edges_all_none_is_no_edges_and_values_keep_them():
     back = pickle.loads(pickle.dumps(ts))
     assert np.array_equal(back.edges[0][0].control_points, ts.edges[0][0].control_points)
     assert not back.edges[0][0].control_points.flags.writeable
+
+
+def test_composition_across_a_periodic_seam_and_on_a_torus():
+    """A disk across the seam of the periodic tube (u from -0.1 to 0.1: spans found by
+    whole periods) and one on the torus (rational both ways): exact compositions of
+    degree 8, against S(c(t)) at 2001 points to 1e-14 of the size (measured 6.7e-16 and
+    6e-16)."""
+    for s, c in ((periodic_tube(), circle((0.0, 0.5), 0.1)), (cagd.torus(10, 3), circle((0.5, 0.5), 0.3))):
+        ts = TrimmedSurface(s, [[c]])
+        b = ts.boundary()
+        assert b.source == (("composition",),) and b.curves[0][0].degree == 8
+        t = np.linspace(*c.domain, 2001)
+        uv = c(t)
+        assert np.abs(b.curves[0][0](t) - s(uv[:, 0], uv[:, 1])).max() <= 1e-14 * ts.size
