@@ -17,6 +17,13 @@ def circle(center, r, clockwise=False):
     return c.reversed() if clockwise else c
 
 
+def circle3d(center, r):
+    """The 3-D circle (x, y) = centre + r (cos, sin), z = centre's z, in the same rational
+    quadratic form (and parameter) as trim_shapes.circle."""
+    P = np.concatenate([UNIT * r, np.zeros((len(UNIT), 1))], axis=1) + np.asarray(center, float)
+    return BSplineCurve(P, 2, CIRCLE_KNOTS, CIRCLE_WEIGHTS)
+
+
 def line(a, b):
     return BSplineCurve(np.array([a, b], float), 1)
 

@@ -20,13 +20,19 @@ parameters:
 - a REVERSED face gives the surface with u reversed (as :func:`cagd.occ.from_occ` always
   did), the loops mirrored and run backwards, so that the normal is the face's.
 
+Each edge's 3-D curve is kept too (``TrimmedSurface.edges``: :func:`cagd.occ.from_occ`
+of the edge, exact, running like its pcurve, over the pcurve's range), so that
+``boundary()`` gives the file's own edges.
+
 Periodic directions: consecutive pcurves are moved by whole periods to meet, and each
 loop by whole periods into the engine surface's window.
 
 Writing: a face on the engine surface's exact B-spline with one edge per loop curve
 (BRepBuilderAPI_MakeEdge of the Geom2d curve on the surface, sharing vertices), 3-D
-curves by BRepLib.BuildCurves3d_s; curves collapsing to a point become degenerated
-edges, and pairs of pcurves one period apart on the same iso-line a seam edge.
+curves the face's known edge curves (``TrimmedSurface.edges``, e.g. read from a file;
+BRepLib.SameParameter measures the edge's tolerance), else by BRepLib.BuildCurves3d_s;
+curves collapsing to a point become degenerated edges, and pairs of pcurves one period
+apart on the same iso-line a seam edge.
 """
 from __future__ import annotations
 
@@ -65,6 +71,8 @@ CONSTANT_TOL = 1e-12    # relative (parameter box): a pcurve coordinate varying 
 CURVE3D_TOL = 1e-12     # relative (surface size): BuildCurves3d's approximation of the edges' 3-D curves
 MAX_CURVE3D_SEGMENTS = 1000
 MAP_SAMPLES = 7         # points per direction of the map test
+SAME_PARAMETER_RATIO = 2.0  # make_face: a known edge curve this close (times its measured distance from S(c)) to
+#                             S(c(t)) at the same t is SameParameter with its pcurve as it is (see _attach_curve)
 
 
 # --- parameter maps ------------------------------------------------------------------------------
@@ -212,20 +220,43 @@ def _pcurve(edge, face: TopoDS_Face) -> BSplineCurve:
     return out.reversed() if backwards else out
 
 
-def _wires(face: TopoDS_Face) -> List[List[BSplineCurve]]:
-    out = []
+def _edge_curve(edge, pcurve: BSplineCurve) -> Optional[BSplineCurve]:
+    """The edge's 3-D curve as an engine B-spline (exact: :func:`cagd.occ.from_occ` of
+    the edge, run backwards for a REVERSED edge like its pcurve), over the pcurve's
+    range (affinely, where OCCT's 3-D range differs: an edge not SameRange); None for a
+    degenerated edge, one without a 3-D curve, or one OCCT cannot convert."""
+    if BRep_Tool.Degenerated_s(edge) or BRep_Tool.Curve_s(edge, 0.0, 0.0) is None:
+        return None
+    from .convert import from_occ
+    try:
+        curve = from_occ(edge)
+    except CagdError:
+        return None
+    if not isinstance(curve, BSplineCurve) or curve.dim != 3:
+        return None
+    curve = curve.clamped() if curve.periodic else curve
+    a, b = pcurve.domain
+    return curve if curve.domain == (a, b) else curve.reparametrized(a, b)
+
+
+def _wires(face: TopoDS_Face) -> Tuple[List[List[BSplineCurve]], List[List[Optional[BSplineCurve]]]]:
+    """(loops of pcurves, their edges' 3-D curves (:func:`_edge_curve`)), wire by wire."""
+    out, edges = [], []
     ex = TopExp_Explorer(face, TopAbs_WIRE)
     while ex.More():
         wire = as_wire(ex.Current())
-        loop = []
+        loop, row = [], []
         wex = BRepTools_WireExplorer(wire, face)
         while wex.More():
-            loop.append(_pcurve(wex.Current(), face))
+            pc = _pcurve(wex.Current(), face)
+            loop.append(pc)
+            row.append(_edge_curve(wex.Current(), pc))
             wex.Next()
         if loop:
             out.append(loop)
+            edges.append(row)
         ex.Next()
-    return out
+    return out, edges
 
 
 def _crossings_of(c: BSplineCurve, k: int, knots: np.ndarray) -> np.ndarray:
@@ -330,7 +361,7 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
     (reversed) itself when the face's boundary is its parameter box. ``slack``: the
     tolerance of an approximated surface (offsets)."""
     fwd = as_face(face.Oriented(TopAbs_FORWARD))
-    wires = _wires(fwd)
+    wires, edges = _wires(fwd)
     surface = engine.reversed("u") if reversed_ else engine
     if not wires:
         return surface
@@ -351,6 +382,7 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
         return surface
     if reversed_:
         loops = [[_mirrored(c, a0 + a1) for c in lp[::-1]] for lp in loops]
+        edges = [[None if e is None else e.reversed() for e in row[::-1]] for row in edges]
     # the loops' sample points (_samples) decide how far they leave the box and which is
     # the outer one; their control hulls bound both, and the samples are computed only
     # where the bounds do not decide (the result is the same either way)
@@ -373,7 +405,7 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
         outer = int(np.argmax(boxes))
     order = [outer] + [i for i in range(len(loops)) if i != outer]
     tol = max(CLOSURE_TOL * size, 2.0 * gap, 2.0 * over)
-    return TrimmedSurface(surface, [loops[i] for i in order], tol=tol)
+    return TrimmedSurface(surface, [loops[i] for i in order], tol=tol, edges=[edges[i] for i in order])
 
 
 #: relative (to the largest coordinate of a curve's control points, times its weights'
@@ -493,6 +525,9 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
                     raise CagdError(f"loops[{i}][{j}]: OCCT could not make an edge on the surface "
                                     f"(error {em.Error()})")
                 edge = em.Edge()
+                known_curve = None if ts.edges is None else ts.edges[i][j]
+                if known_curve is not None and not _attach_curve(builder, edge, known_curve, c, nurbs, tol):
+                    edge = BRepBuilderAPI_MakeEdge(pc, geom, v1, v2, a, b).Edge()   # as without: BuildCurves3d
             maker.Add(edge)
             if not maker.IsDone():
                 raise CagdError(f"loops[{i}][{j}]: does not connect to the previous edge (OCCT wire error "
@@ -512,6 +547,36 @@ def make_trimmed_face(ts: TrimmedSurface, tol: float = 1e-7) -> TopoDS_Face:
         if not BRepCheck_Analyzer(face).IsValid():
             raise CagdError("surface: OCCT reports the trimmed face as invalid (BRepCheck), also after ShapeFix")
     return face
+
+
+def _attach_curve(builder: BRep_Builder, edge, curve: BSplineCurve, pcurve: BSplineCurve, surface: BSplineSurface,
+                  tol: float) -> bool:
+    """Give the edge (built on its pcurve) the known 3-D curve over the pcurve's range
+    (instead of BuildCurves3d's approximation); False where that would change the pcurve
+    by more than ``tol`` (the caller then builds the edge without it). Where the two agree
+    at the same parameter about as well as the curve and the point set S(c) do
+    (SAME_PARAMETER_RATIO times the distance of S(c(t)) from the curve, measured: a
+    file's edge tolerance), the edge is SameParameter with that tolerance and the pcurve
+    is kept as it is; else (a conic's rational form, parametrised otherwise)
+    BRepLib.SameParameter reparametrises the pcurve against the curve, which must reach
+    VERTEX_MARGIN times ``tol``."""
+    from ..surfaces.trimmed import _inside_domain, _samples, edge_deviation
+    from .convert import to_occ
+    a, b = pcurve.domain
+    t = _samples([pcurve, curve])
+    uv = pcurve(t)
+    want = surface(*_inside_domain(surface, uv[:, 0], uv[:, 1]))
+    same = float(np.linalg.norm(curve(t) - want, axis=1).max())
+    if same <= max(tol, SAME_PARAMETER_RATIO * edge_deviation(curve, t, want)):
+        builder.UpdateEdge(edge, to_occ(curve), max(tol, VERTEX_MARGIN * same))
+        builder.Range(edge, a, b)
+        builder.SameParameter(edge, True)
+        return True
+    builder.UpdateEdge(edge, to_occ(curve), tol)
+    builder.Range(edge, a, b)
+    builder.SameParameter(edge, False)
+    BRepLib.SameParameter_s(edge, tol)
+    return BRep_Tool.SameParameter_s(edge) and BRep_Tool.Tolerance_s(edge) <= VERTEX_MARGIN * tol
 
 
 def _clip_reach(s: BSplineSurface, p: np.ndarray) -> float:

@@ -144,7 +144,7 @@ def _boundary(ts: Any, tol: float) -> Any:
     except TypeError:
         cache = {}
     if fit not in cache:
-        cache[fit] = ts.boundary(fit)
+        cache[fit] = ts._image_boundary(fit)
     return cache[fit]
 
 

@@ -6,7 +6,7 @@ subdivision, merged into connected parameter boxes whose edges are moved out by
 bisection to where the surfaces separate, and reported as :class:`SurfaceOverlap`."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
 import numpy as np
@@ -26,11 +26,22 @@ class SurfaceOverlap:
     """Coincident pieces of two surfaces: ``box_a`` = ((u0, u1), (v0, v1)) on a where
     a lies on b within tol, ``box_b`` the parameter box of the same piece on b (the
     bounding box of the projected samples; None for a plane). The boxes are grown until
-    the distance reaches tol (``converged``; ``message`` says otherwise)."""
+    the distance reaches tol (``converged``; ``message`` says otherwise).
+
+    Clipped to trimmed faces (:func:`cagd.queries.trimmed.clip_to_trims`), the region is
+    the box's part inside both trims, as parameter cells of a: ``cells_a`` (K, 4) rows
+    (u0, v0, u1, v1) inside both trims, ``edge_cells_a`` those a trim boundary crosses
+    (at the smallest cell size), ``area`` its area on a (inside cells plus half the edge
+    cells) within ``area_error`` (half the edge cells' area); the boxes are then the
+    region's bounding boxes. None for an overlap of untrimmed surfaces."""
     box_a: Tuple[Tuple[float, float], Tuple[float, float]]
     box_b: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]
     converged: bool = True
     message: str = ""
+    cells_a: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
+    edge_cells_a: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
+    area: Optional[float] = None
+    area_error: float = 0.0
 
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int = _N) -> np.ndarray:

@@ -120,8 +120,9 @@ def intersect(a: Union[Curve, Surface, Plane], b: Union[Curve, Surface, Plane, N
     Surface–plane and surface–surface requests go to
     :mod:`cagd.queries.intersect_surfaces` (branches in ``curves``). A
     :class:`cagd.TrimmedSurface` is intersected as its face: the untrimmed answer with
-    points outside the trim dropped and branches cut where they leave it (those ends
-    'trim'; :func:`cagd.queries.trimmed.clip_to_trims`).
+    points outside the trim dropped, branches cut where they leave it (those ends
+    'trim') and overlaps restricted to their cells on both faces, with their area
+    (:func:`cagd.queries.trimmed.clip_to_trims`).
 
     Raises:
         CagdError: not curves/surfaces/planes, two planes, different dimensions,

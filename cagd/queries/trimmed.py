@@ -83,7 +83,7 @@ def _prepared(ts: "TrimmedSurface", p: "Projector") -> Tuple["TrimBoundary", np.
         hit = None
     if hit is not None and hit[0] is p:
         return hit[1], hit[2]
-    bd, cls = ts.boundary(), box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
+    bd, cls = ts._image_boundary(), box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
     try:
         _PREPARED[ts] = (p, bd, cls)
     except TypeError:
@@ -584,8 +584,8 @@ def _joined(a: "BSplineCurve", b: "BSplineCurve") -> "BSplineCurve":
 def clip_to_trims(res: "IntersectionResult", a: object, b: object) -> "IntersectionResult":
     """An intersection of the untrimmed surfaces restricted to the faces: points whose
     parameters lie outside a trim are dropped, branches cut where they leave a trim
-    (their ends there 'trim'); overlaps are kept as found on the untrimmed surfaces (the
-    message says so)."""
+    (their ends there 'trim'), overlaps restricted to their parts on both faces
+    (:func:`clip_overlap`; dropped where none is left)."""
     from dataclasses import replace
     from ..surfaces.trimmed import TrimmedSurface
 
@@ -597,10 +597,129 @@ def clip_to_trims(res: "IntersectionResult", a: object, b: object) -> "Intersect
 
     points = tuple(p for p in res.points if on(a, p.param_a) and on(b, p.param_b))
     curves = tuple(piece for branch in res.curves for piece in _clip_branch(branch, a, b))
-    message = res.message
-    if res.overlaps:
-        message = (message + "; " if message else "") + "overlaps are those of the untrimmed surfaces (not clipped)"
-    return replace(res, points=points, curves=curves, message=message)
+    overlaps = tuple(o for o in (clip_overlap(ov, a, b) for ov in res.overlaps) if o is not None)
+    return replace(res, points=points, curves=curves, overlaps=overlaps)
 
 
-__all__ = ["closest_on_trimmed", "box_classes", "clip_to_trims"]
+# --- overlaps clipped to the trims -------------------------------------------------------------------
+#: cells per side of the overlap box at the first level of the clipping quadtree
+OVERLAP_START = 16
+#: halvings of the cells a trim boundary crosses (the smallest cells 2^-OVERLAP_DEPTH of the first)
+OVERLAP_DEPTH = 7
+#: samples per side of a cell (corners, edge midpoints and centre) classified against the trims
+OVERLAP_SAMPLES = 3
+#: Gauss-Legendre nodes per direction of a cell's area
+OVERLAP_GAUSS = 2
+#: edge cells halved per level at most (their samples are projected onto b): beyond, they stay edge cells
+MAX_OVERLAP_CELLS = 1 << 15
+
+
+def _surface_of(a: object) -> "Surface":
+    """The (untrimmed) surface of a face or surface."""
+    from typing import cast
+    from ..surfaces.trimmed import TrimmedSurface
+    return a.untrimmed if isinstance(a, TrimmedSurface) else cast("Surface", a)
+
+
+def _on_both(a: object, b: object, uv: np.ndarray) -> np.ndarray:
+    """Whether the points S_a(uv) of a's surface are on both faces: uv inside a's trim,
+    and the point's foot on b's surface (a certified closest point) inside b's trim."""
+    from ..surfaces.trimmed import TrimmedSurface
+    from .closest import closest_point
+    ok = np.ones(len(uv), dtype=bool)
+    if isinstance(a, TrimmedSurface):
+        ok &= a.contains(uv[:, 0], uv[:, 1])
+    if isinstance(b, TrimmedSurface) and ok.any():
+        k = np.flatnonzero(ok)
+        surface = _surface_of(a)
+        foot = closest_point(b.untrimmed, surface(*_on_domain(surface, uv[k]).T)).params
+        ok[k] = b.contains(foot[:, 0], foot[:, 1])
+    return ok
+
+
+def _cell_areas(surface: "Surface", cells: np.ndarray) -> np.ndarray:
+    """Areas int |S_u x S_v| du dv of parameter cells (K, 4) (u0, v0, u1, v1), by
+    OVERLAP_GAUSS x OVERLAP_GAUSS Gauss-Legendre points (exact for a bilinear patch)."""
+    if not len(cells):
+        return np.zeros(0)
+    x, w = np.polynomial.legendre.leggauss(OVERLAP_GAUSS)
+    s = 0.5 * (x + 1.0)
+    lo, hi = cells[:, :2], cells[:, 2:]
+    U = lo[:, None, None, 0] + (hi - lo)[:, None, None, 0] * s[None, :, None]
+    V = lo[:, None, None, 1] + (hi - lo)[:, None, None, 1] * s[None, None, :]
+    shape = (len(cells), OVERLAP_GAUSS, OVERLAP_GAUSS)
+    U, V = np.broadcast_to(U, shape), np.broadcast_to(V, shape)
+    uv = _on_domain(surface, np.stack([U.ravel(), V.ravel()], axis=1))
+    d = surface.derivatives(uv[:, 0], uv[:, 1], 1, 1)
+    jac = np.linalg.norm(np.cross(d[1, 0], d[0, 1]), axis=-1).reshape(U.shape)
+    weights = 0.25 * np.outer(w, w)
+    return np.einsum("kij,ij->k", jac, weights) * np.prod(hi - lo, axis=1)
+
+
+def clip_overlap(ov: object, a: object, b: object) -> Optional[object]:
+    """An overlap of the untrimmed surfaces (a :class:`SurfaceOverlap`) restricted to
+    the faces, or None where nothing of it is on both: a quadtree of cells over
+    ``box_a`` (OVERLAP_START per side), each classified at OVERLAP_SAMPLES^2 samples
+    (:func:`_on_both`): all on both faces, kept; none, dropped; else halved, down to
+    OVERLAP_DEPTH levels (or while at most MAX_OVERLAP_CELLS are), where it stays an edge
+    cell. The area is the kept cells' plus
+    half the edge cells', within half the edge cells' (:func:`_cell_areas`).
+    Approximate: a cell whose samples all agree is taken whole (a trim excursion between
+    samples is missed), and ``box_b`` is the box of the region's samples' feet on b."""
+    from dataclasses import replace
+    from ..surfaces.trimmed import TrimmedSurface
+    from .closest import closest_point
+    box = ov.box_a                                                           # type: ignore[attr-defined]
+    surface = _surface_of(a)
+    s = np.linspace(0.0, 1.0, OVERLAP_SAMPLES)
+    grid = np.stack(np.meshgrid(s, s, indexing="ij"), axis=-1).reshape(-1, 2)
+    e = np.linspace(0.0, 1.0, OVERLAP_START + 1)
+    (u0, u1), (v0, v1) = box
+    gu, gv = u0 + (u1 - u0) * e, v0 + (v1 - v0) * e
+    I, J = np.meshgrid(np.arange(OVERLAP_START), np.arange(OVERLAP_START), indexing="ij")
+    live = np.stack([gu[I.ravel()], gv[J.ravel()], gu[I.ravel() + 1], gv[J.ravel() + 1]], axis=1)
+    kept, edge, depth = [], np.empty((0, 4)), OVERLAP_DEPTH
+    for level in range(OVERLAP_DEPTH + 1):
+        if not len(live):
+            break
+        lo, hi = live[:, :2], live[:, 2:]
+        uv = (lo[:, None, :] + (hi - lo)[:, None, :] * grid[None]).reshape(-1, 2)
+        ok = _on_both(a, b, uv).reshape(len(live), -1)
+        kept.append(live[ok.all(axis=1)])
+        mixed = live[ok.any(axis=1) & ~ok.all(axis=1)]
+        if level == OVERLAP_DEPTH or len(mixed) > MAX_OVERLAP_CELLS:
+            edge, depth = mixed, level
+            break
+        mid = 0.5 * (mixed[:, :2] + mixed[:, 2:])
+        live = np.concatenate([np.stack([mixed[:, 0], mixed[:, 1], mid[:, 0], mid[:, 1]], axis=1),
+                               np.stack([mid[:, 0], mixed[:, 1], mixed[:, 2], mid[:, 1]], axis=1),
+                               np.stack([mixed[:, 0], mid[:, 1], mid[:, 0], mixed[:, 3]], axis=1),
+                               np.stack([mid[:, 0], mid[:, 1], mixed[:, 2], mixed[:, 3]], axis=1)])
+    inner = np.concatenate(kept) if kept else np.empty((0, 4))
+    if not len(inner) and not len(edge):
+        return None
+    half = 0.5 * float(_cell_areas(surface, edge).sum())
+    area = float(_cell_areas(surface, inner).sum()) + half
+    region = np.concatenate([inner, edge])
+    lo, hi = region[:, :2].min(axis=0), region[:, 2:].max(axis=0)
+    box_a = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
+    box_b = ov.box_b                                                         # type: ignore[attr-defined]
+    if box_b is not None and isinstance(b, TrimmedSurface):
+        centres = 0.5 * (region[:, :2] + region[:, 2:])
+        foot = closest_point(b.untrimmed, surface(*_on_domain(surface, centres).T)).params
+        blo, bhi = foot.min(axis=0), foot.max(axis=0)
+        box_b = ((float(blo[0]), float(bhi[0])), (float(blo[1]), float(bhi[1])))
+    note = (f"clipped to the trims on cells ({len(inner)} inside, {len(edge)} on a trim's edge at "
+            f"2^-{depth} of {OVERLAP_START} per side): area within {half:.3g}")
+    message = ov.message + "; " + note if ov.message else note                # type: ignore[attr-defined]
+    return replace(ov, box_a=box_a, box_b=box_b, message=message, cells_a=_frozen(inner),    # type: ignore[type-var]
+                   edge_cells_a=_frozen(edge), area=area, area_error=half)
+
+
+def _frozen(x: np.ndarray) -> np.ndarray:
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    x.setflags(write=False)
+    return x
+
+
+__all__ = ["closest_on_trimmed", "box_classes", "clip_to_trims", "clip_overlap"]

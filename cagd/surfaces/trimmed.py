@@ -68,6 +68,12 @@ MAX_AREA_INTERVALS = 1 << 14   # live boundary intervals of the adaptive area ru
 #                                could double them: a face of wing_fuselage.step ran for minutes)
 BOUNDARY_TOL = 1e-9        # default 3-D accuracy of boundary() approximations, relative to the surface's size
 MAX_FIT_PIECES = 1 << 12   # cubic pieces per boundary curve at most
+MAX_COMPOSED_DEGREE = 24   # boundary(): the exact composition S(c(t)) (degree d (p + q)) up to this degree, else a fit
+COMPOSITION_TOL = 1e-12    # relative (surface size): a composition must reproduce S(c(t)) at the check points to this
+COMPOSITION_GAP = 1e-12    # relative (pcurve range): a knot crossing this close to a pcurve break splits nothing
+EDGE_RANGE_TOL = 1e-9      # relative (pcurve range): an edge curve's parameter range must be its pcurve's to this
+BOUNDARY_SAMPLES = 8       # points per span (pcurve and image) where boundary() measures |image - S(c(t))|
+PROJECTION_STEPS = 12      # Newton steps projecting S(c(t)) onto an edge curve (its own parametrisation)
 TESSELLATION_POINTS = 24   # default interior grid points per direction of tessellate()
 MAX_TESSELLATION_POINTS = 200
 
@@ -92,16 +98,29 @@ class AreaResult:
 @dataclass(frozen=True)
 class TrimBoundary:
     """The 3-D boundary of a trimmed surface: ``curves[i][j]`` the image of
-    ``loops[i][j]``; ``exact[i][j]`` True where it is the surface's exact iso-curve
-    (a pcurve affine at constant u or v), else a C1 cubic fit of S(c(t)) (the same
-    parameter t) whose measured error is at most ``error`` (the largest over the
-    fits, at 7 points per cubic piece); ``converged`` says every fit met ``tol``."""
+    ``loops[i][j]`` over its parameter range, running the same way; ``source[i][j]``
+    what it is:
+
+    - ``"edge"``: the face's own 3-D edge curve (:attr:`TrimmedSurface.edges`, e.g. read
+      from a STEP/IGES file), in its own parametrisation;
+    - ``"iso"``: the surface's exact iso-curve (a pcurve affine at constant u or v);
+    - ``"composition"``: the exact composition S(c(t)) (:func:`_compose`, the same t);
+    - ``"fit"``: a C1 cubic fit of S(c(t)) (the same t) within ``tol``.
+
+    ``exact[i][j]`` is True for iso-curves and compositions. ``deviation[i][j]``: the
+    measured distance of the curve from S(c(t)) (at BOUNDARY_SAMPLES points per span;
+    for an edge the distance of S(c(t)) from the edge curve, projected onto it: the
+    file's edge tolerance, measured). ``error``: the largest deviation of the fits,
+    ``edge_error`` that of the edges; ``converged``: every fit met ``tol``."""
     curves: Tuple[Tuple[BSplineCurve, ...], ...]
     exact: Tuple[Tuple[bool, ...], ...]
     error: float
     tol: float
     converged: bool
     message: str
+    source: Tuple[Tuple[str, ...], ...] = ()
+    deviation: Tuple[Tuple[float, ...], ...] = ()
+    edge_error: float = 0.0
 
 
 # --- Bezier pieces in homogeneous form (x w, y w, w) ----------------------------------------
@@ -224,6 +243,12 @@ class TrimmedSurface(Surface):
             how far loops may leave a bounded direction of the domain; default
             CLOSURE_TOL times the domain's size. Gaps up to it are closed by straight
             chords in classification and area.
+        edges: optional, parallel to ``loops``: ``edges[i][j]`` the 3-D curve of the
+            face's edge along ``loops[i][j]`` (an engine curve in the surface's space over
+            the pcurve's parameter range, running the same way; e.g. a file's edge curve),
+            or None where none is known. :meth:`boundary` returns them, and
+            :func:`cagd.occ.make_face` uses them as the edges' 3-D curves. How far an edge
+            lies from S(c(t)) is measured by :meth:`boundary`, not checked here.
 
     Orientation: a loop that runs the wrong way (an outer loop clockwise, a hole
     counter-clockwise, by the sign of its enclosed area) is reversed (auto-fix);
@@ -233,12 +258,15 @@ class TrimmedSurface(Surface):
         CagdError: naming the loop and curve: not a 2-D curve, a gap above ``tol``
             (stated with its size), a curve leaving the domain, a loop enclosing no area,
             curves of different loops (or of one loop) crossing, a hole outside the outer
-            loop or inside another hole.
+            loop or inside another hole; ``edges[i][j]`` not a curve of the surface's
+            dimension or not over its pcurve's parameter range (to EDGE_RANGE_TOL).
     """
 
     _modified_copy = "build a new TrimmedSurface"
+    edges: "Edges" = None          # (objects pickled before edges existed have none)
 
-    def __init__(self, surface: Surface, loops: Sequence[Sequence[Curve]], tol: Optional[float] = None):
+    def __init__(self, surface: Surface, loops: Sequence[Sequence[Curve]], tol: Optional[float] = None,
+                 edges: Optional[Sequence[Sequence[Optional[Curve]]]] = None):
         if not isinstance(surface, Surface) or isinstance(surface, TrimmedSurface):
             raise CagdError(f"surface: expected an engine Surface (not a TrimmedSurface), got "
                             f"{type(surface).__name__}")
@@ -267,15 +295,17 @@ class TrimmedSurface(Surface):
         prime_bezier_nets([c for chain in chains for c in chain])     # all Bezier nets in one pass
         _check_closed(chains, tol)
         _check_domain(surface, chains, tol)
-        self._fill(surface, tuple(chains), float(tol), ())
+        self._fill(surface, tuple(chains), float(tol), (), _checked_edges(surface, chains, edges))
         self._validate()
 
     def _fill(self, surface: Surface, loops: Tuple[Tuple[BSplineCurve, ...], ...], tol: float,
-              reoriented: Tuple[int, ...]) -> None:
+              reoriented: Tuple[int, ...], edges: "Edges" = None) -> None:
         self.surface = surface
         self.loops = loops
         self.tol = tol
         self.reoriented = reoriented
+        #: None, or per loop curve its 3-D edge curve (None where unknown), see the class docstring
+        self.edges = edges
         self.dim = surface.dim
         self.periodic_u, self.periodic_v = surface.periodic_u, surface.periodic_v
         self._flattening: Optional[_Flattened] = None
@@ -293,6 +323,9 @@ class TrimmedSurface(Surface):
         if fixed:
             loops = tuple(_reversed_loop(loop) if i in fixed else loop for i, loop in enumerate(self.loops))
             object.__setattr__(self, "loops", loops)
+            if self.edges is not None:
+                edges = tuple(_reversed_edges(e) if i in fixed else e for i, e in enumerate(self.edges))
+                object.__setattr__(self, "edges", edges)
             object.__setattr__(self, "reoriented", tuple(fixed))
             self._flattening = None
             flat = self._flattened()
@@ -330,7 +363,9 @@ class TrimmedSurface(Surface):
         return self.surface.to_nurbs()
 
     def _affine(self, A: np.ndarray, b: np.ndarray) -> "TrimmedSurface":
-        return TrimmedSurface._unchecked(self.surface._affine(A, b), self.loops, self.tol, self.reoriented)
+        edges = None if self.edges is None else \
+            tuple(tuple(None if e is None else e._affine(A, b) for e in row) for row in self.edges)
+        return TrimmedSurface._unchecked(self.surface._affine(A, b), self.loops, self.tol, self.reoriented, edges)
 
     @property
     def size(self) -> float:
@@ -389,12 +424,21 @@ class TrimmedSurface(Surface):
 
     # --- boundary ------------------------------------------------------------------------------
     def boundary(self, tol: Optional[float] = None) -> TrimBoundary:
-        """The 3-D boundary curves S(c(t)) of every loop curve c (see
-        :class:`TrimBoundary`): exact iso-curves where c is affine at constant u or v,
-        else C1 cubic fits within ``tol`` (default BOUNDARY_TOL times the surface's
-        size; a 3-D distance)."""
+        """The 3-D boundary curve of every loop curve c (see :class:`TrimBoundary`): its
+        edge curve where :attr:`edges` has one (its distance from S(c(t)) measured), else
+        the exact iso-curve where c is affine at constant u or v, else the exact
+        composition S(c(t)) (:func:`_compose`) up to MAX_COMPOSED_DEGREE, else a C1 cubic
+        fit within ``tol`` (default BOUNDARY_TOL times the surface's size; a 3-D
+        distance)."""
         tol = BOUNDARY_TOL * self.size if tol is None else _checks.positive(tol, "tol")
         return _boundary(self, tol)
+
+    def _image_boundary(self, tol: Optional[float] = None) -> TrimBoundary:
+        """The images S(c(t)) in c's own parameter t (iso-curves, else cubic fits within
+        ``tol``; no edge curves, no high-degree compositions): what the distance queries
+        join and project onto (they map a parameter on the image back to (u, v))."""
+        tol = BOUNDARY_TOL * self.size if tol is None else _checks.positive(tol, "tol")
+        return _boundary(self, tol, images_only=True)
 
     # --- tessellation --------------------------------------------------------------------------
     def tessellate(self, count: int = TESSELLATION_POINTS) -> Tuple[np.ndarray, np.ndarray]:
@@ -457,6 +501,48 @@ def _check_domain(surface: Surface, chains: List[Tuple[BSplineCurve, ...]], tol:
 
 def _reversed_loop(loop: Tuple[BSplineCurve, ...]) -> Tuple[BSplineCurve, ...]:
     return tuple(c.reversed() for c in loop[::-1])
+
+
+Edges = Optional[Tuple[Tuple[Optional[BSplineCurve], ...], ...]]
+
+
+def _reversed_edges(row: Tuple[Optional[BSplineCurve], ...]) -> Tuple[Optional[BSplineCurve], ...]:
+    return tuple(None if e is None else e.reversed() for e in row[::-1])
+
+
+def _checked_edges(surface: Surface, chains: List[Tuple[BSplineCurve, ...]],
+                   edges: Optional[Sequence[Sequence[Optional[Curve]]]]) -> Edges:
+    """``edges`` as clamped NURBS on their pcurves' exact ranges (an end within
+    EDGE_RANGE_TOL of the range is put on it), or None (no edge known anywhere)."""
+    if edges is None:
+        return None
+    if isinstance(edges, (Curve, str, bytes)) or not hasattr(edges, "__len__") or len(edges) != len(chains):
+        raise CagdError(f"edges: expected one sequence of edge curves (or None) per loop ({len(chains)})")
+    out, known = [], False
+    for i, (row, chain) in enumerate(zip(edges, chains)):
+        if isinstance(row, (Curve, str, bytes)) or not hasattr(row, "__len__") or len(row) != len(chain):
+            raise CagdError(f"edges[{i}]: expected one edge curve (or None) per curve of loops[{i}] ({len(chain)})")
+        items: List[Optional[BSplineCurve]] = []
+        for j, (e, c) in enumerate(zip(row, chain)):
+            if e is None:
+                items.append(None)
+                continue
+            if not isinstance(e, Curve):
+                raise CagdError(f"edges[{i}][{j}]: expected an engine curve or None, got {type(e).__name__}")
+            if e.dim != surface.dim:
+                raise CagdError(f"edges[{i}][{j}]: a {e.dim}-D curve for a {surface.dim}-D surface")
+            n = e.to_nurbs()
+            n = n.clamped() if n.periodic else n
+            (a, b), (ea, eb) = c.domain, n.domain
+            if max(abs(ea - a), abs(eb - b)) > EDGE_RANGE_TOL * (b - a):
+                raise CagdError(f"edges[{i}][{j}]: runs over [{ea:.12g}, {eb:.12g}], its pcurve loops[{i}][{j}] "
+                                f"over [{a:.12g}, {b:.12g}] (an edge curve must share its pcurve's range)")
+            if (ea, eb) != (a, b):
+                n = n.reparametrized(a, b)
+            items.append(n)
+            known = True
+        out.append(tuple(items))
+    return tuple(out) if known else None
 
 
 class _Flattened:
@@ -850,6 +936,8 @@ def _knot_crossings(ts: TrimmedSurface, c: BSplineCurve, a: float, b: float) -> 
         if not len(lines):
             continue
         f = P[:, k][:, None] - lines[None, :]
+        on = np.nonzero(f[1:-1] == 0.0)[0]                   # a sample on a knot line: a crossing there
+        found.append(t[1:-1][on])
         i, j = np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)
         lo, hi, level, flo = t[i], t[i + 1], lines[j], f[i, j]
         for _ in range(MAX_BISECTIONS):
@@ -1089,34 +1177,185 @@ def hermite_fit(f: Callable[[np.ndarray], np.ndarray], df: Callable[[np.ndarray]
     return BSplineCurve(P, p, knots), error, ok
 
 
-def _boundary(ts: TrimmedSurface, tol: float) -> TrimBoundary:
+# --- exact composition S(c(t)) ------------------------------------------------------------------
+def _bernstein_product(f: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """Bernstein coefficients (..., m + n + 1) of the product of polynomials in Bernstein
+    form of degrees m and n (..., m + 1), (..., n + 1) (broadcast over leading axes):
+    h_k = sum_(i + j = k) C(m, i) C(n, j) / C(m + n, k) f_i g_j (Farouki & Rajan 1988)."""
+    from math import comb
+    m, n = f.shape[-1] - 1, g.shape[-1] - 1
+    fs = f * np.array([comb(m, i) for i in range(m + 1)], dtype=np.float64)
+    gs = g * np.array([comb(n, j) for j in range(n + 1)], dtype=np.float64)
+    shape = np.broadcast_shapes(f.shape[:-1], g.shape[:-1]) + (m + n + 1,)
+    h = np.zeros(shape)
+    for i in range(m + 1):
+        h[..., i:i + n + 1] += fs[..., i:i + 1] * gs
+    return h / np.array([comb(m + n, k) for k in range(m + n + 1)], dtype=np.float64)
+
+
+def _basis_products(s: np.ndarray, r: np.ndarray, p: int) -> np.ndarray:
+    """(k, p + 1, d p + 1): C(p, i) s^i r^(p - i) for i = 0..p, s and r (k, d + 1) in
+    Bernstein form (the homogenized Bernstein basis W^p B_i^p(s / W), s + r = W)."""
+    from math import comb
+    powers_s, powers_r = [np.ones_like(s[:, :1])], [np.ones_like(r[:, :1])]
+    for _ in range(p):
+        powers_s.append(_bernstein_product(powers_s[-1], s))
+        powers_r.append(_bernstein_product(powers_r[-1], r))
+    return np.stack([comb(p, i) * _bernstein_product(powers_s[i], powers_r[p - i]) for i in range(p + 1)], axis=1)
+
+
+def _span_of(x: np.ndarray, breaks: np.ndarray, period: float) -> Tuple[np.ndarray, np.ndarray]:
+    """(span index, shift) of parameters x among ``breaks`` (a periodic direction: x moved
+    by whole periods ``shift`` into [breaks[0], breaks[-1]); a bounded one: the end spans
+    extended beyond the domain)."""
+    shift = np.zeros_like(x)
+    if period > 0:
+        shift = period * np.floor((x - breaks[0]) / period)
+    j = np.clip(np.searchsorted(breaks, x - shift, side="right") - 1, 0, len(breaks) - 2)
+    return j, shift
+
+
+def _compose(surface: "BSplineSurface", c: BSplineCurve, cuts: np.ndarray) -> BSplineCurve:
+    """The exact composition t -> S(c(t)) of a 2-D (rational) B-spline c with a
+    (rational) B-spline surface of degrees (p, q): a B-spline of degree d (p + q), d the
+    pcurve's degree, on c's pieces split where c crosses a knot line (``cuts``: the
+    crossing parameters found in u and v), C0 at the joints (DeRose, Goldman, Hagen and
+    Mann, "Functional composition algorithms via blossoming", ACM ToG 12, 1993; here in
+    Bernstein form: with c = (X, Y) / W and u = (X - a W) / (b - a) W on a span [a, b],
+    W^p B_i^p(u) = C(p, i) (X - a W)^i (b W - X)^(p - i) / (b - a)^p, products of
+    Bernstein polynomials (Farouki & Rajan), then sum_ij of the patch's homogeneous
+    points: the homogeneous image, weight W^(p + q) w(c))."""
+    p, q = surface.degree_u, surface.degree_v
+    a, b = c.domain
+    cuts = np.unique(cuts)
+    own = np.concatenate([[a], c._breaks_within(a, b), [b]])
+    near = np.min(np.abs(cuts[:, None] - own[None, :]), axis=1) if len(cuts) else np.empty(0)
+    cuts = cuts[near > COMPOSITION_GAP * (b - a)]
+    piece = c.refine(np.repeat(cuts, c.degree)) if len(cuts) else c
+    breaks, nets = _hom_pieces(piece)                       # (m, d + 1, 3): (x w, y w, w)
+    bu, bv, patches = surface.bezier_net()                   # (mu, mv, p + 1, q + 1, D)
+    rational = surface.is_rational or c.is_rational
+    H = patches if surface.is_rational else np.concatenate([patches, np.ones(patches.shape[:-1] + (1,))], axis=-1)
+    mid = _cartesian(nets.sum(axis=1, keepdims=True))[:, 0]   # the net's centroid: inside the piece's span
+    (u0, u1), (v0, v1) = surface.domain
+    iu, su = _span_of(mid[:, 0], bu, u1 - u0 if surface.periodic_u else 0.0)
+    iv, sv = _span_of(mid[:, 1], bv, v1 - v0 if surface.periodic_v else 0.0)
+    X, Y, Wc = nets[..., 0], nets[..., 1], nets[..., 2]
+    ua, ub = (bu[iu] + su)[:, None], (bu[iu + 1] + su)[:, None]
+    va, vb = (bv[iv] + sv)[:, None], (bv[iv + 1] + sv)[:, None]
+    Bu = _basis_products((X - ua * Wc) / (ub - ua), (ub * Wc - X) / (ub - ua), p)    # (m, p + 1, d p + 1)
+    Bv = _basis_products((Y - va * Wc) / (vb - va), (vb * Wc - Y) / (vb - va), q)
+    prod = _bernstein_product(Bu[:, :, None, :], Bv[:, None, :, :])                  # (m, p + 1, q + 1, D + 1)
+    Q = np.einsum("mijk,mijh->mkh", prod, H[iu, iv])                                 # homogeneous image nets
+    deg = Q.shape[1] - 1
+    hom = np.concatenate([Q[:, :-1].reshape(-1, Q.shape[2]), Q[-1:, -1]])
+    knots = np.concatenate([np.full(deg + 1, breaks[0]), np.repeat(breaks[1:-1], deg), np.full(deg + 1, breaks[-1])])
+    w = hom[:, -1]
+    if rational:
+        return BSplineCurve(hom[:, :-1] / w[:, None], deg, knots, w)
+    return BSplineCurve(hom[:, :-1] / w[:, None], deg, knots)
+
+
+def _composed(ts: TrimmedSurface, c: BSplineCurve, t: np.ndarray,
+              want: np.ndarray) -> Optional[Tuple[BSplineCurve, float]]:
+    """(:func:`_compose` of c on the surface's NURBS form, its measured distance from
+    S(c(t)) at ``t``), or None where the degree d (p + q) exceeds MAX_COMPOSED_DEGREE or
+    the composition misses S(c(t)) by more than COMPOSITION_TOL of the size (a surface
+    whose NURBS form is parametrised otherwise, a pcurve leaving a bounded domain, where
+    S is clipped)."""
+    s = ts.surface.to_nurbs()
+    if c.degree * (s.degree_u + s.degree_v) > MAX_COMPOSED_DEGREE:
+        return None
+    a, b = c.domain
+    try:
+        image = _compose(s, c, _knot_crossings(ts, c, a, b))
+    except CagdError:
+        return None
+    err = float(np.linalg.norm(image(t) - want, axis=1).max())
+    if not err <= COMPOSITION_TOL * max(ts.size, 1e-300):
+        return None
+    return image, err
+
+
+def _samples(curves: Sequence[BSplineCurve]) -> np.ndarray:
+    """BOUNDARY_SAMPLES parameters per span of all ``curves`` (their breaks merged) on
+    their common range, the ends included."""
+    a, b = curves[0].domain
+    br = np.unique(np.concatenate([[a, b]] + [c._breaks_within(a, b) for c in curves]))
+    s = np.linspace(0.0, 1.0, BOUNDARY_SAMPLES + 1)[:-1]
+    return np.concatenate([(br[:-1, None] + (br[1:] - br[:-1])[:, None] * s[None]).ravel(), [b]])
+
+
+def edge_deviation(edge: BSplineCurve, t: np.ndarray, want: np.ndarray) -> float:
+    """The largest distance of the points ``want`` = S(c(t)) from the edge curve: per
+    point the smaller of |E(t) - S(c(t))| (the same parameter) and |E(t*) - S(c(t))|,
+    t* by PROJECTION_STEPS Newton steps on <E(t) - P, E'(t)> = 0 from t, kept in the
+    range (an edge curve in its own parametrisation, e.g. a conic's rational form)."""
+    same = np.linalg.norm(edge(t) - want, axis=1)
+    a, b = edge.domain
+    x = t.copy()
+    for _ in range(PROJECTION_STEPS):
+        d = edge.derivatives(x, 2)
+        r = d[0] - want
+        g = np.einsum("ij,ij->i", r, d[1])
+        h = np.einsum("ij,ij->i", d[1], d[1]) + np.einsum("ij,ij->i", r, d[2])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(h > 0, g / np.where(h > 0, h, 1.0), 0.0)
+        x = np.clip(x - step, a, b)
+    projected = np.linalg.norm(edge(x) - want, axis=1)
+    return float(np.minimum(same, projected).max(initial=0.0))
+
+
+def _boundary(ts: TrimmedSurface, tol: float, images_only: bool = False) -> TrimBoundary:
     s = ts.surface
-    curves, exact, error, ok = [], [], 0.0, True
-    for loop in ts.loops:
-        row, flags = [], []
-        for c in loop:
-            iso = _affine_iso(c)
+    curves, exact, sources, deviations = [], [], [], []
+    error, edge_error, ok = 0.0, 0.0, True
+    for i, loop in enumerate(ts.loops):
+        row, flags, kinds, devs = [], [], [], []
+        for j, c in enumerate(loop):
             a, b = c.domain
+
+            def f(t: np.ndarray, c: BSplineCurve = c) -> np.ndarray:
+                uv = c(t)
+                uu, vv = _inside_domain(s, uv[:, 0], uv[:, 1])
+                return s(uu, vv)
+
+            edge = None if images_only or ts.edges is None else ts.edges[i][j]
+            if edge is not None:
+                t = _samples([c, edge])
+                dev = edge_deviation(edge, t, f(t))
+                row.append(edge)
+                flags.append(False)
+                kinds.append("edge")
+                devs.append(dev)
+                edge_error = max(edge_error, dev)
+                continue
+            iso = _affine_iso(c)
             if iso is not None:
                 k, value, x0, x1 = iso
                 direction = "u" if k == 0 else "v"
                 curve = s.isocurve(direction, value)
                 lo_, hi_ = min(x0, x1), max(x0, x1)
                 lo_d, hi_d = curve.domain
-                if curve.periodic or lo_ < lo_d or hi_ > hi_d:
-                    iso = None
-                else:
+                if not (curve.periodic or lo_ < lo_d or hi_ > hi_d):
                     piece = curve.segment(max(lo_, lo_d), min(hi_, hi_d))
                     if x1 < x0:
                         piece = piece.reversed()
                     row.append(piece.reparametrized(a, b))
                     flags.append(True)
+                    kinds.append("iso")
+                    devs.append(0.0)
                     continue
-
-            def f(t: np.ndarray, c: BSplineCurve = c) -> np.ndarray:
-                uv = c(t)
-                uu, vv = _inside_domain(s, uv[:, 0], uv[:, 1])
-                return s(uu, vv)
+            if not images_only:
+                t = _samples([c])
+                t = 0.5 * (t[:-1] + t[1:])                   # inside the spans (not the joints)
+                hit = _composed(ts, c, t, f(t))
+                if hit is not None:
+                    row.append(hit[0])
+                    flags.append(True)
+                    kinds.append("composition")
+                    devs.append(hit[1])
+                    continue
 
             def df(t: np.ndarray, c: BSplineCurve = c) -> np.ndarray:
                 d = c.derivatives(t, 1)
@@ -1128,11 +1367,16 @@ def _boundary(ts: TrimmedSurface, tol: float) -> TrimBoundary:
             fit, err, good = hermite_fit(f, df, breaks, tol)
             row.append(fit)
             flags.append(False)
+            kinds.append("fit")
+            devs.append(err)
             error, ok = max(error, err), ok and good
         curves.append(tuple(row))
         exact.append(tuple(flags))
+        sources.append(tuple(kinds))
+        deviations.append(tuple(devs))
     msg = "" if ok else f"boundary: some fits stopped at {MAX_FIT_PIECES} pieces above tol = {tol:.3g}"
-    return TrimBoundary(tuple(curves), tuple(exact), error, tol, ok, msg)
+    return TrimBoundary(tuple(curves), tuple(exact), error, tol, ok, msg, tuple(sources), tuple(deviations),
+                        edge_error)
 
 
 # --- tessellation ---------------------------------------------------------------------------------

@@ -75,6 +75,23 @@ def test_dump_then_load_gives_the_same_trimmed_surface():
         assert np.array_equal(back.classify(u, v), obj.classify(u, v))
 
 
+def test_edge_curves_are_dropped_by_the_model_format():
+    """The model format's trimmed_surface has no edge curves: a face with edges (read from
+    a file, or given) dumps its surface, loops and tol, and loads back without edges
+    (boundary() then composes S(c(t)) exactly)."""
+    from cagd import BSplineCurve
+    from trim_shapes import circle3d
+    ts = load_model(doc(trimmed()))["T"].objects[0]
+    edge = circle3d((10.0, 10.0, 0.0), 6.0)
+    withe = TrimmedSurface(ts.surface, ts.loops, ts.tol, edges=[[edge]])
+    assert isinstance(withe.edges[0][0], BSplineCurve)
+    d = entry_dict("t", withe)
+    assert "edges" not in d and d == entry_dict("t", ts)
+    back = load_model(parse_json(dumps(objects_to_dict([("x", withe)]))))["x"].objects[0]
+    assert back.edges is None and back.boundary().source == (("composition",),)
+    assert np.abs(back.boundary().curves[0][0](np.linspace(0, 1, 9)) - edge(np.linspace(0, 1, 9))).max() <= 1e-12
+
+
 def test_entry_dict_writes_the_trim_not_the_untrimmed_nurbs():
     ts = load_model(doc(trimmed()))["T"].objects[0]
     d = entry_dict("t", ts)

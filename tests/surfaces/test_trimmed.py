@@ -15,7 +15,8 @@ from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError, TrimmedSu
 from cagd.surfaces.trimmed import INSIDE, ON, ON_BAND, OUTSIDE, hermite_fit
 
 RNG = np.random.default_rng(15)
-from trim_shapes import CIRCLE_KNOTS, CIRCLE_WEIGHTS, UNIT, W, circle, curved_patch, line, rectangle, square_patch  # noqa: E402,F401
+from trim_shapes import (CIRCLE_KNOTS, CIRCLE_WEIGHTS, UNIT, W, circle, circle3d, curved_patch, line,  # noqa: E402,F401
+                         rectangle, square_patch)
 
 
 # --- the disk ----------------------------------------------------------------------------------
@@ -200,18 +201,33 @@ def test_star_area_against_the_polygon():
 
 
 # --- boundary, tessellation ---------------------------------------------------------------------------
-def test_boundary_fits_the_composition():
+def test_boundary_composes_exactly_or_fits():
+    """A circle on the bicubic bump composes exactly (degree 2 (3 + 3) = 12, to rounding),
+    the square hole's sides are iso-curves; a quintic pcurve (degree 5 (3 + 3) = 30 >
+    MAX_COMPOSED_DEGREE) is fitted within tol; all against S(c(t)) at 301 points."""
     s = curved_patch()
     ts = TrimmedSurface(s, [[circle((0.5, 0.5), 0.3)], [line((0.4, 0.4), (0.4, 0.6)), line((0.4, 0.6), (0.6, 0.6)),
                                                          line((0.6, 0.6), (0.6, 0.4)), line((0.6, 0.4), (0.4, 0.4))]])
     b = ts.boundary(tol=1e-10)
-    assert b.converged and b.error <= 1e-10
-    assert b.exact == ((False,), (True, True, True, True))
+    assert b.converged and b.error == 0.0
+    assert b.exact == ((True,), (True, True, True, True))
+    assert b.source == (("composition",), ("iso",) * 4)
+    assert b.curves[0][0].degree == 12
     for loop, images in zip(ts.loops, b.curves):
         for c, img in zip(loop, images):
             t = np.linspace(*c.domain, 301)
             uv = c(t)
-            assert np.abs(img(t) - s(uv[:, 0], uv[:, 1])).max() <= 1.5e-10
+            assert np.abs(img(t) - s(uv[:, 0], uv[:, 1])).max() <= 1e-14
+    quintic = BSplineCurve([[0.8, 0.5], [0.7, 0.7], [0.55, 0.9], [0.45, 0.6], [0.3, 0.8], [0.2, 0.5]], 5)
+    closer = line((0.2, 0.5), (0.8, 0.5))
+    ft = TrimmedSurface(s, [[quintic, closer]])
+    b = ft.boundary(tol=1e-10)
+    assert b.converged and 0.0 < b.error <= 1e-10
+    assert b.source == (("fit", "iso"),) and b.exact == ((False, True),)
+    t = np.linspace(0.0, 1.0, 301)
+    uv = quintic(t)
+    assert np.abs(b.curves[0][0](t) - s(uv[:, 0], uv[:, 1])).max() <= 1.5e-10
+    assert b.deviation[0][0] == b.error
 
 
 def test_hermite_fit_of_a_known_function():
@@ -292,3 +308,119 @@ def test_value_and_delegation():
     moved = ts.transformed(np.eye(3), [1.0, 2.0, 3.0])
     assert isinstance(moved, TrimmedSurface) and np.allclose(moved(u, v), s(u, v) + [1, 2, 3])
     assert moved.area() == pytest.approx(ts.area(), rel=1e-13)
+
+
+# --- boundary(): exact compositions and known edge curves ------------------------------------------------
+def test_disk_on_a_plane_composes_to_the_exact_circle():
+    """S(u, v) = (2 u, 2 v, 0) and the circle of centre (0.5, 0.5), radius 0.3: S(c(t)) is
+    the circle of centre (1, 1, 0), radius 0.6 (closed form), a rational quartic
+    (degree 2 (1 + 1)) equal to S(c(t)) at the same t; both to 1e-12 (measured 2e-16)."""
+    s = square_patch(2.0)
+    ts = TrimmedSurface(s, [[circle((0.5, 0.5), 0.3)]])
+    b = ts.boundary()
+    assert b.source == (("composition",),) and b.exact == ((True,),) and b.error == 0.0
+    C = b.curves[0][0]
+    assert C.degree == 4 and C.is_rational and C.domain == ts.loops[0][0].domain
+    t = np.linspace(*C.domain, 2001)
+    P = C(t)
+    assert np.abs(np.hypot(P[:, 0] - 1.0, P[:, 1] - 1.0) - 0.6).max() <= 1e-12
+    assert np.abs(P[:, 2]).max() <= 1e-12
+    uv = ts.loops[0][0](t)
+    assert np.abs(P - s(uv[:, 0], uv[:, 1])).max() <= 1e-12
+    assert b.deviation[0][0] <= 1e-12
+
+
+def test_polynomial_pcurve_across_knot_lines_composes_exactly():
+    """A cubic pcurve crossing the knot lines u = v = 1/2 of a bicubic with an interior
+    knot in each direction: degree 3 (3 + 3) = 18,
+    C0 pieces split at the crossings, S(c(t)) to 1e-12 at 3001 points."""
+    x = np.linspace(0, 1, 5)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    Z = 0.2 * np.sin(4 * X + 1) * np.cos(3 * Y)
+    knots = [0, 0, 0, 0, 0.5, 1, 1, 1, 1]
+    s = BSplineSurface(np.stack([X, Y, Z], axis=-1), 3, 3, knots, knots)
+    a = BSplineCurve([[0.1, 0.2], [0.5, 0.05], [0.9, 0.3], [0.9, 0.9]], 3)
+    back = BSplineCurve([[0.9, 0.9], [0.5, 0.95], [0.1, 0.6], [0.1, 0.2]], 3)
+    ts = TrimmedSurface(s, [[a, back]])
+    b = ts.boundary()
+    assert b.source == (("composition", "composition"),)
+    for c, img in zip(ts.loops[0], b.curves[0]):
+        assert img.degree == 18
+        t = np.linspace(*c.domain, 3001)
+        uv = c(t)
+        assert np.abs(img(t) - s(uv[:, 0], uv[:, 1])).max() <= 1e-12
+
+
+def test_known_edges_are_the_boundary_with_their_measured_distance():
+    """edges given to the constructor come back from boundary() as they are, with their
+    distance from S(c(t)): 0 for the exact image, 1e-3 for one lifted by 1e-3 (closed
+    form), to 1e-12; a curve without an edge (None) is composed."""
+    s = square_patch(2.0)
+    disk, hole = circle((0.5, 0.5), 0.3), circle((0.5, 0.5), 0.1, clockwise=True)
+    lifted = circle3d((1.0, 1.0, 1e-3), 0.6)
+    ts = TrimmedSurface(s, [[disk], [hole]], edges=[[lifted], [None]])
+    assert ts.edges == ((lifted,), (None,))
+    b = ts.boundary()
+    assert b.source == (("edge",), ("composition",)) and b.exact == ((False,), (True,))
+    assert b.curves[0][0] is lifted
+    assert b.deviation[0][0] == pytest.approx(1e-3, abs=1e-12) and b.edge_error == b.deviation[0][0]
+    exact = TrimmedSurface(s, [[disk]], edges=[[circle3d((1.0, 1.0, 0.0), 0.6)]]).boundary()
+    assert exact.edge_error <= 1e-12
+
+
+def test_edges_follow_reorientation_and_affine_maps():
+    """A clockwise outer loop is reversed with its edges (each edge still starts where its
+    pcurve's image starts); transformed() moves the edges with the surface."""
+    s = square_patch(2.0)
+    cw = circle((0.5, 0.5), 0.3, clockwise=True)
+    edge = circle3d((1.0, 1.0, 0.0), 0.6).reversed()
+    ts = TrimmedSurface(s, [[cw]], edges=[[edge]])
+    assert ts.reoriented == (0,)
+    (e,), (c,) = ts.edges[0], ts.loops[0]
+    t = np.linspace(*c.domain, 101)
+    uv = c(t)
+    assert np.abs(e(t) - s(uv[:, 0], uv[:, 1])).max() <= 1e-12
+    A = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 2.0]])
+    moved = ts.transformed(A, [1.0, 2.0, 3.0])
+    assert np.allclose(moved.edges[0][0](t), e(t) @ A.T + [1.0, 2.0, 3.0], rtol=0, atol=1e-13)
+    assert moved.boundary().edge_error <= 1e-12
+
+
+@pytest.mark.parametrize("edges, message", [
+    ([[None], [None]], r"edges: expected one sequence of edge curves \(or None\) per loop \(1\)"),
+    ([[None, None]], r"edges\[0\]: expected one edge curve \(or None\) per curve of loops\[0\] \(1\)"),
+    ([["x"]], r"edges\[0\]\[0\]: expected an engine curve or None, got str"),
+    ([[circle((0.5, 0.5), 0.3)]], r"edges\[0\]\[0\]: a 2-D curve for a 3-D surface"),
+    ([[circle3d((1, 1, 0), 0.6).reparametrized(0.0, 2.0)]], r"edges\[0\]\[0\]: runs over \[0, 2\], its pcurve"),
+])
+def test_invalid_edges(edges, message):
+    with pytest.raises(CagdError, match=message):
+        TrimmedSurface(square_patch(2.0), [[circle((0.5, 0.5), 0.3)]], edges=edges)
+
+
+def test_edges_all_none_is_no_edges_and_values_keep_them():
+    import copy
+    import pickle
+    s = square_patch(2.0)
+    assert TrimmedSurface(s, [[circle((0.5, 0.5), 0.3)]], edges=[[None]]).edges is None
+    ts = TrimmedSurface(s, [[circle((0.5, 0.5), 0.3)]], edges=[[circle3d((1, 1, 0), 0.6)]])
+    with pytest.raises(AttributeError, match="engine objects are values"):
+        ts.edges = None
+    assert copy.deepcopy(ts) is ts
+    back = pickle.loads(pickle.dumps(ts))
+    assert np.array_equal(back.edges[0][0].control_points, ts.edges[0][0].control_points)
+    assert not back.edges[0][0].control_points.flags.writeable
+
+
+def test_composition_across_a_periodic_seam_and_on_a_torus():
+    """A disk across the seam of the periodic tube (u from -0.1 to 0.1: spans found by
+    whole periods) and one on the torus (rational both ways): exact compositions of
+    degree 8, against S(c(t)) at 2001 points to 1e-14 of the size (measured 6.7e-16 and
+    6e-16)."""
+    for s, c in ((periodic_tube(), circle((0.0, 0.5), 0.1)), (cagd.torus(10, 3), circle((0.5, 0.5), 0.3))):
+        ts = TrimmedSurface(s, [[c]])
+        b = ts.boundary()
+        assert b.source == (("composition",),) and b.curves[0][0].degree == 8
+        t = np.linspace(*c.domain, 2001)
+        uv = c(t)
+        assert np.abs(b.curves[0][0](t) - s(uv[:, 0], uv[:, 1])).max() <= 1e-14 * ts.size
