@@ -25,7 +25,8 @@ SEED_INSET = 1e-3
 class SurfaceOverlap:
     """Coincident pieces of two surfaces: ``box_a`` = ((u0, u1), (v0, v1)) on a where
     a lies on b within tol, ``box_b`` the parameter box of the same piece on b (the
-    bounding box of the projected samples; None for a plane). The boxes are grown until
+    bounding box of the projected samples); the box of a plane is None (``box_b``, or
+    ``box_a`` for intersect(plane, surface), whose cells are then on b). The boxes are grown until
     the distance reaches tol (``converged``; ``message`` says otherwise).
 
     Clipped to trimmed faces (:func:`cagd.queries.trimmed.clip_to_trims`), the region is
@@ -34,7 +35,7 @@ class SurfaceOverlap:
     (at the smallest cell size), ``area`` its area on a (inside cells plus half the edge
     cells) within ``area_error`` (half the edge cells' area); the boxes are then the
     region's bounding boxes. None for an overlap of untrimmed surfaces."""
-    box_a: Tuple[Tuple[float, float], Tuple[float, float]]
+    box_a: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]     # None for a plane
     box_b: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]
     converged: bool = True
     message: str = ""

@@ -225,7 +225,8 @@ class BezierPieces:
             lo, hi = self.hull_boxes()
             c = 0.5 * (lo + hi)
             P = self.control_points.reshape(len(self), -1, self.dim)
-            object.__setattr__(self, "_spheres", (frozen(c), frozen(np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1)))))
+            r = np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1))
+            object.__setattr__(self, "_spheres", (frozen(c), frozen(r)))
         return self.__dict__["_spheres"]
 
     def partial_bounds(self, order: int) -> Dict[Tuple[int, ...], np.ndarray]:

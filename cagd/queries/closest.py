@@ -1108,9 +1108,10 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
     key = None
     if held is None:
         key = content_key(obj)
-        held = _BY_CONTENT.get(key) if key is not None else None
-        if held is not None:
-            _BY_CONTENT.move_to_end(key)
+        if key is not None:
+            held = _BY_CONTENT.get(key)
+            if held is not None:
+                _BY_CONTENT.move_to_end(key)
     if held is None:
         held = {}
     best = next((held[t] for t in range(2, tier - 1, -1) if t in held), None)     # the fullest one
@@ -1145,7 +1146,7 @@ def content_key(obj: object) -> Optional[Tuple]:
         x = getattr(obj, name)
         if isinstance(x, np.ndarray):
             a = np.ascontiguousarray(x)
-            parts.append((a.dtype.str, a.shape, hashlib.blake2b(a.view(np.uint8).ravel(), digest_size=16).digest()))
+            parts.append((a.dtype.str, a.shape, hashlib.blake2b(a.tobytes(), digest_size=16).digest()))
         elif x is None or isinstance(x, (bool, int, float)):
             parts.append(x)
         else:

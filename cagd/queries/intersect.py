@@ -132,6 +132,8 @@ def intersect(a: Union[Curve, Surface, Plane], b: Union[Curve, Surface, Plane, N
     """
     tol = _checks.positive(tol, "tol")
     from ..surfaces.trimmed import TrimmedSurface
+    if isinstance(a, Plane) and not isinstance(b, Plane) and b is not None:     # as intersect(b, a), swapped
+        return _swapped(intersect(b, a, tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs))
     if isinstance(a, TrimmedSurface) or isinstance(b, TrimmedSurface):     # the faces: clipped to their trims
         from .trimmed import clip_to_trims
         res = intersect(a.untrimmed if isinstance(a, TrimmedSurface) else a,
@@ -152,9 +154,7 @@ def intersect(a: Union[Curve, Surface, Plane], b: Union[Curve, Surface, Plane, N
         if not isinstance(a, Curve):
             raise CagdError(f"a: self-intersection needs a cagd curve, got {type(a).__name__}")
         return _run(sd.Geometry(a, "a"), None, tol, angle_tol, max_depth, max_pairs)
-    if isinstance(a, Plane):
-        res = intersect(b, a, tol, angle_tol=angle_tol, max_depth=max_depth, max_pairs=max_pairs)
-        return _swapped(res)
+    assert not isinstance(a, Plane)         # plane first: answered above as intersect(b, a)
     if isinstance(b, Plane):
         if isinstance(a, Surface):
             from .intersect_surfaces import surface_plane
@@ -198,9 +198,23 @@ def sine_of(angle_tol: float) -> float:
 
 
 def _swapped(res: IntersectionResult) -> IntersectionResult:
-    pts = tuple(replace(p, param_a=p.param_b, param_b=p.param_a) for p in res.points)
-    ovs = tuple(replace(o, param_a=o.param_b, param_b=o.param_a) for o in res.overlaps)
-    return replace(res, points=pts, overlaps=ovs)
+    """The result of intersect(b, a) as that of intersect(a, b): every pair of a- and
+    b-fields exchanged (points' parameters, curve overlaps' intervals, surface overlaps'
+    boxes, branches' parameter curves and domains)."""
+    def swap(x, pairs):
+        fields = {f for f in getattr(x, "__dataclass_fields__", {})}
+        change = {}
+        for fa, fb in pairs:
+            if fa in fields and fb in fields:
+                change[fa], change[fb] = getattr(x, fb), getattr(x, fa)
+        if "domains" in fields:
+            change["domains"] = tuple(reversed(x.domains))
+        return replace(x, **change)
+
+    pairs = (("param_a", "param_b"), ("box_a", "box_b"), ("params_a", "params_b"))
+    return replace(res, points=tuple(swap(p, pairs) for p in res.points),
+                   overlaps=tuple(swap(o, pairs) for o in res.overlaps),
+                   curves=tuple(swap(c, pairs) for c in res.curves))
 
 
 def _plane_geometry(pl: Plane, A: sd.Geometry) -> sd.Geometry:

@@ -94,8 +94,8 @@ class IntersectionCurve(ReadOnlyArrays):
     """One branch of a surface–surface or surface–plane intersection.
 
     curve: 3-D BSplineCurve through the marched points (chord-length parameters);
-    params_a, params_b: 2-D BSplineCurves (same parameter) on a and b (params_b is None
-    for a plane); closed: the branch is a loop; max_distance: the largest distance of
+    params_a, params_b: 2-D BSplineCurves (same parameter) on a and b (None for a
+    plane); closed: the branch is a loop; max_distance: the largest distance of
     the curve from both surfaces (Newton projection), measured at 9 samples per span
     and at the parabolic vertex of each span's largest (within 0.1% of 20,000 samples
     per branch on 72 test branches); params_max_distance: the largest
@@ -112,7 +112,7 @@ class IntersectionCurve(ReadOnlyArrays):
     parameter curves run along the edge on a parameter interval of width <= 0.1 tol /
     length, where the 3-D curve is within 0.1 tol of the degenerate point."""
     curve: BSplineCurve
-    params_a: BSplineCurve
+    params_a: Optional[BSplineCurve]          # None for a plane (intersect(plane, surface))
     params_b: Optional[BSplineCurve]
     closed: bool
     max_distance: float

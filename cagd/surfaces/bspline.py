@@ -62,7 +62,8 @@ class BSplineSurface(Surface):
 
     #: the attributes that define the object (equal ones give equal geometry): the
     #: closest-point projectors are cached by them (cagd.queries.closest.content_key)
-    _content_fields = ("periodic_u", "periodic_v", "degree_u", "degree_v", "knots_u", "knots_v", "control_points", "weights")
+    _content_fields = ("periodic_u", "periodic_v", "degree_u", "degree_v", "knots_u", "knots_v", "control_points",
+                       "weights")
 
     _modified_copy = "use with_control_points(P), moved_pole((i, j), point) or with_weights(W)"
 

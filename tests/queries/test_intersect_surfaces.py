@@ -529,3 +529,23 @@ def test_tol_beyond_the_objects_size_is_one_overlap():
     S = cagd.sphere(1e-100)
     res = intersect(S, S)
     assert res.converged and res.points == () and res.curves == () and len(res.overlaps) == 1
+
+
+def test_plane_first_is_the_swapped_surface_first_answer():
+    """intersect(plane, surface) is intersect(surface, plane) with every a/b field
+    exchanged: a coplanar patch's overlap (it raised AttributeError on SurfaceOverlap) and
+    a crossing plane's branch (its parameter curves were left unswapped)."""
+    P = np.array([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]], float)
+    s = cagd.BezierSurface(P)
+    pl = cagd.plane((0, 0, 0), (0, 0, 1))
+    one, two = cagd.intersect(s, pl, tol=1e-7), cagd.intersect(pl, s, tol=1e-7)
+    assert len(one.overlaps) == len(two.overlaps) == 1
+    assert two.overlaps[0].box_a is None and two.overlaps[0].box_b == one.overlaps[0].box_a
+    cross = cagd.plane((0.5, 0, 0), (1, 0, 0))
+    one, two = cagd.intersect(s, cross, tol=1e-7), cagd.intersect(cross, s, tol=1e-7)
+    assert len(one.curves) == len(two.curves) == 1
+    assert two.curves[0].params_a is None
+    np.testing.assert_array_equal(two.curves[0].params_b.control_points, one.curves[0].params_a.control_points)
+    assert two.curves[0].domains[0] is None and one.curves[0].domains[1] is None
+    assert two.curves[0].domains[1] is one.curves[0].domains[0] or \
+        all(np.array_equal(x, y) for x, y in zip(two.curves[0].domains[1], one.curves[0].domains[0]))
