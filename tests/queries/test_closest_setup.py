@@ -53,6 +53,7 @@ def test_tiers_and_reuse(monkeypatch):
     default one, which later small queries reuse (no second set-up)."""
     monkeypatch.setattr(cl, "_CACHE", type(cl._CACHE)())
     monkeypatch.setattr(cl, "_BY_CONTENT", type(cl._BY_CONTENT)())
+    monkeypatch.setattr(cl, "LIGHT_POINTS", 64)
     s = _bumpy(20)
     X = s(np.full(200, 0.3), np.linspace(0, 1, 200)) + 1.0
     cagd.closest_point(s, X[:1])
