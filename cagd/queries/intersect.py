@@ -26,7 +26,7 @@ from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from . import _subdivision as sd
-from ._overlaps import Overlap, coincident, inside_overlap, merge_overlaps
+from ._overlaps import Overlap, coincident, inside_overlap, merge_overlaps, overlap_cap
 
 _REL_FLAT = 1e-3          # a piece is flat when its deviation <= _REL_FLAT * its extent
 _MIN_SIN = 0.05           # flat pieces meeting at sin(angle) above this hold one root
@@ -302,7 +302,10 @@ def _run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float,
         done = live & (kind == 0) & ((flat & (sine >= _MIN_SIN)) | small)
         # coincidence is only evidence of an overlap where a tangency could not fake it:
         # pieces curved well beyond tol, or straight and long
-        evident = (np.maximum(dev_a, dev_b) >= 100 * tol) | (np.minimum(ext_a, ext_b) >= 1e3 * np.sqrt(tol * size))
+        # (at least the cap a tangency keeps within tol, overlap_cap; it was 1e3 sqrt(tol
+        # size): from tol = 1e-6 size on, no straight piece passed, and a segment lying in
+        # a plane at scale 1e-3 gave 4,095 points in 6 s instead of one overlap)
+        evident = (np.maximum(dev_a, dev_b) >= 100 * tol) | (np.minimum(ext_a, ext_b) >= overlap_cap(tol, size))
         test = (live & (kind == 0) & ~done & (sine < 1e-2) & evident
                 & (dev_a <= 0.05 * ext_a) & (dev_b <= 0.05 * ext_b))
         if test.any():

@@ -62,6 +62,7 @@ from . import _surface_overlaps as so
 from ._branch_fit import degenerate as _degenerate, fit as _fit
 from ._marching import Marcher, segments_distance
 from ._surface_overlaps import SurfaceOverlap
+from ._overlaps import overlap_cap as _overlap_cap
 from ._surface_system import System, newton, unit
 
 if TYPE_CHECKING:
@@ -73,22 +74,6 @@ Domain = Tuple[np.ndarray, np.ndarray, np.ndarray]   # (lo, hi, closed) of a sur
 
 _SEED_FRACTION = 1.0 / 16      # leaves of the seed subdivision: at most this fraction of the model size
 _REL_FLAT = 2e-2
-# a piece lying within tol of the other object is coincident (an overlap) when it is
-# larger than OVERLAP_CAP sqrt(tol size): a tangency at a curvature radius R <= size
-# keeps only a cap of diameter 2 sqrt(2 R tol) <= OVERLAP_CAP sqrt(tol size) within tol.
-# It was 100: at tol = 1e-3 no piece of a unit object passed, so coincident spheres
-# gave 8,490 contact points (19-90 s) and coincident planes 6,013 (26 s), no overlap
-OVERLAP_CAP = 2.0 * np.sqrt(2.0)
-
-
-def _overlap_cap(tol: float, size: float) -> float:
-    """The smallest extent of a piece lying within tol of the other object that is an
-    overlap: OVERLAP_CAP sqrt(tol size), and 0 once tol reaches the objects' size
-    (then every piece within tol is one: intersect(sphere(1e-100), itself) at the
-    default tol 1e-9 ran 75 s into 5,191 contact points)."""
-    return 0.0 if tol >= size else float(OVERLAP_CAP * np.sqrt(tol * size))
-
-
 @dataclass(frozen=True)
 class IntersectionCurve(ReadOnlyArrays):
     """One branch of a surface–surface or surface–plane intersection.
@@ -340,7 +325,9 @@ def _outside(regions, k: int, d: int, val: float, lo: float, hi: float, closed: 
     cuts = []
     for r in regions:
         box = (r.box_a, r.box_b)[k]
-        if box is not None and box[d][0] <= val <= box[d][1]:
+        # (a box ending 1 ulp short of the domain's end still covers the boundary there)
+        reach = 1e-9 * (box[d][1] - box[d][0]) if box is not None else 0.0
+        if box is not None and box[d][0] - reach <= val <= box[d][1] + reach:
             a, b = box[1 - d]
             cuts.append((a, min(b, hi)))
             if closed and b > hi:
