@@ -62,17 +62,28 @@ def _degrees_and_caps(degree, caps, default: Tuple[int, int]) -> Tuple[int, int,
             _checks.integer(caps[1], "max_control_points", pv + 1))
 
 
-def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
-         ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray, np.ndarray]:
-    """The separable least-squares surface on the breakpoints, its misses at the
-    parameters (m, n), and the per-direction residuals (m, n): along u alone, along v alone."""
+def _tensor(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
+            ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray]:
+    """The separable least-squares surface on the breakpoints (along u for every column,
+    then along v; Piegl & Tiller 9.4.3), its misses at the parameters (m, n), and the
+    intermediate rows (cu, n d)."""
     m, n, d = Q.shape
     U, V = _knots(bu, pu), _knots(bv, pv)
     cu, cv = len(U) - pu - 1, len(V) - pv - 1
     rows = _fit_rows(U, pu, u, cu, Q.reshape(m, n * d))                          # (cu, n d)
     P = _fit_rows(V, pv, v, cv, rows.reshape(cu, n, d).transpose(1, 0, 2).reshape(n, cu * d))
     S = BSplineSurface(P.reshape(cv, cu, d).transpose(1, 0, 2), pu, pv, U, V)
-    miss = np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1))
+    return S, np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1)), rows
+
+
+def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
+         ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray, np.ndarray]:
+    """The separable least-squares surface on the breakpoints, its misses at the
+    parameters (m, n), and the per-direction residuals (m, n): along u alone, along v alone."""
+    m, n, d = Q.shape
+    S, miss, rows = _tensor(Q, u, v, bu, bv, pu, pv)
+    U, V = S.knots_u, S.knots_v
+    cv = len(V) - pv - 1
     from ..curves.bspline import BSplineCurve
     along_u = BSplineCurve(rows, pu, U)(u).reshape(m, n, d)
     cols = _fit_rows(V, pv, v, cv, Q.transpose(1, 0, 2).reshape(n, m * d))
@@ -92,6 +103,39 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
     c = _worth(E, GROW_TARGET * tol, p)
     count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol)), s + 1, min(most, MAX_GROWTH * s + 1)))
     return _redistributed(breaks, c, count) if count > s else breaks
+
+
+#: one-span trimming steps after the shrink at most (each: two separable solves)
+MAX_TRIM_STEPS = 24
+
+
+def _trimmed(Q: np.ndarray, u: np.ndarray, v: np.ndarray, best, miss: np.ndarray, tol: float, pu: int, pv: int):
+    """Greedy knot trimming (knot placement that follows the residual): while the fit is
+    within tol at its parameters, try one span fewer along u and along v, the breakpoints
+    redistributed by the miss (de Boor's equidistribution, as the rounds), and keep the
+    candidate with the smaller largest miss while it stays within tol. Returns (best,
+    steps)."""
+    steps = 0
+    while best[3] <= tol and steps < MAX_TRIM_STEPS:
+        steps += 1
+        cands = []
+        _, _, ru, rv = _fit(Q, u, v, best[1], best[2], pu, pv)
+        for axis, t, breaks, own in ((0, u, best[1], ru), (1, v, best[2], rv)):
+            if len(breaks) <= 2:
+                continue
+            for e in (miss.max(axis=1 - axis), own.max(axis=1 - axis)):
+                fewer = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, pu if axis == 0 else pv),
+                                       len(breaks) - 2)
+                bu, bv = (fewer, best[2]) if axis == 0 else (best[1], fewer)
+                S2, miss2, _ = _tensor(Q, u, v, bu, bv, pu, pv)
+                cands.append((float(miss2.max()), S2, bu, bv, miss2))
+        if not cands:
+            break
+        worst, S2, bu, bv, miss2 = min(cands, key=lambda c: c[0])
+        if worst > tol:
+            break
+        best, miss = (S2, bu, bv, worst), miss2
+    return best, steps
 
 
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
@@ -166,6 +210,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         if miss2.max() > tol_n:
             break
         best, miss = (S2, tu, tv, float(miss2.max())), miss2
+    best, trimmed = _trimmed(Qn, u, v, best, miss, tol_n, pu, pv)
+    rounds += trimmed
     S = best[0]
     P = S.control_points * scale + center
     P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
