@@ -24,7 +24,7 @@ from .. import _checks
 from .._results import ReadOnlyArrays
 from ..errors import CagdError
 from ..surfaces.bspline import BSplineSurface
-from .fit import GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed, _span_errors, _worth
+from .fit import CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed, _span_errors, _worth
 from .interpolation import _frame
 from .rebuild import _fit_rows, _pair
 
@@ -109,42 +109,44 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
 MAX_TRIM_STEPS = 24
 
 
-def _trimmed(Q: np.ndarray, u: np.ndarray, v: np.ndarray, best, miss: np.ndarray, tol: float, pu: int, pv: int):
-    """Greedy knot trimming (knot placement that follows the residual): while the fit is
-    within tol at its parameters, try one span fewer along u and along v, the breakpoints
-    redistributed by the miss (de Boor's equidistribution, as the rounds), and keep the
-    candidate with the smaller largest miss while it stays within tol. Returns (best,
-    steps)."""
+def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
+    """Greedy knot trimming (knot placement that follows the residual): while the fit
+    ``best`` = (surface, breaks_u, breaks_v, largest miss, misses) is within tol, try one
+    span fewer along u and along v, the breakpoints redistributed by each error source
+    (``sources(best)``: per direction, pairs (parameters, misses); de Boor's
+    equidistribution, as the rounds), each candidate solved by ``solve(bu, bv)`` ->
+    (surface, misses); keep the one with the smallest largest miss while it stays within
+    tol, at most MAX_TRIM_STEPS steps. Returns (best, steps)."""
     steps = 0
     while best[3] <= tol and steps < MAX_TRIM_STEPS:
         steps += 1
         cands = []
-        _, _, ru, rv = _fit(Q, u, v, best[1], best[2], pu, pv)
-        for axis, t, breaks, own in ((0, u, best[1], ru), (1, v, best[2], rv)):
+        for axis, pairs in enumerate(sources(best)):
+            breaks = best[1 + axis]
             if len(breaks) <= 2:
                 continue
-            for e in (miss.max(axis=1 - axis), own.max(axis=1 - axis)):
-                fewer = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, pu if axis == 0 else pv),
+            for t, e in pairs:
+                fewer = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
                                        len(breaks) - 2)
                 bu, bv = (fewer, best[2]) if axis == 0 else (best[1], fewer)
-                S2, miss2, _ = _tensor(Q, u, v, bu, bv, pu, pv)
-                cands.append((float(miss2.max()), S2, bu, bv, miss2))
+                S2, miss2, *extra = solve(bu, bv)
+                cands.append((S2, bu, bv, float(miss2.max()), miss2, *extra))
         if not cands:
             break
-        worst, S2, bu, bv, miss2 = min(cands, key=lambda c: c[0])
-        if worst > tol:
+        top = min(cands, key=lambda c: c[3])
+        if top[3] > tol:
             break
-        best, miss = (S2, bu, bv, worst), miss2
+        best = top
     return best, steps
 
 
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
-                parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None
-                ) -> SurfaceFit:
+                parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
+                base=None) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
-    projection onto their least-squares plane (:func:`fit_scattered`).
+    projection onto a base surface and corrected by re-projection (:func:`fit_scattered`).
 
     Args:
         points: (m, n, d) grid, rows along u; or (N, 3) scattered points.
@@ -152,6 +154,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         degree: per direction, or a pair (degree_u, degree_v).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
         max_control_points: a cap (count_u, count_v) (default: the grid's size).
+        base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
+            project them onto for their first parameters.
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -163,7 +167,9 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     from ..queries.closest import closest_point
     from ..surfaces.fitting import surface_parameters
     if np.ndim(points) == 2:
-        return fit_scattered(points, tol, degree, max_control_points)
+        return fit_scattered(points, tol, degree, max_control_points, "plane" if base is None else base)
+    if base is not None:
+        raise CagdError("base: only scattered (N, 3) points are projected onto a base; a grid has its own parameters")
     Q = _checks.finite_array(points, "points", ndim=3)
     m, n, d = Q.shape
     if m < 2 or n < 2:
@@ -210,7 +216,12 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         if miss2.max() > tol_n:
             break
         best, miss = (S2, tu, tv, float(miss2.max())), miss2
-    best, trimmed = _trimmed(Qn, u, v, best, miss, tol_n, pu, pv)
+    def grid_sources(fit):
+        _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
+        return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
+
+    best, trimmed = _trimmed(best + (miss,), lambda bu, bv: _tensor(Qn, u, v, bu, bv, pu, pv)[:2], grid_sources,
+                             tol_n, (pu, pv))
     rounds += trimmed
     S = best[0]
     P = S.control_points * scale + center
@@ -233,16 +244,92 @@ PLANE_SPREAD_TOL = 1e-9
 SCATTER_CHUNK = 65536
 
 
+#: the named bases of a scattered fit (or a cagd Surface to project onto)
+BASES = ("plane", "quadric")
+#: parameter-correction passes of a scattered fit per knot vector at most (each: the
+#: certified feet on the current fit, a new solve; kept only while the largest miss drops
+#: by CORRECTION_GAIN at least, the better fit kept)
+SCATTER_CORRECTIONS = 3
+#: a trimming candidate of a scattered fit that misses tol gets parameter correction
+SCATTER_TRIM_CORRECTION = True
+
+
+def _plane_frame(Q: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(center, axes (3, 3), local coordinates (N, 3)) of the least-squares plane of the
+    points: the first two axes span it, the third is its normal (SVD)."""
+    c = Q.mean(axis=0)
+    _, sigma, vt = np.linalg.svd(Q - c, full_matrices=False)
+    local = (Q - c) @ vt.T
+    lo, hi = local[:, :2].min(axis=0), local[:, :2].max(axis=0)
+    if not sigma[1] > PLANE_SPREAD_TOL * sigma[0] or not np.all(hi - lo > 0.0):
+        raise CagdError("points: the scattered points lie on a line; no surface is defined by them")
+    return c, vt, local
+
+
+def _unit_box(uv: np.ndarray, what: str) -> np.ndarray:
+    """uv scaled to [0, 1]^2 by its bounding box."""
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    if not np.all(hi - lo > 0.0):
+        raise CagdError(f"{what}: the points project onto a curve of the base; no surface is defined by them")
+    return np.clip((uv - lo) / (hi - lo), 0.0, 1.0)
+
+
 def _plane_parameters(Q: np.ndarray) -> np.ndarray:
     """(u, v) in [0, 1]^2: the points projected onto their two principal directions (the
     least-squares plane), scaled to the bounding box of the projection."""
-    c = Q.mean(axis=0)
-    _, sigma, vt = np.linalg.svd(Q - c, full_matrices=False)
-    uv = (Q - c) @ vt[:2].T
-    lo, hi = uv.min(axis=0), uv.max(axis=0)
-    if not sigma[1] > PLANE_SPREAD_TOL * sigma[0] or not np.all(hi - lo > 0.0):
-        raise CagdError("points: the scattered points lie on a line; no surface is defined by them")
-    return (uv - lo) / (hi - lo)
+    return _unit_box(_plane_frame(Q)[2][:, :2], "points")
+
+
+def _quadric_base(Q: np.ndarray) -> BSplineSurface:
+    """The least-squares quadric height field over the points' plane, h = a + b x + c y +
+    d x^2 + e x y + f y^2 in the plane's frame, over the box of the projection: exactly a
+    biquadratic Bezier patch (its control net from the values at s, t in {0, 1/2, 1},
+    the Bernstein collocation matrix inverted)."""
+    c, axes, local = _plane_frame(Q)
+    x, y, h = local.T
+    coef = np.linalg.lstsq(np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=1), h, rcond=None)[0]
+    s = np.array([0.0, 0.5, 1.0])
+    X, Y = np.meshgrid(x.min() + (x.max() - x.min()) * s, y.min() + (y.max() - y.min()) * s, indexing="ij")
+    H = coef[0] + coef[1] * X + coef[2] * Y + coef[3] * X * X + coef[4] * X * Y + coef[5] * Y * Y
+    values = c + np.stack([X, Y, H], axis=-1) @ axes                                  # (3, 3, 3)
+    Minv = np.linalg.inv(np.array([[1.0, 0.0, 0.0], [0.25, 0.5, 0.25], [0.0, 0.0, 1.0]]))
+    return BSplineSurface(np.einsum("ia,abk,jb->ijk", Minv, values, Minv), 2, 2)
+
+
+def _base_parameters(Q: np.ndarray, base) -> np.ndarray:
+    """The points' parameters in [0, 1]^2 from their base: the plane (projection onto it),
+    the quadric (:func:`_quadric_base`) or a given surface (their certified closest points
+    on it), scaled to the bounding box of the feet."""
+    from ..queries.closest import closest_point
+    from ..surfaces.base import Surface
+    if isinstance(base, str) and base == "plane":
+        return _plane_parameters(Q)
+    if isinstance(base, str) and base == "quadric":
+        base = _quadric_base(Q)
+    elif not isinstance(base, Surface) or not base.rectangular:
+        raise CagdError(f"base: expected one of {BASES} or a cagd Surface on a rectangle, got {base!r}")
+    elif base.dim != 3:
+        raise CagdError(f"base: expected a surface in 3-D, got a {base.dim}-D one")
+    near = closest_point(base, Q)
+    return _unit_box(np.asarray(near.params, dtype=float), "base")
+
+
+def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarray, bu: np.ndarray, bv: np.ndarray,
+               pu: int, pv: int) -> Tuple[np.ndarray, BSplineSurface, np.ndarray]:
+    """Parameter correction (Hoschek 1988; Piegl & Tiller 9.4.1, here for a surface): the
+    parameters move to the points' certified closest points on the current fit and the
+    fit is solved again on the same knots, at most SCATTER_CORRECTIONS passes, stopping
+    when the largest miss drops by less than CORRECTION_GAIN; the better fit is kept."""
+    from ..queries.closest import closest_point
+    for _ in range(SCATTER_CORRECTIONS):
+        uv2 = np.clip(np.asarray(closest_point(S, Q).params, dtype=float), 0.0, 1.0)
+        S2, miss2 = _scattered_solve(Q, uv2, bu, bv, pu, pv)
+        gain = float(miss2.max()) < (1.0 - CORRECTION_GAIN) * float(miss.max())
+        if float(miss2.max()) < float(miss.max()):
+            uv, S, miss = uv2, S2, miss2
+        if not gain:
+            break
+    return uv, S, miss
 
 
 def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
@@ -281,17 +368,20 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
 
 
 def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
-                  max_control_points: Optional[Tuple[int, int]] = None) -> SurfaceFit:
+                  max_control_points: Optional[Tuple[int, int]] = None, base="plane") -> SurfaceFit:
     """A B-spline surface within ``tol`` of scattered points (N, 3) (a scan of a sheet):
-    parameters from the projection onto the points' least-squares plane (so the points
-    must be a graph over that plane), least squares over all control points with a tiny
-    thin-plate regulariser, knots per direction equidistributing the largest miss of
-    the points in each span (as :func:`fit_surface`), grown until every point is within
-    tol at its parameters; errors reported by certified closest points. No parameter
-    correction yet (the base surface is the plane).
+    parameters from the projection onto a base (``base``: "plane", the points'
+    least-squares plane; "quadric", the least-squares quadric height field over that
+    plane; or a cagd Surface, by certified closest points; the points must be a graph
+    over it), least squares over all control points with a tiny thin-plate regulariser,
+    knots per direction equidistributing the largest miss of the points in each span
+    (as :func:`fit_surface`), grown until every point is within tol at its parameters;
+    after every solve the parameters are corrected by re-projection onto the fit
+    (Piegl & Tiller 9.4.1; :func:`_corrected`); errors reported by certified closest
+    points.
 
     Raises:
-        CagdError: not (N >= 4, 3) finite points, collinear points, bad tol or degree."""
+        CagdError: not (N >= 4, 3) finite points, collinear points, bad tol, degree or base."""
     from ..queries.closest import closest_point
     Q = _checks.points(points, "points", min_count=4)
     if Q.shape[1] != 3:
@@ -299,7 +389,7 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     tol = _checks.positive(tol, "tol")
     side = int(np.sqrt(len(Q)))
     pu, pv, cap_u, cap_v = _degrees_and_caps(degree, max_control_points, (side, side))
-    uv = _plane_parameters(Q)
+    uv = _base_parameters(Q, base)
     center, scale = _frame(Q)
     Qn = (Q - center) / scale
     tol_n = tol / scale
@@ -315,6 +405,20 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
             break
         bu, bv = nu, nv
         S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+    if miss.max() > tol_n:
+        uv, S, miss = _corrected(Qn, uv, S, miss, bu, bv, pu, pv)
+
+    def solve(bu, bv):
+        S2, miss2 = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+        if miss2.max() > tol_n and SCATTER_TRIM_CORRECTION:      # parameter correction where it lowers the count
+            uv2, S2, miss2 = _corrected(Qn, uv, S2, miss2, bu, bv, pu, pv)
+            return S2, miss2, uv2
+        return S2, miss2, uv
+
+    best, trimmed = _trimmed((S, bu, bv, float(miss.max()), miss, uv), solve,
+                             lambda fit: ([(fit[5][:, 0], fit[4])], [(fit[5][:, 1], fit[4])]), tol_n, (pu, pv))
+    rounds += trimmed
+    S, uv = best[0], best[5]
     out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q)
     at = np.sqrt(((out(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
