@@ -24,7 +24,8 @@ from .. import _checks
 from .._results import ReadOnlyArrays
 from ..errors import CagdError
 from ..surfaces.bspline import BSplineSurface
-from .fit import CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed, _span_errors, _worth
+from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
+                  _span_errors, _worth)
 from .interpolation import _frame
 from .rebuild import _fit_rows, _pair
 
@@ -66,7 +67,10 @@ def _tensor(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.
             ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray]:
     """The separable least-squares surface on the breakpoints (along u for every column,
     then along v; Piegl & Tiller 9.4.3), its misses at the parameters (m, n), and the
-    intermediate rows (cu, n d)."""
+    intermediate rows (cu, n d). With the ends held in both passes its boundary rows of
+    control points are the 1-D fits of the grid's boundary rows (:func:`_boundary_rows`):
+    row 0 is held by the u pass and fitted alone by the v pass, column 0 is fitted alone
+    by the u pass and held by the v pass."""
     m, n, d = Q.shape
     U, V = _knots(bu, pu), _knots(bv, pv)
     cu, cv = len(U) - pu - 1, len(V) - pv - 1
@@ -74,6 +78,16 @@ def _tensor(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.
     P = _fit_rows(V, pv, v, cv, rows.reshape(cu, n, d).transpose(1, 0, 2).reshape(n, cu * d))
     S = BSplineSurface(P.reshape(cv, cu, d).transpose(1, 0, 2), pu, pv, U, V)
     return S, np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1)), rows
+
+
+def _boundary_rows(Q: np.ndarray, u: np.ndarray, v: np.ndarray, U: np.ndarray, V: np.ndarray, pu: int, pv: int
+                   ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The four boundary rows of control points: 1-D least-squares fits (ends held, P&T
+    9.4.1) of the grid's boundary rows to the surface's knots: u = 0 and u = 1 along v
+    (cv, d), v = 0 and v = 1 along u (cu, d)."""
+    cu, cv = len(U) - pu - 1, len(V) - pv - 1
+    return (_fit_rows(V, pv, v, cv, Q[0]), _fit_rows(V, pv, v, cv, Q[-1]),
+            _fit_rows(U, pu, u, cu, Q[:, 0]), _fit_rows(U, pu, u, cu, Q[:, -1]))
 
 
 def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
@@ -105,6 +119,8 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
     return _redistributed(breaks, c, count) if count > s else breaks
 
 
+#: the boundary conditions of a grid fit: free, or the boundary curves held (G0)
+BOUNDARIES = (None, "G0")
 #: one-span trimming steps after the shrink at most (each: two separable solves)
 MAX_TRIM_STEPS = 24
 
@@ -142,7 +158,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
 
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
-                base=None) -> SurfaceFit:
+                base=None, boundary: Optional[str] = None) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
@@ -156,6 +172,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         max_control_points: a cap (count_u, count_v) (default: the grid's size).
         base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
             project them onto for their first parameters.
+        boundary: grids only: None or "G0". The separable fit already makes the four
+            boundary rows of control points the 1-D least-squares fits (ends held) of the
+            grid's boundary rows to the surface's knots; "G0" sets them from those fits
+            in model units once more (exact, not through the normalised frame).
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -167,6 +187,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     from ..queries.closest import closest_point
     from ..surfaces.fitting import surface_parameters
     if np.ndim(points) == 2:
+        if boundary is not None:
+            raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
         return fit_scattered(points, tol, degree, max_control_points, "plane" if base is None else base)
     if base is not None:
         raise CagdError("base: only scattered (N, 3) points are projected onto a base; a grid has its own parameters")
@@ -176,6 +198,9 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         raise CagdError(f"points: expected a grid of at least 2 x 2 points, got {m} x {n}")
     tol = _checks.positive(tol, "tol")
     pu, pv, cap_u, cap_v = _degrees_and_caps(degree, max_control_points, (m, n))
+    if boundary not in BOUNDARIES:
+        raise CagdError(f"boundary: expected one of {BOUNDARIES}, got {boundary!r}")
+    held = boundary == "G0"
     if m < pu + 1 or n < pv + 1:
         raise CagdError(f"degree: a {m} x {n} grid fits at most degree {m - 1} x {n - 1}, got {pu} x {pv}")
     u, v = surface_parameters(Q, parameters)
@@ -225,6 +250,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     rounds += trimmed
     S = best[0]
     P = S.control_points * scale + center
+    if held:        # the boundary curves exactly the 1-D fits of the boundary points
+        P[0], P[-1], P[:, 0], P[:, -1] = _boundary_rows(Q, u, v, S.knots_u, S.knots_v, pu, pv)
     P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
     out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q.reshape(-1, d))

@@ -177,3 +177,45 @@ def test_bad_base(kwargs, word):
         fit_surface(scattered(200), 0.1, **kwargs)
     with pytest.raises(CagdError, match="base"):
         fit_surface(anchor_grid(6), 0.1, base="plane")
+
+
+# --- boundary curves held (G0) ---------------------------------------------------------------
+def lsq_ends_held(Q, t, U, p):
+    """Oracle: the 1-D least squares with the end points held, by scipy's basis (design
+    matrix) and numpy's lstsq, dense (small)."""
+    from scipy.interpolate import BSpline
+    A = BSpline.design_matrix(t, U, p).toarray()
+    P = np.zeros((A.shape[1], Q.shape[1]))
+    P[0], P[-1] = Q[0], Q[-1]
+    R = Q - A[:, :1] * P[0] - A[:, -1:] * P[-1]
+    P[1:-1] = np.linalg.lstsq(A[:, 1:-1], R, rcond=None)[0]
+    return P
+
+
+def test_boundary_g0_holds_the_fitted_boundary_curves():
+    from cagd import closest_point
+    Q = anchor_grid(40)
+    r = fit_surface(Q, 0.01, boundary="G0")
+    assert r.converged and r.max_error <= 0.01, r.message
+    near = closest_point(r.surface, Q.reshape(-1, 3))                # the guarantee, certified
+    assert float(np.asarray(near.distances).max()) <= 0.01 + 1e-12
+    S, u, v = r.surface, r.params[:, 0, 0], r.params[0, :, 1]
+    from cagd.surfaces.fitting import surface_parameters
+    pu_, pv_ = surface_parameters(Q, "centripetal")
+    u, v = (pu_ - pu_[0]) / (pu_[-1] - pu_[0]), (pv_ - pv_[0]) / (pv_[-1] - pv_[0])
+    P = S.control_points
+    size = float(np.abs(Q).max())
+    for row, data, t, U in ((P[0], Q[0], v, S.knots_v), (P[-1], Q[-1], v, S.knots_v),
+                            (P[:, 0], Q[:, 0], u, S.knots_u), (P[:, -1], Q[:, -1], u, S.knots_u)):
+        assert np.abs(row - lsq_ends_held(data, t, U, 3)).max() <= 1e-12 * size
+    free = fit_surface(Q, 0.01)
+    # the separable fit holds them without G0 too (to rounding in its normalised frame)
+    gap = np.abs(free.surface.control_points[:, 0] - lsq_ends_held(Q[:, 0], u, free.surface.knots_u, 3)).max()
+    assert gap <= 1e-9 * size
+
+
+def test_boundary_bad():
+    with pytest.raises(CagdError, match="boundary"):
+        fit_surface(anchor_grid(6), 0.1, boundary="G2")
+    with pytest.raises(CagdError, match="boundary"):
+        fit_surface(scattered(100), 0.1, boundary="G0")
