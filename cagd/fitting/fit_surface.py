@@ -125,6 +125,26 @@ BOUNDARIES = (None, "G0")
 MAX_TRIM_STEPS = 24
 
 
+def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: int):
+    """Shrinking: both directions to MAX_SHRINK of their spans at once, the breakpoints
+    redistributed by the first error source (as :func:`_trimmed`), while the fit stays
+    within tol, at most ``most`` steps. Returns (best, steps)."""
+    steps = 0
+    while best[3] <= tol and steps < most and (len(best[1]) > 2 or len(best[2]) > 2):
+        steps += 1
+        new = []
+        for axis, pairs in enumerate(sources(best)):
+            breaks, (t, e) = best[1 + axis], pairs[0]
+            s = len(breaks) - 1
+            new.append(_redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
+                                      max(1, int(MAX_SHRINK * s))) if s > 1 else breaks)
+        S2, miss2, *extra = solve(*new)
+        if miss2.max() > tol:
+            break
+        best = (S2, new[0], new[1], float(miss2.max()), miss2, *extra)
+    return best, steps
+
+
 def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
     """Greedy knot trimming (knot placement that follows the residual): while the fit
     ``best`` = (surface, breaks_u, breaks_v, largest miss, misses) is within tol, try one
@@ -226,28 +246,17 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
                 break
         bu, bv = nu, nv
         S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
-    best = (S, bu, bv, float(miss.max()))
-    # shrink: both directions by MAX_SHRINK while the fit stays within tol
-    while best[3] <= tol_n and rounds < MAX_FIT_ROUNDS:
-        su, sv = len(best[1]) - 1, len(best[2]) - 1
-        if su <= 1 and sv <= 1:
-            break
-        rounds += 1
-        cu = _worth(_span_errors(best[1], u, miss.max(axis=1)), tol_n, pu)
-        cv = _worth(_span_errors(best[2], v, miss.max(axis=0)), tol_n, pv)
-        tu = _redistributed(best[1], cu, max(1, int(MAX_SHRINK * su))) if su > 1 else best[1]
-        tv = _redistributed(best[2], cv, max(1, int(MAX_SHRINK * sv))) if sv > 1 else best[2]
-        S2, miss2, _, _ = _fit(Qn, u, v, tu, tv, pu, pv)
-        if miss2.max() > tol_n:
-            break
-        best, miss = (S2, tu, tv, float(miss2.max())), miss2
+    def grid_solve(bu, bv):
+        return _tensor(Qn, u, v, bu, bv, pu, pv)[:2]
+
     def grid_sources(fit):
         _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
         return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
 
-    best, trimmed = _trimmed(best + (miss,), lambda bu, bv: _tensor(Qn, u, v, bu, bv, pu, pv)[:2], grid_sources,
-                             tol_n, (pu, pv))
-    rounds += trimmed
+    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), grid_solve, grid_sources, tol_n, (pu, pv),
+                           MAX_FIT_ROUNDS - rounds)
+    best, trimmed = _trimmed(best, grid_solve, grid_sources, tol_n, (pu, pv))
+    rounds += shrunk + trimmed
     S = best[0]
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
@@ -277,8 +286,9 @@ BASES = ("plane", "quadric")
 #: certified feet on the current fit, a new solve; kept only while the largest miss drops
 #: by CORRECTION_GAIN at least, the better fit kept)
 SCATTER_CORRECTIONS = 3
-#: a trimming candidate of a scattered fit that misses tol gets parameter correction
-SCATTER_TRIM_CORRECTION = True
+#: a trimming candidate of a scattered fit that misses tol by at most this factor gets
+#: parameter correction (farther ones are dropped: correction gains a few per cent)
+TRIM_CORRECTION_REACH = 1.25
 
 
 def _plane_frame(Q: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -437,14 +447,18 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
 
     def solve(bu, bv):
         S2, miss2 = _scattered_solve(Qn, uv, bu, bv, pu, pv)
-        if miss2.max() > tol_n and SCATTER_TRIM_CORRECTION:      # parameter correction where it lowers the count
+        if tol_n < miss2.max() <= TRIM_CORRECTION_REACH * tol_n:   # correction where it can lower the count
             uv2, S2, miss2 = _corrected(Qn, uv, S2, miss2, bu, bv, pu, pv)
             return S2, miss2, uv2
         return S2, miss2, uv
 
-    best, trimmed = _trimmed((S, bu, bv, float(miss.max()), miss, uv), solve,
-                             lambda fit: ([(fit[5][:, 0], fit[4])], [(fit[5][:, 1], fit[4])]), tol_n, (pu, pv))
-    rounds += trimmed
+    def sources(fit):
+        return [(fit[5][:, 0], fit[4])], [(fit[5][:, 1], fit[4])]
+
+    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss, uv), solve, sources, tol_n, (pu, pv),
+                           MAX_FIT_ROUNDS - rounds)
+    best, trimmed = _trimmed(best, solve, sources, tol_n, (pu, pv))
+    rounds += shrunk + trimmed
     S, uv = best[0], best[5]
     out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q)
