@@ -9,8 +9,17 @@ separates; Piegl & Tiller 9.4.3). The knots of each direction are placed as in
 own error: the residuals of fitting the grid's columns along u alone (the u knots'
 part of the error) and its rows along v alone (the v knots' part). Rounds grow the
 span counts until every grid point is within tol at its parameters (an upper bound of
-its distance), then try smaller counts while they stay within; the reported errors are
-the certified closest-point distances of every point from the result.
+its distance), then shrink both counts while they stay within (:func:`_shrunk`), then
+trim one span at a time, the direction and error source whose candidate misses least
+(:func:`_trimmed`); the reported errors are the certified closest-point distances of
+every point from the result. The separable fit holds the boundary curves: its boundary
+rows of control points are the 1-D fits of the grid's boundary rows (``boundary="G0"``).
+
+Scattered points (:func:`fit_scattered`) get their parameters by projection onto a base
+(plane, least-squares quadric, or a given surface), one least-squares solve over all
+control points per knot vector, the same grow / shrink / trim, and parameter correction
+by re-projection onto the fit (Piegl & Tiller 9.4.1) where a candidate misses tol
+narrowly (:func:`_corrected`).
 """
 from __future__ import annotations
 
