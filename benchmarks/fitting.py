@@ -12,7 +12,8 @@ equal error.
 The surface anchor: a 100 x 100 grid of a 100 mm bumpy height field, fitted by
 ``cagd.fit_surface`` and OCCT's GeomAPI_PointsToBSplineSurface (degree 3..8, C2) at
 tol 0.01 and 0.001, and with noise (sigma 0.005) at tol 0.02 beside the noise-free fit
-at the same tol.
+at the same tol; then 10,000 scattered points of the same field (base plane and
+quadric).
 
 Run: python -m benchmarks.fitting [--points N] [--tols 0.1,0.01,0.001] [--no-surface]
 """
@@ -121,6 +122,34 @@ def surfaces() -> bool:
             dev = float(cagd.closest_point(S, data.reshape(-1, 3)).distances.max())
             print(f"{'':7s} {'OCCT PointsToBSplineSurface':28s} {ou:4d}x{ov:<4d} {dev:13.3g} {t_occ:8.3f}"
                   f"   engine/OCCT: poles {nu * nv / (ou * ov):.2f}, time {dt / t_occ:.2f}")
+    ok &= scattered_surfaces()
+    return ok
+
+
+def anchor_scattered(n: int = 10000, seed: int = 1) -> np.ndarray:
+    """n random points of the anchor height field (:func:`anchor_grid`'s function)."""
+    rng = np.random.default_rng(seed)
+    X, Y = rng.random(n) * 100.0, rng.random(n) * 100.0
+    Z = 5 * np.sin(X / 15) * np.cos(Y / 20) + 3 * np.exp(-((X - 60) ** 2 + (Y - 40) ** 2) / 200)
+    return np.stack([X, Y, Z], axis=1)
+
+
+def scattered_surfaces() -> bool:
+    """fit_surface on scattered points of the anchor field, per base (OCCT has no
+    scattered-point fit to compare with; the grid fit's poles at the same tol are)."""
+    from cagd.fitting.fit_surface import fit_surface
+    Q = anchor_scattered()
+    print(f"\nfit_surface: {len(Q)} scattered points of the same height field")
+    print(f"{'tol':>7s} {'method':28s} {'poles':>9s} {'max distance':>13s} {'time s':>8s}")
+    ok = True
+    for tol in (0.01, 0.001):
+        for base in ("plane", "quadric"):
+            t0 = time.perf_counter()
+            r = fit_surface(Q, tol, base=base)
+            dt = time.perf_counter() - t0
+            ok &= r.converged
+            nu, nv = r.surface.control_points.shape[:2]
+            print(f"{tol:7g} {'cagd.fit_surface ' + base:28s} {nu:4d}x{nv:<4d} {r.max_error:13.3g} {dt:8.3f}")
     return ok
 
 

@@ -9,8 +9,17 @@ separates; Piegl & Tiller 9.4.3). The knots of each direction are placed as in
 own error: the residuals of fitting the grid's columns along u alone (the u knots'
 part of the error) and its rows along v alone (the v knots' part). Rounds grow the
 span counts until every grid point is within tol at its parameters (an upper bound of
-its distance), then try smaller counts while they stay within; the reported errors are
-the certified closest-point distances of every point from the result.
+its distance), then shrink both counts while they stay within (:func:`_shrunk`), then
+trim one span at a time, the direction and error source whose candidate misses least
+(:func:`_trimmed`); the reported errors are the certified closest-point distances of
+every point from the result. The separable fit holds the boundary curves: its boundary
+rows of control points are the 1-D fits of the grid's boundary rows (``boundary="G0"``).
+
+Scattered points (:func:`fit_scattered`) get their parameters by projection onto a base
+(plane, least-squares quadric, or a given surface), one least-squares solve over all
+control points per knot vector, the same grow / shrink / trim, and parameter correction
+by re-projection onto the fit (Piegl & Tiller 9.4.1) where a candidate misses tol
+narrowly (:func:`_corrected`).
 """
 from __future__ import annotations
 
@@ -24,7 +33,8 @@ from .. import _checks
 from .._results import ReadOnlyArrays
 from ..errors import CagdError
 from ..surfaces.bspline import BSplineSurface
-from .fit import GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed, _span_errors, _worth
+from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
+                  _span_errors, _worth)
 from .interpolation import _frame
 from .rebuild import _fit_rows, _pair
 
@@ -62,17 +72,41 @@ def _degrees_and_caps(degree, caps, default: Tuple[int, int]) -> Tuple[int, int,
             _checks.integer(caps[1], "max_control_points", pv + 1))
 
 
-def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
-         ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray, np.ndarray]:
-    """The separable least-squares surface on the breakpoints, its misses at the
-    parameters (m, n), and the per-direction residuals (m, n): along u alone, along v alone."""
+def _tensor(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
+            ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray]:
+    """The separable least-squares surface on the breakpoints (along u for every column,
+    then along v; Piegl & Tiller 9.4.3), its misses at the parameters (m, n), and the
+    intermediate rows (cu, n d). With the ends held in both passes its boundary rows of
+    control points are the 1-D fits of the grid's boundary rows (:func:`_boundary_rows`):
+    row 0 is held by the u pass and fitted alone by the v pass, column 0 is fitted alone
+    by the u pass and held by the v pass."""
     m, n, d = Q.shape
     U, V = _knots(bu, pu), _knots(bv, pv)
     cu, cv = len(U) - pu - 1, len(V) - pv - 1
     rows = _fit_rows(U, pu, u, cu, Q.reshape(m, n * d))                          # (cu, n d)
     P = _fit_rows(V, pv, v, cv, rows.reshape(cu, n, d).transpose(1, 0, 2).reshape(n, cu * d))
     S = BSplineSurface(P.reshape(cv, cu, d).transpose(1, 0, 2), pu, pv, U, V)
-    miss = np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1))
+    return S, np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1)), rows
+
+
+def _boundary_rows(Q: np.ndarray, u: np.ndarray, v: np.ndarray, U: np.ndarray, V: np.ndarray, pu: int, pv: int
+                   ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The four boundary rows of control points: 1-D least-squares fits (ends held, P&T
+    9.4.1) of the grid's boundary rows to the surface's knots: u = 0 and u = 1 along v
+    (cv, d), v = 0 and v = 1 along u (cu, d)."""
+    cu, cv = len(U) - pu - 1, len(V) - pv - 1
+    return (_fit_rows(V, pv, v, cv, Q[0]), _fit_rows(V, pv, v, cv, Q[-1]),
+            _fit_rows(U, pu, u, cu, Q[:, 0]), _fit_rows(U, pu, u, cu, Q[:, -1]))
+
+
+def _fit(Q: np.ndarray, u: np.ndarray, v: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
+         ) -> Tuple[BSplineSurface, np.ndarray, np.ndarray, np.ndarray]:
+    """The separable least-squares surface on the breakpoints, its misses at the
+    parameters (m, n), and the per-direction residuals (m, n): along u alone, along v alone."""
+    m, n, d = Q.shape
+    S, miss, rows = _tensor(Q, u, v, bu, bv, pu, pv)
+    U, V = S.knots_u, S.knots_v
+    cv = len(V) - pv - 1
     from ..curves.bspline import BSplineCurve
     along_u = BSplineCurve(rows, pu, U)(u).reshape(m, n, d)
     cols = _fit_rows(V, pv, v, cv, Q.transpose(1, 0, 2).reshape(n, m * d))
@@ -94,13 +128,70 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
     return _redistributed(breaks, c, count) if count > s else breaks
 
 
+#: the boundary conditions of a grid fit: free, or the boundary curves held (G0)
+BOUNDARIES = (None, "G0")
+#: one-span trimming steps after the shrink at most (each: two separable solves)
+MAX_TRIM_STEPS = 24
+
+
+def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: int):
+    """Shrinking: both directions to MAX_SHRINK of their spans at once, the breakpoints
+    redistributed by the first error source (as :func:`_trimmed`), while the fit stays
+    within tol, at most ``most`` steps. Returns (best, steps)."""
+    steps = 0
+    while best[3] <= tol and steps < most and (len(best[1]) > 2 or len(best[2]) > 2):
+        steps += 1
+        new = []
+        for axis, pairs in enumerate(sources(best)):
+            breaks, (t, e) = best[1 + axis], pairs[0]
+            s = len(breaks) - 1
+            new.append(_redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
+                                      max(1, int(MAX_SHRINK * s))) if s > 1 else breaks)
+        S2, miss2, *extra = solve(*new)
+        if miss2.max() > tol:
+            break
+        best = (S2, new[0], new[1], float(miss2.max()), miss2, *extra)
+    return best, steps
+
+
+def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
+    """Greedy knot trimming (knot placement that follows the residual): while the fit
+    ``best`` = (surface, breaks_u, breaks_v, largest miss, misses) is within tol, try one
+    span fewer along u and along v, the breakpoints redistributed by each error source
+    (``sources(best)``: per direction, pairs (parameters, misses); de Boor's
+    equidistribution, as the rounds), each candidate solved by ``solve(bu, bv)`` ->
+    (surface, misses); keep the one with the smallest largest miss while it stays within
+    tol, at most MAX_TRIM_STEPS steps. Returns (best, steps)."""
+    steps = 0
+    while best[3] <= tol and steps < MAX_TRIM_STEPS:
+        steps += 1
+        cands = []
+        for axis, pairs in enumerate(sources(best)):
+            breaks = best[1 + axis]
+            if len(breaks) <= 2:
+                continue
+            for t, e in pairs:
+                fewer = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
+                                       len(breaks) - 2)
+                bu, bv = (fewer, best[2]) if axis == 0 else (best[1], fewer)
+                S2, miss2, *extra = solve(bu, bv)
+                cands.append((S2, bu, bv, float(miss2.max()), miss2, *extra))
+        if not cands:
+            break
+        top = min(cands, key=lambda c: c[3])
+        if top[3] > tol:
+            break
+        best = top
+    return best, steps
+
+
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
-                parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None
-                ) -> SurfaceFit:
+                parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
+                base=None, boundary: Optional[str] = None) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
-    projection onto their least-squares plane (:func:`fit_scattered`).
+    projection onto a base surface and corrected by re-projection (:func:`fit_scattered`).
 
     Args:
         points: (m, n, d) grid, rows along u; or (N, 3) scattered points.
@@ -108,6 +199,12 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         degree: per direction, or a pair (degree_u, degree_v).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
         max_control_points: a cap (count_u, count_v) (default: the grid's size).
+        base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
+            project them onto for their first parameters.
+        boundary: grids only: None or "G0". The separable fit already makes the four
+            boundary rows of control points the 1-D least-squares fits (ends held) of the
+            grid's boundary rows to the surface's knots; "G0" sets them from those fits
+            in model units once more (exact, not through the normalised frame).
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -119,13 +216,20 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     from ..queries.closest import closest_point
     from ..surfaces.fitting import surface_parameters
     if np.ndim(points) == 2:
-        return fit_scattered(points, tol, degree, max_control_points)
+        if boundary is not None:
+            raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
+        return fit_scattered(points, tol, degree, max_control_points, "plane" if base is None else base)
+    if base is not None:
+        raise CagdError("base: only scattered (N, 3) points are projected onto a base; a grid has its own parameters")
     Q = _checks.finite_array(points, "points", ndim=3)
     m, n, d = Q.shape
     if m < 2 or n < 2:
         raise CagdError(f"points: expected a grid of at least 2 x 2 points, got {m} x {n}")
     tol = _checks.positive(tol, "tol")
     pu, pv, cap_u, cap_v = _degrees_and_caps(degree, max_control_points, (m, n))
+    if boundary not in BOUNDARIES:
+        raise CagdError(f"boundary: expected one of {BOUNDARIES}, got {boundary!r}")
+    held = boundary == "G0"
     if m < pu + 1 or n < pv + 1:
         raise CagdError(f"degree: a {m} x {n} grid fits at most degree {m - 1} x {n - 1}, got {pu} x {pv}")
     u, v = surface_parameters(Q, parameters)
@@ -151,23 +255,21 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
                 break
         bu, bv = nu, nv
         S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
-    best = (S, bu, bv, float(miss.max()))
-    # shrink: both directions by MAX_SHRINK while the fit stays within tol
-    while best[3] <= tol_n and rounds < MAX_FIT_ROUNDS:
-        su, sv = len(best[1]) - 1, len(best[2]) - 1
-        if su <= 1 and sv <= 1:
-            break
-        rounds += 1
-        cu = _worth(_span_errors(best[1], u, miss.max(axis=1)), tol_n, pu)
-        cv = _worth(_span_errors(best[2], v, miss.max(axis=0)), tol_n, pv)
-        tu = _redistributed(best[1], cu, max(1, int(MAX_SHRINK * su))) if su > 1 else best[1]
-        tv = _redistributed(best[2], cv, max(1, int(MAX_SHRINK * sv))) if sv > 1 else best[2]
-        S2, miss2, _, _ = _fit(Qn, u, v, tu, tv, pu, pv)
-        if miss2.max() > tol_n:
-            break
-        best, miss = (S2, tu, tv, float(miss2.max())), miss2
+    def grid_solve(bu, bv):
+        return _tensor(Qn, u, v, bu, bv, pu, pv)[:2]
+
+    def grid_sources(fit):
+        _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
+        return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
+
+    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), grid_solve, grid_sources, tol_n, (pu, pv),
+                           MAX_FIT_ROUNDS - rounds)
+    best, trimmed = _trimmed(best, grid_solve, grid_sources, tol_n, (pu, pv))
+    rounds += shrunk + trimmed
     S = best[0]
     P = S.control_points * scale + center
+    if held:        # the boundary curves exactly the 1-D fits of the boundary points
+        P[0], P[-1], P[:, 0], P[:, -1] = _boundary_rows(Q, u, v, S.knots_u, S.knots_v, pu, pv)
     P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
     out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q.reshape(-1, d))
@@ -187,16 +289,93 @@ PLANE_SPREAD_TOL = 1e-9
 SCATTER_CHUNK = 65536
 
 
+#: the named bases of a scattered fit (or a cagd Surface to project onto)
+BASES = ("plane", "quadric")
+#: parameter-correction passes of a scattered fit per knot vector at most (each: the
+#: certified feet on the current fit, a new solve; kept only while the largest miss drops
+#: by CORRECTION_GAIN at least, the better fit kept)
+SCATTER_CORRECTIONS = 3
+#: a trimming candidate of a scattered fit that misses tol by at most this factor gets
+#: parameter correction (farther ones are dropped: correction gains a few per cent)
+TRIM_CORRECTION_REACH = 1.25
+
+
+def _plane_frame(Q: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(center, axes (3, 3), local coordinates (N, 3)) of the least-squares plane of the
+    points: the first two axes span it, the third is its normal (SVD)."""
+    c = Q.mean(axis=0)
+    _, sigma, vt = np.linalg.svd(Q - c, full_matrices=False)
+    local = (Q - c) @ vt.T
+    lo, hi = local[:, :2].min(axis=0), local[:, :2].max(axis=0)
+    if not sigma[1] > PLANE_SPREAD_TOL * sigma[0] or not np.all(hi - lo > 0.0):
+        raise CagdError("points: the scattered points lie on a line; no surface is defined by them")
+    return c, vt, local
+
+
+def _unit_box(uv: np.ndarray, what: str) -> np.ndarray:
+    """uv scaled to [0, 1]^2 by its bounding box."""
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    if not np.all(hi - lo > 0.0):
+        raise CagdError(f"{what}: the points project onto a curve of the base; no surface is defined by them")
+    return np.clip((uv - lo) / (hi - lo), 0.0, 1.0)
+
+
 def _plane_parameters(Q: np.ndarray) -> np.ndarray:
     """(u, v) in [0, 1]^2: the points projected onto their two principal directions (the
     least-squares plane), scaled to the bounding box of the projection."""
-    c = Q.mean(axis=0)
-    _, sigma, vt = np.linalg.svd(Q - c, full_matrices=False)
-    uv = (Q - c) @ vt[:2].T
-    lo, hi = uv.min(axis=0), uv.max(axis=0)
-    if not sigma[1] > PLANE_SPREAD_TOL * sigma[0] or not np.all(hi - lo > 0.0):
-        raise CagdError("points: the scattered points lie on a line; no surface is defined by them")
-    return (uv - lo) / (hi - lo)
+    return _unit_box(_plane_frame(Q)[2][:, :2], "points")
+
+
+def _quadric_base(Q: np.ndarray) -> BSplineSurface:
+    """The least-squares quadric height field over the points' plane, h = a + b x + c y +
+    d x^2 + e x y + f y^2 in the plane's frame, over the box of the projection: exactly a
+    biquadratic Bezier patch (its control net from the values at s, t in {0, 1/2, 1},
+    the Bernstein collocation matrix inverted)."""
+    c, axes, local = _plane_frame(Q)
+    x, y, h = local.T
+    coef = np.linalg.lstsq(np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=1), h, rcond=None)[0]
+    s = np.array([0.0, 0.5, 1.0])
+    X, Y = np.meshgrid(x.min() + (x.max() - x.min()) * s, y.min() + (y.max() - y.min()) * s, indexing="ij")
+    H = coef[0] + coef[1] * X + coef[2] * Y + coef[3] * X * X + coef[4] * X * Y + coef[5] * Y * Y
+    values = c + np.stack([X, Y, H], axis=-1) @ axes                                  # (3, 3, 3)
+    Minv = np.linalg.inv(np.array([[1.0, 0.0, 0.0], [0.25, 0.5, 0.25], [0.0, 0.0, 1.0]]))
+    return BSplineSurface(np.einsum("ia,abk,jb->ijk", Minv, values, Minv), 2, 2)
+
+
+def _base_parameters(Q: np.ndarray, base) -> np.ndarray:
+    """The points' parameters in [0, 1]^2 from their base: the plane (projection onto it),
+    the quadric (:func:`_quadric_base`) or a given surface (their certified closest points
+    on it), scaled to the bounding box of the feet."""
+    from ..queries.closest import closest_point
+    from ..surfaces.base import Surface
+    if isinstance(base, str) and base == "plane":
+        return _plane_parameters(Q)
+    if isinstance(base, str) and base == "quadric":
+        base = _quadric_base(Q)
+    elif not isinstance(base, Surface) or not base.rectangular:
+        raise CagdError(f"base: expected one of {BASES} or a cagd Surface on a rectangle, got {base!r}")
+    elif base.dim != 3:
+        raise CagdError(f"base: expected a surface in 3-D, got a {base.dim}-D one")
+    near = closest_point(base, Q)
+    return _unit_box(np.asarray(near.params, dtype=float), "base")
+
+
+def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarray, bu: np.ndarray, bv: np.ndarray,
+               pu: int, pv: int) -> Tuple[np.ndarray, BSplineSurface, np.ndarray]:
+    """Parameter correction (Hoschek 1988; Piegl & Tiller 9.4.1, here for a surface): the
+    parameters move to the points' certified closest points on the current fit and the
+    fit is solved again on the same knots, at most SCATTER_CORRECTIONS passes, stopping
+    when the largest miss drops by less than CORRECTION_GAIN; the better fit is kept."""
+    from ..queries.closest import closest_point
+    for _ in range(SCATTER_CORRECTIONS):
+        uv2 = np.clip(np.asarray(closest_point(S, Q).params, dtype=float), 0.0, 1.0)
+        S2, miss2 = _scattered_solve(Q, uv2, bu, bv, pu, pv)
+        gain = float(miss2.max()) < (1.0 - CORRECTION_GAIN) * float(miss.max())
+        if float(miss2.max()) < float(miss.max()):
+            uv, S, miss = uv2, S2, miss2
+        if not gain:
+            break
+    return uv, S, miss
 
 
 def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
@@ -235,17 +414,20 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
 
 
 def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
-                  max_control_points: Optional[Tuple[int, int]] = None) -> SurfaceFit:
+                  max_control_points: Optional[Tuple[int, int]] = None, base="plane") -> SurfaceFit:
     """A B-spline surface within ``tol`` of scattered points (N, 3) (a scan of a sheet):
-    parameters from the projection onto the points' least-squares plane (so the points
-    must be a graph over that plane), least squares over all control points with a tiny
-    thin-plate regulariser, knots per direction equidistributing the largest miss of
-    the points in each span (as :func:`fit_surface`), grown until every point is within
-    tol at its parameters; errors reported by certified closest points. No parameter
-    correction yet (the base surface is the plane).
+    parameters from the projection onto a base (``base``: "plane", the points'
+    least-squares plane; "quadric", the least-squares quadric height field over that
+    plane; or a cagd Surface, by certified closest points; the points must be a graph
+    over it), least squares over all control points with a tiny thin-plate regulariser,
+    knots per direction equidistributing the largest miss of the points in each span
+    (as :func:`fit_surface`), grown until every point is within tol at its parameters;
+    after every solve the parameters are corrected by re-projection onto the fit
+    (Piegl & Tiller 9.4.1; :func:`_corrected`); errors reported by certified closest
+    points.
 
     Raises:
-        CagdError: not (N >= 4, 3) finite points, collinear points, bad tol or degree."""
+        CagdError: not (N >= 4, 3) finite points, collinear points, bad tol, degree or base."""
     from ..queries.closest import closest_point
     Q = _checks.points(points, "points", min_count=4)
     if Q.shape[1] != 3:
@@ -253,7 +435,7 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     tol = _checks.positive(tol, "tol")
     side = int(np.sqrt(len(Q)))
     pu, pv, cap_u, cap_v = _degrees_and_caps(degree, max_control_points, (side, side))
-    uv = _plane_parameters(Q)
+    uv = _base_parameters(Q, base)
     center, scale = _frame(Q)
     Qn = (Q - center) / scale
     tol_n = tol / scale
@@ -269,6 +451,24 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
             break
         bu, bv = nu, nv
         S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+    if miss.max() > tol_n:
+        uv, S, miss = _corrected(Qn, uv, S, miss, bu, bv, pu, pv)
+
+    def solve(bu, bv):
+        S2, miss2 = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+        if tol_n < miss2.max() <= TRIM_CORRECTION_REACH * tol_n:   # correction where it can lower the count
+            uv2, S2, miss2 = _corrected(Qn, uv, S2, miss2, bu, bv, pu, pv)
+            return S2, miss2, uv2
+        return S2, miss2, uv
+
+    def sources(fit):
+        return [(fit[5][:, 0], fit[4])], [(fit[5][:, 1], fit[4])]
+
+    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss, uv), solve, sources, tol_n, (pu, pv),
+                           MAX_FIT_ROUNDS - rounds)
+    best, trimmed = _trimmed(best, solve, sources, tol_n, (pu, pv))
+    rounds += shrunk + trimmed
+    S, uv = best[0], best[5]
     out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q)
     at = np.sqrt(((out(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
