@@ -88,7 +88,8 @@ LIGHT_POINTS = 1024     # closest_point of fewer points builds a light projector
 LIGHT_CELLS = (16, 64)  # ... of one cell per Bezier piece, at least this many (curves, surfaces)
 LIGHT_BUDGET = 2        # ... and twice the default's per-cell share of the branch budget (a crumpled 16 x 16
                         # net: 1x left every near point's bound 0, 2x gives bounds within 1e-13)
-CACHE_OBJECTS = 16      # projectors kept by the objects' content (the most recently used)
+CACHE_OBJECTS = 16      # projectors kept by the objects' content (the most recently used) ...
+CACHE_BYTES = 256 << 20  # ... holding at most this many bytes of arrays (a default 50 x 50 one: ~30 MB)
 TREE_TOP = 64           # nodes of the hierarchy's top level, at most
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
 BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
@@ -1128,9 +1129,26 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
         if key is not None:
             _BY_CONTENT[key] = held
             _BY_CONTENT.move_to_end(key)
-            while len(_BY_CONTENT) > CACHE_OBJECTS:
+            # the most recent CACHE_OBJECTS contents, within CACHE_BYTES (the newest kept)
+            while len(_BY_CONTENT) > 1 and (len(_BY_CONTENT) > CACHE_OBJECTS or sum(
+                    _footprint(q) for h in _BY_CONTENT.values() for q in h.values()) > CACHE_BYTES):
                 _BY_CONTENT.popitem(last=False)
     return best
+
+
+def _footprint(p: Projector) -> int:
+    """Bytes held by a projector's arrays (also inside its lists and tuples), computed once."""
+    if getattr(p, "_bytes", None) is None:
+        def size(x: object, depth: int = 0) -> int:
+            if isinstance(x, np.ndarray):
+                return int(x.nbytes)
+            if isinstance(x, (list, tuple)) and depth < 3:
+                return sum(size(y, depth + 1) for y in x)
+            if isinstance(x, BezierPieces) and depth < 3:
+                return sum(size(y, depth + 1) for y in vars(x).values())
+            return 0
+        setattr(p, "_bytes", sum(size(v) for k, v in vars(p).items() if k != "_bytes"))
+    return int(getattr(p, "_bytes"))
 
 
 def content_key(obj: object) -> Optional[Tuple]:

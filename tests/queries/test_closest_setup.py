@@ -120,3 +120,15 @@ def test_partial_bounds_computed_once_and_equal():
         assert pieces.partial_bounds(3) is not third          # a copy: the cache cannot be edited
         with pytest.raises(ValueError):
             pieces.hull_boxes()[0][0, 0] = 1.0
+
+
+def test_content_cache_is_bounded_by_bytes(monkeypatch):
+    """Projectors kept by content hold at most CACHE_BYTES of arrays (the newest always)."""
+    monkeypatch.setattr(cl, "_BY_CONTENT", type(cl._BY_CONTENT)())
+    curves = [cagd.BSplineCurve(np.random.default_rng(i).uniform(-1, 1, (40, 3)), 3) for i in range(4)]
+    one = cl._footprint(cl.Projector(curves[0], light=True))
+    monkeypatch.setattr(cl, "CACHE_BYTES", int(2.5 * one))
+    for c in curves:
+        cl.projector(c, 1)
+    assert len(cl._BY_CONTENT) == 2
+    assert cl.content_key(curves[-1]) in cl._BY_CONTENT
