@@ -32,6 +32,7 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from .._results import ReadOnlyArrays
 from ..errors import CagdError
+from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
                   _span_errors, _worth)
@@ -187,7 +188,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
 
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
-                base=None, boundary: Optional[str] = None) -> SurfaceFit:
+                base: Union[str, Surface, None] = None, boundary: Optional[str] = None) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
@@ -414,7 +415,8 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
 
 
 def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
-                  max_control_points: Optional[Tuple[int, int]] = None, base="plane") -> SurfaceFit:
+                  max_control_points: Optional[Tuple[int, int]] = None,
+                  base: Union[str, Surface] = "plane") -> SurfaceFit:
     """A B-spline surface within ``tol`` of scattered points (N, 3) (a scan of a sheet):
     parameters from the projection onto a base (``base``: "plane", the points'
     least-squares plane; "quadric", the least-squares quadric height field over that

@@ -110,14 +110,15 @@ def property_text(obj, name):
     the editor shows 'MaxError' as 'Max Error')."""
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(obj)
-    settle(20)
-    for tree in Gui.getMainWindow().findChildren(QtWidgets.QTreeView):
-        model = tree.model()
-        groups = [model.index(r, 0) for r in range(model.rowCount())] if model is not None else []
-        for group in groups:
-            for r in range(model.rowCount(group)):
-                if str(model.index(r, 0, group).data()).replace(" ", "") == name:
-                    return model.index(r, 1, group).data()
+    for _ in range(20):                 # the editor fills in after the selection: wait for it, bounded
+        settle(50)
+        for tree in Gui.getMainWindow().findChildren(QtWidgets.QTreeView):
+            model = tree.model()
+            groups = [model.index(r, 0) for r in range(model.rowCount())] if model is not None else []
+            for group in groups:
+                for r in range(model.rowCount(group)):
+                    if str(model.index(r, 0, group).data()).replace(" ", "") == name:
+                        return model.index(r, 1, group).data()
     raise AssertionError(f"{obj.Label}.{name} not in the property editor")
 
 
