@@ -1120,7 +1120,7 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
         best = held[1]
     if best is None:
         best = Projector(obj, fine=tier == 2, light=tier == 0)
-        held = {**held, tier: best}
+        held[tier] = best               # one dict per content: its identity and content entries share it
         try:
             _CACHE[obj] = held
         except TypeError:

@@ -24,6 +24,7 @@ from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
+from .bounds import robust_distance
 from .closest import TOL_CHANGED, _closest_point, projector
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
@@ -109,7 +110,7 @@ def _box_bounds(o: Union[Curve, Surface], X: np.ndarray, boxes: str = "nodes") -
     nearest box of the top level of its closest-point hierarchy ("nodes"; at most
     TREE_TOP boxes, BOX_ROWS points at a time); the object lies in the convex hulls of
     those control points (Farin 3.3), a trimmed face in its surface's. Computed in the
-    object's frame, each gap scaled by its largest component (no overflow)."""
+    object's frame (:func:`robust_distance`: no overflow)."""
     from ..surfaces.trimmed import TrimmedSurface
     p = projector(o.untrimmed if isinstance(o, TrimmedSurface) else o)
     lo, hi = p._tree[-1][0], p._tree[-1][1]                     # (T, dim) each
@@ -120,9 +121,7 @@ def _box_bounds(o: Union[Curve, Surface], X: np.ndarray, boxes: str = "nodes") -
         for s in range(0, len(X), BOX_ROWS):
             Xf = p.frame.inward(X[s:s + BOX_ROWS])[:, None, :]
             gap = np.maximum(np.maximum(lo - Xf, Xf - hi), 0.0)     # (n, T, dim)
-            m = gap.max(axis=2, keepdims=True)
-            dist = m[..., 0] * np.sqrt(((gap / np.where(m > 0, m, 1.0)) ** 2).sum(axis=2))
-            out[s:s + BOX_ROWS] = dist.min(axis=1)
+            out[s:s + BOX_ROWS] = robust_distance(gap, np.zeros_like(gap)).min(axis=1)
     return out * p.frame.scale
 
 
