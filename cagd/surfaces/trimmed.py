@@ -36,6 +36,8 @@ from .._quadrature import adaptive
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
+from ._trim_check import LoopCheck
+from ._chords import _cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound, _segment_distance
 from .base import Surface
 
 if TYPE_CHECKING:
@@ -123,61 +125,6 @@ class TrimBoundary:
     edge_error: float = 0.0
 
 
-# --- Bezier pieces in homogeneous form (x w, y w, w) ----------------------------------------
-def _hom_pieces(curve: BSplineCurve) -> Tuple[np.ndarray, np.ndarray]:
-    """(breaks (m + 1,), nets (m, p + 1, 3)) of a 2-D curve: its Bezier pieces with the
-    weight as a third coordinate (1 for a polynomial curve)."""
-    breaks, nets = curve.bezier_net()
-    if not curve.is_rational:
-        nets = np.concatenate([nets, np.ones(nets.shape[:-1] + (1,))], axis=-1)
-    return breaks, nets
-
-
-def _end(c: Curve, side: int) -> np.ndarray:
-    """``c(c.domain[side])`` (side 0: the start, 1: the end): for a clamped end of a
-    B-spline its control point, which evaluation gives there bit for bit
-    (:meth:`cagd.BSplineCurve._clamped_ends`), without the evaluation."""
-    if isinstance(c, BSplineCurve) and not c.periodic:
-        u, p, n = c._u, c.degree, len(c._hom)
-        if (u[0] == u[p]) if side == 0 else (u[-1] == u[n]):
-            return np.array(c.control_points[0 if side == 0 else -1], dtype=np.float64)
-    return c(c.domain[side])
-
-
-def _halves(Q: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """de Casteljau at 1/2 of many homogeneous nets (k, p + 1, 3): the two halves."""
-    left, right = [Q[:, 0]], [Q[:, -1]]
-    cur = Q
-    for _ in range(Q.shape[1] - 1):
-        cur = 0.5 * (cur[:, :-1] + cur[:, 1:])
-        left.append(cur[:, 0])
-        right.append(cur[:, -1])
-    return np.stack(left, axis=1), np.stack(right[::-1], axis=1)
-
-
-def _cartesian(Q: np.ndarray) -> np.ndarray:
-    return Q[..., :2] / Q[..., 2:]
-
-
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance from points p to segments [a, b] (broadcast over leading axes)."""
-    d = b - a
-    dd = np.einsum("...i,...i->...", d, d)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(dd > 0, np.einsum("...i,...i->...", p - a, d) / np.where(dd > 0, dd, 1.0), 0.0)
-    t = np.clip(t, 0.0, 1.0)
-    q = a + t[..., None] * d
-    return np.linalg.norm(p - q, axis=-1)
-
-
-def _hull_bound(Q: np.ndarray) -> np.ndarray:
-    """Distance bound of each piece from its chord: the largest distance of a Cartesian
-    control point from the chord (the curve lies in their convex hull)."""
-    P = _cartesian(Q)
-    a, b = P[:, :1], P[:, -1:]
-    return _segment_distance(P, a, b).max(axis=1)
-
-
 def _flatten_many(curves: Sequence[BSplineCurve], tol: float) -> List[Tuple[np.ndarray, np.ndarray]]:
     """[(nets, bound)] of :func:`_flatten` for many curves at once: the Bezier pieces of
     all curves of one degree are bisected together (one numpy pass per level)."""
@@ -214,18 +161,6 @@ def _flatten_many(curves: Sequence[BSplineCurve], tol: float) -> List[Tuple[np.n
         for j, k in enumerate(ks):
             out[k] = (Q[cuts[j]:cuts[j + 1]], bound[cuts[j]:cuts[j + 1]])
     return out
-
-
-def _crossings(pu: np.ndarray, pv: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Signed crossings (+1 upwards, -1 downwards) of the chords a -> b with the ray
-    from (pu, pv) along +u, half-open in v (a chord counts at its lower end only)."""
-    av, bv = a[..., 1], b[..., 1]
-    up = (av <= pv) & (pv < bv)
-    down = (bv <= pv) & (pv < av)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = a[..., 0] + (pv - av) * (b[..., 0] - a[..., 0]) / (bv - av)
-    hit = (up | down) & (x > pu)
-    return np.where(hit, np.where(up, 1, -1), 0).astype(np.int64)
 
 
 # --- the trimmed surface --------------------------------------------------------------------
@@ -312,8 +247,13 @@ class TrimmedSurface(Surface):
 
     # --- validation ---------------------------------------------------------------------
     def _validate(self) -> None:
-        flat = self._flattened()
-        areas = flat.loop_areas()
+        """Orientation (auto-fixed), no crossings, holes nested: decided on the loops'
+        pieces bisected where needed (:mod:`cagd.surfaces._trim_check`), the full
+        flattening only where an orientation is too close to call or holes are tested."""
+        scale = _loops_scale(self.loops)
+        check = LoopCheck(closed_chains(self.loops), scale, FLATTEN_TOL * scale, MAX_BISECTIONS)
+        signs = check.orientations()
+        areas = self._flattened().loop_areas() if signs is None else signs
         fixed = []
         for i, a in enumerate(areas):
             if not abs(a) > 0.0:
@@ -328,9 +268,21 @@ class TrimmedSurface(Surface):
                 object.__setattr__(self, "edges", edges)
             object.__setattr__(self, "reoriented", tuple(fixed))
             self._flattening = None
-            flat = self._flattened()
-        flat.check_crossings()
-        flat.check_nesting()
+            check = LoopCheck(closed_chains(self.loops), scale, FLATTEN_TOL * scale, MAX_BISECTIONS)
+        check.check_crossings(4 * CHUNK, CROSSING_TOL, JOINT_TOL, _curve_name)
+        if len(self.loops) < 2:
+            return
+        periods = self._shifts()
+        outer = np.concatenate([c.control_points for c in self.loops[0]])
+        band = ON_BAND * scale
+        if any(T > 0 and np.ptp(outer[:, k]) >= T * (1.0 - CLOSURE_TOL) - self.tol for k, T in enumerate(periods)):
+            self._flattened().check_nesting()        # holes with copies a period apart
+            return
+        lo = outer.min(axis=0) - 4 * band
+
+        def window(P: np.ndarray) -> np.ndarray:
+            return np.stack([wrap(P[:, k], lo[k], T) if T > 0 else P[:, k] for k, T in enumerate(periods)], axis=1)
+        check.check_nesting(band, window, CHUNK)
 
     def _flattened(self) -> "_Flattened":
         if self._flattening is None:
@@ -510,6 +462,17 @@ def _reversed_edges(row: Tuple[Optional[BSplineCurve], ...]) -> Tuple[Optional[B
     return tuple(None if e is None else e.reversed() for e in row[::-1])
 
 
+def _loops_scale(loops: Sequence[Sequence[BSplineCurve]]) -> float:
+    """The loops' (u, v) size: the largest side of their control points' box."""
+    pts = np.concatenate([c.control_points for loop in loops for c in loop])
+    return max(float(np.ptp(pts, axis=0).max()), 1e-300)
+
+
+def _curve_name(loop: int, j: int) -> str:
+    """How messages name curve j of a loop (-1: a gap closer after a curve)."""
+    return f"loops[{loop}][{j}]" if j >= 0 else f"the gap after a curve of loops[{loop}]"
+
+
 def _checked_edges(surface: Surface, chains: List[Tuple[BSplineCurve, ...]],
                    edges: Optional[Sequence[Sequence[Optional[Curve]]]]) -> Edges:
     """``edges`` as clamped NURBS on their pcurves' exact ranges (an end within
@@ -551,7 +514,8 @@ class _Flattened:
     def __init__(self, loops: Tuple[Tuple[BSplineCurve, ...], ...], tol: float, periods: Tuple[float, float]):
         pts = np.concatenate([c.control_points for loop in loops for c in loop])
         self.lo, self.hi = pts.min(axis=0), pts.max(axis=0)
-        self.scale = max(float((self.hi - self.lo).max()), 1e-300)
+        self.scale = _loops_scale(loops)
+        self.loops = loops
         self.band = ON_BAND * self.scale
         self.periods = periods
         ftol = FLATTEN_TOL * self.scale
@@ -559,21 +523,10 @@ class _Flattened:
         self.nets: List[np.ndarray] = []         # their Bezier pieces, then those of periodic copies
         self.chain_len: List[int] = []          # pieces per loop, closers included
         self.loop_len: List[int] = []           # curves per loop
-        chains: List[Tuple[int, List[BSplineCurve], List[int]]] = []
-        for i, loop in enumerate(loops):
-            chain: List[BSplineCurve] = []
-            names: List[int] = []
-            for j, c in enumerate(loop):
-                chain.append(c)
-                names.append(j)
-                nxt = loop[(j + 1) % len(loop)]
-                end, start = _end(c, 1), _end(nxt, 0)
-                if np.any(end != start):
-                    chain.append(BSplineCurve(np.stack([end, start]), 1))
-                    names.append(-1)
+        chains = closed_chains(loops)
+        for (_, chain, _), loop in zip(chains, loops):
             self.chain_len.append(len(chain))
             self.loop_len.append(len(loop))
-            chains.append((i, chain, names))
         flat = _flatten_many([piece for _, chain, _ in chains for piece in chain], ftol)
         self.curves = [piece for _, chain, _ in chains for piece in chain]
         self.nets = [Q for Q, _ in flat]
@@ -747,86 +700,9 @@ class _Flattened:
     # --- validation helpers ---------------------------------------------------------------------
     def check_crossings(self) -> None:
         """CagdError when chords of different curves properly cross (the chords stand for
-        their curves within FLATTEN_TOL; touching is allowed)."""
-        s = self.strip_segments
-        counts = np.diff(self.strip_start)
-        strip = np.repeat(np.arange(len(counts)), counts)
-        position = np.arange(len(s)) - self.strip_start[strip]
-        partners = counts[strip] - 1 - position           # later entries of the same strip
-        total = int(partners.sum())
-        if total > 4 * CHUNK:                             # bounded: a regular sample of the pairs
-            keep = np.zeros(len(s), dtype=bool)
-            keep[np.linspace(0, len(s) - 1, max(1, int(len(s) * 4 * CHUNK / total))).astype(int)] = True
-            partners = np.where(keep, partners, 0)
-            total = int(partners.sum())
-        if not total:
-            return
-        # of these pairs, only those of chords of two different curves (a curve with its gap
-        # closer counts as one), both original (not periodic copies), in their order: in a
-        # strip the entries run by chord index, so the originals come first and the chords
-        # of one curve are consecutive; an entry's partners start after its curve's run
-        orig = self.original[s]
-        key = np.where(orig, self.loop_of[s] * (int(self.position.max(initial=0)) + 2) + self.position[s], -1)
-        fresh = np.ones(len(s), dtype=bool)
-        fresh[1:] = (strip[1:] != strip[:-1]) | (key[1:] != key[:-1])
-        starts = np.flatnonzero(fresh)
-        run_end = np.append(starts[1:], len(s))[np.cumsum(fresh) - 1]
-        orig_end = self.strip_start[strip] + np.bincount(strip, weights=orig, minlength=len(counts)).astype(
-            np.int64)[strip]
-        partners = np.where(orig & (partners > 0), np.maximum(orig_end - run_end, 0), 0)
-        total = int(partners.sum())
-        if not total:
-            return
-        first = np.repeat(np.arange(len(s)), partners)
-        second = run_end[first] + (np.arange(total) - np.repeat(np.cumsum(partners) - partners, partners))
-        i, j = s[first], s[second]
-        # a proper crossing needs overlapping boxes (a cheap filter first)
-        lo, hi = np.minimum(self.A, self.B), np.maximum(self.A, self.B)
-        meet = (lo[i, 0] <= hi[j, 0]) & (lo[j, 0] <= hi[i, 0]) & (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])
-        i, j = i[meet], j[meet]
-        shared = (np.all(self.A[i] == self.B[j], axis=1) | np.all(self.B[i] == self.A[j], axis=1) |
-                  np.all(self.A[i] == self.A[j], axis=1) | np.all(self.B[i] == self.B[j], axis=1))
-        i, j = i[~shared], j[~shared]
-        if not len(i):
-            return
-        a, b, c, d = self.A[i], self.B[i], self.A[j], self.B[j]
-
-        def orient(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-            return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])
-
-        eps = CROSSING_TOL * self.scale * self.scale
-        o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
-        hit = (((o1 > eps) & (o2 < -eps)) | ((o1 < -eps) & (o2 > eps))) & \
-              (((o3 > eps) & (o4 < -eps)) | ((o3 < -eps) & (o4 > eps)))
-        if hit.any():
-            hit &= ~self._at_joint(i, j, c, d, o1, o2)
-        if hit.any():
-            k = int(np.flatnonzero(hit)[0])
-            x, y = i[k], j[k]
-            where = tuple(0.5 * (a[k] + b[k]))
-            raise CagdError(f"loops: {self._name(x)} crosses {self._name(y)} near (u, v) = "
-                            f"({where[0]:.9g}, {where[1]:.9g})")
-
-    def _at_joint(self, i: np.ndarray, j: np.ndarray, c: np.ndarray, d: np.ndarray, o1: np.ndarray,
-                  o2: np.ndarray) -> np.ndarray:
-        """Crossings of consecutive curves of a loop within JOINT_TOL of their common
-        point (files' pcurves overshoot their vertices a little)."""
-        li, lj = self.loop_of[i], self.loop_of[j]
-        n = np.array(self.loop_len)[li]
-        step = np.mod(self.position[j] - self.position[i], n)
-        adjacent = (li == lj) & ((step == 1) | (step == n - 1))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = c + (o1 / (o1 - o2))[:, None] * (d - c)       # where chord j (c -> d) meets chord i
-        near = np.zeros(len(i), dtype=bool)
-        for P in (self.curve_start, self.curve_end):
-            for idx in (i, j):
-                near |= np.linalg.norm(x - P[idx], axis=1) <= JOINT_TOL * self.scale
-        return adjacent & near
-
-    def _name(self, seg: int) -> str:
-        j = int(self.curve_of[seg])
-        loop = int(self.loop_of[seg])
-        return f"loops[{loop}][{j}]" if j >= 0 else f"the gap after a curve of loops[{loop}]"
+        their curves within FLATTEN_TOL; touching is allowed): :class:`LoopCheck`."""
+        LoopCheck(closed_chains(self.loops), self.scale, FLATTEN_TOL * self.scale, MAX_BISECTIONS).check_crossings(
+            4 * CHUNK, CROSSING_TOL, JOINT_TOL, _curve_name)
 
     def check_nesting(self) -> None:
         """Every hole inside the outer loop and outside the other holes (tested at the
