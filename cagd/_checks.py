@@ -39,7 +39,7 @@ def finite_array(value: ArrayLike, name: str, ndim: Optional[int] = None) -> np.
         raise CagdError(f"{name}: not a numeric array ({exc})") from None
     if ndim is not None and arr.ndim != ndim:
         raise CagdError(f"{name}: expected a {ndim}-D array, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
+    if not np.isfinite(arr).all():
         bad = np.argwhere(~np.isfinite(arr))[0]
         raise CagdError(f"{name}: contains NaN or inf (at index {tuple(int(i) for i in bad)})")
     return arr

@@ -544,6 +544,17 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
              unread: Tuple[str, ...] = ()) -> FileContents:
     """Faces -> surfaces; edges that bound no face -> curves; what does not convert is
     listed in ``skipped`` (and warned about), never dropped silently."""
+    from .trim import shared_edges
+    with shared_edges():                  # an edge of two faces: its 3-D curve converted once
+        out, skipped = _convert(named, approximate)
+    result = FileContents(tuple(out), tuple(skipped), unread)
+    if skipped or unread:
+        warnings.warn(f"read: {result.message}", RuntimeWarning, stacklevel=3)
+    return result
+
+
+def _convert(named: Iterable[Tuple[str, TopoDS_Shape]],
+             approximate: Optional[float]) -> Tuple[List[Imported], List[Skipped]]:
     out: List[Imported] = []
     skipped: List[Skipped] = []
     for name, shape in named:
@@ -567,10 +578,7 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
         many = len(found) + len(failed) > 1
         out += [Imported(f"{name}[{j}]" if many else name, obj, s) for j, (obj, s) in enumerate(found)]
         skipped += [Skipped(name, index, kind, reason, s) for kind, index, reason, s in failed]
-    result = FileContents(tuple(out), tuple(skipped), unread)
-    if skipped or unread:
-        warnings.warn(f"read: {result.message}", RuntimeWarning, stacklevel=3)
-    return result
+    return out, skipped
 
 
 def _seen(edge, found) -> bool:

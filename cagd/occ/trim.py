@@ -36,7 +36,9 @@ apart on the same iso-line a seam edge.
 """
 from __future__ import annotations
 
-from typing import List, Optional, Tuple, Union
+import contextlib
+import contextvars
+from typing import Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 from OCP.BRep import BRep_Builder, BRep_Tool
@@ -220,21 +222,56 @@ def _pcurve(edge, face: TopoDS_Face) -> BSplineCurve:
     return out.reversed() if backwards else out
 
 
+#: while a file is read (:func:`shared_edges`): the edges converted so far, by hash (an
+#: edge's hash ignores its orientation), as [(edge, its curve unoriented or None)]
+_EDGES: contextvars.ContextVar[Optional[Dict[int, List[Tuple[object, Optional[BSplineCurve]]]]]] = \
+    contextvars.ContextVar("cagd_occ_edges", default=None)
+
+
+@contextlib.contextmanager
+def shared_edges() -> Iterator[None]:
+    """Within it, an edge's 3-D curve is converted once for all the faces that share the
+    edge (a closed shell: every edge twice); the cache ends with the block."""
+    token = _EDGES.set({})
+    try:
+        yield
+    finally:
+        _EDGES.reset(token)
+
+
+def _unoriented_edge_curve(edge) -> Optional[BSplineCurve]:
+    """The edge's 3-D curve in OCCT's direction, clamped (None: see :func:`_edge_curve`),
+    from the cache of :func:`shared_edges` where one is open."""
+    cache = _EDGES.get()
+    key = hash(edge) if cache is not None else 0
+    if cache is not None:
+        for seen, curve in cache.get(key, ()):
+            if seen.IsSame(edge):
+                return curve
+    curve = None
+    if not (BRep_Tool.Degenerated_s(edge) or BRep_Tool.Curve_s(edge, 0.0, 0.0) is None):
+        from .convert import from_occ
+        try:
+            got = from_occ(edge, oriented=False)
+        except CagdError:
+            got = None
+        if isinstance(got, BSplineCurve) and got.dim == 3:
+            curve = got.clamped() if got.periodic else got
+    if cache is not None:
+        cache.setdefault(key, []).append((edge, curve))
+    return curve
+
+
 def _edge_curve(edge, pcurve: BSplineCurve) -> Optional[BSplineCurve]:
     """The edge's 3-D curve as an engine B-spline (exact: :func:`cagd.occ.from_occ` of
     the edge, run backwards for a REVERSED edge like its pcurve), over the pcurve's
     range (affinely, where OCCT's 3-D range differs: an edge not SameRange); None for a
     degenerated edge, one without a 3-D curve, or one OCCT cannot convert."""
-    if BRep_Tool.Degenerated_s(edge) or BRep_Tool.Curve_s(edge, 0.0, 0.0) is None:
+    curve = _unoriented_edge_curve(edge)
+    if curve is None:
         return None
-    from .convert import from_occ
-    try:
-        curve = from_occ(edge)
-    except CagdError:
-        return None
-    if not isinstance(curve, BSplineCurve) or curve.dim != 3:
-        return None
-    curve = curve.clamped() if curve.periodic else curve
+    if edge.Orientation() == TopAbs_REVERSED:
+        curve = curve.reversed()
     a, b = pcurve.domain
     return curve if curve.domain == (a, b) else curve.reparametrized(a, b)
 
