@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-from typing import Dict, Iterator, List, Optional, Tuple, Union
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 from OCP.BRep import BRep_Builder, BRep_Tool
@@ -177,14 +177,14 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
             if np.all(np.isfinite(x)) and np.all(np.isfinite(y)):
                 combos.append((mu, mv, x, y))
     points: List[Optional[np.ndarray]]
-    try:                                   # every candidate in one evaluation (the surface's set-up once)
-        points = list(np.split(engine(np.concatenate([c[2] for c in combos]), np.concatenate([c[3] for c in combos])),
-                               len(combos))) if combos else []
+    try:                                   # every candidate in one evaluation
+        points = list(np.split(_few_points(engine, np.concatenate([c[2] for c in combos]),
+                                           np.concatenate([c[3] for c in combos])), len(combos))) if combos else []
     except CagdError:                      # a candidate leaves the domain: one at a time
         points = []
         for _, _, x, y in combos:
             try:
-                points.append(engine(x, y))
+                points.append(_few_points(engine, x, y))
             except CagdError:
                 points.append(None)
     best = (np.inf, None)
@@ -197,6 +197,16 @@ def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.
         best = min(best, (err, None), key=lambda e: e[0])
     raise CagdError(f"face: no parameter map between OCCT's surface ({type(geom).__name__}) and its B-spline "
                     f"reproduces OCCT's points (best {best[0]:.3g}, tol {tol:.3g})")
+
+
+def _few_points(engine: BSplineSurface, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """engine(u, v) for a few points, through the local bases (Piegl & Tiller A4.4):
+    without the pp table that evaluation builds once per surface for many points
+    (building it for a face's map test alone cost as much as the test). Raises
+    CagdError, as evaluation does, for parameters outside a bounded direction."""
+    uf, vf, _ = engine._flat(u, v)
+    h = engine._evaluate_by_basis(uf, vf, 0, 0)[0, 0]
+    return h[:, :-1] / h[:, -1:] if engine.is_rational else h
 
 
 # --- reading ---------------------------------------------------------------------------------------
@@ -224,7 +234,7 @@ def _pcurve(edge, face: TopoDS_Face) -> BSplineCurve:
 
 #: while a file is read (:func:`shared_edges`): the edges converted so far, by hash (an
 #: edge's hash ignores its orientation), as [(edge, its curve unoriented or None)]
-_EDGES: contextvars.ContextVar[Optional[Dict[int, List[Tuple[object, Optional[BSplineCurve]]]]]] = \
+_EDGES: contextvars.ContextVar[Optional[Dict[int, List[Tuple[Any, Optional[BSplineCurve]]]]]] = \
     contextvars.ContextVar("cagd_occ_edges", default=None)
 
 

@@ -36,6 +36,9 @@ from ._chords import Chain, _cartesian, _crossings, _halves, _hom_pieces, _hull_
 #: relative (to the loops' size): control boxes are grown by this before they are compared
 #: (the halves' control points are rounded; a piece's chords stay in its box to it)
 BOX_MARGIN = 1e-12
+#: relative: pairs of consecutive curves are dropped within (1 - JOINT_MARGIN) of the joint
+#: allowance only (a crossing computed at its edge stays for the exact test)
+JOINT_MARGIN = 1e-6
 
 
 class _Nodes:
@@ -112,6 +115,8 @@ class LoopCheck:
         self.names = np.concatenate([names for _, _, names in chains])
         self.pos = np.concatenate([[nm[q] if nm[q] >= 0 else nm[q - 1] for q in range(len(nm))]
                                    for _, _, nm in chains])
+        self.loop_len = np.array([sum(1 for x in nm if x >= 0) for _, _, nm in chains])
+        self.ends = np.stack([np.array([_end_point(c, side) for c in self.curves]) for side in (0, -1)])
         self.nodes = _Nodes(self.curves, scale)
         self.roots = np.arange(self.nodes.count)
 
@@ -141,15 +146,44 @@ class LoopCheck:
         return None
 
     # --- crossings --------------------------------------------------------------------------
-    def crossing_pairs(self, cap: int) -> Tuple[np.ndarray, np.ndarray]:
+    def _adjacent(self, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
+        """Curves ci, cj (chain indices) consecutive in one loop (closers as their curve)."""
+        li, lj = self.loop_of[ci], self.loop_of[cj]
+        n = self.loop_len[li]
+        step = np.mod(self.pos[cj] - self.pos[ci], n)
+        return (li == lj) & ((step == 1) | (step == n - 1))
+
+    def _excused(self, i: np.ndarray, j: np.ndarray, reach: float) -> np.ndarray:
+        """Pairs whose every crossing the joint allowance excuses: consecutive curves, and
+        node j's box (which holds any crossing of a chord of j) within ``reach`` of an
+        end of either curve (the crossings are not refined there, as they cannot count)."""
+        nodes = self.nodes
+        ci, cj = nodes.owner[i], nodes.owner[j]
+        out = self._adjacent(ci, cj)
+        if not out.any():
+            return out
+        lo, hi = nodes.lo[j], nodes.hi[j]
+        close = np.zeros(len(i), dtype=bool)
+        for side in (0, 1):
+            for owner in (ci, cj):
+                P = self.ends[side][owner]
+                far = np.maximum(np.abs(P - lo), np.abs(hi - P))          # the farthest corner, per axis
+                close |= np.hypot(far[:, 0], far[:, 1]) <= reach
+        return out & close
+
+    def crossing_pairs(self, cap: int, joint_reach: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
         """(i, j): the pairs of fine nodes (bound <= ftol, or bisected max_bisections
         times) of different curves (a curve and its closer count as one) whose boxes
-        overlap. At most ``cap`` pairs are followed at each level (a regular sample of
-        them beyond: bounded, as the flattened check samples its pairs)."""
+        overlap, but for pairs of consecutive curves within ``joint_reach`` of their
+        joint (:meth:`_excused`). At most ``cap`` pairs are followed at each level (a
+        regular sample of them beyond: bounded, as the flattened check samples its pairs)."""
         nodes = self.nodes
         key = self.loop_of * (int(self.pos.max(initial=0)) + 2) + self.pos
         i, j = _box_pairs(nodes, self.roots, key, cap)
         for _ in range(self.max_bisections + 1):
+            if joint_reach > 0 and len(i):
+                keep = ~self._excused(i, j, joint_reach)
+                i, j = i[keep], j[keep]
             if len(i) > cap:
                 keep = np.linspace(0, len(i) - 1, cap).astype(np.int64)
                 i, j = i[keep], j[keep]
@@ -175,7 +209,9 @@ class LoopCheck:
         flattened loops: touching is allowed, and consecutive curves of a loop may cross
         within ``joint_tol`` (relative) of their joint). ``name(loop, curve)`` names a
         curve in the message (curve -1: a closer)."""
-        i, j = self.crossing_pairs(cap)
+        # a crossing of consecutive curves within joint_tol of an end is excused: pairs
+        # wholly that near are dropped before they are refined (rounding kept clear)
+        i, j = self.crossing_pairs(cap, joint_tol * self.scale * (1.0 - JOINT_MARGIN))
         A, B = self.nodes.A, self.nodes.B
         shared = (np.all(A[i] == B[j], axis=1) | np.all(B[i] == A[j], axis=1) |
                   np.all(A[i] == A[j], axis=1) | np.all(B[i] == B[j], axis=1))
@@ -195,14 +231,11 @@ class LoopCheck:
             return
         ci, cj = self.nodes.owner[i], self.nodes.owner[j]
         li, lj = self.loop_of[ci], self.loop_of[cj]
-        n = np.array([sum(1 for x in nm if x >= 0) for _, _, nm in self.chains])[li]
-        step = np.mod(self.pos[cj] - self.pos[ci], n)
-        adjacent = (li == lj) & ((step == 1) | (step == n - 1))
+        adjacent = self._adjacent(ci, cj)
         with np.errstate(divide="ignore", invalid="ignore"):
             x = c + (o1 / (o1 - o2))[:, None] * (d - c)       # where chord j (c -> d) meets chord i
         near = np.zeros(len(i), dtype=bool)
-        for side in (0, -1):
-            P = np.array([_end_point(cv, side) for cv in self.curves])
+        for P in self.ends:
             for owner in (ci, cj):
                 near |= np.linalg.norm(x - P[owner], axis=1) <= joint_tol * self.scale
         hit &= ~(adjacent & near)
@@ -229,6 +262,8 @@ class LoopCheck:
         for _ in range(self.max_bisections + 1):       # bisect the pieces some point is near
             near = np.zeros(len(leaves), dtype=bool)
             for h, q in self._point_leaf_pairs(P, leaves, reach, chunk):
+                other = self.loop_of[nodes.owner[leaves[q]]] != h + 1     # a hole's own loop gives no verdict
+                h, q = h[other], q[other]
                 dist = _segment_distance(P[h], nodes.A[leaves[q]], nodes.B[leaves[q]])
                 near[q[dist <= nodes.bound[leaves[q]] + band]] = True
             split = near & self._refinable(leaves)
