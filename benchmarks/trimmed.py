@@ -94,8 +94,9 @@ def bench_closest(ts: TrimmedSurface, n: int, spread: float = 0.01) -> None:
         X = S(uv[:, 0], uv[:, 1]) + rng.normal(0, spread * S.size, (len(uv), 3))
         rates = []
         for obj in (S, ts):
-            cagd.closest_point(obj, np.concatenate([X[:200], S(0.0, 0.0)[None] + 0.01]))   # set-up, once (the
-            # corner's foot is off the trim: the boundary curves and the cells' classes too)
+            cagd.closest_point(obj, np.concatenate([X, S(0.0, 0.0)[None] + 0.01]))   # set-up, once, with as many
+            # points (a projector's tier depends on the count; the corner's foot is off the trim: the
+            # boundary curves and the cells' classes too)
             t = time.perf_counter()
             r = cagd.closest_point(obj, X)
             rates.append(len(X) / (time.perf_counter() - t))

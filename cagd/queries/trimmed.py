@@ -26,7 +26,7 @@ bounds of the cells left.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional, Tuple
+from typing import TYPE_CHECKING, Dict, Optional, Tuple
 import weakref
 
 import numpy as np
@@ -75,20 +75,28 @@ _PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
 def _prepared(ts: "TrimmedSurface", p: "Projector") -> Tuple["TrimBoundary", np.ndarray]:
-    """The face's 3-D boundary curves and the classes (:func:`box_classes`) of the
-    projector's cells, computed once per face (the face is a value)."""
+    """The face's 3-D boundary curves, computed once per face (the face is a value), and
+    the classes (:func:`box_classes`) of the projector's cells, once per projector (a
+    face has one per tier: a light one for a few points, the default for many)."""
     try:
         hit = _PREPARED.get(ts)
     except TypeError:
         hit = None
-    if hit is not None and hit[0] is p:
-        return hit[1], hit[2]
-    bd, cls = ts._image_boundary(), box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
-    try:
-        _PREPARED[ts] = (p, bd, cls)
-    except TypeError:
-        pass
-    return bd, cls
+    if hit is None:
+        per_projector: Dict[int, Tuple[weakref.ref, np.ndarray]] = {}
+        hit = (ts._image_boundary(), per_projector)
+        try:
+            _PREPARED[ts] = hit
+        except TypeError:
+            pass
+    bd, classes = hit
+    entry = classes.get(id(p))
+    if entry is None or entry[0]() is not p:
+        cls = box_classes(ts, p.frame.params(p.lo), p.frame.params(p.hi))
+        for key in [k for k, (ref, _) in classes.items() if ref() is None]:     # projectors gone
+            del classes[key]
+        classes[id(p)] = entry = (weakref.ref(p), cls)
+    return bd, entry[1]
 
 
 class _ChordGrid:
