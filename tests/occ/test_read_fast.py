@@ -28,7 +28,7 @@ from hypothesis import given, settings, strategies as st
 
 pytest.importorskip("OCP")
 
-from OCP.TopAbs import TopAbs_FACE  # noqa: E402
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE  # noqa: E402
 
 import cagd  # noqa: E402
 from cagd import BSplineCurve, BSplineSurface, CagdError, TrimmedSurface  # noqa: E402
@@ -500,6 +500,54 @@ def test_real_faces_read_the_same_with_and_without_the_shortcuts(name, monkeypat
             except CagdError:
                 continue
             assert same_trimmed(fast, slow)
+
+
+# --- the shared-edge cache ------------------------------------------------------------------------
+def same_edges(a, b) -> bool:
+    if (a.edges is None) != (b.edges is None):
+        return False
+    for ra, rb in zip(a.edges or (), b.edges or ()):
+        for ea, eb in zip(ra, rb):
+            if (ea is None) != (eb is None):
+                return False
+            if ea is not None:
+                t = np.linspace(*ea.domain, 33)
+                if ea.domain != eb.domain or not np.allclose(ea(t), eb(t), rtol=0, atol=1e-12):
+                    return False
+    return True
+
+
+@pytest.mark.parametrize("name, sewn", [("step/boxed_sphere.step", True), ("step/trj4_k1_geo-ac-214.stp", False)])
+def test_shared_edges_convert_once_and_give_the_same_edges(name, sewn, monkeypatch):
+    """Within shared_edges() an edge of two faces is converted once (counted), and every
+    face's edge curves are those read face by face without the cache (to 1e-12)."""
+    import warnings
+    path = REAL / name
+    if not path.is_file():
+        pytest.skip("real CAD files not present")
+    named, _ = _shapes(path, "step")
+    faces = [f for _, s in named for f in subshapes(s, TopAbs_FACE)][:60]
+    import cagd.occ.convert as convert
+    original = convert.from_occ
+    edges = []
+
+    def counting(shape, *args, **kwargs):
+        if shape.ShapeType() == TopAbs_EDGE:
+            edges.append(shape)
+        return original(shape, *args, **kwargs)
+    monkeypatch.setattr(convert, "from_occ", counting)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plain = [original(f) for f in faces]
+        converted_plain = len(edges)
+        distinct = len({hash(e) for e in edges})
+        edges.clear()
+        with trim.shared_edges():
+            cached = [original(f) for f in faces]
+    trimmed = [(a, b) for a, b in zip(plain, cached) if isinstance(a, TrimmedSurface)]
+    assert trimmed and all(same_edges(a, b) and same_trimmed(a, b) for a, b in trimmed)
+    assert len(edges) == distinct                        # each edge once
+    assert (distinct < converted_plain) == sewn          # a sewn shell shares its edges; trj4's faces do not
 
 
 # --- the crash probe ---------------------------------------------------------------------------------
