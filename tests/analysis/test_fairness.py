@@ -133,3 +133,21 @@ def test_planar_curve_moved_into_3d_keeps_its_metrics(a, b, scale):
 def test_bad_input_is_a_cagd_error_naming_the_argument(call, name):
     with pytest.raises(cagd.CagdError, match=f"^{name}"):
         call()
+
+
+def test_periodic_curve_counts_the_seam_as_a_knot():
+    # a periodic cubic through a square's corners is C2 everywhere: no jumps, the seam included
+    c = cagd.BSplineCurve([[1, 0], [0, 1], [-1, 0], [0, -1]], 3, periodic=True)
+    f = fairness(c)
+    assert f.knots.size == 4 and f.knots[-1] == c.domain[1]
+    assert f.max_knot_jump < 1e-12
+    assert f.inflections == 0
+    # a periodic uniform quadratic is only C1: curvature jumps at every knot, the seam too;
+    # its pieces are the Bezier quadratics (P_{i-1} + P_i)/2, P_i, (P_i + P_{i+1})/2
+    P = np.array([[3.0, 0.0], [0.5, 1.0], [-2.0, 0.2], [0.0, -1.5]])
+    g = fairness(cagd.BSplineCurve(P, 2, periodic=True))
+    ends = [bezier_end_curvatures(np.array([(P[i - 1] + P[i]) / 2, P[i], (P[i] + P[(i + 1) % 4]) / 2]))
+            for i in range(4)]
+    oracle = [abs(ends[i][1] - ends[(i + 1) % 4][0]) for i in range(4)]
+    assert g.knots.size == 4 and min(oracle) > 0.01
+    np.testing.assert_allclose(np.sort(g.knot_jumps), np.sort(oracle), rtol=1e-12)
