@@ -5,7 +5,8 @@ plots and fairing; the curvature formulas, Farin 10.1-10.2).
 With C', C'', C''' the parameter derivatives and c = C' x C'' (2-D curves lifted to
 z = 0):
 
-- kappa = |c| / |C'|^3, the curvature vector kappa N = (c x C') / |C'|^4;
+- kappa and the curvature vector kappa N, from :func:`cagd.analysis.comb.curvature_comb`
+  (Farin 10.1; the same per-span samples);
 - d kappa / dt = c.(C' x C''') / (|c| |C'|^3) - 3 kappa (C'.C'') / |C'|^2 (where c = 0,
   the first term is |C' x C'''| / |C'|^3, its one-sided limit up to sign: only its
   square is used);
@@ -33,6 +34,7 @@ from .. import _checks
 from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
+from .comb import curvature_comb
 
 QUAD_POINTS = 8           # Gauss-Legendre nodes per sample interval (energy and arc length)
 INFLECTION_TOL = 1e-9     # |kappa_s| below this fraction of max |kappa|: zero (no sign)
@@ -101,10 +103,12 @@ def fairness(curve: Curve, samples_per_span: int = 16) -> Fairness:
     if per * m * QUAD_POINTS > _checks.MAX_SAMPLES:
         raise CagdError(f"samples_per_span: {per} samples on each of {m} spans exceed MAX_SAMPLES = "
                         f"{_checks.MAX_SAMPLES}")
-    frac = np.linspace(0.0, 1.0, per)
-    span = np.repeat(np.arange(m), per)
-    t = np.where(np.tile(frac, m) == 1.0, b[span + 1], b[span] + np.tile(frac, m) * h[span])
-    d = _lift(pieces.derivatives(span, t[:, None], 2))
+    # kappa and kappa N at the samples from the comb (the same per-span sampling, one formula)
+    comb = curvature_comb(curve, samples_per_span=per, scale=0.0)
+    t, span = comb.params, comb.span
+    kappa = comb.curvature
+    kvec = _lift(-kappa[:, None] * comb.normals)
+    d1 = _lift(pieces.derivatives(span, t[:, None], 1)[1])
     # Gauss-Legendre nodes on each of the per - 1 intervals between samples of a span
     x, wq = np.polynomial.legendre.leggauss(QUAD_POINTS)
     lo = t.reshape(m, per)[:, :-1].ravel()
@@ -114,19 +118,18 @@ def fairness(curve: Curve, samples_per_span: int = 16) -> Fairness:
     dq = _lift(pieces.derivatives(np.repeat(span.reshape(m, per)[:, :-1].ravel(), QUAD_POINTS),
                                   tq.ravel()[:, None], 3))
     with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
-        speed = np.linalg.norm(d[1], axis=-1)
+        speed = np.linalg.norm(d1, axis=-1)
         top = float(speed.max())
         if not top > 0.0 or np.any(speed <= _SINGULAR * top):
             raise CagdError("curve: singular point (C' = 0): curvature is undefined there")
-        c = np.cross(d[1], d[2])
-        kappa = np.linalg.norm(c, axis=-1) / speed ** 3
-        kvec = np.cross(c, d[1]) / (speed ** 4)[:, None]
         # plane normal m: z in 2-D, least singular vector of the centred samples in 3-D
         if curve.dim == 2:
             normal = np.array([0.0, 0.0, 1.0])
         else:
-            normal = np.linalg.svd(d[0] - d[0].mean(axis=0), full_matrices=False)[2][-1]
-        signed = _dot(c, normal) / speed ** 3
+            base = comb.base
+            normal = np.linalg.svd(base - base.mean(axis=0), full_matrices=False)[2][-1]
+        # kappa_s = (c.m) / |C'|^3 = kappa sign((C' x kappa N).m), c = C' x C''
+        signed = kappa * np.sign(_dot(np.cross(d1, kvec), normal))
         # energy and arc length by composite Gauss-Legendre
         sq = np.linalg.norm(dq[1], axis=-1)
         cq = np.cross(dq[1], dq[2])
