@@ -8,8 +8,9 @@ Directions (light, view, pull) must be unit vectors (within UNIT_TOL).
 
 Sources: the fundamental forms and principal curvatures, do Carmo, Differential
 Geometry of Curves and Surfaces, 3.3 (via :meth:`Surface._curvatures`); reflection
-lines and isophotes, Farin, Curves and Surfaces for CAGD, 23.3 "surface
-interrogation" (Klass 1980: reflection lines; Poeschl 1984: isophotes).
+lines and isophotes, Farin, Curves and Surfaces for CAGD, ch. 23 (shape interrogation);
+R. Klass, Correction of local surface irregularities using reflection lines, CAD 12
+(1980); T. Poeschl, Detecting surface irregularities using isophotes, CAGD 1 (1984).
 """
 from __future__ import annotations
 
@@ -95,7 +96,7 @@ class Zebra(ReadOnlyArrays):
 
 def zebra(surface: Surface, u: ArrayLike, v: ArrayLike, light_dir: ArrayLike, view_dir: ArrayLike,
           stripes: int = 8, width: float = 0.5) -> Zebra:
-    """Reflection lines of a family of parallel light bars (infinitely far, Farin 23.3).
+    """Reflection lines of a family of parallel light bars (infinitely far; Klass 1980, Farin ch. 23).
 
     The bars run along the unit vector a = ``light_dir``; ``stripes`` bars stand evenly
     around it (one every 2 pi / stripes of angle). The view ray v = ``view_dir`` (from
@@ -142,7 +143,7 @@ class Isophotes(ReadOnlyArrays):
 
 def isophotes(surface: Surface, u: ArrayLike, v: ArrayLike, light_dir: ArrayLike,
               levels: Union[int, ArrayLike] = 10) -> Isophotes:
-    """Isophotes (Poeschl 1984; Farin 23.3): the brightness n.L of a light from the unit
+    """Isophotes (Poeschl 1984; Farin ch. 23): the brightness n.L of a light from the unit
     direction L = ``light_dir``, and its band. ``levels``: an int m >= 1, m equal bands
     of [-1, 1] (band = floor(m (n.L + 1) / 2), 1 counted in the last band), or an
     increasing array of level values c_1 < ... < c_k (band = the number of levels
