@@ -130,16 +130,20 @@ def fairness(curve: Curve, samples_per_span: int = 16) -> Fairness:
             normal = np.linalg.svd(base - base.mean(axis=0), full_matrices=False)[2][-1]
         # kappa_s = (c.m) / |C'|^3 = kappa sign((C' x kappa N).m), c = C' x C''
         signed = kappa * np.sign(_dot(np.cross(d1, kvec), normal))
-        # energy and arc length by composite Gauss-Legendre
+        # energy and arc length by composite Gauss-Legendre, in the arc-length-rate frame
+        # D_k = d_k / a^k, a = |C'| (a reparametrisation t' = a t: |D_1| = 1, no over/underflow
+        # of |C'|^5): d kappa / dt = a d kappa / dt', integrand (d kappa / dt)^2 / a = a (d kappa / dt')^2
         sq = np.linalg.norm(dq[1], axis=-1)
-        cq = np.cross(dq[1], dq[2])
+        a = np.where(sq > 0, sq, 1.0)[:, None]
+        D1, D2, D3 = dq[1] / a, dq[2] / a / a, dq[3] / a / a / a
+        cq = np.cross(D1, D2)
         cn = np.linalg.norm(cq, axis=-1)
-        c3 = np.cross(dq[1], dq[3])
-        tiny = cn <= _SINGULAR * sq * np.linalg.norm(dq[2], axis=-1)
-        first = np.where(tiny, np.linalg.norm(c3, axis=-1), _dot(cq, c3) / np.where(tiny, 1.0, cn)) / sq ** 3
-        dk = first - 3.0 * (cn / sq ** 3) * _dot(dq[1], dq[2]) / sq ** 2
+        c3 = np.cross(D1, D3)
+        tiny = cn <= _SINGULAR * np.linalg.norm(D2, axis=-1)
+        first = np.where(tiny, np.linalg.norm(c3, axis=-1), _dot(cq, c3) / np.where(tiny, 1.0, cn))
+        dk = first - 3.0 * cn * _dot(D1, D2)
         wts = (half[:, None] * wq[None, :]).ravel()
-        energy = float(np.sum(wts * dk * dk / sq))
+        energy = float(np.sum(wts * sq * dk * dk))
         pieces_len = np.sum((wts * sq).reshape(-1, QUAD_POINTS), axis=1).reshape(m, per - 1)
     s = np.concatenate([np.zeros((m, 1)), np.cumsum(pieces_len, axis=1)], axis=1)
     s = (s + np.concatenate([[0.0], np.cumsum(s[:, -1])[:-1]])[:, None]).ravel()

@@ -139,17 +139,21 @@ class Surface(Value):
         """(n, defined): the unit normal (S_u x S_v)/|S_u x S_v| where it is defined and a
         mask of where that is (:func:`unit_normals`, with the scales size / (u1 - u0) and
         size / (v1 - v0)); n is zero elsewhere (a pole, an apex, a collapsed patch)."""
-        d = self.derivatives(u, v, 1, 1)
+        return self._normals_of(self.derivatives(u, v, 1, 1))
+
+    def _normals_of(self, d: np.ndarray, strict: bool = False) -> Tuple[np.ndarray, np.ndarray]:
+        """:meth:`normals` from the partials ``d`` (of :meth:`derivatives`, orders >= 1);
+        ``strict``: CagdError where the normal is undefined."""
         (u0, u1), (v0, v1) = self.domain
-        return unit_normals(d[1, 0], d[0, 1], self.size / (u1 - u0), self.size / (v1 - v0))
+        n, defined = unit_normals(d[1, 0], d[0, 1], self.size / (u1 - u0), self.size / (v1 - v0))
+        if strict and not np.all(defined):
+            raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
+        return n, defined
 
     def normal(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Unit normal (S_u x S_v)/|S_u x S_v| (seed 003, 2.1); CagdError where it is
         undefined (see :meth:`normals`)."""
-        n, defined = self.normals(u, v)
-        if not np.all(defined):
-            raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
-        return n
+        return self._normals_of(self.derivatives(u, v, 1, 1), strict=True)[0]
 
     @property
     def size(self) -> float:
@@ -176,11 +180,7 @@ class Surface(Value):
         free of over/underflow. ``strict``: CagdError where the normal is undefined
         (else the second form is 0 there and the mask says so)."""
         d = self.derivatives(u, v, 2, 2)
-        if strict:
-            n = self.normal(u, v)
-            defined = np.ones(n.shape[:-1], dtype=bool)
-        else:
-            n, defined = self.normals(u, v)
+        n, defined = self._normals_of(d, strict)
         su, sv = _as3(d[1, 0]), _as3(d[0, 1])
         sigma = np.maximum(np.max(np.abs(su), axis=-1), np.max(np.abs(sv), axis=-1))
         f = np.where(sigma > 0, sigma, 1.0)[..., None]

@@ -151,3 +151,12 @@ def test_periodic_curve_counts_the_seam_as_a_knot():
     oracle = [abs(ends[i][1] - ends[(i + 1) % 4][0]) for i in range(4)]
     assert g.knots.size == 4 and min(oracle) > 0.01
     np.testing.assert_allclose(np.sort(g.knot_jumps), np.sort(oracle), rtol=1e-12)
+
+
+@pytest.mark.parametrize("L", [1e-100, 1e-30, 1e30, 1e100])
+def test_extreme_sizes_keep_the_scaling_law(L):
+    # energy ~ 1/L^3, length ~ L, inflections unchanged: no over/underflow of |C'|^5
+    f1, fl = fairness(cagd.BezierCurve(S_CURVE)), fairness(cagd.BezierCurve(S_CURVE * L))
+    np.testing.assert_allclose(fl.energy * L ** 3, f1.energy, rtol=1e-13)
+    np.testing.assert_allclose(fl.length / L, f1.length, rtol=1e-13)
+    assert fl.inflections == 1
