@@ -165,3 +165,18 @@ def test_draft_angle_of_a_tilted_plane(alpha_deg):
 def test_bad_input_is_a_cagd_error_naming_the_argument(call, name):
     with pytest.raises(cagd.CagdError, match=f"^{name}"):
         call(cagd.sphere(1.0))
+
+
+@settings(max_examples=25, deadline=None)
+@given(angles, angles, angles, st.floats(0.01, 100.0), st.floats(0.02, 0.98), st.floats(0.0, 1.0))
+def test_zebra_isophotes_draft_move_with_the_scene(a, b, c, scale, u, v):
+    # rotating (and scaling) the surface with its lights, view and pull leaves every map unchanged
+    t = cagd.torus(3.0, 1.0)
+    Q = rotation(a, b, c)
+    moved = t.transformed(scale * Q, [4.0, 0.5, -1.0])
+    light, view = np.array([0.0, 0.6, 0.8]), np.array([-1.0, 0.0, 0.0])
+    z0, z1 = zebra(t, u, v, light, view, 7), zebra(moved, u, v, Q @ light, Q @ view, 7)
+    phase_gap = abs(float(z0.phase) - float(z1.phase))
+    assert min(phase_gap, 7 - phase_gap) < 1e-9
+    np.testing.assert_allclose(isophotes(moved, u, v, Q @ light).value, isophotes(t, u, v, light).value, atol=1e-12)
+    np.testing.assert_allclose(draft_angle(moved, u, v, Q @ Z), draft_angle(t, u, v, Z), atol=1e-9)
