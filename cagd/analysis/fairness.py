@@ -37,6 +37,7 @@ from ..errors import CagdError
 from .comb import curvature_comb
 
 QUAD_POINTS = 8           # Gauss-Legendre nodes per sample interval (energy and arc length)
+MAX_NODES = 500_000       # quadrature nodes at most (spans x samples_per_span x QUAD_POINTS; process peak 220 MB)
 INFLECTION_TOL = 1e-9     # |kappa_s| below this fraction of max |kappa|: zero (no sign)
 _SINGULAR = 1e-12         # |C'| below this fraction of its largest sample: a singular point
 
@@ -88,7 +89,7 @@ def fairness(curve: Curve, samples_per_span: int = 16) -> Fairness:
 
     Raises:
         CagdError: not a curve, not 2-D or 3-D, samples_per_span < 2 or too many samples
-            (MAX_SAMPLES), a singular point (C' = 0), values beyond the floating-point range.
+            (more than MAX_NODES quadrature nodes), a singular point (C' = 0), values beyond the floating-point range.
     """
     if not isinstance(curve, Curve):
         raise CagdError(f"curve: expected a cagd Curve, got {type(curve).__name__}")
@@ -100,9 +101,9 @@ def fairness(curve: Curve, samples_per_span: int = 16) -> Fairness:
     b = pieces.breaks[0]
     h = np.diff(b)
     m = len(h)
-    if per * m * QUAD_POINTS > _checks.MAX_SAMPLES:
-        raise CagdError(f"samples_per_span: {per} samples on each of {m} spans exceed MAX_SAMPLES = "
-                        f"{_checks.MAX_SAMPLES}")
+    if per * m * QUAD_POINTS > MAX_NODES:
+        raise CagdError(f"samples_per_span: {per} samples on each of {m} spans need more than MAX_NODES = "
+                        f"{MAX_NODES} quadrature nodes ({QUAD_POINTS} per sample interval)")
     # kappa and kappa N at the samples from the comb (the same per-span sampling, one formula)
     comb = curvature_comb(curve, samples_per_span=per, scale=0.0)
     t, span = comb.params, comb.span
