@@ -1,7 +1,8 @@
 """The ``cagd`` command: ``cagd demo`` (the main job on the built-in model),
 ``cagd export MODEL.json`` (a model file to STEP/IGES with the round-trip report),
-``cagd deviation MODEL points.csv`` (a point cloud against the model) and
-``cagd fit points.csv --tol T -o fit.step`` (a curve within tol of the points).
+``cagd deviation MODEL points.csv`` (a point cloud against the model),
+``cagd fit points.csv --tol T -o fit.step`` (a curve within tol of the points) and
+``cagd plot --analysis KIND MODEL -o out.png`` (a surface-quality picture).
 
 Exit codes: 0 success; 1 a check failed (an oracle, the round trip, a solid);
 2 bad input or an output that cannot be written (an invalid model file: the message
@@ -44,6 +45,8 @@ def _parser() -> argparse.ArgumentParser:
                                                        "every exported surface, or every curve if none)")
     from .fit_cli import add_parser
     add_parser(sub)
+    from .analysis_cli import add_parser as add_plot
+    add_plot(sub)
     return parser
 
 
@@ -94,6 +97,9 @@ def _run(args) -> int:
     if args.command == "fit":
         from .fit_cli import run_fit
         return run_fit(args)
+    if args.command == "plot":
+        from .analysis_cli import run_plot
+        return run_plot(args)
     return _export(args)
 
 

@@ -139,17 +139,21 @@ class Surface(Value):
         """(n, defined): the unit normal (S_u x S_v)/|S_u x S_v| where it is defined and a
         mask of where that is (:func:`unit_normals`, with the scales size / (u1 - u0) and
         size / (v1 - v0)); n is zero elsewhere (a pole, an apex, a collapsed patch)."""
-        d = self.derivatives(u, v, 1, 1)
+        return self._normals_of(self.derivatives(u, v, 1, 1))
+
+    def _normals_of(self, d: np.ndarray, strict: bool = False) -> Tuple[np.ndarray, np.ndarray]:
+        """:meth:`normals` from the partials ``d`` (of :meth:`derivatives`, orders >= 1);
+        ``strict``: CagdError where the normal is undefined."""
         (u0, u1), (v0, v1) = self.domain
-        return unit_normals(d[1, 0], d[0, 1], self.size / (u1 - u0), self.size / (v1 - v0))
+        n, defined = unit_normals(d[1, 0], d[0, 1], self.size / (u1 - u0), self.size / (v1 - v0))
+        if strict and not np.all(defined):
+            raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
+        return n, defined
 
     def normal(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Unit normal (S_u x S_v)/|S_u x S_v| (seed 003, 2.1); CagdError where it is
         undefined (see :meth:`normals`)."""
-        n, defined = self.normals(u, v)
-        if not np.all(defined):
-            raise CagdError("u, v: the normal is undefined (degenerate point: S_u x S_v = 0)")
-        return n
+        return self._normals_of(self.derivatives(u, v, 1, 1), strict=True)[0]
 
     @property
     def size(self) -> float:
@@ -163,18 +167,20 @@ class Surface(Value):
         """First (E, F, G) and second (L, M, N) fundamental forms:
         E = S_u.S_u, F = S_u.S_v, G = S_v.S_v; L = S_uu.n, M = S_uv.n, N = S_vv.n
         (do Carmo, Differential Geometry of Curves and Surfaces, 3.3)."""
-        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
+        ((E, F, G), (L, M, N)), sigma, _ = self._normalised_forms(u, v)
         with np.errstate(over="ignore", under="ignore"):
             s2 = sigma * sigma
             return (E * s2, F * s2, G * s2), (L * sigma, M * sigma, N * sigma)
 
-    def _normalised_forms(self, u: ArrayLike, v: ArrayLike) -> Tuple[Tuple[FormCoefficients, FormCoefficients],
-                                                                      np.ndarray]:
+    def _normalised_forms(self, u: ArrayLike, v: ArrayLike, strict: bool = True
+                          ) -> Tuple[Tuple[FormCoefficients, FormCoefficients], np.ndarray, np.ndarray]:
         """The forms of the partials divided by sigma, the largest coordinate of S_u and S_v
-        at each point (a normalised frame: E/sigma^2, L/sigma, ...), and sigma; the
-        curvatures follow as K = K'/sigma^2, H = H'/sigma, free of over/underflow."""
+        at each point (a normalised frame: E/sigma^2, L/sigma, ...), sigma, and the mask
+        where the normal is defined; the curvatures follow as K = K'/sigma^2, H = H'/sigma,
+        free of over/underflow. ``strict``: CagdError where the normal is undefined
+        (else the second form is 0 there and the mask says so)."""
         d = self.derivatives(u, v, 2, 2)
-        n = self.normal(u, v)
+        n, defined = self._normals_of(d, strict)
         su, sv = _as3(d[1, 0]), _as3(d[0, 1])
         sigma = np.maximum(np.max(np.abs(su), axis=-1), np.max(np.abs(sv), axis=-1))
         f = np.where(sigma > 0, sigma, 1.0)[..., None]
@@ -182,23 +188,42 @@ class Surface(Value):
         dot = lambda a, b: np.einsum("...i,...i->...", a, b)  # noqa: E731
         first = (dot(su, su), dot(su, sv), dot(sv, sv))
         second = (dot(_as3(d[2, 0]) / f, n), dot(_as3(d[1, 1]) / f, n), dot(_as3(d[0, 2]) / f, n))
-        return (first, second), sigma
+        return (first, second), sigma, defined
+
+    def _curvatures(self, u: ArrayLike, v: ArrayLike, strict: bool = True) -> Tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray, np.ndarray]:
+        """(K, H, D, defined): Gaussian K = (LN - M^2) / (EG - F^2), mean
+        H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v) and the
+        discriminant D = H^2 - K of the principal curvatures H +- sqrt(D), computed as
+        ((GL - EN) / (2W))^2 + (GM - FN)(EM - FL) / W^2, W = EG - F^2 (the eigenvalues of
+        the shape operator I^-1 II; no cancellation at umbilics), clipped at 0 (do Carmo,
+        Differential Geometry of Curves and Surfaces, 3.3). In the normalised frame:
+        K(lambda S) = K(S) / lambda^2, H(lambda S) = H(S) / lambda. ``strict``: CagdError
+        where the normal is undefined; else NaN there, and ``defined`` says where. Values
+        beyond the floating-point range are inf/NaN: callers check what they use
+        (:func:`_representable`)."""
+        ((E, F, G), (L, M, N)), sigma, defined = self._normalised_forms(u, v, strict)
+        with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+            W = E * G - F * F
+            K = (L * N - M * M) / W / sigma / sigma
+            H = (E * N - 2 * F * M + G * L) / (2 * W) / sigma
+            D = np.maximum((((G * L - E * N) / (2 * W)) ** 2 + (G * M - F * N) * (E * M - F * L) / W / W)
+                           / sigma / sigma, 0.0)
+        nan = np.float64(np.nan)
+        K, H, D = (np.where(defined, x, nan) for x in (K, H, D))
+        return K, H, D, defined
 
     def gaussian_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """K = (LN - M^2) / (EG - F^2), computed in the normalised frame (scale-invariant:
         K(lambda S) = K(S) / lambda^2); CagdError where the normal is undefined or K
-        exceeds the floating-point range."""
-        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
-        with np.errstate(over="ignore", under="ignore"):
-            return _representable((L * N - M * M) / (E * G - F * F) / sigma / sigma, "gaussian_curvature")
+        exceeds the floating-point range (see :meth:`_curvatures`)."""
+        return _representable(self._curvatures(u, v)[0], "gaussian_curvature")
 
     def mean_curvature(self, u: ArrayLike, v: ArrayLike) -> np.ndarray:
         """H = (EN - 2FM + GL) / (2 (EG - F^2)) (sign follows the normal S_u x S_v),
         in the normalised frame (H(lambda S) = H(S) / lambda); CagdError where the
-        normal is undefined or H exceeds the floating-point range."""
-        ((E, F, G), (L, M, N)), sigma = self._normalised_forms(u, v)
-        with np.errstate(over="ignore", under="ignore"):
-            return _representable((E * N - 2 * F * M + G * L) / (2 * (E * G - F * F)) / sigma, "mean_curvature")
+        normal is undefined or H exceeds the floating-point range (see :meth:`_curvatures`)."""
+        return _representable(self._curvatures(u, v)[1], "mean_curvature")
 
     def transformed(self, matrix: ArrayLike, offset: Optional[ArrayLike] = None) -> "Surface":
         """The surface under x -> matrix @ x + offset, applied to the control points."""
