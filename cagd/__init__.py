@@ -27,6 +27,7 @@ from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPa
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
 from .analysis import CurvatureComb, curvature_comb
+from .operations import BlendCurve, blend_curve
 
 __version__ = "0.1.0"
 __all__ = [
@@ -43,4 +44,5 @@ __all__ = [
     "EdgeContinuityReport", "edge_continuity", "interpolate_surface", "TrimmedSurface", "gordon", "GordonSurface",
     "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",
     "CurvatureComb", "curvature_comb",
+    "BlendCurve", "blend_curve",
 ]
