@@ -71,7 +71,7 @@ def _end(c: Curve, end: object, name: str, end_name: str) -> Tuple[np.ndarray, n
         raise CagdError(f"{name}: its first derivative vanishes at its {end} (t = {t!r}): a degenerate end "
                         f"has no tangent to match ({end_name} = {end!r})")
     d1 = D[1] if end == "end" else -D[1]
-    return D[0], d1, _curvature_vector(D[1], D[2])
+    return c(t), d1, _curvature_vector(D[1], D[2])   # c(t): the point as evaluated (D[0] may differ by an ulp)
 
 
 def _relative_gap(D: np.ndarray, K: np.ndarray, size: float) -> float:
