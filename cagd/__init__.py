@@ -28,6 +28,7 @@ from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
 from .analysis import CurvatureComb, curvature_comb
 from .analysis import Fairness, Isophotes, Zebra, curvature_map, draft_angle, fairness, isophotes, zebra
+from .operations import BlendCurve, blend_curve
 
 __version__ = "0.1.0"
 __all__ = [
@@ -45,4 +46,5 @@ __all__ = [
     "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",
     "CurvatureComb", "curvature_comb",
     "Fairness", "Isophotes", "Zebra", "curvature_map", "draft_angle", "fairness", "isophotes", "zebra",
+    "BlendCurve", "blend_curve",
 ]

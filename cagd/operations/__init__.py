@@ -1,5 +1,7 @@
 """Operations on curves: Bezier joins and continuity analysis at joints."""
 from .continuity import ContinuityReport, continuity, curve_size
+from .blend import BlendCurve, blend_curve
 from .join import join, join_bezier, join_control_points
 
-__all__ = ["ContinuityReport", "continuity", "curve_size", "join", "join_bezier", "join_control_points"]
+__all__ = ["ContinuityReport", "continuity", "curve_size", "join", "join_bezier", "join_control_points",
+           "BlendCurve", "blend_curve"]
