@@ -253,11 +253,10 @@ def _unoriented_edge_curve(edge) -> Optional[BSplineCurve]:
     """The edge's 3-D curve in OCCT's direction, clamped (None: see :func:`_edge_curve`),
     from the cache of :func:`shared_edges` where one is open."""
     cache = _EDGES.get()
-    key = hash(edge) if cache is not None else 0
-    if cache is not None:
-        for seen, curve in cache.get(key, ()):
-            if seen.IsSame(edge):
-                return curve
+    key = hash(edge)
+    for seen, curve in (cache or {}).get(key, ()):
+        if seen.IsSame(edge):
+            return curve
     curve = None
     if not (BRep_Tool.Degenerated_s(edge) or BRep_Tool.Curve_s(edge, 0.0, 0.0) is None):
         from .convert import from_occ

@@ -30,7 +30,7 @@ from .. import _checks
 from ..curves.base import Curve
 from ..curves.bezier import BezierCurve
 from ..errors import CagdError
-from .continuity import CONTINUITY_TOL, _angle, _curvature_vector, _norm, curve_size
+from .continuity import CONTINUITY_TOL, _angle, _curvature_vector, _norm, curvature_scale, curve_size
 
 #: an end derivative at most this times (curve size / domain length) counts as zero
 #: (a degenerate end without a tangent), the threshold of :func:`continuity`'s G1 test
@@ -78,7 +78,7 @@ def _relative_gap(D: np.ndarray, K: np.ndarray, size: float) -> float:
     """|k - K| / max(|k|, |K|, 1 / size) for k the curvature vector from derivatives D
     (the relative measure of :func:`continuity`'s G2 test)."""
     kb = _curvature_vector(D[1], D[2])
-    return _norm(kb - K) / max(_norm(kb), _norm(K), 1.0 / size)
+    return _norm(kb - K) / curvature_scale(kb, K, size)
 
 
 def _scales(tangent_scales: Optional[Sequence[float]]) -> Tuple[float, float]:

@@ -116,6 +116,12 @@ def _curvature_vector(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
         return (d2 - (d2 @ T) * T) / n1 / n1
 
 
+def curvature_scale(k1: np.ndarray, k2: np.ndarray, size: float) -> float:
+    """What a difference of curvature vectors k1, k2 is relative to in the G2 test:
+    max(|k1|, |k2|, 1 / size) (a flat pair is compared with the curvature of the size)."""
+    return max(_norm(k1), _norm(k2), 1.0 / size)
+
+
 def _angle(a: np.ndarray, b: np.ndarray) -> float:
     """Angle between two vectors, 2 atan2(|a^ - b^|, |a^ + b^|) (accurate near 0 and pi)."""
     na, nb = _norm(a), _norm(b)
@@ -174,7 +180,7 @@ def continuity(c1: Curve, c2: Curve, t1: Optional[float] = None, t2: Optional[fl
         C2 = C1 and dgap2 <= rel_tol * max(_norm(D1[2]), _norm(D2[2]), v * (v / size), size / span / span)
     tiny = 1e-12 * size / span           # a first derivative below this is rounding noise
     G1 = bool(C0 and n1 > tiny and n2 > tiny and angle <= angle_tol)
-    G2 = bool(G1 and _norm(k2 - k1) <= rel_tol * max(kn1, kn2, 1.0 / size))
+    G2 = bool(G1 and _norm(k2 - k1) <= rel_tol * curvature_scale(k1, k2, size))
     ratio = n2 / n1 if n1 > tiny else (float("inf") if n2 > tiny else float("nan"))
     if n2 <= tiny and n1 > tiny:
         ratio = 0.0

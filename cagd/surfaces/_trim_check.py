@@ -49,7 +49,6 @@ class _Nodes:
     def __init__(self, curves: Sequence[BSplineCurve], scale: float):
         self.margin = BOX_MARGIN * scale
         self.nets: dict = {}                 # degree -> list of (k, p + 1, 3) arrays
-        self.where: List[np.ndarray] = []    # per batch: (degree, first row in its group's arrays)
         self._parts: List[Tuple[np.ndarray, ...]] = []
         self.count = 0
         by_degree: dict = {}

@@ -275,7 +275,7 @@ class TrimmedSurface(Surface):
         periods = self._shifts()
         outer = np.concatenate([c.control_points for c in self.loops[0]])
         band = ON_BAND * scale
-        if any(T > 0 and np.ptp(outer[:, k]) >= T * (1.0 - CLOSURE_TOL) - self.tol for k, T in enumerate(periods)):
+        if any(_spans_period(outer[:, k], T, self.tol) for k, T in enumerate(periods)):
             self._flattened().check_nesting()        # holes with copies a period apart
             return
         lo = outer.min(axis=0) - 4 * band
@@ -468,6 +468,12 @@ def _loops_scale(loops: Sequence[Sequence[BSplineCurve]]) -> float:
     return max(float(np.ptp(pts, axis=0).max()), 1e-300)
 
 
+def _spans_period(x: np.ndarray, period: float, tol: float) -> bool:
+    """Coordinates ``x`` of a loop's points span a whole ``period`` (0: not periodic), to
+    CLOSURE_TOL and ``tol``: the region is then periodic, its holes seen a period apart."""
+    return bool(period > 0 and np.ptp(x) >= period * (1.0 - CLOSURE_TOL) - tol)
+
+
 def _curve_name(loop: int, j: int) -> str:
     """How messages name curve j of a loop (-1: a gap closer after a curve)."""
     return f"loops[{loop}][{j}]" if j >= 0 else f"the gap after a curve of loops[{loop}]"
@@ -555,7 +561,7 @@ class _Flattened:
         # holes of a face whose outer loop spans a whole period: their copies one period
         # on either side (the region is periodic; a hole across the seam shows on both sides)
         for k in (0, 1):
-            if periods[k] <= 0 or np.ptp(outer[:, k]) < periods[k] * (1.0 - CLOSURE_TOL) - tol:
+            if not _spans_period(outer[:, k], periods[k], tol):
                 continue
             count = len(self.nets)
             for ci in range(sum(self.chain_len[:1]), count):
