@@ -56,7 +56,9 @@ def check(c1, end1, c2, end2, k, scales=None):
     t1, t2 = end_parameter(c1, end1), end_parameter(c2, end2)
     assert np.array_equal(B(0.0), c1(t1)) and np.array_equal(B(1.0), c2(t2))      # exactly at the ends
     for rep in joint_reports(c1, end1, c2, end2, B):
-        assert rep.C0 and rep.gap <= 1e-15 * rep.size     # D[0] of a NURBS may differ from c(t) by an ulp
+        # the ends are exact (above); the report's gap compares derivatives()[0] of both curves, each
+        # rounded on its own (a rational's by a few ulps: 6.4 eps of the size seen)
+        assert rep.C0 and rep.gap <= 8 * np.finfo(float).eps * rep.size
         assert rep.tangent_angle <= TOL and rep.G1, rep
         if k == 2:
             assert rep.G2, rep
