@@ -8,8 +8,9 @@
   trimmed >= 0.5 x untrimmed), points at Gaussian distances of 1%, 10% and 50% of the
   face's size (--spread), over the face and over the whole surface's box.
 - files (with --files DIR): the time to read every STEP/IGES file below DIR through
-  cagd.occ (OCCT's reader plus the conversion) beside OCCT's reader alone, in all and
-  for the slowest files.
+  cagd.occ (OCCT's reader plus the conversion; trims converted on first use) beside
+  OCCT's reader alone, in all and for the slowest files; then the first use of every
+  trim, and the read with the trims converted at once (``defer_trims=False``).
 
 Run: python -m benchmarks.trimmed [--points N] [--closest M] [--files DIR]
 """
@@ -106,14 +107,17 @@ def bench_closest(ts: TrimmedSurface, n: int, spread: float = 0.01) -> None:
 
 
 def bench_files(folder: Path, slowest: int = 5) -> None:
+    """Reading every file: cagd.occ as users call it (trims converted on first use),
+    then the first use of every trim, and the trims converted while reading
+    (``defer_trims=False``), beside OCCT's reader alone."""
     import warnings
     from OCP.IFSelect import IFSelect_RetDone
     from OCP.IGESControl import IGESControl_Reader
     from OCP.STEPControl import STEPControl_Reader
     from cagd.occ import read_iges, read_step
     files = sorted(p for p in folder.rglob("*") if p.suffix.lower() in (".stp", ".step", ".igs", ".iges"))
-    faces = 0
-    rows = []                                  # (cagd.occ s, OCCT's reader s, name) per file
+    faces = trimmed = 0
+    rows = []                  # (cagd.occ s, then every trim used s, eager s, OCCT's reader s, name) per file
     for p in files:
         iges = p.suffix.lower() in (".igs", ".iges")
         t = time.perf_counter()
@@ -122,19 +126,30 @@ def bench_files(folder: Path, slowest: int = 5) -> None:
             reader.TransferRoots()
             reader.OneShape()
         occt = time.perf_counter() - t
-        t = time.perf_counter()
+        times = []
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            try:
-                faces += sum(1 for i in (read_iges if iges else read_step)(p) if hasattr(i.object, "rectangular"))
-            except cagd.CagdError:
-                pass
-        rows.append((time.perf_counter() - t, occt, p.name))
-    t_ours, t_occt = sum(r[0] for r in rows), sum(r[1] for r in rows)
-    print(f"files: {len(files)} files, {faces} faces: cagd.occ {t_ours:.1f} s, OCCT's reader alone {t_occt:.1f} s "
-          f"({t_ours / max(t_occt, 1e-9):.1f}x)")
-    for ours, occt, name in sorted(rows, reverse=True)[:slowest]:
-        print(f"  {name}: cagd.occ {ours:.2f} s, OCCT's reader alone {occt:.2f} s")
+            for defer in (True, False):
+                t = time.perf_counter()
+                try:
+                    items = (read_iges if iges else read_step)(p, defer_trims=defer)
+                except cagd.CagdError:
+                    items = ()
+                times.append(time.perf_counter() - t)
+                if defer:
+                    t = time.perf_counter()
+                    used = [i.object for i in items if isinstance(i.object, TrimmedSurface) and i.object.loops]
+                    times.append(time.perf_counter() - t)
+                    faces += sum(1 for i in items if hasattr(i.object, "rectangular"))
+                    trimmed += len(used)
+        rows.append((*times, occt, p.name))
+    lazy, use, eager, t_occt = (sum(r[k] for r in rows) for k in range(4))
+    print(f"files: {len(files)} files, {faces} faces ({trimmed} trimmed): cagd.occ {lazy:.1f} s "
+          f"({lazy / max(t_occt, 1e-9):.2f}x OCCT's reader alone, {t_occt:.1f} s); first use of every trim "
+          f"{use:.1f} s more; with the trims converted while reading (defer_trims=False) {eager:.1f} s")
+    for row in sorted(rows, reverse=True)[:slowest]:
+        print(f"  {row[4]}: cagd.occ {row[0]:.2f} s (+{row[1]:.2f} s trims used, {row[2]:.2f} s eager), "
+              f"OCCT's reader alone {row[3]:.2f} s")
 
 
 def main(argv: Optional[List[str]] = None) -> int:

@@ -36,7 +36,7 @@ from ..surfaces.bezier import BezierSurface
 from ..surfaces.bspline import BSplineSurface
 from ..surfaces.trimmed import TrimmedSurface
 from .analytic import analytic_form
-from .trim import make_trimmed_face, trimmed_from_face
+from .trim import deferred_trim, make_trimmed_face, trimmed_from_face
 from .compat import (Array1OfInteger, Array1OfPnt, Array1OfPnt2d, Array1OfReal, Array2OfPnt, Array2OfReal, as_edge,
                      as_face)
 
@@ -217,7 +217,7 @@ def _is_occt_error(exc: Exception) -> bool:
 
 
 def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], dim: int = 3,
-             oriented: bool = True, approximate: Optional[float] = None) -> \
+             oriented: bool = True, approximate: Optional[float] = None, defer_trims: bool = False) -> \
         Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An engine B-spline from OCCT geometry or a shape.
 
@@ -235,6 +235,11 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
     A face whose boundary is not its UV box gives a :class:`cagd.TrimmedSurface` (its
     pcurves as loops, :mod:`cagd.occ.trim`); one whose wires bound nothing usable (an
     open wire, curves crossing) its surface over the box, with a RuntimeWarning.
+    ``defer_trims``: the face's pcurves are converted and checked on first use of the
+    trim (``loops``, ``contains``, ``area``, ...; ``TrimmedSurface.deferred`` tells),
+    not now; a face whose boundary is its box (one wire of pcurve lines on the box's
+    sides, decided on OCCT's pcurves) is still the plain surface. A trim found unusable
+    then warns as above and is the box (one loop).
 
     Offset curves and surfaces have no exact B-spline form: they raise unless
     ``approximate`` gives a tolerance, and are then approximated
@@ -249,7 +254,7 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
         if isinstance(geom, TopoDS_Shape):
             if geom.IsNull():
                 raise CagdError("geom: a null shape")
-            return _from_shape(geom, dim, oriented, approximate)
+            return _from_shape(geom, dim, oriented, approximate, defer_trims)
         if isinstance(geom, Geom2d_Curve):
             return _curve_from_bspline(_as_bspline2d(geom), 2)
         if isinstance(geom, Geom_Curve):
@@ -267,7 +272,7 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
 
 
 def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
-                approximate: Optional[float]) -> Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
+                approximate: Optional[float], defer_trims: bool = False) -> Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An edge's curve on the edge's parameter range; a face's surface on the face's
     UV bounding box (the whole surface when that is its natural domain)."""
     reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
@@ -299,12 +304,17 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
         surf = _surface_from_bspline(_as_bspline_surface(boxed, approximate))
         slack = 2.0 * approximate if approximate is not None and isinstance(_basis(surface), Geom_OffsetSurface) \
             else 0.0
-        try:
-            return trimmed_from_face(face, boxed, surf, reversed_, slack)
-        except CagdError as exc:        # wires that bound nothing (open, crossing): the box, as before
-            warnings.warn(f"geom: the face's trim is unusable ({exc}); its surface over the UV box is "
-                          "returned untrimmed", RuntimeWarning, stacklevel=3)
-            return surf.reversed("u") if reversed_ else surf
+
+        def trimmed() -> Union[BSplineSurface, TrimmedSurface]:
+            try:
+                return trimmed_from_face(face, boxed, surf, reversed_, slack)
+            except CagdError as exc:        # wires that bound nothing (open, crossing): the box, as before
+                warnings.warn(f"geom: the face's trim is unusable ({exc}); its surface over the UV box is "
+                              "used untrimmed", RuntimeWarning, stacklevel=4)
+                return surf.reversed("u") if reversed_ else surf
+        if defer_trims:
+            return deferred_trim(face, surf.reversed("u") if reversed_ else surf, surf.domain, trimmed)
+        return trimmed()
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 

@@ -541,12 +541,12 @@ def _shapes(path, kind: str) -> Tuple[List[Tuple[str, TopoDS_Shape]], Tuple[str,
 
 
 def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[float],
-             unread: Tuple[str, ...] = ()) -> FileContents:
+             unread: Tuple[str, ...] = (), defer_trims: bool = False) -> FileContents:
     """Faces -> surfaces; edges that bound no face -> curves; what does not convert is
     listed in ``skipped`` (and warned about), never dropped silently."""
     from .trim import shared_edges
     with shared_edges():                  # an edge of two faces: its 3-D curve converted once
-        out, skipped = _convert(named, approximate)
+        out, skipped = _convert(named, approximate, defer_trims)
     result = FileContents(tuple(out), tuple(skipped), unread)
     if skipped or unread:
         warnings.warn(f"read: {result.message}", RuntimeWarning, stacklevel=3)
@@ -554,7 +554,7 @@ def _objects(named: Iterable[Tuple[str, TopoDS_Shape]], approximate: Optional[fl
 
 
 def _convert(named: Iterable[Tuple[str, TopoDS_Shape]],
-             approximate: Optional[float]) -> Tuple[List[Imported], List[Skipped]]:
+             approximate: Optional[float], defer_trims: bool = False) -> Tuple[List[Imported], List[Skipped]]:
     out: List[Imported] = []
     skipped: List[Skipped] = []
     for name, shape in named:
@@ -569,7 +569,7 @@ def _convert(named: Iterable[Tuple[str, TopoDS_Shape]],
                 if kind == "edge" and _seen(s, found):
                     continue
                 try:
-                    found.append((from_occ(s, approximate=approximate), s))
+                    found.append((from_occ(s, approximate=approximate, defer_trims=defer_trims), s))
                 except CagdError as exc:
                     failed.append((kind, index, str(exc), s))
         if not faces and not free and not subshapes(shape, TopAbs_EDGE):
@@ -585,19 +585,26 @@ def _seen(edge, found) -> bool:
     return any(s.IsSame(edge) for _, s in found)
 
 
-def read_step(path: Union[str, os.PathLike], approximate: Optional[float] = None) -> FileContents:
+def read_step(path: Union[str, os.PathLike], approximate: Optional[float] = None,
+              defer_trims: bool = True) -> FileContents:
     """Every surface (face) and free curve (edge of no face) of a STEP file as an
     engine B-spline, with its name (see :class:`Imported`), in a :class:`FileContents`
     (iterable like a list). A face or edge that does not convert (an offset surface
     without ``approximate``, geometry OCCT cannot turn into a B-spline) is listed in
     ``skipped`` with the reason and a RuntimeWarning; every other one comes back.
     ``approximate``: as :func:`cagd.occ.from_occ` (a distance in model units within
-    which OCCT may approximate offsets)."""
+    which OCCT may approximate offsets).
+
+    ``defer_trims`` (default): a trimmed face's pcurves are converted and checked on
+    the first use of its trim, not while reading (:func:`cagd.occ.from_occ`); reading a
+    file then costs little more than OCCT's reader, and a trim found unusable warns
+    when used. ``defer_trims=False`` converts every trim now (its warnings now)."""
     named, unread = _shapes(path, "step")
-    return _objects(named, approximate, unread)
+    return _objects(named, approximate, unread, defer_trims)
 
 
-def read_iges(path: Union[str, os.PathLike], approximate: Optional[float] = None) -> FileContents:
+def read_iges(path: Union[str, os.PathLike], approximate: Optional[float] = None,
+              defer_trims: bool = True) -> FileContents:
     """As :func:`read_step`, for IGES files."""
     named, unread = _shapes(path, "iges")
-    return _objects(named, approximate, unread)
+    return _objects(named, approximate, unread, defer_trims)

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 from OCP.BRep import BRep_Builder, BRep_Tool
@@ -50,10 +50,10 @@ from OCP.BRepLib import BRepLib
 from OCP.BRepTools import BRepTools_WireExplorer
 from OCP.Geom import Geom_BezierSurface, Geom_BSplineSurface, Geom_Plane, Geom_Surface
 from OCP.GeomAbs import GeomAbs_C2
-from OCP.Geom2d import Geom2d_Line, Geom2d_TrimmedCurve
+from OCP.Geom2d import Geom2d_BSplineCurve, Geom2d_Line, Geom2d_TrimmedCurve
 from OCP.gp import gp_Pnt
 from OCP.ShapeFix import ShapeFix_Face
-from OCP.TopAbs import TopAbs_FORWARD, TopAbs_REVERSED, TopAbs_WIRE
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FORWARD, TopAbs_REVERSED, TopAbs_WIRE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS_Face
 
@@ -61,13 +61,13 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
+from ..surfaces._trim_box import BOX_TOL
 from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, _end, hermite_fit
 from .compat import as_edge, as_face, as_wire
 
 MAP_TOL = 1e-9          # relative (surface size): an assumed parameter map must reproduce OCCT's points to this
 PCURVE_FIT_TOL = 1e-12  # relative (parameter box): fitted pcurves (non-iso pcurves on angle directions)
 MAX_GAP = 1e-2          # relative (parameter box): a wire whose pcurves do not meet within this is refused
-BOX_TOL = 1e-9          # relative (parameter box): a loop of iso-lines on the box's sides is "the box"
 DEGENERATE_TOL = 1e-7   # 3-D (mm): an edge whose image is within this of one point is degenerated
 CONSTANT_TOL = 1e-12    # relative (parameter box): a pcurve coordinate varying less is constant (an iso-line)
 CURVE3D_TOL = 1e-12     # relative (surface size): BuildCurves3d's approximation of the edges' 3-D curves
@@ -400,6 +400,62 @@ def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], 
     return is_box(loops, domain, BOX_TOL)
 
 
+def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:
+    """True when the face's boundary is its parameter box ``domain`` (the engine
+    surface's, whose parameters equal OCCT's on the box's sides): one wire, every
+    pcurve a line, or a B-spline with its poles, along a side of the box (to BOX_TOL),
+    the lengths between their ends adding up to the perimeter. Decided on OCCT's pcurves without converting them; where it says False
+    the converted loops are compared with the box (:func:`trimmed_from_face`)."""
+    fwd = as_face(face.Oriented(TopAbs_FORWARD))
+    wires = TopExp_Explorer(fwd, TopAbs_WIRE)
+    if not wires.More():
+        return False
+    wires.Next()
+    if wires.More():
+        return False
+    (u0, u1), (v0, v1) = domain
+    tol = BOX_TOL * max(u1 - u0, v1 - v0)
+    length = 0.0
+    ex = TopExp_Explorer(fwd, TopAbs_EDGE)
+    while ex.More():
+        adaptor = BRepAdaptor_Curve2d(as_edge(ex.Current()), fwd)
+        curve = adaptor.Curve()
+        p, q = adaptor.Value(adaptor.FirstParameter()), adaptor.Value(adaptor.LastParameter())
+        if isinstance(curve, Geom2d_Line):
+            U, V = np.array([p.X(), q.X()]), np.array([p.Y(), q.Y()])
+        elif isinstance(curve, Geom2d_BSplineCurve):      # its poles on the side: all of it is
+            poles = [curve.Pole(i) for i in range(1, curve.NbPoles() + 1)]
+            U, V = np.array([P.X() for P in poles]), np.array([P.Y() for P in poles])
+        else:
+            return False
+        (pu, pv), (qu, qv) = (p.X(), p.Y()), (q.X(), q.Y())
+        on_u = np.ptp(U) <= tol and min(abs(U[0] - u0), abs(U[0] - u1)) <= tol
+        on_v = np.ptp(V) <= tol and min(abs(V[0] - v0), abs(V[0] - v1)) <= tol
+        if not (on_u or on_v):
+            return False
+        length += abs(qv - pv) if on_u else abs(qu - pu)
+        ex.Next()
+    return abs(length - 2.0 * ((u1 - u0) + (v1 - v0))) <= 8 * tol
+
+
+def deferred_trim(face: TopoDS_Face, surface: Surface, domain: Tuple[Tuple[float, float], Tuple[float, float]],
+                  build: Callable[[], Surface]) -> Surface:
+    """``surface`` itself where the face's boundary is its box (:func:`natural_boundary`),
+    else a :class:`TrimmedSurface` on it whose loops ``build()`` converts on first use
+    (within the :func:`shared_edges` cache open now, if any)."""
+    if natural_boundary(face, domain):
+        return surface
+    cache = _EDGES.get()
+
+    def run() -> Surface:
+        token = _EDGES.set(cache)
+        try:
+            return build()
+        finally:
+            _EDGES.reset(token)
+    return TrimmedSurface._deferred(surface, run)
+
+
 def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurface, reversed_: bool,
                       slack: float = 0.0) -> Union[BSplineSurface, TrimmedSurface]:
     """The TrimmedSurface of an OCCT face on ``engine`` (the B-spline of ``geom``, the
@@ -672,4 +728,4 @@ def _degenerated(builder: BRep_Builder, pc, geom: Geom_Surface, vertex, a: float
     return as_edge(edge)
 
 
-__all__ = ["trimmed_from_face", "make_trimmed_face", "parameter_maps", "TrimmedSurface"]
+__all__ = ["trimmed_from_face", "deferred_trim", "natural_boundary", "make_trimmed_face", "parameter_maps", "TrimmedSurface"]

@@ -30,6 +30,14 @@ def is_box(loops: Sequence[Sequence[BSplineCurve]],
     return True
 
 
+def box_loop(domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:
+    """The parameter box ``domain`` as a loop: its four sides, counter-clockwise, each a
+    degree-1 segment on [0, 1]."""
+    (u0, u1), (v0, v1) = domain
+    corners = np.array([[u0, v0], [u1, v0], [u1, v1], [u0, v1], [u0, v0]])
+    return [BSplineCurve(corners[i:i + 2], 1, [0.0, 0.0, 1.0, 1.0]) for i in range(4)]
+
+
 def translated(c: BSplineCurve, du: float, dv: float) -> BSplineCurve:
     if du == 0 and dv == 0:
         return c

@@ -25,7 +25,7 @@ knot spans (subdivided), the boundary integral adaptively (halves against the wh
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Dict, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,6 +36,7 @@ from .._quadrature import adaptive
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
+from ._trim_box import box_loop
 from ._trim_check import LoopCheck
 from ._chords import _cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound, _segment_distance
 from .base import Surface
@@ -198,7 +199,8 @@ class TrimmedSurface(Surface):
     """
 
     _modified_copy = "build a new TrimmedSurface"
-    edges: "Edges" = None          # (objects pickled before edges existed have none)
+    #: what a deferred trim (:meth:`_deferred`) converts on first use
+    _DEFERRED = frozenset({"loops", "tol", "reoriented", "edges"})
 
     def __init__(self, surface: Surface, loops: Sequence[Sequence[Curve]], tol: Optional[float] = None,
                  edges: Optional[Sequence[Sequence[Optional[Curve]]]] = None):
@@ -244,6 +246,50 @@ class TrimmedSurface(Surface):
         self.dim = surface.dim
         self.periodic_u, self.periodic_v = surface.periodic_u, surface.periodic_v
         self._flattening: Optional[_Flattened] = None
+
+    # --- a trim converted on first use (files read with ``defer_trims``) -------------------
+    @classmethod
+    def _deferred(cls, surface: Surface, build: Callable[[], Surface]) -> "TrimmedSurface":
+        """A TrimmedSurface on ``surface`` whose loops come from ``build()`` on the first
+        access to ``loops``, ``tol``, ``reoriented`` or ``edges`` (a CAD face's pcurves,
+        converted and validated only when used). ``build`` returns the TrimmedSurface on
+        ``surface``, or a plain surface when the face turned out to be its parameter box
+        (or its trim unusable: ``build`` warns), which gives the box as the one loop."""
+        obj = cls.__new__(cls)
+        obj.surface = surface
+        obj.dim = surface.dim
+        obj.periodic_u, obj.periodic_v = surface.periodic_u, surface.periodic_v
+        obj._flattening = None
+        obj._build = build
+        object.__setattr__(obj, "_sealed", True)
+        return obj
+
+    def __getattr__(self, name: str) -> Any:
+        # called only for attributes not set: the deferred ones of a deferred trim
+        if name in TrimmedSurface._DEFERRED and "_build" in self.__dict__:
+            self._materialize()
+            return self.__dict__[name]
+        if name == "edges":                # objects pickled before edges existed have none
+            return None
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _materialize(self) -> None:
+        build = self.__dict__.pop("_build")
+        got = build()
+        if not isinstance(got, TrimmedSurface):
+            got = TrimmedSurface(self.surface, [box_loop(self.surface.domain)])
+        for name in ("loops", "tol", "reoriented", "edges", "_flattening"):
+            object.__setattr__(self, name, got.__dict__[name])
+
+    @property
+    def deferred(self) -> bool:
+        """True while the trim of a face read with ``defer_trims`` is not yet converted."""
+        return "_build" in self.__dict__
+
+    def __getstate__(self) -> Dict[str, Any]:
+        if self.deferred:
+            self._materialize()
+        return dict(self.__dict__)
 
     # --- validation ---------------------------------------------------------------------
     def _validate(self) -> None:
@@ -324,6 +370,8 @@ class TrimmedSurface(Surface):
         return self.surface.size
 
     def __repr__(self) -> str:
+        if self.deferred:
+            return f"<TrimmedSurface of {type(self.surface).__name__}, trim converted on first use>"
         counts = ", ".join(str(len(loop)) for loop in self.loops)
         return (f"<TrimmedSurface of {type(self.surface).__name__}, {len(self.loops)} loop(s) of "
                 f"[{counts}] curves>")
