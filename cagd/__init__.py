@@ -29,6 +29,7 @@ from .queries import closest_point, deviation, intersect, min_distance, plane, s
 from .analysis import CurvatureComb, curvature_comb
 from .analysis import Fairness, Isophotes, Zebra, curvature_map, draft_angle, fairness, isophotes, zebra
 from .operations import BlendCurve, blend_curve
+from .operations import SweepResult, sweep, sweep2
 
 __version__ = "0.1.0"
 __all__ = [
@@ -47,4 +48,5 @@ __all__ = [
     "CurvatureComb", "curvature_comb",
     "Fairness", "Isophotes", "Zebra", "curvature_map", "draft_angle", "fairness", "isophotes", "zebra",
     "BlendCurve", "blend_curve",
+    "SweepResult", "sweep", "sweep2",
 ]
