@@ -28,13 +28,16 @@ ICONS = {
     "Cagd::RemoveKnots": "RemoveKnots", "Cagd::ReduceDegree": "ReduceDegree", "Cagd::Fair": "Fair",
 }
 COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples
+COMB_PER_SPAN = 8                    # the engine comb's default teeth per knot span
 NET_COLOR = (0.85, 0.2, 0.1)
 COMB_COLOR = (0.1, 0.45, 0.9)
 
 
 def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, points: bool) -> coin.SoSeparator:
-    """A separator drawing the polylines (and their vertices as dots)."""
-    sep = coin.SoSeparator()
+    """A separator drawing the polylines (and their vertices as dots), as an
+    SoAnnotation: drawn after the scene without the depth test, so a net or comb is
+    never hidden by its own surface."""
+    sep = coin.SoAnnotation()
     pick = coin.SoPickStyle()
     pick.style = coin.SoPickStyle.UNPICKABLE
     base = coin.SoBaseColor()
@@ -61,14 +64,16 @@ class ViewProvider(Stateless):
         vobj.Proxy = self
         vobj.addProperty("App::PropertyBool", "ShowControlNet", "CAGD", "Show the control polygon / net")
         vobj.ShowControlNet = True
-        if curve:
-            vobj.addProperty("App::PropertyBool", "ShowCurvatureComb", "CAGD", "Show the curvature comb")
-            vobj.addProperty("App::PropertyFloat", "CombScale", "CAGD",
-                             "Tooth length = scale x curvature; 0 = longest tooth a fifth of the curve")
-            lo, hi = COMB_SAMPLES[1], COMB_SAMPLES[2]
-            vobj.addProperty("App::PropertyIntegerConstraint", "CombSamples", "CAGD",
-                             f"Number of comb teeth ({lo}..{hi}; values out of range are clamped)")
-            vobj.CombSamples = COMB_SAMPLES
+        what = "curve" if curve else f"surface, on {analysis.ISO_COMBS} iso-curves in each direction"
+        vobj.addProperty("App::PropertyBool", "ShowCurvatureComb", "CAGD", f"Show the curvature comb ({what})")
+        vobj.addProperty("App::PropertyFloat", "CombScale", "CAGD",
+                         "Tooth length = scale x curvature; 0 = longest tooth a fifth of the curve's length "
+                         "(of the surface's size)")
+        lo, hi = COMB_SAMPLES[1], COMB_SAMPLES[2]
+        vobj.addProperty("App::PropertyIntegerConstraint", "CombSamples", "CAGD",
+                         f"Least number of comb teeth per curve ({lo}..{hi}, clamped; at least "
+                         f"{COMB_PER_SPAN} on each knot span, its ends included)")
+        vobj.CombSamples = COMB_SAMPLES
         self.attach(vobj)
 
     def attach(self, vobj) -> None:
@@ -99,12 +104,13 @@ class ViewProvider(Stateless):
             self.switch.addChild(_lines_node(self._local(self.comb(obj)), COMB_COLOR, 1.0, False))
 
     def comb(self, obj) -> List[List[App.Vector]]:
-        """Teeth and the envelope through their tips (placed coordinates)."""
-        edge = obj.Shape.Edges[0]
+        """Teeth and the envelope through their tips (placed coordinates): of the edge, or
+        of iso-curves of the face (analysis.surface_combs)."""
         samples = min(max(int(self.vobj.CombSamples), COMB_SAMPLES[1]), COMB_SAMPLES[2])
-        scale = float(self.vobj.CombScale) or analysis.auto_comb_scale(edge, samples)
-        teeth = analysis.curvature_comb(edge, samples, scale)
-        return [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
+        scale = float(self.vobj.CombScale)
+        if obj.Shape.Faces:
+            return analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale)
+        return analysis.comb_polylines(obj.Shape.Edges[0], samples, scale)
 
     # --- FreeCAD protocol -------------------------------------------------------------------
     def updateData(self, obj, prop: str) -> None:

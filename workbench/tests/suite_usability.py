@@ -1,0 +1,164 @@
+"""Headless cases of issue 19's "found when tried" list: the comb per knot span, the
+tolerances kept as PropertyPrecision, wrong selections refused by the checks the
+commands call, the debug-traceback preference, Hermite example tangents without hooks
+and iso-curve combs on surfaces."""
+import math
+
+import numpy as np
+import Part
+
+import FreeCAD as App
+from suite_support import V, analysis, cagd, case, check, curves, expect_error, new_doc, recompute_ok, surfaces
+
+from cagdwb import features, inspection
+
+PER_SPAN = 8
+
+
+def _teeth(lines):
+    """(feet, tips) arrays of comb polylines (teeth are the 2-point lines)."""
+    teeth = [line for line in lines if len(line) == 2]
+    return (np.array([[p.x, p.y, p.z] for p, _ in teeth]), np.array([[q.x, q.y, q.z] for _, q in teeth]))
+
+
+@case
+def test_comb_per_knot_span():
+    """A 200-pole cubic: at least 8 teeth on each of its 197 spans (64 in all used to
+    draw a zig-zag); a quadratic with a curvature jump at its knot: two teeth on the
+    knot's point whose lengths are the curvatures just left and right of it measured by
+    OCCT (edge.curvatureAt at knot -+ 1e-7)."""
+    doc = new_doc("comb")
+    x = np.linspace(0.0, 400.0, 200)
+    poles = [V(float(a), 10.0 * math.sin(a / 7.0), 0.0) for a in x]
+    long = curves.make_bspline_curve(poles, 3, doc=doc)
+    recompute_ok(long)
+    feet, _ = _teeth(analysis.comb_polylines(long.Shape.Edges[0], 64))
+    spans = len(long.Shape.Edges[0].Curve.getKnots()) - 1
+    check(spans == 197 and len(feet) >= PER_SPAN * spans, f"{len(feet)} teeth on {spans} spans")
+    kink = curves.make_bspline_curve([V(0, 0, 0), V(10, 0, 0), V(20, 10, 0), V(20, 30, 0)], 2,
+                                     knots=[0, 0, 0, 0.5, 1, 1, 1], doc=doc)
+    recompute_ok(kink)
+    edge = kink.Shape.Edges[0]
+    scale = 100.0
+    feet, tips = _teeth(analysis.comb_polylines(edge, 16, scale))
+    knot = edge.valueAt(0.5)
+    at = np.where(np.linalg.norm(feet - [knot.x, knot.y, knot.z], axis=1) < 1e-9)[0]
+    check(len(at) == 2, f"{len(at)} teeth at the knot (want the left and the right limit)")
+    lengths = np.sort(np.linalg.norm(tips[at] - feet[at], axis=1))
+    occt = np.sort([scale * edge.curvatureAt(0.5 - 1e-7), scale * edge.curvatureAt(0.5 + 1e-7)])
+    check(np.allclose(lengths, occt, rtol=1e-5), f"teeth at the knot {lengths}, OCCT {occt}")
+    check(lengths[1] - lengths[0] > 0.1 * lengths[1], f"no jump at the knot: {lengths}")
+
+
+@case
+def test_tolerances_keep_their_value():
+    """Coons and intersection tolerances are App::PropertyPrecision: 1e-7 stays 1e-7
+    (a PropertyFloat showed 0.00 and Enter wrote 0)."""
+    doc = new_doc("tolerances")
+    loop = [curves.make_bezier_curve(p, doc=doc) for p in
+            ([V(0, 0, 0), V(10, 0, 0)], [V(10, 0, 0), V(10, 10, 0)], [V(10, 10, 0), V(0, 10, 0)],
+             [V(0, 10, 0), V(0, 0, 0)])]
+    doc.recompute()
+    coons = surfaces.make_coons([(o, "Edge1") for o in loop], doc=doc)
+    cyl = doc.addObject("Part::Cylinder", "Cyl")
+    plane = Part.makePlane(30, 30, V(-15, -15, 5))
+    box = doc.addObject("Part::Feature", "Plane")
+    box.Shape = plane
+    doc.recompute()
+    cut = inspection.make_intersection((cyl, "Face1"), (box, "Face1"), doc=doc)
+    for obj, name in ((coons, "Tolerance"), (cut, "Tolerance"), (cut, "AchievedTolerance")):
+        check(obj.getTypeIdOfProperty(name) == "App::PropertyPrecision", f"{obj.Label}.{name} type")
+        setattr(obj, name, 1e-7)
+        check(getattr(obj, name) == 1e-7, f"{obj.Label}.{name}: 1e-7 kept as {getattr(obj, name)!r}")
+    recompute_ok(coons)
+    recompute_ok(cut)
+    check(0.0 < cut.AchievedTolerance <= cut.Tolerance, f"achieved {cut.AchievedTolerance!r}")
+
+
+@case
+def test_wrong_selection_refused():
+    """The checks the Coons and Join commands make before creating an object: an open
+    loop, a 2-span and a rational Source raise CagdError naming the property."""
+    doc = new_doc("refuse")
+    a = curves.make_bezier_curve([V(0, 0, 0), V(10, 0, 0)], doc=doc)
+    b = curves.make_bezier_curve([V(10, 0, 0), V(10, 10, 0)], doc=doc)
+    c = curves.make_bezier_curve([V(10, 10, 0), V(0, 10, 0)], doc=doc)
+    d = curves.make_bezier_curve([V(0, 10, 0), V(0, 3, 0)], doc=doc)         # stops short: open loop
+    two = curves.make_bspline_curve([V(0, 0, 0), V(5, 5, 0), V(10, 0, 0), V(15, 5, 0), V(20, 0, 0)], 3, doc=doc)
+    rational = curves.make_bezier_curve([V(0, 0, 0), V(5, 5, 0), V(10, 0, 0)], [1.0, 2.0, 1.0], doc=doc)
+    doc.recompute()
+    count = len(doc.Objects)
+    for pick, words in (([(o.Label, o.Shape.Edges[0]) for o in (a, b, c, d)], "Edges:"),
+                        ([(o.Label, o.Shape.Edges[0]) for o in (a, b, c)], "exactly 4")):
+        try:
+            surfaces.coons_from_edges(pick)
+        except cagd.CagdError as exc:
+            check(words in str(exc), f"Coons refusal {exc}")
+        else:
+            raise AssertionError("an open loop was accepted")
+    for obj, words in ((two, "2 spans"), (rational, "polynomial")):
+        try:
+            curves.join_source(obj.Shape.Edges[0])
+        except cagd.CagdError as exc:
+            check("Source:" in str(exc) and words in str(exc), f"Join refusal {exc}")
+        else:
+            raise AssertionError(f"{obj.Label} accepted as a join source")
+    check(len(doc.Objects) == count, "a check created an object")
+    curves.join_source(a.Shape.Edges[0])                     # one polynomial segment passes
+
+
+@case
+def test_debug_traceback_preference():
+    """Off by default; on, an error still gives the same clear Message (the engine's
+    traceback goes to the log as well)."""
+    params = App.ParamGet(features.PREFERENCES)
+    check(not features.debug_tracebacks(), "debug tracebacks on by default")
+    doc = new_doc("debugpref")
+    obj = curves.make_bspline_curve(degree=0, doc=doc)
+    try:
+        params.SetBool("DebugTracebacks", True)
+        check(features.debug_tracebacks(), "preference not read")
+        expect_error(obj, ["degree"])
+    finally:
+        params.RemBool("DebugTracebacks")
+    check(not obj.Message.count("Traceback"), obj.Message)
+
+
+@case
+def test_hermite_example_without_hooks():
+    """The example Hermite curve (default and between two picked points, also along z)
+    is close to a 60-degree circular arc: curvature within 1 % of 1/R, R = chord /
+    (2 sin 30 deg); no inflection (cagd.analysis.fairness)."""
+    doc = new_doc("hermite")
+    ends = ((V(0, 0, 0), V(40, 0, 0)), (V(1, 2, 3), V(1, 2, 23)), (V(0, 0, 0), V(10, 10, 10)))
+    for start, end in ends:
+        t0, t1 = curves.example_tangents(start, end)
+        obj = curves.make_hermite_curve(StartPoint=start, EndPoint=end, StartTangent=t0, EndTangent=t1, doc=doc)
+        recompute_ok(obj)
+        fair = cagd.analysis.fairness(obj.Proxy.build(obj))
+        R = (end - start).Length / (2.0 * math.sin(math.radians(30.0)))
+        k = np.asarray(fair.curvature) * R
+        check(fair.inflections == 0 and k.min() > 0.99 and k.max() < 1.01,
+              f"{start}->{end}: kappa R {k.min()}..{k.max()}")
+    default = curves.make_hermite_curve(doc=doc)
+    recompute_ok(default)
+    k = np.asarray(cagd.analysis.fairness(default.Proxy.build(default)).curvature) * 40.0
+    check(k.min() > 0.99 and k.max() < 1.01, f"default Hermite: kappa R {k.min()}..{k.max()}")
+
+
+@case
+def test_surface_iso_combs():
+    """Iso-curve combs of a cylinder of radius 5 (its NURBS form): teeth on the circles
+    are scale / 5 long and point outwards, teeth on the rulings have length 0."""
+    cyl = Part.makeCylinder(5.0, 10.0)
+    face = next(f for f in cyl.Faces if "Cylinder" in type(f.Surface).__name__)
+    scale = 2.0
+    feet, tips = _teeth(analysis.surface_combs(face, count=3, samples=16, scale=scale))
+    length = np.linalg.norm(tips - feet, axis=1)
+    radial = np.hypot(feet[:, 0], feet[:, 1])
+    check(np.allclose(radial, 5.0, atol=1e-9), "comb feet off the cylinder")
+    on_circles = length > 1e-9
+    check(on_circles.sum() >= 3 * 16 and (~on_circles).sum() >= 3 * 8, f"{on_circles.sum()} teeth on circles")
+    check(np.allclose(length[on_circles], scale / 5.0, rtol=1e-6), f"tooth lengths {np.unique(length.round(9))}")
+    out = np.hypot(tips[on_circles, 0], tips[on_circles, 1])
+    check(np.allclose(out, 5.0 + scale / 5.0, rtol=1e-6), "teeth do not point away from the axis")
