@@ -14,7 +14,7 @@ from typing import Callable, List, Tuple
 import FreeCAD as App
 import FreeCADGui as Gui
 
-from . import analysis, curves, features, fitting, icon, inspection, surfaces
+from . import analysis, conversion, curves, features, fitting, icon, inspection, surface_analysis, surfaces
 from .conversion import cagd
 
 Link = Tuple[object, str]
@@ -206,6 +206,23 @@ class IntersectionCommand(Command):
         _finish(inspection.make_intersection(faces[0], faces[1]))      # no intersection: a warning
 
 
+class SurfaceAnalysisCommand(Command):
+    NAME, MENU, ICON = "Cagd_SurfaceAnalysis", "Surface analysis", "DeviationMap"
+    TIP = ("Colour the selected face by its Gaussian, mean, max or min curvature, zebra stripes, isophotes or "
+           "draft angle (edit Kind, Direction, Stripes, Range)")
+
+    def run(self) -> None:
+        faces = selected_faces()
+        if len(faces) != 1:
+            return _error(f"Surface analysis: select one face (got {len(faces)})")
+        obj, sub = faces[0]
+        try:                                   # a face Part cannot convert is refused before any object
+            conversion.face_to_surface(obj.Shape.getElement(sub))
+        except Exception as exc:
+            return _error(f"Surface analysis: {obj.Label}.{sub} has no B-spline form ({exc})")
+        _finish(surface_analysis.make_surface_analysis((obj, sub)))
+
+
 def selected_clouds() -> list:
     """The selected Points objects (Points::Feature), in selection order."""
     return [s.Object for s in Gui.Selection.getSelectionEx() if s.Object.isDerivedFrom("Points::Feature")]
@@ -391,7 +408,8 @@ FITTING = [
     OperationCommand("Fair", "Fair", "Lower the fairness energy of the selected edge or face within Tolerance, "
                      "Keep (G0/G1/G2) held at its ends or edges"),
 ]
-TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand()]
+TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand(),
+         SurfaceAnalysisCommand()]
 
 
 def register() -> List[List[str]]:

@@ -333,3 +333,68 @@ class DeviationViewProvider(Stateless):
         obj = getattr(self, "vobj", None) and self.vobj.Object
         proxy = getattr(obj, "Proxy", None)
         return proxy.claimed(obj) if hasattr(proxy, "claimed") else []
+
+
+# --- surface analysis ---------------------------------------------------------------------------
+class AnalysisViewProvider(Stateless):
+    """The surface analysis' mesh with per-vertex colours (surface_analysis.vertex_colors),
+    unlit (SoLightModel BASE_COLOR) so the colours are the values' own."""
+
+    def __init__(self, vobj):
+        vobj.Proxy = self
+        if getattr(self, "root", None) is None:
+            self.attach(vobj)
+
+    def attach(self, vobj) -> None:
+        if getattr(self, "root", None) is not None:
+            return
+        self.vobj = vobj
+        self.root = coin.SoSeparator()
+        vobj.addDisplayMode(self.root, "Analysis")
+        self.refresh()
+
+    def getDisplayModes(self, vobj) -> list:
+        return ["Analysis"]
+
+    def getDefaultDisplayMode(self) -> str:
+        return "Analysis"
+
+    def setDisplayMode(self, mode: str) -> str:
+        return mode
+
+    def refresh(self) -> None:
+        root = getattr(self, "root", None)
+        if root is None:
+            return
+        root.removeAllChildren()
+        obj = self.vobj.Object
+        pts, facets = obj.Coordinates, obj.Facets
+        if not pts or len(obj.Values) != len(pts):
+            return
+        from .surface_analysis import vertex_colors
+        colors = vertex_colors(obj.Kind, obj.Values, obj.Bands, obj.Proxy.limit(obj))
+        light = coin.SoLightModel()
+        light.model = coin.SoLightModel.BASE_COLOR
+        coords = coin.SoCoordinate3()
+        coords.point.setValues(0, len(pts), [(p.x, p.y, p.z) for p in pts])
+        material = coin.SoMaterial()
+        material.diffuseColor.setValues(0, len(colors), [tuple(map(float, c)) for c in colors])
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
+        hints = coin.SoShapeHints()
+        hints.vertexOrdering = coin.SoShapeHints.UNKNOWN_ORDERING     # both sides shown
+        mesh = coin.SoIndexedFaceSet()
+        index = [int(i) for k in range(0, len(facets), 3) for i in (*facets[k:k + 3], -1)]
+        mesh.coordIndex.setValues(0, len(index), index)
+        for node in (light, hints, coords, material, binding, mesh):
+            root.addChild(node)
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop in ("Coordinates", "Values", "Bands", "Range"):
+            self.refresh()
+
+    def onChanged(self, vobj, prop: str) -> None:
+        pass
+
+    def getIcon(self) -> str:
+        return icon("DeviationMap")

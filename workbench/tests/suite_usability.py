@@ -162,3 +162,72 @@ def test_surface_iso_combs():
     check(np.allclose(length[on_circles], scale / 5.0, rtol=1e-6), f"tooth lengths {np.unique(length.round(9))}")
     out = np.hypot(tips[on_circles, 0], tips[on_circles, 1])
     check(np.allclose(out, 5.0 + scale / 5.0, rtol=1e-6), "teeth do not point away from the axis")
+
+
+# --- surface analysis overlay ------------------------------------------------------------------
+def _analysed(doc, shape, kind, **values):
+    from cagdwb import surface_analysis
+    holder = doc.addObject("Part::Feature", "Analysed")
+    holder.Shape = shape
+    doc.recompute()
+    face = max(range(len(shape.Faces)), key=lambda i: shape.Faces[i].Area)
+    obj = surface_analysis.make_surface_analysis((holder, f"Face{face + 1}"), kind, doc=doc, **values)
+    doc.recompute()
+    check(obj.isValid() and obj.Message == "ok", f"{kind}: {obj.Message}")
+    P = np.array([[p.x, p.y, p.z] for p in obj.Coordinates])
+    return obj, P, np.array(obj.Values), np.array(obj.Bands)
+
+
+@case
+def test_surface_analysis_sphere_curvature():
+    """Part's sphere of radius 5 (its rational B-spline form): K = 1/R^2 = 0.04 at every
+    vertex where the normal is defined (NaN only at the two poles' grid rows), mean
+    and principal curvatures -1/R (outward normal); vertices on the sphere; the
+    symmetric range is max |K|."""
+    from cagdwb import surface_analysis
+    doc = new_doc("sphere_map")
+    R = 5.0
+    obj, P, K, _ = _analysed(doc, Part.makeSphere(R), "gaussian", Resolution=31)
+    check(np.allclose(np.linalg.norm(P, axis=1), R, atol=1e-9), "vertices off the sphere")
+    ok = np.isfinite(K)
+    check(ok.sum() >= len(K) - 2 * 31, f"{(~ok).sum()} undefined of {len(K)}")
+    check(np.allclose(K[ok], 1.0 / R ** 2, rtol=1e-8), f"K {K[ok].min()}..{K[ok].max()}, expected {1 / R ** 2}")
+    check(abs(obj.Proxy.limit(obj) - 1.0 / R ** 2) < 1e-9, "symmetric range")
+    check(len(obj.Facets) == 3 * 2 * 30 * 30, f"{len(obj.Facets)} facet indices")
+    for kind in ("mean", "max", "min"):
+        obj.Kind = kind
+        doc.recompute()
+        H = np.array(obj.Values)
+        h = H[np.isfinite(H)]
+        check(h.size and np.allclose(np.abs(h), 1.0 / R, rtol=1e-7), f"{kind}: {h.min()}..{h.max()}")
+    colors = surface_analysis.vertex_colors("gaussian", K, np.zeros_like(K), 1.0 / R ** 2)
+    check(np.allclose(colors[ok], [1.0, 0.0, 0.0]), "K = +range is not red")
+
+
+@case
+def test_surface_analysis_cylinder_zebra():
+    """Zebra of a cylinder of radius 5, light bars along its axis: along each ruling
+    (a grid line with constant angle) the phase is constant to 1e-12 (straight stripes),
+    across the rulings it changes and the lit flag alternates; K = 0 and H = -1/(2R)
+    there too; draft angle against the axis is 0 on the whole wall."""
+    doc = new_doc("cyl_zebra")
+    R, n = 5.0, 25
+    obj, P, phase, lit = _analysed(doc, Part.makeCylinder(R, 20.0), "zebra", Resolution=n,
+                                   Direction=V(0, 0, 1), ViewDirection=V(1, -1, -0.5))
+    angle = np.round(np.arctan2(P[:, 1], P[:, 0]), 9)
+    rulings = np.unique(angle)
+    check(len(rulings) >= n - 1, f"{len(rulings)} rulings")
+    spread = max(float(np.ptp(phase[angle == a])) for a in rulings)
+    check(spread < 1e-12, f"phase varies along a ruling by {spread}")
+    per_ruling = np.array([lit[angle == a][0] for a in rulings])        # rulings in angle order
+    flips = int(np.count_nonzero(np.diff(per_ruling)))
+    check(np.ptp(phase) > 1.0 and set(np.unique(lit)) == {0.0, 1.0}, f"phase range {np.ptp(phase)}")
+    check(flips >= 2, f"{flips} stripe changes around the cylinder")
+    for kind, expected in (("gaussian", 0.0), ("mean", None), ("draft", 0.0)):
+        obj.Kind = kind
+        doc.recompute()
+        values = np.array(obj.Values)
+        if expected is None:
+            check(np.allclose(np.abs(values), 1.0 / (2 * R), rtol=1e-8), f"H {values.min()}..{values.max()}")
+        else:
+            check(np.allclose(values, expected, atol=1e-9), f"{kind} {values.min()}..{values.max()}")
