@@ -135,7 +135,7 @@ def surface_combs(face, count: int = ISO_COMBS, samples: int = 64, scale: float 
            [surface.isocurve("v", float(u)) for u in np.linspace(u0, u1, count)]
     combs = [cagd.analysis.curvature_comb(c, samples=samples, scale=1.0) for c in isos]
     longest = max(float(c.curvature.max()) for c in combs)
-    scale = scale or _auto_scale(longest, float(surface.size()), COMB_FRACTION)
+    scale = scale or _auto_scale(longest, float(surface.size), COMB_FRACTION)
     lines: List[List[App.Vector]] = []
     for comb in combs:
         teeth = _teeth(comb.scaled(scale))

@@ -369,7 +369,7 @@ class AnalysisViewProvider(Stateless):
         root.removeAllChildren()
         obj = self.vobj.Object
         pts, facets = obj.Coordinates, obj.Facets
-        if not pts or len(obj.Values) != len(pts):
+        if not pts or len(obj.Values) != len(pts) or len(obj.Bands) != len(pts):   # mid-update: wait
             return
         from .surface_analysis import vertex_colors
         colors = vertex_colors(obj.Kind, obj.Values, obj.Bands, obj.Proxy.limit(obj))

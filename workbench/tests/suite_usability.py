@@ -8,7 +8,8 @@ import numpy as np
 import Part
 
 import FreeCAD as App
-from suite_support import V, analysis, cagd, case, check, curves, expect_error, new_doc, recompute_ok, surfaces
+from suite_support import (V, analysis, cagd, case, check, conversion, curves, expect_error, new_doc, recompute_ok,
+                           surfaces)
 
 from cagdwb import features, inspection
 
@@ -162,6 +163,10 @@ def test_surface_iso_combs():
     check(np.allclose(length[on_circles], scale / 5.0, rtol=1e-6), f"tooth lengths {np.unique(length.round(9))}")
     out = np.hypot(tips[on_circles, 0], tips[on_circles, 1])
     check(np.allclose(out, 5.0 + scale / 5.0, rtol=1e-6), "teeth do not point away from the axis")
+    feet, tips = _teeth(analysis.surface_combs(face, count=3, samples=16))         # automatic scale
+    longest = float(np.linalg.norm(tips - feet, axis=1).max())
+    size = float(conversion.face_to_surface(face).size)
+    check(abs(longest - analysis.COMB_FRACTION * size) < 1e-9 * size, f"longest tooth {longest}, size {size}")
 
 
 # --- surface analysis overlay ------------------------------------------------------------------
