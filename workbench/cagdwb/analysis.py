@@ -141,3 +141,16 @@ def surface_combs(face, count: int = ISO_COMBS, samples: int = 64, scale: float 
         teeth = _teeth(comb.scaled(scale))
         lines += [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
     return lines
+
+
+def fairness_readout(edge) -> Tuple[object, str]:
+    """(cagd.analysis.fairness of the edge's curve, its read-out as text): arc length,
+    curvature range, curvature-variation energy, inflections, largest curvature jump at
+    a knot and where (Farin 23.1-23.2, via the engine)."""
+    fair = cagd.analysis.fairness(conversion.edge_to_curve(edge))
+    k = np.asarray(fair.curvature)
+    where = "" if not np.isfinite(fair.jump_parameter) else f" at t = {float(fair.jump_parameter):.6g}"
+    text = (f"length {float(fair.length):.6g} mm, curvature {float(k.min()):.6g}..{float(k.max()):.6g} 1/mm\n"
+            f"energy (integral of (dk/ds)^2 ds) {float(fair.energy):.6g}, inflections {int(fair.inflections)}, "
+            f"largest curvature jump at a knot {float(fair.max_knot_jump):.6g} 1/mm{where}")
+    return fair, text

@@ -324,6 +324,27 @@ class ContinuityCommand(Command):
         self.run()
 
 
+class FairnessCommand(Command):
+    NAME, MENU, ICON = "Cagd_Fairness", "Curve quality", "Comb"
+    TIP = "Fairness of the selected edge: curvature range, energy, inflections, largest curvature jump at a knot"
+
+    def run(self) -> None:
+        edges = selected_edges()
+        if len(edges) != 1:
+            return _error(f"Curve quality: select one edge (got {len(edges)})")
+        obj, sub = edges[0]
+        try:
+            _, text = analysis.fairness_readout(obj.Shape.getElement(sub))
+        except cagd.CagdError as exc:
+            return _error(f"Curve quality: {obj.Label}.{sub}: {exc}")
+        text = f"Curve quality of {obj.Label}.{sub}:\n{text}\n"
+        App.Console.PrintMessage(text)
+        show_message("Curve quality", text)
+
+    def Activated(self) -> None:           # no document change: no transaction
+        self.run()
+
+
 def show_message(title: str, text: str) -> None:
     """A non-modal message box (does not block scripts driving the GUI)."""
     from .qt import QtCore, QtWidgets
@@ -409,7 +430,7 @@ FITTING = [
                      "Keep (G0/G1/G2) held at its ends or edges"),
 ]
 TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand(),
-         SurfaceAnalysisCommand()]
+         SurfaceAnalysisCommand(), FairnessCommand()]
 
 
 def register() -> List[List[str]]:

@@ -236,3 +236,22 @@ def test_surface_analysis_cylinder_zebra():
             check(np.allclose(np.abs(values), 1.0 / (2 * R), rtol=1e-8), f"H {values.min()}..{values.max()}")
         else:
             check(np.allclose(values, expected, atol=1e-9), f"{kind} {values.min()}..{values.max()}")
+
+
+@case
+def test_fairness_readout():
+    """A circle arc of radius 8: curvature 1/8, energy 0, no inflection; the quadratic
+    with a curvature jump at its knot: the read-out's jump is OCCT's curvature
+    difference across t = 0.5 (curvatureAt at 0.5 -+ 1e-7) and is placed at 0.5."""
+    arc = Part.makeCircle(8.0, V(0, 0, 0), V(0, 0, 1), 0, 120)
+    fair, text = analysis.fairness_readout(arc)
+    k = np.asarray(fair.curvature)
+    check(np.allclose(k, 1 / 8.0, rtol=1e-9) and abs(fair.energy) < 1e-12 and fair.inflections == 0, text)
+    check("inflections 0" in text, text)
+    kink = Part.BSplineCurve()
+    kink.buildFromPolesMultsKnots([V(0, 0, 0), V(10, 0, 0), V(20, 10, 0), V(20, 30, 0)], [3, 1, 3],
+                                  [0, 0.5, 1], False, 2)
+    edge = kink.toShape()
+    fair, text = analysis.fairness_readout(edge)
+    occt = abs(edge.curvatureAt(0.5 - 1e-7) - edge.curvatureAt(0.5 + 1e-7))
+    check(abs(fair.max_knot_jump - occt) < 1e-5 * occt and abs(fair.jump_parameter - 0.5) < 1e-12, text)
