@@ -12,7 +12,7 @@ import pytest
 from wb_runner import ADDON, output_dir, need, report, run_group
 
 TIMEOUT = 240
-STEPS = 15                    # the macro's step count
+STEPS = 17                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
@@ -20,6 +20,7 @@ SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_CoonsPatch": 5000, "Cagd_Revolution": 5000, "Cagd_ContinuityCheck": 200,
     "Cagd_ToggleComb": 200, "Cagd_ToggleControlNet": 200, "Cagd_IntersectionCurve": 200,
     "Cagd_DeviationMap": 1000, "Cagd_FitCurve": 200, "Cagd_FitSurface": 5000,
+    "Cagd_ToggleCombSurface": 200, "Cagd_SurfaceAnalysis": 5000, "Cagd_SurfaceAnalysisZebra": 2000,
 }
 COLOURED = {"Cagd_DeviationMap": 1000}    # step -> minimum number of coloured (non-grey) model pixels
 
@@ -39,6 +40,36 @@ def coloured_pixels(shown, hidden):
     a, b = image.imread(shown)[..., :3], image.imread(hidden)[..., :3]
     chroma_a, chroma_b = np.ptp(a, axis=-1), np.ptp(b, axis=-1)
     return int(((np.abs(a - b).max(axis=-1) > 0.1) & (chroma_a > 0.35) & (chroma_b < 0.1)).sum())
+
+
+def _image(path):
+    image = pytest.importorskip("matplotlib.image")
+    return image.imread(path)[..., :3]
+
+
+def sphere_gaussian_colours(shown, hidden):
+    """(red fraction of the model's pixels, model pixels, centre pixel is red): the
+    Gaussian map of a sphere is uniform, K = +range, drawn red (1, 0, 0)."""
+    a, b = _image(shown), _image(hidden)
+    model = np.abs(a - b).max(axis=-1) > 0.1
+    red = model & (a[..., 0] > 0.8) & (a[..., 1] < 0.2) & (a[..., 2] < 0.2)
+    rows, cols = np.nonzero(model)
+    centre = a[int(rows.mean()), int(cols.mean())]
+    return red.sum() / max(model.sum(), 1), int(model.sum()), bool(centre[0] > 0.8 and centre[1:].max() < 0.2)
+
+
+def zebra_rows(shown, hidden, fractions=(0.3, 0.5, 0.7)):
+    """The dark columns of image rows across the cylinder (model rows at ``fractions``
+    of its height): straight vertical stripes give the same columns on every row.
+    Returns (transitions per row, largest number of columns where two rows differ)."""
+    a, b = _image(shown), _image(hidden)
+    model = np.abs(a - b).max(axis=-1) > 0.1
+    rows = np.nonzero(model.any(axis=1))[0]
+    picks = [int(rows[0] + f * (rows[-1] - rows[0])) for f in fractions]
+    dark = [a[r].max(axis=-1) < 0.3 for r in picks]
+    transitions = [int(np.count_nonzero(np.diff(d.astype(int)))) for d in dark]
+    differ = max(int(np.count_nonzero(d != dark[0])) for d in dark)
+    return transitions, differ
 
 
 def test_gui_commands_and_screenshots(freecad_env):
@@ -77,4 +108,14 @@ def test_gui_commands_and_screenshots(freecad_env):
     ratio, expected = holed / max(whole, 1), 1 - 16 * np.pi / 100
     print(f"  trimmed deviation map: {holed} / {whole} coloured pixels = {ratio:.4f} (area ratio {expected:.4f})")
     assert whole > 5000 and abs(ratio - expected) <= 0.05 * expected, (holed, whole, ratio)
+    # surface analysis: the sphere's Gaussian map one colour (red = +range), the cylinder's
+    # zebra straight stripes (the same dark columns on rows across it)
+    fraction, pixels, centre = sphere_gaussian_colours(out / "Cagd_SurfaceAnalysis.png",
+                                                       out / "Cagd_SurfaceAnalysis-hidden.png")
+    print(f"  sphere Gaussian map: {fraction:.4f} of {pixels} model pixels red, centre red {centre}")
+    assert pixels > 5000 and fraction >= 0.95 and centre, (fraction, pixels, centre)
+    transitions, differ = zebra_rows(out / "Cagd_SurfaceAnalysisZebra.png",
+                                     out / "Cagd_SurfaceAnalysisZebra-hidden.png")
+    print(f"  cylinder zebra: dark/light transitions per row {transitions}, rows differ in {differ} columns")
+    assert min(transitions) >= 4 and len(set(transitions)) == 1 and differ <= 4, (transitions, differ)
     assert os.path.getsize(out / "macro.log") > 0

@@ -83,21 +83,74 @@ def check_shapes(shape1, shape2, rel_tol: float = 1e-9) -> JointCheck:
     raise cagd.CagdError(f"selection: need two edges or two faces, got {kinds[0]} and {kinds[1]}")
 
 
+COMB_FRACTION = 0.2        # automatic comb scale: the longest tooth this fraction of the size
+ISO_COMBS = 5              # iso-curves per direction carrying a comb on a surface
+
+
 def _comb(edge, samples: int):
     """The engine's curvature comb of the edge's curve (cagd.analysis.curvature_comb:
-    per knot span, both limits at a knot), at least ``samples`` teeth, scale 1."""
+    per knot span, at least 8 teeth on each, both limits at a knot), at least
+    ``samples`` teeth, scale 1."""
     return cagd.analysis.curvature_comb(conversion.edge_to_curve(edge), samples=samples, scale=1.0)
+
+
+def _teeth(comb) -> List[Tuple[App.Vector, App.Vector]]:
+    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(comb.base, comb.tips)]
 
 
 def curvature_comb(edge, samples: int = 64, scale: float = 1.0) -> List[Tuple[App.Vector, App.Vector]]:
     """Teeth (foot, tip) of the curvature comb: tip = C(t) - scale * kappa(t) N(t)
     with kappa N the curvature vector (Farin 10.1), so the teeth point away from the
     centre of curvature; at least ``samples`` teeth, placed per knot span."""
-    comb = _comb(edge, samples).scaled(scale)
-    return [(App.Vector(*map(float, a)), App.Vector(*map(float, b))) for a, b in zip(comb.base, comb.tips)]
+    return _teeth(_comb(edge, samples).scaled(scale))
 
 
-def auto_comb_scale(edge, samples: int = 64, fraction: float = 0.2) -> float:
+def _auto_scale(longest: float, size: float, fraction: float) -> float:
+    return fraction * size / longest if longest > 0.0 else 1.0
+
+
+def auto_comb_scale(edge, samples: int = 64, fraction: float = COMB_FRACTION) -> float:
     """A comb scale making the longest tooth ``fraction`` of the edge length."""
-    longest = float(_comb(edge, samples).curvature.max())
-    return fraction * edge.Length / longest if longest > 0.0 else 1.0
+    return _auto_scale(float(_comb(edge, samples).curvature.max()), edge.Length, fraction)
+
+
+def comb_polylines(edge, samples: int = 64, scale: float = 0.0) -> List[List[App.Vector]]:
+    """The comb of an edge as polylines: each tooth, then the envelope through the tips;
+    ``scale`` 0: automatic (longest tooth COMB_FRACTION of the edge length). One engine
+    comb serves the scale and the teeth."""
+    comb = _comb(edge, samples)
+    scale = scale or _auto_scale(float(comb.curvature.max()), edge.Length, COMB_FRACTION)
+    teeth = _teeth(comb.scaled(scale))
+    return [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
+
+
+def surface_combs(face, count: int = ISO_COMBS, samples: int = 64, scale: float = 0.0) -> List[List[App.Vector]]:
+    """Curvature combs of ``count`` iso-curves in each direction of the face's surface
+    (u = const and v = const, evenly over the parameter box, the boundaries included):
+    the engine's comb of each iso-curve (Surface.isocurve, curvature_comb), one scale for
+    all (``scale`` 0: the longest tooth COMB_FRACTION of the surface's size)."""
+    surface = conversion.face_to_surface(face)
+    (u0, u1), (v0, v1) = surface.domain
+    isos = [surface.isocurve("u", float(v)) for v in np.linspace(v0, v1, count)] + \
+           [surface.isocurve("v", float(u)) for u in np.linspace(u0, u1, count)]
+    combs = [cagd.analysis.curvature_comb(c, samples=samples, scale=1.0) for c in isos]
+    longest = max(float(c.curvature.max()) for c in combs)
+    scale = scale or _auto_scale(longest, float(surface.size), COMB_FRACTION)
+    lines: List[List[App.Vector]] = []
+    for comb in combs:
+        teeth = _teeth(comb.scaled(scale))
+        lines += [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
+    return lines
+
+
+def fairness_readout(edge) -> Tuple[object, str]:
+    """(cagd.analysis.fairness of the edge's curve, its read-out as text): arc length,
+    curvature range, curvature-variation energy, inflections, largest curvature jump at
+    a knot and where (Farin 23.1-23.2, via the engine)."""
+    fair = cagd.analysis.fairness(conversion.edge_to_curve(edge))
+    k = np.asarray(fair.curvature)
+    where = "" if not np.isfinite(fair.jump_parameter) else f" at t = {float(fair.jump_parameter):.6g}"
+    text = (f"length {float(fair.length):.6g} mm, curvature {float(k.min()):.6g}..{float(k.max()):.6g} 1/mm\n"
+            f"energy (integral of (dk/ds)^2 ds) {float(fair.energy):.6g}, inflections {int(fair.inflections)}, "
+            f"largest curvature jump at a knot {float(fair.max_knot_jump):.6g} 1/mm{where}")
+    return fair, text

@@ -14,7 +14,7 @@ from typing import Callable, List, Tuple
 import FreeCAD as App
 import FreeCADGui as Gui
 
-from . import analysis, curves, fitting, icon, inspection, surfaces
+from . import analysis, conversion, curves, features, fitting, icon, inspection, surface_analysis, surfaces
 from .conversion import cagd
 
 Link = Tuple[object, str]
@@ -67,6 +67,12 @@ def _finish(obj) -> None:
             o.ViewObject.Visibility = False
 
 
+def debug_tracebacks() -> bool:
+    """The debug preference (BaseApp/Preferences/Mod/Cagd, DebugTracebacks): errors
+    print their Python traceback as well as the message."""
+    return features.debug_tracebacks()
+
+
 def _error(message: str) -> None:
     App.Console.PrintError(f"CAGD: {message}\n")
     if Gui.getMainWindow() is not None:
@@ -98,6 +104,9 @@ class Command:
                 doc.removeObject(name)              # undo disabled: remove them ourselves
             doc.recompute()
             _error(f"{self.MENU} failed: {type(exc).__name__}: {exc}")
+            if debug_tracebacks():
+                import traceback
+                App.Console.PrintLog("".join(traceback.format_exception(type(exc), exc, exc.__traceback__)))
         else:
             doc.commitTransaction()
 
@@ -112,8 +121,10 @@ def _points_command(name, menu, tip, icon_name, make: Callable, min_points: int)
 
         def run(self) -> None:
             verts = selected_vertices()
-            obj = make(verts if len(verts) >= min_points else None)
-            _finish(obj)
+            if 0 < len(verts) < min_points:
+                return _error(f"{menu}: select {min_points} or more vertices in order, or nothing for an "
+                              f"example curve (got {len(verts)} vertex)")
+            _finish(make(verts or None))
     PointsCommand.__name__ = name
     return PointsCommand()
 
@@ -137,9 +148,8 @@ def _cubic(verts):
 def _hermite(verts):
     if verts and len(verts) == 2:
         a, b = (o.Shape.getElement(s).Point for o, s in verts)
-        d = b - a
-        return curves.make_hermite_curve(StartPoint=a, EndPoint=b, StartTangent=App.Vector(d.y, -d.x, d.z),
-                                         EndTangent=App.Vector(d.y, -d.x, d.z))
+        t0, t1 = curves.example_tangents(a, b)
+        return curves.make_hermite_curve(StartPoint=a, EndPoint=b, StartTangent=t0, EndTangent=t1)
     return curves.make_hermite_curve()
 
 
@@ -151,6 +161,10 @@ class CoonsCommand(Command):
         edges = selected_edges()
         if len(edges) != 4:
             return _error(f"Coons patch: select exactly four edges (got {len(edges)})")
+        try:                                   # an open loop is refused before any object is made
+            surfaces.coons_from_edges([(f"{o.Label}.{sub}", o.Shape.getElement(sub)) for o, sub in edges])
+        except cagd.CagdError as exc:
+            return _error(f"Coons patch: {exc}")
         _finish(surfaces.make_coons(edges))
 
 
@@ -173,6 +187,11 @@ class JoinCommand(Command):
         edges = selected_edges()
         if len(edges) != 2:
             return _error(f"Join: select two edges, the curve to continue first (got {len(edges)})")
+        obj, sub = edges[1]
+        try:                                   # a multi-span or rational Source is refused before any object
+            curves.join_source(obj.Shape.getElement(sub))
+        except cagd.CagdError as exc:
+            return _error(f"Join: {obj.Label}.{sub}: {exc}")
         _finish(curves.make_join(edges[0], edges[1]))       # hides Source (when a single curve)
 
 
@@ -185,6 +204,23 @@ class IntersectionCommand(Command):
         if len(faces) != 2:
             return _error(f"Intersection curve: select exactly two faces (got {len(faces)})")
         _finish(inspection.make_intersection(faces[0], faces[1]))      # no intersection: a warning
+
+
+class SurfaceAnalysisCommand(Command):
+    NAME, MENU, ICON = "Cagd_SurfaceAnalysis", "Surface analysis", "DeviationMap"
+    TIP = ("Colour the selected face by its Gaussian, mean, max or min curvature, zebra stripes, isophotes or "
+           "draft angle (edit Kind, Direction, Stripes, Range)")
+
+    def run(self) -> None:
+        faces = selected_faces()
+        if len(faces) != 1:
+            return _error(f"Surface analysis: select one face (got {len(faces)})")
+        obj, sub = faces[0]
+        try:                                   # a face Part cannot convert is refused before any object
+            conversion.face_to_surface(obj.Shape.getElement(sub))
+        except Exception as exc:
+            return _error(f"Surface analysis: {obj.Label}.{sub} has no B-spline form ({exc})")
+        _finish(surface_analysis.make_surface_analysis((obj, sub)))
 
 
 def selected_clouds() -> list:
@@ -288,6 +324,27 @@ class ContinuityCommand(Command):
         self.run()
 
 
+class FairnessCommand(Command):
+    NAME, MENU, ICON = "Cagd_Fairness", "Curve quality", "Comb"
+    TIP = "Fairness of the selected edge: curvature range, energy, inflections, largest curvature jump at a knot"
+
+    def run(self) -> None:
+        edges = selected_edges()
+        if len(edges) != 1:
+            return _error(f"Curve quality: select one edge (got {len(edges)})")
+        obj, sub = edges[0]
+        try:
+            _, text = analysis.fairness_readout(obj.Shape.getElement(sub))
+        except cagd.CagdError as exc:
+            return _error(f"Curve quality: {obj.Label}.{sub}: {exc}")
+        text = f"Curve quality of {obj.Label}.{sub}:\n{text}\n"
+        App.Console.PrintMessage(text)
+        show_message("Curve quality", text)
+
+    def Activated(self) -> None:           # no document change: no transaction
+        self.run()
+
+
 def show_message(title: str, text: str) -> None:
     """A non-modal message box (does not block scripts driving the GUI)."""
     from .qt import QtCore, QtWidgets
@@ -324,7 +381,7 @@ class ToggleNetCommand(ToggleCommand):
 
 class ToggleCombCommand(ToggleCommand):
     NAME, MENU, ICON, PROPERTY = "Cagd_ToggleComb", "Toggle curvature comb", "Comb", "ShowCurvatureComb"
-    TIP = "Show or hide the curvature comb of the selected CAGD curves"
+    TIP = "Show or hide the curvature comb of the selected CAGD curves (surfaces: combs of iso-curves)"
 
 
 class SimpleCommand(Command):
@@ -372,7 +429,8 @@ FITTING = [
     OperationCommand("Fair", "Fair", "Lower the fairness energy of the selected edge or face within Tolerance, "
                      "Keep (G0/G1/G2) held at its ends or edges"),
 ]
-TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand()]
+TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand(),
+         SurfaceAnalysisCommand(), FairnessCommand()]
 
 
 def register() -> List[List[str]]:

@@ -7,6 +7,8 @@ cagd.join); the shape is the exact B-spline form of the result.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 import FreeCAD as App
@@ -19,6 +21,7 @@ V = App.Vector
 PARAMETERS = cagd.fitting.PARAMETERS        # the engine's parameters= names (property "Parametrization")
 END_CONDITIONS = ("natural", "clamped", "periodic", "virtual")
 JOIN_CONTINUITIES = ("G1", "G2", "C1", "C2")
+HERMITE_ANGLE = math.radians(30.0)     # example tangents: the chord turned by this angle
 
 
 def _poles_and_vertices(obj, poles, doc_poles: str) -> None:
@@ -131,8 +134,9 @@ class HermiteCurve(Feature):
     def setup(self, obj) -> None:
         add(obj, "Vector", "StartPoint", "Curve", "p0 = C(0)", V(0, 0, 0))
         add(obj, "Vector", "EndPoint", "Curve", "p1 = C(1)", V(40, 0, 0))
-        add(obj, "Vector", "StartTangent", "Curve", "C'(0)", V(0, 60, 0))
-        add(obj, "Vector", "EndTangent", "Curve", "C'(1)", V(0, -60, 20))
+        t0, t1 = example_tangents(V(0, 0, 0), V(40, 0, 0))
+        add(obj, "Vector", "StartTangent", "Curve", "C'(0)", t0)
+        add(obj, "Vector", "EndTangent", "Curve", "C'(1)", t1)
 
     def build(self, obj):
         return cagd.HermiteCurve(vector(obj.StartPoint), vector(obj.EndPoint),
@@ -165,16 +169,40 @@ class JoinCurve(Feature):
 
     def build(self, obj):
         P = conversion.edge_to_curve(linked_edge(obj.Base, "Base")).to_bezier()[-1]
-        Q = conversion.edge_to_curve(linked_edge(obj.Source, "Source"))
-        pieces = Q.to_bezier()
-        if len(pieces) != 1:
-            raise cagd.CagdError(f"Source: must be a single Bezier segment, this curve has {len(pieces)}")
-        if pieces[0].is_rational:
-            raise cagd.CagdError("Source: must be polynomial (the joined curve is a polynomial Bezier curve)")
+        Q = join_source(linked_edge(obj.Source, "Source"))
         c = {"G1": 1, "C1": 1, "G2": 2, "C2": 2}[obj.Continuity]
-        rest = pieces[0].control_points[c + 1:]
+        rest = Q.control_points[c + 1:]
         alpha, beta = (obj.Alpha, obj.Beta) if obj.Continuity[0] == "G" else (1.0, 0.0)
         return cagd.join(P, rest, obj.Continuity, alpha, beta)
+
+
+def join_source(edge):
+    """The edge's curve as the one polynomial Bezier segment a join's Source must be;
+    CagdError naming Source otherwise (several spans, rational). The command calls it
+    before creating an object."""
+    pieces = conversion.edge_to_curve(edge).to_bezier()
+    if len(pieces) != 1:
+        raise cagd.CagdError(f"Source: must be a single Bezier segment, this curve has {len(pieces)} spans")
+    if pieces[0].is_rational:
+        raise cagd.CagdError("Source: must be polynomial (the joined curve is a polynomial Bezier curve)")
+    return pieces[0]
+
+
+def example_tangents(start, end, angle: float = HERMITE_ANGLE):
+    """End tangents of an example Hermite curve from ``start`` to ``end``: close to the
+    circular arc through both that turns by 2 angle (radius R = |d| / (2 sin angle) for
+    the chord d): the chord turned by +angle at the start and -angle at the end, in the
+    plane of d and z (of d and x when d is near z), of length 4 R tan(angle / 2) (the
+    cubic arc approximation, Farin 13.3: handles 4/3 tan(angle / 2) R; a Hermite tangent
+    is 3 handles). Its curvature stays within 0.5 % of 1 / R: no hooks at the ends
+    (tangents normal to the chord made the curvature peak there)."""
+    d = end - start
+    normal = V(0, 0, 1) if abs(d.z) < 0.9 * d.Length else V(1, 0, 0)
+    side = normal.cross(d)
+    side = side * (d.Length / side.Length) if side.Length > 0 else side
+    length = 4.0 * math.tan(0.5 * angle) / (2.0 * math.sin(angle))      # |tangent| / |d|
+    c, s = math.cos(angle), math.sin(angle)
+    return (d * c + side * s) * length, (d * c - side * s) * length
 
 
 # --- creation helpers (used by the commands and the tests) ----------------------------------

@@ -21,6 +21,23 @@ from .conversion import cagd
 ROUND = 1e-12          # relative rounding noise when comparing points
 
 
+PREFERENCES = "User parameter:BaseApp/Preferences/Mod/Cagd"
+
+
+def debug_tracebacks() -> bool:
+    """The debug preference DebugTracebacks (BaseApp/Preferences/Mod/Cagd, default off):
+    an error then also prints the engine's traceback (Console log); without it only the
+    message is reported (FreeCAD adds the one frame of ``execute`` it calls)."""
+    return bool(App.ParamGet(PREFERENCES).GetBool("DebugTracebacks", False))
+
+
+def report_traceback(exc: BaseException) -> None:
+    """The full traceback of ``exc`` to the report view's log, with the debug preference."""
+    if debug_tracebacks():
+        import traceback
+        App.Console.PrintLog("".join(traceback.format_exception(type(exc), exc, exc.__traceback__)))
+
+
 class Stateless:
     """A FreeCAD proxy that saves no state of its own: everything is in the object's
     properties, so the document reloads the proxy empty (FreeCAD 0.20 calls
@@ -140,7 +157,8 @@ class Feature(Stateless):
                 setattr(obj, name, empty)
             message = f"{obj.Label}: {exc}"
             obj.Message = "error: " + message
-            raise cagd.CagdError(message) from exc
+            report_traceback(exc)
+            raise cagd.CagdError(message) from None
         self.sync_placement(obj)
         placement = obj.Placement
         obj.Shape = shape

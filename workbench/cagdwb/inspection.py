@@ -29,7 +29,7 @@ import Part
 
 from . import conversion
 from .conversion import cagd
-from .features import Feature, Stateless, _element, add, link_target
+from .features import Feature, Stateless, _element, add, link_target, report_traceback
 
 STATS = ("Max", "Min", "Mean", "RMS", "MaxAbs")
 # colour map stops (blue - cyan - green - yellow - red), from -range to +range
@@ -97,9 +97,9 @@ class IntersectionCurve(Feature):
     def setup(self, obj) -> None:
         add(obj, "LinkSub", "Base", "Intersection", "The first face")
         add(obj, "LinkSub", "Tool", "Intersection", "The second face")
-        add(obj, "Float", "Tolerance", "Intersection",
+        add(obj, "Precision", "Tolerance", "Intersection",
             "Largest distance (mm, > 0) of the fitted branches from both faces", 1e-7)
-        add(obj, "Float", "AchievedTolerance", "Status",
+        add(obj, "Precision", "AchievedTolerance", "Status",
             "Largest distance (mm) of the branches from both faces, measured by the engine", 0.0)
         add(obj, "Integer", "BranchCount", "Status", "Number of intersection branches", 0)
         add(obj, "Integer", "ClosedBranches", "Status", "How many branches are closed loops", 0)
@@ -129,7 +129,8 @@ class IntersectionCurve(Feature):
             obj.AchievedTolerance, obj.BranchCount, obj.ClosedBranches = 0.0, 0, 0
             message = f"{obj.Label}: {exc}"
             obj.Message = "error: " + message
-            raise cagd.CagdError(message) from exc
+            report_traceback(exc)
+            raise cagd.CagdError(message) from None
         self.sync_placement(obj)
         curves = result.curves
         achieved = max((float(c.max_distance) for c in curves), default=0.0)
@@ -322,7 +323,8 @@ class DeviationMap(Stateless):
                 setattr(obj, name, 0.0)
             message = f"{obj.Label}: {exc}"
             obj.Message = "error: " + message
-            raise cagd.CagdError(message) from exc
+            report_traceback(exc)
+            raise cagd.CagdError(message) from None
         obj.Coordinates = conversion.vectors(pts)
         obj.Distances = [float(d) for d in dev.distances]
         obj.Count = len(pts)

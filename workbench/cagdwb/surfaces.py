@@ -100,26 +100,31 @@ class CoonsPatch(Feature):
 
     def setup(self, obj) -> None:
         add(obj, "LinkSubList", "Edges", "Surface", "Four edges forming a closed loop, any order and direction")
-        add(obj, "Float", "Tolerance", "Surface",
+        add(obj, "Precision", "Tolerance", "Surface",
             "Relative corner tolerance (> 0): loop gaps up to Tolerance x the loop's size, corner "
             "mismatches up to Tolerance x max(1, |coordinates|) (cagd.CoonsPatch.from_loop)", 1e-7)
 
     def build(self, obj):
-        tol = float(obj.Tolerance)
-        if not tol > 0.0:                          # also NaN
-            raise cagd.CagdError(f"Tolerance: must be > 0, got {tol:g}")
-        edges = linked_edges(obj.Edges, "Edges")
-        if len(edges) != 4:
-            raise cagd.CagdError(f"Edges: a Coons patch needs exactly 4 edges, got {len(edges)}")
-        curves = [conversion.edge_to_curve(e) for _, e in edges]
-        try:                                       # order and orient the loop: the engine's from_loop
-            return cagd.CoonsPatch.from_loop(curves, rel_tol=tol)
-        except cagd.CagdError as exc:
-            message = str(exc)
-            message = message[len("curves: "):] if message.startswith("curves: ") else message
-            labels = ", ".join(label for label, _ in edges)
-            raise cagd.CagdError(f"Edges: {message} (the loop starts with {edges[0][0]} as curve 0; "
-                                 f"edges: {labels})") from None
+        return coons_from_edges(linked_edges(obj.Edges, "Edges"), float(obj.Tolerance))
+
+
+def coons_from_edges(edges, tol: float = 1e-7):
+    """The Coons patch of four (label, edge) pairs (cagd.CoonsPatch.from_loop orders and
+    orients the loop); raises CagdError naming Edges or Tolerance (a loop that does not
+    close, a count other than four). The command calls it before creating an object."""
+    if not tol > 0.0:                          # also NaN
+        raise cagd.CagdError(f"Tolerance: must be > 0, got {tol:g}")
+    if len(edges) != 4:
+        raise cagd.CagdError(f"Edges: a Coons patch needs exactly 4 edges, got {len(edges)}")
+    curves = [conversion.edge_to_curve(e) for _, e in edges]
+    try:                                       # order and orient the loop: the engine's from_loop
+        return cagd.CoonsPatch.from_loop(curves, rel_tol=tol)
+    except cagd.CagdError as exc:
+        message = str(exc)
+        message = message[len("curves: "):] if message.startswith("curves: ") else message
+        labels = ", ".join(label for label, _ in edges)
+        raise cagd.CagdError(f"Edges: {message} (the loop starts with {edges[0][0]} as curve 0; "
+                             f"edges: {labels})") from None
 
 
 def triangle_sample(n: int = 3, size: float = 40.0) -> List[App.Vector]:

@@ -13,6 +13,7 @@ from .qt import QtWidgets
 
 SKIP_GROUPS = ("", "Base", "Status")
 RANGE = 1e9
+DEGREE_MIN = 1          # a degree box stops at 1 (degree 0 is not a curve the objects build)
 
 
 def _spin(value: float, decimals: int, setter: Callable) -> QtWidgets.QDoubleSpinBox:
@@ -22,6 +23,14 @@ def _spin(value: float, decimals: int, setter: Callable) -> QtWidgets.QDoubleSpi
     box.setValue(value)
     box.valueChanged.connect(setter)
     return box
+
+
+def minimum(name: str) -> int:
+    """The least value an integer box accepts: 1 for a degree (Degree, DegreeU, ...),
+    0 for a count, else -10^6."""
+    if name.startswith("Degree"):
+        return DEGREE_MIN
+    return 0 if name.startswith(("Count", "Max", "Grid", "Samples")) else -10 ** 6
 
 
 class TaskPanel:
@@ -52,7 +61,7 @@ class TaskPanel:
         value = getattr(obj, name)
         if kind == "App::PropertyInteger":
             box = QtWidgets.QSpinBox()
-            box.setRange(-10 ** 6, 10 ** 6)
+            box.setRange(minimum(name), 10 ** 6)
             box.setValue(value)
             box.valueChanged.connect(lambda v, n=name: self.apply(n, int(v)))
             return box

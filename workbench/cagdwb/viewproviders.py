@@ -28,13 +28,16 @@ ICONS = {
     "Cagd::RemoveKnots": "RemoveKnots", "Cagd::ReduceDegree": "ReduceDegree", "Cagd::Fair": "Fair",
 }
 COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples
+COMB_PER_SPAN = 8                    # the engine comb's default teeth per knot span
 NET_COLOR = (0.85, 0.2, 0.1)
 COMB_COLOR = (0.1, 0.45, 0.9)
 
 
 def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, points: bool) -> coin.SoSeparator:
-    """A separator drawing the polylines (and their vertices as dots)."""
-    sep = coin.SoSeparator()
+    """A separator drawing the polylines (and their vertices as dots), as an
+    SoAnnotation: drawn after the scene without the depth test, so a net or comb is
+    never hidden by its own surface."""
+    sep = coin.SoAnnotation()
     pick = coin.SoPickStyle()
     pick.style = coin.SoPickStyle.UNPICKABLE
     base = coin.SoBaseColor()
@@ -61,14 +64,16 @@ class ViewProvider(Stateless):
         vobj.Proxy = self
         vobj.addProperty("App::PropertyBool", "ShowControlNet", "CAGD", "Show the control polygon / net")
         vobj.ShowControlNet = True
-        if curve:
-            vobj.addProperty("App::PropertyBool", "ShowCurvatureComb", "CAGD", "Show the curvature comb")
-            vobj.addProperty("App::PropertyFloat", "CombScale", "CAGD",
-                             "Tooth length = scale x curvature; 0 = longest tooth a fifth of the curve")
-            lo, hi = COMB_SAMPLES[1], COMB_SAMPLES[2]
-            vobj.addProperty("App::PropertyIntegerConstraint", "CombSamples", "CAGD",
-                             f"Number of comb teeth ({lo}..{hi}; values out of range are clamped)")
-            vobj.CombSamples = COMB_SAMPLES
+        what = "curve" if curve else f"surface, on {analysis.ISO_COMBS} iso-curves in each direction"
+        vobj.addProperty("App::PropertyBool", "ShowCurvatureComb", "CAGD", f"Show the curvature comb ({what})")
+        vobj.addProperty("App::PropertyFloat", "CombScale", "CAGD",
+                         "Tooth length = scale x curvature; 0 = longest tooth a fifth of the curve's length "
+                         "(of the surface's size)")
+        lo, hi = COMB_SAMPLES[1], COMB_SAMPLES[2]
+        vobj.addProperty("App::PropertyIntegerConstraint", "CombSamples", "CAGD",
+                         f"Least number of comb teeth per curve ({lo}..{hi}, clamped; at least "
+                         f"{COMB_PER_SPAN} on each knot span, its ends included)")
+        vobj.CombSamples = COMB_SAMPLES
         self.attach(vobj)
 
     def attach(self, vobj) -> None:
@@ -99,12 +104,13 @@ class ViewProvider(Stateless):
             self.switch.addChild(_lines_node(self._local(self.comb(obj)), COMB_COLOR, 1.0, False))
 
     def comb(self, obj) -> List[List[App.Vector]]:
-        """Teeth and the envelope through their tips (placed coordinates)."""
-        edge = obj.Shape.Edges[0]
+        """Teeth and the envelope through their tips (placed coordinates): of the edge, or
+        of iso-curves of the face (analysis.surface_combs)."""
         samples = min(max(int(self.vobj.CombSamples), COMB_SAMPLES[1]), COMB_SAMPLES[2])
-        scale = float(self.vobj.CombScale) or analysis.auto_comb_scale(edge, samples)
-        teeth = analysis.curvature_comb(edge, samples, scale)
-        return [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
+        scale = float(self.vobj.CombScale)
+        if obj.Shape.Faces:
+            return analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale)
+        return analysis.comb_polylines(obj.Shape.Edges[0], samples, scale)
 
     # --- FreeCAD protocol -------------------------------------------------------------------
     def updateData(self, obj, prop: str) -> None:
@@ -327,3 +333,68 @@ class DeviationViewProvider(Stateless):
         obj = getattr(self, "vobj", None) and self.vobj.Object
         proxy = getattr(obj, "Proxy", None)
         return proxy.claimed(obj) if hasattr(proxy, "claimed") else []
+
+
+# --- surface analysis ---------------------------------------------------------------------------
+class AnalysisViewProvider(Stateless):
+    """The surface analysis' mesh with per-vertex colours (surface_analysis.vertex_colors),
+    unlit (SoLightModel BASE_COLOR) so the colours are the values' own."""
+
+    def __init__(self, vobj):
+        vobj.Proxy = self
+        if getattr(self, "root", None) is None:
+            self.attach(vobj)
+
+    def attach(self, vobj) -> None:
+        if getattr(self, "root", None) is not None:
+            return
+        self.vobj = vobj
+        self.root = coin.SoSeparator()
+        vobj.addDisplayMode(self.root, "Analysis")
+        self.refresh()
+
+    def getDisplayModes(self, vobj) -> list:
+        return ["Analysis"]
+
+    def getDefaultDisplayMode(self) -> str:
+        return "Analysis"
+
+    def setDisplayMode(self, mode: str) -> str:
+        return mode
+
+    def refresh(self) -> None:
+        root = getattr(self, "root", None)
+        if root is None:
+            return
+        root.removeAllChildren()
+        obj = self.vobj.Object
+        pts, facets = obj.Coordinates, obj.Facets
+        if not pts or len(obj.Values) != len(pts) or len(obj.Bands) != len(pts):   # mid-update: wait
+            return
+        from .surface_analysis import vertex_colors
+        colors = vertex_colors(obj.Kind, obj.Values, obj.Bands, obj.Proxy.limit(obj))
+        light = coin.SoLightModel()
+        light.model = coin.SoLightModel.BASE_COLOR
+        coords = coin.SoCoordinate3()
+        coords.point.setValues(0, len(pts), [(p.x, p.y, p.z) for p in pts])
+        material = coin.SoMaterial()
+        material.diffuseColor.setValues(0, len(colors), [tuple(map(float, c)) for c in colors])
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
+        hints = coin.SoShapeHints()
+        hints.vertexOrdering = coin.SoShapeHints.UNKNOWN_ORDERING     # both sides shown
+        mesh = coin.SoIndexedFaceSet()
+        index = [int(i) for k in range(0, len(facets), 3) for i in (*facets[k:k + 3], -1)]
+        mesh.coordIndex.setValues(0, len(index), index)
+        for node in (light, hints, coords, material, binding, mesh):
+            root.addChild(node)
+
+    def updateData(self, obj, prop: str) -> None:
+        if prop in ("Coordinates", "Values", "Bands", "Range"):
+            self.refresh()
+
+    def onChanged(self, vobj, prop: str) -> None:
+        pass
+
+    def getIcon(self) -> str:
+        return icon("DeviationMap")

@@ -174,6 +174,7 @@ def curves_from_vertices():
         check(len(obj.Vertices) == len(verts), f"{name}: linked {len(obj.Vertices)} vertices")
         STATE[name] = obj
     obj = created("Cagd_HermiteCurve", sel[:2])
+    STATE["hermite"] = obj
     check((obj.Shape.Edges[0].valueAt(0) - pts[0]).Length < 1e-9, "Hermite start not at the vertex")
     # the spline follows a moved vertex
     spline = STATE["Cagd_CubicSpline"]
@@ -533,6 +534,124 @@ def failing_command_leaves_nothing():
     status = Gui.getMainWindow().statusBar().currentMessage()
     check("broken on purpose" in status and cmd.MENU in status, f"status bar: {status!r}")
     check(len(created(cmd.NAME, shots=False).Poles) == 10, "command broken after the failure")
+
+
+def refused(name, selection, words):
+    """The command refuses the selection: no object made, ``words`` in the status bar."""
+    objs = run_command(name, selection)
+    check(objs == [], f"{name} made {[o.Label for o in objs]} from a wrong selection")
+    status = Gui.getMainWindow().statusBar().currentMessage()
+    check(words in status, f"{name}: status bar {status!r} does not say {words!r}")
+    log(f"{name} refused: {status}")
+
+
+@step
+def found_when_tried():
+    """Issue 19's list: wrong selections refused before an object exists (one vertex,
+    an open Coons loop, a 2-span Join source); iso-curve combs on a surface; nets and
+    combs drawn as SoAnnotation; the Degree box stops at 1; the Coons tolerance shown
+    with its digits; the Hermite example leaves the chord at 30 degrees."""
+    import math
+    from pivy import coin
+    from cagdwb import curves
+    doc = App.ActiveDocument
+    point = doc.addObject("Part::Vertex", "Lonely")
+    doc.recompute()
+    refused("Cagd_BezierCurve", [(point, "")], "2 or more vertices")
+    a = curves.make_bezier_curve([V(0, 0, 30), V(10, 0, 30)])
+    b = curves.make_bezier_curve([V(10, 0, 30), V(10, 10, 30)])
+    c = curves.make_bezier_curve([V(10, 10, 30), V(0, 10, 30)])
+    d = curves.make_bezier_curve([V(0, 10, 30), V(0, 4, 30)])
+    two = curves.make_bspline_curve([V(10, 0, 30), V(15, 5, 30), V(20, 0, 30), V(25, 5, 30), V(30, 0, 30)], 3)
+    doc.recompute()
+    refused("Cagd_CoonsPatch", [(o, "Edge1") for o in (a, b, c, d)], "Edges:")
+    refused("Cagd_Join", [(a, "Edge1"), (two, "Edge1")], "2 spans")
+    for o in (point, a, b, c, d, two):
+        doc.removeObject(o.Name)
+    surface = STATE["Cagd_BSplineSurface"]
+    surface.ViewObject.Visibility = True
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(surface)
+    Gui.runCommand("Cagd_ToggleComb", 0)
+    settle()
+    check(surface.ViewObject.ShowCurvatureComb, "Toggle comb did not switch a surface's comb on")
+    switch = surface.ViewObject.Proxy.switch
+    kinds = [switch.getChild(i).getTypeId().getName().getString() for i in range(switch.getNumChildren())]
+    check(kinds == ["Annotation", "Annotation"], f"net and comb nodes {kinds}")
+    render("Cagd_ToggleCombSurface", [surface], [])
+    surface.ViewObject.ShowCurvatureComb = False
+    settle()
+    Gui.ActiveDocument.ActiveView.saveImage(os.path.join(OUT, "Cagd_ToggleCombSurface-hidden.png"),
+                                            WIDTH, HEIGHT, "White")
+    check(isinstance(switch.getChild(0), coin.SoAnnotation), "net not an SoAnnotation")
+    spline = STATE["Cagd_BSplineCurve"]
+    Gui.ActiveDocument.setEdit(spline.Name, 0)
+    settle()
+    box = spline.ViewObject.Proxy.panel.widgets["Degree"]
+    check(box.minimum() == 1, f"Degree box minimum {box.minimum()}")
+    box.setValue(0)
+    settle()
+    check(spline.Degree >= 1 and spline.isValid(), f"Degree {spline.Degree}")
+    spline.ViewObject.Proxy.panel.reject()
+    settle()
+    hermite = STATE.get("hermite")
+    if hermite is not None:
+        e = hermite.Shape.Edges[0]
+        chord = e.valueAt(e.LastParameter) - e.valueAt(e.FirstParameter)
+        angle = math.degrees(e.tangentAt(e.FirstParameter).getAngle(chord))
+        check(abs(angle - 30.0) < 1e-6, f"Hermite example leaves the chord at {angle} degrees")
+    coons = [o for o in doc.Objects if getattr(getattr(o, "Proxy", None), "TYPE", "") == "Cagd::CoonsPatch"][0]
+    check(coons.getTypeIdOfProperty("Tolerance") == "App::PropertyPrecision", "Coons Tolerance type")
+    text = property_text(coons, "Tolerance")
+    if text is not None:
+        check(text == "0.0000001000000000", f"Coons Tolerance 1e-7 shown as {text!r}")
+
+
+def front_render(name, obj):
+    """<name>.png with only ``obj`` shown, front view (looking along +y, z up), and
+    <name>-hidden.png without it."""
+    for o in App.ActiveDocument.Objects:
+        o.ViewObject.Visibility = o is obj
+    Gui.Selection.clearSelection()
+    view = Gui.ActiveDocument.ActiveView
+    view.viewFront()
+    view.fitAll()
+    settle()
+    view.saveImage(os.path.join(OUT, name + ".png"), WIDTH, HEIGHT, "White")
+    obj.ViewObject.Visibility = False
+    settle()
+    view.saveImage(os.path.join(OUT, name + "-hidden.png"), WIDTH, HEIGHT, "White")
+    RESULT["screenshots"].append(name)
+
+
+@step
+def surface_analysis_overlay():
+    """Cagd_SurfaceAnalysis on a Part sphere (Gaussian: one colour, red = +range) and a
+    Part cylinder (zebra with the bars along its axis, viewed from the front: straight
+    vertical stripes); the pixels are checked by test_gui.py."""
+    doc = App.ActiveDocument
+    sphere = doc.addObject("Part::Sphere", "AnalysedSphere")
+    sphere.Radius = 10.0
+    sphere.Placement = App.Placement(V(200, 0, 0), App.Rotation())
+    cylinder = doc.addObject("Part::Cylinder", "AnalysedCylinder")
+    cylinder.Radius, cylinder.Height = 10.0, 40.0
+    cylinder.Placement = App.Placement(V(300, 0, 0), App.Rotation())
+    doc.recompute()
+    objs = run_command("Cagd_SurfaceAnalysis", [(sphere, "Face1")])
+    check(len(objs) == 1 and objs[0].isValid(), f"surface analysis: {[o.Message for o in objs]}")
+    gauss = objs[0]
+    check(not sphere.ViewObject.Visibility, "the analysed sphere is still shown under the overlay")
+    check(abs(gauss.Maximum - 0.01) < 1e-9 and abs(gauss.Minimum - 0.01) < 1e-9,
+          f"sphere K {gauss.Minimum}..{gauss.Maximum}")
+    front_render("Cagd_SurfaceAnalysis", gauss)
+    objs = run_command("Cagd_SurfaceAnalysis", [(cylinder, "Face1")])
+    check(len(objs) == 1, "no zebra object")
+    zebra = objs[0]
+    zebra.Kind, zebra.ViewDirection, zebra.Direction, zebra.Resolution = "zebra", V(0, 1, 0), V(0, 0, 1), 200
+    doc.recompute()
+    check(zebra.isValid(), zebra.Message)
+    front_render("Cagd_SurfaceAnalysisZebra", zebra)
+    refused("Cagd_SurfaceAnalysis", [], "select one face")
 
 
 def run():

@@ -232,6 +232,7 @@ def test_seam_crossing_edges_and_faces():
 import suite_objects  # noqa: E402,F401  (registers the object cases, in this order)
 import suite_queries  # noqa: E402,F401  (intersection curve and deviation map cases)
 import suite_fitting  # noqa: E402  (fit curve/surface, rebuild, remove knots, reduce degree, fair)
+import suite_usability  # noqa: E402,F401  (issue 19: comb per span, tolerances, refusals, Hermite, iso combs)
 
 
 # --- analysis -------------------------------------------------------------------------------
