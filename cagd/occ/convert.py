@@ -272,7 +272,8 @@ def from_occ(geom: Union[Geom_Curve, Geom2d_Curve, Geom_Surface, TopoDS_Shape], 
 
 
 def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
-                approximate: Optional[float], defer_trims: bool = False) -> Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
+                approximate: Optional[float], defer_trims: bool = False) -> \
+        Union[BSplineCurve, BSplineSurface, TrimmedSurface]:
     """An edge's curve on the edge's parameter range; a face's surface on the face's
     UV bounding box (the whole surface when that is its natural domain)."""
     reversed_ = oriented and shape.Orientation() == TopAbs_REVERSED
@@ -313,7 +314,9 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
                               "used untrimmed", RuntimeWarning, stacklevel=4)
                 return surf.reversed("u") if reversed_ else surf
         if defer_trims:
-            return deferred_trim(face, surf.reversed("u") if reversed_ else surf, surf.domain, trimmed)
+            got = deferred_trim(face, surf.reversed("u") if reversed_ else surf, surf.domain, trimmed)
+            assert isinstance(got, (BSplineSurface, TrimmedSurface))
+            return got
         return trimmed()
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 

@@ -404,8 +404,9 @@ def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple
     """True when the face's boundary is its parameter box ``domain`` (the engine
     surface's, whose parameters equal OCCT's on the box's sides): one wire, every
     pcurve a line, or a B-spline with its poles, along a side of the box (to BOX_TOL),
-    the lengths between their ends adding up to the perimeter. Decided on OCCT's pcurves without converting them; where it says False
-    the converted loops are compared with the box (:func:`trimmed_from_face`)."""
+    the lengths between their ends adding up to the perimeter. Decided on OCCT's
+    pcurves without converting them; where it says False the converted loops are
+    compared with the box (:func:`trimmed_from_face`)."""
     fwd = as_face(face.Oriented(TopAbs_FORWARD))
     wires = TopExp_Explorer(fwd, TopAbs_WIRE)
     if not wires.More():
@@ -728,4 +729,5 @@ def _degenerated(builder: BRep_Builder, pc, geom: Geom_Surface, vertex, a: float
     return as_edge(edge)
 
 
-__all__ = ["trimmed_from_face", "deferred_trim", "natural_boundary", "make_trimmed_face", "parameter_maps", "TrimmedSurface"]
+__all__ = ["trimmed_from_face", "deferred_trim", "natural_boundary", "make_trimmed_face", "parameter_maps",
+           "TrimmedSurface"]
