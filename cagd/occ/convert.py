@@ -305,6 +305,8 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
         surf = _surface_from_bspline(_as_bspline_surface(boxed, approximate))
         slack = 2.0 * approximate if approximate is not None and isinstance(_basis(surface), Geom_OffsetSurface) \
             else 0.0
+        def plain() -> BSplineSurface:      # the face's surface, oriented like the face
+            return surf.reversed("u") if reversed_ else surf
 
         def trimmed() -> Union[BSplineSurface, TrimmedSurface]:
             try:
@@ -312,12 +314,8 @@ def _from_shape(shape: TopoDS_Shape, dim: int, oriented: bool,
             except CagdError as exc:        # wires that bound nothing (open, crossing): the box, as before
                 warnings.warn(f"geom: the face's trim is unusable ({exc}); its surface over the UV box is "
                               "used untrimmed", RuntimeWarning, stacklevel=4)
-                return surf.reversed("u") if reversed_ else surf
-        if defer_trims:
-            got = deferred_trim(face, surf.reversed("u") if reversed_ else surf, surf.domain, trimmed)
-            assert isinstance(got, (BSplineSurface, TrimmedSurface))
-            return got
-        return trimmed()
+                return plain()
+        return deferred_trim(face, plain(), surf.domain, trimmed) if defer_trims else trimmed()
     raise CagdError(f"geom: expected an edge or a face, got a shape of type {shape.ShapeType().name}")
 
 

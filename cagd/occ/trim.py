@@ -61,7 +61,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
-from ..surfaces._trim_box import BOX_TOL
+from ..surfaces._trim_box import BOX_TOL, side_of
 from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, _end, hermite_fit
 from .compat import as_edge, as_face, as_wire
 
@@ -144,6 +144,10 @@ Map = Union[_ArcMap, _Identity]
 
 def _point(p) -> np.ndarray:
     return np.array([p.X(), p.Y(), p.Z()])
+
+
+def _point2d(p) -> np.ndarray:
+    return np.array([p.X(), p.Y()])
 
 
 def parameter_maps(geom: Geom_Surface, engine: BSplineSurface, slack: float = 0.0) -> Tuple[Map, Map]:
@@ -421,26 +425,25 @@ def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple
     while ex.More():
         adaptor = BRepAdaptor_Curve2d(as_edge(ex.Current()), fwd)
         curve = adaptor.Curve()
-        p, q = adaptor.Value(adaptor.FirstParameter()), adaptor.Value(adaptor.LastParameter())
+        ends = np.array([_point2d(adaptor.Value(adaptor.FirstParameter())),
+                         _point2d(adaptor.Value(adaptor.LastParameter()))])
         if isinstance(curve, Geom2d_Line):
-            U, V = np.array([p.X(), q.X()]), np.array([p.Y(), q.Y()])
+            P = ends
         elif isinstance(curve, Geom2d_BSplineCurve):      # its poles on the side: all of it is
-            poles = [curve.Pole(i) for i in range(1, curve.NbPoles() + 1)]
-            U, V = np.array([P.X() for P in poles]), np.array([P.Y() for P in poles])
+            P = np.array([_point2d(curve.Pole(i)) for i in range(1, curve.NbPoles() + 1)])
         else:
             return False
-        (pu, pv), (qu, qv) = (p.X(), p.Y()), (q.X(), q.Y())
-        on_u = np.ptp(U) <= tol and min(abs(U[0] - u0), abs(U[0] - u1)) <= tol
-        on_v = np.ptp(V) <= tol and min(abs(V[0] - v0), abs(V[0] - v1)) <= tol
-        if not (on_u or on_v):
+        k = side_of(P, domain, tol)
+        if k is None:
             return False
-        length += abs(qv - pv) if on_u else abs(qu - pu)
+        length += abs(ends[1, 1 - k] - ends[0, 1 - k])
         ex.Next()
     return abs(length - 2.0 * ((u1 - u0) + (v1 - v0))) <= 8 * tol
 
 
-def deferred_trim(face: TopoDS_Face, surface: Surface, domain: Tuple[Tuple[float, float], Tuple[float, float]],
-                  build: Callable[[], Surface]) -> Surface:
+def deferred_trim(face: TopoDS_Face, surface: BSplineSurface,
+                  domain: Tuple[Tuple[float, float], Tuple[float, float]],
+                  build: Callable[[], Surface]) -> Union[BSplineSurface, TrimmedSurface]:
     """``surface`` itself where the face's boundary is its box (:func:`natural_boundary`),
     else a :class:`TrimmedSurface` on it whose loops ``build()`` converts on first use
     (within the :func:`shared_edges` cache open now, if any)."""

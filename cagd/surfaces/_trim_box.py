@@ -4,7 +4,7 @@ face's boundary just its parameter box (then the plain surface is the face)? And
 chaining of a loop's pcurves across a periodic seam (each moved by whole periods)."""
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -21,13 +21,16 @@ def is_box(loops: Sequence[Sequence[BSplineCurve]],
         return False
     (u0, u1), (v0, v1) = domain
     tol = rel_tol * max(u1 - u0, v1 - v0)
-    for c in loops[0]:
-        P = c.control_points
-        on_u = np.all(np.abs(P[:, 0] - P[0, 0]) <= tol) and min(abs(P[0, 0] - u0), abs(P[0, 0] - u1)) <= tol
-        on_v = np.all(np.abs(P[:, 1] - P[0, 1]) <= tol) and min(abs(P[0, 1] - v0), abs(P[0, 1] - v1)) <= tol
-        if not (on_u or on_v):
-            return False
-    return True
+    return all(side_of(c.control_points, domain, tol) is not None for c in loops[0])
+
+
+def side_of(P: np.ndarray, domain: Tuple[Tuple[float, float], Tuple[float, float]], tol: float) -> Optional[int]:
+    """Which coordinate the points P (n, 2) (a curve's control points) hold at a side
+    of the box ``domain`` within ``tol``: 0 (u = u0 or u1), 1 (v = v0 or v1), or None."""
+    for k in (0, 1):
+        if np.all(np.abs(P[:, k] - P[0, k]) <= tol) and min(abs(P[0, k] - e) for e in domain[k]) <= tol:
+            return k
+    return None
 
 
 def box_loop(domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> List[BSplineCurve]:

@@ -177,11 +177,38 @@ LEGEND_STEPS = 32
 FACE_TRANSPARENCY = 0.5          # the measured faces drawn behind the coloured points
 
 
-class DeviationViewProvider(Stateless):
+class _OneMode(Stateless):
+    """A view provider with one display mode, ``MODE``: its scene under ``root``,
+    rebuilt by ``refresh()``."""
+    MODE = ""
+
+    def attach(self, vobj) -> None:
+        if getattr(self, "root", None) is not None:
+            return
+        self.vobj = vobj
+        self.root = coin.SoSeparator()
+        vobj.addDisplayMode(self.root, self.MODE)
+        self.refresh()
+
+    def getDisplayModes(self, vobj) -> list:
+        return [self.MODE]
+
+    def getDefaultDisplayMode(self) -> str:
+        return self.MODE
+
+    def setDisplayMode(self, mode: str) -> str:
+        return mode
+
+    def refresh(self) -> None:
+        raise NotImplementedError
+
+
+class DeviationViewProvider(_OneMode):
     """The deviation map's points coloured by signed distance (blue - green - red from
     -range to +range, ``ColorRange`` 0 = the largest |distance|), per-vertex colours
     (SoMaterial + SoMaterialBinding PER_VERTEX on an SoPointSet, unlit), and a legend
     beside the cloud: a colour bar with the range and zero labelled."""
+    MODE = "Deviation"
 
     def __init__(self, vobj):
         vobj.addProperty("App::PropertyFloat", "PointSize", "CAGD", "Point size in pixels")
@@ -192,23 +219,6 @@ class DeviationViewProvider(Stateless):
         vobj.Proxy = self
         if getattr(self, "root", None) is None:
             self.attach(vobj)
-
-    def attach(self, vobj) -> None:
-        if getattr(self, "root", None) is not None:
-            return
-        self.vobj = vobj
-        self.root = coin.SoSeparator()
-        vobj.addDisplayMode(self.root, "Deviation")
-        self.refresh()
-
-    def getDisplayModes(self, vobj) -> list:
-        return ["Deviation"]
-
-    def getDefaultDisplayMode(self) -> str:
-        return "Deviation"
-
-    def setDisplayMode(self, mode: str) -> str:
-        return mode
 
     def limit(self) -> float:
         obj = self.vobj.Object
@@ -336,31 +346,15 @@ class DeviationViewProvider(Stateless):
 
 
 # --- surface analysis ---------------------------------------------------------------------------
-class AnalysisViewProvider(Stateless):
+class AnalysisViewProvider(_OneMode):
     """The surface analysis' mesh with per-vertex colours (surface_analysis.vertex_colors),
     unlit (SoLightModel BASE_COLOR) so the colours are the values' own."""
+    MODE = "Analysis"
 
     def __init__(self, vobj):
         vobj.Proxy = self
         if getattr(self, "root", None) is None:
             self.attach(vobj)
-
-    def attach(self, vobj) -> None:
-        if getattr(self, "root", None) is not None:
-            return
-        self.vobj = vobj
-        self.root = coin.SoSeparator()
-        vobj.addDisplayMode(self.root, "Analysis")
-        self.refresh()
-
-    def getDisplayModes(self, vobj) -> list:
-        return ["Analysis"]
-
-    def getDefaultDisplayMode(self) -> str:
-        return "Analysis"
-
-    def setDisplayMode(self, mode: str) -> str:
-        return mode
 
     def refresh(self) -> None:
         root = getattr(self, "root", None)
