@@ -13,10 +13,14 @@ StepData_StepWriter / IGESData_IGESWriter, only their number format changed.
 from __future__ import annotations
 
 import io
+import json
 import os
+import select
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 import unicodedata
 import warnings
 from contextlib import contextmanager
@@ -26,7 +30,7 @@ from typing import Dict, Iterable, Iterator, List, Optional, Tuple, Union, overl
 
 from OCP.Bnd import Bnd_Box
 from OCP.BRepBndLib import BRepBndLib
-from OCP.IFSelect import IFSelect_RetDone
+from OCP.IFSelect import IFSelect_RetDone, IFSelect_SignCounter, IFSelect_SignType
 from OCP.IGESData import IGESData_IGESWriter
 from OCP.IGESSelect import IGESSelect_WorkLibrary
 from OCP.IGESCAFControl import IGESCAFControl_Reader, IGESCAFControl_Writer
@@ -342,10 +346,20 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
         if reader.ReadFile(copy) != IFSelect_RetDone:
             raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
         unread, errors = _unread(reader.ChangeReader().Model() if kind == "STEP" else reader.Model(), kind)
-        if errors and not os.environ.get(_PROBE_FLAG) and not _probe_forked(reader, doc, kind, unread, path):
-            _probe(copy, kind, unread, path)
-        if not reader.Transfer(doc):
-            raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
+        out = None
+        if errors and not os.environ.get(_PROBE_FLAG):
+            out = _transfer_forked(reader, doc, kind, unread, path)
+            if out is None:
+                _probe(copy, kind, unread, path)
+        if out is None:
+            if not reader.Transfer(doc):
+                raise CagdError(f"path: OCCT could not read {kind} file {str(path)!r}")
+            out = _free_shapes(doc)
+    return out, unread
+
+
+def _free_shapes(doc: TDocStd_Document) -> List[Tuple[str, TopoDS_Shape]]:
+    """(name, shape) of the document's free shapes, in order."""
     tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
     labels = LabelSequence()
     tool.GetFreeShapes(labels)
@@ -353,7 +367,7 @@ def _read(reader, path, kind: str, **settings) -> Tuple[List[Tuple[str, TopoDS_S
     for i in range(1, labels.Length() + 1):
         label = labels.Value(i)
         out.append((_label_name(label) or f"item_{i}", tool.GetShape_s(label)))
-    return out, unread
+    return out
 
 
 _EXTERNAL = (b"DOCUMENT_FILE", b"EXTERNAL_SOURCE")     # STEP entities of references to other files
@@ -403,8 +417,13 @@ PROBE_TIMEOUT = 600.0                   # seconds a child transfer may take (a h
 def _unread(model, kind: str) -> Tuple[Tuple[str, ...], int]:
     """("entity <number> (<type>): <reason>" for every entity OCCT's parser rejected or
     does not know, the number rejected). Unknown types are skipped by the transfer, and
-    what refers to them goes missing (a misspelt B-spline type lost its item silently)."""
+    what refers to them goes missing (a misspelt B-spline type lost its item silently).
+    Both have a report entity or an undefined-entity type: a model with neither (most
+    files) is answered from OCCT's report list and a type count, without visiting
+    every entity from Python."""
     out, errors = [], 0
+    if not model.Reports(False).More() and not _has_undefined_type(model):
+        return (), 0
     for i in range(1, model.NbEntities() + 1):
         if model.IsErrorEntity(i):
             errors += 1
@@ -419,6 +438,15 @@ def _unread(model, kind: str) -> Tuple[Tuple[str, ...], int]:
             what = entity.StepType() if kind == "STEP" else f"type {entity.TypeNumber()}"
             out.append(f"entity {i} ({what}): an entity type OCCT does not read")
     return tuple(out), errors
+
+
+def _has_undefined_type(model) -> bool:
+    """Whether the model holds an entity of an undefined type (StepData_UndefinedEntity,
+    IGESData_UndefinedEntity), by OCCT's own count of the entities' types."""
+    counter = IFSelect_SignCounter(IFSelect_SignType(True), False, False)
+    counter.AddModel(model)
+    names = counter.List()
+    return any(names.Value(i).ToCString().endswith("UndefinedEntity") for i in range(1, names.Length() + 1))
 
 
 def _probe(path, kind: str, unread: Tuple[str, ...], shown: object = None) -> None:
@@ -456,42 +484,103 @@ def _can_fork() -> bool:
         "python" in Path(sys.executable).name.lower()
 
 
-def _probe_forked(reader, doc, kind: str, unread: Tuple[str, ...], shown: object) -> bool:
-    """:func:`_probe` in a forked copy of this process, which transfers the model already
-    parsed (no new interpreter, no second parse): True when it ran, False where a fork
-    cannot be used (:func:`_can_fork`; then the caller runs :func:`_probe`). CagdError if
-    OCCT dies or hangs there."""
+def _transfer_forked(reader, doc, kind: str, unread: Tuple[str, ...],
+                     shown: object) -> Optional[List[Tuple[str, TopoDS_Shape]]]:
+    """The transfer of a model with damaged entities, made in a forked copy of this
+    process (the model already parsed: no new interpreter, no second parse), whose free
+    shapes come back in OCCT's binary BRep format (BinTools: geometry, locations,
+    orientations, tolerances and shared sub-shapes as transferred), with their names:
+    if OCCT dies there, only the copy dies. None where a fork cannot be used
+    (:func:`_can_fork`; then the caller runs :func:`_probe` and transfers itself).
+    CagdError if OCCT dies, hangs or fails there."""
     if not _can_fork():
-        return False
-    import select
-    import signal
-    import time
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)    # 3.12+: "multi-threaded" (see _can_fork)
-        pid = os.fork()
-    if pid == 0:                                             # the child: transfer, nothing else
-        code = 1
-        try:
-            import faulthandler
-            faulthandler.disable()                           # a crash is the expected outcome
-            null = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(null, 1)
-            os.dup2(null, 2)
-            reader.Transfer(doc)
-            code = 0
-        finally:
-            os._exit(code)
+        return None
+    from OCP.BinTools import BinTools
+    from OCP.BRep import BRep_Builder
+    from OCP.TopoDS import TopoDS_Compound, TopoDS_Iterator
+    try:
+        folder = tempfile.mkdtemp(prefix="cagd-transfer-")
+    except OSError:
+        return None
+    shapes, names = os.path.join(folder, "shapes.brep"), os.path.join(folder, "names.json")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)    # 3.12+: "multi-threaded" (see _can_fork)
+            pid = os.fork()
+        if pid == 0:                                             # the child: transfer, write, nothing else
+            code = 1
+            try:
+                import faulthandler
+                faulthandler.disable()                           # a crash is an expected outcome
+                null = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(null, 1)
+                os.dup2(null, 2)
+                code = _TRANSFER_FAILED
+                if reader.Transfer(doc):
+                    code = _NOT_WRITTEN
+                    free = _free_shapes(doc)
+                    compound, builder = TopoDS_Compound(), BRep_Builder()
+                    builder.MakeCompound(compound)
+                    for _, shape in free:
+                        builder.Add(compound, shape)
+                    if BinTools.Write_s(compound, shapes):
+                        with open(names, "w", encoding="utf-8") as fh:
+                            json.dump([name for name, _ in free], fh)
+                        code = 0
+            finally:
+                os._exit(code)
+        status = _wait(pid, kind, unread, shown)
+        if os.WIFSIGNALED(status):
+            raise CagdError(f"path: {kind} file {str(shown)!r} has {len(unread)} damaged entities that OCCT's "
+                            f"transfer crashes on (signal {os.WTERMSIG(status)}); first: {unread[0]}")
+        code = os.WEXITSTATUS(status)
+        if code == _TRANSFER_FAILED:
+            raise CagdError(f"path: OCCT could not read {kind} file {str(shown)!r}")
+        if code == _NOT_WRITTEN:                          # the transfer survived there: make it here
+            return _transfer_here(reader, doc, kind, shown)
+        if code != 0:                                     # the copy failed before its transfer
+            return None
+        with open(names, encoding="utf-8") as fh:
+            labels = json.load(fh)
+        compound = TopoDS_Shape()
+        if not BinTools.Read_s(compound, shapes):
+            return _transfer_here(reader, doc, kind, shown)
+        it, out = TopoDS_Iterator(compound), []
+        while it.More():
+            out.append(it.Value())
+            it.Next()
+        if len(out) != len(labels):
+            return _transfer_here(reader, doc, kind, shown)
+        return list(zip(labels, out))
+    finally:
+        for name in (shapes, names):
+            if os.path.exists(name):
+                os.unlink(name)
+        os.rmdir(folder)
+
+
+def _transfer_here(reader, doc, kind: str, shown: object) -> List[Tuple[str, TopoDS_Shape]]:
+    """The transfer in this process, once the forked copy survived it."""
+    if not reader.Transfer(doc):
+        raise CagdError(f"path: OCCT could not read {kind} file {str(shown)!r}")
+    return _free_shapes(doc)
+
+
+_TRANSFER_FAILED, _NOT_WRITTEN = 3, 4        # exit codes of the forked transfer (0: written; a signal: died)
+
+
+def _wait(pid: int, kind: str, unread: Tuple[str, ...], shown: object) -> int:
+    """The forked copy's wait status; killed after PROBE_TIMEOUT (CagdError)."""
     deadline = time.monotonic() + PROBE_TIMEOUT
     try:
         fd = os.pidfd_open(pid)
     except (AttributeError, OSError):
         fd = -1
-    status = 0
     try:
         while True:
             done, status = os.waitpid(pid, os.WNOHANG)
             if done:
-                break
+                return status
             left = deadline - time.monotonic()
             if left <= 0:
                 os.kill(pid, signal.SIGKILL)
@@ -505,10 +594,6 @@ def _probe_forked(reader, doc, kind: str, unread: Tuple[str, ...], shown: object
     finally:
         if fd >= 0:
             os.close(fd)
-    if os.WIFSIGNALED(status):
-        raise CagdError(f"path: {kind} file {str(shown)!r} has {len(unread)} damaged entities that OCCT's "
-                        f"transfer crashes on (signal {os.WTERMSIG(status)}); first: {unread[0]}")
-    return True
 
 
 def _label_name(label: TDF_Label) -> str:
