@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 import re
 import unicodedata
-from typing import Any, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -155,9 +155,26 @@ def _delimiters(glob: str) -> Tuple[str, str]:
     return pd, rd
 
 
+_NUMBER_OR_BLANK = r"\s*(?:[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?)?\s*"     # _IGES_NUMBER, or blank
+_NUMBER_LISTS: Dict[str, "re.Pattern[str]"] = {}
+
+
+def _number_list(pd: str) -> "re.Pattern[str]":
+    """Blank or numeric fields separated by ``pd``: one entity's parameters without strings."""
+    if pd not in _NUMBER_LISTS:
+        _NUMBER_LISTS[pd] = re.compile(f"{_NUMBER_OR_BLANK}(?:{re.escape(pd)}{_NUMBER_OR_BLANK})*")
+    return _NUMBER_LISTS[pd]
+
+
 def _parameters(text: str, pd: str, rd: str) -> List[str]:
     """The fields of one entity's parameter data up to the record delimiter; every
-    field blank, a number or a Hollerith string ``nH...`` (IGES 5.3 section 2.2.2)."""
+    field blank, a number or a Hollerith string ``nH...`` (IGES 5.3 section 2.2.2).
+    Data without an ``H`` holds no string: then one match of the whole field list
+    decides (the field-by-field scan below names the first bad field)."""
+    if "H" not in text:
+        end = text.find(rd)
+        if end >= 0 and _number_list(pd).fullmatch(text, 0, end):
+            return text[:end].split(pd)
     out, i, n = [], 0, len(text)
     while i < n:
         m = _IGES_HOLLERITH.match(text, i)
@@ -204,7 +221,7 @@ def _entity_fields(etype: int, params: List[str]) -> None:
     K, M, 4 flags, K+M+2 knots, K+1 weights, 3(K+1) coordinates and 2 parameters; a
     B-spline surface (128) K1, K2, M1, M2, 5 flags, K1+M1+2 and K2+M2+2 knots,
     (K1+1)(K2+1) weights, 3 (K1+1)(K2+1) coordinates and 4 parameters."""
-    if etype in _IGES_NUMERIC:
+    if etype in _IGES_NUMERIC and any("H" in f for f in params):
         for k, f in enumerate(params):
             if _IGES_HOLLERITH.match(f):
                 raise ValueError(f"field {k + 1} is a string; entity type {etype} holds numbers only")
