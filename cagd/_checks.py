@@ -72,6 +72,8 @@ def weights(value: Optional[ArrayLike], count: int, name: str = "weights") -> Op
 
 def integer(value: Any, name: str, minimum: int = 0, maximum: Optional[int] = None) -> int:
     """An int in [minimum, maximum]; bools and non-integral floats are rejected."""
+    if type(value) is int and value >= minimum and (maximum is None or value <= maximum):
+        return value                         # the common case, without the ABC checks below
     if isinstance(value, bool) or not isinstance(value, (numbers.Integral, np.integer)):
         if isinstance(value, (float, np.floating)) and float(value).is_integer():
             value = int(value)

@@ -532,11 +532,7 @@ class BSplineCurve(Curve):
             p = self.degree
             P = np.roll(P, p, axis=0)
             w = None if w is None else np.roll(w, p)
-        a, b = self.domain
-        old = self.knots[::-1]
-        knots = (a + b) - old
-        knots[old == a], knots[old == b] = b, a     # the domain ends map exactly
-        return BSplineCurve(P, self.degree, knots, w, self.periodic)
+        return BSplineCurve(P, self.degree, kv.reflected(self.knots, *self.domain), w, self.periodic)
 
     def reparametrized(self, start: float, end: float) -> "BSplineCurve":
         """Affine reparametrisation onto [start, end] (seed 004, 1.7): the knots are

@@ -111,20 +111,15 @@ def validate(knots: ArrayLike, degree: int, count: int, name: str = "knots") -> 
     if u.shape[0] != expected:
         raise CagdError(f"{name}: expected {expected} values (len(control_points) + degree + 1 = "
                         f"{count} + {degree} + 1), got {u.shape[0]}")
-    step = u[1:] - u[:-1]
-    if (step < 0).any():
+    if (u[1:] < u[:-1]).any():
         _non_decreasing(u, name)
     if not u[degree] < u[count]:
         raise CagdError(f"{name}: empty domain [knots[{degree}], knots[{count}]] = [{u[degree]}, {u[count]}]")
-    starts = np.flatnonzero(np.concatenate(([True], step > 0)))      # distinct_with_multiplicities(u)
-    values, mults = u[starts], np.diff(np.concatenate((starts, [len(u)])))
-    if mults.max() > degree + 1:
-        raise CagdError(f"{name}: a knot has multiplicity {mults.max()} > degree + 1 = {degree + 1}")
-    interior = (values > u[degree]) & (values < u[count]) & (mults > degree)
-    if interior.any():
-        i = int(np.argmax(interior))
-        raise CagdError(f"{name}: interior knot {values[i]} has multiplicity {mults[i]} > degree = "
-                        f"{degree} (the curve would break apart there)")
+    # a run of degree + 2 equal knots anywhere, or of degree + 1 strictly inside the domain
+    head = u[:count + 1]                     # u[i] starts a run of degree + 1 equal knots if u[i] == u[i + degree]
+    if (u[degree + 1:] == head[:-1]).any() or \
+            ((u[degree:] == head) & (head > u[degree]) & (head < u[count])).any():
+        _multiplicity_error(u, degree, count, name)
     return u
 
 
@@ -148,6 +143,26 @@ def validate_period(knots: ArrayLike, count: int, degree: int, name: str = "knot
     if m.max() > degree:
         raise CagdError(f"{name}: a knot has multiplicity {m.max()} > degree = {degree} in a periodic curve")
     return t
+
+
+def reflected(knots: np.ndarray, start: float, end: float) -> np.ndarray:
+    """The knots of C(start + end - t), the curve traversed backwards: t -> start + end - t
+    in reverse order, the domain ends mapped exactly (seed 000, 5.2.2 symmetry)."""
+    old = knots[::-1]
+    out = (start + end) - old
+    out[old == start], out[old == end] = end, start
+    return out
+
+
+def _multiplicity_error(u: np.ndarray, degree: int, count: int, name: str) -> None:
+    """Raise for the knot of :func:`validate` whose multiplicity is too high."""
+    values, mults = distinct_with_multiplicities(u)
+    if mults.max() > degree + 1:
+        raise CagdError(f"{name}: a knot has multiplicity {mults.max()} > degree + 1 = {degree + 1}")
+    interior = (values > u[degree]) & (values < u[count]) & (mults > degree)
+    i = int(np.argmax(interior))
+    raise CagdError(f"{name}: interior knot {values[i]} has multiplicity {mults[i]} > degree = "
+                    f"{degree} (the curve would break apart there)")
 
 
 def _non_decreasing(u: np.ndarray, name: str) -> None:
@@ -258,16 +273,15 @@ def from_occ_knots(distinct: ArrayLike, multiplicities: ArrayLike, degree: int, 
         raise CagdError(f"{name}: need at least 2 distinct knots, got shape {t.shape}")
     if m.shape != t.shape:
         raise CagdError(f"{mult_name}: need one multiplicity per distinct knot ({t.size}), got shape {m.shape}")
-    if not np.all(np.diff(t) > 0):
+    if not (t[1:] > t[:-1]).all():
         raise CagdError(f"{name}: distinct knots must be strictly increasing")
-    if not np.issubdtype(m.dtype, np.number) or not np.array_equal(m, np.round(m)) or m.min() < 1 \
-            or m.max() > degree + 1:
+    if m.dtype.kind not in "iuf" or not ((m >= 1) & (m <= degree + 1)).all() or \
+            (m.dtype.kind == "f" and not (m == np.round(m)).all()):
         raise CagdError(f"{mult_name}: must be integers in [1, degree + 1 = {degree + 1}], got {m.tolist()}")
-    m = m.astype(int)
+    m = m.astype(np.intp)
     if periodic:
         if m[0] != m[-1]:
             raise CagdError(f"{name}: a periodic B-spline needs equal first and last multiplicities, "
                             f"got {m[0]} and {m[-1]}")
-        m = m.copy()
         m[0] = 1
-    return from_multiplicities(t, m)
+    return np.repeat(t, m)          # at most (degree + 1) * len(t) values (from_multiplicities)

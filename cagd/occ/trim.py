@@ -425,12 +425,12 @@ def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple
     while ex.More():
         adaptor = BRepAdaptor_Curve2d(as_edge(ex.Current()), fwd)
         curve = adaptor.Curve()
-        ends = np.array([_point2d(adaptor.Value(adaptor.FirstParameter())),
-                         _point2d(adaptor.Value(adaptor.LastParameter()))])
+        a, b = adaptor.Value(adaptor.FirstParameter()), adaptor.Value(adaptor.LastParameter())
+        ends = np.array([[a.X(), a.Y()], [b.X(), b.Y()]])
         if isinstance(curve, Geom2d_Line):
             P = ends
         elif isinstance(curve, Geom2d_BSplineCurve):      # its poles on the side: all of it is
-            P = np.array([_point2d(curve.Pole(i)) for i in range(1, curve.NbPoles() + 1)])
+            P = np.array([(q.X(), q.Y()) for q in map(curve.Pole, range(1, curve.NbPoles() + 1))])
         else:
             return False
         k = side_of(P, domain, tol)

@@ -27,8 +27,9 @@ def is_box(loops: Sequence[Sequence[BSplineCurve]],
 def side_of(P: np.ndarray, domain: Tuple[Tuple[float, float], Tuple[float, float]], tol: float) -> Optional[int]:
     """Which coordinate the points P (n, 2) (a curve's control points) hold at a side
     of the box ``domain`` within ``tol``: 0 (u = u0 or u1), 1 (v = v0 or v1), or None."""
-    for k in (0, 1):
-        if np.all(np.abs(P[:, k] - P[0, k]) <= tol) and min(abs(P[0, k] - e) for e in domain[k]) <= tol:
+    lo, hi, first = P.min(axis=0).tolist(), P.max(axis=0).tolist(), P[0].tolist()
+    for k in (0, 1):                 # all |P[:, k] - P[0, k]| <= tol, by the extremes
+        if hi[k] - first[k] <= tol and first[k] - lo[k] <= tol and min(abs(first[k] - e) for e in domain[k]) <= tol:
             return k
     return None
 

@@ -99,8 +99,9 @@ class BSplineSurface(Surface):
         else:
             hom = P if W is None else _checks.finite_homogeneous(np.concatenate([P * W[..., None], W[..., None]],
                                                                                 axis=2))
-            iu, iv = kv.unwrapped_index(P.shape[0], p, pu), kv.unwrapped_index(P.shape[1], q, pv)
-            self._hom = _checks.frozen(hom[iu][:, iv])
+            if pu or pv:
+                hom = hom[kv.unwrapped_index(P.shape[0], p, pu)][:, kv.unwrapped_index(P.shape[1], q, pv)]
+            self._hom = _checks.frozen(hom)
 
     # --- modified copies (the object itself never changes) --------------------------------
     def _with(self, P: np.ndarray, W: Optional[np.ndarray]) -> "BSplineSurface":
@@ -539,7 +540,23 @@ class BSplineSurface(Surface):
         return s
 
     def reversed(self, direction: str) -> "BSplineSurface":
-        return self._from_row_curve(direction, self._row_curve(direction).reversed())
+        """The surface with ``direction`` ('u' or 'v') traversed backwards, as
+        :meth:`cagd.BSplineCurve.reversed` on every row (the normal flips)."""
+        if direction not in ("u", "v"):
+            raise CagdError(f"direction: must be 'u' or 'v', got {direction!r}")
+        axis = 0 if direction == "u" else 1
+        p, periodic = (self.degree_u, self.periodic_u) if axis == 0 else (self.degree_v, self.periodic_v)
+        P = np.flip(self.control_points, axis)
+        W = None if self.weights is None else np.flip(self.weights, axis)
+        if periodic:
+            P = np.roll(P, p, axis=axis)
+            W = None if W is None else np.roll(W, p, axis=axis)
+        ku, kvv = self.knots_u, self.knots_v
+        if axis == 0:
+            ku = kv.reflected(ku, *self.domain[0])
+        else:
+            kvv = kv.reflected(kvv, *self.domain[1])
+        return BSplineSurface(P, self.degree_u, self.degree_v, ku, kvv, W, self.periodic_u, self.periodic_v)
 
     def reparametrized(self, domain_u: Optional[Tuple[float, float]] = None,
                        domain_v: Optional[Tuple[float, float]] = None) -> "BSplineSurface":
