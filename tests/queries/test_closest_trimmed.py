@@ -149,6 +149,7 @@ def test_the_work_bound_is_reported(monkeypatch):
     in review: converged stayed True)."""
     import cagd.queries.trimmed as T
     monkeypatch.setattr(T, "MAX_TRIM_ROWS", 64)
+    monkeypatch.setattr(T, "CONVEX_BOX_SHARES", ())      # no point settled before the branch and bound
     ts = TrimmedSurface(curved_patch(), [[circle((0.5, 0.5), 0.4)], [circle((0.5, 0.5), 0.15, clockwise=True)]])
     X = np.concatenate([RNG.random((300, 2)) * 0.3 + 0.35, RNG.normal(0.3, 0.05, (300, 1))], axis=1)
     r = closest_point(ts, X)
