@@ -70,6 +70,10 @@ JOINT_TOL = 1e-12
 CONVEX_SAFETY = 1.0 + 1e-6
 #: a box cut down to its minimiser's reach by at least this factor per side is not halved
 SHRUNK = 0.5
+#: half-widths tried for the convex box about an untrimmed foot, as shares of its cell (largest first)
+CONVEX_BOX_SHARES = (1.0, 0.5, 0.25, 0.125)
+#: halvings of the open boxes before a point outside the trim goes to the branch and bound
+SETTLE_LEVELS = 3
 
 _PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
@@ -263,6 +267,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     # --- the interior: branch and bound over the cells that meet D, TRIM_POINT_CHUNK
     # points at a time (the work bound holds per group)
     X, _far = p._inward(Xm)
+    xs = _inner_params(p, uv[o])                  # the untrimmed feet, frame parameters
     s = p.frame.scale
     U = best / s
     LB = np.full(len(o), np.inf)
@@ -271,7 +276,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     for c0 in range(0, len(o), TRIM_POINT_CHUNK):
         sl = slice(c0, c0 + TRIM_POINT_CHUNK)
         U[sl], x_best[sl], best_ok[sl], LB[sl], stopped[sl] = _interior(ts, p, X[sl], U[sl], best_ok[sl], cls, stop,
-                                                                         max_iterations, lb_edge[sl] / s)
+                                                                         max_iterations, lb_edge[sl] / s, xs[sl])
     newton_ok = best_ok.copy()
     best_ok &= ~stopped
     interior = np.flatnonzero(np.isfinite(x_best[:, 0]))
@@ -360,13 +365,14 @@ def _on_domain(surface: "Surface", uv: np.ndarray) -> np.ndarray:
 
 def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray, best_ok: np.ndarray,
               cls: np.ndarray, stop: Tuple[Optional[float], Optional[float]], max_iterations: int,
-              edge: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+              edge: np.ndarray, xs: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Branch and bound for points X (frame units) with upper bounds U: (U, the frame
     parameters of interior feet that beat U (NaN where none), their Newton flags, the
     lower bounds over the cells, and which points kept boxes open at the work bound).
     ``edge``: the boundary's lower bounds (frame units); a box whose bound reaches it
     is closed (the certificate, min(edge, cells), cannot be lowered by it: a fitted
-    edge's error is then the gap)."""
+    edge's error is then the gap). ``xs``: the untrimmed feet (frame parameters), about
+    which :func:`_convex_settled` settles points at once."""
     U, best_ok = U.copy(), best_ok.copy()
     live = np.flatnonzero(cls >= 0)
     LB = np.full(len(X), np.inf)
@@ -388,14 +394,21 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     closed = lb >= np.minimum(U[pid] - (CELL_GAP * U[pid] + 1e-13 * p.size), edge[pid])
     np.minimum.at(LB, pid[closed], lb[closed])
     pid, cell, lo, hi = pid[~closed], cell[~closed], lo[~closed], hi[~closed]
+    flat = _no_critical_point(p, X, pid, cell, lo, hi)         # f has no stationary point there
+    pid, cell, lo, hi = pid[~flat], cell[~flat], lo[~flat], hi[~flat]
+    settled, lb_settled = _convex_settled(ts, p, X, pid, cell, lo, hi, xs, U, edge)
+    LB = np.minimum(LB, lb_settled)
+    keep = ~settled[pid]
+    pid, cell, lo, hi = pid[keep], cell[keep], lo[keep], hi[keep]
     box = cls[cell]
     x_best = np.full((len(X), 2), np.nan)
-    for _ in range(MAX_TRIM_ROUNDS):
+    for rnd in range(MAX_TRIM_ROUNDS):
         if not len(pid):
             break
         gap = CELL_GAP * U + 1e-13 * p.size
-        flat = _no_critical_point(p, X, pid, cell, lo, hi)     # f has no stationary point there
-        pid, cell, lo, hi, box = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat]
+        if rnd:                                                 # (the first round's rows are tested above)
+            flat = _no_critical_point(p, X, pid, cell, lo, hi)
+            pid, cell, lo, hi, box = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat]
         if not len(pid):
             break
         y, g2, ok = p._newton_rows(X, pid, 0.5 * (lo + hi), lo, hi, p._cell_piece[cell], max_iterations, *stop)
@@ -445,6 +458,118 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
         np.minimum.at(LB, pid, lb)
         stopped[np.unique(pid[lb < np.minimum(U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size, edge[pid])])] = True
     return U, x_best, best_ok, LB, stopped
+
+
+def _inner_params(p: "Projector", uv: np.ndarray) -> np.ndarray:
+    """Model parameters (n, k) in the projector's frame (the inverse of ``Frame.params``:
+    per direction the piecewise linear map of the breaks, clamped to them)."""
+    out = np.array(uv, dtype=np.float64)
+    for a, (b, inner) in enumerate(zip(p.frame.breaks, p.frame.inner)):
+        if inner is not None:
+            j = np.clip(np.searchsorted(b, out[:, a], side="right") - 1, 0, len(b) - 2)
+            f = np.clip((out[:, a] - b[j]) / (b[j + 1] - b[j]), 0.0, 1.0)
+            out[:, a] = (1.0 - f) * inner[j] + f * inner[j + 1]
+    return out
+
+
+def _convex_box(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, xs: np.ndarray
+                ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per point: a box B about its untrimmed foot x* (xs) on which g = |S - X|^2 is
+    strongly convex and whose minimiser x^ over B lies outside D, as (lo, hi, ok): B the
+    largest of x* +- CONVEX_BOX_SHARES of the foot's cell (within the cells next to it
+    and the C2 runs of its piece) where the expansion at x* with the bounds over those
+    cells gives m > 0 (:func:`cagd.queries._local.box_lower_bound`), and the box about
+    x* that holds x^ classified outside D (:func:`box_classes`). Then for y in B & D the
+    segment from y to x^ stays in B and leaves D at some z on dD, where
+    g(z) <= max(g(y), g(x^)) = g(y) (convexity): g >= the edges' bound on B & D."""
+    from ._local import box_lower_bound
+    n = len(X)
+    S, J, H = p.evaluate(xs, 2)
+    home = p.cells.locate(xs)
+    ep = p._power.piece_indices(xs) if p._power is not None else \
+        [np.clip(np.searchsorted(b, xs[:, a], side="right") - 1, 0, len(b) - 2) for a, b in enumerate(p.pieces.breaks)]
+    nv = p.cells.shape[1]
+    ci = (home // nv, home % nv)
+    wlo, whi, width = np.empty((n, 2)), np.empty((n, 2)), np.empty((n, 2))
+    for a in range(2):                          # the cells next to the foot's, in its C2 runs
+        cb, pb, run = p.cells.breaks[a], p.pieces.breaks[a], p._run[a]
+        i = ci[a]
+        r = run[ep[a]]
+        wlo[:, a] = np.maximum(cb[np.maximum(i - 1, 0)], pb[np.searchsorted(run, r, side="left")])
+        whi[:, a] = np.minimum(cb[np.minimum(i + 2, len(cb) - 1)], pb[np.searchsorted(run, r, side="right")])
+        width[:, a] = cb[i + 1] - cb[i]
+    Lb, Mb, Tb = (B[1, home] for B in p.block)
+    lo, hi = np.array(xs), np.array(xs)
+    found = np.zeros(n, dtype=bool)
+    t0, t1 = np.zeros((n, 2)), np.zeros((n, 2))
+    for share in CONVEX_BOX_SHARES:             # the largest box first
+        i = np.flatnonzero(~found)
+        if not i.size:
+            break
+        blo = np.clip(xs[i] - share * width[i], wlo[i], whi[i])
+        bhi = np.clip(xs[i] + share * width[i], wlo[i], whi[i])
+        _, m, (r0, r1) = box_lower_bound(X[i], blo, bhi, xs[i], S[i], J[i], H[i], Lb[i], Mb[i], Tb[i],
+                                         convexity=True)
+        good = (m > 0) & np.all(r0 <= r1, axis=1)
+        g = i[good]
+        lo[g], hi[g], t0[g], t1[g], found[g] = blo[good], bhi[good], r0[good], r1[good], True
+    ok = np.flatnonzero(found)
+    if ok.size:
+        pad = (CONVEX_SAFETY - 1.0) * (t1[ok] - t0[ok]) + KINK_TOL * (hi[ok] - lo[ok])
+        rlo = np.maximum(lo[ok], xs[ok] + t0[ok] - pad)
+        rhi = np.minimum(hi[ok], xs[ok] + t1[ok] + pad)
+        found[ok] = box_classes(ts, p.frame.params(rlo), p.frame.params(rhi)) == -1
+    return lo, hi, found
+
+
+def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray,
+                    lo: np.ndarray, hi: np.ndarray, xs: np.ndarray, U: np.ndarray, edge: np.ndarray
+                    ) -> Tuple[np.ndarray, np.ndarray]:
+    """Per point of X: whether its open (point, box) rows need no branch and bound (the
+    face's minimum over them is on the edges), and the lower bound over the boxes closed
+    on the way. A box B about the untrimmed foot (:func:`_convex_box`) covers its part of
+    them; the rest are halved, SETTLE_LEVELS times at most, and a part is dropped inside
+    B, where g has no stationary point (:func:`_no_critical_point`: D's minimum, unless
+    on dD, is one), where its bound reaches min(U, edge) (closed) or outside D. A point
+    with a part left is not settled (its rows go to the branch and bound)."""
+    n = len(X)
+    settled = np.zeros(n, dtype=bool)
+    LB = np.full(n, np.inf)
+    if not len(pid) or p.k != 2 or ts.periodic_u or ts.periodic_v:
+        return settled, LB
+    pts = np.unique(pid)
+    blo, bhi, ok = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n, dtype=bool)
+    blo[pts], bhi[pts], ok[pts] = _convex_box(ts, p, X[pts], xs[pts])
+    alive = ok.copy()                            # points still to settle
+    cells = cell
+    for level in range(SETTLE_LEVELS + 1):
+        keep = alive[pid] & ~np.all((lo >= blo[pid]) & (hi <= bhi[pid]), axis=1)
+        pid, cells, lo, hi = pid[keep], cells[keep], lo[keep], hi[keep]
+        if level:
+            flat = _no_critical_point(p, X, pid, cells, lo, hi)
+            pid, cells, lo, hi = pid[~flat], cells[~flat], lo[~flat], hi[~flat]
+            c = 0.5 * (lo + hi)
+            lb = np.sqrt(np.maximum(p._bound(X, pid, cells, lo, hi, c), 0.0))
+            gap = CELL_GAP * U[pid] + 1e-13 * p.size
+            closed = lb >= np.minimum(U[pid] - gap, edge[pid])
+            np.minimum.at(LB, pid[closed], lb[closed])
+            pid, cells, lo, hi = pid[~closed], cells[~closed], lo[~closed], hi[~closed]
+            if len(pid):
+                out = box_classes(ts, p.frame.params(lo), p.frame.params(hi)) == -1
+                pid, cells, lo, hi = pid[~out], cells[~out], lo[~out], hi[~out]
+        if level == SETTLE_LEVELS or not len(pid):
+            break
+        # the parts left: halved in both directions (quarters)
+        mid = 0.5 * (lo + hi)
+        pid, cells = np.repeat(pid, 4), np.repeat(cells, 4)
+        qlo, qhi = np.repeat(lo, 4, axis=0), np.repeat(hi, 4, axis=0)
+        m4 = np.repeat(mid, 4, axis=0)
+        up = np.tile(np.array([[0, 0], [1, 0], [0, 1], [1, 1]], dtype=bool), (len(mid), 1))
+        lo, hi = np.where(up, m4, qlo), np.where(up, qhi, m4)
+    settled = alive.copy()
+    settled[pid] = False
+    LB[~settled] = np.inf
+    return settled, LB
 
 
 def _convex_bound(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray, lo: np.ndarray,

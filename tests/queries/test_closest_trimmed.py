@@ -149,9 +149,43 @@ def test_the_work_bound_is_reported(monkeypatch):
     in review: converged stayed True)."""
     import cagd.queries.trimmed as T
     monkeypatch.setattr(T, "MAX_TRIM_ROWS", 64)
+    monkeypatch.setattr(T, "CONVEX_BOX_SHARES", ())      # no point settled before the branch and bound
     ts = TrimmedSurface(curved_patch(), [[circle((0.5, 0.5), 0.4)], [circle((0.5, 0.5), 0.15, clockwise=True)]])
     X = np.concatenate([RNG.random((300, 2)) * 0.3 + 0.35, RNG.normal(0.3, 0.05, (300, 1))], axis=1)
     r = closest_point(ts, X)
     assert not r.converged and "work bound" in r.message
     assert not r.point_converged.all()
     assert np.all(r.lower_bounds <= brute(ts, X) + 1e-12)
+
+
+@pytest.mark.parametrize("holes", [0, 1])
+def test_points_near_the_surface_outside_the_trim_against_brute_force(holes, monkeypatch):
+    """Points 1% of the size from the whole untrimmed surface (about half the feet off
+    the trim): most are settled by the convex box about the untrimmed foot (no branch
+    and bound); never farther than the dense samples, the certificate below them, and
+    settling with it off gives the same distances."""
+    import cagd.queries.trimmed as T
+    loops = [[circle((0.5, 0.5), 0.4)]] + ([[circle((0.6, 0.45), 0.12, clockwise=True)]] if holes else [])
+    ts = TrimmedSurface(curved_patch(), loops)
+    s = ts.untrimmed
+    uv = RNG.random((1500, 2))
+    X = s(uv[:, 0], uv[:, 1]) + RNG.normal(0, 0.01 * s.size, (1500, 3))
+    settled = []
+    real = T._convex_settled
+
+    def spy(*args):
+        out = real(*args)
+        settled.append(int(out[0].sum()))
+        return out
+    monkeypatch.setattr(T, "_convex_settled", spy)
+    r = closest_point(ts, X)
+    assert sum(settled) > 200
+    b = brute(ts, X)
+    assert np.all(r.distances <= b + 1e-12)
+    assert np.all(b - r.distances <= 2e-3)
+    assert np.all(r.lower_bounds <= r.distances)
+    assert np.all(r.lower_bounds <= b + 1e-12)
+    assert np.all(ts.contains(r.params[:, 0], r.params[:, 1]))
+    monkeypatch.setattr(T, "CONVEX_BOX_SHARES", ())
+    plain = closest_point(ts, X)
+    assert np.abs(plain.distances - r.distances).max() <= 1e-12
