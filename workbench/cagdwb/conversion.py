@@ -122,24 +122,79 @@ def curve2d_to_part(curve: "cagd.Curve") -> "Part.Geom2d.BSplineCurve2d":
 
 def trimmed_face(ts: "cagd.TrimmedSurface") -> "Part.Face":
     """The face of a :class:`cagd.TrimmedSurface`: its surface's exact B-spline
-    (:func:`surface_to_part`, the engine's parameters) bounded by one wire per loop, an
-    edge per loop curve (the Geom2d curve on the surface; FreeCAD builds its 3-D curve),
-    the holes cut by ``Face.cutHoles`` (``Part.Face(surface, [wires])`` gives an invalid
-    face in FreeCAD 0.20), then ``validate()``.
+    (:func:`surface_to_part`, the engine's parameters) bounded by one wire per loop, the
+    holes cut by ``Face.cutHoles`` (``Part.Face(surface, [wires])`` gives an invalid face
+    in FreeCAD 0.20), then ``validate()``.
+
+    Where ``ts.edges`` knows every edge's 3-D curve (e.g. read from a file) and each lies
+    within EDGE_GAP_TOL (relative to the surface's size) of S(c(t)), the edges are those
+    curves (``Part.Edge(curve, first, last)``; FreeCAD 0.20's Python cannot attach a
+    given pcurve, so ``validate()`` projects them) and that face is kept if it is valid
+    and every edge's tolerance (pcurve vs 3-D curve, OCCT's) is within EDGE_GAP_TOL. Otherwise (or if not) each edge is
+    the pcurve on the surface (FreeCAD builds its 3-D curve).
 
     Raises:
         ValueError: FreeCAD's face is not valid (e.g. a loop along a collapsed edge).
     """
     surface = surface_to_part(ts.surface)
-    wires = [Part.Wire([curve2d_to_part(c).toShape(surface, *map(float, c.domain)) for c in loop])
-             for loop in ts.loops]
+    face = _face_on_edges(ts, surface)
+    if face is not None:
+        return face
+    face = _face(surface, [Part.Wire([curve2d_to_part(c).toShape(surface, *map(float, c.domain)) for c in loop])
+                           for loop in ts.loops])
+    if not face.isValid():
+        raise ValueError("surface: FreeCAD could not make a valid face of the trimmed surface's loops")
+    return face
+
+
+EDGE_GAP_TOL = 1e-7         # relative (surface size): a 3-D edge curve this far from S(c(t)) is not used
+EDGE_SAMPLES = 33           # points per edge at which a 3-D edge curve is compared with S(c(t))
+
+
+def _face_on_edges(ts: "cagd.TrimmedSurface", surface) -> Optional["Part.Face"]:
+    """The face whose edges are ``ts.edges`` (:func:`trimmed_face`), or None where they
+    are not all known and near S(c(t)), or FreeCAD's face is invalid or its projected
+    pcurves are farther than EDGE_GAP_TOL from them."""
+    known = _known_edges(ts)
+    if known is None:
+        return None
+    try:
+        face = _face(surface, [Part.Wire([Part.Edge(curve_to_part(e), *map(float, c.domain))
+                                          for c, e in zip(loop, row)]) for loop, row in zip(ts.loops, known)])
+    except Exception:                   # FreeCAD could not use the 3-D curves: the caller uses the pcurves
+        return None
+    if face.isValid() and max(e.Tolerance for e in face.Edges) <= EDGE_GAP_TOL * ts.surface.size:
+        return face
+    return None
+
+
+def _face(surface, wires) -> "Part.Face":
+    """Part.Face on the outer wire, the other wires cut as holes, validated."""
     face = Part.Face(surface, wires[0])
     if len(wires) > 1:
         face.cutHoles(wires[1:])
     face.validate()
-    if not face.isValid():
-        raise ValueError("surface: FreeCAD could not make a valid face of the trimmed surface's loops")
     return face
+
+
+def _known_edges(ts: "cagd.TrimmedSurface"):
+    """``ts.edges`` when every edge has a 3-D curve within EDGE_GAP_TOL (times the
+    surface's size) of S(c(t)) at EDGE_SAMPLES parameters, else None."""
+    if ts.edges is None:
+        return None
+    size = ts.surface.size
+    for loop, row in zip(ts.loops, ts.edges):
+        for c, e in zip(loop, row):
+            if e is None:
+                return None
+            t = np.linspace(*map(float, c.domain), EDGE_SAMPLES)
+            uv = np.asarray(c(t))
+            (u0, u1), (v0, v1) = ts.surface.domain        # pcurves may end a rounding error outside
+            on = ts.surface(np.clip(uv[:, 0], u0, u1), np.clip(uv[:, 1], v0, v1))
+            gap = np.linalg.norm(np.asarray(e(t)) - np.asarray(on), axis=-1).max()
+            if not gap <= EDGE_GAP_TOL * size:
+                return None
+    return ts.edges
 
 
 def to_shape(geometry: EngineGeometry, nurbs: bool = False) -> "Part.Shape":
@@ -274,6 +329,26 @@ def _pcurve(face, edge) -> "cagd.BSplineCurve":
     return c.reversed() if edge.Orientation == "Reversed" else c
 
 
+def _edge_curve(edge, pcurve: "cagd.BSplineCurve") -> Optional["cagd.BSplineCurve"]:
+    """The edge's 3-D curve (:func:`edge_to_curve`) oriented like its pcurve, or None
+    where it is degenerated or its range is not the pcurve's (e.g. a circle made a
+    NURBS by ``toNurbs``, reparametrised)."""
+    if edge.Degenerated:
+        return None
+    try:
+        c = edge_to_curve(edge)
+    except Exception:
+        return None
+    c = c.reversed() if edge.Orientation == "Reversed" else c
+    (a, b), (p, q) = c.domain, pcurve.domain
+    if max(abs(a - p), abs(b - q)) > EDGE_RANGE_TOL * max(abs(q - p), 1e-300):
+        return None
+    return c
+
+
+EDGE_RANGE_TOL = 1e-9       # relative (pcurve range): an edge curve kept must run over its pcurve's range
+
+
 def _exact_conic2d(curve, first: float, last: float) -> Optional["cagd.BSplineCurve"]:
     """A line, circle or ellipse pcurve (Part's own ``toBSpline`` approximates 2-D
     conics: 2e-8 off a circle of radius 0.3) as the exact B-spline over [first, last]:
@@ -313,12 +388,18 @@ def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
     try:
         wires = [nf.OuterWire] + [w for w in nf.Wires if not w.isSame(nf.OuterWire)]
         loops = [[_pcurve(nf, e) for e in w.OrderedEdges] for w in wires]
+        edges = [[_edge_curve(e, c) for e, c in zip(w.OrderedEdges, lp)] for w, lp in zip(wires, loops)]
         a, b, c, d = nf.Surface.bounds()        # a seam's two pcurves: chained by whole periods
         periods = (b - a if face.Surface.isUPeriodic() else float("inf"),
                    d - c if face.Surface.isVPeriodic() else float("inf"))
         loops = [into_window(chained(lp, periods), periods, surface.domain) for lp in loops if lp]
         if not loops or is_box(loops, surface.domain):
             return surface, None
+        if all(len(row) == len(lp) for row, lp in zip(edges, loops)) and len(edges) == len(loops):
+            try:                            # the face's own 3-D edge curves, where they fit the constructor
+                return cagd.TrimmedSurface(surface, loops, edges=edges), None
+            except cagd.CagdError:
+                pass
         return cagd.TrimmedSurface(surface, loops), None
     except Exception as exc:                # the untrimmed surface, with the reason reported
         return surface, f"trim not used ({type(exc).__name__}: {exc})"
