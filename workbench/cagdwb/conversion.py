@@ -122,79 +122,27 @@ def curve2d_to_part(curve: "cagd.Curve") -> "Part.Geom2d.BSplineCurve2d":
 
 def trimmed_face(ts: "cagd.TrimmedSurface") -> "Part.Face":
     """The face of a :class:`cagd.TrimmedSurface`: its surface's exact B-spline
-    (:func:`surface_to_part`, the engine's parameters) bounded by one wire per loop, the
-    holes cut by ``Face.cutHoles`` (``Part.Face(surface, [wires])`` gives an invalid face
-    in FreeCAD 0.20), then ``validate()``.
-
-    Where ``ts.edges`` knows every edge's 3-D curve (e.g. read from a file) and each lies
-    within EDGE_GAP_TOL (relative to the surface's size) of S(c(t)), the edges are those
-    curves (``Part.Edge(curve, first, last)``; FreeCAD 0.20's Python cannot attach a
-    given pcurve, so ``validate()`` projects them) and that face is kept if it is valid
-    and every edge's tolerance (pcurve vs 3-D curve, OCCT's) is within EDGE_GAP_TOL. Otherwise (or if not) each edge is
-    the pcurve on the surface (FreeCAD builds its 3-D curve).
+    (:func:`surface_to_part`, the engine's parameters) bounded by one wire per loop, an
+    edge per loop curve (the Geom2d curve on the surface; FreeCAD builds its 3-D curve),
+    the holes cut by ``Face.cutHoles`` (``Part.Face(surface, [wires])`` gives an invalid
+    face in FreeCAD 0.20), then ``validate()``. ``ts.edges`` (a file's 3-D curves) are
+    not used: FreeCAD 0.20's Python cannot attach a given pcurve to an edge made from
+    a 3-D curve, and the pcurves ``validate()`` then projects were 1e-3 off on an
+    annulus (measured, issue 15).
 
     Raises:
         ValueError: FreeCAD's face is not valid (e.g. a loop along a collapsed edge).
     """
     surface = surface_to_part(ts.surface)
-    face = _face_on_edges(ts, surface)
-    if face is not None:
-        return face
-    face = _face(surface, [Part.Wire([curve2d_to_part(c).toShape(surface, *map(float, c.domain)) for c in loop])
-                           for loop in ts.loops])
-    if not face.isValid():
-        raise ValueError("surface: FreeCAD could not make a valid face of the trimmed surface's loops")
-    return face
-
-
-EDGE_GAP_TOL = 1e-7         # relative (surface size): a 3-D edge curve this far from S(c(t)) is not used
-EDGE_SAMPLES = 33           # points per edge at which a 3-D edge curve is compared with S(c(t))
-
-
-def _face_on_edges(ts: "cagd.TrimmedSurface", surface) -> Optional["Part.Face"]:
-    """The face whose edges are ``ts.edges`` (:func:`trimmed_face`), or None where they
-    are not all known and near S(c(t)), or FreeCAD's face is invalid or its projected
-    pcurves are farther than EDGE_GAP_TOL from them."""
-    known = _known_edges(ts)
-    if known is None:
-        return None
-    try:
-        face = _face(surface, [Part.Wire([Part.Edge(curve_to_part(e), *map(float, c.domain))
-                                          for c, e in zip(loop, row)]) for loop, row in zip(ts.loops, known)])
-    except Exception:                   # FreeCAD could not use the 3-D curves: the caller uses the pcurves
-        return None
-    if face.isValid() and max(e.Tolerance for e in face.Edges) <= EDGE_GAP_TOL * ts.surface.size:
-        return face
-    return None
-
-
-def _face(surface, wires) -> "Part.Face":
-    """Part.Face on the outer wire, the other wires cut as holes, validated."""
+    wires = [Part.Wire([curve2d_to_part(c).toShape(surface, *map(float, c.domain)) for c in loop])
+             for loop in ts.loops]
     face = Part.Face(surface, wires[0])
     if len(wires) > 1:
         face.cutHoles(wires[1:])
     face.validate()
+    if not face.isValid():
+        raise ValueError("surface: FreeCAD could not make a valid face of the trimmed surface's loops")
     return face
-
-
-def _known_edges(ts: "cagd.TrimmedSurface"):
-    """``ts.edges`` when every edge has a 3-D curve within EDGE_GAP_TOL (times the
-    surface's size) of S(c(t)) at EDGE_SAMPLES parameters, else None."""
-    if ts.edges is None:
-        return None
-    size = ts.surface.size
-    for loop, row in zip(ts.loops, ts.edges):
-        for c, e in zip(loop, row):
-            if e is None:
-                return None
-            t = np.linspace(*map(float, c.domain), EDGE_SAMPLES)
-            uv = np.asarray(c(t))
-            (u0, u1), (v0, v1) = ts.surface.domain        # pcurves may end a rounding error outside
-            on = ts.surface(np.clip(uv[:, 0], u0, u1), np.clip(uv[:, 1], v0, v1))
-            gap = np.linalg.norm(np.asarray(e(t)) - np.asarray(on), axis=-1).max()
-            if not gap <= EDGE_GAP_TOL * size:
-                return None
-    return ts.edges
 
 
 def to_shape(geometry: EngineGeometry, nurbs: bool = False) -> "Part.Shape":
