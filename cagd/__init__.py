@@ -23,6 +23,7 @@ from .surfaces.bspline import SurfaceOccForm
 from .surfaces import (BezierSurface, BSplineSurface, CoonsPatch, HermiteCoonsPatch, Primitive, Revolution,
                        RevolvedSurface, Surface, cone, cylinder, ellipsoid, ellipsoid_octant, loft, make_compatible,
                        revolve, ruled, sphere, torus, EdgeContinuityReport, edge_continuity, interpolate_surface,
+                       TrimEdgeContinuityReport, trim_edge_continuity,
                        TrimmedSurface, GordonSurface, gordon)
 from .triangles import BezierTriangle, TriangleContinuity, c1_neighbor, triangle_continuity
 from .queries import closest_point, deviation, intersect, min_distance, plane, self_intersections
@@ -43,7 +44,9 @@ __all__ = [
     "Revolution", "Primitive", "revolve", "sphere", "torus", "cylinder", "cone", "ellipsoid", "ellipsoid_octant",
     "ruled", "loft", "make_compatible",
     "BezierTriangle", "TriangleContinuity", "triangle_continuity", "c1_neighbor",
-    "EdgeContinuityReport", "edge_continuity", "interpolate_surface", "TrimmedSurface", "gordon", "GordonSurface",
+    "EdgeContinuityReport", "edge_continuity", "interpolate_surface", "TrimmedSurface",
+    "TrimEdgeContinuityReport", "trim_edge_continuity",
+    "gordon", "GordonSurface",
     "closest_point", "min_distance", "intersect", "self_intersections", "plane", "deviation",
     "CurvatureComb", "curvature_comb",
     "Fairness", "Isophotes", "Zebra", "curvature_map", "draft_angle", "fairness", "isophotes", "zebra",

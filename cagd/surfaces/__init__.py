@@ -8,6 +8,7 @@ from .ellipsoid import ellipsoid, ellipsoid_octant
 from .coons import CoonsPatch, HermiteCoonsPatch
 from .loft import loft, loft_parameters, make_compatible, ruled
 from .continuity import EdgeContinuityReport, edge_continuity
+from .trim_continuity import TrimEdgeContinuityReport, trim_edge_continuity
 from .fitting import interpolate_surface, surface_parameters
 from .trimmed import AreaResult, TrimBoundary, TrimmedSurface
 from .gordon import GordonSurface, gordon
@@ -16,5 +17,6 @@ __all__ = ["Surface", "BSplineSurface", "BezierSurface", "RevolvedSurface", "Rev
            "revolve", "sphere", "torus", "cylinder", "cone",
            "ellipsoid", "ellipsoid_octant", "CoonsPatch", "HermiteCoonsPatch", "ruled", "loft",
            "loft_parameters", "make_compatible", "EdgeContinuityReport", "edge_continuity",
+           "TrimEdgeContinuityReport", "trim_edge_continuity",
            "interpolate_surface", "surface_parameters", "TrimmedSurface", "AreaResult", "TrimBoundary",
            "gordon", "GordonSurface"]

@@ -26,7 +26,7 @@ class JointCheck:
 
     def flags(self) -> dict:
         names = ("C0", "C1", "C2", "G1", "G2") if hasattr(self.report, "G2") else ("C0", "G1", "C1")
-        return {n: bool(getattr(self.report, n)) for n in names}
+        return {n: bool(getattr(self.report, n)) for n in names if hasattr(self.report, n)}
 
     def text(self) -> str:
         flags = "  ".join(f"{k} {'yes' if v else 'no'}" for k, v in self.flags().items())
@@ -58,9 +58,14 @@ def edges_continuity(edge1, edge2, rel_tol: float = 1e-9) -> JointCheck:
 
 
 def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> JointCheck:
-    """Continuity across the common boundary of two faces (their untrimmed surfaces):
-    the pair of boundary edges ('u0', 'u1', 'v0', 'v1') with the smallest gap is the
-    shared edge, measured by cagd.edge_continuity."""
+    """Continuity across the common boundary of two faces. Where either face is
+    trimmed (:func:`conversion.face_to_trimmed`), along the boundary curves they share
+    (cagd.trim_edge_continuity: gap and tangent-plane angle); else across the pair of
+    box sides ('u0', 'u1', 'v0', 'v1') with the smallest gap, by cagd.edge_continuity."""
+    t1, t2 = conversion.face_to_trimmed(face1)[0], conversion.face_to_trimmed(face2)[0]
+    if isinstance(t1, cagd.TrimmedSurface) or isinstance(t2, cagd.TrimmedSurface):
+        r = cagd.trim_edge_continuity(t1, t2, samples=samples, rel_tol=rel_tol)
+        return JointCheck(r, f"shared boundary: curve {r.curve1} of face 1 = curve {r.curve2} of face 2")
     s1, s2 = conversion.face_to_surface(face1), conversion.face_to_surface(face2)
     best = None
     for e1 in ("u0", "u1", "v0", "v1"):

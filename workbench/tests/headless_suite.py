@@ -319,6 +319,27 @@ def test_continuity_faces():
 
 
 @case
+def test_continuity_trimmed_faces():
+    """Issue 15: faces meeting along trims. A cylinder's cap (a trimmed plane) meets its
+    side at a right angle; a filleted box's fillet meets its faces tangentially."""
+    cyl = Part.makeCylinder(2.0, 3.0)
+    side = next(f for f in cyl.Faces if isinstance(f.Surface, Part.Cylinder))
+    cap = next(f for f in cyl.Faces if isinstance(f.Surface, Part.Plane))
+    r = analysis.check_shapes(cap, side, rel_tol=1e-7)
+    check(r.level == "C0" and abs(r.report.normal_angle - math.pi / 2) <= 1e-7 and "curve" in r.where,
+          f"cylinder cap/side: {r.text()}")
+    box = Part.makeBox(10, 10, 10)
+    filleted = box.makeFillet(2.0, [box.Edges[0]])
+    fillet = next(f for f in filleted.Faces if isinstance(f.Surface, Part.Cylinder))
+    touching = [f for f in filleted.Faces if isinstance(f.Surface, Part.Plane)
+                and any(e.isSame(g) and isinstance(g.Curve, Part.Line) for e in f.Edges for g in fillet.Edges)]
+    check(len(touching) == 2, f"filleted box: {len(touching)} planes touch the fillet along a line")
+    for f in touching:
+        r = analysis.check_shapes(fillet, f, rel_tol=1e-7)
+        check(r.level == "G1" and r.report.gap <= 1e-7 * 10, f"fillet/plane: {r.text()}")
+
+
+@case
 def test_continuity_edges_orientation():
     a = Part.makeCircle(10.0, V(0, 0, 0), V(0, 0, 1), 0, 90)
     b = Part.makeCircle(10.0, V(0, 0, 0), V(0, 0, 1), 90, 200)
