@@ -47,6 +47,8 @@ def _parser() -> argparse.ArgumentParser:
     add_parser(sub)
     from .analysis_cli import add_parser as add_plot
     add_plot(sub)
+    from .mesh_cli import add_parser as add_mesh
+    add_mesh(sub)
     return parser
 
 
@@ -97,6 +99,9 @@ def _run(args) -> int:
     if args.command == "fit":
         from .fit_cli import run_fit
         return run_fit(args)
+    if args.command == "mesh":
+        from .mesh_cli import run_mesh
+        return run_mesh(args)
     if args.command == "plot":
         from .analysis_cli import run_plot
         return run_plot(args)

@@ -1412,7 +1412,61 @@ def _tessellate(ts: TrimmedSurface, count: int) -> Tuple[np.ndarray, np.ndarray]
         G = np.stack(np.meshgrid(gu, gv, indexing="ij"), axis=-1).reshape(-1, 2)
         G = G[ts._flattened().classify(G[:, 0], G[:, 1]) == INSIDE]
         pts, tris = _insert(pts, tris, G, 1e-6 * flat.scale)
-    return pts, tris
+    span = np.maximum(np.asarray(flat.hi, dtype=np.float64) - np.asarray(flat.lo, dtype=np.float64), 1e-300)
+    return pts, _lawson(pts / span, tris)
+
+
+MAX_FLIP_PASSES = 64       # Lawson passes at most (each flips a set of disjoint edge pairs)
+FLIP_TOL = 1e-12           # relative incircle / orientation margin of a flip
+
+
+def _lawson(P: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """Lawson's edge flips towards the constrained Delaunay triangulation (de Berg et al.,
+    Computational Geometry, 9.1): an edge shared by triangles (a, b, c) and (b, a, d) is
+    flipped to (c, d) when d lies inside the circumcircle of (a, b, c) and the quad is
+    convex; edges of one triangle (the trim loops) stay fixed. ``P`` is scaled to the
+    loops' box. Bounded by MAX_FLIP_PASSES."""
+    T = np.array(T, dtype=np.int64).reshape(-1, 3)
+    if len(T) < 2:
+        return T
+    scale2 = float(np.ptp(P, axis=0).max()) ** 2 or 1.0
+    for _ in range(MAX_FLIP_PASSES):
+        m = len(T)
+        ks = np.arange(3)
+        a = T[:, ks].ravel()
+        b = T[:, (ks + 1) % 3].ravel()
+        key = np.minimum(a, b) * len(P) + np.maximum(a, b)
+        order = np.argsort(key, kind="stable")
+        same = np.flatnonzero(key[order][1:] == key[order][:-1])
+        if not len(same):
+            break
+        h1, h2 = order[same], order[same + 1]
+        t1, k1, t2, k2 = h1 // 3, h1 % 3, h2 // 3, h2 % 3
+        A, B = T[t1, k1], T[t1, (k1 + 1) % 3]
+        C, D = T[t1, (k1 + 2) % 3], T[t2, (k2 + 2) % 3]
+        pa, pb, pc, pd = P[A], P[B], P[C], P[D]
+        ad, bd, cd = pa - pd, pb - pd, pc - pd
+        inc = ((ad ** 2).sum(1) * (bd[:, 0] * cd[:, 1] - bd[:, 1] * cd[:, 0])
+               - (bd ** 2).sum(1) * (ad[:, 0] * cd[:, 1] - ad[:, 1] * cd[:, 0])
+               + (cd ** 2).sum(1) * (ad[:, 0] * bd[:, 1] - ad[:, 1] * bd[:, 0]))
+
+        def orient(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
+            return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])
+        ok = ((inc > FLIP_TOL * scale2 ** 2) & (orient(pc, pa, pd) > FLIP_TOL * scale2)
+              & (orient(pd, pb, pc) > FLIP_TOL * scale2))
+        cand = np.flatnonzero(ok)
+        if not len(cand):
+            break
+        cand = cand[np.argsort(-inc[cand])]
+        used = np.zeros(m, dtype=bool)
+        for e in cand:
+            i, j = t1[e], t2[e]
+            if used[i] or used[j]:
+                continue
+            used[i] = used[j] = True
+            T[i] = (C[e], A[e], D[e])
+            T[j] = (D[e], B[e], C[e])
+    return T
 
 
 def _insert(pts: np.ndarray, tris: np.ndarray, new: np.ndarray, gap: float) -> Tuple[np.ndarray, np.ndarray]:
