@@ -3,13 +3,14 @@ meshed within chordal ``tol`` into one STL (or OBJ for a ``.obj`` output). Exit 
 0 done (within tol), 1 written but tol not met at the density cap, 2 bad input."""
 from __future__ import annotations
 
+from typing import Any
 import argparse
 from pathlib import Path
 
 from .errors import CagdError
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: Any) -> None:
     p = sub.add_parser("mesh", help="every face of a STEP/IGES file to an STL or OBJ mesh")
     p.add_argument("model", type=Path, help="the STEP or IGES file")
     p.add_argument("-o", "--output", type=Path, required=True, help="the .stl or .obj file to write")
