@@ -3,9 +3,9 @@ meshed within chordal ``tol`` into one STL (or OBJ for a ``.obj`` output). Exit 
 0 done (within tol), 1 written but tol not met at the density cap, 2 bad input."""
 from __future__ import annotations
 
-from typing import Any
 import argparse
 from pathlib import Path
+from typing import Any
 
 from .errors import CagdError
 

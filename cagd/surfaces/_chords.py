@@ -50,6 +50,12 @@ def _cartesian(Q: np.ndarray) -> np.ndarray:
     return Q[..., :2] / Q[..., 2:]
 
 
+def orient(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """Twice the signed area of the triangle (p, q, r) in the plane: > 0 counter-clockwise
+    (points (..., 2), broadcast)."""
+    return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+
 def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance from points p to segments [a, b] (broadcast over leading axes)."""
     d = b - a

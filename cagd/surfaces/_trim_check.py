@@ -31,7 +31,7 @@ import numpy as np
 
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
-from ._chords import Chain, _cartesian, _crossings, _halves, _hom_pieces, _hull_bound, _segment_distance
+from ._chords import Chain, _cartesian, _crossings, _halves, _hom_pieces, _hull_bound, orient, _segment_distance
 
 #: relative (to the loops' size): control boxes are grown by this before they are compared
 #: (the halves' control points are rounded; a piece's chords stay in its box to it)
@@ -218,10 +218,6 @@ class LoopCheck:
         if not len(i):
             return
         a, b, c, d = A[i], B[i], A[j], B[j]
-
-        def orient(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-            return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])
-
         eps = crossing_tol * self.scale * self.scale
         o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
         hit = (((o1 > eps) & (o2 < -eps)) | ((o1 < -eps) & (o2 > eps))) & \

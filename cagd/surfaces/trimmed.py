@@ -38,7 +38,8 @@ from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
 from ._trim_box import box_loop
 from ._trim_check import LoopCheck
-from ._chords import _cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound, _segment_distance
+from ._chords import (_cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound, orient,
+                      _segment_distance)
 from .base import Surface
 
 if TYPE_CHECKING:
@@ -1346,8 +1347,6 @@ def _bridge(outer: List[int], hole: List[int], pts: np.ndarray) -> List[int]:
 
 
 def _segment_hits(p: np.ndarray, q: np.ndarray, E0: np.ndarray, E1: np.ndarray, skip: int, ids: List[int]) -> bool:
-    def orient(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-        return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
     o1, o2 = orient(p, q, E0), orient(p, q, E1)
     o3, o4 = orient(E0, E1, p), orient(E0, E1, q)
     hit = (o1 * o2 < 0) & (o3 * o4 < 0)
@@ -1449,9 +1448,6 @@ def _lawson(P: np.ndarray, T: np.ndarray) -> np.ndarray:
         inc = ((ad ** 2).sum(1) * (bd[:, 0] * cd[:, 1] - bd[:, 1] * cd[:, 0])
                - (bd ** 2).sum(1) * (ad[:, 0] * cd[:, 1] - ad[:, 1] * cd[:, 0])
                + (cd ** 2).sum(1) * (ad[:, 0] * bd[:, 1] - ad[:, 1] * bd[:, 0]))
-
-        def orient(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-            return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])
         ok = ((inc > FLIP_TOL * scale2 ** 2) & (orient(pc, pa, pd) > FLIP_TOL * scale2)
               & (orient(pd, pb, pc) > FLIP_TOL * scale2))
         cand = np.flatnonzero(ok)

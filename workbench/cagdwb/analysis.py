@@ -66,7 +66,7 @@ def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> 
     if isinstance(t1, cagd.TrimmedSurface) or isinstance(t2, cagd.TrimmedSurface):
         r = cagd.trim_edge_continuity(t1, t2, samples=samples, rel_tol=rel_tol)
         return JointCheck(r, f"shared boundary: curve {r.curve1} of face 1 = curve {r.curve2} of face 2")
-    s1, s2 = conversion.face_to_surface(face1), conversion.face_to_surface(face2)
+    s1, s2 = t1, t2                     # face_to_surface's surfaces (the boundary is the box)
     best = None
     for e1 in ("u0", "u1", "v0", "v1"):
         for e2 in ("u0", "u1", "v0", "v1"):

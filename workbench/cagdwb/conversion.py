@@ -343,7 +343,7 @@ def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
         loops = [into_window(chained(lp, periods), periods, surface.domain) for lp in loops if lp]
         if not loops or is_box(loops, surface.domain):
             return surface, None
-        if all(len(row) == len(lp) for row, lp in zip(edges, loops)) and len(edges) == len(loops):
+        if len(edges) == len(loops):        # (no empty wire dropped: the rows match the loops)
             try:                            # the face's own 3-D edge curves, where they fit the constructor
                 return cagd.TrimmedSurface(surface, loops, edges=edges), None
             except cagd.CagdError:
