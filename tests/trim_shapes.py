@@ -1,10 +1,12 @@
-"""Trimmed-face test shapes shared by tests/surfaces and tests/queries: exact NURBS
-circles in (u, v), lines and rectangles, a flat square patch and a bicubic bump."""
+"""Trimmed-face test shapes shared by tests/surfaces, tests/queries and tests/mesh: exact
+NURBS circles in (u, v), lines and rectangles, a flat square patch and a bicubic bump; and
+check_triangulation, the exact-cover check of a trimmed tessellation."""
 import math
 
 import numpy as np
 
 from cagd import BSplineCurve, BSplineSurface
+from cagd.surfaces.trimmed import ON
 
 W = math.sqrt(0.5)
 CIRCLE_KNOTS = [0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1]
@@ -44,3 +46,54 @@ def curved_patch():
 
 def rectangle(u0, u1, v0, v1):
     return [line((u0, v0), (u1, v0)), line((u1, v0), (u1, v1)), line((u1, v1), (u0, v1)), line((u0, v1), (u0, v0))]
+
+
+# --- checks of a tessellation (tests/surfaces/test_tessellate.py, tests/mesh) ---------------------
+def _polygon_area(uv, ring):
+    P = uv[ring]
+    return 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+
+
+def signed_areas(uv, T):
+    p = uv[T]
+    return 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                  - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+
+
+def mesh_area(ts, t):
+    V = ts.surface(t.uv[:, 0], t.uv[:, 1])
+    P = V[t.triangles]
+    return 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1).sum()
+
+
+def _loops_of(t):
+    """The trim chords as rings (following boundary pairs)."""
+    succ = dict(map(tuple, t.boundary))
+    rings, seen = [], set()
+    for a in succ:
+        if a in seen:
+            continue
+        ring, x = [], a
+        while x not in seen:
+            seen.add(x)
+            ring.append(x)
+            x = succ[x]
+        rings.append(np.array(ring))
+    return rings
+
+
+def check_triangulation(ts, count):
+    t = ts.tessellation(count)
+    assert t.fallbacks == 0
+    s = signed_areas(t.uv, t.triangles)
+    assert s.min() > 0
+    region = sum(_polygon_area(t.uv, r) for r in _loops_of(t))
+    assert abs(s.sum() - region) <= 1e-12 * abs(region) + 1e-15
+    E = np.sort(np.concatenate([t.triangles[:, [0, 1]], t.triangles[:, [1, 2]], t.triangles[:, [2, 0]]]), axis=1)
+    edges, uses = np.unique(E, axis=0, return_counts=True)
+    assert uses.max() <= 2
+    once = {tuple(e) for e in edges[uses == 1]}
+    assert once == {tuple(sorted(b)) for b in t.boundary}
+    on = np.unique(t.boundary.ravel())
+    assert np.all(ts.classify(t.uv[on, 0], t.uv[on, 1]) == ON)
+    return t

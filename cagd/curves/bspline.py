@@ -532,7 +532,14 @@ class BSplineCurve(Curve):
             p = self.degree
             P = np.roll(P, p, axis=0)
             w = None if w is None else np.roll(w, p)
-        return BSplineCurve(P, self.degree, kv.reflected(self.knots, *self.domain), w, self.periodic)
+        knots = kv.reflected(self.knots, *self.domain)
+        if not self.periodic:
+            lead, trail = kv.collapsed_ends(knots, self.degree)
+            if lead or trail:
+                stop = len(P) - trail
+                knots, P = knots[lead:len(knots) - trail], P[lead:stop]
+                w = None if w is None else w[lead:stop]
+        return BSplineCurve(P, self.degree, knots, w, self.periodic)
 
     def reparametrized(self, start: float, end: float) -> "BSplineCurve":
         """Affine reparametrisation onto [start, end] (seed 004, 1.7): the knots are

@@ -154,6 +154,17 @@ def reflected(knots: np.ndarray, start: float, end: float) -> np.ndarray:
     return out
 
 
+def collapsed_ends(knots: np.ndarray, degree: int) -> Tuple[int, int]:
+    """How many knots beyond degree + 1 equal the first and the last knot: spans shorter
+    than a rounding step at an end, which :func:`reflected` rounds onto the end (a span of
+    1.2e-16 next to 0 on a domain ending at -3.016, seen in 11752.stp). Their basis
+    functions vanish on the domain, so dropping those knots and as many control points at
+    that end is exact for the knot vector as rounded."""
+    lead = int(np.searchsorted(knots, knots[0], side="right")) - (degree + 1)
+    trail = len(knots) - int(np.searchsorted(knots, knots[-1], side="left")) - (degree + 1)
+    return max(lead, 0), max(trail, 0)
+
+
 def _multiplicity_error(u: np.ndarray, degree: int, count: int, name: str) -> None:
     """Raise for the knot of :func:`validate` whose multiplicity is too high."""
     values, mults = distinct_with_multiplicities(u)

@@ -1,9 +1,11 @@
 """STL and OBJ export of engine surfaces (issue 15).
 
 An untrimmed :class:`Surface` is meshed on an n x n grid of its domain (two triangles a
-cell); a :class:`TrimmedSurface` by its ``tessellate(count)``. The density is doubled
-(bounded) until the chordal deviation, measured as the distance between the surface at
-each edge's parameter midpoint and the edge's chord midpoint, is at most ``tol``.
+cell); a :class:`TrimmedSurface` by its ``tessellation(count)``. The density is doubled
+(bounded) until the chordal deviation is at most ``tol``: the distance between the
+surface at each edge's parameter midpoint and the edge's chord midpoint, and for a trim
+chord between the edge's point S(c(t)) at the chord's middle parameter and the chord's
+midpoint.
 Formats: binary/ASCII STL (3D Systems' StereoLithography Interface Specification, 1988)
 and Wavefront OBJ (``v``/``f`` records, 1-based indices). Files are written atomically.
 """
@@ -18,14 +20,12 @@ import numpy as np
 from .. import _atomic
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from ..surfaces.trimmed import TrimmedSurface
+from ..surfaces.trimmed import MAX_TESSELLATION_POINTS, TrimmedSurface
 
 START_POINTS = 8          # grid points per direction of the first try
 MAX_GRID_POINTS = 257     # grid points per direction at most for an untrimmed surface
 MAX_REFINEMENTS = 6       # density doublings at most
-MAX_TRIMMED_POINTS = 32   # grid points per direction at most for a trimmed face: tessellate()'s point
-# insertion grows about quadratically (measured on benchmarks.trimmed.face(): 0.5 s at 32, 6.7 s at 64,
-# 67 s at 128), so beyond this the mesh is written with its achieved max_error and converged False
+MAX_TRIMMED_POINTS = MAX_TESSELLATION_POINTS   # grid points per direction at most for a trimmed face
 
 
 @dataclass(frozen=True)
@@ -37,6 +37,10 @@ class MeshResult:
     max_error: float
     converged: bool
     message: str
+
+
+_NO_EDGES = np.empty((0, 2), dtype=np.int64)
+_NO_POINTS = np.empty((0, 2))
 
 
 def _items(geometry: Any) -> List[Any]:
@@ -65,29 +69,37 @@ def _evaluate(g: Any, uv: np.ndarray) -> np.ndarray:
     return np.asarray(base(uv[:, 0], uv[:, 1]), dtype=np.float64)
 
 
-def _deviation(g: Any, uv: np.ndarray, xyz: np.ndarray, tri: np.ndarray) -> float:
-    """max over edges |S((p+q)/2) - (S(p)+S(q))/2|."""
+def _deviation(g: Any, uv: np.ndarray, xyz: np.ndarray, tri: np.ndarray, bnd: np.ndarray = _NO_EDGES,
+               bnd_mid: np.ndarray = _NO_POINTS) -> float:
+    """max over edges |S((p+q)/2) - (S(p)+S(q))/2|; over a trimmed face's boundary chords
+    also |S(c(t_mid)) - (S(p)+S(q))/2|, the trim curve c at the chord's middle parameter."""
     if len(tri) == 0:
         return 0.0
     e = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1), axis=0)
     mid = _evaluate(g, 0.5 * (uv[e[:, 0]] + uv[e[:, 1]]))
-    return float(np.max(np.linalg.norm(mid - 0.5 * (xyz[e[:, 0]] + xyz[e[:, 1]]), axis=1)))
+    err = float(np.max(np.linalg.norm(mid - 0.5 * (xyz[e[:, 0]] + xyz[e[:, 1]]), axis=1)))
+    if len(bnd):
+        on = _evaluate(g, bnd_mid)
+        err = max(err, float(np.max(np.linalg.norm(on - 0.5 * (xyz[bnd[:, 0]] + xyz[bnd[:, 1]]), axis=1))))
+    return err
 
 
-def _one(g: Any, tol: float) -> Tuple[np.ndarray, np.ndarray, float, bool]:
+def _one(g: Any, tol: float) -> Tuple[np.ndarray, np.ndarray, float, bool, int]:
     n = START_POINTS
     cap = MAX_TRIMMED_POINTS if isinstance(g, TrimmedSurface) else MAX_GRID_POINTS
     for _ in range(MAX_REFINEMENTS + 1):
+        bnd, bnd_mid, fallbacks = _NO_EDGES, _NO_POINTS, 0
         if isinstance(g, TrimmedSurface):
-            uv, tri = g.tessellate_uv(n)
+            t = g.tessellation(n)
+            uv, tri, bnd, bnd_mid, fallbacks = t.uv, t.triangles, t.boundary, t.boundary_mid, t.fallbacks
         else:
             uv, tri = _grid_uv(g, n)
         xyz = _evaluate(g, uv)
-        err = _deviation(g, uv, xyz, tri)
+        err = _deviation(g, uv, xyz, tri, bnd, bnd_mid)
         if err <= tol or n >= cap:
-            return xyz, np.asarray(tri, dtype=np.int64), err, err <= tol
+            break
         n = min(cap, 2 * n)
-    return xyz, np.asarray(tri, dtype=np.int64), err, err <= tol
+    return xyz, np.asarray(tri, dtype=np.int64), err, err <= tol and not fallbacks, fallbacks
 
 
 def mesh(geometry: Any, tol: float = 1e-3) -> MeshResult:
@@ -97,9 +109,10 @@ def mesh(geometry: Any, tol: float = 1e-3) -> MeshResult:
         raise CagdError(f"tol: must be a positive finite distance, got {tol!r}")
     verts: List[np.ndarray] = []
     tris: List[np.ndarray] = []
-    worst, ok, offset = 0.0, True, 0
+    worst, ok, offset, fallbacks = 0.0, True, 0, 0
     for g in _items(geometry):
-        xyz, tri, err, conv = _one(g, float(tol))
+        xyz, tri, err, conv, fb = _one(g, float(tol))
+        fallbacks += fb
         if xyz.shape[1] != 3:
             raise CagdError(f"geometry: surfaces must be 3-D for a mesh, got dimension {xyz.shape[1]}")
         verts.append(xyz)
@@ -110,8 +123,11 @@ def mesh(geometry: Any, tol: float = 1e-3) -> MeshResult:
     T = np.concatenate(tris)
     V.flags.writeable = False
     T.flags.writeable = False
-    msg = (f"max deviation {worst:.3g} <= tol {tol:.3g}" if ok
+    msg = (f"max deviation {worst:.3g} <= tol {tol:.3g}" if worst <= tol
            else f"max deviation {worst:.3g} > tol {tol:.3g} at the density cap")
+    if fallbacks:
+        msg += (f"; {fallbacks} trimmed region(s) were triangulated by the fallback of ear clipping "
+                f"(triangles may overlap there)")
     return MeshResult(V, T, worst, ok, msg)
 
 

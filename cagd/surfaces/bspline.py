@@ -551,11 +551,15 @@ class BSplineSurface(Surface):
         if periodic:
             P = np.roll(P, p, axis=axis)
             W = None if W is None else np.roll(W, p, axis=axis)
-        ku, kvv = self.knots_u, self.knots_v
-        if axis == 0:
-            ku = kv.reflected(ku, *self.domain[0])
-        else:
-            kvv = kv.reflected(kvv, *self.domain[1])
+        knots = kv.reflected(self.knots_u if axis == 0 else self.knots_v, *self.domain[axis])
+        if not periodic:            # spans below a rounding step at an end: cagd.knots.collapsed_ends
+            lead, trail = kv.collapsed_ends(knots, p)
+            if lead or trail:
+                keep = slice(lead, P.shape[axis] - trail)
+                knots = knots[lead:len(knots) - trail]
+                P = P[keep] if axis == 0 else P[:, keep]
+                W = None if W is None else (W[keep] if axis == 0 else W[:, keep])
+        ku, kvv = (knots, self.knots_v) if axis == 0 else (self.knots_u, knots)
         return BSplineSurface(P, self.degree_u, self.degree_v, ku, kvv, W, self.periodic_u, self.periodic_v)
 
     def reparametrized(self, domain_u: Optional[Tuple[float, float]] = None,

@@ -38,11 +38,12 @@ from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
 from ._trim_box import box_loop
 from ._trim_check import LoopCheck
-from ._chords import (_cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound, orient,
+from ._chords import (_cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound,
                       _segment_distance)
 from .base import Surface
 
 if TYPE_CHECKING:
+    from ._tessellate import Tessellation
     from .bspline import BSplineSurface
 
 CLOSURE_TOL = 1e-9
@@ -79,7 +80,7 @@ EDGE_RANGE_TOL = 1e-9      # relative (pcurve range): an edge curve's parameter 
 BOUNDARY_SAMPLES = 8       # points per span (pcurve and image) where boundary() measures |image - S(c(t))|
 PROJECTION_STEPS = 12      # Newton steps projecting S(c(t)) onto an edge curve (its own parametrisation)
 TESSELLATION_POINTS = 24   # default interior grid points per direction of tessellate()
-MAX_TESSELLATION_POINTS = 200
+MAX_TESSELLATION_POINTS = 256
 
 INSIDE, ON, OUTSIDE = 1, 0, -1
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(GAUSS_POINTS)
@@ -443,20 +444,24 @@ class TrimmedSurface(Surface):
 
     # --- tessellation --------------------------------------------------------------------------
     def tessellate(self, count: int = TESSELLATION_POINTS) -> Tuple[np.ndarray, np.ndarray]:
-        """(vertices (n, dim), triangles (m, 3) int) covering the trimmed region: the
-        boundary polylines (chords within FLATTEN_TOL-type bounds, thinned) and the
-        points of a ``count`` x ``count`` grid of the loops' box strictly inside,
-        triangulated in (u, v) by ear clipping of the polygon with holes (holes bridged
-        to the outer loop) and insertion of the grid points (each splits the triangle
-        holding it). Triangles are counter-clockwise in (u, v)."""
-        count = _checks.integer(count, "count", 0, MAX_TESSELLATION_POINTS)
-        uv, tri = _tessellate(self, count)
+        """(vertices (n, dim), triangles (m, 3) int) covering the trimmed region: a
+        (count + 1)^2 grid of the loops' box, its cells clear of the trim as two triangles
+        each, the rest between them and the trim polylines (vertices on the trim curves)
+        ear-clipped, then Lawson-flipped (:mod:`cagd.surfaces._tessellate`). Triangles are
+        counter-clockwise in (u, v)."""
+        uv, tri = self.tessellate_uv(count)
         return self.surface(uv[:, 0], uv[:, 1]), tri
 
     def tessellate_uv(self, count: int = TESSELLATION_POINTS) -> Tuple[np.ndarray, np.ndarray]:
         """The (u, v) vertices and triangles of :meth:`tessellate`."""
-        count = _checks.integer(count, "count", 0, MAX_TESSELLATION_POINTS)
-        return _tessellate(self, count)
+        t = self.tessellation(count)
+        return t.uv, t.triangles
+
+    def tessellation(self, count: int = TESSELLATION_POINTS) -> "Tessellation":
+        """:meth:`tessellate_uv` with the trim chords and the trim curves' points at their
+        middles (where :func:`cagd.mesh` measures a boundary chord's deviation)."""
+        from ._tessellate import tessellation
+        return tessellation(self, _checks.integer(count, "count", 0, MAX_TESSELLATION_POINTS))
 
 
 # --- helpers of the constructor ------------------------------------------------------------------
@@ -1308,188 +1313,3 @@ def _boundary(ts: TrimmedSurface, tol: float, images_only: bool = False) -> Trim
     msg = "" if ok else f"boundary: some fits stopped at {MAX_FIT_PIECES} pieces above tol = {tol:.3g}"
     return TrimBoundary(tuple(curves), tuple(exact), error, tol, ok, msg, tuple(sources), tuple(deviations),
                         edge_error)
-
-
-# --- tessellation ---------------------------------------------------------------------------------
-def _loop_polygon(flat: _Flattened, loop: int, limit: int) -> np.ndarray:
-    """The chord start points of one loop, thinned to at most ``limit``."""
-    P = flat.A[flat.loop_of == loop]
-    if len(P) > limit:
-        P = P[np.linspace(0, len(P), limit, endpoint=False).astype(int)]
-    keep = np.ones(len(P), dtype=bool)
-    keep[1:] = np.any(P[1:] != P[:-1], axis=1)
-    return P[keep]
-
-
-def _area2(P: np.ndarray) -> float:
-    return float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
-
-
-def _bridge(outer: List[int], hole: List[int], pts: np.ndarray) -> List[int]:
-    """Join a hole into the outer polygon by the shortest bridge from the hole's
-    rightmost vertex to a visible outer vertex (earcut's approach, simplified:
-    the nearest outer vertex to the right whose bridge crosses no edge)."""
-    h = max(range(len(hole)), key=lambda i: pts[hole[i], 0])
-    ph = pts[hole[h]]
-    O = pts[outer]
-    d = np.linalg.norm(O - ph, axis=1)
-    E0, E1 = O, np.roll(O, -1, axis=0)
-    H = pts[hole]
-    H0, H1 = H, np.roll(H, -1, axis=0)
-    for k in np.argsort(d):
-        q = O[k]
-        if _segment_hits(ph, q, E0, E1, outer[k], outer) or _segment_hits(ph, q, H0, H1, hole[h], hole):
-            continue
-        ring = hole[h:] + hole[:h] + [hole[h]]
-        return outer[:k + 1] + ring + outer[k:]
-    k = int(np.argmin(d))
-    return outer[:k + 1] + hole[h:] + hole[:h] + [hole[h]] + outer[k:]
-
-
-def _segment_hits(p: np.ndarray, q: np.ndarray, E0: np.ndarray, E1: np.ndarray, skip: int, ids: List[int]) -> bool:
-    o1, o2 = orient(p, q, E0), orient(p, q, E1)
-    o3, o4 = orient(E0, E1, p), orient(E0, E1, q)
-    hit = (o1 * o2 < 0) & (o3 * o4 < 0)
-    return bool(hit.any())
-
-
-def _ear_clip(pts: np.ndarray, poly: List[int]) -> List[Tuple[int, int, int]]:
-    """Ear clipping of a simple counter-clockwise polygon (indices into pts); bounded:
-    O(n^2) for n vertices, degenerate leftovers fanned."""
-    idx = list(poly)
-    tris: List[Tuple[int, int, int]] = []
-    guard = 0
-    while len(idx) > 3 and guard < 4 * len(poly) * len(poly):
-        n = len(idx)
-        found = False
-        for i in range(n):
-            a, b, c = idx[i - 1], idx[i], idx[(i + 1) % n]
-            pa, pb, pc = pts[a], pts[b], pts[c]
-            cross = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0])
-            guard += 1
-            if cross <= 0:
-                continue
-            others = [j for j in idx if j not in (a, b, c)]
-            if others:
-                P = pts[others]
-                d1 = (pb[0] - pa[0]) * (P[:, 1] - pa[1]) - (pb[1] - pa[1]) * (P[:, 0] - pa[0])
-                d2 = (pc[0] - pb[0]) * (P[:, 1] - pb[1]) - (pc[1] - pb[1]) * (P[:, 0] - pb[0])
-                d3 = (pa[0] - pc[0]) * (P[:, 1] - pc[1]) - (pa[1] - pc[1]) * (P[:, 0] - pc[0])
-                same = np.all(P == pa, axis=1) | np.all(P == pb, axis=1) | np.all(P == pc, axis=1)
-                if np.any((d1 >= 0) & (d2 >= 0) & (d3 >= 0) & ~same):
-                    continue
-            tris.append((a, b, c))
-            del idx[i]
-            found = True
-            break
-        if not found:
-            break
-    for i in range(1, len(idx) - 1):
-        tris.append((idx[0], idx[i], idx[i + 1]))
-    return tris
-
-
-def _tessellate(ts: TrimmedSurface, count: int) -> Tuple[np.ndarray, np.ndarray]:
-    flat = ts._flattened()
-    limit = max(16, 400 // flat.loop_count)
-    polys = [_loop_polygon(flat, i, limit) for i in range(flat.loop_count)]
-    pts = np.concatenate(polys)
-    offsets = np.cumsum([0] + [len(p) for p in polys])
-    rings = [list(range(offsets[i], offsets[i + 1])) for i in range(len(polys))]
-    if _area2(polys[0]) < 0:
-        rings[0] = rings[0][::-1]
-    outer = rings[0]
-    holes = sorted(rings[1:], key=lambda r: -float(pts[r, 0].max()))
-    for hole in holes:
-        if _area2(pts[hole]) > 0:
-            hole = hole[::-1]
-        outer = _bridge(outer, hole, pts)
-    tris = np.array(_ear_clip(pts, outer), dtype=np.int64).reshape(-1, 3)
-    if count:
-        gu = np.linspace(flat.lo[0], flat.hi[0], count + 2)[1:-1]
-        gv = np.linspace(flat.lo[1], flat.hi[1], count + 2)[1:-1]
-        G = np.stack(np.meshgrid(gu, gv, indexing="ij"), axis=-1).reshape(-1, 2)
-        G = G[ts._flattened().classify(G[:, 0], G[:, 1]) == INSIDE]
-        pts, tris = _insert(pts, tris, G, 1e-6 * flat.scale)
-    span = np.maximum(np.asarray(flat.hi, dtype=np.float64) - np.asarray(flat.lo, dtype=np.float64), 1e-300)
-    return pts, _lawson(pts / span, tris)
-
-
-MAX_FLIP_PASSES = 64       # Lawson passes at most (each flips a set of disjoint edge pairs)
-FLIP_TOL = 1e-12           # relative incircle / orientation margin of a flip
-
-
-def _lawson(P: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """Lawson's edge flips towards the constrained Delaunay triangulation (de Berg et al.,
-    Computational Geometry, 9.1): an edge shared by triangles (a, b, c) and (b, a, d) is
-    flipped to (c, d) when d lies inside the circumcircle of (a, b, c) and the quad is
-    convex; edges of one triangle (the trim loops) stay fixed. ``P`` is scaled to the
-    loops' box. Bounded by MAX_FLIP_PASSES."""
-    T = np.array(T, dtype=np.int64).reshape(-1, 3)
-    if len(T) < 2:
-        return T
-    scale2 = float(np.ptp(P, axis=0).max()) ** 2 or 1.0
-    for _ in range(MAX_FLIP_PASSES):
-        m = len(T)
-        ks = np.arange(3)
-        a = T[:, ks].ravel()
-        b = T[:, (ks + 1) % 3].ravel()
-        key = np.minimum(a, b) * len(P) + np.maximum(a, b)
-        order = np.argsort(key, kind="stable")
-        same = np.flatnonzero(key[order][1:] == key[order][:-1])
-        if not len(same):
-            break
-        h1, h2 = order[same], order[same + 1]
-        t1, k1, t2, k2 = h1 // 3, h1 % 3, h2 // 3, h2 % 3
-        A, B = T[t1, k1], T[t1, (k1 + 1) % 3]
-        C, D = T[t1, (k1 + 2) % 3], T[t2, (k2 + 2) % 3]
-        pa, pb, pc, pd = P[A], P[B], P[C], P[D]
-        ad, bd, cd = pa - pd, pb - pd, pc - pd
-        inc = ((ad ** 2).sum(1) * (bd[:, 0] * cd[:, 1] - bd[:, 1] * cd[:, 0])
-               - (bd ** 2).sum(1) * (ad[:, 0] * cd[:, 1] - ad[:, 1] * cd[:, 0])
-               + (cd ** 2).sum(1) * (ad[:, 0] * bd[:, 1] - ad[:, 1] * bd[:, 0]))
-        ok = ((inc > FLIP_TOL * scale2 ** 2) & (orient(pc, pa, pd) > FLIP_TOL * scale2)
-              & (orient(pd, pb, pc) > FLIP_TOL * scale2))
-        cand = np.flatnonzero(ok)
-        if not len(cand):
-            break
-        cand = cand[np.argsort(-inc[cand])]
-        used = np.zeros(m, dtype=bool)
-        for e in cand:
-            i, j = t1[e], t2[e]
-            if used[i] or used[j]:
-                continue
-            used[i] = used[j] = True
-            T[i] = (C[e], A[e], D[e])
-            T[j] = (D[e], B[e], C[e])
-    return T
-
-
-def _insert(pts: np.ndarray, tris: np.ndarray, new: np.ndarray, gap: float) -> Tuple[np.ndarray, np.ndarray]:
-    """Insert points into a triangulation: each splits the triangle holding it into three
-    (points closer than ``gap`` to an edge of it are skipped)."""
-    tri_list = [tuple(t) for t in tris]
-    P = [p for p in pts]
-    for q in new:
-        T = np.array(tri_list)
-        a, b, c = _pts_of(P, T)
-        d1 = (b[:, 0] - a[:, 0]) * (q[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (q[0] - a[:, 0])
-        d2 = (c[:, 0] - b[:, 0]) * (q[1] - b[:, 1]) - (c[:, 1] - b[:, 1]) * (q[0] - b[:, 0])
-        d3 = (a[:, 0] - c[:, 0]) * (q[1] - c[:, 1]) - (a[:, 1] - c[:, 1]) * (q[0] - c[:, 0])
-        lens = np.maximum.reduce([np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1),
-                                  np.linalg.norm(a - c, axis=1)])
-        inside = np.flatnonzero((d1 > gap * lens) & (d2 > gap * lens) & (d3 > gap * lens))
-        if not len(inside):
-            continue
-        k = int(inside[0])
-        i, j, m = tri_list[k]
-        n = len(P)
-        P.append(q)
-        tri_list[k] = (i, j, n)
-        tri_list.extend([(j, m, n), (m, i, n)])
-    return np.array(P), np.array(tri_list, dtype=np.int64).reshape(-1, 3)
-
-
-def _pts_of(P: List[np.ndarray], T: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    A = np.array(P)
-    return A[T[:, 0]], A[T[:, 1]], A[T[:, 2]]

@@ -8,7 +8,7 @@ from geomdl import NURBS as GeomdlNURBS
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cagd import BezierCurve, BSplineCurve, CagdError
+from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError
 
 from strategies import (bspline_curves, point_arrays, relative_error,
                         sample_parameters, scipy_derivatives)
@@ -589,6 +589,25 @@ def test_reversed_unclamped_keeps_the_domain():
     r = c.reversed()
     assert r.domain == (1.0, 2.0)
     np.testing.assert_allclose(r([1.0, 1.25, 2.0]), c([2.0, 1.75, 1.0]))
+
+
+def test_reversed_with_a_span_below_rounding_at_an_end():
+    """11752.stp: a degree-5 pcurve on [-3.016, 0] with a span [-1.18e-16, 0]; reflected,
+    -1.18e-16 rounds onto -3.016 (multiplicity 11 > 6, CagdError before). The vanishing
+    basis functions' knots and control points are dropped: C_r(t) = C(a + b - t) to the
+    curve's movement over that span. The surface's reversed() does the same."""
+    a, tiny, p = -3.015999629825809, -1.1795845783062026e-16, 5
+    rng = np.random.default_rng(7)
+    c = BSplineCurve(rng.random((11, 2)), p, [a] * 6 + [-1.5] * 5 + [0.0] * 6).insert_knot(tiny, 5)
+    P = c.control_points
+    assert len(np.unique(c.knots)) == 4
+    r = c.reversed()
+    assert r.domain == c.domain and len(r.control_points) == len(P) - 5
+    t = np.linspace(a, 0.0, 101)
+    np.testing.assert_allclose(r(t), c(a - t), atol=1e-12)
+    S = BSplineSurface(np.stack([P, P + 1.0], axis=1), p, 1, c.knots)
+    R = S.reversed("u")
+    np.testing.assert_allclose(R(t, 0.5), S(a - t, 0.5), atol=1e-12)
 
 
 @SETTINGS

@@ -1,0 +1,102 @@
+"""Triangulation of trimmed regions (cagd.surfaces._tessellate, issue 15).
+
+Oracles: the triangles' (u, v) areas sum to the shoelace area of the trim polylines (a
+triangulation covers its polygon exactly once: an overlap or a gap changes the sum);
+every edge is used by at most two triangles and the edges used once are exactly the trim
+chords; triangles are counter-clockwise with positive area; the trim vertices lie on the
+trim curves. 3-D mesh areas converge to area() (Green's theorem quadrature, an independent
+path), which a chord spanning a quarter circle of the surface (a trim edge straight in
+(u, v)) or a fan of slivers at a joint's near-duplicate vertices broke before (measured on
+trj1_t4m-pe faces 1 and 8: mesh area / area() = 1.66 and 1.47, now 0.999)."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cagd import BSplineCurve, BSplineSurface, TrimmedSurface
+from trim_shapes import (check_triangulation, circle, curved_patch, line, mesh_area, rectangle, signed_areas,
+                         square_patch)
+
+
+SHAPES = {
+    "disk": lambda: TrimmedSurface(square_patch(), [[circle((0.5, 0.5), 0.3)]]),
+    "annulus": lambda: TrimmedSurface(square_patch(), [[circle((0.5, 0.5), 0.4)],
+                                                       [circle((0.5, 0.5), 0.15, clockwise=True)]]),
+    "three holes": lambda: TrimmedSurface(curved_patch(), [rectangle(0.05, 0.95, 0.05, 0.95)] + [
+        [circle((x, y), 0.12, clockwise=True)] for x, y in ((0.3, 0.3), (0.7, 0.3), (0.5, 0.7))]),
+    "touching the domain": lambda: TrimmedSurface(square_patch(), [rectangle(0, 1, 0, 0.6),
+                                                                   [circle((0.5, 0.3), 0.2, clockwise=True)]]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SHAPES))
+@pytest.mark.parametrize("count", [0, 3, 16, 64])
+def test_triangulation_covers_the_trim_once(name, count):
+    check_triangulation(SHAPES[name](), count)
+
+
+@pytest.mark.parametrize("name", ["disk", "annulus"])
+def test_mesh_area_converges_to_area(name):
+    ts = SHAPES[name]()
+    errs = [abs(mesh_area(ts, ts.tessellation(n)) / ts.area() - 1) for n in (8, 32, 128)]
+    assert errs[2] < 1e-4 and errs[2] < errs[0]
+
+
+def _quarter_cylinder(radius=300.0, height=240.0):
+    """u in [0, pi/2] an angle, v in [-h/2, h/2] a length: |S_u| = radius, |S_v| = 1 (the
+    parametrisation of trj1_t4m-pe face 8, a cone-like face of a 1:120 box)."""
+    w = math.sqrt(0.5)
+    P = np.array([[[radius, 0, z], [radius, radius, z], [0, radius, z]] for z in (-height / 2, height / 2)])
+    P = P.transpose(1, 0, 2)
+    W = np.array([[1, 1], [w, w], [1, 1]])
+    return BSplineSurface(P, 2, 1, [0, 0, 0, math.pi / 2, math.pi / 2, math.pi / 2],
+                          [-height / 2, -height / 2, height / 2, height / 2], W)
+
+
+def test_straight_trim_edge_across_a_curved_direction_is_split():
+    """A trim edge straight in (u, v) along a quarter circle of the surface: before, one
+    chord spanned it (mesh area 1.47 x area() on the real face); now chords are at most a
+    cell long in the surface's metric and the boundary deviation is measured on the curve."""
+    S = _quarter_cylinder()
+    h = math.pi / 4
+    ts = TrimmedSurface(S, [[line((0, -100), (math.pi / 2, -100)), line((math.pi / 2, -100), (h, 110)),
+                             line((h, 110), (0, -100))]])
+    for n in (8, 32):
+        t = check_triangulation(ts, n)
+        assert mesh_area(ts, t) == pytest.approx(ts.area(), rel=2e-2 if n == 8 else 2e-3)
+
+
+def test_near_duplicate_joint_vertices_make_no_slivers():
+    """Curves whose joint misses by 1e-15 (a closer is inserted): one vertex, no fan."""
+    eps = 1e-15
+    loop = [line((0.1, 0.1), (0.9, 0.1)), line((0.9, 0.1 + eps), (0.9, 0.9)), line((0.9, 0.9), (0.1, 0.9)),
+            line((0.1, 0.9), (0.1 + eps, 0.1))]
+    ts = TrimmedSurface(curved_patch(), [loop])
+    t = check_triangulation(ts, 16)
+    assert signed_areas(t.uv, t.triangles).min() > 1e-6
+    assert mesh_area(ts, t) == pytest.approx(ts.area(), rel=1e-3)
+
+
+@st.composite
+def star_polygons(draw):
+    """A star-shaped polygon around (0.5, 0.5) (radii in [0.05, 0.45], angles sorted)."""
+    n = draw(st.integers(3, 40))
+    angles = np.sort(np.array(draw(st.lists(st.floats(0, 2 * math.pi, exclude_max=True), min_size=n,
+                                            max_size=n, unique=True))))
+    if np.min(np.diff(np.append(angles, angles[0] + 2 * math.pi))) < 1e-3:
+        angles = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    radii = np.array(draw(st.lists(st.floats(0.05, 0.45), min_size=n, max_size=n)))
+    return np.stack([0.5 + radii * np.cos(angles), 0.5 + radii * np.sin(angles)], axis=1)
+
+
+@settings(max_examples=60)
+@given(star_polygons(), st.integers(0, 40))
+def test_star_polygons_triangulate_exactly(P, count):
+    closed = np.vstack([P, P[:1]])
+    loop = BSplineCurve(closed, 1)
+    ts = TrimmedSurface(square_patch(1.0), [[loop]])
+    t = check_triangulation(ts, count)
+    shoelace = 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+    assert signed_areas(t.uv, t.triangles).sum() == pytest.approx(shoelace, rel=1e-12)
