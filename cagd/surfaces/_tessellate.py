@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 
 CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of the smaller cell side)
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
-MERGE_FRACTION = 1e-9      # trim vertices closer than this (in cells) are one vertex
+MERGE_FRACTION = 1e-9      # trim vertices closer than this (in cells) or twice the trim's tol are one vertex
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
 DEGENERATE_AREA = 1e-14    # twice a triangle's area in the unit box below which it counts as flat
 
@@ -128,6 +128,7 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray,
     a cell split at equal parameter steps) and the curve points at the middle parameter
     of each chord; holes of a periodic direction moved into the outer loop's period."""
     tol = CHORD_FRACTION * h / float(np.max(scale))
+    merge = max(MERGE_FRACTION * h, 2 * ts.tol * float(np.max(scale)))
     chains = closed_chains(ts.loops)
     curves = [c for _, chain, _ in chains for c in chain]
     nets = [Q for Q, _ in flatten(curves, tol)]
@@ -144,7 +145,7 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray,
         k += len(chain)
         start, mid = np.concatenate(starts), np.concatenate(middles)
         step = np.linalg.norm((np.roll(start, -1, axis=0) - start) * scale, axis=1)
-        keep = step > MERGE_FRACTION * h          # a joint's gap closer: one vertex, not two
+        keep = step > merge          # a joint's gap closer (up to the trim's tol): one vertex, not two
         if np.count_nonzero(keep) < 3:            # a loop this small keeps every distinct vertex
             keep = step > 0
         polys.append(start[keep])
@@ -338,23 +339,21 @@ def _ear_clip(P: np.ndarray, ring: np.ndarray) -> Tuple[np.ndarray, int]:
         misses += 1
         if misses > left:
             misses, stage = 0, stage + 1
-            if stage == 3:
+            if stage == 3:          # last resort: the most convex vertex (the region stays covered)
                 stalled = 1
-            if stage > 3:
-                break
+                live = np.flatnonzero(alive)
+                i = int(live[np.argmax(turn[live])])
     return np.array(tris, dtype=np.int64).reshape(-1, 3), stalled
 
 
 def _is_ear(X: np.ndarray, alive: np.ndarray, turn: np.ndarray, a: int, b: int, c: int, stage: int,
             left: int) -> bool:
-    if left == 3:
+    if left == 3 or stage == 3:
         return True
     if stage == 2:
         return abs(turn[b]) <= DEGENERATE_AREA
     if turn[b] <= DEGENERATE_AREA:
         return False
-    if stage == 3:
-        return True
     r = np.flatnonzero(alive & (turn <= DEGENERATE_AREA))
     if not len(r):
         return True

@@ -5,9 +5,14 @@ parameter boxes; :func:`cagd.edge_continuity` measures the box sides).
 The shared curve is found among the faces' boundary curves (a TrimmedSurface's loop
 curves, a plain surface's four box sides): the pair whose 3-D images lie closest.
 Along the first face's curve, each sample's nearest point on the second surface is
-found (:func:`cagd.closest_point`, certified), and there the gap (C0) and the angle
+found (:func:`cagd.closest_point`, certified), and there the gap (C0), the angle
 between the tangent planes (G1, seed 003, 2.2.3 "a common tangent plane"; Farin,
-Curves and Surfaces for CAGD, 16.5) are measured.
+Curves and Surfaces for CAGD, 16.5) and the normal curvatures across the curve (G2)
+are measured. Two surfaces joined G1 along a curve are G2 there exactly when their
+normal curvatures agree in one direction transversal to it (Pegna and Wolter, "Geometric
+criteria to guarantee curvature continuity of blend surfaces", J. Mech. Des. 114, 1992:
+the linkage curve theorem); the direction used is d = n1 x T, T the curve's tangent, and
+kappa(d) = II(w, w) / I(w, w) with S_u w_u + S_v w_v = d (do Carmo, 3.2).
 """
 from __future__ import annotations
 
@@ -19,7 +24,7 @@ import numpy as np
 from .. import _checks
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
-from ..operations.continuity import CONTINUITY_TOL, tolerances
+from ..operations.continuity import CONTINUITY_TOL, curvature_scale, tolerances
 from ._trim_box import box_loop
 from .base import Surface
 
@@ -38,9 +43,12 @@ class TrimEdgeContinuityReport:
     (u0, v0), for a plain surface); gap: max distance from the first face's curve
     samples to the second surface (C0); normal_angle: max angle in radians between
     the two tangent planes there (unoriented: 0 for a smooth joint, pi/2 for a right
-    angle crease; G1); size: the length scale (the larger surface size); samples:
-    the samples used (where the normal is defined on both); converged: every closest
-    point certified; message: what limited the measure, if anything.
+    angle crease; G1); curvature_difference: max |kappa1 - kappa2| of the normal
+    curvatures across the curve (the second normal turned to agree with the first);
+    G2: G1 and that difference <= rel_tol max(|kappa1|, |kappa2|, 1 / size) at every
+    sample; size: the length scale (the larger surface size); samples: the samples
+    used (where the normal is defined on both); converged: every closest point
+    certified; message: what limited the measure, if anything.
     """
     curve1: int
     curve2: int
@@ -48,6 +56,8 @@ class TrimEdgeContinuityReport:
     normal_angle: float
     C0: bool
     G1: bool
+    curvature_difference: float
+    G2: bool
     rel_tol: float
     angle_tol: float
     size: float
@@ -57,12 +67,13 @@ class TrimEdgeContinuityReport:
 
     @property
     def level(self) -> str:
-        """The strongest property that holds: "G1" > "C0" > "none"."""
-        return "G1" if self.G1 else "C0" if self.C0 else "none"
+        """The strongest property that holds: "G2" > "G1" > "C0" > "none"."""
+        return "G2" if self.G2 else "G1" if self.G1 else "C0" if self.C0 else "none"
 
     def __str__(self) -> str:
         return (f"{self.level} along boundary curve {self.curve1} of face 1 = curve {self.curve2} of face 2: "
-                f"gap {self.gap:.3g}, normal angle {self.normal_angle:.3g} rad (rel_tol {self.rel_tol:g}, "
+                f"gap {self.gap:.3g}, normal angle {self.normal_angle:.3g} rad, curvature difference "
+                f"{self.curvature_difference:.3g} (rel_tol {self.rel_tol:g}, "
                 f"size {self.size:.3g}, angle_tol {self.angle_tol:g} rad, {self.samples} samples)"
                 + (f"; {self.message}" if self.message else ""))
 
@@ -95,7 +106,8 @@ def trim_edge_continuity(s1: Surface, s2: Surface, samples: int = 33, rel_tol: f
 
     * C0: max |P - Q| <= rel_tol size;
     * G1: C0 and max angle(n1(P), n2(Q)) <= angle_tol (radians, default rel_tol), the
-      tangent planes' angle, at the samples where both normals are defined.
+      tangent planes' angle, at the samples where both normals are defined;
+    * G2: G1 and the normal curvatures across the curve agree (the module docstring).
 
     Raises:
         CagdError: s1/s2 not rectangular 3-D Surfaces, samples < 2, rel_tol not
@@ -119,8 +131,8 @@ def trim_edge_continuity(s1: Surface, s2: Surface, samples: int = 33, rel_tol: f
         d = np.linalg.norm(Q1[i][:, None, :] - flat[None, :, :], axis=-1)
         d = d.reshape(len(MATCH_FRACTIONS), len(curves2), -1)
         gaps[i] = d.min(axis=2).max(axis=0)
-    k1, k2 = (int(k) for k in np.unravel_index(int(np.argmin(gaps)), gaps.shape))
-    c = curves1[k1]
+    i1, i2 = (int(k) for k in np.unravel_index(int(np.argmin(gaps)), gaps.shape))
+    c = curves1[i1]
     a, b = c.domain
     uv1 = np.asarray(c(np.linspace(a, b, samples)))
     P = S1(uv1[:, 0], uv1[:, 1])
@@ -133,6 +145,13 @@ def trim_edge_continuity(s1: Surface, s2: Surface, samples: int = 33, rel_tol: f
     ok = ok1 & ok2
     cosines = np.clip(np.abs(np.einsum("ij,ij->i", n1[ok], n2[ok])), 0.0, 1.0)
     angle = float(np.arccos(cosines.min())) if ok.any() else float("nan")
+    k1 = _cross_curvature(S1, uv1, c.derivative(np.linspace(a, b, samples), 1), n1, n1)
+    k2 = _cross_curvature(S2, uv2, c.derivative(np.linspace(a, b, samples), 1), n1, n2, S1, uv1)
+    both = ok & np.isfinite(k1) & np.isfinite(k2)
+    diff = np.abs(k1 - k2)[both]
+    curvature_difference = float(diff.max()) if both.any() else float("nan")
+    G2_ok = both.any() and all(d <= rel_tol * curvature_scale(np.array([x]), np.array([y]), size)
+                               for d, x, y in zip(diff, k1[both], k2[both]))
     converged = bool(r.converged and np.all(r.point_converged))
     notes = []
     if not converged:
@@ -141,5 +160,33 @@ def trim_edge_continuity(s1: Surface, s2: Surface, samples: int = 33, rel_tol: f
         notes.append("no sample has a defined normal on both faces (no G1)")
     C0 = gap <= rel_tol * size
     G1 = bool(C0 and ok.any() and angle <= angle_tol)
-    return TrimEdgeContinuityReport(k1, k2, gap, angle, bool(C0), G1, float(rel_tol), float(angle_tol),
-                                    size, int(np.count_nonzero(ok)), converged, "; ".join(notes))
+    G2 = bool(G1 and G2_ok)
+    return TrimEdgeContinuityReport(i1, i2, gap, angle, bool(C0), G1, curvature_difference, G2, float(rel_tol),
+                                    float(angle_tol), size, int(np.count_nonzero(ok)), converged, "; ".join(notes))
+
+
+def _cross_curvature(S: Surface, uv: np.ndarray, dc: np.ndarray, n1: np.ndarray, n: np.ndarray,
+                     S_edge: Optional[Surface] = None, uv_edge: Optional[np.ndarray] = None) -> np.ndarray:
+    """Normal curvature of S at uv in the direction d = n1 x T (T the shared curve's
+    tangent S_edge_u c_u' + S_edge_v c_v', on S_edge at uv_edge, default S at uv), the
+    sign taken with the normal n turned towards n1; NaN where T or S's tangent plane
+    degenerates."""
+    D = S.derivatives(uv[:, 0], uv[:, 1], 2, 2)
+    Su, Sv = D[1, 0], D[0, 1]
+    if S_edge is None or uv_edge is None:
+        Eu, Ev = Su, Sv
+    else:
+        De = S_edge.derivatives(uv_edge[:, 0], uv_edge[:, 1], 1, 1)
+        Eu, Ev = De[1, 0], De[0, 1]
+    T = Eu * dc[:, :1] + Ev * dc[:, 1:2]
+    d = np.cross(n1, T)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = d / np.linalg.norm(d, axis=1, keepdims=True)
+        sign = np.where(np.einsum("ij,ij->i", n, n1) < 0, -1.0, 1.0)
+        E, F, G = (np.einsum("ij,ij->i", a, b) for a, b in ((Su, Su), (Su, Sv), (Sv, Sv)))
+        det = E * G - F * F
+        bu, bv = np.einsum("ij,ij->i", Su, d), np.einsum("ij,ij->i", Sv, d)
+        wu, wv = (G * bu - F * bv) / det, (E * bv - F * bu) / det          # J w = d (least squares)
+        L, M, N = (np.einsum("ij,ij->i", X, n) * sign for X in (D[2, 0], D[1, 1], D[0, 2]))
+        k = (L * wu * wu + 2 * M * wu * wv + N * wv * wv) / (E * wu * wu + 2 * F * wu * wv + G * wv * wv)
+    return np.where(np.isfinite(k), k, np.nan)

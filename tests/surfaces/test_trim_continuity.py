@@ -34,7 +34,8 @@ def test_disk_and_its_complement_are_g1_along_the_circle():
     rest = TrimmedSurface(plane, [box_sides(-2.0, 2.0, -2.0, 2.0), [circle((0.3, -0.2), 1.1, clockwise=True)]])
     r = cagd.trim_edge_continuity(disk, rest)
     assert (r.curve1, r.curve2) == (0, 4)           # the disk's circle = the hole, after the 4 box sides
-    assert r.gap <= 1e-12 and r.normal_angle <= 1e-12 and r.G1 and r.level == "G1" and r.converged
+    assert r.gap <= 1e-12 and r.normal_angle <= 1e-12 and r.G1 and r.converged
+    assert r.curvature_difference <= 1e-12 and r.G2 and r.level == "G2"
     assert r.samples == 33 and "curve 0 of face 1" in str(r)
 
 
@@ -61,6 +62,31 @@ def test_two_planes_meet_at_their_dihedral_angle(theta):
     assert r.gap <= 1e-14
     assert abs(r.normal_angle - min(theta, math.pi - theta)) <= 1e-12
     assert not r.G1
+
+
+def _cylinder_strip(radius):
+    """(R sin t, y, R - R cos t), t in [0, pi/2] (exact rational quadratic), y in [0, 1]:
+    tangent to the plane z = 0 along its side u = 0 (the line x = z = 0); the normal
+    curvature across that line is 1 / R."""
+    P = np.array([[[0, y, 0], [radius, y, 0], [radius, y, radius]] for y in (0.0, 1.0)], float).transpose(1, 0, 2)
+    return BSplineSurface(P, 2, 1, None, None, np.array([[1, 1], [W, W], [1, 1]]))
+
+
+def test_a_plane_tangent_to_a_cylinder_is_g1_not_g2():
+    radius = 0.7
+    r = cagd.trim_edge_continuity(square(-1.0, 0.0, 0.0, 1.0), _cylinder_strip(radius))
+    assert r.curve1 == 1 and r.curve2 == 3           # the plane's side x = 0, the strip's side u = 0
+    assert r.gap <= 1e-14 and r.normal_angle <= 1e-12 and r.G1
+    assert abs(r.curvature_difference - 1 / radius) <= 1e-9 and not r.G2 and r.level == "G1"
+
+
+def test_a_cylinder_trimmed_in_two_is_g2_across_the_cut():
+    S = _cylinder_strip(0.7)
+    a = TrimmedSurface(S, [box_sides(0.0, 0.4, 0.0, 1.0)])
+    b = TrimmedSurface(S, [box_sides(0.4, 1.0, 0.0, 1.0)])
+    r = cagd.trim_edge_continuity(a, b)
+    assert r.gap <= 1e-14 and r.G1
+    assert r.curvature_difference <= 1e-12 and r.G2 and r.level == "G2"
 
 
 def test_a_gap_is_measured():

@@ -60,7 +60,7 @@ def edges_continuity(edge1, edge2, rel_tol: float = 1e-9) -> JointCheck:
 def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> JointCheck:
     """Continuity across the common boundary of two faces. Where either face is
     trimmed (:func:`conversion.face_to_trimmed`), along the boundary curves they share
-    (cagd.trim_edge_continuity: gap and tangent-plane angle); else across the pair of
+    (cagd.trim_edge_continuity: gap, tangent-plane angle, cross-curvature); else across the pair of
     box sides ('u0', 'u1', 'v0', 'v1') with the smallest gap, by cagd.edge_continuity."""
     t1, t2 = conversion.face_to_trimmed(face1)[0], conversion.face_to_trimmed(face2)[0]
     if isinstance(t1, cagd.TrimmedSurface) or isinstance(t2, cagd.TrimmedSurface):
