@@ -14,7 +14,8 @@ def add_parser(sub: Any) -> None:
     p = sub.add_parser("mesh", help="every face of a STEP/IGES file to an STL or OBJ mesh")
     p.add_argument("model", type=Path, help="the STEP or IGES file")
     p.add_argument("-o", "--output", type=Path, required=True, help="the .stl or .obj file to write")
-    p.add_argument("--tol", type=float, default=1e-3, help="chordal tolerance, a distance (1e-3)")
+    p.add_argument("--tol", type=float, default=0.1,
+                   help="chordal tolerance, a distance in model units (0.1, as FreeCAD's standard mesher)")
     p.add_argument("--ascii", action="store_true", help="ASCII STL instead of binary")
 
 

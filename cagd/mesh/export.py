@@ -1,10 +1,18 @@
 """STL and OBJ export of engine surfaces (issue 15).
 
-An untrimmed :class:`Surface` is meshed on an n x n grid of its domain (two triangles a
-cell); a :class:`TrimmedSurface` by its ``tessellation(count)``. The density is doubled
-(bounded) until the chordal deviation is at most ``tol``: the distance between the
-surface at each edge's parameter midpoint and the edge's chord midpoint, and for a trim
-chord between the edge's point S(c(t)) at the chord's middle parameter and the chord's
+A surface is meshed on a grid of parameter lines placed per knot span by its second
+derivatives: a cell h_u x h_v's edges and diagonals sag by at most
+(h_u^2 |S_uu| + 2 h_u h_v |S_uv| + h_v^2 |S_vv|) / 8 from the surface (Taylor's bound
+of a linear interpolant; the flatness tests of Filip, Magedson and Markot, "Surface
+algorithms using bounds on derivatives", CAGD 3, 1986), so per span h^2 |S_dd| <= 2 tol
+in each direction, and 2 h_u h_v |S_uv| <= 4 tol with cells square in space (the count
+is the same for any split), the maxima sampled per span (2 degree points at least). An
+untrimmed surface gives two triangles a cell; a :class:`TrimmedSurface` is triangulated
+on those lines by :func:`cagd.surfaces._tessellate.tessellation`, its trim polylines
+within tol / (2 max speed) of the curves in (u, v). The counts are doubled (bounded) until
+the measured chordal deviation is at most ``tol``: the distance between the surface at
+each edge's parameter midpoint and the edge's chord midpoint, and for a trim chord
+between the edge's point S(c(t)) at the chord's middle parameter and the chord's
 midpoint.
 Formats: binary/ASCII STL (3D Systems' StereoLithography Interface Specification, 1988)
 and Wavefront OBJ (``v``/``f`` records, 1-based indices). Files are written atomically.
@@ -20,12 +28,13 @@ import numpy as np
 from .. import _atomic
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from ..surfaces.trimmed import MAX_TESSELLATION_POINTS, TrimmedSurface
+from ..surfaces.bspline import BSplineSurface
+from ..surfaces.trimmed import TrimmedSurface
 
-START_POINTS = 8          # grid points per direction of the first try
-MAX_GRID_POINTS = 257     # grid points per direction at most for an untrimmed surface
+MAX_GRID_POINTS = 1025    # a face's grid has at most MAX_GRID_POINTS^2 points (about 1 M)
+MAX_LINES = 4097          # grid lines per direction at most
 MAX_REFINEMENTS = 6       # density doublings at most
-MAX_TRIMMED_POINTS = MAX_TESSELLATION_POINTS   # grid points per direction at most for a trimmed face
+CURVATURE_SAMPLES = 2_000_000   # second-derivative samples per face at most (the grid's first guess)
 
 
 @dataclass(frozen=True)
@@ -53,15 +62,106 @@ def _items(geometry: Any) -> List[Any]:
     return items
 
 
-def _grid_uv(s: Surface, n: int) -> Tuple[np.ndarray, np.ndarray]:
-    (u0, u1), (v0, v1) = s.domain
-    U, V = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
+def _grid_uv(us: np.ndarray, vs: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    U, V = np.meshgrid(us, vs, indexing="ij")
     uv = np.column_stack([U.ravel(), V.ravel()])
-    i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+    n = len(vs)
+    i, j = np.meshgrid(np.arange(len(us) - 1), np.arange(n - 1), indexing="ij")
     a = (i * n + j).ravel()
     b, c, d = a + n, a + n + 1, a + 1
     tri = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
     return uv, tri
+
+
+def _breaks(s: Surface, d: int, lo: float, hi: float) -> np.ndarray:
+    """lo, the knots of direction d strictly between lo and hi (a periodic direction's
+    repeated a period on either side), hi."""
+    n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
+    k = np.unique(n.knots_u if d == 0 else n.knots_v)
+    if (n.periodic_u, n.periodic_v)[d]:
+        a, b = n.domain[d]
+        k = np.concatenate([k - (b - a), k, k + (b - a)])
+    k = k[(k > lo) & (k < hi)]
+    return np.concatenate([[lo], k, [hi]])
+
+
+def _span_samples(breaks: np.ndarray, per_span: int) -> np.ndarray:
+    t = np.linspace(0.0, 1.0, per_span + 1)[:-1]
+    inner = (breaks[:-1, None] + np.diff(breaks)[:, None] * t[None]).ravel()
+    return np.append(inner, breaks[-1])
+
+
+def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor: int
+           ) -> Tuple[np.ndarray, np.ndarray, bool, float]:
+    """Grid lines (us, vs) by curvature (the module docstring), ``factor`` times as many
+    intervals per span; capped (MAX_LINES, MAX_GRID_POINTS^2) with the flag set; and the
+    largest speed max(|S_u|, |S_v|) seen (a trim chord within tol / speed of its curve in
+    (u, v) is within tol of it in space, to first order)."""
+    bu, bv = breaks
+    n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
+    pu, pv = max(3, 2 * n.degree_u), max(3, 2 * n.degree_v)
+    if (pu * len(bu)) * (pv * len(bv)) > CURVATURE_SAMPLES:     # very many spans: fewer per span
+        pu = pv = max(1, int(np.sqrt(CURVATURE_SAMPLES / (len(bu) * len(bv)))))
+    su, sv = _span_samples(bu, pu), _span_samples(bv, pv)
+    twist = float(np.linalg.norm(s.grid(su, sv, 1, 1), axis=-1).max())
+    sizes, widths = [], []
+    for d, (b, x) in enumerate(((bu, su), (bv, sv))):
+        acc = np.linalg.norm(s.grid(su, sv, 2, 0) if d == 0 else s.grid(su, sv, 0, 2), axis=-1).max(axis=1 - d)
+        span = np.clip(np.searchsorted(b, x, side="right") - 1, 0, len(b) - 2)
+        peak = np.zeros(len(b) - 1)             # the largest second derivative per span (ends included)
+        np.maximum.at(peak, span, acc)
+        np.maximum.at(peak, np.clip(span - 1, 0, None), acc * (x == b[span]))
+        w = np.diff(b)
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            h = np.sqrt(2.0 * tol / peak)       # h^2 |S_dd| <= 2 tol: a quarter of the 8 tol budget
+        sizes.append(np.minimum(np.nan_to_num(h, nan=np.inf), w))
+        widths.append(w)
+    # the twist: 2 h_u h_v |S_uv| <= 4 tol. The cell count is then the same however the product
+    # is split, so the cells are made square in space (h_u |S_u| = h_v |S_v|, mean speeds)
+    Su = np.linalg.norm(s.grid(su, sv, 1, 0), axis=-1)
+    Sv = np.linalg.norm(s.grid(su, sv, 0, 1), axis=-1)
+    speed = max(float(Su.max()), float(Sv.max()))
+    hu, hv = float(sizes[0].max()), float(sizes[1].max())
+    if twist > 0 and 2.0 * hu * hv * twist > 4.0 * tol:
+        c = 2.0 * tol / twist
+        ratio = float(np.median(Sv)) / max(float(np.median(Su)), 1e-300)     # h_u / h_v for square cells
+        tu, tv = np.sqrt(c * ratio), np.sqrt(c / max(ratio, 1e-300))
+        if hu < tu:
+            tv = c / hu
+        elif hv < tv:
+            tu = c / hv
+        sizes = [np.minimum(sizes[0], tu), np.minimum(sizes[1], tv)]
+    counts = [np.clip(np.ceil(w / np.maximum(h, 1e-300)), 1.0, float(MAX_LINES)) * factor
+              for w, h in zip(widths, sizes)]
+    total = [float(c.sum()) for c in counts]
+    capped = False
+    budget = float(MAX_GRID_POINTS) ** 2
+    shrink = min(1.0, np.sqrt(budget / max(total[0] * total[1], 1.0)),
+                 MAX_LINES / max(total[0], 1.0), MAX_LINES / max(total[1], 1.0))
+    if shrink < 1.0:
+        capped = True
+        counts = [np.maximum(np.floor(c * shrink), 1.0) for c in counts]
+    out = []
+    for b, c in zip((bu, bv), counts):
+        k = c.astype(np.int64)
+        j = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
+        out.append(np.append(np.repeat(b[:-1], k) + np.repeat(np.diff(b) / k, k) * j, b[-1]))
+    return out[0], out[1], capped, speed
+
+
+def _box(g: Any) -> Tuple[Surface, np.ndarray, np.ndarray]:
+    """(the surface, the parameter box to mesh): a trimmed face's outer loop's box, in
+    the domain along its bounded directions."""
+    if not isinstance(g, TrimmedSurface):
+        (u0, u1), (v0, v1) = g.domain
+        return g, np.array([u0, v0]), np.array([u1, v1])
+    s = g.surface
+    P = np.concatenate([c.control_points for c in g.loops[0]])
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    for d, periodic in enumerate((s.periodic_u, s.periodic_v)):
+        if not periodic:
+            lo[d], hi[d] = np.clip([lo[d], hi[d]], *s.domain[d])
+    return s, lo, hi
 
 
 def _evaluate(g: Any, uv: np.ndarray) -> np.ndarray:
@@ -85,20 +185,23 @@ def _deviation(g: Any, uv: np.ndarray, xyz: np.ndarray, tri: np.ndarray, bnd: np
 
 
 def _one(g: Any, tol: float) -> Tuple[np.ndarray, np.ndarray, float, bool, int]:
-    n = START_POINTS
-    cap = MAX_TRIMMED_POINTS if isinstance(g, TrimmedSurface) else MAX_GRID_POINTS
+    from ..surfaces._tessellate import tessellation
+    s, lo, hi = _box(g)
+    breaks = (_breaks(s, 0, lo[0], hi[0]), _breaks(s, 1, lo[1], hi[1]))
+    factor = 1
     for _ in range(MAX_REFINEMENTS + 1):
+        us, vs, capped, speed = _lines(s, breaks, tol, factor)
         bnd, bnd_mid, fallbacks = _NO_EDGES, _NO_POINTS, 0
         if isinstance(g, TrimmedSurface):
-            t = g.tessellation(n)
+            t = tessellation(g, 0, (us, vs), 0.5 * tol / speed / factor if speed > 0 else None)
             uv, tri, bnd, bnd_mid, fallbacks = t.uv, t.triangles, t.boundary, t.boundary_mid, t.fallbacks
         else:
-            uv, tri = _grid_uv(g, n)
+            uv, tri = _grid_uv(us, vs)
         xyz = _evaluate(g, uv)
         err = _deviation(g, uv, xyz, tri, bnd, bnd_mid)
-        if err <= tol or n >= cap:
+        if err <= tol or capped:
             break
-        n = min(cap, 2 * n)
+        factor *= 2
     return xyz, np.asarray(tri, dtype=np.int64), err, err <= tol and not fallbacks, fallbacks
 
 

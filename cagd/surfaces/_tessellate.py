@@ -1,9 +1,11 @@
 """Triangulation of a trimmed surface's region in (u, v) (issue 15): for plots and STL/OBJ.
 
-The loops' box is scaled to the unit square and cut into a (count + 1)^2 grid of cells.
-A cell is *full* when no trim chord comes within half a cell of it (it is not in the
-ring around a cell that holds a chord sample, samples at most half a cell apart) and its
-centre is inside the trim; a full cell gives two triangles. What is left,
+The outer loop's box is scaled by the surface's mean speeds (3-D proportions, longer
+side 1) and cut into a grid of cells: square, 1 / (count + 1) of the longer side, or on
+grid lines the caller chooses (cagd.mesh places them by curvature). A cell is *full*
+when no trim chord meets it (it is not next to a cell that holds a chord sample, samples
+at most half of the smallest cell apart) and its centre is inside the trim; a full cell
+gives two triangles. What is left,
 R = (trimmed region) minus (full cells), is bounded by the trim polylines (the loops
 flattened to a fraction of a cell, vertices on the curves) and the staircase outlines of
 the full cells (cells touching only at a corner are taken apart first, so every outline
@@ -35,6 +37,7 @@ if TYPE_CHECKING:
 CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of the smaller cell side)
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
 MERGE_FRACTION = 1e-9      # trim vertices closer than this (in cells) or twice the trim's tol are one vertex
+LINE_GAP = 1e-9            # grid lines closer than this (of the box) are one line
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
 DEGENERATE_AREA = 1e-14    # twice a triangle's area in the unit box below which it counts as flat
 
@@ -55,22 +58,22 @@ class Tessellation:
     fallbacks: int
 
 
-def tessellation(ts: "TrimmedSurface", count: int) -> Tessellation:
-    """The triangulation of ``ts``'s region with cells of 1 / (count + 1) of the loops'
-    box's longer side in the surface's mean metric (see the module)."""
+def tessellation(ts: "TrimmedSurface", count: int, lines: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                 chord_tol: Optional[float] = None) -> Tessellation:
+    """The triangulation of ``ts``'s region (see the module) on a grid of the outer loop's
+    box: cells of 1 / (count + 1) of its longer side in the surface's mean metric, or,
+    with ``lines`` = (us, vs), the grid lines at those parameters inside the box (and
+    its sides). ``chord_tol``: the trim polylines' largest distance from the trim curves
+    in (u, v), if smaller than CHORD_FRACTION of the smallest cell."""
     from .trimmed import INSIDE, _flatten_many
-    cps = np.concatenate([c.control_points for loop in ts.loops for c in loop])
-    lo, hi = cps.min(axis=0), cps.max(axis=0)
+    outer = np.concatenate([c.control_points for c in ts.loops[0]])
+    lo, hi = outer.min(axis=0), outer.max(axis=0)        # every loop lies inside the outer one
     scale = _metric(ts, lo, hi)
-    h = 1.0 / (count + 1)
-    polys, mids = _trim_polylines(ts, _flatten_many, scale, h)
-    allp = np.concatenate(polys)
-    lo = allp.min(axis=0)
+    gu, gv = _grid_lines(lo, hi, scale, count, lines)
+    polys, mids = _trim_polylines(ts, _flatten_many, scale, lo, gu, gv, chord_tol)
     S = [(p - lo) * scale for p in polys]
-    width = np.concatenate(S).max(axis=0)
-    nu, nv = (max(1, int(np.ceil(w / h - 1e-9))) for w in width)
-    full = _full_cells(ts, S, nu, nv, h, lo, scale, INSIDE)
-    grid = np.stack(np.meshgrid(np.arange(nu + 1), np.arange(nv + 1), indexing="ij"), axis=-1).reshape(-1, 2) * h
+    full = _full_cells(ts, S, gu, gv, lo, scale, INSIDE)
+    grid = np.stack(np.meshgrid(gu, gv, indexing="ij"), axis=-1).reshape(-1, 2)
     offsets = np.cumsum([len(grid)] + [len(p) for p in S])
     P = np.concatenate([grid] + S)
     loops = [np.arange(offsets[i], offsets[i + 1]) for i in range(len(S))] + _staircases(full)
@@ -121,13 +124,42 @@ def _metric(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return speed / float(np.max(speed * side))
 
 
+def _grid_lines(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray, count: int,
+                lines: Optional[Tuple[np.ndarray, np.ndarray]]) -> Tuple[np.ndarray, np.ndarray]:
+    """The grid lines (scaled coordinates, from 0) covering the box [lo, hi]."""
+    width = (hi - lo) * scale
+    if lines is None:
+        h = 1.0 / (count + 1)
+        nu, nv = (max(1, int(np.ceil(w / h - 1e-9))) for w in width)
+        return np.arange(nu + 1) * h, np.arange(nv + 1) * h
+    out = []
+    for d in (0, 1):
+        x = np.asarray(lines[d], dtype=np.float64)
+        gap = LINE_GAP * (hi[d] - lo[d])
+        x = np.unique(x[(x > lo[d] + gap) & (x < hi[d] - gap)])
+        x = x[np.concatenate([[True], np.diff(x) > gap])] if len(x) else x
+        out.append((np.concatenate([[lo[d]], x, [hi[d]]]) - lo[d]) * scale[d])
+    return out[0], out[1]
+
+
+def _cell_sizes(gu: np.ndarray, gv: np.ndarray, S: np.ndarray) -> np.ndarray:
+    """The smaller side of the grid cell holding each point S (scaled coordinates)."""
+    i = np.clip(np.searchsorted(gu, S[:, 0], side="right") - 1, 0, len(gu) - 2)
+    j = np.clip(np.searchsorted(gv, S[:, 1], side="right") - 1, 0, len(gv) - 2)
+    return np.minimum(np.diff(gu)[i], np.diff(gv)[j])
+
+
 # --- the trim polylines ---------------------------------------------------------------------------
-def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray,
-                    h: float) -> Tuple[List[np.ndarray], List[np.ndarray]]:
+def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, lo: np.ndarray, gu: np.ndarray,
+                    gv: np.ndarray, chord_tol: Optional[float] = None) -> Tuple[List[np.ndarray], List[np.ndarray]]:
     """Per loop: points on the trim curves (the flattening's piece ends, pieces longer than
-    a cell split at equal parameter steps) and the curve points at the middle parameter
-    of each chord; holes of a periodic direction moved into the outer loop's period."""
+    the cell they start in split at equal parameter steps) and the curve points at the
+    middle parameter of each chord; holes of a periodic direction moved into the outer
+    loop's period."""
+    h = float(min(np.diff(gu).min(), np.diff(gv).min()))
     tol = CHORD_FRACTION * h / float(np.max(scale))
+    if chord_tol is not None:
+        tol = min(tol, chord_tol)
     merge = max(MERGE_FRACTION * h, 2 * ts.tol * float(np.max(scale)))
     chains = closed_chains(ts.loops)
     curves = [c for _, chain, _ in chains for c in chain]
@@ -136,8 +168,9 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray,
     for _, chain, _ in chains:
         starts, middles = [], []
         for Q in nets[k:k + len(chain)]:
-            chord = (_cartesian(Q[:, -1]) - _cartesian(Q[:, 0])) * scale
-            n = np.maximum(np.ceil(np.linalg.norm(chord, axis=1) / h).astype(np.int64), 1)
+            A = (_cartesian(Q[:, 0]) - lo) * scale
+            chord = (_cartesian(Q[:, -1]) - lo) * scale - A
+            n = np.maximum(np.ceil(np.linalg.norm(chord, axis=1) / _cell_sizes(gu, gv, A)).astype(np.int64), 1)
             j = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
             R = np.repeat(Q, n, axis=0)
             starts.append(_de_casteljau(R, j / np.repeat(n, n)))
@@ -169,19 +202,22 @@ def _de_casteljau(Q: np.ndarray, t: np.ndarray) -> np.ndarray:
 
 
 # --- the grid: full cells and their outlines ------------------------------------------------------
-def _full_cells(ts: "TrimmedSurface", S: List[np.ndarray], nu: int, nv: int, h: float, lo: np.ndarray,
+def _full_cells(ts: "TrimmedSurface", S: List[np.ndarray], gu: np.ndarray, gv: np.ndarray, lo: np.ndarray,
                 scale: np.ndarray, inside: int) -> np.ndarray:
-    """(nu, nv) bool: cells half a cell or more from every chord with their centre inside,
-    without two full cells meeting only at a corner."""
+    """(nu, nv) bool: cells not next to a cell holding a chord sample (samples at most
+    SAMPLE_SPACING of the smallest cell apart, so no chord meets such a cell) with their
+    centre inside, without two full cells meeting only at a corner."""
+    nu, nv = len(gu) - 1, len(gv) - 1
+    h = float(min(np.diff(gu).min(), np.diff(gv).min()))
     near = np.zeros((nu + 2, nv + 2), dtype=bool)
-    top = np.array([nu - 1, nv - 1])
     for p in S:
-        a, b = p / h, np.roll(p, -1, axis=0) / h
-        k = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / SAMPLE_SPACING).astype(np.int64), 1)
+        a, b = p, np.roll(p, -1, axis=0)
+        k = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / (SAMPLE_SPACING * h)).astype(np.int64), 1)
         t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k, k)
         q = np.repeat(a, k, axis=0) + t[:, None] * np.repeat(b - a, k, axis=0)
-        c = np.clip(np.floor(q).astype(np.int64), 0, top) + 1
-        near[c[:, 0], c[:, 1]] = True
+        i = np.clip(np.searchsorted(gu, q[:, 0], side="right") - 1, 0, nu - 1) + 1
+        j = np.clip(np.searchsorted(gv, q[:, 1], side="right") - 1, 0, nv - 1) + 1
+        near[i, j] = True
     ring = near.copy()
     for di in (-1, 0, 1):
         for dj in (-1, 0, 1):
@@ -189,8 +225,8 @@ def _full_cells(ts: "TrimmedSurface", S: List[np.ndarray], nu: int, nv: int, h: 
     full = np.zeros((nu, nv), dtype=bool)
     i, j = np.nonzero(~ring[1:-1, 1:-1])
     if len(i):
-        full[i, j] = ts._flattened().classify(lo[0] + (i + 0.5) * h / scale[0],
-                                              lo[1] + (j + 0.5) * h / scale[1]) == inside
+        full[i, j] = ts._flattened().classify(lo[0] + 0.5 * (gu[i] + gu[i + 1]) / scale[0],
+                                              lo[1] + 0.5 * (gv[j] + gv[j + 1]) / scale[1]) == inside
     for _ in range(nu * nv):
         diag = full[:-1, :-1] & full[1:, 1:] & ~full[1:, :-1] & ~full[:-1, 1:]
         anti = full[1:, :-1] & full[:-1, 1:] & ~full[:-1, :-1] & ~full[1:, 1:]
@@ -321,43 +357,78 @@ def _ear_clip(P: np.ndarray, ring: np.ndarray) -> Tuple[np.ndarray, int]:
     alive = np.ones(m, dtype=bool)
     turn = orient(X[prv], X, X[nxt])
     tris: List[Tuple[int, int, int]] = []
-    i, left, misses, stage, stalled = 0, m, 0, 0, 0
+    left, stage, stalled, clipped, flip = m, 0, 0, True, False
+    stack: List[int] = []           # vertices to test: the convex ones, then the neighbours of each clip
+    buckets = _Buckets(X)
     for _ in range(8 * m * m + 8):
         if left < 3:
             break
-        a, c = prv[i], nxt[i]
-        if _is_ear(X, alive, turn, a, i, c, stage, left):
-            tris.append((ring[a], ring[i], ring[c]))
-            alive[i] = False
+        if not stack:
+            if not clipped:         # a whole round without an ear: relax the test
+                stage += 1
+                stalled = max(stalled, int(stage == 3))
+            live = np.flatnonzero(alive)
+            if stage >= 3:          # last resort: the most convex vertex (the region stays covered)
+                stack = [int(live[np.argmax(turn[live])])]
+            elif stage == 2:
+                stack = live[np.abs(turn[live]) <= DEGENERATE_AREA][::-1].tolist()
+            else:
+                stack = live[turn[live] > DEGENERATE_AREA][::-1].tolist()
+            clipped = False
+            continue
+        b = stack.pop()
+        if not alive[b]:
+            continue
+        a, c = prv[b], nxt[b]
+        if _is_ear(X, alive, turn, a, b, c, min(stage, 3), left, buckets):
+            tris.append((ring[a], ring[b], ring[c]))
+            alive[b] = False
             nxt[a], prv[c] = c, a
             left -= 1
             for k in (a, c):
                 turn[k] = orient(X[prv[k]], X[k], X[nxt[k]])
-            i, misses, stage = c, 0, 0
-            continue
-        i = nxt[i]
-        misses += 1
-        if misses > left:
-            misses, stage = 0, stage + 1
-            if stage == 3:          # last resort: the most convex vertex (the region stays covered)
-                stalled = 1
-                live = np.flatnonzero(alive)
-                i = int(live[np.argmax(turn[live])])
+            # the next test alternates between the two neighbours: across a strip between two
+            # rows of collinear vertices that zig-zags, where always one side fans from a corner
+            flip = not flip
+            stack.extend((int(a), int(c)) if flip else (int(c), int(a)))
+            clipped, stage = True, 0
     return np.array(tris, dtype=np.int64).reshape(-1, 3), stalled
 
 
+class _Buckets:
+    """The ring's vertices in a grid of about 4 per cell over their box (CSR), so that a
+    triangle's test looks only at the vertices of the cells its box covers."""
+
+    def __init__(self, X: np.ndarray):
+        self.lo = X.min(axis=0)
+        self.g = max(1, int(np.sqrt(len(X) / 4.0)))
+        self.cell = np.maximum((X.max(axis=0) - self.lo) / self.g, 1e-300)
+        ij = np.clip(((X - self.lo) / self.cell).astype(np.int64), 0, self.g - 1)
+        key = ij[:, 0] * self.g + ij[:, 1]
+        self.order = np.argsort(key, kind="stable")
+        self.start = np.searchsorted(key[self.order], np.arange(self.g * self.g + 1))
+
+    def near(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        i0, j0 = np.clip(((lo - self.lo) / self.cell).astype(np.int64) - 1, 0, self.g - 1)
+        i1, j1 = np.clip(((hi - self.lo) / self.cell).astype(np.int64) + 1, 0, self.g - 1)
+        rows = [self.order[self.start[i * self.g + j0]:self.start[i * self.g + j1 + 1]] for i in range(i0, i1 + 1)]
+        return np.concatenate(rows) if len(rows) > 1 else rows[0]
+
+
 def _is_ear(X: np.ndarray, alive: np.ndarray, turn: np.ndarray, a: int, b: int, c: int, stage: int,
-            left: int) -> bool:
+            left: int, buckets: _Buckets) -> bool:
     if left == 3 or stage == 3:
         return True
     if stage == 2:
         return abs(turn[b]) <= DEGENERATE_AREA
     if turn[b] <= DEGENERATE_AREA:
         return False
-    r = np.flatnonzero(alive & (turn <= DEGENERATE_AREA))
+    pa, pb, pc = X[a], X[b], X[c]
+    T = np.stack([pa, pb, pc])
+    r = buckets.near(T.min(axis=0), T.max(axis=0))
+    r = r[alive[r] & (turn[r] <= DEGENERATE_AREA)]
     if not len(r):
         return True
-    pa, pb, pc = X[a], X[b], X[c]
     Q = X[r]
     Q = Q[~(np.all(Q == pa, axis=1) | np.all(Q == pb, axis=1) | np.all(Q == pc, axis=1))]
     if not len(Q):
@@ -374,29 +445,49 @@ MIN_FLIP_PASSES = 64       # Lawson passes at most: this plus one per triangle (
 FLIP_TOL = 1e-12           # incircle / orientation margin of a flip, relative to the quad's size
 
 
+def _neighbours(T: np.ndarray) -> np.ndarray:
+    """(m, 3): the triangle across edge k = (T[k], T[k + 1]) of each triangle, -1 on the
+    boundary (an edge of one triangle)."""
+    m = len(T)
+    a, b = T.ravel(), T[:, [1, 2, 0]].ravel()
+    key = np.minimum(a, b) * (int(T.max()) + 1) + np.maximum(a, b)
+    order = np.argsort(key, kind="stable")
+    same = np.flatnonzero(key[order][1:] == key[order][:-1])
+    N = np.full(3 * m, -1, dtype=np.int64)
+    h1, h2 = order[same], order[same + 1]
+    N[h1], N[h2] = h2 // 3, h1 // 3
+    return N.reshape(m, 3)
+
+
 def _lawson(P: np.ndarray, T: np.ndarray) -> np.ndarray:
     """Lawson's edge flips towards the constrained Delaunay triangulation (de Berg et al.,
     Computational Geometry, 9.1): an edge shared by triangles (a, b, c) and (b, a, d) is
     flipped to (c, d) when d lies inside the circumcircle of (a, b, c) and the quad is
-    convex; edges of one triangle (the trim loops) stay fixed. ``P`` is scaled to the
-    loops' box. Bounded by MIN_FLIP_PASSES + m passes for m triangles."""
+    convex; edges of one triangle (the loops of R) stay fixed. Each pass tests the edges
+    of the triangles that changed (or could not flip) in the pass before and flips a set
+    of them no two of which touch or neighbour each other (the largest incircle value in
+    its neighbourhood), keeping the neighbour table current. Bounded by MIN_FLIP_PASSES +
+    m passes for m triangles (each flips at least one edge)."""
     T = np.array(T, dtype=np.int64).reshape(-1, 3)
-    if len(T) < 2:
-        return T
     m = len(T)
+    if m < 2:
+        return T
+    N = _neighbours(T)
+    act = np.arange(m)                                      # the triangles whose edges are tested
+    active = np.zeros(m, dtype=bool)
+    best = np.full(m, -1, dtype=np.int64)
     for _ in range(MIN_FLIP_PASSES + m):
-        ks = np.arange(3)
-        a = T[:, ks].ravel()
-        b = T[:, (ks + 1) % 3].ravel()
-        key = np.minimum(a, b) * len(P) + np.maximum(a, b)
-        order = np.argsort(key, kind="stable")
-        same = np.flatnonzero(key[order][1:] == key[order][:-1])
-        if not len(same):
+        active[act] = True
+        t1, k1 = np.repeat(act, 3), np.tile(np.arange(3), len(act))
+        t2 = N[t1, k1]
+        keep = (t2 >= 0) & (~active[np.maximum(t2, 0)] | (t1 < t2))      # each shared edge once
+        active[act] = False
+        t1, k1, t2 = t1[keep], k1[keep], t2[keep]
+        if not len(t1):
             break
-        h1, h2 = order[same], order[same + 1]
-        t1, k1, t2, k2 = h1 // 3, h1 % 3, h2 // 3, h2 % 3
-        A, B = T[t1, k1], T[t1, (k1 + 1) % 3]
-        C, D = T[t1, (k1 + 2) % 3], T[t2, (k2 + 2) % 3]
+        k2 = np.argmax(N[t2] == t1[:, None], axis=1)
+        A, B, C = T[t1, k1], T[t1, (k1 + 1) % 3], T[t1, (k1 + 2) % 3]
+        D = T[t2, (k2 + 2) % 3]
         pa, pb, pc, pd = P[A], P[B], P[C], P[D]
         ad, bd, cd = pa - pd, pb - pd, pc - pd
         inc = ((ad ** 2).sum(1) * (bd[:, 0] * cd[:, 1] - bd[:, 1] * cd[:, 0])
@@ -405,17 +496,31 @@ def _lawson(P: np.ndarray, T: np.ndarray) -> np.ndarray:
         size2 = np.maximum.reduce([(ad ** 2).sum(1), (bd ** 2).sum(1), (cd ** 2).sum(1)])   # the quad's
         ok = ((inc > FLIP_TOL * size2 ** 2) & (orient(pc, pa, pd) > FLIP_TOL * size2)       # own scale
               & (orient(pd, pb, pc) > FLIP_TOL * size2))
-        cand = np.flatnonzero(ok)
-        if not len(cand):
+        e = np.flatnonzero(ok)
+        if not len(e):
             break
-        # a set of disjoint flips: each triangle's best candidate (largest incircle value,
-        # ties by position), flipped where it is the best of both its triangles
-        rank = np.empty(len(cand), dtype=np.int64)
-        rank[np.argsort(-inc[cand], kind="stable")] = np.arange(len(cand))[::-1]
-        best = np.full(m, -1, dtype=np.int64)
-        np.maximum.at(best, t1[cand], rank)
-        np.maximum.at(best, t2[cand], rank)
-        e = cand[(best[t1[cand]] == rank) & (best[t2[cand]] == rank)]
-        T[t1[e]] = np.stack([C[e], A[e], D[e]], axis=1)
-        T[t2[e]] = np.stack([D[e], B[e], C[e]], axis=1)
+        # flips far enough apart to update at once: the best rank in the neighbourhood
+        rank = np.empty(len(e), dtype=np.int64)
+        rank[np.argsort(-inc[e], kind="stable")] = np.arange(len(e))[::-1]
+        np.maximum.at(best, t1[e], rank)
+        np.maximum.at(best, t2[e], rank)
+
+        def near(t: np.ndarray) -> np.ndarray:
+            return np.maximum(best[t], np.where(N[t] >= 0, best[np.maximum(N[t], 0)], -1).max(axis=1))
+        pick = e[(near(t1[e]) == rank) & (near(t2[e]) == rank)]
+        best[t1[e]] = best[t2[e]] = -1
+        i, j, q1, q2 = t1[pick], t2[pick], k1[pick], k2[pick]
+        a_, b_, c_, d_ = A[pick], B[pick], C[pick], D[pick]
+        n_bc, n_ca = N[i, (q1 + 1) % 3], N[i, (q1 + 2) % 3]
+        n_ad, n_db = N[j, (q2 + 1) % 3], N[j, (q2 + 2) % 3]
+        T[i] = np.stack([c_, a_, d_], axis=1)                # edges (c,a) (a,d) (d,c)
+        T[j] = np.stack([d_, b_, c_], axis=1)                # edges (d,b) (b,c) (c,d)
+        N[i] = np.stack([n_ca, n_ad, j], axis=1)
+        N[j] = np.stack([n_db, n_bc, i], axis=1)
+        for x, old, new in ((n_ad, j, i), (n_bc, i, j)):     # the outer neighbours that changed sides
+            s_ = x >= 0
+            xs, olds, news = x[s_], old[s_], new[s_]
+            col = np.argmax(N[xs] == olds[:, None], axis=1)
+            N[xs, col] = news
+        act = np.unique(np.concatenate([t1[e], t2[e]]))      # flipped, or left for a later pass
     return T

@@ -47,3 +47,27 @@ def test_mesh_deviation_falls_with_the_count(faces):
             errs.append(_deviation(ts, t.uv, xyz, t.triangles, t.boundary, t.boundary_mid))
         assert errs[1] < 0.5 * errs[0], (i, errs)
         assert np.isfinite(errs).all()
+
+
+def test_the_part_meshes_within_tol_checked_by_closest_points(faces):
+    """Every face of trj1_t4m-pe meshed at tol = 0.1 mm (a 1.7 m part): converged, and the
+    triangles' centroids lie within 2 tol of their face (certified closest points, an
+    oracle apart from the mesh's edge-midpoint measure; a centroid may sag a little more
+    than an edge midpoint); the trimmed faces' mesh areas within 1e-3 of area()."""
+    from cagd.occ import read_step
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        items = [it.object for it in read_step(FILE)]
+    tol = 0.1
+    rng = np.random.default_rng(3)
+    for i, g in enumerate(items):
+        m = cagd.mesh.mesh(g, tol=tol)
+        assert m.converged and m.max_error <= tol, (i, m.message)
+        T = m.triangles[rng.choice(len(m.triangles), size=min(2000, len(m.triangles)), replace=False)]
+        centroids = m.vertices[T].mean(axis=1)
+        r = cagd.closest_point(g, centroids)
+        assert r.distances.max() <= 2 * tol, (i, r.distances.max())
+        if isinstance(g, cagd.TrimmedSurface):
+            P = m.vertices[m.triangles]
+            area = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1).sum()
+            assert area == pytest.approx(g.area(), rel=1e-3), i
