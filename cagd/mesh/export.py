@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass
-from typing import Any, List, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -34,6 +34,7 @@ from ..surfaces.trimmed import TrimmedSurface
 MAX_GRID_POINTS = 1025    # a face's grid has at most MAX_GRID_POINTS^2 points (about 1 M)
 MAX_LINES = 4097          # grid lines per direction at most
 MAX_REFINEMENTS = 6       # density doublings at most
+TRIM_CELL_ASPECT = 2.0    # a trimmed face's grid cells: the longer side at most this times the shorter, in space
 CURVATURE_SAMPLES = 2_000_000   # second-derivative samples per face at most (the grid's first guess)
 
 
@@ -91,12 +92,15 @@ def _span_samples(breaks: np.ndarray, per_span: int) -> np.ndarray:
     return np.append(inner, breaks[-1])
 
 
-def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor: int
-           ) -> Tuple[np.ndarray, np.ndarray, bool, float]:
+def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor: int,
+           aspect: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, bool, float]:
     """Grid lines (us, vs) by curvature (the module docstring), ``factor`` times as many
     intervals per span; capped (MAX_LINES, MAX_GRID_POINTS^2) with the flag set; and the
     largest speed max(|S_u|, |S_v|) seen (a trim chord within tol / speed of its curve in
-    (u, v) is within tol of it in space, to first order)."""
+    (u, v) is within tol of it in space, to first order). ``aspect``: the longest cell side
+    in space at most this many times the shortest (a trimmed face: the triangulation of
+    the band along its trim has no points inside the cells, so a cell long across a
+    curved direction would give triangles long across it)."""
     bu, bv = breaks
     n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
     pu, pv = max(3, 2 * n.degree_u), max(3, 2 * n.degree_v)
@@ -131,6 +135,11 @@ def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor
         elif hv < tv:
             tu = c / hv
         sizes = [np.minimum(sizes[0], tu), np.minimum(sizes[1], tv)]
+    if aspect is not None:
+        mu, mv = float(np.median(Su)), float(np.median(Sv))
+        lu, lv = float(sizes[0].max()) * mu, float(sizes[1].max()) * mv      # the cells' sides in space
+        if mu > 0 and mv > 0:
+            sizes = [np.minimum(sizes[0], aspect * lv / mu), np.minimum(sizes[1], aspect * lu / mv)]
     counts = [np.clip(np.ceil(w / np.maximum(h, 1e-300)), 1.0, float(MAX_LINES)) * factor
               for w, h in zip(widths, sizes)]
     total = [float(c.sum()) for c in counts]
@@ -190,7 +199,8 @@ def _one(g: Any, tol: float) -> Tuple[np.ndarray, np.ndarray, float, bool, int]:
     breaks = (_breaks(s, 0, lo[0], hi[0]), _breaks(s, 1, lo[1], hi[1]))
     factor = 1
     for _ in range(MAX_REFINEMENTS + 1):
-        us, vs, capped, speed = _lines(s, breaks, tol, factor)
+        us, vs, capped, speed = _lines(s, breaks, tol, factor,
+                                       TRIM_CELL_ASPECT if isinstance(g, TrimmedSurface) else None)
         bnd, bnd_mid, fallbacks = _NO_EDGES, _NO_POINTS, 0
         if isinstance(g, TrimmedSurface):
             t = tessellation(g, 0, (us, vs), 0.5 * tol / speed / factor if speed > 0 else None)

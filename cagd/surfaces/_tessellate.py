@@ -36,7 +36,8 @@ if TYPE_CHECKING:
 
 CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of the smaller cell side)
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
-MERGE_FRACTION = 1e-9      # trim vertices closer than this (in cells) or twice the trim's tol are one vertex
+MERGE_FRACTION = 1e-9      # consecutive trim vertices closer than this (in cells) are one vertex
+MIN_CELLS = 8              # cells across the shorter side at least (uniform grid)
 LINE_GAP = 1e-9            # grid lines closer than this (of the box) are one line
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
 DEGENERATE_AREA = 1e-14    # twice a triangle's area in the unit box below which it counts as flat
@@ -89,7 +90,8 @@ def tessellation(ts: "TrimmedSurface", count: int, lines: Optional[Tuple[np.ndar
         t, stalled = _ear_clip(P, ring)
         tris.append(t)
         fallbacks += stalled
-    T = np.concatenate([tris[0], _lawson(P, np.concatenate(tris[1:]).reshape(-1, 3))])
+    band = np.concatenate(tris[1:]).reshape(-1, 3) if len(tris) > 1 else np.empty((0, 3), dtype=np.int64)
+    T = np.concatenate([tris[0], _lawson(P, band)])
     bnd = np.concatenate([np.stack([ix, np.roll(ix, -1)], axis=1)
                           for ix in (np.arange(offsets[i], offsets[i + 1]) for i in range(len(S)))])
     used = np.zeros(len(P), dtype=bool)
@@ -130,8 +132,9 @@ def _grid_lines(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray, count: int,
     width = (hi - lo) * scale
     if lines is None:
         h = 1.0 / (count + 1)
-        nu, nv = (max(1, int(np.ceil(w / h - 1e-9))) for w in width)
-        return np.arange(nu + 1) * h, np.arange(nv + 1) * h
+        least = min(count + 1, MIN_CELLS)         # a thin face (a tube, a fillet) still gets width
+        nu, nv = (max(least, int(np.ceil(w / h - 1e-9))) for w in width)
+        return np.arange(nu + 1) * min(h, width[0] / nu), np.arange(nv + 1) * min(h, width[1] / nv)
     out = []
     for d in (0, 1):
         x = np.asarray(lines[d], dtype=np.float64)
@@ -160,14 +163,18 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, 
     tol = CHORD_FRACTION * h / float(np.max(scale))
     if chord_tol is not None:
         tol = min(tol, chord_tol)
-    merge = max(MERGE_FRACTION * h, 2 * ts.tol * float(np.max(scale)))
     chains = closed_chains(ts.loops)
     curves = [c for _, chain, _ in chains for c in chain]
     nets = [Q for Q, _ in flatten(curves, tol)]
     polys, mids, k = [], [], 0
-    for _, chain, _ in chains:
-        starts, middles = [], []
-        for Q in nets[k:k + len(chain)]:
+    for _, chain, names in chains:
+        starts, middles, straight = [], [], []
+        # a gap closer (name -1, a joint's gap up to the trim's tol) adds no vertex: the last
+        # chord of the curve before it ends at the next curve's start, and is measured at its
+        # own middle (the gap closed straight, as classification and area() close it)
+        for q, (Q, name) in enumerate(zip(nets[k:k + len(chain)], names)):
+            if name < 0:
+                continue
             A = (_cartesian(Q[:, 0]) - lo) * scale
             chord = (_cartesian(Q[:, -1]) - lo) * scale - A
             n = np.maximum(np.ceil(np.linalg.norm(chord, axis=1) / _cell_sizes(gu, gv, A)).astype(np.int64), 1)
@@ -175,10 +182,14 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, 
             R = np.repeat(Q, n, axis=0)
             starts.append(_de_casteljau(R, j / np.repeat(n, n)))
             middles.append(_de_casteljau(R, (j + 0.5) / np.repeat(n, n)))
+            closed = np.zeros(len(j), dtype=bool)
+            closed[-1] = names[(q + 1) % len(names)] < 0
+            straight.append(closed)
         k += len(chain)
-        start, mid = np.concatenate(starts), np.concatenate(middles)
+        start, mid, gap = np.concatenate(starts), np.concatenate(middles), np.concatenate(straight)
+        mid[gap] = 0.5 * (start + np.roll(start, -1, axis=0))[gap]
         step = np.linalg.norm((np.roll(start, -1, axis=0) - start) * scale, axis=1)
-        keep = step > merge          # a joint's gap closer (up to the trim's tol): one vertex, not two
+        keep = step > MERGE_FRACTION * h          # zero-length chords: one vertex, not two
         if np.count_nonzero(keep) < 3:            # a loop this small keeps every distinct vertex
             keep = step > 0
         polys.append(start[keep])
