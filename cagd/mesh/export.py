@@ -9,7 +9,7 @@ in each direction, and 2 h_u h_v |S_uv| <= 4 tol with cells square in space (the
 is the same for any split), the maxima sampled per span (2 degree points at least). An
 untrimmed surface gives two triangles a cell; a :class:`TrimmedSurface` is triangulated
 on those lines by :func:`cagd.surfaces._tessellate.tessellation`, its trim polylines
-within tol / (2 max speed) of the curves in (u, v). The counts are doubled (bounded) until
+within tol / (2 median speed) of the curves in (u, v). The counts are doubled (bounded) until
 the measured chordal deviation is at most ``tol``: the distance between the surface at
 each edge's parameter midpoint and the edge's chord midpoint, and for a trim chord
 between the edge's point S(c(t)) at the chord's middle parameter and the chord's
@@ -96,9 +96,9 @@ def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor
            aspect: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, bool, float]:
     """Grid lines (us, vs) by curvature (the module docstring), ``factor`` times as many
     intervals per span; capped (MAX_LINES, MAX_GRID_POINTS^2) with the flag set; and the
-    largest speed max(|S_u|, |S_v|) seen (a trim chord within tol / speed of its curve in
-    (u, v) is within tol of it in space, to first order). ``aspect``: the longest cell side
-    in space at most this many times the shortest (a trimmed face: the triangulation of
+    median speed max(|S_u|, |S_v|) (a trim chord within tol / speed of its curve in
+    (u, v) is about within tol of it in space; the refinement measures). ``aspect``: the
+    longest cell side in space at most this many times the shortest (a trimmed face: the triangulation of
     the band along its trim has no points inside the cells, so a cell long across a
     curved direction would give triangles long across it)."""
     bu, bv = breaks
@@ -124,7 +124,7 @@ def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor
     # is split, so the cells are made square in space (h_u |S_u| = h_v |S_v|, mean speeds)
     Su = np.linalg.norm(s.grid(su, sv, 1, 0), axis=-1)
     Sv = np.linalg.norm(s.grid(su, sv, 0, 1), axis=-1)
-    speed = max(float(Su.max()), float(Sv.max()))
+    speed = max(float(np.median(Su)), float(np.median(Sv)))
     hu, hv = float(sizes[0].max()), float(sizes[1].max())
     if twist > 0 and 2.0 * hu * hv * twist > 4.0 * tol:
         c = 2.0 * tol / twist

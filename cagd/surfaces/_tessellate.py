@@ -38,6 +38,7 @@ CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of 
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
 MERGE_FRACTION = 1e-9      # consecutive trim vertices closer than this (in cells) are one vertex
 MIN_CELLS = 8              # cells across the shorter side at least (uniform grid)
+SLIVER_CELL = 0.25         # grid lines closer than this times the median spacing are one line
 LINE_GAP = 1e-9            # grid lines closer than this (of the box) are one line
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
 DEGENERATE_AREA = 1e-14    # twice a triangle's area in the unit box below which it counts as flat
@@ -138,10 +139,15 @@ def _grid_lines(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray, count: int,
     out = []
     for d in (0, 1):
         x = np.asarray(lines[d], dtype=np.float64)
-        gap = LINE_GAP * (hi[d] - lo[d])
-        x = np.unique(x[(x > lo[d] + gap) & (x < hi[d] - gap)])
-        x = x[np.concatenate([[True], np.diff(x) > gap])] if len(x) else x
-        out.append((np.concatenate([[lo[d]], x, [hi[d]]]) - lo[d]) * scale[d])
+        x = np.unique(np.concatenate([[lo[d]], x[(x > lo[d]) & (x < hi[d])], [hi[d]]]))
+        # lines much closer than the typical spacing (a knot next to the box side) are
+        # dropped: a sliver of cells would set the trim polylines' and samples' spacing
+        gap = max(LINE_GAP * (hi[d] - lo[d]), SLIVER_CELL * float(np.median(np.diff(x))))
+        keep = np.concatenate([[True], np.diff(x) > gap])
+        keep[-1] = True
+        if len(x) > 2 and np.diff(x)[-1] <= gap:
+            keep[-2] = False
+        out.append((x[keep] - lo[d]) * scale[d])
     return out[0], out[1]
 
 
