@@ -17,9 +17,14 @@ in C", 1.6). The staircase vertices are grid vertices shared with the full cells
 mesh has no T-junctions. Lawson's edge flips (de Berg et al., "Computational Geometry",
 9.1) then remove the slivers of the ear clipping in R, its loops held fixed.
 
-Cost: O(cells) vectorized for the grid; ear clipping is O(k^2) in the k vertices of R's
-polygons (the trim polylines and the staircases, O(count) per loop), the triangle test
-vectorized over the reflex vertices. Every loop is bounded.
+Ears are tried from a stack (the convex vertices, then the two neighbours of each clip,
+alternately first: a strip between two rows of collinear vertices zig-zags instead of
+fanning from a corner), each test over the reflex vertices of a bucket grid near the
+triangle; Lawson's passes test only the triangles that changed. Cost: O(cells)
+vectorized for the grid, about O(k) ear tests for the k vertices of R's polygons (the
+trim polylines and staircases), passes of Lawson about as many as the longest fan.
+Every loop is bounded. Not handled: a hole that crosses the seam of a periodic face
+(it is moved into the outer loop's period whole; files split such faces at the seam).
 """
 from __future__ import annotations
 
