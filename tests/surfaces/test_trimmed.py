@@ -424,3 +424,16 @@ def test_composition_across_a_periodic_seam_and_on_a_torus():
         t = np.linspace(*c.domain, 2001)
         uv = c(t)
         assert np.abs(b.curves[0][0](t) - s(uv[:, 0], uv[:, 1])).max() <= 1e-14 * ts.size
+
+
+def test_area_of_a_loop_leaving_the_domain_counts_only_the_surface():
+    """A loop may leave a bounded direction by its tol (11752.stp face 407: by 8e-4 in u):
+    there is no surface there, so the sliver adds nothing. Before, the density at the
+    clipped point was integrated over it (that face: 3.8e-4 of its area too much; now it
+    agrees with BRepGProp and a fine mesh to 5e-8). Square patch of side 2: area 4 x the
+    (u, v) area of the rectangle clipped to [0, 1]^2."""
+    from trim_shapes import rectangle, square_patch
+    for u0, v1 in ((-8e-4, 0.7), (0.2, 1.0 + 5e-4)):
+        ts = TrimmedSurface(square_patch(), [rectangle(u0, 0.9, 0.1, v1)], tol=1e-3)
+        clipped = (0.9 - max(u0, 0.0)) * (min(v1, 1.0) - 0.1)
+        assert ts.area() == pytest.approx(4.0 * clipped, rel=1e-12)
