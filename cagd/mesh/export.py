@@ -29,7 +29,7 @@ from .. import _atomic
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
-from ..surfaces.trimmed import TrimmedSurface
+from ..surfaces.trimmed import TrimmedSurface, knot_lines
 
 MAX_GRID_POINTS = 1025    # a face's grid has at most MAX_GRID_POINTS^2 points (about 1 M)
 MAX_LINES = 4097          # grid lines per direction at most
@@ -74,16 +74,10 @@ def _grid_uv(us: np.ndarray, vs: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     return uv, tri
 
 
-def _breaks(s: Surface, d: int, lo: float, hi: float) -> np.ndarray:
-    """lo, the knots of direction d strictly between lo and hi (a periodic direction's
-    repeated a period on either side), hi."""
-    n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
-    k = np.unique(n.knots_u if d == 0 else n.knots_v)
-    if (n.periodic_u, n.periodic_v)[d]:
-        a, b = n.domain[d]
-        k = np.concatenate([k - (b - a), k, k + (b - a)])
-    k = k[(k > lo) & (k < hi)]
-    return np.concatenate([[lo], k, [hi]])
+def _breaks(n: BSplineSurface, d: int, lo: float, hi: float) -> np.ndarray:
+    """lo, the knots of direction d of the NURBS form ``n`` strictly between lo and hi
+    (repeated by periods in a periodic direction: :func:`cagd.surfaces.trimmed.knot_lines`), hi."""
+    return np.concatenate([[lo], knot_lines(n, d, lo, hi), [hi]])
 
 
 def _span_samples(breaks: np.ndarray, per_span: int) -> np.ndarray:
@@ -92,56 +86,57 @@ def _span_samples(breaks: np.ndarray, per_span: int) -> np.ndarray:
     return np.append(inner, breaks[-1])
 
 
-def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor: int,
-           aspect: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, bool, float]:
-    """Grid lines (us, vs) by curvature (the module docstring), ``factor`` times as many
-    intervals per span; capped (MAX_LINES, MAX_GRID_POINTS^2) with the flag set; and the
-    median speed max(|S_u|, |S_v|) (a trim chord within tol / speed of its curve in
-    (u, v) is about within tol of it in space; the refinement measures). ``aspect``: the
-    longest cell side in space at most this many times the shortest (a trimmed face: the triangulation of
-    the band along its trim has no points inside the cells, so a cell long across a
-    curved direction would give triangles long across it)."""
+def _cell_sizes(s: Surface, n: BSplineSurface, breaks: Tuple[np.ndarray, np.ndarray], tol: float,
+                aspect: Optional[float] = None) -> Tuple[List[np.ndarray], float]:
+    """Per direction and knot span, the parameter step by curvature (the module docstring);
+    and the median speed max(|S_u|, |S_v|) (a trim chord within tol / speed of its curve
+    in (u, v) is about within tol of it in space; the refinement measures). ``n``: s's
+    NURBS form (its degrees). ``aspect``: the longest cell side in space at most this many
+    times the shortest (a trimmed face: the triangulation of the band along its trim has
+    no points inside the cells, so a cell long across a curved direction would give
+    triangles long across it). Sampled once per face; the refinement only multiplies."""
     bu, bv = breaks
-    n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
     pu, pv = max(3, 2 * n.degree_u), max(3, 2 * n.degree_v)
     if (pu * len(bu)) * (pv * len(bv)) > CURVATURE_SAMPLES:     # very many spans: fewer per span
         pu = pv = max(1, int(np.sqrt(CURVATURE_SAMPLES / (len(bu) * len(bv)))))
     su, sv = _span_samples(bu, pu), _span_samples(bv, pv)
     twist = float(np.linalg.norm(s.grid(su, sv, 1, 1), axis=-1).max())
-    sizes, widths = [], []
+    sizes = []
     for d, (b, x) in enumerate(((bu, su), (bv, sv))):
         acc = np.linalg.norm(s.grid(su, sv, 2, 0) if d == 0 else s.grid(su, sv, 0, 2), axis=-1).max(axis=1 - d)
         span = np.clip(np.searchsorted(b, x, side="right") - 1, 0, len(b) - 2)
         peak = np.zeros(len(b) - 1)             # the largest second derivative per span (ends included)
         np.maximum.at(peak, span, acc)
         np.maximum.at(peak, np.clip(span - 1, 0, None), acc * (x == b[span]))
-        w = np.diff(b)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             h = np.sqrt(2.0 * tol / peak)       # h^2 |S_dd| <= 2 tol: a quarter of the 8 tol budget
-        sizes.append(np.minimum(np.nan_to_num(h, nan=np.inf), w))
-        widths.append(w)
+        sizes.append(np.minimum(np.nan_to_num(h, nan=np.inf), np.diff(b)))
     # the twist: 2 h_u h_v |S_uv| <= 4 tol. The cell count is then the same however the product
     # is split, so the cells are made square in space (h_u |S_u| = h_v |S_v|, mean speeds)
-    Su = np.linalg.norm(s.grid(su, sv, 1, 0), axis=-1)
-    Sv = np.linalg.norm(s.grid(su, sv, 0, 1), axis=-1)
-    speed = max(float(np.median(Su)), float(np.median(Sv)))
+    mu = float(np.median(np.linalg.norm(s.grid(su, sv, 1, 0), axis=-1)))
+    mv = float(np.median(np.linalg.norm(s.grid(su, sv, 0, 1), axis=-1)))
     hu, hv = float(sizes[0].max()), float(sizes[1].max())
     if twist > 0 and 2.0 * hu * hv * twist > 4.0 * tol:
         c = 2.0 * tol / twist
-        ratio = float(np.median(Sv)) / max(float(np.median(Su)), 1e-300)     # h_u / h_v for square cells
+        ratio = mv / max(mu, 1e-300)                                  # h_u / h_v for square cells
         tu, tv = np.sqrt(c * ratio), np.sqrt(c / max(ratio, 1e-300))
         if hu < tu:
             tv = c / hu
         elif hv < tv:
             tu = c / hv
         sizes = [np.minimum(sizes[0], tu), np.minimum(sizes[1], tv)]
-    if aspect is not None:
-        mu, mv = float(np.median(Su)), float(np.median(Sv))
+    if aspect is not None and mu > 0 and mv > 0:
         lu, lv = float(sizes[0].max()) * mu, float(sizes[1].max()) * mv      # the cells' sides in space
-        if mu > 0 and mv > 0:
-            sizes = [np.minimum(sizes[0], aspect * lv / mu), np.minimum(sizes[1], aspect * lu / mv)]
-    counts = [np.clip(np.ceil(w / np.maximum(h, 1e-300)), 1.0, float(MAX_LINES)) * factor
-              for w, h in zip(widths, sizes)]
+        sizes = [np.minimum(sizes[0], aspect * lv / mu), np.minimum(sizes[1], aspect * lu / mv)]
+    return sizes, max(mu, mv)
+
+
+def _lines(breaks: Tuple[np.ndarray, np.ndarray], sizes: List[np.ndarray], factor: int
+           ) -> Tuple[np.ndarray, np.ndarray, bool]:
+    """Grid lines (us, vs) at the steps ``sizes`` per span, ``factor`` times as many;
+    capped (MAX_LINES, MAX_GRID_POINTS^2) with the flag set."""
+    counts = [np.clip(np.ceil(np.diff(b) / np.maximum(h, 1e-300)), 1.0, float(MAX_LINES)) * factor
+              for b, h in zip(breaks, sizes)]
     total = [float(c.sum()) for c in counts]
     capped = False
     budget = float(MAX_GRID_POINTS) ** 2
@@ -151,11 +146,11 @@ def _lines(s: Surface, breaks: Tuple[np.ndarray, np.ndarray], tol: float, factor
         capped = True
         counts = [np.maximum(np.floor(c * shrink), 1.0) for c in counts]
     out = []
-    for b, c in zip((bu, bv), counts):
+    for b, c in zip(breaks, counts):
         k = c.astype(np.int64)
         j = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
         out.append(np.append(np.repeat(b[:-1], k) + np.repeat(np.diff(b) / k, k) * j, b[-1]))
-    return out[0], out[1], capped, speed
+    return out[0], out[1], capped
 
 
 def _box(g: Any) -> Tuple[Surface, np.ndarray, np.ndarray]:
@@ -196,11 +191,12 @@ def _deviation(g: Any, uv: np.ndarray, xyz: np.ndarray, tri: np.ndarray, bnd: np
 def _one(g: Any, tol: float) -> Tuple[np.ndarray, np.ndarray, float, bool, int]:
     from ..surfaces._tessellate import tessellation
     s, lo, hi = _box(g)
-    breaks = (_breaks(s, 0, lo[0], hi[0]), _breaks(s, 1, lo[1], hi[1]))
+    n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
+    breaks = (_breaks(n, 0, lo[0], hi[0]), _breaks(n, 1, lo[1], hi[1]))
+    sizes, speed = _cell_sizes(s, n, breaks, tol, TRIM_CELL_ASPECT if isinstance(g, TrimmedSurface) else None)
     factor = 1
     for _ in range(MAX_REFINEMENTS + 1):
-        us, vs, capped, speed = _lines(s, breaks, tol, factor,
-                                       TRIM_CELL_ASPECT if isinstance(g, TrimmedSurface) else None)
+        us, vs, capped = _lines(breaks, sizes, factor)
         bnd, bnd_mid, fallbacks = _NO_EDGES, _NO_POINTS, 0
         if isinstance(g, TrimmedSurface):
             t = tessellation(g, 0, (us, vs), 0.5 * tol / speed / factor if speed > 0 else None)

@@ -835,9 +835,13 @@ def _inside_domain(surface: Surface, u: np.ndarray, v: np.ndarray) -> Tuple[np.n
 
 
 def _knot_lines(ts: TrimmedSurface, k: int, lo: float, hi: float) -> np.ndarray:
-    """The surface's distinct knots in direction k (0: u, 1: v) strictly inside (lo, hi),
-    repeated by periods in a periodic direction: where S is not smooth."""
-    s = ts.surface.to_nurbs()
+    """:func:`knot_lines` of the face's surface."""
+    return knot_lines(ts.surface.to_nurbs(), k, lo, hi)
+
+
+def knot_lines(s: "BSplineSurface", k: int, lo: float, hi: float) -> np.ndarray:
+    """The NURBS surface's distinct knots in direction k (0: u, 1: v) strictly inside
+    (lo, hi), repeated by periods in a periodic direction: where S is not smooth."""
     knots = np.unique(s.knots_u if k == 0 else s.knots_v)
     if (s.periodic_u, s.periodic_v)[k]:
         (a, b) = s.domain[k]
