@@ -55,7 +55,7 @@ from __future__ import annotations
 from collections import OrderedDict
 from dataclasses import dataclass, replace
 import hashlib
-from typing import List, Optional, Tuple, Union
+from typing import Callable, List, Optional, Tuple, Union
 import weakref
 
 import numpy as np
@@ -547,12 +547,15 @@ class Projector:
         return self._closest(points, *self._stop_tolerances(tol, param_tol), max_iterations, max_rounds)
 
     def _closest(self, points: ArrayLike, tol: Optional[float], param_tol: Optional[float], max_iterations: int = 50,
-                 max_rounds: int = 40) -> ClosestPoints:
+                 max_rounds: int = 40, defer: Optional[Callable[[np.ndarray], np.ndarray]] = None) -> ClosestPoints:
+        """``defer``: given the local feet's parameters (n, k) after Newton, True for the
+        points whose search the caller finishes itself (cagd.queries.trimmed: feet off
+        the trim); those keep their local foot, not certified (lower bound 0)."""
         model = self._points(points)
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         chunk = int(np.clip(PAIR_BUDGET // min(len(self.radii), CANDIDATES), MIN_CHUNK, POINT_CHUNK))
         if len(model) > chunk:          # at most CANDIDATES cells per point: pairs bounded
-            return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds)
+            return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds, defer)
                             for i in range(0, len(model), chunk)])
         X, far = self._inward(model)
         N = len(X)
@@ -567,8 +570,18 @@ class Projector:
         # by the expansion at x* itself (no evaluation), with bounds over the block of cells
         # around x*'s cell
         gap = 1e-10 * d + 1e-13 * self.size
-        pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
-        cut = LB < d                    # the candidate list was cut (rest lowered below d)
+        if defer is None:
+            pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
+            cut = LB < d                # the candidate list was cut (rest lowered below d)
+        else:                           # only the points not deferred
+            sure = np.flatnonzero(~np.asarray(defer(self.frame.params(x)), dtype=bool))
+            LB = np.zeros(N)
+            pid, cell, lb_s = np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0)
+            if sure.size:
+                pid, cell, lb_s, LB[sure] = self.candidates(X[sure], d[sure], vid[sure], vstart[sure], vcount[sure])
+                pid = sure[pid]
+            cut = np.zeros(N, dtype=bool)
+            cut[sure] = LB[sure] < d[sure]
         keep = lb_s < d[pid] - gap[pid]
         _min_into(LB, pid, np.where(keep, np.inf, lb_s))
         pid, cell = pid[keep], cell[keep]

@@ -2,8 +2,9 @@
 interior or on a boundary edge, with a certified lower bound.
 
 The face F = S(D) is a part of its surface S, so the untrimmed answer (certified over S)
-is F's wherever its foot lies in D, and its lower bound holds for F everywhere. For the
-other points F's distance is the smaller of
+is F's wherever its foot lies in D. The untrimmed search is certified only for the
+points whose Newton foot lies in D (``Projector._closest``'s defer: the others' search
+below stands on its own). For the other points F's distance is the smaller of
 
 - the distance to the boundary S(dD): each loop's 3-D image (``boundary()``: exact
   iso-curves, or fits within their reported error), its curves joined into one curve
@@ -17,7 +18,11 @@ other points F's distance is the smaller of
   minimiser over the box, which the bound's quadratic confines to a small box about the
   Newton point: the box is cut down to it (and then usually classified outside D). A
   box whose bound reaches the edges' lower bound is closed (it cannot lower the
-  certificate).
+  certificate). Before that, a point is settled at once where g is strongly convex on
+  a box B about its untrimmed foot whose minimiser lies outside D, and on the box
+  spanned by B and its open cells (:func:`_hull_settled`): the face's minimum there is
+  on dD. Boxes smaller than the loops' chord bounds are classified by the curve pieces
+  themselves (``_Flattened.pieces_meet``), so that the halving ends.
 
 The lower bound reported is the largest of the untrimmed one and the minimum of the
 boundary curves' bounds (less FIT_ERROR_SAFETY times the fits' measured error, where an
@@ -26,7 +31,7 @@ bounds of the cells left.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Dict, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Dict, Optional, Tuple
 import weakref
 
 import numpy as np
@@ -57,6 +62,9 @@ CRITICAL_SAFETY = 1.0 + 1e-9
 GRID = 128
 #: grid cells of boxes expanded at once
 GRID_CHUNK = 1 << 18
+#: a box is tested against a loop's curve pieces, not the chord, where the chord's bound
+#: exceeds this share of the box's larger side (the chords alone cannot split it further)
+FINE_BOX = 0.25
 #: the boundary fits' error is measured at samples (TrimBoundary.error), not bounded: the
 #: lower bound from a fitted edge subtracts this multiple of it
 FIT_ERROR_SAFETY = 4.0
@@ -64,6 +72,8 @@ FIT_ERROR_SAFETY = 4.0
 KINK_TOL = 1e-12
 #: (point, box) rows evaluated at once by the stationary-point test
 ROW_CHUNK = 1 << 16
+#: points that descend the projector's hierarchy of cells at once
+TREE_CHUNK = 2048
 #: a foot on a joined loop within this share of its domain from a joint is at the joint
 JOINT_TOL = 1e-12
 #: margin on the reach of a convex box's minimiser (rounding in its bound)
@@ -72,6 +82,10 @@ CONVEX_SAFETY = 1.0 + 1e-6
 SHRUNK = 0.5
 #: half-widths tried for the convex box about an untrimmed foot, as shares of its cell (largest first)
 CONVEX_BOX_SHARES = (1.0, 0.5, 0.25, 0.125)
+#: cells of the box spanned by a point's open rows at most, tested for convexity (:func:`_hull_settled`)
+MAX_HULL_CELLS = 64
+#: quarterings of the cells where that test fails (each quarter expanded at its own centre)
+HULL_SPLITS = 2
 #: halvings of the open boxes before a point outside the trim goes to the branch and bound
 SETTLE_LEVELS = 3
 
@@ -130,8 +144,11 @@ class _ChordGrid:
     def _cells(self, x: np.ndarray) -> np.ndarray:
         return np.clip(np.floor((x - self.lo) / self.step), 0, GRID - 1).astype(np.int64)
 
-    def meets(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Per box [lo, hi]: whether some chord box meets it (in chunks of pairs)."""
+    def meets(self, lo: np.ndarray, hi: np.ndarray, flat: Any = None) -> np.ndarray:
+        """Per box [lo, hi]: whether some chord box meets it (in chunks of pairs); with
+        ``flat`` (the loops' chords), pairs where the chord's bound exceeds FINE_BOX times
+        the box's larger side are decided by the curve pieces themselves
+        (``flat.pieces_meet``): boxes below the chords' resolution are classified too."""
         n = len(lo)
         out = np.zeros(n, dtype=bool)
         i0, i1 = self._cells(lo), self._cells(hi)
@@ -156,6 +173,12 @@ class _ChordGrid:
             nrm, c, h = self.normal[seg], 0.5 * (lo[pb] + hi[pb]), 0.5 * (hi[pb] - lo[pb])
             reach = np.abs(nrm[:, 0]) * h[:, 0] + np.abs(nrm[:, 1]) * h[:, 1] + self.r[seg]
             hit = np.abs(np.einsum("nk,nk->n", nrm, c - self.A[seg])) <= reach * (1.0 + 1e-12)
+            if flat is not None:
+                k = np.flatnonzero(hit)
+                coarse = self.r[seg[k]] > FINE_BOX * np.max(hi[pb[k]] - lo[pb[k]], axis=1)
+                k = k[coarse]
+                if k.size:
+                    hit[k] = flat.pieces_meet(seg[k], lo[pb[k]], hi[pb[k]], FINE_BOX)
             out[np.unique(pb[hit])] = True
             b0 = b1
         return out
@@ -193,7 +216,7 @@ def box_classes(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray, exact_cell
     out[count(table[1]) == n] = -1
     rest = np.flatnonzero(out == 0) if exact_cells is None else np.flatnonzero((out == 0) & (n <= exact_cells))
     if rest.size:                                  # small boxes over a cell that a chord meets
-        crossed = grid.meets(lo[rest], hi[rest])
+        crossed = grid.meets(lo[rest], hi[rest], flat)
         c = 0.5 * (lo[rest] + hi[rest])
         inside = ts.contains(c[:, 0], c[:, 1])
         out[rest[~crossed]] = np.where(inside[~crossed], 1, -1)
@@ -219,7 +242,9 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
     """The closest points of the face ``ts`` (see the module docstring); ``p`` the
     projector of its untrimmed surface, ``stop`` its (tol, param_tol) in frame units."""
     from dataclasses import replace
-    base = p._closest(points, stop[0], stop[1], max_iterations)
+    # the untrimmed search, certified only where Newton's foot is on the face (elsewhere the
+    # boundary and the cells below bound the face's distance by themselves)
+    base = p._closest(points, stop[0], stop[1], max_iterations, defer=lambda x: ~ts.contains(x[:, 0], x[:, 1]))
     uv = base.params
     inside = ts.contains(uv[:, 0], uv[:, 1])
     if inside.all():
@@ -374,19 +399,19 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     edge's error is then the gap). ``xs``: the untrimmed feet (frame parameters), about
     which :func:`_convex_settled` settles points at once."""
     U, best_ok = U.copy(), best_ok.copy()
-    live = np.flatnonzero(cls >= 0)
     LB = np.full(len(X), np.inf)
     pid_l, cell_l = [], []
-    chunk = max(1, MAX_TRIM_ROWS // max(len(live), 1))
-    for c0 in range(0, len(X), chunk):
-        i = np.arange(c0, min(c0 + chunk, len(X)))
-        acc = np.zeros((len(i), len(live)))
-        for a in range(X.shape[1]):               # coordinate by coordinate (no (n, m, 3) array)
-            acc += np.subtract.outer(X[i, a], p.centers[live, a]) ** 2
-        lbs = np.sqrt(acc) - p.radii[live][None]
-        row, col = np.nonzero(lbs < U[i][:, None])
-        pid_l.append(i[row])
-        cell_l.append(live[col])
+    cut = np.zeros(len(X), dtype=bool)
+    t = np.minimum(U, edge)
+    for c0 in range(0, len(X), TREE_CHUNK):     # the cells' hierarchy: the cells whose bounds are below t
+        i = np.arange(c0, min(c0 + TREE_CHUNK, len(X)))
+        a, c, _, rest = p._tree_pairs(X[i], t[i], False)
+        low = rest < t[i]                         # a point held too many cells: some left out
+        LB[i[low]] = np.minimum(LB[i[low]], rest[low])
+        cut[i[low]] = True
+        inside = cls[c] >= 0
+        pid_l.append(i[a[inside]])
+        cell_l.append(c[inside])
     pid, cell = np.concatenate(pid_l), np.concatenate(cell_l)
     lo, hi = p.lo[cell], p.hi[cell]
     # the cells' second-order bounds at their midpoints (stored S, J, H: no evaluation)
@@ -453,7 +478,7 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
             box[straddle] = b
         keep = box >= 0
         pid, cell, lo, hi, box, lb = pid[keep], cell[keep], lo[keep], hi[keep], box[keep], lb[keep]
-    stopped = np.zeros(len(X), dtype=bool)
+    stopped = cut.copy()
     if len(pid):                                 # boxes left open: their bounds still hold
         np.minimum.at(LB, pid, lb)
         stopped[np.unique(pid[lb < np.minimum(U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size, edge[pid])])] = True
@@ -472,10 +497,25 @@ def _inner_params(p: "Projector", uv: np.ndarray) -> np.ndarray:
     return out
 
 
+def _c2_run(p: "Projector", x: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Per point x (frame parameters, (n, 2)): the box of the C2-connected run of pieces
+    that holds it (lo, hi), where S has no crease."""
+    ep = p._power.piece_indices(x) if p._power is not None else \
+        [np.clip(np.searchsorted(b, x[:, a], side="right") - 1, 0, len(b) - 2) for a, b in enumerate(p.pieces.breaks)]
+    lo, hi = np.empty(x.shape), np.empty(x.shape)
+    for a in range(x.shape[1]):
+        pb, run = p.pieces.breaks[a], p._run[a]
+        r = run[ep[a]]
+        lo[:, a] = pb[np.searchsorted(run, r, side="left")]
+        hi[:, a] = pb[np.searchsorted(run, r, side="right")]
+    return lo, hi
+
+
 def _convex_box(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, xs: np.ndarray
-                ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+                ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, Tuple[np.ndarray, np.ndarray]]:
     """Per point: a box B about its untrimmed foot x* (xs) on which g = |S - X|^2 is
-    strongly convex and whose minimiser x^ over B lies outside D, as (lo, hi, ok): B the
+    strongly convex and whose minimiser x^ over B lies outside D, as (lo, hi, ok, the box
+    about x* that holds x^): B the
     largest of x* +- CONVEX_BOX_SHARES of the foot's cell (within the cells next to it
     and the C2 runs of its piece) where the expansion at x* with the bounds over those
     cells gives m > 0 (:func:`cagd.queries._local.box_lower_bound`), and the box about
@@ -486,22 +526,20 @@ def _convex_box(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, xs: np.ndar
     n = len(X)
     S, J, H = p.evaluate(xs, 2)
     home = p.cells.locate(xs)
-    ep = p._power.piece_indices(xs) if p._power is not None else \
-        [np.clip(np.searchsorted(b, xs[:, a], side="right") - 1, 0, len(b) - 2) for a, b in enumerate(p.pieces.breaks)]
     nv = p.cells.shape[1]
     ci = (home // nv, home % nv)
+    run_lo, run_hi = _c2_run(p, xs)
     wlo, whi, width = np.empty((n, 2)), np.empty((n, 2)), np.empty((n, 2))
     for a in range(2):                          # the cells next to the foot's, in its C2 runs
-        cb, pb, run = p.cells.breaks[a], p.pieces.breaks[a], p._run[a]
-        i = ci[a]
-        r = run[ep[a]]
-        wlo[:, a] = np.maximum(cb[np.maximum(i - 1, 0)], pb[np.searchsorted(run, r, side="left")])
-        whi[:, a] = np.minimum(cb[np.minimum(i + 2, len(cb) - 1)], pb[np.searchsorted(run, r, side="right")])
+        cb, i = p.cells.breaks[a], ci[a]
+        wlo[:, a] = np.maximum(cb[np.maximum(i - 1, 0)], run_lo[:, a])
+        whi[:, a] = np.minimum(cb[np.minimum(i + 2, len(cb) - 1)], run_hi[:, a])
         width[:, a] = cb[i + 1] - cb[i]
     Lb, Mb, Tb = (B[1, home] for B in p.block)
     lo, hi = np.array(xs), np.array(xs)
     found = np.zeros(n, dtype=bool)
     t0, t1 = np.zeros((n, 2)), np.zeros((n, 2))
+    reach_lo, reach_hi = np.array(xs), np.array(xs)
     for share in CONVEX_BOX_SHARES:             # the largest box first
         i = np.flatnonzero(~found)
         if not i.size:
@@ -519,7 +557,73 @@ def _convex_box(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, xs: np.ndar
         rlo = np.maximum(lo[ok], xs[ok] + t0[ok] - pad)
         rhi = np.minimum(hi[ok], xs[ok] + t1[ok] + pad)
         found[ok] = box_classes(ts, p.frame.params(rlo), p.frame.params(rhi)) == -1
-    return lo, hi, found
+        reach_lo[ok], reach_hi[ok] = rlo, rhi
+    return lo, hi, found, (reach_lo, reach_hi)
+
+
+def _hull_settled(p: "Projector", X: np.ndarray, pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, xs: np.ndarray,
+                  blo: np.ndarray, bhi: np.ndarray, reach: Tuple[np.ndarray, np.ndarray], ok: np.ndarray) -> np.ndarray:
+    """Per point of X with a convex box B (``ok``, :func:`_convex_box`): whether g is
+    strongly convex on the box K spanned by B and the point's open rows [lo, hi], each
+    cell's part of K shown so by the cell's own bounds expanded at its midpoint
+    (:func:`cagd.queries._local.box_lower_bound`, m > 0; g is C2 on K: K lies in the
+    foot's C2 runs). B's minimiser (within ``reach``, outside D) is then K's when it
+    keeps off the sides of B inside K, and for y in K & D the segment to it leaves D
+    at z on dD with g(z) <= g(y): the rows hold no minimum below the edges'."""
+    from ._local import box_lower_bound
+    out = np.zeros(len(X), dtype=bool)
+    klo, khi = blo.copy(), bhi.copy()
+    np.minimum.at(klo, pid, lo)
+    np.maximum.at(khi, pid, hi)
+    run_lo, run_hi = _c2_run(p, xs)
+    rlo, rhi = reach
+    cand = ok & np.all((klo >= run_lo) & (khi <= run_hi), axis=1)
+    cand &= np.all(((rlo > blo) | (blo <= klo)) & ((rhi < bhi) | (bhi >= khi)), axis=1)
+    i = np.flatnonzero(cand)
+    if not i.size:
+        return out
+    first, count = [], []
+    for a in range(2):                            # the cells that meet K
+        cb = p.cells.breaks[a]
+        c0 = np.clip(np.searchsorted(cb, klo[i, a], side="right") - 1, 0, len(cb) - 2)
+        c1 = np.clip(np.searchsorted(cb, khi[i, a], side="left") - 1, c0, len(cb) - 2)
+        first.append(c0)
+        count.append(c1 - c0 + 1)
+    tiles = count[0] * count[1]
+    small = tiles <= MAX_HULL_CELLS
+    i, first, count, tiles = i[small], [f[small] for f in first], [c[small] for c in count], tiles[small]
+    point = np.repeat(i, tiles)
+    k = np.arange(int(tiles.sum())) - np.repeat(np.cumsum(tiles) - tiles, tiles)
+    r = np.repeat(np.arange(len(i)), tiles)
+    cu = first[0][r] + k // count[1][r]
+    cv = first[1][r] + k % count[1][r]
+    cell = cu * p.cells.shape[1] + cv
+    tlo, thi = np.maximum(p.lo[cell], klo[point]), np.minimum(p.hi[cell], khi[point])
+    out[i] = True
+    for level in range(HULL_SPLITS + 1):
+        convex = np.empty(len(cell), dtype=bool)
+        for c0 in range(0, len(cell), ROW_CHUNK):
+            sl = slice(c0, c0 + ROW_CHUNK)
+            ce = cell[sl]
+            if level:                             # the tile's own centre
+                c = 0.5 * (tlo[sl] + thi[sl])
+                S, J, H = p.evaluate(c, 2, p._cell_piece[ce])
+            else:                                 # the cell's midpoint (stored: no evaluation)
+                c, S, J, H = p.mids[ce], p.mid_points[ce], p.mid_jacobians[ce], p.mid_hessians[ce]
+            _, m, _ = box_lower_bound(X[point[sl]], tlo[sl], thi[sl], c, S, J, H, p.L[ce], p.M[ce], p.T3[ce],
+                                      convexity=True)
+            convex[sl] = m > 0
+        bad = ~convex & out[point]
+        if level == HULL_SPLITS or not bad.any():
+            out[point[bad]] = False
+            break
+        point, cell, tlo, thi = point[bad], cell[bad], tlo[bad], thi[bad]     # quartered
+        mid = 0.5 * (tlo + thi)
+        point, cell = np.repeat(point, 4), np.repeat(cell, 4)
+        up = np.tile(np.array([[0, 0], [1, 0], [0, 1], [1, 1]], dtype=bool), (len(mid), 1))
+        qlo, qhi, m4 = (np.repeat(x, 4, axis=0) for x in (tlo, thi, mid))
+        tlo, thi = np.where(up, m4, qlo), np.where(up, qhi, m4)
+    return out
 
 
 def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarray,
@@ -528,7 +632,8 @@ def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np
     """Per point of X: whether its open (point, box) rows need no branch and bound (the
     face's minimum over them is on the edges), and the lower bound over the boxes closed
     on the way. A box B about the untrimmed foot (:func:`_convex_box`) covers its part of
-    them; the rest are halved, SETTLE_LEVELS times at most, and a part is dropped inside
+    them, and all of them where g is convex on their hull (:func:`_hull_settled`); else
+    the rest are halved, SETTLE_LEVELS times at most, and a part is dropped inside
     B, where g has no stationary point (:func:`_no_critical_point`: D's minimum, unless
     on dD, is one), where its bound reaches min(U, edge) (closed) or outside D. A point
     with a part left is not settled (its rows go to the branch and bound)."""
@@ -538,10 +643,14 @@ def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np
     if not len(pid) or p.k != 2 or ts.periodic_u or ts.periodic_v:
         return settled, LB
     pts = np.unique(pid)
-    blo, bhi, ok = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n, dtype=bool)
-    blo[pts], bhi[pts], ok[pts] = _convex_box(ts, p, X[pts], xs[pts])
+    blo, bhi, rlo, rhi = (np.zeros((n, 2)) for _ in range(4))
+    ok = np.zeros(n, dtype=bool)
+    blo[pts], bhi[pts], ok[pts], (rlo[pts], rhi[pts]) = _convex_box(ts, p, X[pts], xs[pts])
+    # a point whose rows lie in a box where g is strongly convex is settled at once
+    hull = _hull_settled(p, X, pid, lo, hi, xs, blo, bhi, (rlo, rhi), ok)
+    keep = ~hull[pid]
+    pid, cells, lo, hi = pid[keep], cell[keep], lo[keep], hi[keep]
     alive = ok.copy()                            # points still to settle
-    cells = cell
     for level in range(SETTLE_LEVELS + 1):
         keep = alive[pid] & ~np.all((lo >= blo[pid]) & (hi <= bhi[pid]), axis=1)
         pid, cells, lo, hi = pid[keep], cells[keep], lo[keep], hi[keep]

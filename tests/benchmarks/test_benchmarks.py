@@ -48,3 +48,22 @@ def test_gordon_benchmark_runs(capsys):
     except ImportError:
         return
     assert "build123d make_gordon" in out
+
+
+def test_trimmed_benchmark_on_real_faces(capsys, monkeypatch):
+    """benchmarks/trimmed.py's real faces (the corpus in ../shared/data/cad, skipped
+    without it or OCCT): two faces of occ22470.igs, a few points; every query converges
+    (the thin face whose loop starts 4.3e-8 from the domain's corner reached the work
+    bound after 30 s)."""
+    pytest.importorskip("OCP")
+    from pathlib import Path
+    from benchmarks import trimmed
+    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
+    if not folder.is_dir():              # a clone elsewhere: the corpus beside the main checkout
+        folder = Path("/work/shared/data/cad")
+    if not (folder / "iges" / "occ22470.igs").exists():
+        pytest.skip("the CAD corpus is not here")
+    monkeypatch.setattr(trimmed, "REAL_FACES", (("occ22470.igs", 2),))
+    trimmed.bench_real_faces(folder, 200, [0.1])
+    out = capsys.readouterr().out
+    assert "closest, occ22470.igs (2 faces" in out and "not converged" not in out, out

@@ -161,31 +161,126 @@ def test_the_work_bound_is_reported(monkeypatch):
 @pytest.mark.parametrize("holes", [0, 1])
 def test_points_near_the_surface_outside_the_trim_against_brute_force(holes, monkeypatch):
     """Points 1% of the size from the whole untrimmed surface (about half the feet off
-    the trim): most are settled by the convex box about the untrimmed foot (no branch
-    and bound); never farther than the dense samples, the certificate below them, and
-    settling with it off gives the same distances."""
+    the trim): most are settled by the convex box about the untrimmed foot and the
+    convexity of g on the hull of their open rows (no branch and bound); never farther
+    than the dense samples, the certificate below them, and settling without the hull,
+    or not at all, gives the same distances."""
     import cagd.queries.trimmed as T
     loops = [[circle((0.5, 0.5), 0.4)]] + ([[circle((0.6, 0.45), 0.12, clockwise=True)]] if holes else [])
     ts = TrimmedSurface(curved_patch(), loops)
     s = ts.untrimmed
     uv = RNG.random((1500, 2))
     X = s(uv[:, 0], uv[:, 1]) + RNG.normal(0, 0.01 * s.size, (1500, 3))
-    settled = []
-    real = T._convex_settled
+    settled, hull = [], []
+    real, real_hull = T._convex_settled, T._hull_settled
 
     def spy(*args):
         out = real(*args)
         settled.append(int(out[0].sum()))
         return out
+
+    def spy_hull(*args):
+        out = real_hull(*args)
+        hull.append(int(out.sum()))
+        return out
     monkeypatch.setattr(T, "_convex_settled", spy)
+    monkeypatch.setattr(T, "_hull_settled", spy_hull)
     r = closest_point(ts, X)
-    assert sum(settled) > 200
+    assert sum(settled) > 200 and sum(hull) > 0.8 * sum(settled)       # most by the hull of their rows
     b = brute(ts, X)
     assert np.all(r.distances <= b + 1e-12)
     assert np.all(b - r.distances <= 2e-3)
     assert np.all(r.lower_bounds <= r.distances)
     assert np.all(r.lower_bounds <= b + 1e-12)
     assert np.all(ts.contains(r.params[:, 0], r.params[:, 1]))
+    monkeypatch.setattr(T, "MAX_HULL_CELLS", 0)                  # no point settled by its rows' hull
+    quartered = closest_point(ts, X)
+    assert np.abs(quartered.distances - r.distances).max() <= 1e-12
+    assert np.all(quartered.lower_bounds <= b + 1e-12)
     monkeypatch.setattr(T, "CONVEX_BOX_SHARES", ())
     plain = closest_point(ts, X)
     assert np.abs(plain.distances - r.distances).max() <= 1e-12
+
+
+def test_loop_starting_next_to_a_domain_corner(monkeypatch):
+    """A loop that starts 3e-8 from the corner (0, 0) of the domain, where the untrimmed
+    feet lie (as on a face of occ22470.igs, whose loop starts 4.3e-8 from it): the boxes
+    about the corner are smaller than the chords' bounds (1.7e-7 there), so the chords
+    alone cannot tell that they miss the face; the curve pieces can (found: 30 s and the
+    work bound for 400 points on that face). Without the convex settling (every point
+    through the branch and bound): converged, the foot the loop's start, as the dense
+    samples; with the pieces' test off, the work bound is reached."""
+    import cagd.queries.trimmed as T
+    from cagd import BSplineCurve
+    from trim_shapes import line
+    e = 3e-8
+    loop = [line((e, 0), (0.6, 0)), line((0.6, 0), (0.6, 0.6)),
+            BSplineCurve(np.array([[0.6, 0.6], [0.3, 0.6], [0.05, 0.25], [e, 0]]), 3)]
+    ts = TrimmedSurface(curved_patch(), [loop])
+    s = ts.untrimmed
+    d = s.derivatives(np.array([0.0]), np.array([0.0]), 1, 1)
+    su, sv = d[1, 0][0], d[0, 1][0]
+    n = np.cross(su, sv)
+    X = s(0.0, 0.0) + 0.05 * (n / np.linalg.norm(n) - su / np.linalg.norm(su) - sv / np.linalg.norm(sv))
+    X = X + np.array([[0.0, 0.0, 0.0], [0.001, 0.002, 0.0], [-0.01, 0.0, 0.01]])
+    assert np.all(closest_point(s, X).params == 0.0)            # the untrimmed feet: the corner
+    monkeypatch.setattr(T, "CONVEX_BOX_SHARES", ())
+    r = closest_point(ts, X)
+    assert r.converged and not r.message
+    assert np.allclose(r.params, [[e, 0.0]] * 3, atol=1e-12)
+    assert np.all(r.distances <= brute(ts, X) + 1e-12)
+    assert np.all(r.distances - r.lower_bounds <= 1e-8)
+    monkeypatch.setattr(T, "FINE_BOX", float("inf"))              # chords only
+    monkeypatch.setattr(T, "MAX_TRIM_ROWS", 1 << 14)
+    assert "work bound" in closest_point(ts, X).message
+
+
+def test_box_classes_below_the_chords_resolution():
+    """box_classes of boxes smaller than the chords' bounds: decided by the curve pieces
+    (outside, inside, or crossed by the loop), as contains at their corners says."""
+    from cagd import BSplineCurve
+    from cagd.queries.trimmed import box_classes
+    from trim_shapes import line
+    e = 3e-8
+    loop = [line((e, 0), (0.6, 0)), line((0.6, 0), (0.6, 0.6)),
+            BSplineCurve(np.array([[0.6, 0.6], [0.3, 0.6], [0.05, 0.25], [e, 0]]), 3)]
+    ts = TrimmedSurface(curved_patch(), [loop])
+    c = BSplineCurve(np.array([[0.6, 0.6], [0.3, 0.6], [0.05, 0.25], [e, 0]]), 3)(np.array([0.999]))[0]
+    h = 1e-9
+    lo = np.array([[0.0, 0.0], [e + 1e-8, 1e-9], c - h, c + [3e-8, 0.0], c - [3e-8 + 2 * h, 0.0]])
+    hi = lo + 2 * h
+    got = box_classes(ts, lo, hi)
+    assert got.tolist() == [-1, 1, 0, 1, -1]       # the corner, the wedge at the start, across the cubic, beside it
+    corners = [ts.contains(*np.array([[a[0], a[1]], [b[0], a[1]], [a[0], b[1]], [b[0], b[1]]]).T)
+               for a, b in zip(lo, hi)]
+    for g, inside in zip(got, corners):
+        if g == 1:
+            assert inside.all()
+        elif g == -1:
+            assert not inside.any()
+        else:
+            assert inside.any() and not inside.all()
+
+
+def test_feet_off_the_trim_on_a_folded_sheet():
+    """A U-shaped sheet trimmed to one arm: points between the arms, nearer the other
+    one. Newton's untrimmed foot is off the face, those points are not certified on
+    the untrimmed surface (Projector._closest's defer) and the face's own search finds
+    the nearest point of the arm: as the dense samples, the certificate below them."""
+    from cagd import BSplineSurface
+    t = np.linspace(-0.15 * np.pi, 1.15 * np.pi, 9)
+    ring = np.stack([np.cos(t), np.zeros_like(t), np.sin(t)], axis=1)
+    P = np.stack([ring, ring + [0.0, 1.0, 0.0]], axis=1)
+    s = BSplineSurface(P, 3, 1)
+    ts = TrimmedSurface(s, [rectangle(0.0, 0.35, 0.0, 1.0)])
+    X = np.concatenate([RNG.uniform(-0.8, 0.8, (800, 1)), RNG.uniform(0.0, 1.0, (800, 1)),
+                        RNG.uniform(-0.5, 0.9, (800, 1))], axis=1)
+    plain = closest_point(s, X)
+    assert np.mean(~ts.contains(plain.params[:, 0], plain.params[:, 1])) > 0.4
+    r = closest_point(ts, X)
+    assert r.converged
+    b = brute(ts, X)
+    assert np.all(r.distances <= b + 1e-12)
+    assert np.all(b - r.distances <= 2e-3)
+    assert np.all(r.lower_bounds <= b + 1e-12) and np.all(r.lower_bounds <= r.distances)
+    assert np.all(r.params[:, 0] <= 0.35 + 1e-12)
