@@ -114,7 +114,9 @@ def elevation(value: Any, current: int, name: str = "times") -> int:
 
 
 def scalar(value: Any, name: str) -> float:
-    """A finite float."""
+    """A finite float (bools are rejected: ``tol=True`` is a mistake, not 1.0)."""
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, np.ndarray) and value.dtype == bool):
+        raise CagdError(f"{name}: must be a number, got {value!r}")
     try:
         x = float(value)
     except OverflowError:

@@ -159,8 +159,8 @@ def model_objects(path: Path, names: Optional[Sequence[str]]) -> Tuple[str, List
     suffix = path.suffix.lower()
     items: List[Tuple[str, Union[Curve, Surface]]]
     if suffix in (".step", ".stp", ".igs", ".iges"):
-        from .occ import read_iges, read_step
-        items = [(i.name, i.object) for i in (read_iges if suffix in (".igs", ".iges") else read_step)(path)]
+        from .occ import read_cad
+        items = [(i.name, i.object) for i in read_cad(path)]
     else:
         from .model import load_model
         model = load_model(path)

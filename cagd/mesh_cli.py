@@ -22,13 +22,9 @@ def add_parser(sub: Any) -> None:
 def run_mesh(args: argparse.Namespace) -> int:
     from . import occ
     from .mesh import write_obj, write_stl
-    suffix = args.model.suffix.lower()
-    if suffix in (".step", ".stp"):
-        contents = occ.read_step(args.model)
-    elif suffix in (".iges", ".igs"):
-        contents = occ.read_iges(args.model)
-    else:
-        raise CagdError(f"model: {str(args.model)!r} is not a .step/.stp/.iges/.igs file")
+    if args.model.suffix.lower() not in occ.files.STEP_SUFFIXES + occ.files.IGES_SUFFIXES:
+        raise CagdError(f"model: {str(args.model)!r} is not a .step/.stp/.iges/.igs file")   # the argument's name
+    contents = occ.read_cad(args.model)
     from .surfaces.base import Surface
     from .surfaces.trimmed import TrimmedSurface
     faces = [item.object for item in contents if isinstance(item.object, (Surface, TrimmedSurface))]

@@ -113,6 +113,12 @@ def test_fresh_venv_commands_and_an_example(user_venv, tmp_path):
     run([bin_ / "cagd", "export", ROOT / "examples" / "models" / "bottle.json", "-o", tmp_path / "bottle.step"],
         tmp_path)
     assert (tmp_path / "bottle.step").stat().st_size > 1000
+    # ... and meshed back from the STEP file: a binary STL (80-byte header, count, 50 bytes a triangle)
+    done = run([bin_ / "cagd", "mesh", tmp_path / "bottle.step", "-o", tmp_path / "bottle.stl"],
+               tmp_path)
+    data = (tmp_path / "bottle.stl").read_bytes()
+    count = int.from_bytes(data[80:84], "little")
+    assert count > 100 and len(data) == 84 + 50 * count, done.stdout
     done = run([bin_ / "python", ROOT / "examples" / "cq_vase.py", tmp_path / "vase"], tmp_path)
     assert "checks passed" in done.stdout
     assert list((tmp_path / "vase").glob("*.step"))

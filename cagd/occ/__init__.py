@@ -23,8 +23,8 @@ from .convert import from_occ, to_occ  # noqa: E402
 from .trim import make_trimmed_face  # noqa: E402
 from .shapes import (area, check_valid, free_edge_count, make_edge, make_face, make_solid,  # noqa: E402
                      make_wire, sew, sewing, solid_from_surfaces, subshapes, volume)
-from .files import (FileContents, Imported, Skipped, read_iges, read_shapes, read_step, write_iges,  # noqa: E402
-                    write_step)
+from .files import (FileContents, Imported, Skipped, read_cad, read_iges, read_shapes, read_step,  # noqa: E402
+                    write_iges, write_step)
 from .verify import STAGES, StageResult, VerifyReport, verify  # noqa: E402
 from .wrapped import occ_shape  # noqa: E402
 
@@ -32,6 +32,6 @@ __all__ = [
     "to_occ", "from_occ", "make_trimmed_face",
     "make_edge", "make_wire", "make_face", "sew", "sewing", "make_solid", "solid_from_surfaces",
     "check_valid", "free_edge_count", "subshapes", "area", "volume", "write_step", "read_step", "write_iges",
-    "read_iges", "read_shapes", "Imported", "Skipped", "FileContents", "verify", "VerifyReport", "StageResult",
-    "STAGES", "occ_shape",
+    "read_iges", "read_cad", "read_shapes", "Imported", "Skipped", "FileContents", "verify", "VerifyReport",
+    "StageResult", "STAGES", "occ_shape",
 ]

@@ -620,7 +620,7 @@ def read_shapes(path: Union[str, os.PathLike], kind: str = "auto") -> List[Tuple
         raise CagdError(f"kind: expected 'auto', 'step' or 'iges', got {kind!r}")
     kind = kind.lower()
     if kind == "auto":
-        kind = "iges" if Path(path).suffix.lower() in (".igs", ".iges") else "step"
+        kind = "iges" if Path(path).suffix.lower() in IGES_SUFFIXES else "step"
     return _shapes(path, kind)[0]
 
 
@@ -701,3 +701,23 @@ def read_iges(path: Union[str, os.PathLike], approximate: Optional[float] = None
     """As :func:`read_step`, for IGES files."""
     named, unread = _shapes(path, "iges")
     return _objects(named, approximate, unread, defer_trims)
+
+
+#: file name endings read as STEP and as IGES (any case)
+STEP_SUFFIXES = (".step", ".stp")
+IGES_SUFFIXES = (".iges", ".igs")
+
+
+def read_cad(path: Union[str, os.PathLike], approximate: Optional[float] = None,
+             defer_trims: bool = True) -> FileContents:
+    """:func:`read_step` or :func:`read_iges`, by the file's ending (.step/.stp,
+    .iges/.igs, any case).
+
+    Raises:
+        CagdError: another ending; as read_step / read_iges."""
+    suffix = Path(path).suffix.lower()
+    if suffix in STEP_SUFFIXES:
+        return read_step(path, approximate, defer_trims)
+    if suffix in IGES_SUFFIXES:
+        return read_iges(path, approximate, defer_trims)
+    raise CagdError(f"path: {str(path)!r} is not a .step/.stp/.iges/.igs file")

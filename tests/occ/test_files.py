@@ -137,3 +137,20 @@ def test_a_face_that_does_not_convert_is_reported_and_the_rest_comes_back(tmp_pa
     assert skip.shape.ShapeType() == TopAbs_FACE
     full = read_step(tmp_path / "o.step", approximate=1e-6)
     assert full.complete and len(full) == 2 and full.message == ""
+
+
+def test_read_cad_dispatches_by_the_ending(tmp_path):
+    """read_cad reads .step/.stp/.iges/.igs (any case) as read_step/read_iges do, and
+    refuses other endings naming the path."""
+    from cagd import BSplineCurve, CagdError
+    from cagd.occ import read_cad, read_iges, read_step, write_iges, write_step
+    c = BSplineCurve(np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 0.0], [3.0, 1.0, 1.0]]), 2)
+    write_step({"c": c}, tmp_path / "a.STP")
+    write_iges({"c": c}, tmp_path / "a.Igs")
+    for name, reader in (("a.STP", read_step), ("a.Igs", read_iges)):
+        ours, theirs = read_cad(tmp_path / name), reader(tmp_path / name)
+        assert len(ours) == len(theirs) == 1
+        assert np.array_equal(ours[0].object.control_points, theirs[0].object.control_points)
+    (tmp_path / "a.obj").write_text("v 0 0 0\n")
+    with pytest.raises(CagdError, match="path: .*a.obj.* is not a .step"):
+        read_cad(tmp_path / "a.obj")
