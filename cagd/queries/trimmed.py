@@ -561,6 +561,13 @@ def _convex_box(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, xs: np.ndar
     return lo, hi, found, (reach_lo, reach_hi)
 
 
+def _quarters(lo: np.ndarray, hi: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """The four quarters (lo, hi) of each 2-D box [lo, hi], four rows per box in order."""
+    mid = np.repeat(0.5 * (lo + hi), 4, axis=0)
+    up = np.tile(np.array([[0, 0], [1, 0], [0, 1], [1, 1]], dtype=bool), (len(lo), 1))
+    return np.where(up, mid, np.repeat(lo, 4, axis=0)), np.where(up, np.repeat(hi, 4, axis=0), mid)
+
+
 def _hull_settled(p: "Projector", X: np.ndarray, pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, xs: np.ndarray,
                   blo: np.ndarray, bhi: np.ndarray, reach: Tuple[np.ndarray, np.ndarray], ok: np.ndarray) -> np.ndarray:
     """Per point of X with a convex box B (``ok``, :func:`_convex_box`): whether g is
@@ -617,12 +624,7 @@ def _hull_settled(p: "Projector", X: np.ndarray, pid: np.ndarray, lo: np.ndarray
         if level == HULL_SPLITS or not bad.any():
             out[point[bad]] = False
             break
-        point, cell, tlo, thi = point[bad], cell[bad], tlo[bad], thi[bad]     # quartered
-        mid = 0.5 * (tlo + thi)
-        point, cell = np.repeat(point, 4), np.repeat(cell, 4)
-        up = np.tile(np.array([[0, 0], [1, 0], [0, 1], [1, 1]], dtype=bool), (len(mid), 1))
-        qlo, qhi, m4 = (np.repeat(x, 4, axis=0) for x in (tlo, thi, mid))
-        tlo, thi = np.where(up, m4, qlo), np.where(up, qhi, m4)
+        point, cell, tlo, thi = np.repeat(point[bad], 4), np.repeat(cell[bad], 4), *_quarters(tlo[bad], thi[bad])
     return out
 
 
@@ -669,12 +671,7 @@ def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np
         if level == SETTLE_LEVELS or not len(pid):
             break
         # the parts left: halved in both directions (quarters)
-        mid = 0.5 * (lo + hi)
-        pid, cells = np.repeat(pid, 4), np.repeat(cells, 4)
-        qlo, qhi = np.repeat(lo, 4, axis=0), np.repeat(hi, 4, axis=0)
-        m4 = np.repeat(mid, 4, axis=0)
-        up = np.tile(np.array([[0, 0], [1, 0], [0, 1], [1, 1]], dtype=bool), (len(mid), 1))
-        lo, hi = np.where(up, m4, qlo), np.where(up, qhi, m4)
+        pid, cells, (lo, hi) = np.repeat(pid, 4), np.repeat(cells, 4), _quarters(lo, hi)
     settled = alive.copy()
     settled[pid] = False
     LB[~settled] = np.inf
