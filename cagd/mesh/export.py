@@ -193,7 +193,8 @@ def _one(g: Any, tol: float) -> Tuple[np.ndarray, np.ndarray, float, bool, int]:
     s, lo, hi = _box(g)
     n = s if isinstance(s, BSplineSurface) else s.to_nurbs()
     breaks = (_breaks(n, 0, lo[0], hi[0]), _breaks(n, 1, lo[1], hi[1]))
-    sizes, speed = _cell_sizes(s, n, breaks, tol, TRIM_CELL_ASPECT if isinstance(g, TrimmedSurface) else None)
+    banded = isinstance(g, TrimmedSurface) and g.region_box() is None      # a band along the trim
+    sizes, speed = _cell_sizes(s, n, breaks, tol, TRIM_CELL_ASPECT if banded else None)
     factor = 1
     for _ in range(MAX_REFINEMENTS + 1):
         us, vs, capped = _lines(breaks, sizes, factor)

@@ -61,7 +61,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
-from ..surfaces._trim_box import BOX_TOL, side_of
+from ..surfaces._trim_box import BOX_TOL, side_of, turn_window
 from ..surfaces.trimmed import CLOSURE_TOL, TrimmedSurface, _end, hermite_fit
 from .compat import as_edge, as_face, as_wire
 
@@ -398,18 +398,22 @@ def _mapped(c: BSplineCurve, mu: Map, mv: Map, tol: float, scale: float) -> BSpl
 from ..surfaces._trim_box import chained as _chained, into_window as _into_window  # noqa: E402
 
 
-def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:
-    """One loop of iso-lines on the sides of the parameter box (:func:`cagd.surfaces._trim_box.is_box`)."""
+def _is_box(loops: List[List[BSplineCurve]], domain: Tuple[Tuple[float, float], Tuple[float, float]],
+            periods: Tuple[float, float]) -> bool:
+    """One loop of iso-lines on the sides of the parameter box, in a periodic direction
+    anywhere a period apart (:func:`cagd.surfaces._trim_box.is_box`)."""
     from ..surfaces._trim_box import is_box
-    return is_box(loops, domain, BOX_TOL)
+    return is_box(loops, domain, BOX_TOL, periods)
 
 
-def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple[float, float]]) -> bool:
+def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple[float, float]],
+                     periods: Tuple[float, float] = (float("inf"), float("inf"))) -> bool:
     """True when the face's boundary is its parameter box ``domain`` (the engine
-    surface's, whose parameters equal OCCT's on the box's sides): one wire, every
-    pcurve a line, or a B-spline with its poles, along a side of the box (to BOX_TOL),
-    the lengths between their ends adding up to the perimeter. Decided on OCCT's
-    pcurves without converting them; where it says False the converted loops are
+    surface's, whose parameters equal OCCT's on the box's sides; in a direction of
+    finite period, ``periods``, the sides may be anywhere a whole period apart): one
+    wire, every pcurve a line, or a B-spline with its poles, along a side of the box (to
+    BOX_TOL), the lengths between their ends adding up to the perimeter. Decided on
+    OCCT's pcurves without converting them; where it says False the converted loops are
     compared with the box (:func:`trimmed_from_face`)."""
     fwd = as_face(face.Oriented(TopAbs_FORWARD))
     wires = TopExp_Explorer(fwd, TopAbs_WIRE)
@@ -420,7 +424,7 @@ def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple
         return False
     (u0, u1), (v0, v1) = domain
     tol = BOX_TOL * max(u1 - u0, v1 - v0)
-    length = 0.0
+    pieces = []
     ex = TopExp_Explorer(fwd, TopAbs_EDGE)
     while ex.More():
         adaptor = BRepAdaptor_Curve2d(as_edge(ex.Current()), fwd)
@@ -433,12 +437,24 @@ def natural_boundary(face: TopoDS_Face, domain: Tuple[Tuple[float, float], Tuple
             P = np.array([(q.X(), q.Y()) for q in map(curve.Pole, range(1, curve.NbPoles() + 1))])
         else:
             return False
-        k = side_of(P, domain, tol)
-        if k is None:
-            return False
-        length += abs(ends[1, 1 - k] - ends[0, 1 - k])
+        pieces.append((P, ends))
         ex.Next()
+    if not pieces:
+        return False
+    box = turn_window(np.concatenate([P for P, _ in pieces]), domain, periods, tol)
+    length = 0.0
+    for P, ends in pieces:
+        side = side_of(P, box, tol)
+        if side is None:
+            return False
+        length += abs(ends[1, 1 - side] - ends[0, 1 - side])
     return abs(length - 2.0 * ((u1 - u0) + (v1 - v0))) <= 8 * tol
+
+
+def _periods(s: BSplineSurface) -> Tuple[float, float]:
+    """The engine surface's periods per direction (inf where bounded)."""
+    (a0, a1), (b0, b1) = s.domain
+    return (a1 - a0 if s.periodic_u else float("inf"), b1 - b0 if s.periodic_v else float("inf"))
 
 
 def deferred_trim(face: TopoDS_Face, surface: BSplineSurface,
@@ -447,7 +463,7 @@ def deferred_trim(face: TopoDS_Face, surface: BSplineSurface,
     """``surface`` itself where the face's boundary is its box (:func:`natural_boundary`),
     else a :class:`TrimmedSurface` on it whose loops ``build()`` converts on first use
     (within the :func:`shared_edges` cache open now, if any)."""
-    if natural_boundary(face, domain):
+    if natural_boundary(face, domain, _periods(surface)):
         return surface
     cache = _EDGES.get()
 
@@ -474,7 +490,7 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
     mu, mv = parameter_maps(geom, engine, slack)
     (a0, a1), (b0, b1) = engine.domain
     size = max(a1 - a0, b1 - b0)
-    periods = (a1 - a0 if engine.periodic_u else float("inf"), b1 - b0 if engine.periodic_v else float("inf"))
+    periods = _periods(engine)
     from .convert import _basis
     basis = _basis(geom)                   # a trimmed surface is not periodic, its basis may be
     occ_periods = (float(basis.UPeriod()) if basis.IsUPeriodic() else float("inf"),
@@ -484,7 +500,7 @@ def trimmed_from_face(face: TopoDS_Face, geom: Geom_Surface, engine: BSplineSurf
         w = _into_window(_chained(w, occ_periods), occ_periods, engine.domain)
         loops.append([_mapped(c, mu, mv, PCURVE_FIT_TOL * size, size) for c in w])
     loops = [_into_window(_chained(lp, periods), periods, engine.domain) for lp in loops]
-    if _is_box(loops, engine.domain):
+    if _is_box(loops, engine.domain, periods):
         return surface
     if reversed_:
         loops = [[_mirrored(c, a0 + a1) for c in lp[::-1]] for lp in loops]

@@ -14,14 +14,32 @@ BOX_TOL = 1e-9          # relative (parameter box): a loop of iso-lines on the b
 
 
 def is_box(loops: Sequence[Sequence[BSplineCurve]],
-           domain: Tuple[Tuple[float, float], Tuple[float, float]], rel_tol: float = BOX_TOL) -> bool:
+           domain: Tuple[Tuple[float, float], Tuple[float, float]], rel_tol: float = BOX_TOL,
+           periods: Tuple[float, float] = (float("inf"), float("inf"))) -> bool:
     """One loop whose curves all have their control points on one side of the box
-    ``domain`` (u = u0, u = u1, v = v0 or v = v1 within ``rel_tol`` times its size)."""
+    ``domain`` (u = u0, u = u1, v = v0 or v = v1 within ``rel_tol`` times its size). In a
+    direction of finite period (``periods``) the box's sides may lie anywhere a period
+    apart: a loop of seam lines a whole turn apart bounds the whole surface wherever its
+    seam is (a file's pcurves at u in [-pi, pi] on a surface of domain [0, 2 pi])."""
     if len(loops) != 1:
         return False
     (u0, u1), (v0, v1) = domain
     tol = rel_tol * max(u1 - u0, v1 - v0)
-    return all(side_of(c.control_points, domain, tol) is not None for c in loops[0])
+    window = turn_window(np.concatenate([c.control_points for c in loops[0]]), domain, periods, tol)
+    return all(side_of(c.control_points, window, tol) is not None for c in loops[0])
+
+
+def turn_window(P: np.ndarray, domain: Tuple[Tuple[float, float], Tuple[float, float]],
+                periods: Tuple[float, float], tol: float) -> Tuple[Tuple[float, float], Tuple[float, float]]:
+    """``domain`` with, in each direction of finite period whose points P (n, 2) span a
+    whole period (within ``tol``), the box's sides moved to where P lies: a turn wherever
+    its seam is."""
+    box = [domain[0], domain[1]]
+    for k, T in enumerate(periods):
+        lo = float(P[:, k].min())
+        if np.isfinite(T) and abs(float(P[:, k].max()) - lo - T) <= tol:
+            box[k] = (lo, lo + T)
+    return box[0], box[1]
 
 
 def side_of(P: np.ndarray, domain: Tuple[Tuple[float, float], Tuple[float, float]], tol: float) -> Optional[int]:

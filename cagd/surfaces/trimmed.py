@@ -36,7 +36,7 @@ from .._quadrature import adaptive
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
-from ._trim_box import box_loop
+from ._trim_box import BOX_TOL, box_loop, is_box
 from ._trim_check import LoopCheck
 from ._chords import (_cartesian, _crossings, closed_chains, _end, _halves, _hom_pieces, _hull_bound,
                       _segment_distance)
@@ -341,6 +341,22 @@ class TrimmedSurface(Surface):
         """The periods of the periodic directions (0 for bounded ones)."""
         (u0, u1), (v0, v1) = self.surface.domain
         return (u1 - u0 if self.periodic_u else 0.0, v1 - v0 if self.periodic_v else 0.0)
+
+    def region_box(self) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+        """(lo, hi) when the region is a parameter box: one loop, every curve on a side of
+        the loops' bounding box [lo, hi] (to BOX_TOL of its size) and its area the box's
+        (to BOX_TOL), as a deferred trim found to be the face's box is; else None. Such
+        a face meshes as its surface on the box."""
+        if len(self.loops) != 1:
+            return None
+        P = np.concatenate([c.control_points for c in self.loops[0]])
+        lo, hi = P.min(axis=0), P.max(axis=0)
+        if not is_box(self.loops, ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))):
+            return None
+        box = float(np.prod(hi - lo))
+        if not abs(float(self._flattened().loop_areas()[0]) - box) <= BOX_TOL * box:
+            return None
+        return lo, hi
 
     # --- the surface interface: delegated ------------------------------------------------------
     @property

@@ -15,9 +15,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import cagd
 from cagd import BSplineCurve, BSplineSurface, TrimmedSurface
-from trim_shapes import (check_triangulation, circle, curved_patch, line, mesh_area, rectangle, signed_areas,
-                         square_patch)
+from trim_shapes import (check_triangulation, circle, curved_patch, line, mesh_area, periodic_tube, rectangle,
+                         signed_areas, square_patch)
 
 
 SHAPES = {
@@ -81,11 +82,14 @@ def test_near_duplicate_joint_vertices_make_no_slivers():
 
 @st.composite
 def star_polygons(draw):
-    """A star-shaped polygon around (0.5, 0.5) (radii in [0.05, 0.45], angles sorted)."""
+    """A star-shaped polygon around (0.5, 0.5) (radii in [0.05, 0.45], angles sorted, no
+    gap of pi or more between them: else the centre is outside and the closing edge may
+    cross the others)."""
     n = draw(st.integers(3, 40))
     angles = np.sort(np.array(draw(st.lists(st.floats(0, 2 * math.pi, exclude_max=True), min_size=n,
                                             max_size=n, unique=True))))
-    if np.min(np.diff(np.append(angles, angles[0] + 2 * math.pi))) < 1e-3:
+    gaps = np.diff(np.append(angles, angles[0] + 2 * math.pi))
+    if gaps.min() < 1e-3 or gaps.max() >= math.pi - 1e-3:
         angles = np.linspace(0, 2 * math.pi, n, endpoint=False)
     radii = np.array(draw(st.lists(st.floats(0.05, 0.45), min_size=n, max_size=n)))
     return np.stack([0.5 + radii * np.cos(angles), 0.5 + radii * np.sin(angles)], axis=1)
@@ -100,3 +104,67 @@ def test_star_polygons_triangulate_exactly(P, count):
     t = check_triangulation(ts, count)
     shoelace = 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
     assert signed_areas(t.uv, t.triangles).sum() == pytest.approx(shoelace, rel=1e-12)
+
+
+# --- a region that is its box: the grid ---------------------------------------------------------------
+def test_a_loop_of_seam_lines_a_turn_apart_is_the_box():
+    """11752.stp's tubes: pcurves at u in [-pi, pi] on a surface of domain [0, 2 pi]. In a
+    periodic direction the box's sides may lie anywhere a period apart; a loop short of a
+    turn, or without the periods, is not the box."""
+    from cagd.surfaces._trim_box import is_box
+    box, turn = ((0.0, 1.0), (0.0, 1.0)), (1.0, math.inf)
+    assert is_box([rectangle(-0.5, 0.5, 0, 1)], box, periods=turn)
+    assert not is_box([rectangle(-0.5, 0.5, 0, 1)], box)
+    assert not is_box([rectangle(-0.5, 0.4, 0, 1)], box, periods=turn)
+    assert not is_box([rectangle(-0.5, 0.5, 0, 0.9)], box, periods=turn)
+    assert not is_box([rectangle(-0.5, 0.5, 0, 1), rectangle(0, 0.1, 0.4, 0.5)[::-1]], box, periods=turn)
+
+
+def test_a_region_that_is_its_box_is_tessellated_as_the_grid():
+    """region_box: one loop on the sides of its own box with the box's area. Such a face
+    (a deferred trim found to be its box, a tube's seam loop) is the grid: 2 triangles a
+    cell, covered once, the same mesh as the untrimmed surface on that box (before: a band
+    along the loop ear-clipped and flipped, 37 s for one 1147 x 3 mm tube of 11752.stp)."""
+    s = periodic_tube()
+    ts = TrimmedSurface(s, [rectangle(-0.5, 0.5, 0, 1)])
+    lo, hi = ts.region_box()
+    assert lo.tolist() == [-0.5, 0.0] and hi.tolist() == [0.5, 1.0]
+    t = check_triangulation(ts, 32)
+    nu, nv = len(np.unique(t.uv[:, 0])) - 1, len(np.unique(t.uv[:, 1])) - 1
+    assert len(t.triangles) == 2 * nu * nv and len(t.boundary) == 2 * (nu + nv)
+    tube = cagd.mesh.mesh(s, tol=1e-3)
+    m = cagd.mesh.mesh(ts, tol=1e-3)
+    assert m.converged and len(m.triangles) == len(tube.triangles)
+
+    def area(mm):
+        P = mm.vertices[mm.triangles]
+        return 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1).sum()
+    assert area(m) == pytest.approx(area(tube), rel=1e-12)          # a rotation by 4 spans
+    assert mesh_area(ts, t) == pytest.approx(ts.area(), rel=2e-3)
+    for loops in ([rectangle(0, 1, 0, 1), [circle((0.5, 0.5), 0.2, clockwise=True)]],     # a hole
+                  [[line((0, 0), (1, 0)), line((1, 0), (1, 1)), line((1, 1), (0.5, 1)),   # an L
+                    line((0.5, 1), (0.5, 0.5)), line((0.5, 0.5), (0, 0.5)), line((0, 0.5), (0, 0))]]):
+        assert TrimmedSurface(square_patch(), loops).region_box() is None
+
+
+def test_a_line_one_ulp_from_the_box_side_makes_no_sliver():
+    """917_fusee.stp[40]: the mesher's lines start 1 ulp inside the loops' box, whose top
+    is 2.6e-7 above the last line; with the 1-ulp step in the median the 2.6e-7 sliver was
+    kept, the trim pieces were split at its size (325,424 ring vertices) and the ear
+    clipping ran for minutes. Spacings at rounding level are left out of the median."""
+    from cagd.surfaces._tessellate import _grid_lines
+    lo, hi = np.array([0.0025, 0.0025]), np.array([1.36425495, 0.99750026])
+    lines = (np.array([0.0025, 1.36425495]), np.array([np.nextafter(0.0025, 1.0), 0.9975]))
+    gu, gv = _grid_lines(lo, hi, np.ones(2), 0, lines)
+    assert len(gu) == 2 and len(gv) == 2 and gv[-1] == pytest.approx(hi[1] - lo[1], abs=1e-15)
+
+
+def test_a_loop_box_over_the_lines_at_both_ends_makes_no_sliver():
+    """917_fusee.stp[112]: the loops' box overshoots the mesher's lines by 5e-7 below and
+    6.6e-7 above; those slivers were the median spacing and were kept (748,403 ring
+    vertices). The typical spacing is the caller's lines' own."""
+    from cagd.surfaces._tessellate import _grid_lines
+    lo, hi = np.array([0.04545406, 0.0]), np.array([0.95454611, 1.0])
+    lines = (np.array([0.0454545546, 0.954545449]), np.array([0.0, 1.0]))
+    gu, gv = _grid_lines(lo, hi, np.ones(2), 0, lines)
+    assert len(gu) == 2 and gu[-1] == pytest.approx(hi[0] - lo[0], abs=1e-15) and len(gv) == 2

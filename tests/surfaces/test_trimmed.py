@@ -16,7 +16,7 @@ from cagd.surfaces.trimmed import INSIDE, ON, ON_BAND, OUTSIDE, hermite_fit
 
 RNG = np.random.default_rng(15)
 from trim_shapes import (CIRCLE_KNOTS, CIRCLE_WEIGHTS, UNIT, W, circle, circle3d, curved_patch, line,  # noqa: E402,F401
-                         rectangle, square_patch)
+                         periodic_tube, rectangle, square_patch)
 
 
 # --- the disk ----------------------------------------------------------------------------------
@@ -108,15 +108,6 @@ def test_curved_disk_area_against_dblquad():
 
 
 # --- periodic face across its seam; a pole ------------------------------------------------------------
-def periodic_tube(n=8):
-    """A periodic cubic tube in u (control points on a regular n-gon, two rings in v):
-    shifting u by one span (1/n) is a rotation, so areas and trims move with it."""
-    a = 2 * np.pi * np.arange(n) / n
-    ring = np.stack([np.cos(a), np.sin(a)], axis=1)
-    P = np.stack([np.concatenate([ring, np.zeros((n, 1))], 1), np.concatenate([ring, np.ones((n, 1))], 1)], axis=1)
-    return BSplineSurface(P, 3, 1, np.linspace(0, 1, n + 1), None, periodic_u=True)
-
-
 def test_periodic_face_trimmed_across_its_seam():
     s = periodic_tube()
     across = TrimmedSurface(s, [[circle((0.0, 0.5), 0.1)]])           # u from -0.1 to 0.1

@@ -341,7 +341,7 @@ def face_to_trimmed(face) -> Tuple["cagd.Surface", Optional[str]]:
         periods = (b - a if face.Surface.isUPeriodic() else float("inf"),
                    d - c if face.Surface.isVPeriodic() else float("inf"))
         loops = [into_window(chained(lp, periods), periods, surface.domain) for lp in loops if lp]
-        if not loops or is_box(loops, surface.domain):
+        if not loops or is_box(loops, surface.domain, periods=periods):
             return surface, None
         if len(edges) == len(loops):        # (no empty wire dropped: the rows match the loops)
             try:                            # the face's own 3-D edge curves, where they fit the constructor
