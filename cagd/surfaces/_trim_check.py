@@ -8,7 +8,8 @@ flattening uses. So the chords compared in the end are the chords of that flatte
 and the verdict is the one the flattened loops would give, at a fraction of the work:
 a loop is flattened to FLATTEN_TOL only where another curve comes near it.
 
-- Crossings: a pair of pieces of different curves can only cross where their control
+- Crossings: a pair of pieces of different curves, or of different Bezier pieces of
+  one curve (a loop that crosses itself), can only cross where their control
   boxes overlap (a piece and its chords lie in its control hull). Pairs are found by
   sweep and prune on the boxes; a pair whose boxes overlap is replaced by the pairs of
   the halves of its coarser pieces, until both are fine (chord bound at most the
@@ -44,7 +45,8 @@ JOINT_MARGIN = 1e-6
 class _Nodes:
     """Bezier pieces of the chain curves and the halves made of them (a binary tree per
     piece, grown on demand). Per node: its net (by degree group), chord ends A, B,
-    chord bound, control box, depth and the chain curve it belongs to."""
+    chord bound, control box, depth, the chain curve it belongs to and the root piece
+    it was cut from."""
 
     def __init__(self, curves: Sequence[BSplineCurve], scale: float):
         self.margin = BOX_MARGIN * scale
@@ -57,23 +59,24 @@ class _Nodes:
         for p, ks in by_degree.items():
             nets = [_hom_pieces(curves[k])[1] for k in ks]
             owner = np.concatenate([np.full(len(n), k) for k, n in zip(ks, nets)])
-            self._add(p, np.concatenate(nets), owner, np.zeros(len(owner), dtype=np.int64))
+            self._add(p, np.concatenate(nets), owner, np.zeros(len(owner), dtype=np.int64),
+                      self.count + np.arange(len(owner)))
         self._join()
 
-    def _add(self, p: int, Q: np.ndarray, owner: np.ndarray, depth: np.ndarray) -> None:
+    def _add(self, p: int, Q: np.ndarray, owner: np.ndarray, depth: np.ndarray, piece: np.ndarray) -> None:
         group = self.nets.setdefault(p, [])
         first = sum(len(g) for g in group)
         group.append(Q)
         P = _cartesian(Q)
         self._parts.append((np.full(len(Q), p), first + np.arange(len(Q)), owner, depth, P[:, 0], P[:, -1],
-                            _hull_bound(Q), P.min(axis=1) - self.margin, P.max(axis=1) + self.margin))
+                            _hull_bound(Q), P.min(axis=1) - self.margin, P.max(axis=1) + self.margin, piece))
         self.count += len(Q)
 
     def _join(self) -> None:
         (self.degree, self.row, self.owner, self.depth, self.A, self.B, self.bound, self.lo,
-         self.hi) = (np.concatenate([part[i] for part in self._parts]) for i in range(9))
+         self.hi, self.piece) = (np.concatenate([part[i] for part in self._parts]) for i in range(10))
         self._parts = [tuple(getattr(self, a) for a in
-                             ("degree", "row", "owner", "depth", "A", "B", "bound", "lo", "hi"))]
+                             ("degree", "row", "owner", "depth", "A", "B", "bound", "lo", "hi", "piece"))]
 
     def net(self, p: int, rows: np.ndarray) -> np.ndarray:
         group = self.nets[p]
@@ -91,7 +94,7 @@ class _Nodes:
             start = self.count
             n = len(node)
             self._add(int(p), np.concatenate([L, R]), np.concatenate([self.owner[node]] * 2),
-                      np.concatenate([self.depth[node] + 1] * 2))
+                      np.concatenate([self.depth[node] + 1] * 2), np.concatenate([self.piece[node]] * 2))
             kids[sel, 0] = start + np.arange(n)
             kids[sel, 1] = start + n + np.arange(n)
         self._join()
@@ -152,33 +155,77 @@ class LoopCheck:
         step = np.mod(self.pos[cj] - self.pos[ci], n)
         return (li == lj) & ((step == 1) | (step == n - 1))
 
+    def _joints(self, i: np.ndarray, j: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """For node pairs (i, j): whether they come from consecutive Bezier pieces of one
+        curve (a curve's pieces are consecutive root ids), and the point those pieces
+        share (the lower one's end)."""
+        nodes = self.nodes
+        pi, pj = nodes.piece[i], nodes.piece[j]
+        same = (nodes.owner[i] == nodes.owner[j]) & (np.abs(pi - pj) == 1)
+        return same, nodes.B[np.minimum(pi, pj)]
+
+    def _apart_at_joint(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        """For pairs (i, j) of root pieces: consecutive pieces of one curve whose control
+        points, but the joint J, lie strictly on either side of the line through J normal
+        to t = (unit tangent in) + (unit tangent out): their hulls, which hold the pieces,
+        meet only at J, so they cannot cross (a smooth or convex joint; the pairs that
+        fold back are refined)."""
+        nodes = self.nodes
+        pieces, _ = self._joints(i, j)
+        out = np.zeros(len(i), dtype=bool)
+        if not pieces.any():
+            return out
+        k = np.flatnonzero(pieces)
+        a, b = np.minimum(i[k], j[k]), np.maximum(i[k], j[k])      # roots: node id = piece id
+        for p in np.unique(nodes.degree[a]):
+            sel = np.flatnonzero(nodes.degree[a] == p)
+            Pa, Pb = (_cartesian(nodes.net(int(p), nodes.row[x[sel]])) for x in (a, b))
+            J = Pa[:, -1:]
+            t_in, t_out = J[:, 0] - Pa[:, -2], Pb[:, 1] - J[:, 0]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = (t_in / np.linalg.norm(t_in, axis=1, keepdims=True) +
+                     t_out / np.linalg.norm(t_out, axis=1, keepdims=True))[:, None, :]
+                below = np.all(np.sum((Pa[:, :-1] - J) * t, axis=2) < 0, axis=1)
+                above = np.all(np.sum((Pb[:, 1:] - J) * t, axis=2) > 0, axis=1)
+            out[k[sel]] = below & above & np.all(Pb[:, 0] == J[:, 0], axis=1)
+        return out
+
     def _excused(self, i: np.ndarray, j: np.ndarray, reach: float) -> np.ndarray:
         """Pairs whose every crossing the joint allowance excuses: consecutive curves, and
         node j's box (which holds any crossing of a chord of j) within ``reach`` of an
-        end of either curve (the crossings are not refined there, as they cannot count)."""
+        end of either curve (the crossings are not refined there, as they cannot count);
+        likewise consecutive pieces of one curve within ``reach`` of the point they share."""
         nodes = self.nodes
         ci, cj = nodes.owner[i], nodes.owner[j]
         out = self._adjacent(ci, cj)
-        if not out.any():
+        pieces, joint = self._joints(i, j)
+        if not (out.any() or pieces.any()):
             return out
         lo, hi = nodes.lo[j], nodes.hi[j]
+
+        def within(P: np.ndarray) -> np.ndarray:
+            far = np.maximum(np.abs(P - lo), np.abs(hi - P))          # the farthest corner, per axis
+            return np.hypot(far[:, 0], far[:, 1]) <= reach
+
         close = np.zeros(len(i), dtype=bool)
         for side in (0, 1):
             for owner in (ci, cj):
-                P = self.ends[side][owner]
-                far = np.maximum(np.abs(P - lo), np.abs(hi - P))          # the farthest corner, per axis
-                close |= np.hypot(far[:, 0], far[:, 1]) <= reach
-        return out & close
+                close |= within(self.ends[side][owner])
+        return (out & close) | (pieces & within(joint))
 
     def crossing_pairs(self, cap: int, joint_reach: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
         """(i, j): the pairs of fine nodes (bound <= ftol, or bisected max_bisections
-        times) of different curves (a curve and its closer count as one) whose boxes
-        overlap, but for pairs of consecutive curves within ``joint_reach`` of their
-        joint (:meth:`_excused`). At most ``cap`` pairs are followed at each level (a
+        times) of different curves (a curve and its closer count as one), or of
+        different Bezier pieces of one curve, whose boxes overlap, but for pairs of
+        consecutive curves or pieces within ``joint_reach`` of their joint
+        (:meth:`_excused`) and consecutive pieces that meet only at their joint
+        (:meth:`_apart_at_joint`). At most ``cap`` pairs are followed at each level (a
         regular sample of them beyond: bounded, as the flattened check samples its pairs)."""
         nodes = self.nodes
         key = self.loop_of * (int(self.pos.max(initial=0)) + 2) + self.pos
         i, j = _box_pairs(nodes, self.roots, key, cap)
+        keep = ~self._apart_at_joint(i, j)
+        i, j = i[keep], j[keep]
         for _ in range(self.max_bisections + 1):
             if joint_reach > 0 and len(i):
                 keep = ~self._excused(i, j, joint_reach)
@@ -204,10 +251,11 @@ class LoopCheck:
 
     def check_crossings(self, cap: int, crossing_tol: float, joint_tol: float,
                         name: Callable[[int, int], str]) -> None:
-        """CagdError when fine chords of different curves properly cross (the test of the
-        flattened loops: touching is allowed, and consecutive curves of a loop may cross
-        within ``joint_tol`` (relative) of their joint). ``name(loop, curve)`` names a
-        curve in the message (curve -1: a closer)."""
+        """CagdError when fine chords of different curves, or of different pieces of one
+        curve, properly cross (the test of the flattened loops: touching is allowed, and
+        consecutive curves of a loop, or pieces of a curve, may cross within
+        ``joint_tol`` (relative) of their joint). ``name(loop, curve)`` names a curve in
+        the message (curve -1: a closer); the message gives the crossing point."""
         # a crossing of consecutive curves within joint_tol of an end is excused: pairs
         # wholly that near are dropped before they are refined (rounding kept clear)
         i, j = self.crossing_pairs(cap, joint_tol * self.scale * (1.0 - JOINT_MARGIN))
@@ -233,12 +281,14 @@ class LoopCheck:
         for P in self.ends:
             for owner in (ci, cj):
                 near |= np.linalg.norm(x - P[owner], axis=1) <= joint_tol * self.scale
-        hit &= ~(adjacent & near)
+        pieces, joint = self._joints(i, j)
+        hit &= ~(adjacent & near) & ~(pieces & (np.linalg.norm(x - joint, axis=1) <= joint_tol * self.scale))
         if hit.any():
             k = first_pair(li, self.names[ci], lj, self.names[cj], hit)
-            where = tuple(0.5 * (a[k] + b[k]))
+            where = tuple(x[k])                                    # the crossing point
             first, second = sorted([(int(li[k]), int(self.names[ci[k]])), (int(lj[k]), int(self.names[cj[k]]))])
-            raise CagdError(f"loops: {name(*first)} crosses {name(*second)} near (u, v) = "
+            other = "itself" if ci[k] == cj[k] else name(*second)
+            raise CagdError(f"loops: {name(*first)} crosses {other} near (u, v) = "
                             f"({where[0]:.9g}, {where[1]:.9g})")
 
     # --- nesting ----------------------------------------------------------------------------
@@ -301,7 +351,8 @@ class LoopCheck:
 
 def _box_pairs(nodes: _Nodes, ids: np.ndarray, key: np.ndarray, chunk: int) -> Tuple[np.ndarray, np.ndarray]:
     """Sweep and prune over the nodes ``ids``: the pairs of different keys (of their
-    curves) whose boxes overlap (candidates made about ``chunk`` at a time)."""
+    curves), or of one curve's different pieces, whose boxes overlap (candidates made
+    about ``chunk`` at a time)."""
     n = len(ids)
     order = ids[np.argsort(nodes.lo[ids, 0], kind="stable")]
     start = nodes.lo[order, 0]
@@ -318,7 +369,8 @@ def _box_pairs(nodes: _Nodes, ids: np.ndarray, key: np.ndarray, chunk: int) -> T
             a = np.repeat(np.arange(first, last), cnt)
             b = a + 1 + (np.arange(total) - np.repeat(np.cumsum(cnt) - cnt, cnt))
             i, j = order[a], order[b]
-            keep = (key[nodes.owner[i]] != key[nodes.owner[j]]) & nodes.meet(i, j)
+            oi, oj = nodes.owner[i], nodes.owner[j]
+            keep = ((key[oi] != key[oj]) | ((oi == oj) & (nodes.piece[i] != nodes.piece[j]))) & nodes.meet(i, j)
             out_i.append(i[keep])
             out_j.append(j[keep])
         first = last

@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 from scipy import integrate
 
 import cagd
@@ -264,10 +266,56 @@ def test_clockwise_outer_loop_is_reversed():
     ([[]], r"loops\[0\]: expected a non-empty"),
     ([["x"]], r"loops\[0\]\[0\]: expected an engine curve"),
     ([[line((0.2, 0.2), (0.8, 0.2)), line((0.8, 0.2), (0.2, 0.2))]], r"loops\[0\]: encloses no area"),
+    ([[BSplineCurve([[0.1, 0.1], [0.9, 0.1], [0.1, 0.9], [0.6, 0.9], [0.1, 0.1]], 1)]],     # a bow tie, one curve
+     r"loops: loops\[0\]\[0\] crosses itself near \(u, v\) = \(0.407692308, 0.592307692\)"),
+    ([[BSplineCurve([[0.2, 0.2], [0.5, 0.2], [0.8, 0.2], [0.5, 0.5], [0.3, 0.7], [0.5, 0.7], [0.7, 0.7],
+                     [0.5, 0.5], [0.2, 0.2]], 3)]],                                         # a cubic figure eight
+     r"loops: loops\[0\]\[0\] crosses itself near \(u, v\) = \(0\.49\d*, 0\.50"),
 ])
 def test_invalid_loops(loops, message):
     with pytest.raises(CagdError, match=message):
         TrimmedSurface(square_patch(), loops)
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _segments_cross(P):
+    """Brute force: two non-adjacent sides of the closed polygon P properly cross."""
+    n = len(P)
+    for a in range(n):
+        for b in range(a + 2, n):
+            if (b + 1) % n == a:
+                continue
+            p, q, r, s = P[a], P[(a + 1) % n], P[b], P[(b + 1) % n]
+            o = [_cross(q - p, r - p), _cross(q - p, s - p), _cross(s - r, p - r), _cross(s - r, q - r)]
+            if o[0] * o[1] < 0 and o[2] * o[3] < 0:
+                return True
+    return False
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.05, 0.95), st.floats(0.05, 0.95)), min_size=3, max_size=9, unique=True))
+def test_a_polygon_as_one_curve_is_refused_iff_its_sides_cross(pts):
+    """A loop of one degree-1 curve crosses itself exactly where two of its sides cross
+    (brute force over the sides); before, pieces of one curve were never compared and a
+    self-crossing loop was taken, its area and tessellation wrong."""
+    P = np.array(pts)
+    twice = np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1])
+    sides = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
+    assume(abs(twice) > 1e-3 and sides.min() > 1e-3)
+    crossing = _segments_cross(P)
+    # near-touching configurations (within the crossing test's rounding) are left out
+    D = _cross(np.roll(P, -1, axis=0) - P, P[:, None] - P)        # D[a, b]: P[a] against side b
+    assume(np.abs(D)[np.abs(D) > 0].min() > 1e-9)
+    loop = BSplineCurve(np.vstack([P, P[:1]]), 1)
+    if crossing:
+        with pytest.raises(CagdError, match=r"loops\[0\]\[0\] crosses itself"):
+            TrimmedSurface(square_patch(1.0), [[loop]])
+    else:
+        ts = TrimmedSurface(square_patch(1.0), [[loop]])
+        assert ts.area() == pytest.approx(abs(twice) / 2, rel=1e-12)
 
 
 def test_invalid_surface_and_tol():
