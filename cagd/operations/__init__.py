@@ -8,3 +8,6 @@ __all__ = ["ContinuityReport", "continuity", "curve_size", "join", "join_bezier"
 from .sweep import SweepResult, sweep, sweep2
 
 __all__ += ["SweepResult", "sweep", "sweep2"]
+from .blend_surface import BlendSurface, MatchSurface, blend_surface, match_surface
+
+__all__ += ["BlendSurface", "MatchSurface", "blend_surface", "match_surface"]
