@@ -152,7 +152,7 @@ def _scales(tangent_scales: Optional[Sequence[float]]) -> Tuple[float, float]:
     if tangent_scales is None:
         return 1.0, 1.0
     try:
-        a, b = tangent_scales  # type: ignore[misc]
+        a, b = tangent_scales
     except (TypeError, ValueError):
         raise CagdError(f"tangent_scales: must be two positive numbers (a, b), got {tangent_scales!r}") from None
     return _checks.positive(a, "tangent_scales[0]"), _checks.positive(b, "tangent_scales[1]")
