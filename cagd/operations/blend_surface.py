@@ -35,15 +35,23 @@ which implies G^k (G2 by the linkage curve theorem: Pegna and Wolter, J. Mech. D
 114, 1992). The scales a, b are constant along the edge: a = alpha d / m1 with d the
 mean distance between corresponding edge points, m1 the mean |D1| (projected) at 50
 stations, so the first control leg is about d / n long (blend_curve's chord / degree);
-(alpha, beta) = ``tangent_scales``, default (1, 1).
+(alpha, beta) = ``tangent_scales``, default (1, 1). For rational data the Hermite rows
+are those of phi(t) H instead of H (phi(0) = 1, phi'(0), phi''(0) constants fitted to keep
+the new rows' weights flat; the same projected surface, so nothing above changes): the
+weights of the inner rows are R_1's w_0 + (phi' w_0 - a w_s) / n etc., and when the
+weights vary fast across an edge (w_s, w_ss large against w_0) and the scale is large
+they can still turn non-positive: that is refused (CagdError naming tangent_scales;
+smaller scales help). Polynomial surfaces have no such limit.
 
 match_surface: rows 0..k of ``s`` next to ``edge`` are replaced so that s meets
 ``target`` at ``target_edge`` with C^k up to constant scales: row 0 = rho T0 (T the
 target's homogeneous edge rows, rho the least-squares weight level of s's edge row, 1
-for polynomials), and s's inward derivatives -lambda rho T_s, lambda^2 rho T_ss, lambda
-the least-squares fit of s's own inward derivative row (the cross-parameter scale of s
-kept; the ratio of the norms when that fit is not positive). Rows beyond k are those of
-s after the refinement that made its along-edge knots compatible with the target's.
+for polynomials), and s's inward derivatives -lambda rho T_s, lambda^2 rho T_ss, lambda =
+|H_s| / |rho T_s| the ratio of the norms of s's own inward derivative rows and the new
+direction's (the cross-parameter scale of s kept; exact when they are proportional, so a
+pair that already meets with C^k up to a constant scale is left unchanged). Rows beyond
+k are those of s after the refinement that made its along-edge knots compatible with
+the target's.
 """
 from __future__ import annotations
 
@@ -265,10 +273,24 @@ def _reversed_edges(A: np.ndarray, B: np.ndarray) -> bool:
     return bool(crossed < straight)
 
 
-def _size(*surfaces: BSplineSurface) -> float:
-    P = np.concatenate([s.control_points.reshape(-1, 3) for s in surfaces])
-    size = float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
-    return size if size > 0.0 else 1.0
+def _normalised(*surfaces: BSplineSurface) -> Tuple[float, List[BSplineSurface]]:
+    """(f, the surfaces scaled by f): f the power of two that brings the larger size near
+    1, so that squares of coordinates and derivatives neither overflow nor underflow
+    (the scaling is exact, and undone exactly on the result)."""
+    size = max(float(s.size) for s in surfaces)
+    f = float(2.0 ** -np.round(np.log2(size))) if 1e-280 < size < 1e280 else 1.0
+    if f == 1.0:
+        return f, list(surfaces)
+    return f, [s._affine(np.eye(3) * f, np.zeros(3)) for s in surfaces]
+
+
+def _scaled_back(s: BSplineSurface, f: float) -> BSplineSurface:
+    return s if f == 1.0 else s._affine(np.eye(3) / f, np.zeros(3))
+
+
+def _cross_span(s: BSplineSurface, edge: str) -> float:
+    (u0, u1), (v0, v1) = s.domain
+    return (u1 - u0) if edge[0] == "u" else (v1 - v0)
 
 
 def _edge_length(S: np.ndarray) -> float:
@@ -313,7 +335,7 @@ def curvature_gap(s1: Surface, edge1: str, s2: Surface, edge2: str, reverse: boo
     (n1 the unit normal of s1, T1 its edge tangent), both taken with the normal n1 (so
     that a G1 pair with opposite orientations compares like for like), at ``samples``
     equally spaced fractions of the edges (the second at 1 - t when ``reverse``);
-    stations where a normal is undefined are skipped (nan when none is left). Two
+    stations where a normal is undefined (:meth:`Surface.normals`) are skipped (nan when none is left). Two
     surfaces meeting G1 are G2 exactly when this vanishes (the linkage curve theorem).
 
     Raises:
@@ -324,10 +346,12 @@ def curvature_gap(s1: Surface, edge1: str, s2: Surface, edge2: str, reverse: boo
     edge1, edge2 = _edge(edge1, "edge1"), _edge(edge2, "edge2")
     samples = _checks.integer(samples, "samples", 2, _checks.MAX_SAMPLES)
     t = np.linspace(0.0, 1.0, samples)
+    t2 = t[::-1].copy() if reverse else t
     k1, n, d = _cross_curvatures(s1, edge1, t)
-    k2, _, _ = _cross_curvatures(s2, edge2, t[::-1].copy() if reverse else t, n, d)
+    k2, _, _ = _cross_curvatures(s2, edge2, t2, n, d)
     size = max(float(s1.size), float(s2.size))
-    ok = np.isfinite(k1) & np.isfinite(k2)
+    ok = np.isfinite(k1) & np.isfinite(k2) & s1.normals(*_edge_params(s1, edge1, t))[1] \
+        & s2.normals(*_edge_params(s2, edge2, t2))[1]
     if not ok.any():
         return float("nan")
     gaps = np.abs(k1[ok] - k2[ok]) / np.maximum(np.maximum(np.abs(k1[ok]), np.abs(k2[ok])), 1.0 / size)
@@ -338,9 +362,33 @@ def _measure(a: Surface, edge_a: str, b: Surface, edge_b: str, reverse: bool,
              k: int) -> Tuple[float, float, Optional[float], float]:
     """(tangent-plane angle, position gap, curvature gap or None, size) across the edge."""
     from ..surfaces.continuity import edge_continuity
-    rep = edge_continuity(a, b, edge_a, edge_b, samples=STATIONS, reverse=reverse)
-    gap = curvature_gap(a, edge_a, b, edge_b, reverse) if k == 2 else None
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):   # extreme scales: inf/nan
+        rep = edge_continuity(a, b, edge_a, edge_b, samples=STATIONS, reverse=reverse)
+        gap = curvature_gap(a, edge_a, b, edge_b, reverse) if k == 2 else None
     return rep.normal_angle, rep.gap, gap, rep.size
+
+
+def _reweighted(G: np.ndarray, ref: Optional[np.ndarray] = None) -> np.ndarray:
+    """Homogeneous Hermite rows G = (H, H', H'') (derivatives along a cross parameter t;
+    the last coordinate the weight) replaced by those of phi(t) H, phi(0) = 1 and the
+    constants phi'(0), phi''(0) fitted (least squares over the poles) so that the weight
+    rows of H' and H'' come as close as possible to ``ref``'s (default 0: weights as flat
+    as possible across the edge). phi H projects onto the same surface as H, so every
+    projected derivative is kept exactly; only the weights of the new rows change (they
+    stay positive for larger tangent scales)."""
+    if G.shape[0] < 2:
+        return G
+    w0 = G[0, :, -1]
+    den = float(w0 @ w0)
+    goal = np.zeros(G.shape[:2]) if ref is None else ref[..., -1]
+    out = G.copy()
+    phi1 = float((goal[1] - G[1, :, -1]) @ w0) / den
+    out[1] = G[1] + phi1 * G[0]
+    if G.shape[0] > 2:
+        rest = G[2] + 2.0 * phi1 * G[1]
+        phi2 = float((goal[2] - rest[:, -1]) @ w0) / den
+        out[2] = rest + phi2 * G[0]
+    return out
 
 
 def _surface_from_net(P: np.ndarray, rational: bool, degree_u: int, degree_v: int, knots_u: np.ndarray,
@@ -376,29 +424,29 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     e1, e2 = _edge(edge1, "edge1"), _edge(edge2, "edge2")
     k = _continuity(continuity, (1, 2), "1: G1, a cubic blend; 2: G2, a quintic")
     alpha, beta = _scales(tangent_scales)
+    f, (b1, b2) = _normalised(b1, b2)
     rational = b1.is_rational or b2.is_rational
     side1, side2 = _side(b1, e1, rational), _side(b2, e2, rational)
     c1 = _along_curve(_derivative_rows(side1, k), _unit(side1.along, side1.q), side1.q)
     c2 = _along_curve(_derivative_rows(side2, k), _unit(side2.along, side2.q), side2.q)
 
     t = np.linspace(0.0, 1.0, STATIONS)
-    size = _size(b1, b2)
     S1, D1 = _project(c1, k + 1, t, rational)
     S2, D2 = _project(c2, k + 1, t, rational)
-    for name, S in (("edge1", S1), ("edge2", S2)):
-        if not _edge_length(S) > DEGENERATE_TOL * size:
-            raise CagdError(f"{name}: the edge collapses to a point (length {_edge_length(S):.3g}); "
+    for name, S, b_ in (("edge1", S1, b1), ("edge2", S2, b2)):
+        if not _edge_length(S) > DEGENERATE_TOL * b_.size:
+            raise CagdError(f"{name}: the edge collapses to a point (length {_edge_length(S) / f:.3g}); "
                             f"a blend needs an edge curve")
     rev = _reversed_edges(S1, S2)
     if rev:
         c2 = _along_curve(_from_along(c2, k + 1), c2.knots, c2.degree, reverse=True)
         S2, D2 = S2[::-1], D2[::-1]
     distance = _mean_norm(S2 - S1)
-    if not distance > DEGENERATE_TOL * size:
-        raise CagdError(f"edge2: coincides with edge1 (mean distance {distance:.3g}); a blend needs two "
+    if not distance > DEGENERATE_TOL * max(b1.size, b2.size):
+        raise CagdError(f"edge2: coincides with edge1 (mean distance {distance / f:.3g}); a blend needs two "
                         f"distinct edges")
-    for name, edge, D in (("s1", e1, D1), ("s2", e2, D2)):
-        if not _mean_norm(D) > DEGENERATE_TOL * size:
+    for name, edge, D, b_ in (("s1", e1, D1, b1), ("s2", e2, D2, b2)):
+        if not _mean_norm(D) * _cross_span(b_, edge) > DEGENERATE_TOL * b_.size:
             raise CagdError(f"{name}: its cross derivative vanishes along {edge}; no tangent plane to match")
     a = alpha * distance / _mean_norm(D1)
     b = beta * distance / _mean_norm(D2)
@@ -406,12 +454,16 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     c1, c2 = _compatible([c1, c2])
     A, B = _from_along(c1, k + 1), _from_along(c2, k + 1)        # (k + 1, poles, D): H, H_s, H_ss
     n = 2 * k + 1
+    GA = A * (-a) ** np.arange(k + 1)[:, None, None]               # d^i/dt^i at v = 0: s = -a v leaves s1
+    GB = B * b ** np.arange(k + 1)[:, None, None]                  # at v = 1: s = b (v - 1) enters s2
+    if rational:
+        GA, GB = _reweighted(GA), _reweighted(GB)
     R = np.empty((n + 1,) + A.shape[1:])
-    R[0], R[1] = A[0], A[0] - (a / n) * A[1]                      # D1 = -H1_s leaves s1
-    R[n], R[n - 1] = B[0], B[0] - (b / n) * B[1]                  # H2_s enters s2
+    R[0], R[1] = GA[0], GA[0] + GA[1] / n
+    R[n], R[n - 1] = GB[0], GB[0] - GB[1] / n
     if k == 2:
-        R[2] = 2.0 * R[1] - R[0] + (a * a / (n * (n - 1))) * A[2]
-        R[n - 2] = 2.0 * R[n - 1] - R[n] + (b * b / (n * (n - 1))) * B[2]
+        R[2] = 2.0 * R[1] - R[0] + GA[2] / (n * (n - 1))
+        R[n - 2] = 2.0 * R[n - 1] - R[n] + GB[2] / (n * (n - 1))
     net = R.transpose(1, 0, 2)                                    # u along, v across
     bezier = np.concatenate([np.zeros(n + 1), np.ones(n + 1)])
     surface = _surface_from_net(net, rational, c1.degree, n, c1.knots, bezier, "tangent_scales")
@@ -423,13 +475,14 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     cgap = None if cg1 is None or cg2 is None else max(cg1, cg2)
     ok = bool(max_angle <= CONTINUITY_TOL and max_gap <= CONTINUITY_TOL * max(size1, size2)
               and (cgap is None or cgap <= CONTINUITY_TOL))
+    max_gap /= f
     message = (f"G{k} blend of degree {n} across, {net.shape[0]} poles along: tangent-plane angle "
-               f"{max_angle:.3g} rad, gap {max_gap:.3g}"
+               f"{max_angle:.3g} rad, gap {max_gap / f:.3g}"
                + ("" if cgap is None else f", relative curvature gap {cgap:.3g}")
                + f" at {STATIONS} stations per edge; scales a = {a:.6g}, b = {b:.6g}"
                + ("; edge2 reversed" if rev else "")
                + ("" if ok else f" (above the tolerance {CONTINUITY_TOL:g})"))
-    return BlendSurface(surface, k, max_angle, cgap, max_gap, rev, ok, message)
+    return BlendSurface(_scaled_back(surface, f), k, max_angle, cgap, max_gap, rev, ok, message)
 
 
 # --- match ----------------------------------------------------------------------------------------
@@ -455,6 +508,7 @@ def match_surface(s: Surface, edge: str, target: Surface, target_edge: str, cont
     bs, bt = _surface(s, "s"), _surface(target, "target")
     e, te = _edge(edge, "edge"), _edge(target_edge, "target_edge")
     k = _continuity(continuity, (0, 1, 2), "0: G0, 1: G1, 2: G2")
+    f, (bs, bt) = _normalised(bs, bt)
     rational = bs.is_rational or bt.is_rational
     ss, ts = _side(bs, e, rational), _side(bt, te, rational)
     rows = ss.net.shape[0]
@@ -463,15 +517,14 @@ def match_surface(s: Surface, edge: str, target: Surface, target_edge: str, cont
     if rows < k + 2:
         raise CagdError(f"s: {rows} control rows across {e}; G{k} moves {k + 1} and the opposite edge's row "
                         f"must stay (insert knots across first)")
-    size = _size(bs, bt)
     t = np.linspace(0.0, 1.0, STATIONS)
     ct = _along_curve(_derivative_rows(ts, max(k, 1)), _unit(ts.along, ts.q), ts.q)
     cs = _along_curve(ss.net, _unit(ss.along, ss.q), ss.q)
     St, Dt = _project(ct, max(k, 1) + 1, t, rational)
     Ss = _project(cs, rows, t, rational)[0]
-    if not _edge_length(St) > DEGENERATE_TOL * size:
-        raise CagdError(f"target_edge: the target's edge collapses to a point (length {_edge_length(St):.3g})")
-    if k >= 1 and not _mean_norm(Dt) > DEGENERATE_TOL * size:
+    if not _edge_length(St) > DEGENERATE_TOL * bt.size:
+        raise CagdError(f"target_edge: the target's edge collapses to a point (length {_edge_length(St) / f:.3g})")
+    if k >= 1 and not _mean_norm(Dt) * _cross_span(bt, te) > DEGENERATE_TOL * bt.size:
         raise CagdError(f"target: its cross derivative vanishes along {te}; no tangent plane to match")
     rev = _reversed_edges(Ss, St)
     if rev:
@@ -489,13 +542,15 @@ def match_surface(s: Surface, edge: str, target: Surface, target_edge: str, cont
     R = [rho * T[0]]
     if k >= 1:
         goal = -rho * T[1]
-        lam = float(np.vdot(old[1], goal) / np.vdot(goal, goal))
-        if not lam > 0.0:
-            lam = float(np.linalg.norm(old[1]) / np.linalg.norm(goal))
+        lam = float(np.linalg.norm(old[1]) / np.linalg.norm(goal))
+        lam = lam if lam > 0.0 else 1.0
         R.append(lam * goal)
         if k == 2:
             R.append(lam * lam * rho * T[2])
-    net[:k + 1] = _rows_from_derivatives(np.stack(R), ss.dist, ss.p)
+    G = np.stack(R)
+    if rational:
+        G = _reweighted(G, old)
+    net[:k + 1] = _rows_from_derivatives(G, ss.dist, ss.p)
     along = cs.knots
     lo, hi = ss.along[ss.q], ss.along[-ss.q - 1]
     along = lo + along * (hi - lo)
@@ -513,8 +568,8 @@ def match_surface(s: Surface, edge: str, target: Surface, target_edge: str, cont
               and (cgap is None or cgap <= CONTINUITY_TOL))
     after = net.shape[1]
     message = (f"G{k} match of {e} to the target's {te}: {k + 1} row(s) moved, {before} -> {after} poles along; "
-               f"gap {gap:.3g}, tangent-plane angle {angle:.3g} rad"
+               f"gap {gap / f:.3g}, tangent-plane angle {angle:.3g} rad"
                + ("" if cgap is None else f", relative curvature gap {cgap:.3g}")
                + f" at {STATIONS} stations" + ("; target edge reversed" if rev else "")
                + ("" if ok else f" (above the tolerance {CONTINUITY_TOL:g})"))
-    return MatchSurface(surface, k, angle, cgap, gap, rev, ok, message, k + 1, (before, after))
+    return MatchSurface(_scaled_back(surface, f), k, angle, cgap, gap / f, rev, ok, message, k + 1, (before, after))
