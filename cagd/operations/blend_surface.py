@@ -278,7 +278,7 @@ def _normalised(*surfaces: BSplineSurface) -> Tuple[float, List[BSplineSurface]]
     1, so that squares of coordinates and derivatives neither overflow nor underflow
     (the scaling is exact, and undone exactly on the result)."""
     size = max(float(s.size) for s in surfaces)
-    f = float(2.0 ** -np.round(np.log2(size))) if 1e-280 < size < 1e280 else 1.0
+    f = float(np.ldexp(1.0, -int(np.clip(np.frexp(size)[1], -1020, 1020))))
     if f == 1.0:
         return f, list(surfaces)
     return f, [s._affine(np.eye(3) * f, np.zeros(3)) for s in surfaces]

@@ -167,6 +167,32 @@ def test_blend_of_coplanar_planar_patches_is_planar():
         assert np.abs((P - origin) @ normal).max() <= 1e-12 * size_of(a, b)
 
 
+@pytest.mark.parametrize("k", [1, 2])
+def test_blend_of_coaxial_cylinders_is_a_surface_of_revolution(k):
+    """Rational (NURBS circle) rims: by symmetry the blend's radius and height are
+    constant along each rim-parallel isocurve."""
+    a, b = cagd.cylinder(1.0, 2.0, [0.0, 0.0, 0.0]), cagd.cylinder(2.0, 1.5, [0.0, 0.0, 3.0])
+    res, _, _ = check_blend(a.to_nurbs(), "u0", b.to_nurbs(), "u1", k)
+    assert res.surface.is_rational and not res.reversed
+    u, v = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 9), indexing="ij")
+    P = res.surface(u, v)
+    for x in (np.hypot(P[..., 0], P[..., 1]), P[..., 2]):
+        assert np.ptp(x, axis=0).max() <= 1e-12 * 4.0
+    assert np.all(np.diff(P[0, :, 2]) > 0)                   # it climbs from the top rim to the bottom rim
+
+
+@pytest.mark.parametrize("scale, offset", [(1e-300, 0.0), (1e-100, 0.0), (1e150, 1e12), (1e300, 0.0)])
+def test_blend_and_match_at_extreme_scales(scale, offset):
+    a, b = (s.transformed(np.eye(3) * scale, np.full(3, offset)) for s in (S1, R2))
+    for k in (1, 2):
+        r = blend_surface(a, "u1", b, "u0", k)
+        assert r.converged and r.max_angle <= TOL
+        assert r.max_curvature_gap is None if k == 1 else r.max_curvature_gap <= TOL
+        assert r.max_gap <= GAP * scale
+        m = match_surface(a, "u1", b, "u0", k)
+        assert m.converged and m.max_angle <= TOL and m.max_gap <= GAP * scale
+
+
 def test_the_oracle_catches_a_moved_second_row():
     """Moving the blend's second row across (the G2 row) by 1e-6 breaks the G2 test
     but not G1; moving the first row breaks G1."""
