@@ -40,8 +40,9 @@ are those of phi(t) H instead of H (phi(0) = 1, phi'(0), phi''(0) constants fitt
 the new rows' weights flat; the same projected surface, so nothing above changes): the
 weights of the inner rows are R_1's w_0 + (phi' w_0 - a w_s) / n etc., and when the
 weights vary fast across an edge (w_s, w_ss large against w_0) and the scale is large
-they can still turn non-positive: that is refused (CagdError naming tangent_scales;
-smaller scales help). Polynomial surfaces have no such limit.
+they can still turn non-positive: that is refused (CagdError naming tangent_scales[0] or
+[1] and the value below which the weights stay positive). Polynomial surfaces have no
+such limit.
 
 match_surface: rows 0..k of ``s`` next to ``edge`` are replaced so that s meets
 ``target`` at ``target_edge`` with C^k up to constant scales: row 0 = rho T0 (T the
@@ -391,6 +392,36 @@ def _reweighted(G: np.ndarray, ref: Optional[np.ndarray] = None) -> np.ndarray:
     return out
 
 
+def _hermite_rows(H: np.ndarray, scale: float, n: int, rational: bool) -> np.ndarray:
+    """The blend's control rows next to one edge, counted from it: Q_0 = E_0,
+    Q_1 = Q_0 + E_1 / n, Q_2 = 2 Q_1 - Q_0 + E_2 / (n (n - 1)) for the Hermite data
+    E_i = (-scale)^i H_(s^i) (derivatives along the blend's parameter running away from
+    the edge, s = -scale t; reweighted when rational, :func:`_reweighted`)."""
+    E = H * (-scale) ** np.arange(len(H))[:, None, None]
+    if rational:
+        E = _reweighted(E)
+    Q = np.empty_like(E)
+    Q[0] = E[0]
+    if len(E) > 1:
+        Q[1] = E[0] + E[1] / n
+    if len(E) > 2:
+        Q[2] = 2.0 * Q[1] - Q[0] + E[2] / (n * (n - 1))
+    return Q
+
+
+def _weight_limit(H: np.ndarray, scale: float, n: int) -> float:
+    """The largest fraction of ``scale`` (bisection) for which the rows of
+    :func:`_hermite_rows` keep positive weights (they do as the scale goes to 0)."""
+    lo, hi = 0.0, 1.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        if np.all(_hermite_rows(H, mid * scale, n, True)[..., -1] > 0.0):
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
 def _surface_from_net(P: np.ndarray, rational: bool, degree_u: int, degree_v: int, knots_u: np.ndarray,
                       knots_v: np.ndarray, name: str) -> BSplineSurface:
     if not rational:
@@ -418,7 +449,8 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
             untrimmed one), edge1/edge2 not "u0"/"u1"/"v0"/"v1", continuity not 1 or 2,
             tangent_scales not two positive numbers, an edge collapsed to a point
             (naming it), a cross derivative vanishing all along an edge (naming the
-            surface), coincident edges, rational data giving non-positive weights.
+            surface), coincident edges, rational data whose blend weights would turn
+            non-positive (naming tangent_scales[0] or [1] and the largest value that works).
     """
     b1, b2 = _surface(s1, "s1"), _surface(s2, "s2")
     e1, e2 = _edge(edge1, "edge1"), _edge(edge2, "edge2")
@@ -454,16 +486,18 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     c1, c2 = _compatible([c1, c2])
     A, B = _from_along(c1, k + 1), _from_along(c2, k + 1)        # (k + 1, poles, D): H, H_s, H_ss
     n = 2 * k + 1
-    GA = A * (-a) ** np.arange(k + 1)[:, None, None]               # d^i/dt^i at v = 0: s = -a v leaves s1
-    GB = B * b ** np.arange(k + 1)[:, None, None]                  # at v = 1: s = b (v - 1) enters s2
-    if rational:
-        GA, GB = _reweighted(GA), _reweighted(GB)
     R = np.empty((n + 1,) + A.shape[1:])
-    R[0], R[1] = GA[0], GA[0] + GA[1] / n
-    R[n], R[n - 1] = GB[0], GB[0] - GB[1] / n
-    if k == 2:
-        R[2] = 2.0 * R[1] - R[0] + GA[2] / (n * (n - 1))
-        R[n - 2] = 2.0 * R[n - 1] - R[n] + GB[2] / (n * (n - 1))
+    for i, (H, scale, given, name) in enumerate(((A, a, alpha, "edge1"), (B, b, beta, "edge2"))):
+        Q = _hermite_rows(H, scale, n, rational)
+        if rational and not np.all(Q[..., -1] > 0.0):
+            limit = _weight_limit(H, scale, n) * given
+            raise CagdError(f"tangent_scales[{i}]: the blend's weights next to {name} turn non-positive at "
+                            f"{given:g} (the rational data's weights vary fast across it); they stay positive "
+                            f"below about {limit:.3g}")
+        if i == 0:
+            R[:k + 1] = Q
+        else:
+            R[n - k:] = Q[::-1]
     net = R.transpose(1, 0, 2)                                    # u along, v across
     bezier = np.concatenate([np.zeros(n + 1), np.ones(n + 1)])
     surface = _surface_from_net(net, rational, c1.degree, n, c1.knots, bezier, "tangent_scales")
