@@ -267,10 +267,10 @@ def _mean_norm(x: np.ndarray) -> float:
 
 
 def _reversed_edges(A: np.ndarray, B: np.ndarray) -> bool:
-    """Whether edge B (points at the stations) runs against edge A: its corners are
-    closer crossed than straight."""
-    straight = np.linalg.norm(A[0] - B[0]) + np.linalg.norm(A[-1] - B[-1])
-    crossed = np.linalg.norm(A[0] - B[-1]) + np.linalg.norm(A[-1] - B[0])
+    """Whether edge B (points at the stations) runs against edge A: its points taken
+    backwards are closer to A's on average (closed edges too, unlike a corner test)."""
+    straight = np.linalg.norm(A - B, axis=-1).sum()
+    crossed = np.linalg.norm(A - B[::-1], axis=-1).sum()
     return bool(crossed < straight)
 
 
@@ -440,9 +440,9 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     cubic across) or G2 (``continuity=2``, quintic across) to both along the whole
     edges (construction, scales and references in the module docstring). The edges
     are matched at equal fractions of their domains; edge2 is run backwards when its
-    corners are closer to edge1's that way (``reversed``). Rational surfaces are
-    blended exactly in homogeneous coordinates (the blend is rational then; its
-    weights must stay positive). Periodic surfaces are clamped first.
+    points are closer to edge1's on average that way (``reversed``; closed edges too).
+    Rational surfaces are blended exactly in homogeneous coordinates (the blend is
+    rational then; its weights must stay positive). Periodic surfaces are clamped first.
 
     Raises:
         CagdError: s1/s2 not rectangular 3-D surfaces (TrimmedSurfaces: pass the
@@ -528,9 +528,9 @@ def match_surface(s: Surface, edge: str, target: Surface, target_edge: str, cont
     direction of s is first made compatible with the target's edge (degree elevation,
     knot insertion: the same surface, ``poles_along`` reports the pole counts); the
     edges are matched at equal fractions of their domains, target_edge run backwards
-    when that brings the corners closer (``reversed``). The opposite edge's row stays
-    in place: s needs at least continuity + 2 rows across and a cross degree >=
-    continuity. Rational data is handled in homogeneous coordinates (s becomes rational
+    when that brings its points closer on average (``reversed``). The opposite edge's
+    row stays in place: s needs at least continuity + 2 rows across and a cross degree
+    >= continuity. Rational data is handled in homogeneous coordinates (s becomes rational
     when the target is). Periodic surfaces are clamped first.
 
     Raises:

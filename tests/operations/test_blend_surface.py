@@ -179,6 +179,9 @@ def test_blend_of_coaxial_cylinders_is_a_surface_of_revolution(k):
     for x in (np.hypot(P[..., 0], P[..., 1]), P[..., 2]):
         assert np.ptp(x, axis=0).max() <= 1e-12 * 4.0
     assert np.all(np.diff(P[0, :, 2]) > 0)                   # it climbs from the top rim to the bottom rim
+    flipped, _, _ = check_blend(a.to_nurbs(), "u0", b.to_nurbs().reversed("v"), "u1", k)
+    assert flipped.reversed                                   # closed edges: no corners tell the direction
+    assert np.abs(flipped.surface(u, v) - P).max() <= 1e-12 * 4.0
 
 
 @pytest.mark.parametrize("scale, offset", [(1e-300, 0.0), (1e-100, 0.0), (1e150, 1e12), (1e300, 0.0)])
