@@ -429,7 +429,7 @@ def _surface_from_net(P: np.ndarray, rational: bool, degree_u: int, degree_v: in
     W = P[..., -1]
     if not np.all(W > 0.0):
         raise CagdError(f"{name}: the constructed rows get non-positive weights (min {W.min():.3g}); "
-                        f"the rational data varies too fast across the edge for these scales")
+                        f"the rational data's weights vary too fast across the edge")
     return BSplineSurface(P[..., :-1] / W[..., None], degree_u, degree_v, knots_u, knots_v, W)
 
 
