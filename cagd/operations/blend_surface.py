@@ -40,9 +40,12 @@ are those of phi(t) H instead of H (phi(0) = 1, phi'(0), phi''(0) constants fitt
 the new rows' weights flat; the same projected surface, so nothing above changes): the
 weights of the inner rows are R_1's w_0 + (phi' w_0 - a w_s) / n etc., and when the
 weights vary fast across an edge (w_s, w_ss large against w_0) and the scale is large
-they can still turn non-positive: that is refused (CagdError naming tangent_scales[0] or
-[1] and the value below which the weights stay positive). Polynomial surfaces have no
-such limit.
+they can still turn non-positive. Then the default scale of that side is shortened to
+WEIGHT_MARGIN times the largest scale that keeps them positive (the message says so),
+and explicit ``tangent_scales`` are refused (CagdError naming tangent_scales[0] or [1]
+and the value below which the weights stay positive). Polynomial surfaces and weights
+that are products of a function along and one across the edge (surfaces of
+revolution, extrusions of conics: phi makes those flat exactly) have no such limit.
 
 match_surface: rows 0..k of ``s`` next to ``edge`` are replaced so that s meets
 ``target`` at ``target_edge`` with C^k up to constant scales: row 0 = rho T0 (T the
@@ -74,6 +77,9 @@ STATIONS = 50
 #: an edge (or an edge distance) shorter than this times the size counts as a point
 DEGENERATE_TOL = 1e-12
 EDGES = ("u0", "u1", "v0", "v1")
+#: the fraction of the largest admissible scale used when the default tangent scale
+#: would give a rational blend non-positive weights
+WEIGHT_MARGIN = 0.5
 
 
 @dataclass(frozen=True)
@@ -487,13 +493,17 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     A, B = _from_along(c1, k + 1), _from_along(c2, k + 1)        # (k + 1, poles, D): H, H_s, H_ss
     n = 2 * k + 1
     R = np.empty((n + 1,) + A.shape[1:])
+    used = [alpha, beta]
     for i, (H, scale, given, name) in enumerate(((A, a, alpha, "edge1"), (B, b, beta, "edge2"))):
         Q = _hermite_rows(H, scale, n, rational)
         if rational and not np.all(Q[..., -1] > 0.0):
-            limit = _weight_limit(H, scale, n) * given
-            raise CagdError(f"tangent_scales[{i}]: the blend's weights next to {name} turn non-positive at "
-                            f"{given:g} (the rational data's weights vary fast across it); they stay positive "
-                            f"below about {limit:.3g}")
+            fraction = _weight_limit(H, scale, n)
+            if tangent_scales is not None or not fraction > 0.0:
+                raise CagdError(f"tangent_scales[{i}]: the blend's weights next to {name} turn non-positive at "
+                                f"{given:g} (the rational data's weights vary fast across it); they stay "
+                                f"positive below about {fraction * given:.3g}")
+            used[i] = WEIGHT_MARGIN * fraction                       # the default shortened to fit
+            Q = _hermite_rows(H, used[i] * scale, n, rational)
         if i == 0:
             R[:k + 1] = Q
         else:
@@ -513,7 +523,10 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     message = (f"G{k} blend of degree {n} across, {net.shape[0]} poles along: tangent-plane angle "
                f"{max_angle:.3g} rad, gap {max_gap / f:.3g}"
                + ("" if cgap is None else f", relative curvature gap {cgap:.3g}")
-               + f" at {STATIONS} stations per edge; scales a = {a:.6g}, b = {b:.6g}"
+               + f" at {STATIONS} stations per edge; scales a = {a * used[0]:.6g}, b = {b * used[1]:.6g}"
+               + ("" if used == [alpha, beta] else
+                  f" (the default tangent scales shortened to ({used[0]:.3g}, {used[1]:.3g}) to keep the "
+                  f"rational blend's weights positive)")
                + ("; edge2 reversed" if rev else "")
                + ("" if ok else f" (above the tolerance {CONTINUITY_TOL:g})"))
     return BlendSurface(_scaled_back(surface, f), k, max_angle, cgap, max_gap, rev, ok, message)
