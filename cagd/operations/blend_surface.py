@@ -416,12 +416,21 @@ def _hermite_rows(H: np.ndarray, scale: float, n: int, rational: bool) -> np.nda
 
 
 def _weight_limit(H: np.ndarray, scale: float, n: int) -> float:
-    """The largest fraction of ``scale`` (bisection) for which the rows of
-    :func:`_hermite_rows` keep positive weights (they do as the scale goes to 0)."""
-    lo, hi = 0.0, 1.0
+    """The largest fraction of ``scale`` for which the rows of :func:`_hermite_rows`
+    keep positive weights (they do as the scale goes to 0): halvings down to the first
+    admissible power of two (0 if none above 2^-1000), then bisection above it."""
+    def positive(x: float) -> bool:
+        return bool(np.all(_hermite_rows(H, x * scale, n, True)[..., -1] > 0.0))
+
+    lo = 1.0
+    while not positive(lo):
+        lo *= 0.5
+        if lo < 2.0 ** -1000:
+            return 0.0
+    hi = 2.0 * lo
     for _ in range(40):
         mid = 0.5 * (lo + hi)
-        if np.all(_hermite_rows(H, mid * scale, n, True)[..., -1] > 0.0):
+        if positive(mid):
             lo = mid
         else:
             hi = mid
@@ -448,7 +457,8 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     are matched at equal fractions of their domains; edge2 is run backwards when its
     points are closer to edge1's on average that way (``reversed``; closed edges too).
     Rational surfaces are blended exactly in homogeneous coordinates (the blend is
-    rational then; its weights must stay positive). Periodic surfaces are clamped first.
+    rational then; a default tangent scale is shortened where its weights would not stay
+    positive, see the module docstring). Periodic surfaces are clamped first.
 
     Raises:
         CagdError: s1/s2 not rectangular 3-D surfaces (TrimmedSurfaces: pass the
