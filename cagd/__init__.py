@@ -31,6 +31,7 @@ from .analysis import CurvatureComb, curvature_comb
 from .analysis import Fairness, Isophotes, Zebra, curvature_map, draft_angle, fairness, isophotes, zebra
 from .operations import BlendCurve, blend_curve
 from .operations import SweepResult, sweep, sweep2
+from .operations import BlendSurface, MatchSurface, blend_surface, match_surface
 from .mesh import MeshResult, write_obj, write_stl
 
 __version__ = "0.1.0"
@@ -53,5 +54,6 @@ __all__ = [
     "Fairness", "Isophotes", "Zebra", "curvature_map", "draft_angle", "fairness", "isophotes", "zebra",
     "BlendCurve", "blend_curve",
     "SweepResult", "sweep", "sweep2",
+    "BlendSurface", "MatchSurface", "blend_surface", "match_surface",
     "MeshResult", "write_stl", "write_obj",
 ]
