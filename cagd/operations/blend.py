@@ -91,13 +91,15 @@ def _scales(tangent_scales: Optional[Sequence[float]]) -> Tuple[float, float]:
     return _checks.positive(a, "tangent_scales[0]"), _checks.positive(b, "tangent_scales[1]")
 
 
-def _continuity(value: object) -> int:
+def _continuity(value: object, allowed: Tuple[int, ...] = (1, 2),
+                what: str = "1: G1, a cubic bridge; 2: G2, a quintic") -> int:
+    """``value`` as an int of ``allowed`` (not a bool), else CagdError naming continuity."""
     try:
         k = index(value)  # type: ignore[arg-type]
     except TypeError:
         k = -1
-    if isinstance(value, bool) or k not in (1, 2):
-        raise CagdError(f"continuity: must be 1 (G1, a cubic bridge) or 2 (G2, a quintic), got {value!r}")
+    if isinstance(value, (bool, np.bool_)) or k not in allowed:
+        raise CagdError(f"continuity: must be one of {allowed} ({what}), got {value!r}")
     return k
 
 

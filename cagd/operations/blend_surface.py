@@ -60,7 +60,6 @@ the target's.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from operator import index
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -70,13 +69,13 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
+from .blend import _continuity, _scales
 from .continuity import CONTINUITY_TOL
 
 #: stations along an edge at which the results are measured (the issue's oracle: 50)
 STATIONS = 50
 #: an edge (or an edge distance) shorter than this times the size counts as a point
 DEGENERATE_TOL = 1e-12
-EDGES = ("u0", "u1", "v0", "v1")
 #: the fraction of the largest admissible scale used when the default tangent scale
 #: would give a rational blend non-positive weights
 WEIGHT_MARGIN = 0.5
@@ -148,29 +147,10 @@ def _surface(s: object, name: str) -> BSplineSurface:
 
 
 def _edge(e: object, name: str) -> str:
+    from ..surfaces.continuity import EDGES             # (at import time: a cycle through cagd.operations)
     if not isinstance(e, str) or e not in EDGES:
         raise CagdError(f"{name}: must be one of {EDGES}, got {e!r}")
     return e
-
-
-def _continuity(value: object, allowed: Tuple[int, ...], what: str) -> int:
-    try:
-        k = index(value)  # type: ignore[arg-type]
-    except TypeError:
-        k = -1
-    if isinstance(value, (bool, np.bool_)) or k not in allowed:
-        raise CagdError(f"continuity: must be one of {allowed} ({what}), got {value!r}")
-    return k
-
-
-def _scales(tangent_scales: Optional[Sequence[float]]) -> Tuple[float, float]:
-    if tangent_scales is None:
-        return 1.0, 1.0
-    try:
-        a, b = tangent_scales
-    except (TypeError, ValueError):
-        raise CagdError(f"tangent_scales: must be two positive numbers (a, b), got {tangent_scales!r}") from None
-    return _checks.positive(a, "tangent_scales[0]"), _checks.positive(b, "tangent_scales[1]")
 
 
 # --- the net seen from one edge -----------------------------------------------------------------
@@ -531,7 +511,7 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
               and (cgap is None or cgap <= CONTINUITY_TOL))
     max_gap /= f
     message = (f"G{k} blend of degree {n} across, {net.shape[0]} poles along: tangent-plane angle "
-               f"{max_angle:.3g} rad, gap {max_gap / f:.3g}"
+               f"{max_angle:.3g} rad, gap {max_gap:.3g}"
                + ("" if cgap is None else f", relative curvature gap {cgap:.3g}")
                + f" at {STATIONS} stations per edge; scales a = {a * used[0]:.6g}, b = {b * used[1]:.6g}"
                + ("" if used == [alpha, beta] else

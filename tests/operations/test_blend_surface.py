@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 import cagd
 from cagd import BSplineSurface, CagdError, blend_surface, edge_continuity, match_surface
-from cagd.operations.blend_surface import EDGES
+from cagd.surfaces.continuity import EDGES
 
 TOL = 1e-9           # the bounds: G1 angle (rad), G2 relative curvature difference
 GAP = 1e-12          # position gap relative to the size
