@@ -33,7 +33,7 @@ import Part
 
 from . import conversion
 from .conversion import cagd
-from .features import Feature, add, add_enum, linked_edge, linked_edges, make
+from .features import add, add_enum, linked_edge, linked_edges, make
 from .fitting import PRECISION, Measured, _readonly, _tolerance, linked_element
 
 EDGES = ("u0", "u1", "v0", "v1")
@@ -412,9 +412,14 @@ KINDS = {"GordonSurface": GordonSurface, "Sweep": Sweep, "Sweep2": Sweep2, "Blen
 # --- creation helpers (used by the commands and the tests) ---------------------------------------
 def _sub(link):
     """(obj, 'EdgeN') as the (obj, ['EdgeN']) a LinkSub property holds."""
-    if link and isinstance(link[1], str):
+    if isinstance(link, tuple) and len(link) == 2 and isinstance(link[1], str):
         return link[0], [link[1]]
     return link
+
+
+def link_values(values: dict) -> dict:
+    """Property values with every (obj, 'EdgeN') link (alone or in a list) as (obj, ['EdgeN'])."""
+    return {k: ([_sub(x) for x in v] if isinstance(v, list) else _sub(v)) for k, v in values.items()}
 
 
 def make_gordon(profiles, guides, doc=None, **values):
@@ -466,3 +471,58 @@ def facing_sides(f1, f2) -> Tuple[str, str]:
         return {k: np.array(tuple(face.Surface.value(*p))) for k, p in uv.items()}
     m1, m2 = mids(f1), mids(f2)
     return min(((a, b) for a in EDGES for b in EDGES), key=lambda ab: float(np.linalg.norm(m1[ab[0]] - m2[ab[1]])))
+
+
+# --- selections (the commands) --------------------------------------------------------------------
+#: property values of a new object of each kind (besides its links), for :func:`check`
+DEFAULTS = {"GordonSurface": {"Tolerance": 1e-3}, "Sweep": {"Frame": "rmf", "Tolerance": 1e-4},
+            "Sweep2": {"Tolerance": 1e-4},
+            "BlendCurve": {"Continuity": "G2", "TangentScale1": 1.0, "TangentScale2": 1.0},
+            "BlendSurface": {"Continuity": "G1", "TangentScale1": 1.0, "TangentScale2": 1.0},
+            "MatchSurface": {"Continuity": "G1"}}
+
+
+class _Trial:
+    """Stands in for a new object in :func:`check` (its properties as attributes)."""
+
+    Label = "new object"
+
+    def __init__(self, values):
+        self.__dict__.update(values)
+
+
+def check(kind: str, **values) -> None:
+    """Raise the CagdError a new ``kind`` object with these links (and the defaults)
+    would be in, before any object is made (the commands refuse a wrong selection);
+    LinkSub values as (obj, 'EdgeN') or (obj, ['EdgeN'])."""
+    cls = KINDS[kind]
+    cls.compute(cls.__new__(cls), _Trial(dict(DEFAULTS[kind], **link_values(values))))
+
+
+def split_network(edges, tol: float = 1e-3) -> Tuple[list, list]:
+    """Profiles and guides of a network given as one list of (obj, 'EdgeN'): the first
+    edge is a profile, the edges touching it (within ``tol``) are the guides, the rest
+    profiles (curves of one family do not meet)."""
+    shapes = [o.Shape.getElement(s) for o, s in edges]
+    first = shapes[0]
+    guides = [k for k in range(1, len(edges)) if first.distToShape(shapes[k])[0] <= tol]
+    profiles = [k for k in range(len(edges)) if k not in guides]
+    return [edges[k] for k in profiles], [edges[k] for k in guides]
+
+
+def face_and_side(obj, sub: str) -> Tuple[Tuple[object, str], str]:
+    """((obj, 'FaceN'), side) for a selected face edge (obj, 'EdgeN'): the face of obj
+    holding the edge and which parameter-box edge of it the edge is.
+
+    Raises:
+        CagdError: no face of obj holds the edge, or it is not a box edge of that face.
+    """
+    edge = obj.Shape.getElement(sub)
+    for k, face in enumerate(obj.Shape.Faces):
+        if any(e.isSame(edge) for e in face.Edges):
+            side = edge_side(face, edge)
+            if side is None:
+                raise cagd.CagdError(f"{obj.Label}.{sub} is not a parameter-box edge (u0, u1, v0, v1) of "
+                                     f"{obj.Label}.Face{k + 1} (a trimmed face's edge)")
+            return (obj, f"Face{k + 1}"), side
+    raise cagd.CagdError(f"{obj.Label}.{sub} is not an edge of a face")

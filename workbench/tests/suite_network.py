@@ -408,6 +408,46 @@ def test_blend_curve():
     expect_error(obj, ["TangentScale2"])
 
 
+@case
+def test_network_selection_helpers():
+    """What the commands use before making an object: a network's edges split into the
+    two families; the facing box edges of two faces; a selected face edge's face and
+    box edge; network.check raising the error the new object would be in."""
+    doc = new_doc("netselect")
+    part = conversion.surface_to_part(_patch())
+    params = [0.0, 0.5, 1.0]
+    profiles = [_feature(doc, part.vIso(v).toShape(), f"P{k}") for k, v in enumerate(params)]
+    guides = [_feature(doc, part.uIso(u).toShape(), f"G{k}") for k, u in enumerate(params)]
+    doc.recompute()
+    mixed = [(guides[1], "Edge1"), (profiles[0], "Edge1"), (guides[0], "Edge1"), (profiles[2], "Edge1"),
+             (guides[2], "Edge1"), (profiles[1], "Edge1")]
+    first, second = network.split_network(mixed)
+    check([o for o, _ in first] == [guides[1], guides[0], guides[2]] and
+          [o for o, _ in second] == [profiles[0], profiles[2], profiles[1]], "network families")
+    network.check("GordonSurface", Profiles=first, Guides=second)
+    try:
+        network.check("GordonSurface", Profiles=first[:1], Guides=second)
+        raised = ""
+    except conversion.cagd.CagdError as exc:
+        raised = str(exc)
+    check(raised.startswith("Profiles: need 2"), f"check: {raised!r}")
+    a = _grid_surface(doc, 0.0, "A")
+    b = _grid_surface(doc, 60.0, "B", lift=6.0)
+    check(network.facing_sides(a.Shape.Faces[0], b.Shape.Faces[0]) == ("u1", "u0"), "facing sides")
+    for side in network.EDGES:
+        k = next(k for k, e in enumerate(a.Shape.Edges) if network.edge_side(a.Shape.Faces[0], e) == side)
+        link, found = network.face_and_side(a, f"Edge{k + 1}")
+        check(link == (a, "Face1") and found == side, f"face_and_side of {side}: {link}, {found}")
+    line = _feature(doc, Part.makeLine(V(0, 0, 0), V(0, 0, 10)), "L")
+    doc.recompute()
+    try:
+        network.check("Sweep", Profile=(line, "Vertex1"), Path=(line, "Edge1"))
+        raised = ""
+    except conversion.cagd.CagdError as exc:
+        raised = str(exc)
+    check(raised.startswith("Profile:") and "not an edge" in raised, f"check: {raised!r}")
+
+
 def report():
     for what, value in MEASURED.items():
         print(f"     {what}: {value:.3g}")
