@@ -224,8 +224,8 @@ class Sweep(Measured):
 class Sweep2(Measured):
     """Profile edges placed between two rail edges (cagd.sweep2: each profile mapped by
     the similarity taking its ends onto the rails, several profiles blended along the
-    rails). A profile running from Rail2 to Rail1 is reversed; the rails are taken in
-    their own direction."""
+    rails). A profile running from Rail2 to Rail1 is reversed, and Rail2 when its start
+    is nearer Rail1's end (the rails run alike)."""
 
     TYPE = "Cagd::Sweep2"
     DEFAULT_LABEL = "Sweep2"
@@ -254,6 +254,11 @@ class Sweep2(Measured):
             swap = rails[0].distToShape(b)[0] + rails[1].distToShape(a)[0]
             profiles.append(c.reversed() if swap < keep else c)
         r1, r2 = (conversion.edge_to_curve(e) for e in rails)
+        ends = [[_point(e, k == 1) for k in (0, 1)] for e in rails]
+        along = np.linalg.norm(ends[0][0] - ends[1][0]) + np.linalg.norm(ends[0][1] - ends[1][1])
+        across = np.linalg.norm(ends[0][0] - ends[1][1]) + np.linalg.norm(ends[0][1] - ends[1][0])
+        if across < along:                      # Rail2 drawn the other way: run it like Rail1
+            r2 = r2.reversed()
         with renamed(SWEEP_NAMES, {"profiles": [label for label, _ in pairs]}):
             r = cagd.sweep2(profiles, r1, r2, tol=tol)
         return r.surface, {"MaxError": float(r.max_error), "Converged": bool(r.converged)}, _warning(r)

@@ -4,13 +4,14 @@ surface and Match surface. The oracles are Part's own: distToShape, Area, normal
 tangentAt, curvatureAt of the shapes FreeCAD holds; each object follows a moved or
 edited link on recompute, and a wrong link is an error naming the property."""
 import math
+import os
 
 import numpy as np
 
 import FreeCAD as App
 import Part
 
-from suite_support import (V, case, check, compare, conversion, expect_error, exported, new_doc, recompute_ok,
+from suite_support import (OUT, V, case, check, compare, conversion, expect_error, exported, new_doc, recompute_ok,
                            surfaces)
 from cagdwb import network
 
@@ -166,6 +167,12 @@ def test_sweep2_between_rails():
     doc.recompute()
     recompute_ok(obj)
     on_rails()
+    area = obj.Shape.Area
+    rail2.Shape = Part.makeLine(V(45, 40, -5), V(20, 0, 0))       # drawn the other way: the same sweep
+    doc.recompute()
+    recompute_ok(obj)
+    on_rails()
+    check(abs(obj.Shape.Area - area) <= 1e-9 * area, f"reversed Rail2: area {obj.Shape.Area} != {area}")
     obj.Rail2 = (rail1, "Edge1")                         # both rails the same line: zero chords
     expect_error(obj, ["Rail2", "zero-length chord"])
     obj.Rail2 = (rail2, "Edge1")
@@ -406,6 +413,20 @@ def test_blend_curve():
     obj.Edge2, obj.End2 = (c2, "Edge1"), "start"
     obj.TangentScale2 = 0.0
     expect_error(obj, ["TangentScale2"])
+    obj.TangentScale2 = 1.0
+    recompute_ok(obj)
+    path = os.path.join(OUT, "blendcurve.FCStd")               # saved and reloaded: recomputes, links kept
+    doc.saveAs(path)
+    name, shape = obj.Name, obj.Shape.copy()
+    App.closeDocument(doc.Name)
+    doc = App.openDocument(path)
+    obj = doc.getObject(name)
+    obj.touch()
+    doc.recompute()
+    check(obj.isValid() and obj.Message == "ok" and obj.Proxy.__class__.__name__ == "BlendCurve", obj.Message)
+    check(obj.Edge1[0].Label == "BSplineCurve" and obj.Continuity == "G2", "reloaded links or Continuity")
+    e, f = obj.Shape.Edges[0], shape.Edges[0]
+    check(max((e.valueAt(t) - f.valueAt(t)).Length for t in np.linspace(0, 1, 11)) <= 1e-12, "reloaded shape")
 
 
 @case
