@@ -117,6 +117,42 @@ def test_sweep_circle_along_line_is_cylinder():
 
 
 @case
+def test_sweep_follows_a_sketch():
+    """The profile is a sketch's circle: changing its radius constraint (setDatum) or moving
+    the sketch recomputes the sweep: a cylinder of the new radius (Part distToShape of
+    points at that radius, Area summed over knot spans = 2 pi r h to 1e-6)."""
+    import Sketcher
+    doc = new_doc("sweepsketch")
+    sketch = doc.addObject("Sketcher::SketchObject", "ProfileSketch")
+    sketch.addGeometry(Part.Circle(V(0, 0, 0), V(0, 0, 1), 5.0), False)
+    radius = sketch.addConstraint(Sketcher.Constraint("Radius", 0, 5.0))
+    sketch.addConstraint(Sketcher.Constraint("Coincident", 0, 3, -1, 1))
+    line = doc.addObject("Part::Line", "Path")
+    line.X2, line.Y2, line.Z2 = 0.0, 0.0, 30.0
+    doc.recompute()
+    obj = network.make_sweep((sketch, "Edge1"), (line, "Edge1"), doc=doc)
+    recompute_ok(obj)
+
+    def cylinder(r, z0, h):
+        face = obj.Shape.Faces[0]
+        worst = max(_dist(face, V(r * math.cos(a), r * math.sin(a), z0 + z))
+                    for a in np.linspace(0.0, 2 * math.pi, 9) for z in np.linspace(0.0, h, 5))
+        area = abs(_span_area(face) - 2 * math.pi * r * h) / (2 * math.pi * r * h)
+        _note("sweep of a sketch's circle: distToShape at radius r (mm)", worst)
+        _note("sweep of a sketch's circle: relative Area error (spans)", area)
+        check(worst <= 1e-9 and area <= 1e-6, f"r {r}: points {worst:.3g} off, Area off {area:.3g}")
+    cylinder(5.0, 0.0, 30.0)
+    sketch.setDatum(radius, App.Units.Quantity("8 mm"))          # the linked sketch edge changes
+    doc.recompute()
+    recompute_ok(obj)
+    cylinder(8.0, 0.0, 30.0)
+    sketch.Placement = App.Placement(V(0, 0, 10), App.Rotation())  # the sketch moves up the path
+    doc.recompute()
+    recompute_ok(obj)
+    cylinder(8.0, 10.0, 30.0)                                     # the profile swept from where it sits
+
+
+@case
 def test_sweep_along_arc_rmf():
     """A circle of radius 3 normal to an arc of radius 30 at its start, swept along it
     (rotation-minimising frame): every point of the face is 3 from the arc (Part's
