@@ -4,7 +4,8 @@
 class CagdWorkbench(Gui.Workbench):  # noqa: F821  (Gui is FreeCADGui, given by FreeCAD)
     """CAGD: parametric Bezier, B-spline/NURBS, spline, Hermite, Coons, triangle and
     revolution objects from the cagd engine; fitting to points, rebuild, knot removal,
-    degree reduction and fairing; continuity check, control nets, combs."""
+    degree reduction and fairing; Gordon surfaces, sweeps, blend curves and surfaces,
+    surface matching; continuity check, control nets, combs."""
 
     MenuText = "CAGD"
     ToolTip = "Curves and surfaces from the cagd engine (Bezier, B-spline, NURBS, Coons, ...)"
@@ -15,12 +16,14 @@ class CagdWorkbench(Gui.Workbench):  # noqa: F821  (Gui is FreeCADGui, given by 
 
     def Initialize(self):
         from cagdwb import commands
-        curves, surfaces, fitting, tools = commands.register()
+        curves, surfaces, fitting, network, tools = commands.register()
         self.appendToolbar("CAGD curves", curves)
         self.appendToolbar("CAGD surfaces", surfaces)
         self.appendToolbar("CAGD fitting", fitting)
+        self.appendToolbar("CAGD network", network)
         self.appendToolbar("CAGD tools", tools)
-        self.appendMenu("CAGD", curves + ["Separator"] + surfaces + ["Separator"] + fitting + ["Separator"] + tools)
+        self.appendMenu("CAGD", curves + ["Separator"] + surfaces + ["Separator"] + fitting + ["Separator"]
+                        + network + ["Separator"] + tools)
 
     def Activated(self):
         pass

@@ -12,7 +12,7 @@ import pytest
 from wb_runner import ADDON, output_dir, need, report, run_group
 
 TIMEOUT = 240
-STEPS = 17                    # the macro's step count
+STEPS = 18                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
@@ -20,6 +20,7 @@ SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_CoonsPatch": 5000, "Cagd_Revolution": 5000, "Cagd_ContinuityCheck": 200,
     "Cagd_ToggleComb": 200, "Cagd_ToggleControlNet": 200, "Cagd_IntersectionCurve": 200,
     "Cagd_DeviationMap": 1000, "Cagd_FitCurve": 200, "Cagd_FitSurface": 5000,
+    "Cagd_GordonSurface": 5000, "Cagd_Sweep": 5000, "Cagd_BlendSurface": 5000,
     "Cagd_ToggleCombSurface": 200, "Cagd_SurfaceAnalysis": 5000, "Cagd_SurfaceAnalysisZebra": 2000,
 }
 COLOURED = {"Cagd_DeviationMap": 1000}    # step -> minimum number of coloured (non-grey) model pixels

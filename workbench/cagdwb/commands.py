@@ -6,7 +6,11 @@ commands make the intersection curve of two selected faces and the deviation map
 a selected Points object (or a CSV file) against selected faces; the fitting commands
 fit a curve or surface to a selected Points object, mesh or vertices, and rebuild,
 remove knots from, reduce the degree of or fair one selected edge or face, refusing
-a selection they cannot use before any object is made."""
+a selection they cannot use before any object is made; the network commands make a
+Gordon surface of selected edges (split into two families: the edges meeting the
+first are the guides), sweeps (profile then path; two rails then profiles), a blend
+curve between two edges' nearest ends, a blend surface and a match between two faces'
+facing edges (or two selected face edges), refused likewise."""
 from __future__ import annotations
 
 from typing import Callable, List, Tuple
@@ -14,7 +18,7 @@ from typing import Callable, List, Tuple
 import FreeCAD as App
 import FreeCADGui as Gui
 
-from . import analysis, conversion, curves, features, fitting, icon, inspection, surface_analysis, surfaces
+from . import analysis, conversion, curves, features, fitting, icon, inspection, network, surface_analysis, surfaces
 from .conversion import cagd
 
 Link = Tuple[object, str]
@@ -300,6 +304,109 @@ class OperationCommand(Command):
         _finish(fitting.make_operation(self.kind, (obj, sub), **values))
 
 
+class NetworkCommand(Command):
+    """Base of the network commands: ``links()`` turns the selection into the new
+    object's link values (or raises CagdError with the reason); the engine is tried on
+    them (network.check) before the object is made."""
+    KIND = ""
+
+    def links(self) -> dict:
+        raise NotImplementedError
+
+    def run(self) -> None:
+        try:
+            values = self.links()
+            network.check(self.KIND, **values)
+        except cagd.CagdError as exc:
+            return _error(f"{self.MENU}: {exc}")
+        _finish(features.make(network.KINDS[self.KIND], **network.link_values(values)))
+
+
+def _edge_picks(menu: str, least: int, what: str) -> list:
+    edges = selected_edges()
+    if len(edges) < least:
+        raise cagd.CagdError(f"select {what} (got {len(edges)} edges)")
+    return edges
+
+
+class GordonCommand(NetworkCommand):
+    NAME, MENU, ICON, KIND = "Cagd_GordonSurface", "Gordon surface", "GordonSurface", "GordonSurface"
+    TIP = ("Surface through a network of selected edges: two families, every edge of one crossing every edge "
+           "of the other (edit Profiles, Guides, Tolerance)")
+
+    def links(self) -> dict:
+        edges = _edge_picks(self.MENU, 4, "a network of 4 or more edges, two families crossing each other")
+        profiles, guides = network.split_network(edges)
+        if len(profiles) < 2 or len(guides) < 2:
+            raise cagd.CagdError(f"the edges make {len(profiles)} profiles and {len(guides)} guides (the edges "
+                                 "meeting the first selected one); a network needs 2 or more of each")
+        return {"Profiles": profiles, "Guides": guides}
+
+
+class SweepCommand(NetworkCommand):
+    NAME, MENU, ICON, KIND = "Cagd_Sweep", "Sweep", "Sweep", "Sweep"
+    TIP = "Sweep the first selected edge (profile) along the second (path); edit Frame, Tolerance"
+
+    def links(self) -> dict:
+        edges = selected_edges()
+        if len(edges) != 2:
+            raise cagd.CagdError(f"select two edges, the profile then the path (got {len(edges)})")
+        return {"Profile": edges[0], "Path": edges[1]}
+
+
+class Sweep2Command(NetworkCommand):
+    NAME, MENU, ICON, KIND = "Cagd_Sweep2", "Sweep along two rails", "Sweep2", "Sweep2"
+    TIP = "Sweep profiles between two rails: select the two rail edges, then one or more profile edges"
+
+    def links(self) -> dict:
+        edges = _edge_picks(self.MENU, 3, "two rail edges, then one or more profile edges")
+        return {"Rail1": edges[0], "Rail2": edges[1], "Profiles": edges[2:]}
+
+
+class BlendCurveCommand(NetworkCommand):
+    NAME, MENU, ICON, KIND = "Cagd_BlendCurve", "Blend curve", "BlendCurve", "BlendCurve"
+    TIP = "G2 bridge between the nearest ends of two selected edges (edit End1, End2, Continuity)"
+
+    def links(self) -> dict:
+        edges = selected_edges()
+        if len(edges) != 2:
+            raise cagd.CagdError(f"select two edges (got {len(edges)})")
+        shapes = [o.Shape.getElement(s) for o, s in edges]
+        end1, end2 = network.nearest_ends(*shapes)
+        return {"Edge1": edges[0], "Edge2": edges[1], "End1": end1, "End2": end2}
+
+
+def _two_face_edges(menu: str, names) -> dict:
+    """Links of two faces and their facing edges from two selected faces (the facing
+    parameter-box edges) or two selected face edges."""
+    faces, edges = selected_faces(), selected_edges()
+    f1, e1, f2, e2 = names
+    if len(faces) == 2 and not edges:
+        shapes = [o.Shape.getElement(s) for o, s in faces]
+        side1, side2 = network.facing_sides(*shapes)
+        return {f1: faces[0], e1: side1, f2: faces[1], e2: side2}
+    if len(edges) == 2 and not faces:
+        (a, side1), (b, side2) = (network.face_and_side(o, s) for o, s in edges)
+        return {f1: a, e1: side1, f2: b, e2: side2}
+    raise cagd.CagdError(f"select two faces or two face edges (got {len(faces)} faces, {len(edges)} edges)")
+
+
+class BlendSurfaceCommand(NetworkCommand):
+    NAME, MENU, ICON, KIND = "Cagd_BlendSurface", "Blend surface", "BlendSurface", "BlendSurface"
+    TIP = "G1/G2 surface bridging two selected face edges (or the facing edges of two selected faces)"
+
+    def links(self) -> dict:
+        return _two_face_edges(self.MENU, ("Face1", "Edge1", "Face2", "Edge2"))
+
+
+class MatchSurfaceCommand(NetworkCommand):
+    NAME, MENU, ICON, KIND = "Cagd_MatchSurface", "Match surface", "MatchSurface", "MatchSurface"
+    TIP = "Move the first selected face's edge onto the second's, G0/G1/G2 (select two faces or two face edges)"
+
+    def links(self) -> dict:
+        return _two_face_edges(self.MENU, ("Face", "Edge", "Target", "TargetEdge"))
+
+
 class ContinuityCommand(Command):
     NAME, MENU, ICON = "Cagd_ContinuityCheck", "Check continuity", "Continuity"
     TIP = "Measure C0/C1/C2/G1/G2 between two selected edges, or C0/G1/C1 between two faces"
@@ -429,15 +536,17 @@ FITTING = [
     OperationCommand("Fair", "Fair", "Lower the fairness energy of the selected edge or face within Tolerance, "
                      "Keep (G0/G1/G2) held at its ends or edges"),
 ]
+NETWORK = [GordonCommand(), SweepCommand(), Sweep2Command(), BlendCurveCommand(), BlendSurfaceCommand(),
+           MatchSurfaceCommand()]
 TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand(),
          SurfaceAnalysisCommand(), FairnessCommand()]
 
 
 def register() -> List[List[str]]:
     """Add all commands to FreeCAD; returns the names per group (curves, surfaces,
-    fitting, tools)."""
+    fitting, network, tools)."""
     groups = []
-    for group in (CURVES, SURFACES, FITTING, TOOLS):
+    for group in (CURVES, SURFACES, FITTING, NETWORK, TOOLS):
         for cmd in group:
             Gui.addCommand(cmd.NAME, cmd)
         groups.append([cmd.NAME for cmd in group])

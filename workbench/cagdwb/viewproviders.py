@@ -26,6 +26,8 @@ ICONS = {
     "Cagd::IntersectionCurve": "IntersectionCurve", "Cagd::DeviationMap": "DeviationMap",
     "Cagd::FitCurve": "FitCurve", "Cagd::FitSurface": "FitSurface", "Cagd::Rebuild": "Rebuild",
     "Cagd::RemoveKnots": "RemoveKnots", "Cagd::ReduceDegree": "ReduceDegree", "Cagd::Fair": "Fair",
+    "Cagd::GordonSurface": "GordonSurface", "Cagd::Sweep": "Sweep", "Cagd::Sweep2": "Sweep2",
+    "Cagd::BlendCurve": "BlendCurve", "Cagd::BlendSurface": "BlendSurface", "Cagd::MatchSurface": "MatchSurface",
 }
 COMB_SAMPLES = (64, 10, 5000, 1)     # default, minimum, maximum, step of CombSamples
 COMB_PER_SPAN = 8                    # the engine comb's default teeth per knot span
@@ -161,10 +163,11 @@ class ViewProvider(Stateless):
 
 def attach(obj) -> None:
     """Give a workbench object its view provider (GUI only)."""
-    from . import curves, fitting, inspection
+    from . import curves, fitting, inspection, network
     is_curve = isinstance(obj.Proxy, (curves.BezierCurve, curves.BSplineCurve, curves.InterpolationCurve,
                                       curves.CubicSpline, curves.HermiteCurve, curves.JoinCurve,
-                                      inspection.IntersectionCurve, fitting.FitCurve)) or fitting.on_edge(obj)
+                                      inspection.IntersectionCurve, fitting.FitCurve,
+                                      network.BlendCurve)) or fitting.on_edge(obj)
     ViewProvider(obj.ViewObject, is_curve)
     if isinstance(obj.Proxy, inspection.IntersectionCurve):
         obj.ViewObject.ShowControlNet = False        # fitted branches: many poles, not a design net

@@ -140,14 +140,15 @@ def workbench_active():
     check(Gui.activeWorkbench().name() == "CagdWorkbench", "workbench not active")
     import cagdwb
     from cagdwb import commands
-    groups = (commands.CURVES, commands.SURFACES, commands.FITTING, commands.TOOLS)
+    groups = (commands.CURVES, commands.SURFACES, commands.FITTING, commands.NETWORK, commands.TOOLS)
     names = [c.NAME for group in groups for c in group]
     listed = set(Gui.listCommands())
     check(all(n in listed for n in names), "commands not registered")
     for c in (c for group in groups for c in group):
         check(os.path.isfile(c.GetResources()["Pixmap"]), f"{c.NAME}: icon missing")
     bars = {b.windowTitle(): b for b in Gui.getMainWindow().findChildren(QtWidgets.QToolBar)}
-    check({"CAGD curves", "CAGD surfaces", "CAGD fitting", "CAGD tools"} <= set(bars), f"toolbars {sorted(bars)}")
+    check({"CAGD curves", "CAGD surfaces", "CAGD fitting", "CAGD network", "CAGD tools"} <= set(bars),
+          f"toolbars {sorted(bars)}")
     texts = [a.text().replace("&", "") for a in bars["CAGD fitting"].actions()]
     menus = [c.MENU for c in commands.FITTING]
     check(texts == menus, f"CAGD fitting toolbar {texts}, expected {menus}")
@@ -497,6 +498,71 @@ def fitting_commands():
         f"{surface.ControlPointsU} x {surface.ControlPointsV}, max error {surface.MaxError:.3g}; rebuilt arc "
         f"deviation {rebuilt.Deviation:.3g}")
     for o in (obj, surface, rebuilt, cloud, mesh):
+        o.ViewObject.Visibility = False
+
+
+@step
+def network_commands():
+    """Issue 18: Gordon surface of six selected edges (split into the two families), Sweep
+    of a circle along a line, Blend curve between two edges' nearest ends, Blend surface
+    between two faces' facing edges, Match surface of two selected face edges; wrong
+    selections refused before any object is made, the reason in the status bar."""
+    import math
+    import numpy as np
+    import Part
+    from cagdwb import conversion, surfaces
+    doc = App.ActiveDocument
+
+    def feature(shape, name):
+        o = doc.addObject("Part::Feature", name)
+        o.Shape = shape
+        return o
+    i, j = np.meshgrid(np.arange(4.0), np.arange(4.0), indexing="ij")
+    P = np.stack([200 + 12 * i, 12 * j, 4 * np.sin(i + 0.6 * j)], -1)
+    patch = conversion.surface_to_part(conversion.cagd.BezierSurface(P))
+    net = [feature(patch.vIso(t).toShape(), f"NetP{k}") for k, t in enumerate((0.0, 0.5, 1.0))]
+    net += [feature(patch.uIso(t).toShape(), f"NetG{k}") for k, t in enumerate((0.0, 0.5, 1.0))]
+    doc.recompute()
+    picks = [net[k] for k in (3, 0, 4, 1, 5, 2)]
+    gordon = created("Cagd_GordonSurface", [(o, "Edge1") for o in picks], inputs=[net[k] for k in (3, 4, 5, 0, 1, 2)])
+    check(len(gordon.Profiles) == 3 and len(gordon.Guides) == 3 and gordon.MaxError <= 1e-9,
+          f"gordon: {len(gordon.Profiles)} x {len(gordon.Guides)}, {gordon.MaxError}")
+    circle = feature(Part.makeCircle(4.0, V(260, 0, 0)), "SweepRing")
+    line = feature(Part.makeLine(V(260, 0, 0), V(260, 0, 25)), "SweepPath")
+    doc.recompute()
+    sweep = created("Cagd_Sweep", [(circle, "Edge1"), (line, "Edge1")], inputs=[circle, line])
+    face = sweep.Shape.Faces[0]
+    off = max(face.distToShape(Part.Vertex(V(260 + 4 * math.cos(a), 4 * math.sin(a), 10)))[0] for a in (0, 1, 2, 4))
+    check(off <= 1e-9, f"sweep: a point at radius 4 is {off:.3g} off the face")
+    a = surfaces.make_bspline_surface(np.stack([300 + 8.0 * i, 8.0 * j, 2 * np.sin(i + j)], -1), 4, doc=doc)
+    b = surfaces.make_bspline_surface(np.stack([345 + 8.0 * i, 8.0 * j, 5 + 2 * np.cos(i - j)], -1), 4, doc=doc)
+    doc.recompute()
+    blend = created("Cagd_BlendSurface", [(a, "Face1"), (b, "Face1")], inputs=[])
+    check((blend.Edge1, blend.Edge2) == ("u1", "u0") and blend.MaxAngle <= 1e-9 and blend.Converged,
+          f"blend surface: {blend.Edge1}, {blend.Edge2}, {blend.MaxAngle}")
+    u1 = next(k for k, e in enumerate(a.Shape.Edges) if abs(e.BoundBox.XMin - 324) < 1e-9 and
+              abs(e.BoundBox.XMax - 324) < 1e-9)
+    u0 = next(k for k, e in enumerate(b.Shape.Edges) if abs(e.BoundBox.XMax - 345) < 1e-9)
+    match = created("Cagd_MatchSurface", [(a, f"Edge{u1 + 1}"), (b, f"Edge{u0 + 1}")], shots=False)
+    check(match.ViewObject.Proxy.claimChildren() == [a], "match: claims")
+    check((match.Edge, match.TargetEdge) == ("u1", "u0") and match.MaxGap <= 1e-9 and match.MaxAngle <= 1e-9,
+          f"match: {match.Edge}, {match.TargetEdge}, gap {match.MaxGap}, angle {match.MaxAngle}")
+    l1 = feature(Part.makeLine(V(400, 0, 0), V(420, 5, 0)), "BlendA")
+    l2 = feature(Part.makeLine(V(460, 0, 0), V(440, 15, 3)), "BlendB")
+    doc.recompute()
+    bridge = created("Cagd_BlendCurve", [(l1, "Edge1"), (l2, "Edge1")], shots=False, inputs=[])
+    e = bridge.Shape.Edges[0]
+    check((bridge.End1, bridge.End2) == ("end", "end") and (e.valueAt(e.FirstParameter) - V(420, 5, 0)).Length
+          <= 1e-9 and (e.valueAt(e.LastParameter) - V(440, 15, 3)).Length <= 1e-9, f"blend curve: {bridge.Message}")
+    status = Gui.getMainWindow().statusBar()
+    for name, selection, words in (("Cagd_Sweep", [(circle, "Edge1")], "select two edges"),
+                                   ("Cagd_BlendSurface", [(a, "Face1")], "select two faces"),
+                                   ("Cagd_GordonSurface", [(o, "Edge1") for o in net[:4]], "2 or more of each")):
+        check(run_command(name, selection) == [], f"{name} made an object from a wrong selection")
+        check(words in status.currentMessage(), f"{name}: status bar {status.currentMessage()!r}")
+    log(f"network: gordon max error {gordon.MaxError:.3g}, sweep max error {sweep.MaxError:.3g}, blend surface "
+        f"angle {blend.MaxAngle:.3g}, match gap {match.MaxGap:.3g}, blend curve angle {bridge.MaxAngle:.3g}")
+    for o in [gordon, sweep, blend, match, bridge, a, b, l1, l2] + net:
         o.ViewObject.Visibility = False
 
 

@@ -10,7 +10,8 @@ line of output is ``CAGD_WB_RESULT {json}`` with passed/failed counts, the faili
 names and the largest deviations measured. Cases: conversion and analysis here,
 the objects in suite_objects.py, the query objects
 (intersection curve, deviation map) in suite_queries.py, the fitting objects in
-suite_fitting.py, helpers in suite_support.py. ``CAGD_WB_CASES=word`` runs only the
+suite_fitting.py, the network and blending objects (Gordon, sweeps, blends, match) in
+suite_network.py, helpers in suite_support.py. ``CAGD_WB_CASES=word`` runs only the
 cases whose names contain ``word`` (the summary then counts fewer cases).
 """
 import json
@@ -293,6 +294,7 @@ import suite_objects  # noqa: E402,F401  (registers the object cases, in this or
 import suite_queries  # noqa: E402,F401  (intersection curve and deviation map cases)
 import suite_fitting  # noqa: E402  (fit curve/surface, rebuild, remove knots, reduce degree, fair)
 import suite_usability  # noqa: E402,F401  (issue 19: comb per span, tolerances, refusals, Hermite, iso combs)
+import suite_network  # noqa: E402  (issue 18: Gordon, sweeps, blend curve / surface, match surface)
 
 
 # --- analysis -------------------------------------------------------------------------------
@@ -401,6 +403,7 @@ def main():
             RESULTS["passed"].append(fn.__name__)
             print(f"ok   {fn.__name__} ({time.time() - t0:.2f} s)")
     suite_fitting.report()
+    suite_network.report()
     summary = {"passed": len(RESULTS["passed"]), "failed": len(RESULTS["failed"]),
                "failures": RESULTS["failed"], "max_deviation": DEV, "worst": WORST,
                "seconds": round(time.time() - start, 2),
