@@ -45,7 +45,7 @@ from cagd.occ import from_occ
 from cagd.occ.wrapped import describe, is_shape, occ_faces
 from cagd.surfaces.base import Surface
 
-from .convert import edge_or_face, placed, plane_map, to_cq
+from .convert import edge_or_face, from_shape, placed, plane_map, to_cq
 from .cq_api import close_with_caps, sew_solid, thicken
 from .solids import revolution_angle, revolution_face, revolution_input
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
@@ -553,18 +553,29 @@ def sweep2Surface(self: T, profiles: Union[CurveLike, Sequence[CurveLike], None]
     return with_face(self, face)
 
 
-def blendCurve(self: T, c1: CurveLike, end1: str, c2: CurveLike, end2: str, continuity: int = 1,
-               tangent_scales: Optional[Sequence[float]] = None, forConstruction: bool = False,
+def _pending_end(wp: cq.Workplane, item: Optional[CurveLike], index: int, name: str) -> Curve:
+    if item is not None:
+        return curve_of(item, wp.plane, name)
+    if not wp.ctx.pendingEdges:
+        raise CagdError(f"{name}: not given and there are no pending edges to take it from")
+    return from_shape(wp.ctx.pendingEdges[index])
+
+
+def blendCurve(self: T, c1: Optional[CurveLike], end1: str, c2: Optional[CurveLike], end2: str,
+               continuity: int = 1, tangent_scales: Optional[Sequence[float]] = None, forConstruction: bool = False,
                makeWire: bool = False) -> T:
     """The Bezier bridge from c1's ``end1`` to c2's ``end2`` ("start" or "end"), G1
-    (cubic) or G2 (quintic) to both (:func:`cagd.blend_curve`; engine curves in local
-    coordinates, edges of any library, e.g. pending edges from ``wp.ctx.pendingEdges``),
-    as an edge on the stack and queued as a pending edge like the curve methods.
+    (cubic) or G2 (quintic) to both (:func:`cagd.blend_curve`), as an edge on the
+    stack and queued as a pending edge like the curve methods. The curves are engine
+    curves (local coordinates) or edges of any library; ``None`` takes c1 from the last
+    pending edge and c2 from the first (left queued: with both ``None`` the bridge
+    closes the pending chain, ready for ``wire()``).
 
     Raises:
-        CagdError: the engine's refusals (naming c1, c2, end1, end2, continuity), or
-            continuity not met within cagd's tolerance (the message gives the angles)."""
-    a, b = curve_of(c1, self.plane, "c1"), curve_of(c2, self.plane, "c2")
+        CagdError: the engine's refusals (naming c1, c2, end1, end2, continuity), a
+            curve not given with no pending edges, or continuity not met within cagd's
+            tolerance (the message gives the angles)."""
+    a, b = _pending_end(self, c1, -1, "c1"), _pending_end(self, c2, 0, "c2")
     result = _reported("blendCurve", cagd.blend_curve(a, end1, b, end2, continuity, tangent_scales), "continuity")
     edge = to_cq(result.curve)                          # global already: not _push_curve (it places)
     if makeWire:

@@ -209,21 +209,23 @@ def test_blend_curve_between_a_cadquery_edge_and_an_engine_curve(continuity):
 
 
 def test_blend_curve_closes_a_wire_with_cadquery():
-    """Two pending arcs and the two bridges between them: CadQuery's own wire() and
-    extrude take the four pending edges as one closed wire."""
-    a = cq.Edge.makeThreePointArc(V(0, 0, 0), V(2, -1, 0), V(4, 0, 0))
+    """Two arcs and the two bridges between them, the curves not given taken from the
+    pending edges (c1 the last, c2 the first): CadQuery's own wire() and extrude take
+    the four pending edges as one closed wire; its volume is the area Green's theorem
+    gives over the four curves."""
+    a = cagd.BezierCurve(np.array([[0.0, 0], [2, -2], [4, 0]]), weights=[1, 0.7, 1])
     b = cq.Edge.makeThreePointArc(V(4, 3, 0), V(2, 4, 0), V(0, 3, 0))
-    wp = cq.Workplane()
-    wp.ctx.pendingEdges = [a]
-    wp = wp.blendCurve(a, "end", b, "start")
-    first = wp.val()
+    wp = cq.Workplane().cagdCurve(a).blendCurve(None, "end", b, "start")
     wp.ctx.pendingEdges.append(b)
-    wp = wp.blendCurve(b, "end", a, "start")
-    loop = [a, first, b, wp.val()]
+    wp = wp.blendCurve(None, "end", None, "start")
+    loop = list(wp.ctx.pendingEdges)
+    assert len(loop) == 4 and loop[2] is b
     solid = wp.wire().extrude(1.0).val()
     assert isinstance(solid, cq.Solid) and solid.isValid()
     enclosed = sum(green_area(from_shape(e)) for e in loop)       # Green's theorem over the loop's curves
     assert volume(solid.wrapped) == pytest.approx(abs(enclosed), rel=1e-9)
+    with pytest.raises(CagdError, match="c1: not given and there are no pending edges"):
+        cq.Workplane().blendCurve(None, "end", b, "start")
 
 
 def test_blend_curve_bad_end():
@@ -323,3 +325,33 @@ def test_blended_faces_thicken_and_log(caplog):
     assert any("blendSurface: G1 blend" in r.getMessage() and "rad" in r.getMessage() for r in caplog.records)
     solid = wp.thickenSurface(0.2).val()
     assert isinstance(solid, cq.Solid) and solid.isValid() and volume(solid.wrapped) > 0
+
+
+def test_sweep_twist_passed_through():
+    """A radial segment along the z axis twisted by a quarter turn: a helicoid, whose
+    end ruling points along y."""
+    prof = cagd.BSplineCurve(np.array([[0.0, 0, 0], [1, 0, 0]]), 1)
+    path = cagd.BSplineCurve(np.array([[0.0, 0, 0], [0, 0, 3]]), 1)
+    face = cq.Workplane().sweepSurface(prof, path, twist=lambda t: 0.5 * math.pi * t).val()
+    t = np.linspace(0, 1, 9)
+    Q = face_points(face, np.ones_like(t), t)                       # the outer helix
+    expected = np.column_stack([np.cos(0.5 * math.pi * t), np.sin(0.5 * math.pi * t), 3 * t])
+    assert np.abs(Q - expected).max() <= 1e-6
+
+
+# --- build123d shapes --------------------------------------------------------------------------
+def test_build123d_edges_and_faces_are_taken():
+    bd = pytest.importorskip("build123d")
+    profiles = [cq_ext.to_b3d(PATCH.isocurve("u", v)) for v in ISO]
+    guides = [cq_ext.to_b3d(PATCH.isocurve("v", u)) for u in ISO]
+    U, W = grid(((0, 1), (0, 1)))
+    face = cq.Workplane().gordonSurface(profiles, guides).val()
+    assert np.abs(face_points(face, U, W) - PATCH(U, W)).max() <= 1e-9
+    c1 = bd.Edge.make_spline([(0, 0, 0), (2, 1, 0), (4, 0, 1)])
+    c2 = bd.Edge.make_circle(1.0).moved(bd.Location((8, 0, 0)))
+    edge = cq.Workplane().blendCurve(c1, "end", c2, "start", continuity=2).val()
+    assert angle(edge.tangentAt(0).toTuple(), tuple(c1.tangent_at(1))) <= 1e-9
+    top, wave = _faces()
+    b3d_top = bd.Face(top.wrapped)
+    B = from_shape(cq.Workplane().blendSurface(b3d_top, "u1", bd.Face(wave.wrapped), "v0").val())
+    assert cagd.edge_continuity(from_shape(top), B, "u1", "v0").normal_angle <= 1e-9
