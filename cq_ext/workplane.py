@@ -17,7 +17,8 @@ The stack, as CadQuery's own methods use it (:mod:`cq_ext.stack`):
 - network surfaces (``gordonSurface``, ``sweepSurface``, ``sweep2Surface``) take
   the curves given and fill the missing ones from the pending edges (consumed),
   else the pending wires (one curve each), else the edges on the stack;
-  ``blendCurve`` queues its bridge like the curve methods; ``blendSurface`` and
+  ``blendCurve`` queues its bridge like the curve methods (a curve given as None:
+  the last or first pending edge); ``blendSurface`` and
   ``matchSurface`` add their face like the surface methods (``matchSurface``
   replacing the matched face when it is on the stack). Their achieved accuracy
   (``max_error``, angles) is logged on the ``cq_ext.workplane`` logger (INFO); an

@@ -73,9 +73,20 @@ def test_gordon_needs_a_family():
         cq.Workplane().gordonSurface(guides=[PATCH.isocurve("v", u) for u in ISO])
 
 
+def test_gordon_unmet_tol_is_an_error_with_max_error():
+    """A profile that is a 7-point cubic through S(t^2, 0.3): the network misses by
+    1.7e-3 and the surface's max_error is 2.35e-3: accepted at tol 3e-3, an error at 2e-3."""
+    profiles = [PATCH.isocurve("u", v) for v in ISO]
+    profiles[1] = cagd.BSplineCurve(profiles[1](np.linspace(0, 1, 7) ** 2), 3)
+    guides = [PATCH.isocurve("v", u) for u in ISO]
+    assert cq.Workplane().gordonSurface(profiles, guides, tol=3e-3).val().isValid()
+    with pytest.raises(CagdError, match=r"tol: gordonSurface: max_error 0\.00235 > tol 0\.002"):
+        cq.Workplane().gordonSurface(profiles, guides, tol=2e-3)
+
+
 def test_gordon_engine_error_passes_through():
     far = [c.transformed(np.eye(3), (0, 0, 5.0)) for c in (PATCH.isocurve("v", u) for u in ISO)]
-    with pytest.raises(CagdError, match="guides|profiles"):
+    with pytest.raises(CagdError, match=r"profiles\[0\], guides\[0\]: do not meet"):
         cq.Workplane().gordonSurface([PATCH.isocurve("u", v) for v in ISO], far)
 
 
