@@ -5,10 +5,13 @@ With CadQuery installed, ``import cq_ext`` registers on ``cadquery.Workplane``:
 ``joinCurves``, ``cagdCurve``, ``cagdSurface``, ``bezierSurface``,
 ``bsplineSurface``, ``coonsPatch``, ``loftSurface``, ``ruledSurface``,
 ``bezierTriangle``, ``revolveSurface``, ``sewSolid``, ``closeWithCaps``,
-``thickenSurface``, ``projectPoints``, ``intersectFaces`` (chainable, following
+``thickenSurface``, ``projectPoints``, ``intersectFaces``, ``fitCurve``, ``rebuild``,
+``removeKnots``, ``gordonSurface``, ``sweepSurface``, ``sweep2Surface``,
+``blendCurve``, ``blendSurface``, ``matchSurface`` (chainable, following
 CadQuery's stack conventions: curves are pending edges that ``coonsPatch``,
 ``loftSurface``, ``ruledSurface`` and CadQuery's own ``close``/``extrude``/...
-consume; surfaces are added to the faces on the stack; see
+consume, and the network and sweep methods fill their missing curves from;
+surfaces are added to the faces on the stack; see
 :mod:`cq_ext.workplane`).
 
 Conversions: :func:`to_cq`, :func:`to_b3d`, :func:`from_shape`; solids, returning
@@ -40,10 +43,11 @@ else:
 
 if _cq is not None:
     from .cq_api import close_with_caps, free_edges, sew_shell, sew_solid, thicken  # noqa: F401
-    from .workplane import (METHODS, bezierCurve, bezierSurface, bezierTriangle, bsplineSurface,  # noqa: F401
-                            cagdCurve, cagdSurface, closeWithCaps, coonsPatch, fitCurve, hermiteCurve,
-                            interpCurve, intersectFaces, joinCurves, loftSurface, nurbsCurve, projectPoints,
-                            rebuild, removeKnots, revolveSurface, ruledSurface, sewSolid, thickenSurface)
+    from .workplane import (METHODS, bezierCurve, bezierSurface, bezierTriangle, blendCurve,  # noqa: F401
+                            blendSurface, bsplineSurface, cagdCurve, cagdSurface, closeWithCaps, coonsPatch,
+                            fitCurve, gordonSurface, hermiteCurve, interpCurve, intersectFaces, joinCurves,
+                            loftSurface, matchSurface, nurbsCurve, projectPoints, rebuild, removeKnots,
+                            revolveSurface, ruledSurface, sewSolid, sweep2Surface, sweepSurface, thickenSurface)
 
     for _method in METHODS:
         setattr(_cq.Workplane, _method.__name__, _method)

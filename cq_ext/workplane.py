@@ -14,6 +14,15 @@ The stack, as CadQuery's own methods use it (:mod:`cq_ext.stack`):
 - surfaces are faces ADDED to the faces and shells already on the stack (like
   ``Workplane.add``): ``cagdSurface(a).cagdSurface(b)`` holds both, the new face
   last;
+- network surfaces (``gordonSurface``, ``sweepSurface``, ``sweep2Surface``) take
+  the curves given and fill the missing ones from the pending edges (consumed),
+  else the pending wires (one curve each), else the edges on the stack;
+  ``blendCurve`` queues its bridge like the curve methods (a curve given as None:
+  the last or first pending edge); ``blendSurface`` and
+  ``matchSurface`` add their face like the surface methods (``matchSurface``
+  replacing the matched face when it is on the stack). Their achieved accuracy
+  (``max_error``, angles) is logged on the ``cq_ext.workplane`` logger (INFO); an
+  unmet tolerance raises CagdError with it, as ``fitCurve`` does;
 - consumers (``sewSolid``, ``closeWithCaps``, ``thickenSurface``,
   ``projectPoints``, ``intersectFaces``) take the faces, shells, compounds and
   sketches on the stack and replace the stack with their result (the solid is not
@@ -21,9 +30,10 @@ The stack, as CadQuery's own methods use it (:mod:`cq_ext.stack`):
 """
 from __future__ import annotations
 
+import logging
 import math
 import warnings
-from typing import Mapping, Optional, Sequence, Tuple, TypeVar, Union
+from typing import Callable, List, Mapping, Optional, Sequence, Tuple, TypeVar, Union
 
 import cadquery as cq
 import numpy as np
@@ -33,14 +43,16 @@ from cagd.curves.base import Curve
 from cagd._deprecation import RELATIVE, renamed
 from cagd.errors import CagdError
 from cagd.occ import from_occ
-from cagd.occ.wrapped import describe, occ_faces
+from cagd.occ.wrapped import describe, is_shape, occ_faces
 from cagd.surfaces.base import Surface
 
-from .convert import placed, plane_map, to_cq
+from .convert import edge_or_face, from_shape, placed, plane_map, to_cq
 from .cq_api import close_with_caps, sew_solid, thicken
 from .solids import revolution_angle, revolution_face, revolution_input
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
 from .stack import points as as_points
+
+LOG = logging.getLogger(__name__)                # achieved accuracy of the network, sweep and blend methods
 
 # OCCT edges meet within its confusion tolerance (1e-7), so Coons corners of edges are
 # checked that loosely (relative to the curves' size); engine curves use cagd's 1e-9
@@ -50,6 +62,7 @@ T = TypeVar("T", bound=cq.Workplane)
 CurveLike = Union[Curve, cq.Edge, object]        # engine curves, edges of CadQuery, build123d or OCCT
 FaceLike = Union[cq.Face, object]                # faces of CadQuery, build123d or OCCT
 Points = Union[Sequence, np.ndarray]             # tuples, lists, arrays, CadQuery or build123d Vectors
+Law = Union[float, Callable[[float], float], None]   # cagd.sweep's scale and twist laws of t in [0, 1]
 
 
 def _push_curve(wp: T, curve: Curve, forConstruction: bool, makeWire: bool, name: str = "control_points") -> T:
@@ -409,6 +422,233 @@ def removeKnots(self: T, tol: float) -> T:
     return self.newObject(out)
 
 
+# --- curve networks, sweeps and blends (issue 18) ---------------------------------------------
+def _reported(method: str, result, what: str):
+    """The engine result when it met its tolerance (its summary logged); else CagdError
+    naming ``what`` with the achieved accuracy (``fitCurve``'s convention)."""
+    if not result.converged:
+        raise CagdError(f"{what}: {method}: {result.message}")
+    LOG.info("%s: %s", method, result.message)
+    return result
+
+
+def _filled(wp: cq.Workplane, given: Sequence[Tuple[str, Optional[object]]], method: str
+            ) -> Tuple[List[Curve], Callable[[], None]]:
+    """The curves of ``given`` (name, curve or None): the given ones (engine curves in
+    local coordinates, edges of any library), the missing ones taken in order from the
+    pending edges, else the pending wires (one curve each), else the edges on the stack,
+    which must hold exactly as many; and the function consuming the pending ones."""
+    missing = [n for n, c in given if c is None]
+    queued: List[Curve] = []
+    consume: Callable[[], None] = lambda: None       # noqa: E731
+    if missing:
+        queued, source, consume = queued_curves(wp, (), one_per_wire=True)
+        if len(queued) != len(missing):
+            raise CagdError(f"{', '.join(missing)}: {method} takes {len(missing)} curve(s) from the pending edges "
+                            f"or the stack, found {len(queued)} ({source})")
+    it = iter(queued)
+    return [curve_of(c, wp.plane, n) if c is not None else next(it) for n, c in given], consume
+
+
+def _curve_list(wp: cq.Workplane, curves, name: str) -> List[Curve]:
+    if isinstance(curves, Curve) or is_shape(curves):
+        curves = [curves]
+    try:
+        items = list(curves)
+    except TypeError:
+        raise CagdError(f"{name}: expected a sequence of curves or edges, got {describe(curves)}") from None
+    return [curve_of(c, wp.plane, f"{name}[{i}]") for i, c in enumerate(items)]
+
+
+def gordonSurface(self: T, profiles: Optional[Sequence[CurveLike]] = None,
+                  guides: Optional[Sequence[CurveLike]] = None, tol: float = 1e-6) -> T:
+    """The Gordon surface through a network of curves (:func:`cagd.gordon`: every
+    profile crosses every guide once, within ``tol``; u along the profiles, v along the
+    guides): the curves of both families given (engine curves in local coordinates,
+    edges of any library), or one family given and the other the pending edges
+    (consumed), else one curve per pending wire, else the edges on the stack.
+
+    Raises:
+        CagdError: neither family given, the engine's refusals, or ``max_error`` above
+            ``tol`` (the message gives it)."""
+    if profiles is None and guides is None:
+        raise CagdError("profiles, guides: give at least one family of curves; the other may be the pending edges")
+    consume: Callable[[], None] = lambda: None       # noqa: E731
+    families = []
+    for name, given in (("profiles", profiles), ("guides", guides)):
+        if given is None:
+            found, source, consume = queued_curves(self, (), one_per_wire=True, name=name)
+            if len(found) < 2:
+                raise CagdError(f"{name}: a Gordon network needs at least 2 {name}, got {len(found)} ({source})")
+            families.append(found)
+        else:
+            families.append(_curve_list(self, given, name))
+    result = _reported("gordonSurface", cagd.gordon(families[0], families[1], tol=tol), "tol")
+    face = to_cq(result.surface)
+    consume()
+    return with_face(self, face)
+
+
+def _frame(wp: cq.Workplane, frame: Union[str, Points]) -> Union[str, np.ndarray]:
+    if isinstance(frame, str):
+        return frame
+    up = as_points(frame, "frame")
+    if up.shape not in ((2,), (3,)):
+        raise CagdError(f"frame: expected 'rmf', 'frenet', 'fixed' or an up vector (2 or 3 numbers, local "
+                        f"coordinates), got shape {up.shape}")
+    A, _ = plane_map(wp.plane, len(up))
+    return A @ up
+
+
+def sweepSurface(self: T, profile: Optional[CurveLike] = None, path: Optional[CurveLike] = None,
+                 frame: Union[str, Points] = "rmf", scale: Law = None, twist: Law = None, tol: float = 1e-6) -> T:
+    """The profile swept along the path (:func:`cagd.sweep`: frame "rmf"
+    (rotation-minimising), "frenet", "fixed" or an up vector in local coordinates;
+    ``scale`` and ``twist`` laws, constants or callables of t in [0, 1]; stations
+    refined to ``tol``): the curves given (engine curves in local coordinates, edges of
+    any library; the profile where it sits at the path's start), the missing ones the
+    pending edges in order (consumed), else the pending wires (CadQuery's ``circle``),
+    else the edges on the stack: ``circle(r).sweepSurface(path=edge)``.
+
+    Raises:
+        CagdError: the engine's refusals, missing curves, or ``max_error`` above ``tol``."""
+    (prof, pth), consume = _filled(self, (("profile", profile), ("path", path)), "sweepSurface")
+    result = _reported("sweepSurface", cagd.sweep(prof, pth, frame=_frame(self, frame), scale=scale, twist=twist,
+                                                  tol=tol), "tol")
+    face = to_cq(result.surface)
+    consume()
+    return with_face(self, face)
+
+
+def sweep2Surface(self: T, profiles: Union[CurveLike, Sequence[CurveLike], None] = None,
+                  rail1: Optional[CurveLike] = None, rail2: Optional[CurveLike] = None, tol: float = 1e-6) -> T:
+    """Profiles swept between two rails (:func:`cagd.sweep2`: each profile runs from
+    rail1 to rail2, scaled to the chord between them): the curves given (engine curves
+    in local coordinates, edges of any library); with the rails given and no profiles,
+    the profiles are the pending edges (consumed), else the pending wires, else the
+    edges on the stack; with profiles and no rails, those hold rail1 and rail2.
+
+    Raises:
+        CagdError: only one rail given, nothing given, the engine's refusals, or
+            ``max_error`` above ``tol``."""
+    if (rail1 is None) != (rail2 is None):
+        raise CagdError(f"{'rail2' if rail2 is None else 'rail1'}: give both rails or neither")
+    consume: Callable[[], None] = lambda: None       # noqa: E731
+    if rail1 is None:
+        if profiles is None:
+            raise CagdError("profiles, rail1, rail2: give the profiles or the rails; the others may be the pending "
+                            "edges")
+        (r1, r2), consume = _filled(self, (("rail1", None), ("rail2", None)), "sweep2Surface")
+        profs = _curve_list(self, profiles, "profiles")
+    else:
+        r1, r2 = curve_of(rail1, self.plane, "rail1"), curve_of(rail2, self.plane, "rail2")
+        if profiles is None:
+            profs, source, consume = queued_curves(self, (), one_per_wire=True, name="profiles")
+            if not profs:
+                raise CagdError(f"profiles: none given and none pending ({source})")
+        else:
+            profs = _curve_list(self, profiles, "profiles")
+    result = _reported("sweep2Surface", cagd.sweep2(profs, r1, r2, tol=tol), "tol")
+    face = to_cq(result.surface)
+    consume()
+    return with_face(self, face)
+
+
+def _pending_end(wp: cq.Workplane, item: Optional[CurveLike], index: int, name: str) -> Curve:
+    if item is not None:
+        return curve_of(item, wp.plane, name)
+    if not wp.ctx.pendingEdges:
+        raise CagdError(f"{name}: not given and there are no pending edges to take it from")
+    return from_shape(wp.ctx.pendingEdges[index])
+
+
+def blendCurve(self: T, c1: Optional[CurveLike], end1: str, c2: Optional[CurveLike], end2: str,
+               continuity: int = 1, tangent_scales: Optional[Sequence[float]] = None, forConstruction: bool = False,
+               makeWire: bool = False) -> T:
+    """The Bezier bridge from c1's ``end1`` to c2's ``end2`` ("start" or "end"), G1
+    (cubic) or G2 (quintic) to both (:func:`cagd.blend_curve`), as an edge on the
+    stack and queued as a pending edge like the curve methods. The curves are engine
+    curves (local coordinates) or edges of any library; ``None`` takes c1 from the last
+    pending edge and c2 from the first (left queued: with both ``None`` the bridge
+    closes the pending chain, ready for ``wire()``).
+
+    Raises:
+        CagdError: the engine's refusals (naming c1, c2, end1, end2, continuity), a
+            curve not given with no pending edges, or continuity not met within cagd's
+            tolerance (the message gives the angles)."""
+    a, b = _pending_end(self, c1, -1, "c1"), _pending_end(self, c2, 0, "c2")
+    result = _reported("blendCurve", cagd.blend_curve(a, end1, b, end2, continuity, tangent_scales), "continuity")
+    edge = to_cq(result.curve)                          # global already: not _push_curve (it places)
+    if makeWire:
+        wire = cq.Wire.assembleEdges([edge])
+        if not forConstruction:
+            self._addPendingWire(wire)
+        return self.newObject([wire])
+    if not forConstruction:
+        self._addPendingEdge(edge)
+    return self.newObject([edge])
+
+
+def _surface_of(wp: cq.Workplane, item, name: str) -> Surface:
+    """An engine surface (local coordinates) or a face of any library (global) as a
+    global untrimmed engine surface, whose edges "u0", "u1", "v0", "v1" are those of
+    its parameter box (a face's: OCCT's UV bounds)."""
+    if isinstance(item, cagd.TrimmedSurface):
+        raise CagdError(f"{name}: a TrimmedSurface; the edges u0, u1, v0, v1 exist only on the untrimmed "
+                        "parameter box: pass its untrimmed surface")
+    if isinstance(item, Surface):
+        return placed(item, wp.plane)
+    if not is_shape(item):
+        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)}")
+    surface = from_occ(edge_or_face(item, name))
+    if not isinstance(surface, Surface):
+        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)} (an edge)")
+    if isinstance(surface, cagd.TrimmedSurface):
+        raise CagdError(f"{name}: a trimmed face (its boundary is not its UV box: a hole or a cut outline); the "
+                        "edges u0, u1, v0, v1 exist only on the untrimmed parameter box, which is not this face's "
+                        "boundary: blend or match an untrimmed face")
+    return surface
+
+
+def blendSurface(self: T, face1: Union[Surface, FaceLike], edge1: str, face2: Union[Surface, FaceLike], edge2: str,
+                 continuity: int = 1, tangent_scales: Optional[Sequence[float]] = None) -> T:
+    """The surface bridging ``edge1`` of face1 and ``edge2`` of face2 ("u0", "u1",
+    "v0", "v1" of their parameter boxes; a face's are OCCT's UV bounds, as
+    :func:`cq_ext.from_shape` gives it), G1 (cubic across) or G2 (quintic) to both
+    (:func:`cagd.blend_surface`): engine surfaces (local coordinates) or untrimmed
+    faces of any library; the blend (v = 0 on edge1, v = 1 on edge2) is added to the
+    faces on the stack.
+
+    Raises:
+        CagdError: a trimmed face, the engine's refusals (naming edge1, edge2,
+            continuity, ...), or continuity not met within cagd's tolerance."""
+    s1, s2 = _surface_of(self, face1, "face1"), _surface_of(self, face2, "face2")
+    result = _reported("blendSurface", cagd.blend_surface(s1, edge1, s2, edge2, continuity, tangent_scales),
+                       "continuity")
+    return with_face(self, to_cq(result.surface))
+
+
+def matchSurface(self: T, face: Union[Surface, FaceLike], edge: str, target: Union[Surface, FaceLike],
+                 target_edge: str, continuity: int = 1) -> T:
+    """``face`` modified next to its ``edge`` to meet ``target`` at ``target_edge``
+    G0, G1 or G2 (:func:`cagd.match_surface`; edges "u0", "u1", "v0", "v1" of the
+    parameter boxes, a face's as :func:`cq_ext.from_shape` gives it): engine surfaces
+    (local coordinates) or untrimmed faces of any library. The matched face is added
+    to the faces on the stack, replacing ``face`` there when it is on it.
+
+    Raises:
+        CagdError: a trimmed face, the engine's refusals (naming edge, target_edge,
+            continuity, ...), or continuity not met within cagd's tolerance."""
+    s, t = _surface_of(self, face, "face"), _surface_of(self, target, "target")
+    result = _reported("matchSurface", cagd.match_surface(s, edge, t, target_edge, continuity), "continuity")
+    matched = to_cq(result.surface)
+    stacked = [o for o in self.objects if isinstance(o, (cq.Face, cq.Shell))]
+    if isinstance(face, cq.Shape):
+        stacked = [o for o in stacked if not o.isSame(face)]
+    return self.newObject(stacked + [matched])
+
+
 METHODS = [cagdCurve, bezierCurve, nurbsCurve, interpCurve, hermiteCurve, joinCurves, cagdSurface, bezierSurface,
            bsplineSurface, coonsPatch, loftSurface, ruledSurface, bezierTriangle, revolveSurface, sewSolid,
-           closeWithCaps, thickenSurface, projectPoints, intersectFaces, fitCurve, rebuild, removeKnots]
+           closeWithCaps, thickenSurface, projectPoints, intersectFaces, fitCurve, rebuild, removeKnots,
+           gordonSurface, sweepSurface, sweep2Surface, blendCurve, blendSurface, matchSurface]

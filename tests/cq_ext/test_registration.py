@@ -83,6 +83,9 @@ def _box_top_edges():
 _P44 = [[(i, j, 0.1 * i * j) for j in range(4)] for i in range(4)]
 _EL = cagd.ellipsoid(3.0, 2.0, 1.5)
 _LINE = cagd.BSplineCurve(np.array([[1.0, 0.0], [1.5, 2.0]]), 1)
+_BEZ44 = cagd.BSplineSurface(np.array(_P44, dtype=float), 3, 3)
+_LINE3 = cagd.BSplineCurve(np.array([[1.0, 0.0, 0.0], [1.0, 3.0, 0.0]]), 1)
+_AXIS = cagd.BSplineCurve(np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 3.0]]), 1)
 
 # one minimal valid call per method: (start workplane factory, args, kwargs, expected stack type)
 CALLS = {
@@ -110,6 +113,15 @@ CALLS = {
     "rebuild": (lambda: cq.Workplane().nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1)]), (6,), {}, cq.Edge),
     "removeKnots": (lambda: cq.Workplane().nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1), (4, 0)]), (1e-6,), {},
                     cq.Edge),
+    "gordonSurface": (cq.Workplane, ([_BEZ44.isocurve("u", v) for v in (0.0, 1.0)],
+                                     [_BEZ44.isocurve("v", u) for u in (0.0, 1.0)]), {}, cq.Face),
+    "sweepSurface": (lambda: cq.Workplane().circle(1.0), (), {"path": _AXIS}, cq.Face),
+    "sweep2Surface": (cq.Workplane, (cagd.BezierCurve(np.array([[1.0, 0, 0], [0.5, 0, 1], [1, 0, 2]])), _LINE3,
+                                     _LINE3.transformed(np.eye(3), (0, 0, 2.0))), {}, cq.Face),
+    "blendCurve": (cq.Workplane, (_LINE, "end", _LINE.transformed(np.eye(2), (2.0, 0.5)), "start"), {}, cq.Edge),
+    "blendSurface": (cq.Workplane, (_BEZ44, "u1", _BEZ44.transformed(np.eye(3), (5.0, 0, 0)), "u0"), {}, cq.Face),
+    "matchSurface": (cq.Workplane, (_BEZ44.transformed(np.eye(3), (3.5, 0, 0.5)), "u0", _BEZ44, "u1"), {},
+                     cq.Face),
 }
 
 
