@@ -9,6 +9,8 @@ path), which a chord spanning a quarter circle of the surface (a trim edge strai
 (u, v)) or a fan of slivers at a joint's near-duplicate vertices broke before (measured on
 trj1_t4m-pe faces 1 and 8: mesh area / area() = 1.66 and 1.47, now 0.999)."""
 import math
+import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -168,3 +170,46 @@ def test_a_loop_box_over_the_lines_at_both_ends_makes_no_sliver():
     lines = (np.array([0.0454545546, 0.954545449]), np.array([0.0, 1.0]))
     gu, gv = _grid_lines(lo, hi, np.ones(2), 0, lines)
     assert len(gu) == 2 and gu[-1] == pytest.approx(hi[0] - lo[0], abs=1e-15) and len(gv) == 2
+
+
+# --- loops leaving a bounded direction; seams of periodic faces ------------------------------------
+CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
+if not CAD.is_dir():
+    CAD = Path("/work/shared/data/cad")
+
+
+def _real_face(name, index):
+    """Item ``index`` of CAD/step/name or CAD/iges/name (skipped without the file or OCP)."""
+    path = CAD / ("iges" if name.endswith((".igs", ".iges")) else "step") / name
+    if not path.is_file():
+        pytest.skip(f"{path} is not there")
+    pytest.importorskip("OCP")
+    from cagd.occ import read_iges, read_step
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return list((read_iges if name.endswith((".igs", ".iges")) else read_step)(path))[index].object
+
+
+def test_a_loop_leaving_the_domain_by_its_tol_makes_no_flat_triangles():
+    """wing_fuselage.step face 1: a trim curve runs 4.9e-6 outside u = 0 (tol 2e-4) with a
+    kink before it enters; the pocket of the ear clipping between its vertices lay wholly
+    outside and its triangles, their vertices clipped into the domain after the
+    triangulation, were flat (6 of them). The polylines are clipped before (a run of
+    collinear vertices on the domain's side)."""
+    P = np.array([[[0, 0, 0], [0, 380, 0]], [[129, 0, 0], [129, 380, 0]]], float)     # the face's metric
+    S = BSplineSurface(P, 1, 1, None, [0, 0, 380, 380])
+    d = 4.86e-6
+    kink = BSplineCurve(np.array([(-d, 356.6462), (-d, 356.63), (-d, 356.6268), (-d + 1.2e-6, 356.6252),
+                                  (6.6e-6, 356.6107)]), 1)
+    ts = TrimmedSurface(S, [[kink, line((6.6e-6, 356.6107), (0, 0)), line((0, 0), (1, 0)), line((1, 0), (1, 380)),
+                             line((1, 380), (-d, 356.6462))]], tol=2e-4)
+    for n in (16, 64):
+        t = check_triangulation(ts, n)
+        assert t.uv[:, 0].min() >= 0.0
+        assert mesh_area(ts, t) == pytest.approx(ts.area(), rel=1e-3)
+
+
+def test_wing_fuselage_face_1_has_no_flat_triangles():
+    ts = _real_face("wing_fuselage.step", 1)
+    t = check_triangulation(ts, 64)
+    assert mesh_area(ts, t) == pytest.approx(ts.area(), rel=2e-3)
