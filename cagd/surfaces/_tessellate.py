@@ -4,7 +4,8 @@ A region that is its loop's box (:meth:`TrimmedSurface.region_box`: a face of a 
 whose boundary is its parameter box, a periodic one's seam anywhere) is the grid of
 that box, two triangles a cell. Otherwise the outer loop's box is scaled by the
 surface's mean speeds (3-D proportions, longer side 1) and cut into a grid of cells:
-square, 1 / (count + 1) of the longer side, or on grid lines the caller chooses
+square, 1 / (count + 1) of the longer side (MIN_CELLS across the shorter side at least,
+the long side of a cell at most MAX_ASPECT times its short one), or on grid lines the caller chooses
 (cagd.mesh places them by curvature). A cell is *full* when no trim chord meets it (it
 is not next to a cell that holds a chord sample, samples at most half of the smallest
 cell apart) and its centre is inside the trim; a full cell gives two triangles. What is
@@ -58,6 +59,7 @@ CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of 
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
 MERGE_FRACTION = 1e-9      # consecutive trim vertices closer than this (in cells) are one vertex
 MIN_CELLS = 8              # cells across the shorter side at least (uniform grid)
+MAX_ASPECT = 4.0           # a cell's longer side at most this times its shorter one (uniform grid)
 SLIVER_CELL = 0.25         # grid lines closer than this times the median spacing are one line
 LINE_GAP = 1e-9            # grid lines closer than this (of the box) are one line
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
@@ -216,8 +218,12 @@ def _grid_lines(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray, count: int,
     if lines is None:
         h = 1.0 / (count + 1)
         least = min(count + 1, MIN_CELLS)         # a thin face (a tube, a fillet) still gets width
-        nu, nv = (max(least, int(np.ceil(w / h - 1e-9))) for w in width)
-        return np.arange(nu + 1) * min(h, width[0] / nu), np.arange(nv + 1) * min(h, width[1] / nv)
+        n = np.array([max(least, int(np.ceil(w / h - 1e-9))) for w in width])
+        # cells at most MAX_ASPECT times longer than wide: a thin face's long cells were
+        # near a trim sample everywhere (11752.stp[381], cells 38:1, no full cell)
+        n = np.maximum(n, np.ceil(width / (MAX_ASPECT * float(np.min(width / n))) - 1e-9).astype(np.int64))
+        nu, nv = int(n[0]), int(n[1])
+        return np.arange(nu + 1) * (width[0] / nu), np.arange(nv + 1) * (width[1] / nv)
     out = []
     for d in (0, 1):
         x = np.asarray(lines[d], dtype=np.float64)
