@@ -216,23 +216,32 @@ def test_wing_fuselage_face_1_has_no_flat_triangles():
 
 
 @pytest.mark.parametrize("count", [3, 16, 64])
-def test_a_hole_across_the_seam_is_cut_at_the_window(count):
-    """A hole centred on the seam u = 0 of a tube whose outer loop runs along the seam:
-    before, the hole was moved into the window whole, could not be bridged (a fallback)
-    and the tube was meshed without it (mesh area 1.027 x area() at count 16). Now it is
-    cut where it crosses u = 0 and u = 1 (on the curve) and its two parts are spliced
-    into the seam: covered once, the mesh area as with the hole away from the seam."""
+@pytest.mark.parametrize("cu", [0.0, 0.03, -0.03])
+def test_a_hole_across_the_seam_is_cut_at_the_window(count, cu):
+    """A hole across the seam u = 0 of a tube whose outer loop runs along the seam
+    (centred on it: cut at two of the circle's piece ends; at u = +-0.03: inside pieces,
+    found by bisection): before, the hole was moved into the window whole, could not be
+    bridged (a fallback) and the tube was meshed without it (mesh area 1.027 x area() at
+    count 16). Now it is cut where it crosses u = 0 and u = 1 (on the curve) and its two
+    parts are spliced into the seam: covered once, the mesh area as with the hole away."""
     s = periodic_tube()
-    across = TrimmedSurface(s, [rectangle(0, 1, 0, 1), [circle((0.0, 0.5), 0.1, clockwise=True)]])
-    away = TrimmedSurface(s, [rectangle(0, 1, 0, 1), [circle((0.5, 0.5), 0.1, clockwise=True)]])
+    r = 0.1
+    loops = [rectangle(0, 1, 0, 1), [circle((cu, 0.5), r, clockwise=True)]]
+    if cu == 0:
+        across = TrimmedSurface(s, loops)
+    else:       # the constructor's crossing check takes the hole for crossing the seam curve (not
+        across = TrimmedSurface.__new__(TrimmedSurface)         # at a joint): built unchecked
+        across._fill(s, tuple(tuple(lp) for lp in loops), 1e-9, ())
+    away = TrimmedSurface(s, [rectangle(0, 1, 0, 1), [circle((cu + 0.5, 0.5), r, clockwise=True)]])   # 4 spans on
     t = check_triangulation(across, count)
     on_seam = t.uv[np.unique(t.boundary.ravel())]
+    half = math.sqrt(r * r - cu * cu)
     for u in (0.0, 1.0):            # the hole's cut points: on the circle and on the window's sides
         dv = np.abs(on_seam[on_seam[:, 0] == u, 1] - 0.5)
-        cut = dv[dv < 0.1 + 1e-9]            # nothing of the seam inside the hole
-        assert len(cut) == 2 and np.allclose(cut, 0.1, rtol=0, atol=1e-12)
+        cut = dv[dv < half + 1e-9]            # nothing of the seam inside the hole
+        assert len(cut) == 2 and np.allclose(cut, half, rtol=0, atol=1e-12)
     rel = {3: 5e-3, 16: 5e-3, 64: 1e-3}[count]
-    assert mesh_area(across, t) == pytest.approx(across.area(), rel=rel)
+    assert mesh_area(across, t) == pytest.approx(away.area(), rel=rel)          # a rotation of it
     assert mesh_area(across, t) == pytest.approx(mesh_area(away, check_triangulation(away, count)), rel=rel)
 
 
