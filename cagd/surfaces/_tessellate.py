@@ -5,7 +5,8 @@ whose boundary is its parameter box, a periodic one's seam anywhere) is the grid
 that box, two triangles a cell. Otherwise the outer loop's box is scaled by the
 surface's mean speeds (3-D proportions, longer side 1) and cut into a grid of cells:
 square, 1 / (count + 1) of the longer side (MIN_CELLS across the shorter side at least,
-the long side of a cell at most MAX_ASPECT times its short one), or on grid lines the caller chooses
+the long side of a cell at most MAX_ASPECT times its short one where the grid would have
+almost no full cell), or on grid lines the caller chooses
 (cagd.mesh places them by curvature). A cell is *full* when no trim chord meets it (it
 is not next to a cell that holds a chord sample, samples at most half of the smallest
 cell apart) and its centre is inside the trim; a full cell gives two triangles. What is
@@ -59,7 +60,8 @@ CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of 
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
 MERGE_FRACTION = 1e-9      # consecutive trim vertices closer than this (in cells) are one vertex
 MIN_CELLS = 8              # cells across the shorter side at least (uniform grid)
-MAX_ASPECT = 4.0           # a cell's longer side at most this times its shorter one (uniform grid)
+MAX_ASPECT = 4.0           # a cell's longer side at most this times its shorter one (uniform grid) ...
+FEW_FULL = 0.05            # ... where fewer than this fraction of the longer cells are full
 SLIVER_CELL = 0.25         # grid lines closer than this times the median spacing are one line
 LINE_GAP = 1e-9            # grid lines closer than this (of the box) are one line
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
@@ -106,6 +108,17 @@ def tessellation(ts: "TrimmedSurface", count: int, lines: Optional[Tuple[np.ndar
     if ts.region_box() is not None:
         return _box_tessellation(ts, lo, scale, gu, gv)
     polys, mids, pieces = _trim_polylines(ts, _flatten_many, scale, lo, gu, gv, chord_tol)
+    if lines is None and max(np.diff(gu).max(), np.diff(gv).max()) > MAX_ASPECT * min(np.diff(gu).min(),
+                                                                                      np.diff(gv).min()):
+        # a thin face's long cells may all be next to a trim sample (11752.stp[381], cells 38:1
+        # and six notches: no full cell, the band ear-clipped right across the face); shorter
+        # cells there (the polylines do not change: they are split at the cells' short side).
+        # Only there: on a thin face with full cells (wing_fuselage.step[5], 191:1) the 4:1
+        # grid was 815 rows instead of 18 and the tessellation 3x slower, for nothing
+        S = [(p - lo) * scale for p in polys]
+        chords = (np.concatenate(S), np.concatenate([np.roll(p, -1, axis=0) for p in S]))
+        if np.mean(_full_cells(ts, chords, gu, gv, lo, scale, INSIDE)) < FEW_FULL:
+            gu, gv = _grid_lines(lo, hi, scale, count, lines, MAX_ASPECT)
     grid = np.stack(np.meshgrid(gu, gv, indexing="ij"), axis=-1).reshape(-1, 2)
     if seam is not None:
         out = _seam_tessellation(ts, seam, polys, mids, pieces, grid, gu, gv, lo, scale, INSIDE)
@@ -212,16 +225,17 @@ def _metric(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 
 def _grid_lines(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray, count: int,
-                lines: Optional[Tuple[np.ndarray, np.ndarray]]) -> Tuple[np.ndarray, np.ndarray]:
-    """The grid lines (scaled coordinates, from 0) covering the box [lo, hi]."""
+                lines: Optional[Tuple[np.ndarray, np.ndarray]], aspect: float = np.inf
+                ) -> Tuple[np.ndarray, np.ndarray]:
+    """The grid lines (scaled coordinates, from 0) covering the box [lo, hi]; with
+    ``lines`` None, cells at most ``aspect`` times longer than wide."""
     width = (hi - lo) * scale
     if lines is None:
         h = 1.0 / (count + 1)
         least = min(count + 1, MIN_CELLS)         # a thin face (a tube, a fillet) still gets width
         n = np.array([max(least, int(np.ceil(w / h - 1e-9))) for w in width])
-        # cells at most MAX_ASPECT times longer than wide: a thin face's long cells were
-        # near a trim sample everywhere (11752.stp[381], cells 38:1, no full cell)
-        n = np.maximum(n, np.ceil(width / (MAX_ASPECT * float(np.min(width / n))) - 1e-9).astype(np.int64))
+        if np.isfinite(aspect):
+            n = np.maximum(n, np.ceil(width / (aspect * float(np.min(width / n))) - 1e-9).astype(np.int64))
         nu, nv = int(n[0]), int(n[1])
         return np.arange(nu + 1) * (width[0] / nu), np.arange(nv + 1) * (width[1] / nv)
     out = []

@@ -295,11 +295,11 @@ def _notched_strip():
 
 
 def test_a_thin_face_gets_cells_of_bounded_aspect():
-    """Cells 1/17 of the long side by 1/8 of the thin one were 4.7:1 here (38:1 on the
+    """Cells 1/17 of the long side by 1/8 of the thin one were 17.8:1 here (38:1 on the
     real face): every long cell was next to a notch, no cell was full and the ear clipping
-    spanned the whole quarter circle across (mesh area 0.917 x area() at count 16). Now a
-    cell's long side is at most MAX_ASPECT times its short one: 0.994, no triangle over 0.65
-    of the way across."""
+    spanned the whole quarter circle across (mesh area 0.917 x area() at count 16). Where
+    the long cells leave almost no full cell, a cell's long side is at most MAX_ASPECT
+    times its short one: 0.994, no triangle over 0.65 of the way across."""
     ts = _notched_strip()
     t = check_triangulation(ts, 16)
     assert mesh_area(ts, t) == pytest.approx(ts.area(), rel=1e-2)
