@@ -4,7 +4,9 @@ A region that is its loop's box (:meth:`TrimmedSurface.region_box`: a face of a 
 whose boundary is its parameter box, a periodic one's seam anywhere) is the grid of
 that box, two triangles a cell. Otherwise the outer loop's box is scaled by the
 surface's mean speeds (3-D proportions, longer side 1) and cut into a grid of cells:
-square, 1 / (count + 1) of the longer side, or on grid lines the caller chooses
+square, 1 / (count + 1) of the longer side (MIN_CELLS across the shorter side at least,
+the long side of a cell at most MAX_ASPECT times its short one where the grid would have
+almost no full cell), or on grid lines the caller chooses
 (cagd.mesh places them by curvature). A cell is *full* when no trim chord meets it (it
 is not next to a cell that holds a chord sample, samples at most half of the smallest
 cell apart) and its centre is inside the trim; a full cell gives two triangles. What is
@@ -26,8 +28,20 @@ fanning from a corner), each test over the reflex vertices of a bucket grid near
 triangle; Lawson's passes test only the triangles that changed. Cost: O(cells)
 vectorized for the grid, about O(k) ear tests for the k vertices of R's polygons (the
 trim polylines and staircases), passes of Lawson about as many as the longest fan.
-Every loop is bounded. Not handled: a hole that crosses the seam of a periodic face
-(it is moved into the outer loop's period whole; files split such faces at the seam).
+Every loop is bounded.
+
+A periodic face whose outer loop spans one period (a tube with its seam, the loop running
+down one side of the window and up the other) is tessellated in that window with its
+sides as the grid's first and last lines: the seam chords are dropped from the outer loop,
+which leaves chains from side to side; a hole crossing a side is cut there (the crossing
+found on the trim curve) and its parts moved into the window; the chains are joined along
+each side (up the side x0 + T, down x0: the region on the left) through the grid vertices
+there. Those side runs are trim chords (the seam) but no chord samples, so the cells along
+the seam are full cells like any other; the band's loops are what is left of the trim
+loops and staircases after the edges they share the other way round are cancelled. Where
+the chains do not join (a hole touching the seam at a vertex) the face is tessellated as
+before, holes moved into the window whole. Loops that leave a bounded direction by the
+trim's tol are clipped into the domain before all this.
 """
 from __future__ import annotations
 
@@ -46,6 +60,8 @@ CHORD_FRACTION = 0.05      # trim polylines: chord-to-curve bound, in cells (of 
 METRIC_SAMPLES = 9         # grid points per direction where the surface's mean speeds are sampled
 MERGE_FRACTION = 1e-9      # consecutive trim vertices closer than this (in cells) are one vertex
 MIN_CELLS = 8              # cells across the shorter side at least (uniform grid)
+MAX_ASPECT = 4.0           # a cell's longer side at most this times its shorter one (uniform grid) ...
+FEW_FULL = 0.05            # ... where fewer than this fraction of the longer cells are full
 SLIVER_CELL = 0.25         # grid lines closer than this times the median spacing are one line
 LINE_GAP = 1e-9            # grid lines closer than this (of the box) are one line
 SAMPLE_SPACING = 0.5       # chord samples at most this far apart, in cells (full cells: >= 1/2 cell off)
@@ -78,17 +94,64 @@ def tessellation(ts: "TrimmedSurface", count: int, lines: Optional[Tuple[np.ndar
     from .trimmed import INSIDE, _flatten_many
     outer = np.concatenate([c.control_points for c in ts.loops[0]])
     lo, hi = outer.min(axis=0), outer.max(axis=0)        # every loop lies inside the outer one
+    # a loop may leave a bounded direction by the trim's tol: its polylines, box and grid are
+    # clipped into the domain before the triangulation (clipping the triangles' vertices after
+    # it flattened the triangles of a pocket outside: wing_fuselage.step face 1, 5e-6 out)
+    dlo, dhi = _domain_bounds(ts)
+    lo, hi = np.clip(lo, dlo, dhi), np.clip(hi, dlo, dhi)
+    seam = _seam_direction(ts, lo, hi)
+    if seam is not None:                # the window [lo, lo + period): its sides are grid lines
+        hi = hi.copy()
+        hi[seam] = lo[seam] + ts._shifts()[seam]
     scale = _metric(ts, lo, hi)
     gu, gv = _grid_lines(lo, hi, scale, count, lines)
     if ts.region_box() is not None:
         return _box_tessellation(ts, lo, scale, gu, gv)
-    polys, mids = _trim_polylines(ts, _flatten_many, scale, lo, gu, gv, chord_tol)
-    S = [(p - lo) * scale for p in polys]
-    full = _full_cells(ts, S, gu, gv, lo, scale, INSIDE)
+    polys, mids, pieces = _trim_polylines(ts, _flatten_many, scale, lo, gu, gv, chord_tol)
+    if lines is None and max(np.diff(gu).max(), np.diff(gv).max()) > MAX_ASPECT * min(np.diff(gu).min(),
+                                                                                      np.diff(gv).min()):
+        # a thin face's long cells may all be next to a trim sample (11752.stp[381], cells 38:1
+        # and six notches: no full cell, the band ear-clipped right across the face); shorter
+        # cells there (the polylines do not change: they are split at the cells' short side).
+        # Only there: on a thin face with full cells (wing_fuselage.step[5], 191:1) the 4:1
+        # grid was 815 rows instead of 18 and the tessellation 3x slower, for nothing
+        S = [(p - lo) * scale for p in polys]
+        chords = (np.concatenate(S), np.concatenate([np.roll(p, -1, axis=0) for p in S]))
+        if np.mean(_full_cells(ts, chords, gu, gv, lo, scale, INSIDE)) < FEW_FULL:
+            gu, gv = _grid_lines(lo, hi, scale, count, lines, MAX_ASPECT)
     grid = np.stack(np.meshgrid(gu, gv, indexing="ij"), axis=-1).reshape(-1, 2)
+    if seam is not None:
+        out = _seam_tessellation(ts, seam, polys, mids, pieces, grid, gu, gv, lo, scale, INSIDE)
+        if out is not None:
+            return out
+    S = [(p - lo) * scale for p in polys]
     offsets = np.cumsum([len(grid)] + [len(p) for p in S])
-    P = np.concatenate([grid] + S)
-    loops = [np.arange(offsets[i], offsets[i + 1]) for i in range(len(S))] + _staircases(full)
+    trim = [np.arange(offsets[i], offsets[i + 1]) for i in range(len(S))]
+    A = np.concatenate(S)
+    B = np.concatenate([np.roll(p, -1, axis=0) for p in S])
+    out = _triangulate(ts, np.concatenate([grid] + S), np.concatenate([lo + grid / scale] + polys), trim,
+                       np.concatenate(mids), (A, B), gu, gv, lo, scale, INSIDE, cancel=False)
+    assert out is not None
+    return out
+
+
+def _triangulate(ts: "TrimmedSurface", P: np.ndarray, uv: np.ndarray, trim: List[np.ndarray], mid: np.ndarray,
+                 chords: Tuple[np.ndarray, np.ndarray], gu: np.ndarray, gv: np.ndarray, lo: np.ndarray,
+                 scale: np.ndarray, inside: int, cancel: bool) -> Optional[Tessellation]:
+    """The tessellation of the region bounded by the ``trim`` loops (indices into P, scaled
+    coordinates, the grid's vertices first; ``uv`` the same points in (u, v); ``mid`` the
+    curve points at the middles of the loops' edges, in order): the full cells of the grid
+    (``chords`` (A, B): the trim chords that keep cells from being full), the band between
+    them and the loops ear-clipped. ``cancel``: edges of a loop that a staircase runs along
+    the other way (a seam side, a grid line) are no part of the band; None where what is
+    left is not a set of simple loops."""
+    full = _full_cells(ts, chords, gu, gv, lo, scale, inside)
+    loops = trim + _staircases(full)
+    if cancel:
+        cancelled = _cancel(loops, len(P))
+        if cancelled is None:
+            return None
+        loops = cancelled
     tris, fallbacks = [_cell_triangles(full)], 0
     for ring_outer, holes in _components(P, loops):
         ring = ring_outer
@@ -103,19 +166,15 @@ def tessellation(ts: "TrimmedSurface", count: int, lines: Optional[Tuple[np.ndar
         fallbacks += stalled
     band = np.concatenate(tris[1:]).reshape(-1, 3) if len(tris) > 1 else np.empty((0, 3), dtype=np.int64)
     T = np.concatenate([tris[0], _lawson(P, band)])
-    bnd = np.concatenate([np.stack([ix, np.roll(ix, -1)], axis=1)
-                          for ix in (np.arange(offsets[i], offsets[i + 1]) for i in range(len(S)))])
+    bnd = np.concatenate([np.stack([ix, np.roll(ix, -1)], axis=1) for ix in trim])
     used = np.zeros(len(P), dtype=bool)
     used[T.ravel()] = True
     used[bnd.ravel()] = True
     new = np.cumsum(used) - 1
-    P, T, bnd = P[used], new[T], new[bnd]
-    uv = np.concatenate([lo + grid / scale] + polys)[used]
-    mid = np.concatenate(mids)
-    for d, periodic in enumerate((ts.periodic_u, ts.periodic_v)):
-        if not periodic:        # loops may leave a bounded direction by the trim's tol
-            uv[:, d] = np.clip(uv[:, d], *ts.surface.domain[d])
-            mid[:, d] = np.clip(mid[:, d], *ts.surface.domain[d])
+    T, bnd = new[T], new[bnd]
+    uv = uv[used]
+    dlo, dhi = _domain_bounds(ts)           # (rounding of the grid's last line)
+    uv, mid = np.clip(uv, dlo, dhi), np.clip(mid, dlo, dhi)
     for arr in (uv, T, bnd, mid):
         arr.flags.writeable = False
     return Tessellation(uv, T, bnd, mid, fallbacks)
@@ -142,6 +201,13 @@ def _box_tessellation(ts: "TrimmedSurface", lo: np.ndarray, scale: np.ndarray, g
     return Tessellation(uv, T, bnd, mid, 0)
 
 
+def _domain_bounds(ts: "TrimmedSurface") -> Tuple[np.ndarray, np.ndarray]:
+    """The surface's domain per direction, (-inf, inf) in a periodic one."""
+    (u0, u1), (v0, v1) = ts.surface.domain
+    return (np.array([-np.inf if ts.periodic_u else u0, -np.inf if ts.periodic_v else v0]),
+            np.array([np.inf if ts.periodic_u else u1, np.inf if ts.periodic_v else v1]))
+
+
 def _metric(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Per direction, the median speed |S_u|, |S_v| over a grid of the loops' box, divided
     by the box's longer side in that metric (so the box maps into the unit square with
@@ -159,14 +225,19 @@ def _metric(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 
 def _grid_lines(lo: np.ndarray, hi: np.ndarray, scale: np.ndarray, count: int,
-                lines: Optional[Tuple[np.ndarray, np.ndarray]]) -> Tuple[np.ndarray, np.ndarray]:
-    """The grid lines (scaled coordinates, from 0) covering the box [lo, hi]."""
+                lines: Optional[Tuple[np.ndarray, np.ndarray]], aspect: float = np.inf
+                ) -> Tuple[np.ndarray, np.ndarray]:
+    """The grid lines (scaled coordinates, from 0) covering the box [lo, hi]; with
+    ``lines`` None, cells at most ``aspect`` times longer than wide."""
     width = (hi - lo) * scale
     if lines is None:
         h = 1.0 / (count + 1)
         least = min(count + 1, MIN_CELLS)         # a thin face (a tube, a fillet) still gets width
-        nu, nv = (max(least, int(np.ceil(w / h - 1e-9))) for w in width)
-        return np.arange(nu + 1) * min(h, width[0] / nu), np.arange(nv + 1) * min(h, width[1] / nv)
+        n = np.array([max(least, int(np.ceil(w / h - 1e-9))) for w in width])
+        if np.isfinite(aspect):
+            n = np.maximum(n, np.ceil(width / (aspect * float(np.min(width / n))) - 1e-9).astype(np.int64))
+        nu, nv = int(n[0]), int(n[1])
+        return np.arange(nu + 1) * (width[0] / nu), np.arange(nv + 1) * (width[1] / nv)
     out = []
     for d in (0, 1):
         x = np.asarray(lines[d], dtype=np.float64)
@@ -197,11 +268,12 @@ def _cell_sizes(gu: np.ndarray, gv: np.ndarray, S: np.ndarray) -> np.ndarray:
 
 # --- the trim polylines ---------------------------------------------------------------------------
 def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, lo: np.ndarray, gu: np.ndarray,
-                    gv: np.ndarray, chord_tol: Optional[float] = None) -> Tuple[List[np.ndarray], List[np.ndarray]]:
+                    gv: np.ndarray, chord_tol: Optional[float] = None
+                    ) -> Tuple[List[np.ndarray], List[np.ndarray], List["_Pieces"]]:
     """Per loop: points on the trim curves (the flattening's piece ends, pieces longer than
-    the cell they start in split at equal parameter steps) and the curve points at the
-    middle parameter of each chord; holes of a periodic direction moved into the outer
-    loop's period."""
+    the cell they start in split at equal parameter steps), the curve points at the
+    middle parameter of each chord and each chord's Bezier piece (where a seam cuts it);
+    holes of a periodic direction moved into the outer loop's period."""
     h = float(min(np.diff(gu).min(), np.diff(gv).min()))
     tol = CHORD_FRACTION * h / float(np.max(scale))
     if chord_tol is not None:
@@ -209,9 +281,11 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, 
     chains = closed_chains(ts.loops)
     curves = [c for _, chain, _ in chains for c in chain]
     nets = [Q for Q, _ in flatten(curves, tol)]
-    polys, mids, k = [], [], 0
+    bounds = _domain_bounds(ts)
+    polys, mids, pieces, k = [], [], [], 0
     for _, chain, names in chains:
-        starts, middles, straight = [], [], []
+        starts, middles, straight, owner, row, ts0, ts1 = [], [], [], [], [], [], []
+        loop_nets: List[np.ndarray] = []
         # a gap closer (name -1, a joint's gap up to the trim's tol) adds no vertex: the last
         # chord of the curve before it ends at the next curve's start, and is measured at its
         # own middle (the gap closed straight, as classification and area() close it)
@@ -225,11 +299,17 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, 
             R = np.repeat(Q, n, axis=0)
             starts.append(_de_casteljau(R, j / np.repeat(n, n)))
             middles.append(_de_casteljau(R, (j + 0.5) / np.repeat(n, n)))
+            owner.append(np.full(len(j), len(loop_nets)))
+            row.append(np.repeat(np.arange(len(Q)), n))
+            ts0.append(j / np.repeat(n, n))
+            ts1.append((j + 1) / np.repeat(n, n))
+            loop_nets.append(Q)
             closed = np.zeros(len(j), dtype=bool)
             closed[-1] = names[(q + 1) % len(names)] < 0
             straight.append(closed)
         k += len(chain)
         start, mid, gap = np.concatenate(starts), np.concatenate(middles), np.concatenate(straight)
+        start, mid = np.clip(start, *bounds), np.clip(mid, *bounds)
         mid[gap] = 0.5 * (start + np.roll(start, -1, axis=0))[gap]
         step = np.linalg.norm((np.roll(start, -1, axis=0) - start) * scale, axis=1)
         keep = step > MERGE_FRACTION * h          # zero-length chords: one vertex, not two
@@ -237,13 +317,56 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, 
             keep = step > 0
         polys.append(start[keep])
         mids.append(mid[keep])
+        pieces.append(_Pieces(loop_nets, np.concatenate(owner)[keep], np.concatenate(row)[keep],
+                              np.concatenate(ts0)[keep], np.concatenate(ts1)[keep]))
     periods = ts._shifts()
     lo0 = polys[0].min(axis=0)
     for i in range(1, len(polys)):
         shift = np.array([wrap(polys[i][0, d], lo0[d], T) - polys[i][0, d] if T > 0 else 0.0
                           for d, T in enumerate(periods)])
         polys[i], mids[i] = polys[i] + shift, mids[i] + shift
-    return polys, mids
+    return polys, mids, pieces
+
+
+@dataclass(frozen=True)
+class _Pieces:
+    """Each chord's Bezier piece: ``nets[owner[k]][row[k]]`` (homogeneous) on [t0[k], t1[k]]."""
+    nets: List[np.ndarray]
+    owner: np.ndarray
+    row: np.ndarray
+    t0: np.ndarray
+    t1: np.ndarray
+
+    def crossing(self, k: int, d: int, x: float, a: np.ndarray, b: np.ndarray
+                 ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where chord k (from a to b) of the loop crosses coordinate d = x: the point on
+        the trim curve (coordinate d exactly x) and the curve points at the middles of the
+        two parts; on the chord where the curve's piece does not cross (a chord over merged
+        vertices or a gap closer)."""
+        Q = self.nets[int(self.owner[k])][int(self.row[k])][None]
+        t0, t1 = float(self.t0[k]), float(self.t1[k])
+
+        def at(t: np.ndarray) -> np.ndarray:
+            return _de_casteljau(np.repeat(Q, len(t), axis=0), t)
+        f = at(np.array([t0, t1]))[:, d] - x
+        if f[0] * f[1] <= 0 and f[0] != f[1]:
+            lo_t, hi_t, f_lo = t0, t1, f[0]
+            for _ in range(14):             # 16 parts a round: 16^14 > 1 / 2^-53
+                t = np.linspace(lo_t, hi_t, 17)
+                g = at(t)[:, d] - x
+                i = int(np.argmax(np.sign(g[1:]) != np.sign(f_lo)))
+                lo_t, hi_t, f_lo = t[i], t[i + 1], g[i]
+                if hi_t - lo_t <= 4e-16 * max(1.0, abs(lo_t)):
+                    break
+            tx = 0.5 * (lo_t + hi_t)
+            X, ma, mb = at(np.array([tx, 0.5 * (t0 + tx), 0.5 * (tx + t1)]))
+        else:
+            s = float(np.clip((x - a[d]) / (b[d] - a[d]), 0.0, 1.0)) if b[d] != a[d] else 0.5
+            X = a + s * (b - a)
+            ma, mb = 0.5 * (a + X), 0.5 * (X + b)
+        X = X.copy()
+        X[d] = x
+        return X, ma, mb
 
 
 def _de_casteljau(Q: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -255,23 +378,204 @@ def _de_casteljau(Q: np.ndarray, t: np.ndarray) -> np.ndarray:
     return _cartesian(R[:, 0])
 
 
+# --- the seam of a periodic face -------------------------------------------------------------------
+def _seam_direction(ts: "TrimmedSurface", lo: np.ndarray, hi: np.ndarray) -> Optional[int]:
+    """The periodic direction in which the outer loop's box spans one period (to the
+    trim's tol): the loop runs along the seam, the window's two sides; else None."""
+    for d, T in enumerate(ts._shifts()):
+        if T > 0 and abs(float(hi[d] - lo[d]) - T) <= max(ts.tol, 1e-9 * T):
+            return d
+    return None
+
+
+Chain = Tuple[np.ndarray, np.ndarray, int, int]     # (u, v) points, chord middles, side of first and last
+
+
+def _seam_chains(ts: "TrimmedSurface", d: int, polys: List[np.ndarray], mids: List[np.ndarray],
+                 pieces: List[_Pieces], lo: np.ndarray, h: float, scale: np.ndarray
+                 ) -> Optional[Tuple[List[Chain], List[Tuple[np.ndarray, np.ndarray]]]]:
+    """The loops in the window [x0, x0 + T] of direction d (x0 = lo[d]): the outer loop
+    without its seam chords (chords on a side, to the trim's tol) as chains from side to
+    side (0: x0, 1: x0 + T), the holes cut where they cross a side (on the trim curve)
+    and each part moved into the window, and the holes that cross no side whole."""
+    T = ts._shifts()[d]
+    x0, x1 = float(lo[d]), float(lo[d]) + T
+    eps = min(max(ts.tol, 1e-9 * T), 0.01 * h / float(scale[d]))
+    outer, omid = polys[0].copy(), mids[0]
+    on0, on1 = np.abs(outer[:, d] - x0) <= eps, np.abs(outer[:, d] - x1) <= eps
+    seam = (on0 & np.roll(on0, -1)) | (on1 & np.roll(on1, -1))
+    if not seam.any() or seam.all():
+        return None
+    outer[on0, d], outer[on1, d] = x0, x1
+    outer[:, d] = np.clip(outer[:, d], x0, x1)
+    r = int(np.flatnonzero(~seam & np.roll(seam, 1))[0])
+    O, M, Sm = np.roll(outer, -r, axis=0), np.roll(omid, -r, axis=0), np.roll(seam, -r)
+    n = len(O)
+    chains: List[Chain] = []
+
+    def side(p: np.ndarray) -> int:
+        return 0 if p[d] == x0 else 1 if p[d] == x1 else -1
+    for a, b in zip(np.flatnonzero(~Sm & np.roll(Sm, 1)), np.flatnonzero(~Sm & np.roll(Sm, -1))):
+        V = O[np.arange(a, b + 2) % n]
+        if side(V[0]) < 0 or side(V[-1]) < 0:
+            return None
+        chains.append((V, M[a:b + 1], side(V[0]), side(V[-1])))
+    closed = []
+    unit = np.zeros(2)
+    unit[d] = T
+    for H, HM, pc in zip(polys[1:], mids[1:], pieces[1:]):
+        m = np.floor((H[:, d] - x0) / T)
+        if np.all(m == m[0]):
+            closed.append((H - m[0] * unit, HM - m[0] * unit))
+            continue
+        k_ = len(H)
+        dm = np.roll(m, -1) - m
+        if np.abs(dm).max() > 1:
+            return None
+        cross = np.flatnonzero(dm != 0)
+        line = np.maximum(m[cross], m[(cross + 1) % k_])
+        cuts = [pc.crossing(int(k), d, x0 + float(L) * T, H[k], H[(k + 1) % k_]) for k, L in zip(cross, line)]
+        for j in range(len(cross)):
+            j1 = (j + 1) % len(cross)
+            k0, k1 = int(cross[j]), int(cross[j1])
+            idx = np.arange(k0 + 1, k1 + 1 if k1 > k0 else k1 + 1 + k_) % k_
+            mm = m[idx[0]]
+            V = np.concatenate([cuts[j][0][None], H[idx], cuts[j1][0][None]]) - mm * unit
+            W = np.concatenate([cuts[j][2][None], HM[idx[:-1]], cuts[j1][1][None]]) - mm * unit
+            s0, s1 = (0 if line[j] == mm else 1), (0 if line[j1] == mm else 1)
+            if np.linalg.norm((V[1] - V[0]) * scale) <= MERGE_FRACTION * h:       # cut at a vertex
+                V, W = V[1:], W[1:]
+            if np.linalg.norm((V[-1] - V[-2]) * scale) <= MERGE_FRACTION * h:
+                V, W = V[:-1], W[:-1]
+            if len(V) < 2:
+                return None
+            V[0, d], V[-1, d] = (x0, x1)[s0], (x0, x1)[s1]
+            chains.append((V, W, s0, s1))
+    return chains, closed
+
+
+def _seam_tessellation(ts: "TrimmedSurface", d: int, polys: List[np.ndarray], mids: List[np.ndarray],
+                       pieces: List[_Pieces], grid: np.ndarray, gu: np.ndarray, gv: np.ndarray, lo: np.ndarray,
+                       scale: np.ndarray, inside: int) -> Optional[Tessellation]:
+    """A face whose outer loop runs along the seam of direction d, in the window whose
+    sides are the grid's first and last lines: the chains of :func:`_seam_chains` joined
+    along the sides through the grid's vertices there (up the side x0 + T, down the side
+    x0 for d = 0: the region on the left), so the cells along the seam are full cells like
+    any other and a hole across the seam is spliced into the seam; None where the chains
+    do not join (the caller's plain tessellation then)."""
+    h = float(min(np.diff(gu).min(), np.diff(gv).min()))
+    got = _seam_chains(ts, d, polys, mids, pieces, lo, h, scale)
+    if got is None:
+        return None
+    chains, closed = got
+    T = ts._shifts()[d]
+    nu, nv = len(gu) - 1, len(gv) - 1
+    ge = gv if d == 0 else gu
+    G = (gu, gv)[d][-1]
+    nodes = ((np.arange(nv + 1), nu * (nv + 1) + np.arange(nv + 1)) if d == 0 else
+             (np.arange(nu + 1) * (nv + 1), np.arange(nu + 1) * (nv + 1) + nv))
+    uv_grid = lo + grid / scale
+    uv_grid[nodes[0], d], uv_grid[nodes[1], d] = lo[d], lo[d] + T
+    scaled = []
+    for V, _, s0, s1 in chains:
+        Sc = (V - lo) * scale
+        Sc[0, d], Sc[-1, d] = (0.0, G)[s0], (0.0, G)[s1]
+        scaled.append(Sc)
+    e = 1 - d
+    link = {}
+    for sd in (0, 1):
+        direction = (1 if sd == 1 else -1) * (1 if d == 0 else -1)
+        ends = [(direction * S[-1, e], 0, c) for c, (S, ch) in enumerate(zip(scaled, chains)) if ch[3] == sd]
+        starts = [(direction * S[0, e], 1, c) for c, (S, ch) in enumerate(zip(scaled, chains)) if ch[2] == sd]
+        pts = sorted(ends + starts)
+        key = np.array([p[0] for p in pts])
+        kinds = [p[1] for p in pts]
+        if len(pts) % 2 or kinds != [0, 1] * (len(pts) // 2) or (len(key) > 1 and np.diff(key).min() <= 0):
+            return None
+        for (k0, _, c0), (k1, _, c1) in zip(pts[::2], pts[1::2]):
+            t = direction * ge
+            gap = 0.1 * h
+            run = np.flatnonzero((t > k0 + gap) & (t < k1 - gap))
+            run = run[np.argsort(t[run])]
+            link[c0] = (c1, nodes[sd][run])
+    base = np.cumsum([len(grid)] + [len(S) for S in scaled])
+    loops, loop_mids = [], []
+    seen = np.zeros(len(chains), dtype=bool)
+    uv_chain = [V for V, _, _, _ in chains]
+    for c0 in range(len(chains)):
+        if seen[c0]:
+            continue
+        parts, mparts = [], []
+        c = c0
+        while not seen[c]:
+            seen[c] = True
+            nxt, run = link[c]
+            parts += [base[c] + np.arange(len(scaled[c])), run]
+            across = np.concatenate([uv_chain[c][-1:], uv_grid[run], uv_chain[nxt][:1]])
+            mparts += [chains[c][1], 0.5 * (across[:-1] + across[1:])]
+            c = nxt
+        if c != c0:
+            return None
+        loops.append(np.concatenate(parts).astype(np.int64))
+        loop_mids.append(np.concatenate(mparts))
+    S_closed = [(H - lo) * scale for H, _ in closed]
+    start = base[-1]
+    for Sh, (_, HM) in zip(S_closed, closed):
+        loops.append(start + np.arange(len(Sh)))
+        loop_mids.append(HM)
+        start += len(Sh)
+    A = np.concatenate([S[:-1] for S in scaled] + S_closed)
+    B = np.concatenate([S[1:] for S in scaled] + [np.roll(Sh, -1, axis=0) for Sh in S_closed])
+    P = np.concatenate([grid] + scaled + S_closed)
+    uv = np.concatenate([uv_grid] + uv_chain + [H for H, _ in closed])
+    return _triangulate(ts, P, uv, loops, np.concatenate(loop_mids), (A, B), gu, gv, lo, scale, inside,
+                        cancel=True)
+
+
+def _cancel(loops: List[np.ndarray], n: int) -> Optional[List[np.ndarray]]:
+    """The loops without the edges that another loop runs along the other way, chained
+    again; None where a vertex is left with two ways on (the loops touch)."""
+    E = np.concatenate([np.stack([lp, np.roll(lp, -1)], axis=1) for lp in loops])
+    key, back = E[:, 0] * n + E[:, 1], E[:, 1] * n + E[:, 0]
+    E = E[~np.isin(key, back)]
+    if np.bincount(E[:, 0], minlength=n).max(initial=0) > 1 or np.bincount(E[:, 1], minlength=n).max(initial=0) > 1:
+        return None
+    succ = np.full(n, -1, dtype=np.int64)
+    succ[E[:, 0]] = E[:, 1]
+    seen = np.zeros(n, dtype=bool)
+    out = []
+    for s0 in E[:, 0]:
+        if seen[s0]:
+            continue
+        loop = [s0]
+        seen[s0] = True
+        x = succ[s0]
+        while x != s0:
+            if x < 0 or seen[x]:
+                return None
+            loop.append(x)
+            seen[x] = True
+            x = succ[x]
+        out.append(np.array(loop, dtype=np.int64))
+    return out
+
+
 # --- the grid: full cells and their outlines ------------------------------------------------------
-def _full_cells(ts: "TrimmedSurface", S: List[np.ndarray], gu: np.ndarray, gv: np.ndarray, lo: np.ndarray,
-                scale: np.ndarray, inside: int) -> np.ndarray:
-    """(nu, nv) bool: cells not next to a cell holding a chord sample (samples at most
-    SAMPLE_SPACING of the smallest cell apart, so no chord meets such a cell) with their
-    centre inside, without two full cells meeting only at a corner."""
+def _full_cells(ts: "TrimmedSurface", chords: Tuple[np.ndarray, np.ndarray], gu: np.ndarray, gv: np.ndarray,
+                lo: np.ndarray, scale: np.ndarray, inside: int) -> np.ndarray:
+    """(nu, nv) bool: cells not next to a cell holding a sample of the chords (A, B)
+    (samples at most SAMPLE_SPACING of the smallest cell apart, so no chord meets such a
+    cell) with their centre inside, without two full cells meeting only at a corner."""
     nu, nv = len(gu) - 1, len(gv) - 1
     h = float(min(np.diff(gu).min(), np.diff(gv).min()))
     near = np.zeros((nu + 2, nv + 2), dtype=bool)
-    for p in S:
-        a, b = p, np.roll(p, -1, axis=0)
-        k = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / (SAMPLE_SPACING * h)).astype(np.int64), 1)
-        t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k, k)
-        q = np.repeat(a, k, axis=0) + t[:, None] * np.repeat(b - a, k, axis=0)
-        i = np.clip(np.searchsorted(gu, q[:, 0], side="right") - 1, 0, nu - 1) + 1
-        j = np.clip(np.searchsorted(gv, q[:, 1], side="right") - 1, 0, nv - 1) + 1
-        near[i, j] = True
+    a, b = chords
+    k = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / (SAMPLE_SPACING * h)).astype(np.int64), 1)
+    t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k, k)
+    q = np.repeat(a, k, axis=0) + t[:, None] * np.repeat(b - a, k, axis=0)
+    i = np.clip(np.searchsorted(gu, q[:, 0], side="right") - 1, 0, nu - 1) + 1
+    j = np.clip(np.searchsorted(gv, q[:, 1], side="right") - 1, 0, nv - 1) + 1
+    near[i, j] = True
     ring = near.copy()
     for di in (-1, 0, 1):
         for dj in (-1, 0, 1):
