@@ -68,7 +68,11 @@ Law = Union[float, Callable[[float], float], None]   # cagd.sweep's scale and tw
 def _push_curve(wp: T, curve: Curve, forConstruction: bool, makeWire: bool, name: str = "control_points") -> T:
     if curve.dim not in (2, 3):
         raise CagdError(f"{name}: a workplane curve needs 2-D or 3-D points, got {curve.dim}-D")
-    edge = to_cq(placed(curve, wp.plane))
+    return _push_edge(wp, to_cq(placed(curve, wp.plane)), forConstruction, makeWire)
+
+
+def _push_edge(wp: T, edge: cq.Edge, forConstruction: bool, makeWire: bool) -> T:
+    """The edge (global) on the stack, queued as a pending edge, or as a wire."""
     if makeWire:
         wire = cq.Wire.assembleEdges([edge])
         if not forConstruction:
@@ -578,15 +582,7 @@ def blendCurve(self: T, c1: Optional[CurveLike], end1: str, c2: Optional[CurveLi
             tolerance (the message gives the angles)."""
     a, b = _pending_end(self, c1, -1, "c1"), _pending_end(self, c2, 0, "c2")
     result = _reported("blendCurve", cagd.blend_curve(a, end1, b, end2, continuity, tangent_scales), "continuity")
-    edge = to_cq(result.curve)                          # global already: not _push_curve (it places)
-    if makeWire:
-        wire = cq.Wire.assembleEdges([edge])
-        if not forConstruction:
-            self._addPendingWire(wire)
-        return self.newObject([wire])
-    if not forConstruction:
-        self._addPendingEdge(edge)
-    return self.newObject([edge])
+    return _push_edge(self, to_cq(result.curve), forConstruction, makeWire)     # global already: not placed
 
 
 def _surface_of(wp: cq.Workplane, item, name: str) -> Surface:

@@ -540,6 +540,13 @@ def _cancel(loops: List[np.ndarray], n: int) -> Optional[List[np.ndarray]]:
     E = E[~np.isin(key, back)]
     if np.bincount(E[:, 0], minlength=n).max(initial=0) > 1 or np.bincount(E[:, 1], minlength=n).max(initial=0) > 1:
         return None
+    return _traced(E, n, strict=True)
+
+
+def _traced(E: np.ndarray, n: int, strict: bool) -> Optional[List[np.ndarray]]:
+    """The loops the directed edges E (vertices < n, each left by one edge at most) trace,
+    from each start not yet seen; ``strict``: None where a chain does not close (a vertex
+    with no way on, or one met again), else such a chain is kept as far as it goes."""
     succ = np.full(n, -1, dtype=np.int64)
     succ[E[:, 0]] = E[:, 1]
     seen = np.zeros(n, dtype=bool)
@@ -550,9 +557,13 @@ def _cancel(loops: List[np.ndarray], n: int) -> Optional[List[np.ndarray]]:
         loop = [s0]
         seen[s0] = True
         x = succ[s0]
-        while x != s0:
+        for _ in range(len(E)):                      # bounded: each step sees a new vertex
+            if x == s0:
+                break
             if x < 0 or seen[x]:
-                return None
+                if strict:
+                    return None
+                break
             loop.append(x)
             seen[x] = True
             x = succ[x]
@@ -617,25 +628,8 @@ def _staircases(full: np.ndarray) -> List[np.ndarray]:
                        (~F[i + 1, j + 2], node + 1, node + n1 + 1),     # top
                        (~F[i, j + 1], node, node + 1)):                 # left
         edges.append(np.stack([s[keep], e[keep]], axis=1))
-    E = np.concatenate(edges)
-    size = (full.shape[0] + 1) * n1
-    succ = np.full(size, -1, dtype=np.int64)
-    succ[E[:, 0]] = E[:, 1]
-    seen = np.zeros(size, dtype=bool)
-    loops: List[np.ndarray] = []
-    for s0 in E[:, 0]:
-        if seen[s0]:
-            continue
-        loop = [s0]
-        seen[s0] = True
-        x = succ[s0]
-        for _ in range(len(E)):
-            if x == s0 or x < 0:
-                break
-            loop.append(x)
-            seen[x] = True
-            x = succ[x]
-        loops.append(np.array(loop, dtype=np.int64))
+    loops = _traced(np.concatenate(edges), (full.shape[0] + 1) * n1, strict=False)
+    assert loops is not None
     return loops
 
 

@@ -97,7 +97,7 @@ def star_polygons(draw):
     return np.stack([0.5 + radii * np.cos(angles), 0.5 + radii * np.sin(angles)], axis=1)
 
 
-@settings(max_examples=60)
+@settings(max_examples=60, deadline=None)        # (a loaded machine ran past 200 ms)
 @given(star_polygons(), st.integers(0, 40))
 def test_star_polygons_triangulate_exactly(P, count):
     closed = np.vstack([P, P[:1]])
