@@ -13,7 +13,7 @@ curve between two edges' nearest ends, a blend surface and a match between two f
 facing edges (or two selected face edges), refused likewise."""
 from __future__ import annotations
 
-from typing import Callable, List, Tuple
+from typing import Callable, List, Optional, Tuple
 
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -322,9 +322,11 @@ class NetworkCommand(Command):
         _finish(features.make(network.KINDS[self.KIND], **network.link_values(values)))
 
 
-def _edge_picks(menu: str, least: int, what: str) -> list:
+def _edge_picks(what: str, least: int, most: Optional[int] = None) -> list:
+    """The selected edges, at least ``least`` and at most ``most`` of them, else CagdError
+    saying what to select."""
     edges = selected_edges()
-    if len(edges) < least:
+    if len(edges) < least or (most is not None and len(edges) > most):
         raise cagd.CagdError(f"select {what} (got {len(edges)} edges)")
     return edges
 
@@ -335,7 +337,7 @@ class GordonCommand(NetworkCommand):
            "of the other (edit Profiles, Guides, Tolerance)")
 
     def links(self) -> dict:
-        edges = _edge_picks(self.MENU, 4, "a network of 4 or more edges, two families crossing each other")
+        edges = _edge_picks("a network of 4 or more edges, two families crossing each other", 4)
         profiles, guides = network.split_network(edges)
         if len(profiles) < 2 or len(guides) < 2:
             raise cagd.CagdError(f"the edges make {len(profiles)} profiles and {len(guides)} guides (the edges "
@@ -348,9 +350,7 @@ class SweepCommand(NetworkCommand):
     TIP = "Sweep the first selected edge (profile) along the second (path); edit Frame, Tolerance"
 
     def links(self) -> dict:
-        edges = selected_edges()
-        if len(edges) != 2:
-            raise cagd.CagdError(f"select two edges, the profile then the path (got {len(edges)})")
+        edges = _edge_picks("two edges, the profile then the path", 2, 2)
         return {"Profile": edges[0], "Path": edges[1]}
 
 
@@ -359,7 +359,7 @@ class Sweep2Command(NetworkCommand):
     TIP = "Sweep profiles between two rails: select the two rail edges, then one or more profile edges"
 
     def links(self) -> dict:
-        edges = _edge_picks(self.MENU, 3, "two rail edges, then one or more profile edges")
+        edges = _edge_picks("two rail edges, then one or more profile edges", 3)
         return {"Rail1": edges[0], "Rail2": edges[1], "Profiles": edges[2:]}
 
 
@@ -368,9 +368,7 @@ class BlendCurveCommand(NetworkCommand):
     TIP = "G2 bridge between the nearest ends of two selected edges (edit End1, End2, Continuity)"
 
     def links(self) -> dict:
-        edges = selected_edges()
-        if len(edges) != 2:
-            raise cagd.CagdError(f"select two edges (got {len(edges)})")
+        edges = _edge_picks("two edges", 2, 2)
         shapes = [o.Shape.getElement(s) for o, s in edges]
         end1, end2 = network.nearest_ends(*shapes)
         return {"Edge1": edges[0], "Edge2": edges[1], "End1": end1, "End2": end2}
