@@ -9,7 +9,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import CagdError
-from ._surface_system import System, newton
+from ._newton import newton
+from ._surface_system import System
+from ._numerics import COLLAPSED_SPEED_RTOL, TINY, residual_tol
+
+GN_SHIFT_RTOL = 1e-14        # Gauss-Newton shift of the foot projections, share of trace(J^T J)
 
 
 #: the branch fit's collocation is used while it hits its points within this fraction of
@@ -35,7 +39,7 @@ def _interpolate(Q, deg: int, t):
             c = collocate(Q, deg, t, averaged(t, deg))
             lo, hi = Q.min(axis=0), Q.max(axis=0)
             with np.errstate(over="ignore", invalid="ignore"):
-                if float(np.max(np.abs(c(t) - Q))) <= BRANCH_RESIDUAL_TOL * max(float(np.linalg.norm(hi - lo)), 1e-300):
+                if float(np.max(np.abs(c(t) - Q))) <= BRANCH_RESIDUAL_TOL * max(float(np.linalg.norm(hi - lo)), TINY):
                     return c
         except CagdError:
             pass
@@ -54,7 +58,7 @@ def degenerate(S: System, x) -> bool:
     xw = S.wrap(np.asarray(x, float)[None])
     for k, g in enumerate(g for g in (S.A, S.B) if g is not None):
         d = S._partials(k, xw[:, 2 * k:2 * k + 2])[1][0]
-        if np.linalg.norm(d, axis=1).min() <= 1e-8 * g.size:
+        if np.linalg.norm(d, axis=1).min() <= COLLAPSED_SPEED_RTOL * g.size:
             return True
     return False
 
@@ -125,7 +129,7 @@ def _thin(xs, P):
     seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
     for i in range(1, len(P) - 1):
         d = np.linalg.norm(P[i] - P[keep[-1]])
-        if d >= 0.25 * max(seg[i], 1e-300):
+        if d >= 0.25 * max(seg[i], TINY):
             keep.append(i)
     last = len(P) - 1
     if len(keep) > 1 and np.linalg.norm(P[last] - P[keep[-1]]) < 0.25 * np.linalg.norm(P[keep[-1]] - P[keep[-2]]):
@@ -150,7 +154,7 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
         keep = np.setdiff1d(np.arange(len(P)), starts)                 # one 3-D point per jump
         chord = np.linalg.norm(np.diff(P[keep], axis=0), axis=1)
         t = np.concatenate([[0.0], np.cumsum(chord)])
-        L = max(t[-1], 1e-300)
+        L = max(t[-1], TINY)
         t = t / L
         deg = min(3, len(keep) - 1)
         curve = _interpolate(P[keep], deg, t)
@@ -186,7 +190,7 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
         frac = np.concatenate([np.arange(1, k) / k for k in m])[:, None]
         d = xs[at + 1] - xs[at]
         guess = xs[at] + frac * d
-        y, ok = newton(S, guess, d, np.einsum("nk,nk->n", d, guess), max(1e-3 * tol, 1e-14 * S.size))
+        y, ok = newton(S, guess, d, np.einsum("nk,nk->n", d, guess), residual_tol(tol, S.size))
         y, at = y[ok], at[ok]
         if len(y) == 0:
             return curve, pa, pb, worst, worst_p
@@ -234,7 +238,7 @@ def _foot(S: System, k: int, C: np.ndarray, uv: np.ndarray, iters: int = 6):
         p, d = S._partials(k, uv)
         best = np.minimum(best, np.linalg.norm(C - p, axis=1))
         JtJ = np.einsum("nid,njd->nij", d, d)
-        JtJ += np.eye(2) * (1e-14 * np.trace(JtJ, axis1=1, axis2=2)[:, None, None] + 1e-300)
+        JtJ += np.eye(2) * (GN_SHIFT_RTOL * np.trace(JtJ, axis1=1, axis2=2)[:, None, None] + TINY)
         step = np.linalg.solve(JtJ, np.einsum("nid,nd->ni", d, C - p)[..., None])[..., 0]
         uv = g.clamp(uv + step)
     best = np.minimum(best, np.linalg.norm(C - S._partials(k, uv)[0], axis=1))

@@ -34,6 +34,7 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from . import _subdivision as sd
 from .bounds import robust_distance
+from ._numerics import TINY
 
 #: pieces over at most this many cells of the chord grid are classified chord by chord
 #: (box_classes); larger ones that a chord may meet count as crossed
@@ -124,7 +125,7 @@ def _nonstationary(ca: np.ndarray, cb: np.ndarray, usable: np.ndarray) -> np.nda
         elo, ehi = plo - qhi, phi - qlo
         dlo, dhi = _iprod(elo, ehi, rlo, rhi)
         glo, ghi = dlo.sum(axis=1), dhi.sum(axis=1)
-        margin = GRADIENT_MARGIN * (np.abs(dlo).sum(axis=1) + np.abs(dhi).sum(axis=1)) + 1e-300
+        margin = GRADIENT_MARGIN * (np.abs(dlo).sum(axis=1) + np.abs(dhi).sum(axis=1)) + TINY
         out |= usable[:, a] & ((glo > margin) | (ghi < -margin))
     return out
 
@@ -182,7 +183,7 @@ def trimmed_min_distance(a: Any, b: Any, tol: Optional[float], *, max_depth: int
     if tol is None:
         size = max(float(np.ptp(Pa, axis=0).max()), float(np.ptp(Pb, axis=0).max()))
         extent = float(np.ptp(np.concatenate([Pa, Pb]), axis=0).max())
-        tol = max(DEFAULT_RTOL * size, ROUNDING_RTOL * extent, 1e-300)
+        tol = max(DEFAULT_RTOL * size, ROUNDING_RTOL * extent, TINY)
     else:
         tol = _checks.positive(tol, "tol")
     if not isinstance(a, (Curve, Surface)) or not isinstance(b, (Curve, Surface)):

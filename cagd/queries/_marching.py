@@ -6,7 +6,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._surface_system import System, cofactors, newton, velocity
+from ._surface_system import System, cofactors, velocity
+from ._newton import newton
+from ._numerics import AT_END_RTOL, RESIDUAL_FLOOR, RESIDUAL_SHARE, SIZE_ROUNDING, SLACK_RTOL, TINY, residual_tol
+from ._surface_system import INSIDE_SLACK
+
+MIN_STEP_RTOL = 1e-9        # the smallest marching step, share of the model size
+SINGULAR_SINE = 1e-9        # |n_A x n_B| below this: a singular point (a tangency or a crossing)
+CROSSING_SINE = 1e-4        # ... and above this where the bisection ends: no simple crossing there
 
 MAX_ANGLE = 0.35              # largest turn of the tangent per step (rad)
 MAX_STEPS = 20000
@@ -14,10 +21,10 @@ MAX_STEPS = 20000
 class Marcher:
     def __init__(self, S: System, tol: float):
         self.S, self.tol = S, tol
-        self.ftol = max(1e-3 * tol, 1e-14 * S.size)
+        self.ftol = residual_tol(tol, S.size)
         self.hmax = S.size / 8
-        self.hmin = max(1e-9 * S.size, 10 * tol * 1e-3)
-        self.sing = 1e-9
+        self.hmin = max(MIN_STEP_RTOL * S.size, 10 * tol * RESIDUAL_SHARE)
+        self.sing = SINGULAR_SINE
 
     def frame(self, x):
         """Point, kernel vector c (unnormalized), 3-D unit tangent of c, speed |dP/dc|, sine."""
@@ -26,7 +33,7 @@ class Marcher:
         v = velocity(da, c[None])[0]
         speed = np.linalg.norm(v)
         sine = np.linalg.norm(np.cross(na[0], nb[0]))
-        return P[0], c, v / max(speed, 1e-300), speed, sine
+        return P[0], c, v / max(speed, TINY), speed, sine
 
     def step_for(self, kappa):
         if kappa <= 0:
@@ -52,7 +59,7 @@ class Marcher:
         S = self.S
         xs = [x0.copy()]
         P0, c, T, speed, sine = self.frame(x0)
-        if speed <= 1e-14 * S.size or sine <= self.sing:
+        if speed <= RESIDUAL_FLOOR * S.size or sine <= self.sing:
             return xs, "singular", None
         T = sigma * T
         Ps = [P0]
@@ -70,18 +77,18 @@ class Marcher:
                 alpha = np.where(out, (bound - x) / np.where(out, xp - x, 1.0), 1.0)
                 i = int(np.argmin(alpha))
                 a = max(float(alpha[i]), 0.0)
-                if a * h <= 1e-12 * S.size:
+                if a * h <= SLACK_RTOL * S.size:
                     return xs, "boundary", None
                 xp = x + a * h * tpar
                 fix = (i, bound[i])
             y, ok = self.correct(x, tpar, xp, fix)
-            if ok and not S.inside(y, 1e-12) and fix is None:
+            if ok and not S.inside(y, INSIDE_SLACK) and fix is None:
                 out = ~S.per & ((y < S.lo) | (y > S.hi))
                 i = int(np.argmax(out * np.abs(np.where(y < S.lo, S.lo - y, y - S.hi))))
                 bnd = S.lo[i] if y[i] < S.lo[i] else S.hi[i]
                 y, ok = self.correct(x, tpar, np.where(np.arange(S.n) == i, bnd, y), (i, bnd))
                 fix = (i, bnd)
-            if not ok or (fix is not None and not S.inside(y, 1e-9)):
+            if not ok or (fix is not None and not S.inside(y, AT_END_RTOL)):
                 h *= 0.5
                 if h < self.hmin:
                     return xs, "stalled", None
@@ -130,7 +137,7 @@ class Marcher:
                     return xs, "closed", None
             travelled += dist
             angle = np.arccos(np.clip(cos, -1.0, 1.0))
-            kappa = angle / max(dist, 1e-300)
+            kappa = angle / max(dist, TINY)
             xs.append(y)
             Ps.append(P1)
             x, c, T, speed = y, c1, T1s, speed1
@@ -147,7 +154,7 @@ class Marcher:
         S = self.S
         for _ in range(60):
             Pa, Pb = S.eval(np.stack([xa, xb]))[2]
-            if np.linalg.norm(Pa - Pb) <= max(0.1 * self.tol, 1e-13 * S.size):
+            if np.linalg.norm(Pa - Pb) <= max(0.1 * self.tol, SIZE_ROUNDING * S.size):
                 break
             d = xb - xa
             mid = 0.5 * (xa + xb)
@@ -162,7 +169,7 @@ class Marcher:
         else:
             return None
         # at a simple crossing sine ~ the distance to it / size, here ~ 0.1 tol / size
-        if self.frame(xa)[4] > 1e-4:
+        if self.frame(xa)[4] > CROSSING_SINE:
             return None
         return xa, xb
 
@@ -175,7 +182,7 @@ def segments_distance(Q, P):
         return d, np.zeros(len(Q))
     a, b = P[:-1], P[1:]
     ab = b - a
-    L2 = np.maximum(np.einsum("kd,kd->k", ab, ab), 1e-300)
+    L2 = np.maximum(np.einsum("kd,kd->k", ab, ab), TINY)
     tau = np.clip(np.einsum("skd,kd->sk", Q[:, None] - a[None], ab) / L2, 0.0, 1.0)
     near = a[None] + tau[..., None] * ab[None]
     d = np.linalg.norm(Q[:, None] - near, axis=2)

@@ -4,30 +4,19 @@ out by bisection to where the distance exceeds tol, and snapped to the domain en
 (see :mod:`cagd.queries.intersect`)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import List, Tuple
 
 import numpy as np
 
-from .._results import ReadOnlyArrays
 from . import _subdivision as sd
+from .results import Overlap
+from ._newton import project_onto
+from ._numerics import AT_END_RTOL, END_MARGIN_RTOL, SAME_PARAM_RTOL
 
 
 UNSETTLED = "an end was not located: the overlap may extend further"
 
 
-@dataclass(frozen=True)
-class Overlap(ReadOnlyArrays):
-    """Coincident pieces: ``param_a`` = (s0, s1) on a with s0 < s1, ``param_b`` the
-    parameters on b matching s0 and s1 (decreasing when the directions are opposite).
-    For a curve lying in a surface, ``param_b`` holds the surface's (u, v) arrays at
-    s0 and s1 (with the curve given second, the two fields are swapped). The ends are
-    where the distance to the other object reaches tol (``converged``; ``message`` says
-    otherwise)."""
-    param_a: Tuple[float, float]
-    param_b: Tuple[object, object]
-    converged: bool = True
-    message: str = ""
 
 
 # a piece lying within tol of the other object is coincident (an overlap) when it is
@@ -59,9 +48,9 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
             continue
         x = (P.lo[:, None, :] + fr[None, :, None] * (P.hi - P.lo)[:, None, :]).reshape(-1, 1)
         seed = np.repeat(0.5 * (Q.lo + Q.hi), 5, axis=0)
-        y, dist = sd.project_onto(H, G.points(x), seed)
+        y, dist = project_onto(H, G.points(x), seed)
         if self_mode:                 # the sample itself is no evidence of an overlap
-            dist[np.abs(y[:, 0] - x[:, 0]) <= 1e-7 * (A.hi[0] - A.lo[0])] = np.inf
+            dist[np.abs(y[:, 0] - x[:, 0]) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0])] = np.inf
         ok = np.all(dist.reshape(M, 5) <= tol, axis=1) & ~hits
         if ok.any():
             y = y.reshape(M, 5, -1)
@@ -78,7 +67,7 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
 def inside_overlap(A, B, overlaps, x, y) -> bool:
     for ov in overlaps:
         s0, s1 = ov.param_a
-        m = 1e-6 * (A.hi[0] - A.lo[0])
+        m = END_MARGIN_RTOL * (A.hi[0] - A.lo[0])
         if s0 - m <= x[0] <= s1 + m:
             return True
     return False
@@ -94,7 +83,7 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool) -> List[Overlap]:
     flip = F[:, 0] > F[:, 1]
     F[flip] = F[flip][:, [1, 0] + list(range(2 + kb, 2 + 2 * kb)) + list(range(2, 2 + kb))]
     F = F[np.argsort(F[:, 0])]
-    ea, eb = 1e-9 * (A.hi[0] - A.lo[0]), 1e-9 * (B.hi[0] - B.lo[0])
+    ea, eb = AT_END_RTOL * (A.hi[0] - A.lo[0]), AT_END_RTOL * (B.hi[0] - B.lo[0])
     groups: List[List[float]] = []
     for f in F:
         for g in groups:
@@ -144,8 +133,8 @@ def _edge(A, B, s_in: float, t_in: np.ndarray, sign: float, h: float, tol: float
     lim = A.hi[0] if sign > 0 else A.lo[0]
 
     def on(s, t):
-        y, d = sd.project_onto(B, A.points(np.array([[s]])), np.asarray(t, float).reshape(1, -1))
-        good = d[0] <= tol and not (self_mode and abs(y[0, 0] - s) <= 1e-7 * (A.hi[0] - A.lo[0]))
+        y, d = project_onto(B, A.points(np.array([[s]])), np.asarray(t, float).reshape(1, -1))
+        good = d[0] <= tol and not (self_mode and abs(y[0, 0] - s) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0]))
         return good, y[0]
 
     s_out = None
@@ -179,11 +168,11 @@ def _snap(A, B, s: float, t: np.ndarray) -> Tuple[float, np.ndarray]:
     end, its partner by projection: the bisection alone stops where the distance
     reaches tol."""
     for end in ((B.lo[0], B.hi[0]) if B.k == 1 else ()):
-        if abs(t[0] - end) <= 1e-6 * (B.hi[0] - B.lo[0]):
-            x, _ = sd.project_onto(A, B.points(np.array([[end]])), np.array([[s]]))
+        if abs(t[0] - end) <= END_MARGIN_RTOL * (B.hi[0] - B.lo[0]):
+            x, _ = project_onto(A, B.points(np.array([[end]])), np.array([[s]]))
             return float(x[0, 0]), np.array([end])
     for end in (A.lo[0], A.hi[0]):
-        if abs(s - end) <= 1e-6 * (A.hi[0] - A.lo[0]):
-            y, _ = sd.project_onto(B, A.points(np.array([[end]])), t.reshape(1, -1))
+        if abs(s - end) <= END_MARGIN_RTOL * (A.hi[0] - A.lo[0]):
+            y, _ = project_onto(B, A.points(np.array([[end]])), t.reshape(1, -1))
             return float(end), y[0]
     return s, t

@@ -18,12 +18,13 @@ from typing import NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from .._periodic import wrap, wrapped_difference
+from .._periodic import wrap
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .bounds import Frame, bezier_pieces, closed_directions
+from ._numerics import TINY, unit
 
 
 class Pieces(NamedTuple):
@@ -77,7 +78,7 @@ class Geometry:
         self.pieces = Pieces(_hom(self.bezier.control_points, self.bezier.weights),
                              self.bezier.lower.copy(), self.bezier.upper.copy())
         pts = project(self.pieces.ctrl).reshape(-1, self.dim)
-        self.size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
+        self.size = max(float(np.ptp(pts, axis=0).max()), TINY)
 
     def reframe(self, frame: Frame) -> None:
         """Work in the normalised ``frame`` (its point map; the parameter map of this
@@ -93,7 +94,7 @@ class Geometry:
         dom = self.bezier.domain
         self.lo, self.hi = dom[:, 0].copy(), dom[:, 1].copy()
         pts = project(self.pieces.ctrl).reshape(-1, self.dim)
-        self.size = max(float(np.ptp(pts, axis=0).max()), 1e-300)
+        self.size = max(float(np.ptp(pts, axis=0).max()), TINY)
 
     def clamp(self, x: np.ndarray) -> np.ndarray:
         """Parameters (N, k) wrapped (periodic directions) or clamped into the domain."""
@@ -204,7 +205,7 @@ def box_pairs(a: Pieces, b: Pieces, tol: float, chunk: int = 1 << 22) -> Tuple[n
 def slab_gap(ctrl_a: np.ndarray, ctrl_b: np.ndarray, direction: np.ndarray) -> np.ndarray:
     """Lower bound of the distance between pieces from their projections on a unit
     ``direction`` (M, D) per pair: min_j d.Q_j - max_i d.P_i (or the reverse), >= 0."""
-    n = direction / np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-300)
+    n = unit(direction)
     pa = project(ctrl_a).reshape(ctrl_a.shape[0], -1, n.shape[1]) @ n[:, :, None]
     pb = project(ctrl_b).reshape(ctrl_b.shape[0], -1, n.shape[1]) @ n[:, :, None]
     pa, pb = pa[..., 0], pb[..., 0]
@@ -329,107 +330,7 @@ def monotone(ctrl: np.ndarray) -> np.ndarray:
 
 
 # --- local refinement -------------------------------------------------------------------------
-def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.ndarray, full_hessian: bool,
-           iters: int = 40) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Minimize f = |A(x) - B(y)|^2 / 2 from the starts (x, y) (N, k_a), (N, k_b).
-
-    ``full_hessian`` False: Gauss-Newton H = J^T J (quadratic convergence to a
-    transversal root A(x) = B(y)); True: Newton with the second-order terms
-    r . A_xx, -r . B_yy (quadratic convergence to a regular minimum of the distance,
-    e.g. a tangential contact). Variables at a non-periodic domain bound whose
-    gradient points outwards are held fixed (projected Newton); negative curvature
-    is flipped (|lambda|); steps are halved until f decreases (at most 30 times).
-    Returns (x, y, distance, converged): converged when a step changed no parameter
-    by more than 1e-15 of its domain, f reached 0, or no decrease was possible with
-    a Newton step below 1e-10 of the domain (rounding level).
-    """
-    ka, n = A.k, A.k + B.k
-    z = np.concatenate([x, y], axis=1).astype(float)
-    lo = np.concatenate([A.lo, B.lo])
-    hi = np.concatenate([A.hi, B.hi])
-    per = np.concatenate([A.periodic, B.periodic])
-    span = hi - lo
-
-    def clamp(w):
-        return np.where(per, wrap(w, lo, span), np.clip(w, lo, hi))
-
-    def residual(w, order, rows):
-        pa, da, ha = A.derivatives(w[:, :ka], order, rows)
-        pb, db, hb = B.derivatives(w[:, ka:], order, rows)
-        return pa - pb, da, db, ha, hb
-
-    z = clamp(z)
-    r = residual(z, 0, None)[0]
-    f = 0.5 * np.einsum("nd,nd->n", r, r)
-    converged = np.zeros(len(z), bool)
-    active = np.ones(len(z), bool)
-    for _ in range(iters):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            break
-        zi = z[idx]
-        r, da, db, ha, hb = residual(zi, 2 if full_hessian else 1, idx)
-        J = np.concatenate([da, -db], axis=1)                       # (N, n, D)
-        g = np.einsum("nkd,nd->nk", J, r)
-        H = np.einsum("nkd,nld->nkl", J, J)
-        if full_hessian:
-            H[:, :ka, :ka] += np.einsum("nkld,nd->nkl", ha, r)
-            H[:, ka:, ka:] -= np.einsum("nkld,nd->nkl", hb, r)
-        at_lo = ~per & (zi <= lo + 1e-15 * span) & (g > 0)
-        at_hi = ~per & (zi >= hi - 1e-15 * span) & (g < 0)
-        fixed = at_lo | at_hi
-        g = np.where(fixed, 0.0, g)
-        keep = ~fixed[:, :, None] & ~fixed[:, None, :]
-        H = np.where(keep, H, 0.0) + np.eye(n) * fixed[:, :, None]
-        lam, V = np.linalg.eigh(H)
-        top = np.maximum(np.abs(lam).max(axis=1, keepdims=True), 1e-300)
-        lam = np.maximum(np.abs(lam), 1e-13 * top)
-        step = -np.einsum("nkl,nl->nk", V, np.einsum("nlk,nl->nk", V, g) / lam)
-        f0 = f[idx]
-        alpha = np.ones(idx.size)
-        accepted = np.zeros(idx.size, bool)
-        znew = zi.copy()
-        fnew = f0.copy()
-        for _ in range(30):
-            todo = np.flatnonzero(~accepted)
-            if todo.size == 0:
-                break
-            trial = clamp(zi[todo] + alpha[todo, None] * step[todo])
-            rt = residual(trial, 0, idx[todo])[0]
-            ft = 0.5 * np.einsum("nd,nd->n", rt, rt)
-            ok = ft <= f0[todo]
-            znew[todo[ok]], fnew[todo[ok]] = trial[ok], ft[ok]
-            accepted[todo[ok]] = True
-            alpha[todo[~ok]] *= 0.5
-        moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
-        small = np.all(np.abs(step) <= 1e-10 * span, axis=1)
-        ok = (accepted & np.all(moved <= 1e-15 * span, axis=1)) | (fnew == 0) | (~accepted & small)
-        z[idx], f[idx] = znew, fnew
-        converged[idx[ok]] = True
-        active[idx[ok | ~accepted]] = False
-    return z[:, :ka], z[:, ka:], np.sqrt(2.0 * f), converged
 
 
-class FixedPoints:
-    """A parameterless stand-in for :func:`refine` (k = 0): minimizing
-    |FixedPoints - B(y)| projects the points onto B."""
-    k = 0
-    lo = hi = np.empty(0)
-    periodic = np.empty(0, bool)
-
-    def __init__(self, pts: np.ndarray):
-        self.pts = pts
-
-    def derivatives(self, x: np.ndarray, order: int, rows: Optional[np.ndarray] = None
-                    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-        pts = self.pts if rows is None else self.pts[rows]
-        N, D = pts.shape
-        return pts, np.zeros((N, 0, D)), np.zeros((N, 0, 0, D))
 
 
-def project_onto(B: Geometry, pts: np.ndarray, y0: np.ndarray, iters: int = 30
-                 ) -> Tuple[np.ndarray, np.ndarray]:
-    """Local projection of points (N, D) onto B from the starts y0 (N, k):
-    (parameters (N, k), distances (N,))."""
-    _, y, dist, _ = refine(FixedPoints(pts), B, np.zeros((len(pts), 0)), y0, True, iters)
-    return y, dist

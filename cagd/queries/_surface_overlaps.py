@@ -6,13 +6,15 @@ subdivision, merged into connected parameter boxes whose edges are moved out by
 bisection to where the surfaces separate, and reported as :class:`SurfaceOverlap`."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import List, Optional, Tuple
+from typing import List, Optional
 
 import numpy as np
 
 from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
+from .results import SurfaceOverlap
+from ._newton import project_onto
+from ._numerics import AT_END_RTOL, COLLAPSED_SPEED_RTOL, END_MARGIN_RTOL, SLACK_RTOL
 
 _N = 5                        # samples per direction on a piece (odd: the centre is one)
 #: projection starts lie this fraction of a piece inside it: a start on a collapsed edge
@@ -21,28 +23,6 @@ _N = 5                        # samples per direction on a piece (odd: the centr
 SEED_INSET = 1e-3
 
 
-@dataclass(frozen=True)
-class SurfaceOverlap:
-    """Coincident pieces of two surfaces: ``box_a`` = ((u0, u1), (v0, v1)) on a where
-    a lies on b within tol, ``box_b`` the parameter box of the same piece on b (the
-    bounding box of the projected samples); the box of a plane is None (``box_b``, or
-    ``box_a`` for intersect(plane, surface), whose cells are then on b). The boxes are grown until
-    the distance reaches tol (``converged``; ``message`` says otherwise).
-
-    Clipped to trimmed faces (:func:`cagd.queries.trimmed.clip_to_trims`), the region is
-    the box's part inside both trims, as parameter cells of a: ``cells_a`` (K, 4) rows
-    (u0, v0, u1, v1) inside both trims, ``edge_cells_a`` those a trim boundary crosses
-    (at the smallest cell size), ``area`` its area on a (inside cells plus half the edge
-    cells) within ``area_error`` (half the edge cells' area); the boxes are then the
-    region's bounding boxes. None for an overlap of untrimmed surfaces."""
-    box_a: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]     # None for a plane
-    box_b: Optional[Tuple[Tuple[float, float], Tuple[float, float]]]
-    converged: bool = True
-    message: str = ""
-    cells_a: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
-    edge_cells_a: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
-    area: Optional[float] = None
-    area_error: float = 0.0
 
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int = _N) -> np.ndarray:
@@ -61,7 +41,7 @@ def distances(G: sd.Geometry, H, pl, x: np.ndarray, seed: Optional[np.ndarray]):
         o, nrm = pl
         return np.abs((P - o) @ nrm), None
     assert seed is not None                     # the callers seed every projection onto H
-    y, d = sd.project_onto(H, P, seed)
+    y, d = project_onto(H, P, seed)
     return d, y
 
 
@@ -102,7 +82,7 @@ def covered(lo: np.ndarray, hi: np.ndarray, boxes: List[np.ndarray]) -> np.ndarr
     pieces, where = np.unique(np.concatenate([lo, hi], axis=1), axis=0, return_inverse=True)
     out = np.zeros(len(pieces), bool)
     B = np.concatenate(boxes)
-    e = 1e-12
+    e = SLACK_RTOL
     for b in np.array_split(B, max(1, len(B) // 256)):
         out |= np.any(np.all(pieces[:, None, :2] >= b[None, :, :2] - e, axis=2)
                       & np.all(pieces[:, None, 2:] <= b[None, :, 2:] + e, axis=2), axis=1)
@@ -119,7 +99,7 @@ def _components(B: np.ndarray) -> List[np.ndarray]:
             parent[i] = parent[parent[i]]
             i = parent[i]
         return i
-    e = 1e-12
+    e = SLACK_RTOL
     touch = np.all(B[:, None, :2] <= B[None, :, 2:] + e, axis=2) & np.all(B[None, :, :2] <= B[:, None, 2:] + e, axis=2)
     for i, j in zip(*np.nonzero(np.triu(touch, 1))):
         parent[find(i)] = find(j)
@@ -196,7 +176,7 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
             mids = 0.5 * (B[:, :2] + B[:, 2:])
             y0 = Y[np.argmin(np.linalg.norm(mids - centre, axis=1))]
         box, found = _grow(G, H, pl, comp, y0, tol)
-        if any(np.all(box[:2] >= g[:2] - 1e-12) and np.all(box[2:] <= g[2:] + 1e-12) for g in grown):
+        if any(np.all(box[:2] >= g[:2] - SLACK_RTOL) and np.all(box[2:] <= g[2:] + SLACK_RTOL) for g in grown):
             continue
         grown.append(box)
         ba = ((float(box[0]), float(box[2])), (float(box[1]), float(box[3])))
@@ -204,9 +184,9 @@ def regions(G: sd.Geometry, H, pl, boxes: List[np.ndarray], seeds: List[np.ndarr
         if H is not None:
             x = _grid(box[None, :2], box[None, 2:], 7)[0]
             P = G.points(x)
-            y, _ = sd.project_onto(H, P, grid_seeds(H, P, H.lo[None], H.hi[None], 16))
+            y, _ = project_onto(H, P, grid_seeds(H, P, H.lo[None], H.hi[None], 16))
             speed = np.linalg.norm(H.derivatives(y, 1)[1], axis=-1)               # (49, 2)
-            valid = np.all(speed > 1e-8 * H.size, axis=1).reshape(7, 7)
+            valid = np.all(speed > COLLAPSED_SPEED_RTOL * H.size, axis=1).reshape(7, 7)
             lo, hi = _unwrapped_box(y.reshape(7, 7, 2), H.lo, H.hi, H.closed, valid)
             bb = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
         message = "" if found else "an edge of the box was not located: the overlap may extend further"
@@ -248,7 +228,7 @@ def _unwrapped_box(y: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.nda
     a = np.where(closed, pick.min(axis=0), a)            # a pole's arbitrary value left out
     b = np.where(closed, pick.max(axis=0), b)
     for d in np.flatnonzero(closed):
-        if b[d] - a[d] >= span[d] * (1 - 1e-9):
+        if b[d] - a[d] >= span[d] * (1 - AT_END_RTOL):
             a[d], b[d] = lo[d], hi[d]
         else:
             shift = a[d] - wrap(a[d], lo[d], span[d])
@@ -261,7 +241,7 @@ def inside(x: np.ndarray, regions_: List[SurfaceOverlap], lo: np.ndarray, hi: np
     """Points x (N, 2) of surface ``which`` (0 = a, 1 = b) inside one of the overlap boxes
     (margin 1e-6 of the domain); in closed directions a box may run past the domain's
     end (across the seam), so x + period is tested too."""
-    m = 1e-6 * (hi - lo)
+    m = END_MARGIN_RTOL * (hi - lo)
     out = np.zeros(len(x), bool)
     for r in regions_:
         box = r.box_a if which == 0 else r.box_b

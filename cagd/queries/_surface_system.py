@@ -11,8 +11,10 @@ import numpy as np
 
 from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
+from ._numerics import unit
 
-NEWTON_ITERATIONS = 12
+INSIDE_SLACK = 1e-12      # a parameter this share of the width outside the domain is inside
+
 
 class System:
     def __init__(self, A: sd.Geometry, B: Optional[sd.Geometry], pl=None):
@@ -39,7 +41,7 @@ class System:
     def wrapdiff(self, d):
         return np.where(self.per, wrapped_difference(d, 0.0, self.span), d)
 
-    def inside(self, x, slack=1e-12):
+    def inside(self, x, slack=INSIDE_SLACK):
         s = slack * self.span
         return np.all(self.per | ((x >= self.lo - s) & (x <= self.hi + s)), axis=-1)
 
@@ -64,9 +66,6 @@ class System:
         return F, J, pa, na, nb, da
 
 
-def unit(v):
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
-
 
 def cofactors(J):
     """Generalized cross product of the m = n - 1 rows of J (N, m, n): the kernel
@@ -81,38 +80,5 @@ def velocity(da, c):
     return da[:, 0] * c[:, :1] + da[:, 1] * c[:, 1:2]
 
 
-def newton(S: System, x, C=None, g0=None, ftol=1e-12, iters=NEWTON_ITERATIONS):
-    """Newton on [F(x); C.(x) - g0] = 0 (C (N, n) one constraint row per point), or the
-    minimum-norm step when C is None. Returns (x, converged)."""
-    x = x.copy()
-    ok = np.zeros(len(x), bool)
-    step_tol = 1e-14 * S.span
-    for _ in range(iters):
-        F, J, *_ = S.eval(x)
-        res = np.linalg.norm(F, axis=1)
-        if C is None:
-            JJ = J @ J.transpose(0, 2, 1)
-            JJ += np.eye(JJ.shape[1]) * 1e-300
-            try:
-                y = np.linalg.solve(JJ, -F[..., None])
-            except np.linalg.LinAlgError:
-                y = np.einsum("nij,njk->nik", np.linalg.pinv(JJ), -F[..., None])
-            dx = (J.transpose(0, 2, 1) @ y)[..., 0]
-        else:
-            M = np.concatenate([J, C[:, None, :]], axis=1)
-            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", C, x) - g0)[:, None]], axis=1)
-            det = np.abs(np.linalg.det(M))
-            good = det > 1e-300
-            dx = np.zeros_like(x)
-            if good.any():
-                dx[good] = np.linalg.solve(M[good], rhs[good][..., None])[..., 0]
-        small = np.all(np.abs(dx) <= step_tol, axis=1)
-        ok = (res <= ftol) & (small | ok)     # converged: a root, not a point of a tangency's
-        x = S.clip(x + dx)                    # flat valley where |F| <= ftol over a whole patch
-        if np.all(ok):
-            break
-    F = S.eval(x)[0]
-    ok = np.linalg.norm(F, axis=1) <= ftol
-    return x, ok
 
 

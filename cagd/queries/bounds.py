@@ -28,6 +28,11 @@ from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
+from ._numerics import SLACK_RTOL, TINY, ULP_RTOL
+
+CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
+SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
+BOUND_MARGIN_RTOL = 1e-13     # the convexity intervals' rounding margin, share of g
 
 __all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "robust_distance"]
 
@@ -355,7 +360,7 @@ def closed_directions(value: Callable[[np.ndarray], np.ndarray], lo: np.ndarray,
             x0[:, 1 - d] = lo[1 - d] + s * (hi[1 - d] - lo[1 - d])
         x1 = x0.copy()
         x0[:, d], x1[:, d] = lo[d], hi[d]
-        out[d] = np.linalg.norm(value(x0) - value(x1), axis=1).max() <= 1e-11 * size
+        out[d] = np.linalg.norm(value(x0) - value(x1), axis=1).max() <= CLOSED_RTOL * size
     return out
 
 
@@ -503,3 +508,165 @@ def robust_distance(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
     safe = np.where(m > 0, m, 1.0)[..., None]
     with np.errstate(over="ignore"):
         return m * np.sqrt(((X / safe - Y / safe) ** 2).sum(-1))
+
+
+# --- second-order bounds of the closest-point search -------------------------------------
+# g(x) = |S(x) - X|^2, grad g = 2 J^T r, Hess g = 2 (J^T J + sum_d r_d d2S_d), r = S - X
+BLOCK = 2             # cells within this many grid steps of x*'s cell are bounded from x*
+
+
+def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
+                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False):
+    """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
+    expansion at c: g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2 with m a lower bound
+    of the smallest Hessian eigenvalue over the box, the larger of
+
+    * 2 [(sigma_min(J(c)) - |dJ|)_+^2 - (|r(c)| + L.delta) lambda_max(M)], with
+      |dJ| <= sqrt(sum_a (sum_b M_ab delta_b)^2) (Weyl's inequality), and
+    * lambda_min(H(c)) - 2 |E|_F, E bounding the change of J^T J + r.d2S over the box:
+      |E_ab| <= D_a |S_b| + |S_a| D_b + D_a D_b + (L.delta) M_ab + |r(c)| sum_e T_abe delta_e,
+      D_a = sum_e M_ae delta_e,
+
+    delta = the box's reach from c (c need not lie in the box), L, M, T bounds of the
+    first, second and third partials valid on the hull of c and the box; S, J, H2 the
+    point, first and second partials at c. The quadratic is minimised over the box
+    exactly (it is separable). The bound is taken in the variables y_a = s_a x_a, s_a the
+    power of two nearest the first-derivative bound L_a (at least a quarter of the
+    largest), so that a large second derivative along one direction is weighed against
+    the first derivative along that direction: m bounds the smallest eigenvalue of
+    diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2.
+
+    ``convexity``: also return m and, for c in the box, the box (tlo, thi) (n, k) of offsets
+    from c that holds g's minimiser x^ over the box where m > 0 (g strongly convex there:
+    g(x^) >= g(c) + the quadratic at x^ - c, and g(x^) <= g(c); the whole box where
+    m <= 0)."""
+    n, dim = S.shape
+    k = c.shape[1]
+    r = [S[:, d] - Xp[:, d] for d in range(dim)]
+    f2 = r[0] * r[0]
+    for d in range(1, dim):
+        f2 = f2 + r[d] * r[d]
+    f = np.sqrt(f2)
+    Jc = [[J[:, d, a] for d in range(dim)] for a in range(k)]
+    grad, sc, si, delta, Sn = [], [], [], [], []
+    for a in range(k):
+        g = r[0] * Jc[a][0]
+        nn = Jc[a][0] * Jc[a][0]
+        for d in range(1, dim):
+            g = g + r[d] * Jc[a][d]
+            nn = nn + Jc[a][d] * Jc[a][d]
+        grad.append(2.0 * g)
+        sc.append(np.sqrt(nn))
+    # scales from the first-derivative bounds over the cell, within a factor 4 of the
+    # largest (degenerate directions, e.g. at a pole)
+    top = L.max(axis=1)
+    top = np.where(top > 0, top, 1.0)
+    for a in range(k):
+        nrm = sc[a]
+        sa = np.exp2(np.round(np.log2(np.maximum(L[:, a], 0.25 * top))))
+        sc[a] = sa
+        si.append(1.0 / sa)
+        Sn.append(nrm / sa)                                            # |S_a(c)| scaled
+        delta.append(np.maximum(np.abs(c[:, a] - lo[:, a]), np.abs(hi[:, a] - c[:, a])) * sa)
+    Jh = [[Jc[a][d] * si[a] for d in range(dim)] for a in range(k)]
+    Mh = [[M[:, a, b] * (si[a] * si[b]) for b in range(k)] for a in range(k)]
+    D = []
+    for a in range(k):
+        v = Mh[a][0] * delta[0]
+        for b in range(1, k):
+            v = v + Mh[a][b] * delta[b]
+        D.append(v)
+    Ld = L[:, 0] * delta[0] * si[0]
+    for a in range(1, k):
+        Ld = Ld + L[:, a] * delta[a] * si[a]
+    if k == 1:
+        dJ = D[0]
+        lam = Mh[0][0]
+        sig = Sn[0]
+    else:
+        dJ = np.sqrt(D[0] * D[0] + D[1] * D[1])
+        lam = 0.5 * (Mh[0][0] + Mh[1][1]) + np.sqrt(0.25 * (Mh[0][0] - Mh[1][1]) ** 2 + Mh[0][1] ** 2)
+        u, v = Jh
+        aa, cc = Sn[0] * Sn[0], Sn[1] * Sn[1]
+        bb = u[0] * v[0]
+        for d in range(1, dim):
+            bb = bb + u[d] * v[d]
+        if dim == 3:
+            det = (u[1] * v[2] - u[2] * v[1]) ** 2 + (u[2] * v[0] - u[0] * v[2]) ** 2 + (u[0] * v[1] - u[1] * v[0]) ** 2
+        elif dim == 2:
+            det = (u[0] * v[1] - u[1] * v[0]) ** 2
+        else:
+            det = np.maximum(aa * cc - bb * bb, 0.0)
+        lmax = 0.5 * (aa + cc) + np.sqrt(0.25 * (aa - cc) ** 2 + bb * bb)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lmin = np.where(lmax > 0, det / lmax, 0.0)
+        sig = np.sqrt(lmin) * (1.0 - SHRINK_RTOL)
+    m1 = 2.0 * (np.maximum(sig - dJ, 0.0) ** 2 - (f + Ld) * lam)
+    # half Hessian J^T J + r.d2S at c and the bound E of its change over the box
+    pairs = [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
+    half, E2, scale = {}, 0.0, 0.0
+    for a, b in pairs:
+        jj = Jh[a][0] * Jh[b][0]
+        rh = r[0] * H2[:, 0, a, b]
+        for d in range(1, dim):
+            jj = jj + Jh[a][d] * Jh[b][d]
+            rh = rh + r[d] * H2[:, d, a, b]
+        h = jj + rh * (si[a] * si[b])
+        half[a, b] = h
+        tt = T[:, a, b, 0] * (si[0] * delta[0])
+        for e in range(1, k):
+            tt = tt + T[:, a, b, e] * (si[e] * delta[e])
+        e_ab = D[a] * Sn[b] + Sn[a] * D[b] + D[a] * D[b] + Ld * Mh[a][b] + f * tt * (si[a] * si[b])
+        w = 1.0 if a == b else 2.0
+        E2 = E2 + w * e_ab * e_ab
+        scale = scale + w * np.abs(h)
+    if k == 1:
+        lmin_h = half[0, 0]
+    else:
+        A, B, C = half[0, 0], half[0, 1], half[1, 1]
+        lmin_h = 0.5 * (A + C) - np.sqrt(0.25 * (A - C) ** 2 + B * B)
+    m2 = 2.0 * (lmin_h - np.sqrt(E2) - SLACK_RTOL * scale)
+    m = np.maximum(m1, m2)
+    q = 0.0
+    parts = []
+    for a in range(k):
+        ma = m * (sc[a] * sc[a])
+        g = grad[a]
+        tlo, thi = lo[:, a] - c[:, a], hi[:, a] - c[:, a]
+        qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
+        qa = np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
+        q = q + qa
+        parts.append((g, ma, tlo, thi, qa))
+    bound = f2 + q - ULP_RTOL * f2
+    if not convexity:
+        return bound
+    # the minimiser x^ over the box has g(x^) <= g(c), so sum_a q_a(t_a) <= 0 at t = x^ - c,
+    # q_a(t) = grad_a t + m_a t^2 / 2 >= its minimum qmin_a over the box's range: each
+    # q_a(t_a) <= qmin_a - sum_b qmin_b (+ a rounding margin), an interval of t_a
+    lo_t, hi_t = [], []
+    for g, ma, tlo, thi, qa in parts:
+        rhs = qa - q + BOUND_MARGIN_RTOL * f2 + TINY
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            root = np.sqrt(g * g + 2.0 * ma * rhs)
+            a0 = np.where(m > 0, (-g - root) / ma, -np.inf)
+            a1 = np.where(m > 0, (-g + root) / ma, np.inf)
+        lo_t.append(np.maximum(a0, tlo))
+        hi_t.append(np.minimum(a1, thi))
+    return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
+
+
+def block_max(B: np.ndarray, shape, reach: int = BLOCK) -> np.ndarray:
+    """Per cell, the maximum of the bounds B over the cells within ``reach`` grid steps."""
+    G = B.reshape(tuple(shape) + B.shape[1:])
+    out = G.copy()
+    for a in range(len(shape)):
+        src = out.copy()
+        for s in range(1, reach + 1):
+            lo = [slice(None)] * G.ndim
+            hi = [slice(None)] * G.ndim
+            lo[a], hi[a] = slice(0, -s), slice(s, None)
+            out[tuple(lo)] = np.maximum(out[tuple(lo)], src[tuple(hi)])
+            out[tuple(hi)] = np.maximum(out[tuple(hi)], src[tuple(lo)])
+    return out.reshape(B.shape)

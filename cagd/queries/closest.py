@@ -53,7 +53,7 @@ cached by identity and, for the classes naming their defining attributes
 from __future__ import annotations
 
 from collections import OrderedDict
-from dataclasses import dataclass, replace
+from dataclasses import replace
 import hashlib
 from typing import Callable, List, Optional, Tuple, Union
 import weakref
@@ -63,13 +63,30 @@ from numpy.typing import ArrayLike
 
 from .. import _checks, _periodic as periodic
 from .._deprecation import changed
-from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import FAR_POINT, BezierPieces, Frame, bezier_pieces, closed_directions, robust_distance
-from ._local import BLOCK as _BLOCK, block_max as _block_max, box_lower_bound, pair_distances as _distances, \
-    PowerTable, projected_newton, split_boxes as _split
+from .results import ClosestPoints
+from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, bezier_pieces, block_max as _block_max, \
+    box_lower_bound, closed_directions, robust_distance
+from ._cells import PowerTable, pair_distances as _distances, split_boxes as _split
+from ._newton import projected_newton
+from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
+    SLACK_RTOL, TINY, ULP_RTOL
+
+MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
+WIN_GAP_RTOL = 1e-10         # a cell wins only by more than this share of the distance ...
+BETTER_RTOL = 1e-14          # a local result improves on the best by more than this share ...
+BETTER_SIZE_RTOL = 1e-16     # ... plus this share of the size
+STATIONARY_DIST_RTOL = 1e-9  # stationarity test: |grad g| <= 2 (|r| + this share of the size) |J| ...
+GRADIENT_RTOL = 1e-6         # ... times this
+SADDLE_RTOL = 1e-8           # an eigenvalue of Hess g below -this share of its trace: a saddle, not a minimum
+FLAT_HESSIAN_RTOL = 1e-6     # an eigenvalue below this share of the trace: the minima form a continuum
+SAME_FOOT_RTOL = 1e-6        # feet closer than this share of the size (at equal distance) are one minimum
+INWARD_RTOL = 1e-4           # a foot on a domain edge is tested this share of the width inside
+SECOND_ORDER_RTOL = 1e-3     # the second-order start is used where it moves under this share of a cell
+C2_RTOL = 1e-10              # the derivatives at a break agree to this share: the object is C2 there
+COUNT_SLACK = 1e-9           # rounding slack of the cell counts ceil(extent / step)
 
 __all__ = ["ClosestPoints", "Projector", "closest_point", "CLOSEST_TOL"]
 
@@ -101,31 +118,6 @@ TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step m
                "is param_tol= now")
 
 
-@dataclass(frozen=True)
-class ClosestPoints(ReadOnlyArrays):
-    """Result of :func:`closest_point` for N points (or N local minima of one point).
-
-    params: (N,) curve parameters or (N, 2) surface parameters; feet: (N, dim) closest
-    points (the feet of the perpendiculars); distances: (N,); point_converged: (N,)
-    the local Newton refinement met ``tol`` (or ``param_tol``) within
-    ``max_iterations`` at that point; converged: at every point, and ``message`` names
-    the points where it did not; lower_bounds: (N,) certified lower bounds on the true
-    distance from the point to the whole object (``lower_bounds <= distances``, whether
-    or not Newton converged); isolated (``all_minima`` only, else None): (N,) False
-    where the minimum is not
-    isolated: the Hessian of the squared distance has a zero eigenvalue (relative 1e-6)
-    along the free parameters, so the minima form a curve or a region through it (the
-    centre of a sphere, a point on the axis of a surface of revolution); the rows are
-    then samples of that continuum, one per Bezier cell. A foot at a collapsed edge (a
-    pole) is one row, isolated when the distance grows away from it."""
-    params: np.ndarray
-    feet: np.ndarray
-    distances: np.ndarray
-    point_converged: np.ndarray
-    lower_bounds: np.ndarray
-    isolated: Optional[np.ndarray] = None
-    converged: bool = True
-    message: str = ""
 
 
 #: per object (by identity, and by content: :func:`projector`) its projectors by tier:
@@ -215,9 +207,9 @@ class Projector:
         # spheres centred at the cell midpoints' images (convex hull inside): the distance
         # to the midpoint gives both the seed and the sphere bound
         Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
-        self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + 1e-12)
+        self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + SLACK_RTOL)
         P = self.pieces.control_points.reshape(-1, self.dim)
-        self.size = max(float(np.ptp(P, axis=0).max()), 1e-300)
+        self.size = max(float(np.ptp(P, axis=0).max()), TINY)
         self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
         if light:
             self.T, self._origin = 0.0, None
@@ -268,8 +260,8 @@ class Projector:
         with d > T take the brute-force path)."""
         r = self.radii
         typical = float(np.median(r))
-        self.T = 2.0 * typical + 1e-12 * self.size
-        V = max(typical, 1e-9 * self.size)
+        self.T = 2.0 * typical + SLACK_RTOL * self.size
+        V = max(typical, MIN_VOXEL_RTOL * self.size)
         origin = self.centers.min(axis=0) - self.T - r.max()
         extent = self.centers.max(axis=0) + self.T + r.max() - origin
         while np.prod(np.ceil(extent / V) + 1) > GRID_VOXELS:
@@ -479,7 +471,7 @@ class Projector:
         N = len(X)
         fast = (count > 0) & (d <= self.T)
         # per voxel segment, the number of keys <= d (vectorized bisection)
-        q = d * (1.0 + 1e-12) + 1e-15 * self.size
+        q = d * (1.0 + SLACK_RTOL) + ULP_RTOL * self.size
         ends = start.copy()
         act = np.flatnonzero(fast)
         lo, hi, qa = start[act], start[act] + count[act], q[act]
@@ -569,7 +561,7 @@ class Projector:
         # branch and bound over (point, box) pairs; first round: boxes near x* are bounded
         # by the expansion at x* itself (no evaluation), with bounds over the block of cells
         # around x*'s cell
-        gap = 1e-10 * d + 1e-13 * self.size
+        gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
         if defer is None:
             pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
             cut = LB < d                # the candidate list was cut (rest lowered below d)
@@ -644,9 +636,9 @@ class Projector:
             dy = np.sqrt(g2)
             order = np.lexsort((dy, pid))                # best local result per point
             first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
-            win = first[dy[first] < d[pid[first]] * (1.0 - 1e-14) - 1e-16 * self.size]
+            win = first[dy[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
             x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], dy[win], ok[win]
-            gap = 1e-10 * d + 1e-13 * self.size
+            gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
             lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y), 0.0))
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
@@ -660,7 +652,7 @@ class Projector:
         lb_s = lb
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
-        LB = np.minimum(LB * (1.0 - 1e-13), d)
+        LB = np.minimum(LB * (1.0 - BOUND_SHRINK_RTOL), d)
         res = self._result(x, d, conv, LB, model, far)
         # the few points whose candidate list was cut and whose certificate is open (a
         # point near the centre of a sphere meets every cell) are solved again in a group
@@ -696,21 +688,22 @@ class Projector:
         grad = 2.0 * np.einsum("nd,ndk->nk", r, J)
         JtJ = np.einsum("nda,ndb->nab", J, J)
         H = 2.0 * (JtJ + np.einsum("nd,ndab->nab", r, H2))
-        scale = 2.0 * (np.sqrt(g2)[:, None] + 1e-9 * self.size) * np.linalg.norm(J, axis=1) * 1e-6 + 1e-300
+        scale = 2.0 * (np.sqrt(g2)[:, None] + STATIONARY_DIST_RTOL * self.size) * np.linalg.norm(J, axis=1) \
+            * GRADIENT_RTOL + TINY
         open_ = ~self._closed()               # a closed direction's ends are no boundary
         at_lo = (y <= self.domain[:, 0]) & open_ & (grad > scale)
         at_hi = (y >= self.domain[:, 1]) & open_ & (grad < -scale)
         fixed = at_lo | at_hi
         good = np.all((np.abs(grad) <= scale) | fixed, axis=1)
         # second order: no descent direction along the free coordinates (not a maximum/saddle)
-        floor = -1e-8 * np.trace(2.0 * JtJ, axis1=1, axis2=2) - 1e-300
+        floor = -SADDLE_RTOL * np.trace(2.0 * JtJ, axis1=1, axis2=2) - TINY
         for a in range(self.k):
             good &= fixed[:, a] | (H[:, a, a] >= floor)
         # a continuum of minima: a zero eigenvalue of H along the free parameters; a
         # parameter that does not move the point (a collapsed edge: a pole) counts as fixed
-        flat = 1e-6 * np.trace(2.0 * JtJ, axis1=1, axis2=2)
+        flat = FLAT_HESSIAN_RTOL * np.trace(2.0 * JtJ, axis1=1, axis2=2)
         speed = np.linalg.norm(J, axis=1)
-        collapsed = speed <= 1e-8 * speed.sum(axis=1, keepdims=True)
+        collapsed = speed <= COLLAPSED_SPEED_RTOL * speed.sum(axis=1, keepdims=True)
         held = fixed | collapsed
         degenerate = np.zeros(len(y), bool)
         for a in range(self.k):
@@ -734,8 +727,8 @@ class Projector:
         feet, dist = self.value(y[chosen]), np.sqrt(g2[chosen])
         keep: List[int] = []
         for i in range(len(chosen)):
-            if not keep or not np.any((np.linalg.norm(feet[keep] - feet[i], axis=1) <= 1e-6 * self.size)
-                                      & (np.abs(dist[keep] - dist[i]) <= 1e-12 * self.size)):
+            if not keep or not np.any((np.linalg.norm(feet[keep] - feet[i], axis=1) <= SAME_FOOT_RTOL * self.size)
+                                      & (np.abs(dist[keep] - dist[i]) <= SLACK_RTOL * self.size)):
                 keep.append(i)
         chosen = chosen[keep]
         d = np.sqrt(g2[chosen])
@@ -759,18 +752,18 @@ class Projector:
         there: Newton stops where the meridian through the pole is orthogonal to S - X.)"""
         out = np.ones(len(y), bool)
         for a in range(2):
-            edge = (np.abs(y[:, a] - self.domain[a, 0]) <= 1e-9 * self.width[a]) \
-                | (np.abs(y[:, a] - self.domain[a, 1]) <= 1e-9 * self.width[a])
+            edge = (np.abs(y[:, a] - self.domain[a, 0]) <= AT_END_RTOL * self.width[a]) \
+                | (np.abs(y[:, a] - self.domain[a, 1]) <= AT_END_RTOL * self.width[a])
             rows = np.flatnonzero(edge & collapsed[:, 1 - a])
             if rows.size == 0:
                 continue
-            at_start = np.abs(y[rows, a] - self.domain[a, 0]) <= 1e-9 * self.width[a]
-            inward = np.where(at_start, 1.0, -1.0) * 1e-4 * self.width[a]
+            at_start = np.abs(y[rows, a] - self.domain[a, 0]) <= AT_END_RTOL * self.width[a]
+            inward = np.where(at_start, 1.0, -1.0) * INWARD_RTOL * self.width[a]
             z = np.empty((rows.size, count, 2))
             z[:, :, a] = (y[rows, a] + inward)[:, None]
             z[:, :, 1 - a] = np.linspace(self.domain[1 - a, 0], self.domain[1 - a, 1], count)[None]
             d2 = np.sum((self.value(z.reshape(-1, 2)).reshape(rows.size, count, -1) - X) ** 2, axis=-1)
-            out[rows] = d2.min(axis=1) >= g2[rows] - 1e-12 * self.size ** 2
+            out[rows] = d2.min(axis=1) >= g2[rows] - SLACK_RTOL * self.size ** 2
         return out
 
     # --- helpers -----------------------------------------------------------------------------
@@ -807,7 +800,7 @@ class Projector:
         d2 = _solve_sym(sym(N), rhs2, fallback=d1)
         # the second-order step only where it is a refinement (small against d1)
         lo, hi = self.lo[seed], self.hi[seed]
-        use = (np.abs(d2 - d1) <= 0.5 * np.abs(d1) + 1e-3 * (hi - lo)).all(1)
+        use = (np.abs(d2 - d1) <= 0.5 * np.abs(d1) + SECOND_ORDER_RTOL * (hi - lo)).all(1)
         step = np.where(use[:, None], d2, d1)
         return np.clip(self.mids[seed] + step, lo, hi)
 
@@ -968,7 +961,7 @@ def _c2_breaks(pieces: BezierPieces, known: Optional[List[Optional[np.ndarray]]]
             d1 = pieces.derivatives(right, x, 2)
             diff = np.abs(d0 - d1).max(axis=(0, 2))
             scale = np.maximum(np.abs(d0).max(axis=(0, 2)), np.abs(d1).max(axis=(0, 2)))
-            out.append(diff <= 1e-10 * scale + 1e-300)
+            out.append(diff <= C2_RTOL * scale + TINY)
             continue
         o = 1 - a                                   # the other direction
         q = pieces.degrees[o]
@@ -991,7 +984,7 @@ def _c2_breaks(pieces: BezierPieces, known: Optional[List[Optional[np.ndarray]]]
             d1 = pieces.derivatives(right[sl], X[sl], 2)
             diff = np.abs(d0 - d1)[mask].max(axis=(0, 2))
             scale = np.maximum(np.abs(d0)[mask].max(axis=(0, 2)), np.abs(d1)[mask].max(axis=(0, 2)))
-            ok[sl] = diff <= 1e-10 * scale + 1e-300
+            ok[sl] = diff <= C2_RTOL * scale + TINY
         out.append(np.asarray(ok.reshape(n - 1, -1).all(axis=1)))
     return out
 
@@ -1049,14 +1042,14 @@ def _solve_sym(A: np.ndarray, b: np.ndarray, fallback: Optional[np.ndarray] = No
     Levenberg shift; rows where A is not positive definite get ``fallback`` (or 0)."""
     if A.shape[1] == 1:
         a = A[:, 0, 0]
-        a = a + 1e-12 * np.abs(a) + 1e-300
+        a = a + LEVENBERG_RTOL * np.abs(a) + TINY
         with np.errstate(divide="ignore", invalid="ignore"):
             x = b / a[:, None]
         pd = (a > 0)[:, None]
     else:
         a, bb, c = A[:, 0, 0], A[:, 0, 1], A[:, 1, 1]
-        t = 1e-12 * (np.abs(a) + np.abs(c))
-        a, c = a + t + 1e-300, c + t + 1e-300
+        t = LEVENBERG_RTOL * (np.abs(a) + np.abs(c))
+        a, c = a + t + TINY, c + t + TINY
         det = a * c - bb * bb
         with np.errstate(divide="ignore", invalid="ignore"):
             x = np.stack([(c * b[:, 0] - bb * b[:, 1]) / det, (a * b[:, 1] - bb * b[:, 0]) / det], axis=1)
@@ -1087,7 +1080,7 @@ def _cell_counts(pieces: BezierPieces, target: int):
     ext = [np.where(np.isfinite(e), e, ref) for e in ext]
     step = 1.2 * ref / per                       # cells up to 20% above the median extent / per
     while True:
-        counts = [np.clip(np.ceil(e / step - 1e-9), per, 8 * per).astype(np.intp) for e in ext]
+        counts = [np.clip(np.ceil(e / step - COUNT_SLACK), per, 8 * per).astype(np.intp) for e in ext]
         if np.prod([float(c.sum()) for c in counts]) <= 2.0 * m * per ** k:
             return counts
         step *= 1.25

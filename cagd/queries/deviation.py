@@ -11,58 +11,27 @@ side and give unsigned distances.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Union
+from typing import List, Optional, Sequence, Union
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._deprecation import changed
-from .._results import ReadOnlyArrays
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .bounds import robust_distance
 from .closest import TOL_CHANGED, _closest_point, projector
+from .results import Deviation
+from ._numerics import TINY
 
 __all__ = ["Deviation", "deviation", "deviation_map"]
 
 Objects = Union[Curve, Surface, Sequence[Union[Curve, Surface]]]   # one object or the patches of a model
 
 
-@dataclass(frozen=True)
-class Deviation(ReadOnlyArrays):
-    """Signed deviations of N points from an object, with their statistics.
-
-    distances: (N,) signed (or unsigned, see ``signed``) distances; params, feet: the
-    closest points (as :class:`cagd.queries.ClosestPoints`); lower_bounds: certified
-    lower bounds of the unsigned distances; signed: whether a side was defined; max,
-    min, mean, rms, max_abs of the distances; percentiles: {p: value} of the distances;
-    owner: the nearest object's index; converged: the closest points converged at every
-    point (``message`` says where not)."""
-    distances: np.ndarray
-    params: np.ndarray
-    feet: np.ndarray
-    lower_bounds: np.ndarray
-    signed: bool
-    max: float
-    min: float
-    mean: float
-    rms: float
-    max_abs: float
-    percentiles: Dict[float, float]
-    owner: Optional[np.ndarray] = None     # (N,) index of the nearest object, for a list of objects
-    converged: bool = True
-    message: str = ""
-
-    def table(self) -> str:
-        """The statistics as a Markdown table."""
-        rows = [("points", f"{len(self.distances)}"), ("signed", "yes" if self.signed else "no")]
-        rows += [(k, f"{getattr(self, k):.6g}") for k in ("max", "min", "mean", "rms", "max_abs")]
-        rows += [(f"percentile {p:g}", f"{v:.6g}") for p, v in self.percentiles.items()]
-        return "\n".join(["| statistic | value |", "|---|---|"] + [f"| {a} | {b} |" for a, b in rows])
 
 
 def _signs(obj: Union[Curve, Surface], params: np.ndarray, feet: np.ndarray, X: np.ndarray) -> Optional[np.ndarray]:
@@ -254,7 +223,7 @@ def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike]
     objs = _objects(obj)
     res = deviation(objs, points) if result is None else result
     X = np.atleast_2d(_checks.finite_array(points, "points"))
-    lim = max(res.max_abs, 1e-300)
+    lim = max(res.max_abs, TINY)
     dist = res.distances
     if len(X) > MAP_POINTS:
         # every k-th point and the largest |d|: a scatter of 10^7 points would take

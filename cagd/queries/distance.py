@@ -21,7 +21,6 @@ pair cap is reported as ``lower_bound``, so the true minimum lies in
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import List, Optional, Tuple, Union
 
 import numpy as np
@@ -34,6 +33,13 @@ from ..surfaces.base import Surface
 from . import _subdivision as sd
 from ._symmetry import FIT_RTOL, Flat, fit_flats, flat_gap
 from .bounds import Frame, robust_distance
+from .results import DistanceResult
+from ._newton import refine
+from ._numerics import TINY
+
+RANK_RTOL = 1e-6           # singular values of the normal lines' matrix above this share count
+EIGEN_RTOL = 1e-8          # eigenvalues of the refined pair's Hessian above this share of the largest count
+SAME_FLAT_RTOL = 1e-9      # two fitted flats with projectors this close are one
 
 DEFAULT_RTOL = 1e-9       # default tol: this share of the size of the larger object
 ROUNDING_RTOL = 1e-14     # ... but at least this share of the extent of both together (float64's reach)
@@ -53,46 +59,6 @@ _PHI4 = 1.1673039782614187   # x^5 = x + 1: the spread starts' fractions j / _PH
 _SPREAD = _PHI4 ** -np.arange(1.0, 5.0)  # boxes, i = 1..4 over the parameters (Roberts' R_4 sequence)
 
 
-@dataclass(frozen=True)
-class DistanceResult:
-    """``distance`` attained at ``params`` = (parameter on a, parameter on b) and
-    ``points`` = (a point, b point); the global minimum is certified to be at least
-    ``lower_bound``. ``tol`` is the absolute distance (model units) the gap
-    ``distance - lower_bound`` was to reach; ``converged`` is False when it did not
-    within the depth/pair limits (``message`` says which).
-
-    ``isolated`` is False when the minimum found is not isolated to second order: along
-    some direction of the free parameters (those along which the distance is
-    stationary, so not held at a domain bound or a C0 seam, less the directions that
-    move neither point, along a pole) |A(s) - B(t)|^2 grows by at most ISOLATION_RTOL
-    (1e-6) of what the curvature terms alone would give, plus HESSIAN_FLOOR (1e-12)
-    times |dA|^2 + |dB|^2, the squared lengths the two points move; that is, the
-    Hessian of |A - B|^2 / 2 over those parameters, in the metric of the points'
-    displacements, has a zero eigenvalue. The minimum distance is then attained along a
-    curve or a region of parameter pairs through ``params``, which is one of them:
-    concentric spheres or arcs, coaxial cylinders, parallel planes, a torus and a
-    sphere at its centre (or a nearly concentric case that the test cannot tell apart
-    at that precision). Where the objects touch (distance <= TOUCH_RTOL = 1e-12 of
-    their size) and that Hessian is flat, the order of contact decides, with the domain
-    bounds left out: a touch at one point (a sphere on a plane or on a sphere) is
-    isolated, a line of contact (a cylinder on a plane) or surfaces crossing along a
-    curve are not (nor is an edge resting on a surface). Separate minima of equal
-    distance (two spheres placed symmetrically about a third, a circle inside a
-    concentric ellipse) are isolated: each is a strict local minimum, and ``params`` is
-    one of them."""
-    distance: float
-    params: tuple
-    points: tuple
-    lower_bound: float
-    tol: float
-    converged: bool
-    isolated: bool = True
-    message: str = ""
-
-    @property
-    def gap(self) -> float:
-        """distance - lower_bound: how far the true minimum may lie below ``distance``."""
-        return self.distance - self.lower_bound
 
 
 def _corners(ctrl: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -201,7 +167,7 @@ def _polished(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, dist
               ) -> Tuple[np.ndarray, np.ndarray, float]:
     """(x, y, distance) after a projection of b's point onto a, then of a's point onto b,
     each by :func:`_foot_newton`. On a continuum of minima the joint minimisation
-    (:func:`sd.refine`) is singular along the continuum and stops with gradients of 1e-8
+    (:func:`cagd.queries._newton.refine`) is singular along the continuum and stops with gradients of 1e-8
     relative; the two projections are regular problems that make each gradient vanish,
     as the stationarity test of :func:`_isolated` needs (concentric spheres placed at
     random were reported isolated and hit the pair cap, issue 16)."""
@@ -227,7 +193,7 @@ def _isolated(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, touc
     owner = np.r_[np.zeros(A.k, int), np.ones(B.k, int)][free]
     Jf = J[free]
     lam, U = np.linalg.eigh((Jf @ Jf.T) * (owner[:, None] == owner[None, :]))
-    moves = lam > COLLAPSED_RTOL * max(float(lam.max(initial=0.0)), 1e-300)   # not along a pole or
+    moves = lam > COLLAPSED_RTOL * max(float(lam.max(initial=0.0)), TINY)   # not along a pole or
     if not moves.any():                                                     # a degenerate point
         return True
     Linv = U[:, moves].T / np.sqrt(lam[moves])[:, None]       # G^(-1/2) on the directions that move a point
@@ -251,9 +217,9 @@ def _point_contact(M: np.ndarray, T: np.ndarray, N: np.ndarray) -> bool:
     normal direction (a sphere resting on a plane or on a sphere); otherwise the touch is
     a curve (a cylinder on a plane, surfaces crossing) or more."""
     U, sv, _ = np.linalg.svd(M.T)
-    rank = int(np.count_nonzero(sv > 1e-6 * max(float(sv.max()), 1e-300)))
+    rank = int(np.count_nonzero(sv > RANK_RTOL * max(float(sv.max()), TINY)))
     normals = U[:, rank:]                                     # (D, D - rank)
-    scale = ISOLATION_RTOL * max(float(np.abs(T).max()), 1e-300)
+    scale = ISOLATION_RTOL * max(float(np.abs(T).max()), TINY)
     Q = np.einsum("ijd,ia,jb,dc->abc", T, N, N, normals)     # (m, m, D - rank)
     if N.shape[1] == 1:
         return bool(np.linalg.norm(Q[0, 0]) > scale)
@@ -269,7 +235,7 @@ def _normal_lines(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, 
     ``keep`` that are stationary in every parameter to NORMAL_RTOL at a positive
     distance (r normal to both objects there), after ``steps`` Newton steps on the
     gradient J r = 0 with the pseudo-inverse of the Hessian (eigenvalues below 1e-8 of
-    the largest dropped: the directions along the continuum). :func:`sd.refine` stops
+    the largest dropped: the directions along the continuum). :func:`cagd.queries._newton.refine` stops
     near 1e-9 (relative gradient) on a continuum, where the decrease of |r|^2 that it
     requires is lost in rounding; a line that far off would miss the centre by 1e-9."""
     ka = A.k
@@ -277,7 +243,7 @@ def _normal_lines(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, 
         r, J, _, S = _jet(A, B, x, y, 2)
         g = np.einsum("nkd,nd->nk", J, r)
         lam, V = np.linalg.eigh(np.einsum("nkd,nld->nkl", J, J) + S)
-        big = np.abs(lam) > 1e-8 * np.abs(lam).max(axis=1, keepdims=True)
+        big = np.abs(lam) > EIGEN_RTOL * np.abs(lam).max(axis=1, keepdims=True)
         inv = np.where(big, 1.0 / np.where(big, lam, 1.0), 0.0)
         step = np.einsum("nkl,nl->nk", V, inv * np.einsum("nlk,nl->nk", V, g))
         x, y = A.clamp(x - step[:, :ka]), B.clamp(y - step[:, ka:])
@@ -288,7 +254,7 @@ def _normal_lines(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, 
 
 
 def _same_flat(f: Flat, g: Flat, size: float) -> bool:
-    return bool(np.abs(f.projector - g.projector).max() <= 1e-9
+    return bool(np.abs(f.projector - g.projector).max() <= SAME_FLAT_RTOL
                 and np.linalg.norm((f.origin - g.origin) @ f.projector) <= 10 * FIT_RTOL * size)
 
 
@@ -451,7 +417,7 @@ def min_distance(a: Union[Curve, Surface, ArrayLike], b: Union[Curve, Surface, A
                 d[m, i * cb.shape[1] + j][None])
         pick = np.argsort(bound)[:refine_per_level]
         xs, ys = 0.5 * (pa.lo[pick] + pa.hi[pick]), 0.5 * (pb.lo[pick] + pb.hi[pick])
-        x, y, dist, _ = sd.refine(A, B, xs, ys, True, 20)
+        x, y, dist, _ = refine(A, B, xs, ys, True, 20)
         improve(x, y, dist)
         known = len(flats)
         if degenerate and best > 0:
@@ -463,7 +429,7 @@ def min_distance(a: Union[Curve, Surface, ArrayLike], b: Union[Curve, Surface, A
                 pick = open_[np.linspace(0, open_.size - 1, refine_per_level).astype(int)]
                 xs = pa.lo[pick] + spread_a * (pa.hi[pick] - pa.lo[pick])
                 ys = pb.lo[pick] + spread_b * (pb.hi[pick] - pb.lo[pick])
-                x, y, dist, _ = sd.refine(A, B, xs, ys, True, 20)
+                x, y, dist, _ = refine(A, B, xs, ys, True, 20)
                 improve(x, y, dist)
                 learn(x, y, dist)
             if len(flats) > known:
@@ -500,7 +466,7 @@ def min_distance(a: Union[Curve, Surface, ArrayLike], b: Union[Curve, Surface, A
         return DistanceResult(np.inf, (None, None), (None, None), float(lower) * scale, tol * scale,
                               bool(min(best, ceiling) - lower <= tol), True, message)
     # polish the best point (the Hessian test wants a stationary point)
-    x, y, dist, _ = sd.refine(A, B, bx[None], by[None], True, 20)
+    x, y, dist, _ = refine(A, B, bx[None], by[None], True, 20)
     improve(x, y, dist)
     lower = min(lower, best, ceiling)
     converged = min(best, ceiling) - lower <= tol

@@ -44,16 +44,11 @@ reduce them modulo the period to evaluate the surface
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, List, Optional, Tuple, Union
+from dataclasses import replace
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
-from numpy.typing import ArrayLike
 
-from .._deprecation import deprecated
-from .._periodic import wrap
-from .._results import ReadOnlyArrays
-from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
@@ -61,82 +56,24 @@ from . import _subdivision as sd
 from . import _surface_overlaps as so
 from ._branch_fit import degenerate as _degenerate, fit as _fit
 from ._marching import Marcher, segments_distance
-from ._surface_overlaps import SurfaceOverlap
+from ._point_solver import Plane, plane_geometry, run, sine_of
+from .results import IntersectionCurve, IntersectionPoint, IntersectionResult, SurfaceOverlap
 from ._overlaps import overlap_cap as _overlap_cap
-from ._surface_system import System, newton, unit
+from ._surface_system import System
+from ._newton import newton, project_onto, refine
+from ._numerics import AT_END_RTOL, DEFAULT_ANGLE_TOL, END_MARGIN_RTOL, SLACK_RTOL, TINY, unit
+from ._newton import STEP_RTOL
 
-if TYPE_CHECKING:
-    from .intersect import IntersectionResult, Plane
+SAME_POINT_RTOL = 1e-6   # points closer than this share of the size are one isolated point
+TANGENCY_SINE = 1e-4     # seeds whose normals are nearer parallel than this are tangency candidates
+JOIN_GAP_RTOL = 1e-9     # branch ends within max(10 tol, this share of the size) are joined
+SEEN_RTOL = 1e-5         # a seed within this share of the size of a seen point is not marched again
 
 __all__ = ["IntersectionCurve", "SurfaceOverlap", "surface_plane", "surface_surface"]
 
-Domain = Tuple[np.ndarray, np.ndarray, np.ndarray]   # (lo, hi, closed) of a surface's parameters
 
 _SEED_FRACTION = 1.0 / 16      # leaves of the seed subdivision: at most this fraction of the model size
 _REL_FLAT = 2e-2
-@dataclass(frozen=True)
-class IntersectionCurve(ReadOnlyArrays):
-    """One branch of a surface–surface or surface–plane intersection.
-
-    curve: 3-D BSplineCurve through the marched points (chord-length parameters);
-    params_a, params_b: 2-D BSplineCurves (same parameter) on a and b (None for a
-    plane); closed: the branch is a loop; max_distance: the largest distance of
-    the curve from both surfaces (Newton projection), measured at 9 samples per span
-    and at the parabolic vertex of each span's largest (within 0.1% of 20,000 samples
-    per branch on 72 test branches); params_max_distance: the largest
-    |A(params_a(t)) - curve(t)|, |B(params_b(t)) - curve(t)|, measured the same way
-    (within 1%); converged: the march and the fit met their bounds (both distances
-    <= tol), ``message`` says why not; ends: how each end stopped ('boundary',
-    'singular', 'closed', 'stalled', 'limit'). ``tolerance`` and
-    ``params_tolerance`` are the deprecated names of the two distances (one release).
-
-    params_a and params_b live in the covering space of closed directions: after
-    crossing a seam (periodic or closed u or v) their values run on past the domain
-    (e.g. v = 1.3 on a domain [0, 1] means v = 0.3); use :meth:`surface_params` for
-    parameters reduced into the domains. Through a collapsed edge (a pole, an apex) the
-    parameter curves run along the edge on a parameter interval of width <= 0.1 tol /
-    length, where the 3-D curve is within 0.1 tol of the degenerate point."""
-    curve: BSplineCurve
-    params_a: Optional[BSplineCurve]          # None for a plane (intersect(plane, surface))
-    params_b: Optional[BSplineCurve]
-    closed: bool
-    max_distance: float
-    params_max_distance: float = 0.0
-    converged: bool = True
-    ends: Tuple[str, str] = ("closed", "closed")
-    domains: Tuple[Optional[Domain], Optional[Domain]] = (None, None)
-    message: str = ""
-
-    @property
-    def tolerance(self) -> float:
-        """Deprecated name of :attr:`max_distance`."""
-        deprecated("IntersectionCurve.tolerance", "use max_distance (the same value: the largest distance "
-                                                  "of the curve from the surfaces)")
-        return self.max_distance
-
-    @property
-    def params_tolerance(self) -> float:
-        """Deprecated name of :attr:`params_max_distance`."""
-        deprecated("IntersectionCurve.params_tolerance", "use params_max_distance (the same value)")
-        return self.params_max_distance
-
-    def surface_params(self, t: ArrayLike) -> Tuple[np.ndarray, Optional[np.ndarray]]:
-        """(uv on a (N, 2), st on b (N, 2) or None for a plane) at curve parameters t,
-        reduced into the surfaces' domains: u -> u0 + (u - u0) mod (u1 - u0) in closed
-        directions, clipped to the domain otherwise."""
-        t = np.atleast_1d(np.asarray(t, float))
-        out: List[Optional[np.ndarray]] = []
-        for pc, dom in zip((self.params_a, self.params_b), self.domains):
-            if pc is None:
-                out.append(None)
-                continue
-            x = pc(t)
-            if dom is not None:
-                lo, hi, closed = dom
-                x = np.where(closed, wrap(x, lo, hi - lo), np.clip(x, lo, hi))
-            out.append(x)
-        assert out[0] is not None                   # params_a is always there
-        return out[0], out[1]
 
 
 # --- seeds -------------------------------------------------------------------------------
@@ -278,7 +215,6 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
     parameter rows along the piece (64 per Bezier span, the other object's parameters
     by projection). Returns (seeds (N, n), edge branches [(M, n)], all boundary runs
     converged)."""
-    from .intersect import Plane, _plane_geometry, _run
     out, edges, complete = [], [], True
     sides = [(A, B, 0)] + ([(B, A, 1)] if B is not None else [])
     for G, H, k in sides:
@@ -290,13 +226,13 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                 assert isinstance(surface, BSplineSurface)      # boundary seeds: surfaces only
                 C = surface.isocurve("v" if d == 0 else "u", float(val))
                 net = np.asarray(C.control_points)
-                if np.ptp(net, axis=0).max() <= 1e-12 * G.size:
+                if np.ptp(net, axis=0).max() <= SLACK_RTOL * G.size:
                     continue                    # a collapsed edge (a pole): a point
                 for t0, t1 in _outside(regions, k, d, val, G.lo[1 - d], G.hi[1 - d], G.closed[1 - d]):
                     piece = C if (t0, t1) == (G.lo[1 - d], G.hi[1 - d]) else C.segment(t0, t1)
                     Cg = sd.Geometry(piece, "a")
-                    other = H if H is not None else _plane_geometry(Plane(*pl), Cg)
-                    res = _run(Cg, other, tol, 1e-6, 64, max_pairs)
+                    other = H if H is not None else plane_geometry(Plane(*pl), Cg)
+                    res = run(Cg, other, tol, DEFAULT_ANGLE_TOL, 64, max_pairs)
                     complete &= res.converged
                     out += _seed_rows(res.points, d, val, H, k)
                     for ov in res.overlaps:
@@ -314,7 +250,7 @@ def _edge_rows(G: sd.Geometry, H, k: int, d: int, val: float, span, pieces: int)
     if H is None:
         return x
     P = G.points(x)
-    y, _ = sd.project_onto(H, P, so.grid_seeds(H, P, H.lo[None], H.hi[None], 16))
+    y, _ = project_onto(H, P, so.grid_seeds(H, P, H.lo[None], H.hi[None], 16))
     return np.concatenate([x, y], axis=1) if k == 0 else np.concatenate([y, x], axis=1)
 
 
@@ -326,14 +262,14 @@ def _outside(regions, k: int, d: int, val: float, lo: float, hi: float, closed: 
     for r in regions:
         box = (r.box_a, r.box_b)[k]
         # (a box ending 1 ulp short of the domain's end still covers the boundary there)
-        reach = 1e-9 * (box[d][1] - box[d][0]) if box is not None else 0.0
+        reach = AT_END_RTOL * (box[d][1] - box[d][0]) if box is not None else 0.0
         if box is not None and box[d][0] - reach <= val <= box[d][1] + reach:
             a, b = box[1 - d]
             cuts.append((a, min(b, hi)))
             if closed and b > hi:
                 cuts.append((lo, b - (hi - lo)))
     free, start = [], lo
-    m = 1e-6 * (hi - lo)
+    m = END_MARGIN_RTOL * (hi - lo)
     for a, b in sorted(cuts):
         if a - m > start + m:
             free.append((start, a - m))
@@ -413,7 +349,7 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         if len(xs) < 2:
             F, J, Pp, na, nb, _ = S.eval(xs[:1])
             isolated.append(xs[0])
-            alive &= np.linalg.norm(P - Pp[0], axis=1) > 1e-6 * S.size
+            alive &= np.linalg.norm(P - Pp[0], axis=1) > SAME_POINT_RTOL * S.size
             continue
         for e in ends:
             if e in ("stalled", "limit"):
@@ -445,7 +381,7 @@ def _touch(S: System, x: np.ndarray):
         return x, np.empty(0)
     if S.B is not None:
         xw = S.wrap(x)
-        xa, xb, dist, _ = sd.refine(S.A, S.B, xw[:, :2], xw[:, 2:], True, 40)
+        xa, xb, dist, _ = refine(S.A, S.B, xw[:, :2], xw[:, 2:], True, 40)
         return np.concatenate([xa, xb], axis=1), dist
     nrm = S.pl[1]
     for _ in range(20):
@@ -453,16 +389,17 @@ def _touch(S: System, x: np.ndarray):
         g = d1 @ nrm                                             # (N, 2)
         H = d2 @ nrm                                             # (N, 2, 2)
         det = H[:, 0, 0] * H[:, 1, 1] - H[:, 0, 1] ** 2
-        good = np.abs(det) > 1e-300
+        good = np.abs(det) > TINY
         step = np.zeros_like(x)
         step[good] = -np.linalg.solve(H[good], g[good][..., None])[..., 0]
         x = S.clip(x + step)
-        if np.all(np.abs(step) <= 1e-14 * S.span):
+        if np.all(np.abs(step) <= STEP_RTOL * S.span):
             break
     return x, np.abs(S.eval(x)[0][:, 0])
 
 
-def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = 1e-6) -> Tuple[np.ndarray, np.ndarray]:
+def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = DEFAULT_ANGLE_TOL
+                ) -> Tuple[np.ndarray, np.ndarray]:
     """Roots x where the surfaces are nearly tangent (sine < 1e-4) and the nearest
     contact from there (:func:`_touch`) is a tangency (sine <= ``angle``, within tol):
     the root lies in the flat valley round a touch point (|F| <= ftol over a cap of
@@ -471,7 +408,7 @@ def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = 1e-6) -> Tu
     if len(x) == 0:
         return np.zeros(0, bool), np.empty((0, S.n))
     _, _, _, na, nb, _ = S.eval(x)
-    weak = np.flatnonzero(np.linalg.norm(np.cross(na, nb), axis=1) < 1e-4)
+    weak = np.flatnonzero(np.linalg.norm(np.cross(na, nb), axis=1) < TANGENCY_SINE)
     out = np.zeros(len(x), bool)
     if weak.size == 0:
         return out, np.empty((0, S.n))
@@ -493,7 +430,7 @@ def _absorbed(Q, branches, ftol):
 def _join(S: System, branches, tol):
     """Join branch ends meeting at a crossing with opposite tangents."""
     items = [[b[0], list(b[1]), b[2]] for b in branches]
-    gap = max(10 * tol, 1e-9 * S.size)
+    gap = max(10 * tol, JOIN_GAP_RTOL * S.size)
     changed = True
     while changed:
         changed = False
@@ -543,7 +480,6 @@ def _join(S: System, branches, tol):
 
 
 def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
-    from .intersect import IntersectionPoint, IntersectionResult, sine_of
     branches, isolated, problems = _trace(S, seeds, tol, regions, edges)
     items = _join(S, branches, tol)
     curves = []
@@ -564,14 +500,14 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
         F, J, P, na, nb, _ = S.eval(x[None])
         if items and _absorbed(P, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol)[0]:
             continue          # a degenerate point (a pole) where a march could not start, on a branch
-        if seen and np.linalg.norm(np.array(seen) - P[0], axis=1).min() <= 1e-5 * S.size:
+        if seen and np.linalg.norm(np.array(seen) - P[0], axis=1).min() <= SEEN_RTOL * S.size:
             continue          # the same contact reached from several seeds
         seen.append(P[0])
         sine = float(np.linalg.norm(np.cross(na[0], nb[0])))
         pb_ = S.B.user_params(S.wrap(x)[None, 2:])[0] if S.B is not None else None
         residual = float(np.linalg.norm(F))
         points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P[0],
-                                        sine <= sine_of(max(angle_tol, 1e-6)), residual, residual <= tol,
+                                        sine <= sine_of(max(angle_tol, DEFAULT_ANGLE_TOL)), residual, residual <= tol,
                                         "" if residual <= tol else f"residual {residual:.3g} above tol"))
     if len(points) >= 5:
         Q = np.array([p.point for p in points])
@@ -590,7 +526,8 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     return IntersectionResult(tuple(points), tuple(regions), tuple(curves), tol, converged, "; ".join(messages))
 
 
-def surface_surface(a: Union[Surface, sd.Geometry], b: Union[Surface, sd.Geometry], tol: float, angle_tol: float = 1e-6,
+def surface_surface(a: Union[Surface, sd.Geometry], b: Union[Surface, sd.Geometry], tol: float,
+                    angle_tol: float = DEFAULT_ANGLE_TOL,
                     max_pairs: int = 20000) -> IntersectionResult:
     """Intersection curves of two surfaces (see the module docstring); returns an
     :class:`IntersectionResult` whose ``curves`` are :class:`IntersectionCurve` branches."""
@@ -606,7 +543,7 @@ def surface_surface(a: Union[Surface, sd.Geometry], b: Union[Surface, sd.Geometr
                   edges)
 
 
-def surface_plane(a: Surface, pl: Plane, tol: float, angle_tol: float = 1e-6,
+def surface_plane(a: Surface, pl: Plane, tol: float, angle_tol: float = DEFAULT_ANGLE_TOL,
                   max_pairs: int = 20000) -> IntersectionResult:
     """Section of a surface by a plane (``pl`` from :func:`cagd.queries.plane`): the
     level set n.(A(u, v) - o) = 0 marched like a surface–surface intersection."""

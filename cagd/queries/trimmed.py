@@ -38,15 +38,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import CagdError
-from ._local import split_boxes
-from .bounds import robust_distance
+from ._cells import split_boxes
+from .bounds import box_lower_bound, robust_distance
+from ._numerics import BOUND_SHRINK_RTOL, SIZE_ROUNDING, SLACK_RTOL, TINY
 
 if TYPE_CHECKING:
     from ..curves.bspline import BSplineCurve
     from ..surfaces.base import Surface
     from ..surfaces.trimmed import TrimBoundary, TrimmedSurface
     from .closest import ClosestPoints, Projector
-    from .intersect import IntersectionResult
+    from .results import IntersectionResult
 
 #: relative gap below which a cell's lower bound counts as reaching the distance found
 CELL_GAP = 1e-10
@@ -128,9 +129,9 @@ class _ChordGrid:
         d = B - A
         length = np.hypot(d[:, 0], d[:, 1])
         self.normal = np.where(length[:, None] > 0, np.stack([-d[:, 1], d[:, 0]], axis=1)
-                               / np.maximum(length, 1e-300)[:, None], 0.0)
+                               / np.maximum(length, TINY)[:, None], 0.0)
         self.lo, hi = cmin.min(axis=0), cmax.max(axis=0)
-        self.step = np.maximum((hi - self.lo) / GRID, 1e-300)
+        self.step = np.maximum((hi - self.lo) / GRID, TINY)
         i0, i1 = self._cells(cmin), self._cells(cmax)
         cu, cv = i1[:, 0] - i0[:, 0] + 1, i1[:, 1] - i0[:, 1] + 1
         n = cu * cv
@@ -172,7 +173,7 @@ class _ChordGrid:
             # ... and the chord's line (widened by its bound) meets the box (separating axis)
             nrm, c, h = self.normal[seg], 0.5 * (lo[pb] + hi[pb]), 0.5 * (hi[pb] - lo[pb])
             reach = np.abs(nrm[:, 0]) * h[:, 0] + np.abs(nrm[:, 1]) * h[:, 1] + self.r[seg]
-            hit = np.abs(np.einsum("nk,nk->n", nrm, c - self.A[seg])) <= reach * (1.0 + 1e-12)
+            hit = np.abs(np.einsum("nk,nk->n", nrm, c - self.A[seg])) <= reach * (1.0 + SLACK_RTOL)
             if flat is not None:
                 k = np.flatnonzero(hit)
                 coarse = self.r[seg[k]] > FINE_BOX * np.max(hi[pb[k]] - lo[pb[k]], axis=1)
@@ -311,7 +312,7 @@ def closest_on_trimmed(ts: "TrimmedSurface", points: ArrayLike, p: "Projector",
         feet_o[interior] = p.frame.outward(p.value(x_best[interior]))
     d_o = robust_distance(feet_o, Xm)
     lower_o = np.maximum(base.lower_bounds[o], np.minimum(lb_edge, LB * s))
-    lower_o = np.minimum(lower_o * (1.0 - 1e-13), d_o)
+    lower_o = np.minimum(lower_o * (1.0 - BOUND_SHRINK_RTOL), d_o)
     params, feet, dist = base.params.copy(), base.feet.copy(), base.distances.copy()
     lower, conv = base.lower_bounds.copy(), base.point_converged.copy()
     params[o], feet[o], dist[o], lower[o], conv[o] = uv_o, feet_o, d_o, lower_o, best_ok
@@ -416,7 +417,7 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     lo, hi = p.lo[cell], p.hi[cell]
     # the cells' second-order bounds at their midpoints (stored S, J, H: no evaluation)
     lb = np.sqrt(np.maximum(p._mid_bound(X, pid, cell, lo, hi), 0.0))
-    closed = lb >= np.minimum(U[pid] - (CELL_GAP * U[pid] + 1e-13 * p.size), edge[pid])
+    closed = lb >= np.minimum(U[pid] - (CELL_GAP * U[pid] + SIZE_ROUNDING * p.size), edge[pid])
     np.minimum.at(LB, pid[closed], lb[closed])
     pid, cell, lo, hi = pid[~closed], cell[~closed], lo[~closed], hi[~closed]
     flat = _no_critical_point(p, X, pid, cell, lo, hi)         # f has no stationary point there
@@ -430,7 +431,7 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     for rnd in range(MAX_TRIM_ROUNDS):
         if not len(pid):
             break
-        gap = CELL_GAP * U + 1e-13 * p.size
+        gap = CELL_GAP * U + SIZE_ROUNDING * p.size
         if rnd:                                                 # (the first round's rows are tested above)
             flat = _no_critical_point(p, X, pid, cell, lo, hi)
             pid, cell, lo, hi, box = pid[~flat], cell[~flat], lo[~flat], hi[~flat], box[~flat]
@@ -481,7 +482,7 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
     stopped = cut.copy()
     if len(pid):                                 # boxes left open: their bounds still hold
         np.minimum.at(LB, pid, lb)
-        stopped[np.unique(pid[lb < np.minimum(U[pid] - CELL_GAP * U[pid] - 1e-13 * p.size, edge[pid])])] = True
+        stopped[np.unique(pid[lb < np.minimum(U[pid] - CELL_GAP * U[pid] - SIZE_ROUNDING * p.size, edge[pid])])] = True
     return U, x_best, best_ok, LB, stopped
 
 
@@ -518,11 +519,10 @@ def _convex_box(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, xs: np.ndar
     about x* that holds x^): B the
     largest of x* +- CONVEX_BOX_SHARES of the foot's cell (within the cells next to it
     and the C2 runs of its piece) where the expansion at x* with the bounds over those
-    cells gives m > 0 (:func:`cagd.queries._local.box_lower_bound`), and the box about
+    cells gives m > 0 (:func:`cagd.queries.bounds.box_lower_bound`), and the box about
     x* that holds x^ classified outside D (:func:`box_classes`). Then for y in B & D the
     segment from y to x^ stays in B and leaves D at some z on dD, where
     g(z) <= max(g(y), g(x^)) = g(y) (convexity): g >= the edges' bound on B & D."""
-    from ._local import box_lower_bound
     n = len(X)
     S, J, H = p.evaluate(xs, 2)
     home = p.cells.locate(xs)
@@ -573,11 +573,10 @@ def _hull_settled(p: "Projector", X: np.ndarray, pid: np.ndarray, lo: np.ndarray
     """Per point of X with a convex box B (``ok``, :func:`_convex_box`): whether g is
     strongly convex on the box K spanned by B and the point's open rows [lo, hi], each
     cell's part of K shown so by the cell's own bounds expanded at its midpoint
-    (:func:`cagd.queries._local.box_lower_bound`, m > 0; g is C2 on K: K lies in the
+    (:func:`cagd.queries.bounds.box_lower_bound`, m > 0; g is C2 on K: K lies in the
     foot's C2 runs). B's minimiser (within ``reach``, outside D) is then K's when it
     keeps off the sides of B inside K, and for y in K & D the segment to it leaves D
     at z on dD with g(z) <= g(y): the rows hold no minimum below the edges'."""
-    from ._local import box_lower_bound
     out = np.zeros(len(X), dtype=bool)
     klo, khi = blo.copy(), bhi.copy()
     np.minimum.at(klo, pid, lo)
@@ -661,7 +660,7 @@ def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np
             pid, cells, lo, hi = pid[~flat], cells[~flat], lo[~flat], hi[~flat]
             c = 0.5 * (lo + hi)
             lb = np.sqrt(np.maximum(p._bound(X, pid, cells, lo, hi, c), 0.0))
-            gap = CELL_GAP * U[pid] + 1e-13 * p.size
+            gap = CELL_GAP * U[pid] + SIZE_ROUNDING * p.size
             closed = lb >= np.minimum(U[pid] - gap, edge[pid])
             np.minimum.at(LB, pid[closed], lb[closed])
             pid, cells, lo, hi = pid[~closed], cells[~closed], lo[~closed], hi[~closed]
@@ -683,8 +682,7 @@ def _convex_bound(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarr
     """The projector's second-order lower bound of g = |S - X|^2 over each box, expanded
     at y in the box, and the offsets (t0, t1) (n, k) from y of a box that holds g's
     minimiser over the box (the whole box where g is not shown strongly convex there):
-    :func:`cagd.queries._local.box_lower_bound`."""
-    from ._local import box_lower_bound
+    :func:`cagd.queries.bounds.box_lower_bound`."""
     out, t0, t1 = np.empty(len(pid)), np.empty((len(pid), p.k)), np.empty((len(pid), p.k))
     for c0 in range(0, len(pid), ROW_CHUNK):
         sl = slice(c0, c0 + ROW_CHUNK)

@@ -147,7 +147,7 @@ def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol
     :func:`cagd.min_distance` where no point is solved within tol."""
     from ..queries import _subdivision as sd
     from ..queries.distance import min_distance
-    from ..queries.intersect import _run
+    from ..queries._point_solver import run
     m, n = len(profiles), len(guides)
     size = max(float(np.ptp(c.control_points, axis=0).max()) for c in profiles + guides)
     if tol < INTERSECT_MIN_TOL * size:
@@ -160,7 +160,7 @@ def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol
     X = np.empty((m, n, profiles[0].dim))
     for i, f in enumerate(profiles):
         for j, g in enumerate(guides):
-            res = _run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
+            res = run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
             if not res.converged:
                 raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
                                 f"({res.message})")

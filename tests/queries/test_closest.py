@@ -373,7 +373,7 @@ def test_not_a_curve_or_surface():
 # --- the power-form evaluator against the Bernstein form ---------------------------------------
 @pytest.mark.parametrize("rational", [False, True])
 def test_power_table_matches_the_bernstein_partials(rational):
-    from cagd.queries._local import PowerTable
+    from cagd.queries._cells import PowerTable
     from cagd.queries.bounds import bezier_pieces
     rng = np.random.default_rng(14)
     W = rng.uniform(0.5, 2.0, (7, 6)) if rational else None
@@ -432,7 +432,7 @@ def test_box_lower_bound_is_below_the_sampled_minimum(which):
     """The second-order bound of g = |S - X|^2 over a box inside a cell, expanded at a point
     of the cell (in the box or not), never exceeds g sampled on the box; and it is not
     vacuous for most boxes."""
-    from cagd.queries._local import box_lower_bound
+    from cagd.queries.bounds import box_lower_bound
     rng = np.random.default_rng(23)
     if which == "bent":
         s = _bent_surface()

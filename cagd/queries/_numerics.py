@@ -1,0 +1,35 @@
+"""The named tolerances shared by the queries (issue 16, layout: no bare ``1e-*``
+literals in :mod:`cagd.queries`), and :func:`unit`. Relative tolerances (``*_RTOL``)
+multiply the scale named beside them: the model size, a domain's width, a value
+computed two ways. Tolerances that belong to one step are named in its module."""
+from __future__ import annotations
+
+import numpy as np
+
+TINY = 1e-300               # floor of divisors, norms and eigenvalue scales (keeps 0/0 out; below every scale)
+ULP_RTOL = 1e-15            # a few units in the last place of a double, relative
+SLACK_RTOL = 1e-12          # slack of a value computed two ways (squared distances, radii, box edges), relative
+SIZE_ROUNDING = 1e-13       # lengths below this share of the model size are rounding
+BOUND_SHRINK_RTOL = 1e-13   # certified lower bounds are lowered by this share, for their own rounding
+LEVENBERG_RTOL = 1e-12      # the tiny Levenberg shift of small Newton systems, relative to their diagonal
+AT_END_RTOL = 1e-9          # a parameter within this share of the domain's width of an end is at it
+END_MARGIN_RTOL = 1e-6      # overlap ends: margins and snapping to a domain end, share of the width
+SAME_PARAM_RTOL = 1e-7      # curve parameters closer than this share of the width are one point
+COLLAPSED_SPEED_RTOL = 1e-8      # a partial moving the point under this share of the size (or of the other
+#                             partials) does not move it: a collapsed edge, a pole
+DEFAULT_TOL = 1e-9          # intersect: the default distance tolerance (model units)
+DEFAULT_ANGLE_TOL = 1e-6    # intersect: contacts within this angle (radians) are tangential
+MIN_TOL_RTOL = 1e-13        # intersect: a tol below this share of the objects' size is refused
+RESIDUAL_SHARE = 1e-3       # Newton correctors of the intersection system solve |F| to this share of tol ...
+RESIDUAL_FLOOR = 1e-14      # ... but not below this share of the model size (rounding)
+
+
+def residual_tol(tol: float, size: float) -> float:
+    """The residual |F| the intersection correctors solve to: RESIDUAL_SHARE tol, at
+    least RESIDUAL_FLOOR size."""
+    return max(RESIDUAL_SHARE * tol, RESIDUAL_FLOOR * size)
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    """v / |v| along the last axis (0 where v = 0)."""
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), TINY)
