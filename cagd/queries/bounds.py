@@ -516,7 +516,8 @@ BLOCK = 2             # cells within this many grid steps of x*'s cell are bound
 
 
 def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
-                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False):
+                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False
+                    ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray, Tuple[np.ndarray, np.ndarray]]]:
     """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
     expansion at c: g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2 with m a lower bound
     of the smallest Hessian eigenvalue over the box, the larger of
@@ -657,7 +658,7 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
 
 
-def block_max(B: np.ndarray, shape, reach: int = BLOCK) -> np.ndarray:
+def block_max(B: np.ndarray, shape: Sequence[int], reach: int = BLOCK) -> np.ndarray:
     """Per cell, the maximum of the bounds B over the cells within ``reach`` grid steps."""
     G = B.reshape(tuple(shape) + B.shape[1:])
     out = G.copy()

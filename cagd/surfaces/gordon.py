@@ -42,7 +42,7 @@ from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
-from .loft import _SNAP, compatible_plain, unit_nurbs
+from .loft import compatible_plain, rotated_start, unit_nurbs
 
 SKIN_DEGREE = 3          # interpolation degree across the curves (lower with fewer curves)
 REPARAM_SHARE = 0.01     # a family is reparametrised when the common parameters move an intersection by > this * tol
@@ -121,23 +121,6 @@ def _family(curves: Sequence[Curve], name: str, tol: float, closed_ok: bool = Fa
 
 def _closed(c: BSplineCurve, tol: float) -> bool:
     return bool(np.linalg.norm(c(0.0) - c(1.0)) <= tol)
-
-
-def _rotated(c: BSplineCurve, a: float) -> Tuple[BSplineCurve, float]:
-    """A closed curve (clamped on [0, 1], c(0) ~ c(1)) started at parameter a: w = u - a
-    on [a, 1], u + 1 - a on [0, a], exact (the two pieces of c.split(a), joined at the old
-    start with a knot of multiplicity p, the joint pole the midpoint of c(1) and c(0)).
-    Returns the curve and how far the joint moved (half the closing gap)."""
-    p = c.degree
-    near = np.abs(c.knots - a) <= _SNAP
-    a = float(c.knots[near][0]) if near.any() else a        # split at a knot a few ulps off: at the knot
-    left, right = c.split(a)
-    joint = 0.5 * (right.control_points[-1] + left.control_points[0])
-    moved = float(np.linalg.norm(right.control_points[-1] - joint))
-    P = np.concatenate([right.control_points[:-1], joint[None], left.control_points[1:]])
-    knots = np.concatenate([right.knots[:-1] - a, left.knots[p + 1:] + (1.0 - a)])
-    knots[:p + 1], knots[-p - 1:] = 0.0, 1.0
-    return BSplineCurve(P, p, knots), moved
 
 
 def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol: float):
@@ -396,7 +379,7 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
         for i in range(len(F)):
             a = float(U[i, 0])
             if SEAM_SNAP < a < 1.0 - SEAM_SNAP:
-                F[i], gap = _rotated(F[i], a)
+                F[i], gap = rotated_start(F[i], a)
                 seam = max(seam, gap)
             U[i] = np.mod(U[i] - a, 1.0)
             U[i, 0] = 0.0

@@ -3,24 +3,31 @@ of curves they need (Piegl & Tiller, The NURBS Book, 8.4 ruled surfaces, 10.3
 skinned surfaces; the seeds do not cover lofting).
 
 Conventions: u runs along the sections (every section's own domain is mapped
-linearly onto [0, 1]), v runs across them, also on [0, 1].
+linearly onto [0, 1]), v runs across them, also on [0, 1]. Closed (and periodic)
+sections are aligned before skinning (:func:`aligned_sections`): one direction of
+travel, seams started where each section comes nearest the previous one's seam, so the
+skin does not twist; the result is clamped in u and closed (C^(p-1) across the seam
+where every section is). With guide curves the skin is the Gordon surface
+(:func:`cagd.gordon`).
 """
 from __future__ import annotations
 
-from typing import Iterable, List, Sequence
+from typing import Iterable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .. import _checks
-from ..basis.bspline import basis_matrix
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .bspline import BSplineSurface
+from ..fitting.interpolation import collocate
 from ..fitting.parameters import ParameterSpec, averaged_parameters, rule
 
 _SNAP = 64 * np.finfo(float).eps     # knots this close (on [0, 1]) are the same knot
+CLOSED_RTOL = 1e-9                    # a section whose ends meet within this share of the sections' size is closed
+ORIENTATION_SAMPLES = 64              # points per closed section for its area vector (Newell)
 
 
 # --- compatibility ----------------------------------------------------------------------
@@ -44,6 +51,31 @@ def unit_nurbs(curve: Curve, name: str = "curve") -> BSplineCurve:
 def plain(c: BSplineCurve) -> BSplineCurve:
     """The homogeneous (w P, w) curve of a clamped NURBS as a polynomial B-spline."""
     return BSplineCurve(c.homogeneous_control_points, c.degree, c.knots)
+
+
+def rotated_start(c: BSplineCurve, a: float) -> Tuple[BSplineCurve, float]:
+    """A closed curve (clamped on [0, 1], c(0) ~ c(1)) started at parameter a: w = u - a
+    on [a, 1], u + 1 - a on [0, a], exact (the two pieces of c.split(a), joined at the old
+    start with a knot of multiplicity p, the joint pole the midpoint of c(1) and c(0); a
+    rational curve is joined in homogeneous space, the second piece's weights scaled to
+    meet the first's at the joint, which leaves it unchanged).
+    Returns the curve and how far the joint moved (half the closing gap)."""
+    p = c.degree
+    near = np.abs(c.knots - a) <= _SNAP
+    a = float(c.knots[near][0]) if near.any() else a        # split at a knot a few ulps off: at the knot
+    left, right = c.split(a)
+    L, R = left.homogeneous_control_points, right.homogeneous_control_points
+    if c.is_rational:
+        L = L * (R[-1, -1] / L[0, -1])
+    joint = 0.5 * (R[-1] + L[0])
+    H = np.concatenate([R[:-1], joint[None], L[1:]])
+    knots = np.concatenate([right.knots[:-1] - a, left.knots[p + 1:] + (1.0 - a)])
+    knots[:p + 1], knots[-p - 1:] = 0.0, 1.0
+    if c.is_rational:
+        out = BSplineCurve(H[:, :-1] / H[:, -1:], p, knots, H[:, -1])
+        moved = float(np.linalg.norm(right.control_points[-1] - out.control_points[len(R) - 1]))
+        return out, moved
+    return BSplineCurve(H, p, knots), float(np.linalg.norm(R[-1] - joint))
 
 
 def union_breaks(knot_vectors: Iterable[np.ndarray]) -> np.ndarray:
@@ -146,11 +178,66 @@ def ruled(c0: Curve, c1: Curve) -> BSplineSurface:
 
 
 # --- skinning -------------------------------------------------------------------------------
-def _sections(sections: Iterable[Curve]) -> List[BSplineCurve]:
-    sections = list(sections)
+def _size(curves: Sequence[BSplineCurve]) -> float:
+    P = np.concatenate([c.control_points for c in curves])
+    return max(float(np.ptp(P, axis=0).max()), float(np.abs(P).max()) * np.finfo(float).eps)
+
+
+def _area_vector(c: BSplineCurve) -> np.ndarray:
+    """Newell's area vector sum P_i x P_i+1 / 2 of a closed curve's samples (3-D: normal
+    times enclosed area of a planar loop; 2-D: the signed area as a 1-vector)."""
+    P = c(np.linspace(0.0, 1.0, ORIENTATION_SAMPLES + 1)[:-1])
+    Q = np.roll(P, -1, axis=0)
+    if P.shape[1] == 2:
+        return np.array([0.5 * np.sum(P[:, 0] * Q[:, 1] - P[:, 1] * Q[:, 0])])
+    if P.shape[1] != 3:
+        return np.zeros(1)
+    return 0.5 * np.cross(P, Q).sum(axis=0)
+
+
+def aligned_sections(sections: Sequence[Curve]) -> List[BSplineCurve]:
+    """The sections as NURBS clamped on [0, 1] (:func:`unit_nurbs`); closed ones (periodic,
+    or ends within CLOSED_RTOL of the sections' size), when all are closed, aligned for
+    skinning: each runs the way of the one before (a section whose area vector (Newell)
+    points against the previous one's is reversed) and starts where it comes nearest the
+    previous section's start (its certified closest point; the seam moved exactly by
+    :func:`rotated_start`). Open sections are returned as they are, in their own direction.
+
+    Raises:
+        CagdError: a non-curve among the sections.
+    """
+    from ..queries.closest import closest_point
+    units = [unit_nurbs(c, f"sections[{i}]") for i, c in enumerate(sections)]
+    if not units:
+        return units
+    size = _size(units)
+    if not all(np.linalg.norm(c(0.0) - c(1.0)) <= CLOSED_RTOL * size for c in units):
+        return units
+    out: List[BSplineCurve] = []
+    prev: Optional[BSplineCurve] = None        # the last section with an extent (a point has no seam)
+    for c in units:
+        if np.ptp(c.control_points, axis=0).max() <= CLOSED_RTOL * size:
+            out.append(c)
+            continue
+        if prev is not None:
+            if float(np.dot(_area_vector(prev), _area_vector(c))) < 0.0:
+                c = unit_nurbs(c.reversed())
+            t = float(closest_point(c, prev(0.0)[None]).params[0])
+            if _SNAP < t < 1.0 - _SNAP:
+                c = rotated_start(c, t)[0]
+        out.append(c)
+        prev = c
+    return out
+
+
+def _sections(sections: Iterable[Curve], align: bool = False) -> List[BSplineCurve]:
+    try:
+        sections = list(sections)
+    except TypeError:
+        raise CagdError(f"sections: expected a sequence of cagd curves, got {type(sections).__name__}") from None
     if len(sections) < 2:
         raise CagdError(f"sections: need at least 2 section curves, got {len(sections)}")
-    return make_compatible(sections)
+    return make_compatible(aligned_sections(sections) if align else sections)
 
 
 def loft_parameters(sections: Iterable[Curve], parameters: ParameterSpec = "chord") -> np.ndarray:
@@ -180,31 +267,49 @@ def loft_parameters(sections: Iterable[Curve], parameters: ParameterSpec = "chor
     return averaged_parameters(Q, parameters, "sections", "sections")
 
 
-def loft(sections: Iterable[Curve], degree_v: int = 3, parameters: ParameterSpec = "chord") -> BSplineSurface:
+def loft(sections: Iterable[Curve], degree_v: int = 3, parameters: ParameterSpec = "chord", *,
+         guides: Optional[Sequence[Curve]] = None, tol: float = 1e-6, align: bool = True) -> BSplineSurface:
     """Skinned surface through the section curves (Piegl & Tiller 10.3): the sections
-    are made compatible (:func:`make_compatible`), given parameters v_k
+    are aligned when closed (``align``: :func:`aligned_sections`, one direction, seams
+    lined up; open sections keep their own direction), made compatible
+    (:func:`make_compatible`: any degrees, knots and weights), given parameters v_k
     (:func:`loft_parameters`) and averaged knots in v (eq. 9.8, as in
     :func:`cagd.interpolate`), and every column of control points is interpolated
-    globally: [N_{j,q}(v_k)] X = Q_k. Rational sections are interpolated in
-    homogeneous coordinates (w P, w), so the isocurve at v_k is the section exactly;
-    between sections the interpolated weights must stay positive.
+    globally, [N_{j,q}(v_k)] X = Q_k (a banded solve). The degree in v is ``degree_v``
+    capped at len(sections) - 1: two sections give the ruled surface. Rational sections
+    are interpolated in homogeneous coordinates (w P, w), so the isocurve at v_k is the
+    section exactly; between sections the interpolated weights must stay positive.
 
-    S(u, v_k) = sections[k](a_k + u (b_k - a_k)) for the section's domain [a_k, b_k].
+    S(u, v_k) = sections[k](a_k + u (b_k - a_k)) for the section's domain [a_k, b_k]
+    (the aligned section where ``align`` changed it).
+
+    With ``guides`` (curves crossing every section once) the surface is the Gordon
+    surface of the sections (as profiles) and the guides, :func:`cagd.gordon` with
+    ``tol`` (a distance): it interpolates both families; ``degree_v``, ``parameters``
+    and ``align`` are then not used.
 
     Raises:
-        CagdError: fewer than degree_v + 1 sections, bad parameters (see
-            :func:`loft_parameters`), non-positive interpolated weights.
+        CagdError: fewer than 2 sections, degree_v < 1, bad parameters (see
+            :func:`loft_parameters`), non-positive interpolated weights; with guides,
+            what :func:`cagd.gordon` raises, and a network it could not fit within tol.
     """
-    cs = _sections(sections)
-    count = len(cs)
+    if guides is not None:
+        from .gordon import gordon
+        if degree_v != 3 or not isinstance(parameters, str) or parameters != "chord":
+            raise CagdError("degree_v, parameters: the Gordon surface sets them when guides are given "
+                            "(degree min(3, count - 1), parameters from the intersections); leave the defaults")
+        res = gordon(list(sections), guides, tol)
+        if not res.converged:
+            raise CagdError(f"guides: the Gordon surface of the sections and guides is not within tol: {res.message}")
+        return res.surface
     q = _checks.integer(degree_v, "degree_v", 1)
-    if q > count - 1:
-        raise CagdError(f"degree_v: a degree-{q} loft needs at least {q + 1} sections, got {count}")
+    cs = _sections(sections, align)
+    count = len(cs)
+    q = min(q, count - 1)
     v = loft_parameters(cs, parameters)
     V = kv.averaged(v, q)
-    N = basis_matrix(V, q, v, count)
     H = np.stack([c.homogeneous_control_points for c in cs])    # (K+1, n, D)
-    X = np.linalg.solve(N, H.reshape(count, -1)).reshape(H.shape).transpose(1, 0, 2)
+    X = collocate(H.reshape(count, -1), q, v, V).control_points.reshape(H.shape).transpose(1, 0, 2)
     p, U = cs[0].degree, cs[0].knots
     if cs[0].is_rational:
         W = X[..., -1]

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from scipy.interpolate import make_interp_spline
 
 from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError, HermiteCurve, natural_cubic_spline
-from cagd.surfaces.loft import loft, loft_parameters, make_compatible, ruled
+from cagd.surfaces.loft import aligned_sections, loft, loft_parameters, make_compatible, rotated_start, ruled
 from cagd.surfaces.revolution import arc_parameters
 
 from strategies import bspline_curves
@@ -108,13 +108,14 @@ def test_ruled_rational_has_the_same_rulings(c0, c1):
 @given(st.lists(bspline_curves(dims=(3, 3), max_degree=4), min_size=2, max_size=6),
        st.integers(1, 5), st.sampled_from(["chord", "centripetal", "uniform"]))
 def test_loft_passes_through_every_section(sections, q, method):
-    """Polynomial and rational sections of any kind; rational data whose homogeneous
-    interpolation has non-positive control weights is rejected (tested separately)."""
+    """Polynomial and rational sections of any kind, as given (align=False); rational
+    data whose homogeneous interpolation has non-positive control weights is rejected
+    (tested separately)."""
     q = min(q, len(sections) - 1)
     for k, c in enumerate(sections):                     # keep consecutive sections apart
         sections[k] = c.transformed(np.eye(3), [0.0, 0.0, 25.0 * k])
     try:
-        L = loft(sections, q, method)
+        L = loft(sections, q, method, align=False)       # (closed sections would be re-started)
     except CagdError as exc:
         assert "non-positive weights" in str(exc) and any(c.is_rational for c in sections)
         assume(False)
@@ -164,7 +165,7 @@ def test_loft_errors():
     with pytest.raises(CagdError, match="sections"):
         loft([a])
     with pytest.raises(CagdError, match="degree_v"):
-        loft([a, b], 3)
+        loft([a, b], 0)
     with pytest.raises(CagdError, match=r"sections\[0\] and sections\[1\] coincide"):
         loft([a, a, b], 2)
     with pytest.raises(CagdError, match="parameters"):
@@ -179,3 +180,108 @@ def test_loft_errors():
     z = BSplineCurve(b.control_points, 2, None, [50.0, 0.02, 0.02, 50.0])
     with pytest.raises(CagdError, match="non-positive weights"):
         loft([w, z, w, z], 3, "uniform")
+
+
+# --- degree cap, closed sections, guides ----------------------------------------------------
+def test_degree_v_is_capped_by_the_section_count():
+    """Two sections give the ruled surface (degree 1 across), three at most degree 2."""
+    a = BSplineCurve(RNG.normal(size=(5, 3)), 3)
+    b = BSplineCurve(RNG.normal(size=(4, 3)) + [0, 0, 3.0], 2)
+    L, R = loft([a, b]), ruled(a, b)
+    assert L.degree_v == 1 and L.control_points.shape == R.control_points.shape
+    assert np.abs(L.control_points - R.control_points).max() <= 1e-13
+    assert loft([a, b, a.transformed(np.eye(3), [0, 0, 6.0])], 3).degree_v == 2
+
+
+def periodic_circle(radius, z, phase, reverse=False, count=8):
+    """A periodic cubic B-spline on ``count`` control points on the circle (radius,
+    height z) from angle ``phase``: a closed C2 curve near the circle."""
+    ang = phase + (-1.0 if reverse else 1.0) * 2 * np.pi * np.arange(count) / count
+    P = np.stack([radius * np.cos(ang), radius * np.sin(ang), np.full(count, z)], 1)
+    return BSplineCurve(P, 3, periodic=True)
+
+
+def rational_circle(radius, z, phase, reverse=False):
+    """The exact NURBS circle (radius, height z) starting at angle ``phase`` (clamped,
+    closed), clockwise when ``reverse``."""
+    c, s, w, knots = arc_parameters(0.0, 2 * np.pi)
+    ang = np.arctan2(s, c) * (-1.0 if reverse else 1.0) + phase
+    rho = np.hypot(c, s)
+    return BSplineCurve(np.stack([radius * rho * np.cos(ang), radius * rho * np.sin(ang), np.full_like(c, z)], 1),
+                        2, knots, w)
+
+
+def angle_of(P):
+    return np.arctan2(P[..., 1], P[..., 0])
+
+
+PHASES, RADII, HEIGHTS = [0.3, 1.9, -2.2, 0.9], [2.0, 2.5, 1.5, 2.2], [0.0, 1.0, 2.5, 4.0]
+
+
+def test_closed_sections_are_aligned_before_skinning():
+    """Coaxial circles started at other angles, two of them running the other way:
+    aligned, every section starts at section 0's start angle and runs the same way, so
+    the seam S(0, v) stays in one half-plane and the skin does not twist (every point on
+    a circle of its height's radius at v_k); without alignment it twists."""
+    from cagd.queries import closest_point
+    secs = [rational_circle(r, z, f, reverse=(k % 2 == 1)) for k, (r, z, f) in enumerate(zip(RADII, HEIGHTS, PHASES))]
+    L = loft(secs)
+    v = loft_parameters(aligned_sections(secs))
+    seam = L(np.zeros(len(v)), v)
+    assert np.abs(angle_of(seam) - 0.3).max() <= 1e-9
+    ahead = angle_of(L(np.full(len(v), 0.01), v)) - angle_of(seam)
+    assert np.all(ahead > 0)                            # every section runs counter-clockwise
+    for vk, c, r in zip(v, secs, RADII):
+        assert np.abs(np.hypot(*L(S_, vk)[:, :2].T) - r).max() <= 1e-12 * 4
+        assert closest_point(c, L(S_, vk)).distances.max() <= 1e-12 * 4
+    twisted = loft(secs, align=False)
+    assert np.abs(angle_of(twisted(np.zeros(len(v)), loft_parameters(secs))) - 0.3).max() > 1.0
+
+
+def test_periodic_sections_loft_closed_and_smooth_across_the_seam():
+    """Periodic cubic sections (C2 closed) started elsewhere and reversed: each aligned
+    section starts at its point nearest the previous section's start, and the skin is
+    closed with the sections' C2 across the seam (parametric: equal partials at u = 0, 1)."""
+    from cagd.queries import closest_point
+    secs = [periodic_circle(r, z, f, reverse=(k % 2 == 1)) for k, (r, z, f) in enumerate(zip(RADII, HEIGHTS, PHASES))]
+    al = aligned_sections(secs)
+    for prev, c in zip(al, al[1:]):
+        foot = closest_point(c, prev(0.0)[None]).feet[0]
+        assert np.linalg.norm(c(0.0) - foot) <= 1e-9
+    L = loft(secs)
+    vs = np.linspace(0, 1, 23)
+    for du in range(3):
+        d0 = L.derivatives(np.zeros_like(vs), vs, du, 0)[du, 0]
+        d1 = L.derivatives(np.ones_like(vs), vs, du, 0)[du, 0]
+        assert np.abs(d0 - d1).max() <= 1e-9 * (1 + np.abs(d0).max())
+    for vk, c in zip(loft_parameters(al), secs):
+        assert closest_point(c, L(S_, vk)).distances.max() <= 1e-12 * 4
+
+
+def test_rotated_start_keeps_a_rational_circle():
+    """The exact NURBS circle re-started at t = 0.3 (not a knot): the same circle, starting
+    at c(0.3), with parameters shifted by 0.3 (mod 1)."""
+    c, s, w, knots = arc_parameters(0.0, 2 * np.pi)
+    circle = BSplineCurve(np.stack([2 * c, 2 * s], 1), 2, knots, w)
+    r, moved = rotated_start(circle, 0.3)
+    t = np.linspace(0, 1, 201)
+    assert moved <= 1e-15 and r.is_rational
+    assert np.abs(np.hypot(*r(t).T) - 2.0).max() <= 1e-14
+    assert np.abs(r(t) - circle((t + 0.3) % 1.0)).max() <= 1e-13
+
+
+def test_loft_with_guides_is_the_gordon_surface():
+    """Sections and guides: the Gordon surface (both families interpolated)."""
+    from cagd import gordon
+    X, Y = np.meshgrid(np.arange(5.0), np.arange(5.0), indexing="ij")
+    patch = BSplineSurface(np.stack([X, Y, np.zeros((5, 5))], -1) + RNG.normal(size=(5, 5, 3)) * 0.2, 3, 3)
+    sections = [patch.isocurve("u", u) for u in (0.0, 0.5, 1.0)]
+    guides = [patch.isocurve("v", v) for v in (0.0, 0.4, 1.0)]
+    S = loft(sections, guides=guides)
+    G = gordon(sections, guides).surface
+    assert np.abs(S.control_points - G.control_points).max() == 0.0
+    for g in guides:
+        from cagd.queries import closest_point
+        assert closest_point(S, g(np.linspace(*g.domain, 31))).distances.max() <= 1e-6
+    with pytest.raises(CagdError, match="degree_v, parameters"):
+        loft(sections, 2, guides=guides)
