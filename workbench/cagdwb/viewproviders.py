@@ -7,13 +7,15 @@ transform, so its points are given in the object's local coordinates.
 """
 from __future__ import annotations
 
-from typing import List, Sequence
+from typing import List, Sequence, Tuple
+
+import numpy as np
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from pivy import coin
 
-from . import analysis, icon
+from . import analysis, conversion, icon
 from .features import Stateless
 
 ICONS = {
@@ -35,10 +37,21 @@ NET_COLOR = (0.85, 0.2, 0.1)
 COMB_COLOR = (0.1, 0.45, 0.9)
 
 
-def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, points: bool) -> coin.SoSeparator:
-    """A separator drawing the polylines (and their vertices as dots), as an
-    SoAnnotation: drawn after the scene without the depth test, so a net or comb is
-    never hidden by its own surface."""
+def _polylines(polylines: Sequence[Sequence[App.Vector]]) -> Tuple[np.ndarray, List[int]]:
+    """Points of the polylines as one (n, 3) array and the polylines' point counts."""
+    flat = [p for line in polylines for p in line]
+    return conversion.array(flat), [len(line) for line in polylines]
+
+
+def _comb_lines(feet: np.ndarray, tips: np.ndarray) -> Tuple[np.ndarray, List[int]]:
+    """The teeth (foot, tip) and the envelope through the tips, as _polylines gives them."""
+    return np.concatenate([np.stack([feet, tips], axis=1).reshape(-1, 3), tips]), [2] * len(feet) + [len(tips)]
+
+
+def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, dots: bool) -> coin.SoSeparator:
+    """A separator drawing polylines (``counts`` consecutive ``points`` each, and their
+    vertices as dots), as an SoAnnotation: drawn after the scene without the depth test,
+    so a net or comb is never hidden by its own surface."""
     sep = coin.SoAnnotation()
     pick = coin.SoPickStyle()
     pick.style = coin.SoPickStyle.UNPICKABLE
@@ -48,13 +61,12 @@ def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, 
     style.lineWidth = width
     style.pointSize = 6.0
     coords = coin.SoCoordinate3()
-    flat = [(p.x, p.y, p.z) for line in polylines for p in line]
-    coords.point.setValues(0, len(flat), flat)
+    coords.point.setValues(0, len(points), points.tolist())
     lines = coin.SoLineSet()
-    lines.numVertices.setValues(0, len(polylines), [len(line) for line in polylines])
+    lines.numVertices.setValues(0, len(counts), list(counts))
     for node in (pick, base, style, coords, lines):
         sep.addChild(node)
-    if points:
+    if dots:
         sep.addChild(coin.SoPointSet())
     return sep
 
@@ -86,9 +98,10 @@ class ViewProvider(Stateless):
         self.refresh()
 
     # --- drawing ----------------------------------------------------------------------------
-    def _local(self, polylines: List[List[App.Vector]]) -> List[List[App.Vector]]:
-        inverse = self.vobj.Object.Placement.inverse()
-        return [[inverse.multVec(p) for p in line] for line in polylines]
+    def _local(self, points: np.ndarray) -> np.ndarray:
+        """Placed points in the object's local coordinates (the overlay is placed)."""
+        M = np.array(self.vobj.Object.Placement.inverse().toMatrix().A, dtype=float).reshape(4, 4)
+        return points @ M[:3, :3].T + M[:3, 3]
 
     def refresh(self) -> None:
         """Rebuild the overlay from the object's current shape and toggles."""
@@ -96,28 +109,35 @@ class ViewProvider(Stateless):
             return
         self.switch.removeAllChildren()
         obj = self.vobj.Object
+        self.drawn = obj.Placement.toMatrix().A
         if obj.Shape.isNull() or not self.vobj.Visibility:
             return
         if getattr(self.vobj, "ShowControlNet", False):
             net = obj.Proxy.control_net(obj)
             if net:
-                self.switch.addChild(_lines_node(self._local(net), NET_COLOR, 1.0, True))
+                points, counts = _polylines(net)
+                self.switch.addChild(_lines_node(self._local(points), counts, NET_COLOR, 1.0, True))
         if getattr(self.vobj, "ShowCurvatureComb", False) and obj.Shape.Edges:
-            self.switch.addChild(_lines_node(self._local(self.comb(obj)), COMB_COLOR, 1.0, False))
+            points, counts = self.comb(obj)
+            self.switch.addChild(_lines_node(self._local(points), counts, COMB_COLOR, 1.0, False))
 
-    def comb(self, obj) -> List[List[App.Vector]]:
-        """Teeth and the envelope through their tips (placed coordinates): of the edge, or
-        of iso-curves of the face (analysis.surface_combs)."""
+    def comb(self, obj) -> Tuple[np.ndarray, List[int]]:
+        """Teeth and the envelope through their tips (placed coordinates, as _polylines
+        gives them): of the edge, or of iso-curves of the face (analysis.surface_combs)."""
         samples = min(max(int(self.vobj.CombSamples), COMB_SAMPLES[1]), COMB_SAMPLES[2])
         scale = float(self.vobj.CombScale)
         if obj.Shape.Faces:
-            return analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale)
-        return analysis.comb_polylines(obj.Shape.Edges[0], samples, scale)
+            return _polylines(analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale))
+        return _comb_lines(*analysis.comb_arrays(obj.Shape.Edges[0], samples, scale))
 
     # --- FreeCAD protocol -------------------------------------------------------------------
     def updateData(self, obj, prop: str) -> None:
+        if prop == "Placement" and getattr(self, "drawn", None) == obj.Placement.toMatrix().A:
+            return                        # execute sets the same Placement again after the Shape
         if prop in ("Shape", "Placement"):
             self.refresh()
+            if getattr(self, "editor", None) is not None:        # pole editing: markers follow (undo too)
+                self.editor.refresh()
 
     def onChanged(self, vobj, prop: str) -> None:
         if prop == "CombSamples":               # bounds are not saved with a document: clamp here too
@@ -142,6 +162,11 @@ class ViewProvider(Stateless):
         return proxy.claimed(obj) if hasattr(proxy, "claimed") else []
 
     def setEdit(self, vobj, mode: int = 0) -> bool:
+        """Mode 0: the property task panel; editpoles.EDIT_POLES: drag the poles."""
+        from . import editpoles
+        if mode == editpoles.EDIT_POLES and editpoles.point_property(vobj.Object):
+            self.editor = editpoles.PoleEditor(vobj)
+            return True
         if mode != 0:
             return False
         from .taskpanel import TaskPanel
@@ -150,14 +175,29 @@ class ViewProvider(Stateless):
         return True
 
     def unsetEdit(self, vobj, mode: int = 0) -> bool:
+        from . import editpoles
+        if mode == editpoles.EDIT_POLES and getattr(self, "editor", None) is not None:
+            self.editor.close()
+            self.editor = None
+            Gui.Control.closeDialog()
+            return True
         if mode != 0:
             return False
         Gui.Control.closeDialog()
         return True
 
     def doubleClicked(self, vobj) -> bool:
-        Gui.ActiveDocument.setEdit(vobj.Object, 0)
+        """Objects with poles (or interpolated points) go into pole editing, the others
+        open the property panel."""
+        from . import editpoles
+        Gui.ActiveDocument.setEdit(vobj.Object, editpoles.EDIT_POLES if editpoles.point_property(vobj.Object) else 0)
         return True
+
+    def setupContextMenu(self, vobj, menu) -> None:
+        from . import editpoles
+        if editpoles.point_property(vobj.Object):
+            action = menu.addAction("Edit poles")
+            action.triggered.connect(lambda: Gui.ActiveDocument.setEdit(vobj.Object, editpoles.EDIT_POLES))
 
 
 
