@@ -170,12 +170,13 @@ def rate(name, seconds, paints, updates, busy, frame):
     updates per second of the drag, and the editor's own milliseconds per update (event
     to recomputed shape, net, comb and markers; the rest is Qt and rendering)."""
     size = Gui.ActiveDocument.ActiveView.getSize()
+    per_update = 1000 * busy / max(updates, 1)
     RESULT["rates"][name] = {"redraws_per_s": paints / seconds, "updates_per_s": updates / seconds,
                              "paints": paints, "updates": updates, "seconds": round(seconds, 3),
-                             "editor_ms_per_update": 1000 * busy / max(updates, 1), "frame_ms": 1000 * frame,
+                             "editor_ms_per_update": per_update, "frame_ms": 1000 * frame,
                              "viewport": list(size), "load": os.getloadavg()[0]}
     log(f"{name}: {paints} redraws, {updates} property updates in {seconds:.3f} s = "
-        f"{paints / seconds:.1f} redraws/s, {updates / seconds:.1f} updates/s; editor {1000 * busy / max(updates, 1):.1f}"
+        f"{paints / seconds:.1f} redraws/s, {updates / seconds:.1f} updates/s; editor {per_update:.1f}"
         f" ms per update, a redraw of the unchanged scene {1000 * frame:.1f} ms; viewport {size[0]} x {size[1]}, "
         f"load average {os.getloadavg()[0]:.1f}")
 
@@ -194,7 +195,7 @@ def drag_curve_pole():
     (40, 25) pixels moves the pole by the focal-plane displacement of the pointer
     (orthographic view), the edge by N_100(t) times it (OCCT's curve of that one pole
     as the oracle); one undo step restores pole and shape."""
-    from cagdwb import curves, editpoles
+    from cagdwb import curves
     doc = App.ActiveDocument
     x = np.linspace(0.0, 400.0, 200)
     obj = curves.make_bspline_curve([V(float(a), 10.0 * np.sin(a / 7.0), 0.0) for a in x], 3)
