@@ -3,13 +3,12 @@ activates the workbench, runs every command on a prepared selection and saves, p
 step, a rendering with the step's new object and one with it hidden (same camera).
 Here the macro's own checks must all pass and every rendering must show the model:
 enough pixels differ between the two images of a step."""
-import json
 import os
 
 import numpy as np
 import pytest
 
-from wb_runner import ADDON, output_dir, need, report, run_group
+from wb_runner import run_gui_macro
 
 TIMEOUT = 240
 STEPS = 18                    # the macro's step count
@@ -74,19 +73,7 @@ def zebra_rows(shown, hidden, fractions=(0.3, 0.5, 0.7)):
 
 
 def test_gui_commands_and_screenshots(freecad_env):
-    exe = need(["freecad", "FreeCAD"], "FreeCAD")
-    xvfb = need(["xvfb-run"], "Xvfb")
-    out = output_dir("workbench-gui")
-    freecad_env.update(CAGD_WB_OUT=str(out), QTWEBENGINE_DISABLE_SANDBOX="1", QT_QPA_PLATFORM="xcb")
-    log = out / "freecad-gui.log"
-    code, output = run_group([xvfb, "-a", "-s", "-screen 0 1280x1024x24", exe, str(ADDON / "tests" / "gui_macro.py")],
-                             freecad_env, TIMEOUT, log)
-    assert code is not None, f"FreeCAD GUI timed out after {TIMEOUT} s (macro log {out / 'macro.log'})"
-    result_path = out / "result.json"
-    assert result_path.is_file(), f"macro wrote no result (exit {code}); log {log}:\n{output[-3000:]}"
-    result = json.loads(result_path.read_text())
-    result.update(passed=len(result["passed"]), failed=len(result["failed"]), failures=result["failed"])
-    report("FreeCAD GUI macro", result, log)
+    result, out = run_gui_macro(freecad_env, "gui_macro.py", "workbench-gui", TIMEOUT)
     assert result["failed"] == 0, result["failures"]
     assert result["passed"] == STEPS
     counts = {}

@@ -28,7 +28,7 @@ from .conversion import cagd
 EDIT_POLES = 10                  # the view providers' edit mode number of this mode (0: the property panel)
 POINT_PROPERTIES = ("Poles", "Points")
 PICK_PIXELS = 8.0                # pick radius around a marker, pixels
-MARKER_PIXELS = 7.0              # markers are GL points (an SoMarkerSet's bitmaps draw 5x slower in Mesa's llvmpipe)
+MARKER_PIXELS = 7.0              # markers are GL points, one draw call (an SoMarkerSet draws a bitmap per marker)
 PICKED_PIXELS = 11.0
 MARKER_COLOR = (0.1, 0.1, 0.1)
 PICKED_COLOR = (1.0, 0.55, 0.0)

@@ -9,56 +9,24 @@ style and the scene graph to the editor's event callback, as a user's drag does.
 step's checks are made here; the summary (with the measured redraw rates) goes to
 ``$CAGD_WB_OUT/result.json``, screenshots to ``$CAGD_WB_OUT``. ``os._exit`` ends FreeCAD.
 """
-import json
 import os
 import sys
 import time
-import traceback
 
 import numpy as np
 
 import FreeCAD as App
 import FreeCADGui as Gui
 
-try:
-    import cagdwb  # noqa: F401  (the installed addon, see workbench/install.py)
-except ImportError:
-    sys.path.insert(0, os.environ["CAGD_WB_ADDON"])
-from cagdwb.qt import QtCore, QtWidgets  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, step  # noqa: E402
+from cagdwb.qt import QtGui  # noqa: E402
 
-try:
-    from PySide2 import QtGui
-except ImportError:                     # pragma: no cover - Qt 6 builds
-    from PySide6 import QtGui
-
-OUT = os.environ.get("CAGD_WB_OUT", "/tmp/cagd-wb-gui-edit")
-os.makedirs(OUT, exist_ok=True)
-LOG = open(os.path.join(OUT, "macro.log"), "w", encoding="utf-8")
-RESULT = {"passed": [], "failed": {}, "rates": {}, "out": OUT}
+RESULT["rates"] = {}
 V = App.Vector
 WIDTH, HEIGHT = 480, 360
 MOVES = 30                     # mouse moves per measured drag
-STEPS, STATE = [], {}
-
-
-def log(msg):
-    LOG.write(f"{time.strftime('%H:%M:%S')} {msg}\n")
-    LOG.flush()
-
-
-def check(cond, message):
-    if not cond:
-        raise AssertionError(message)
-
-
-def settle(n=5):
-    for _ in range(n):
-        QtWidgets.QApplication.processEvents()
-
-
-def step(fn):
-    STEPS.append(fn)
-    return fn
+STATE = {}
 
 
 def vec(v):
@@ -400,28 +368,10 @@ def screenshot_with_poles():
     RESULT["screenshot"] = {"poles": len(obj.Poles), "picked": 2}
 
 
-def run():
-    start = time.time()
-    try:
-        for fn in STEPS:
-            try:
-                fn()
-            except Exception as exc:
-                RESULT["failed"][fn.__name__] = f"{type(exc).__name__}: {exc}"
-                log(f"FAIL {fn.__name__}\n{traceback.format_exc()}")
-                if Gui.ActiveDocument is not None and Gui.ActiveDocument.getInEdit() is not None:
-                    Gui.ActiveDocument.resetEdit()
-            else:
-                RESULT["passed"].append(fn.__name__)
-                log(f"ok   {fn.__name__}")
-        RESULT.update(seconds=round(time.time() - start, 2), freecad=".".join(App.Version()[:3]),
-                      numpy=np.__version__)
-        with open(os.path.join(OUT, "result.json"), "w", encoding="utf-8") as f:
-            json.dump(RESULT, f, indent=1)
-    finally:
-        LOG.close()
-        sys.stdout.flush()
-        os._exit(0)
+def leave_edit_mode():
+    """After a failed step: out of any edit mode, so the next step starts clean."""
+    if Gui.ActiveDocument is not None and Gui.ActiveDocument.getInEdit() is not None:
+        Gui.ActiveDocument.resetEdit()
 
 
-QtCore.QTimer.singleShot(500, run)
+QtCore.QTimer.singleShot(500, lambda: run(leave_edit_mode))

@@ -10,42 +10,18 @@ into $CAGD_WB_OUT: ``<step>.png`` with the step's new object shown and
 own pixels. Checks that need FreeCAD are made here; the summary goes to
 ``$CAGD_WB_OUT/result.json``. The GUI does not exit by itself: ``os._exit`` ends it.
 """
-import json
 import os
 import sys
-import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 
-try:
-    import cagdwb  # noqa: F401  (the installed addon, see workbench/install.py)
-except ImportError:
-    sys.path.insert(0, os.environ["CAGD_WB_ADDON"])          # or the addon folder named here
-from cagdwb.qt import QtCore, QtWidgets  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, step  # noqa: E402
 
-OUT = os.environ.get("CAGD_WB_OUT", "/tmp/cagd-wb-gui")
-os.makedirs(OUT, exist_ok=True)
-LOG = open(os.path.join(OUT, "macro.log"), "w", encoding="utf-8")
-RESULT = {"passed": [], "failed": {}, "screenshots": [], "out": OUT}
+RESULT["screenshots"] = []
 V = App.Vector
 WIDTH, HEIGHT = 480, 360
-
-
-def log(msg):
-    LOG.write(f"{time.strftime('%H:%M:%S')} {msg}\n")
-    LOG.flush()
-
-
-def check(cond, message):
-    if not cond:
-        raise AssertionError(message)
-
-
-def settle(n=5):
-    for _ in range(n):
-        QtWidgets.QApplication.processEvents()
 
 
 def render(name, show, hide_for_reference):
@@ -120,14 +96,6 @@ def property_text(obj, name):
                     if str(model.index(r, 0, group).data()).replace(" ", "") == name:
                         return model.index(r, 1, group).data()
     return None                         # no property editor showing it (a fresh configuration)
-
-
-STEPS = []
-
-
-def step(fn):
-    STEPS.append(fn)
-    return fn
 
 
 STATE = {}
@@ -718,29 +686,6 @@ def surface_analysis_overlay():
     check(zebra.isValid(), zebra.Message)
     front_render("Cagd_SurfaceAnalysisZebra", zebra)
     refused("Cagd_SurfaceAnalysis", [], "select one face")
-
-
-def run():
-    start = time.time()
-    try:
-        for fn in STEPS:
-            try:
-                fn()
-            except Exception as exc:
-                RESULT["failed"][fn.__name__] = f"{type(exc).__name__}: {exc}"
-                log(f"FAIL {fn.__name__}\n{traceback.format_exc()}")
-            else:
-                RESULT["passed"].append(fn.__name__)
-                log(f"ok   {fn.__name__}")
-        import numpy
-        RESULT.update(seconds=round(time.time() - start, 2), freecad=".".join(App.Version()[:3]),
-                      numpy=numpy.__version__)
-        with open(os.path.join(OUT, "result.json"), "w", encoding="utf-8") as f:
-            json.dump(RESULT, f, indent=1)
-    finally:
-        LOG.close()
-        sys.stdout.flush()
-        os._exit(0)
 
 
 QtCore.QTimer.singleShot(500, run)
