@@ -194,10 +194,14 @@ class ViewProvider(Stateless):
         return True
 
     def setupContextMenu(self, vobj, menu) -> None:
+        """Edit poles (objects with poles) and Edit properties (the task panel)."""
         from . import editpoles
+        modes = [("Edit properties", 0)]
         if editpoles.point_property(vobj.Object):
-            action = menu.addAction("Edit poles")
-            action.triggered.connect(lambda: Gui.ActiveDocument.setEdit(vobj.Object, editpoles.EDIT_POLES))
+            modes.insert(0, ("Edit poles", editpoles.EDIT_POLES))
+        for text, mode in modes:
+            action = menu.addAction(text)
+            action.triggered.connect(lambda checked=False, m=mode: Gui.ActiveDocument.setEdit(vobj.Object, m))
 
 
 
