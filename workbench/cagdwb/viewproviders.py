@@ -250,6 +250,46 @@ class _OneMode(Stateless):
         raise NotImplementedError
 
 
+def colour_bar(flat, limit: float, unit: str) -> coin.SoSeparator:
+    """A vertical colour bar (inspection.colormap, -limit at the bottom to +limit at the
+    top) right of the points' bounding box (height: half its diagonal), labelled
+    +limit, 0 and -limit in ``unit``; unlit colours come from the caller's light model."""
+    from .inspection import colormap
+    P = np.asarray(flat, dtype=float)
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    size = max(float(np.linalg.norm(hi - lo)), 1e-9)
+    x0, y0, z0 = hi[0] + 0.12 * size, 0.5 * (lo[1] + hi[1]), lo[2]
+    width, height = 0.05 * size, 0.5 * size
+    values = np.linspace(-limit, limit, LEGEND_STEPS + 1)
+    zs = z0 + height * np.linspace(0.0, 1.0, LEGEND_STEPS + 1)
+    sep = coin.SoSeparator()
+    coords = coin.SoCoordinate3()
+    corners = [(x0 + width * i, y0, float(z)) for z in zs for i in (0, 1)]
+    coords.point.setValues(0, len(corners), corners)
+    material = coin.SoMaterial()
+    colors = [tuple(map(float, c)) for c in colormap(values, limit) for _ in (0, 1)]
+    material.diffuseColor.setValues(0, len(colors), colors)
+    binding = coin.SoMaterialBinding()
+    binding.value = coin.SoMaterialBinding.PER_VERTEX
+    mesh = coin.SoQuadMesh()
+    mesh.verticesPerRow = 2
+    mesh.verticesPerColumn = LEGEND_STEPS + 1
+    for node in (coords, material, binding, mesh):
+        sep.addChild(node)
+    for value, z in ((limit, zs[-1]), (0.0, 0.5 * (zs[0] + zs[-1])), (-limit, zs[0])):
+        label = coin.SoSeparator()
+        move = coin.SoTranslation()
+        move.translation = (x0 + 1.5 * width, y0, float(z))
+        color = coin.SoBaseColor()
+        color.rgb = (0.1, 0.1, 0.1)
+        text = coin.SoText2()
+        text.string = f"{value:+.3g} {unit}" if value else "0"
+        for node in (move, color, text):
+            label.addChild(node)
+        sep.addChild(label)
+    return sep
+
+
 class DeviationViewProvider(_OneMode):
     """The deviation map's points coloured by signed distance (blue - green - red from
     -range to +range, ``ColorRange`` 0 = the largest |distance|), per-vertex colours
@@ -304,7 +344,7 @@ class DeviationViewProvider(_OneMode):
             root.addChild(node)
         root.addChild(self.faces(obj, limit))
         if getattr(self.vobj, "ShowLegend", True):
-            root.addChild(self.legend(flat, limit))
+            root.addChild(colour_bar(flat, limit, "mm"))
 
     @staticmethod
     def faces(obj, limit: float) -> coin.SoSeparator:
@@ -335,46 +375,6 @@ class DeviationViewProvider(_OneMode):
             sep.addChild(part)
         return sep
 
-    @staticmethod
-    def legend(flat, limit: float) -> coin.SoSeparator:
-        """A vertical colour bar right of the cloud's bounding box (height: half its
-        diagonal), labelled +range, 0 and -range (mm)."""
-        import numpy as np
-        from .inspection import colormap
-        P = np.array(flat)
-        lo, hi = P.min(axis=0), P.max(axis=0)
-        size = max(float(np.linalg.norm(hi - lo)), 1e-9)
-        x0, y0, z0 = hi[0] + 0.12 * size, 0.5 * (lo[1] + hi[1]), lo[2]
-        width, height = 0.05 * size, 0.5 * size
-        values = np.linspace(-limit, limit, LEGEND_STEPS + 1)
-        zs = z0 + height * np.linspace(0.0, 1.0, LEGEND_STEPS + 1)
-        sep = coin.SoSeparator()
-        coords = coin.SoCoordinate3()
-        corners = [(x0 + width * i, y0, float(z)) for z in zs for i in (0, 1)]
-        coords.point.setValues(0, len(corners), corners)
-        material = coin.SoMaterial()
-        colors = [tuple(map(float, c)) for c in colormap(values, limit) for _ in (0, 1)]
-        material.diffuseColor.setValues(0, len(colors), colors)
-        binding = coin.SoMaterialBinding()
-        binding.value = coin.SoMaterialBinding.PER_VERTEX
-        mesh = coin.SoQuadMesh()
-        mesh.verticesPerRow = 2
-        mesh.verticesPerColumn = LEGEND_STEPS + 1
-        for node in (coords, material, binding, mesh):
-            sep.addChild(node)
-        for value, z in ((limit, zs[-1]), (0.0, 0.5 * (zs[0] + zs[-1])), (-limit, zs[0])):
-            label = coin.SoSeparator()
-            move = coin.SoTranslation()
-            move.translation = (x0 + 1.5 * width, y0, float(z))
-            color = coin.SoBaseColor()
-            color.rgb = (0.1, 0.1, 0.1)
-            text = coin.SoText2()
-            text.string = f"{value:+.3g} mm" if value else "0"
-            for node in (move, color, text):
-                label.addChild(node)
-            sep.addChild(label)
-        return sep
-
     def updateData(self, obj, prop: str) -> None:
         if prop in ("Coordinates", "Distances", "MaxAbs"):
             self.refresh()
@@ -395,10 +395,15 @@ class DeviationViewProvider(_OneMode):
 # --- surface analysis ---------------------------------------------------------------------------
 class AnalysisViewProvider(_OneMode):
     """The surface analysis' mesh with per-vertex colours (surface_analysis.vertex_colors),
-    unlit (SoLightModel BASE_COLOR) so the colours are the values' own."""
+    unlit (SoLightModel BASE_COLOR) so the colours are the values' own; for the colour
+    scale kinds (curvatures, draft) a colour bar beside it (``ShowLegend``) labelled with
+    the range: the object's ``Range``, or symmetric (the largest |value|) when 0."""
     MODE = "Analysis"
 
     def __init__(self, vobj):
+        vobj.addProperty("App::PropertyBool", "ShowLegend", "CAGD",
+                         "Show the colour bar (curvatures, draft angle): -Range blue .. +Range red")
+        vobj.ShowLegend = True
         vobj.Proxy = self
         if getattr(self, "root", None) is None:
             self.attach(vobj)
@@ -417,7 +422,8 @@ class AnalysisViewProvider(_OneMode):
         light = coin.SoLightModel()
         light.model = coin.SoLightModel.BASE_COLOR
         coords = coin.SoCoordinate3()
-        coords.point.setValues(0, len(pts), [(p.x, p.y, p.z) for p in pts])
+        flat = [(p.x, p.y, p.z) for p in pts]
+        coords.point.setValues(0, len(flat), flat)
         material = coin.SoMaterial()
         material.diffuseColor.setValues(0, len(colors), [tuple(map(float, c)) for c in colors])
         binding = coin.SoMaterialBinding()
@@ -429,13 +435,17 @@ class AnalysisViewProvider(_OneMode):
         mesh.coordIndex.setValues(0, len(index), index)
         for node in (light, hints, coords, material, binding, mesh):
             root.addChild(node)
+        from .surface_analysis import STRIPED, unit
+        if obj.Kind not in STRIPED and getattr(self.vobj, "ShowLegend", True):
+            root.addChild(colour_bar(flat, obj.Proxy.limit(obj), unit(obj.Kind)))
 
     def updateData(self, obj, prop: str) -> None:
         if prop in ("Coordinates", "Values", "Bands", "Range"):
             self.refresh()
 
     def onChanged(self, vobj, prop: str) -> None:
-        pass
+        if prop == "ShowLegend":
+            self.refresh()
 
     def getIcon(self) -> str:
         return icon("DeviationMap")

@@ -337,10 +337,11 @@ def linked_vertices():
 
 @step
 def screenshot_with_poles():
-    """The default B-spline curve (6 poles, net off) in pole editing with pole 2 picked:
+    """The default B-spline curve (6 poles, net off) in pole editing (entered by its
+    context menu's Edit poles) with pole 2 picked:
     the model's pixels (against the view without it) and the markers' own (against the
     curve out of edit mode), with the picked marker orange."""
-    from cagdwb import curves, editpoles
+    from cagdwb import curves
     doc = App.ActiveDocument
     obj = curves.make_bspline_curve(doc=doc)
     doc.recompute()
@@ -352,9 +353,14 @@ def screenshot_with_poles():
     view.fitAll()
     settle()
     view.saveImage(os.path.join(OUT, "EditPoles-plain.png"), WIDTH, HEIGHT, "White")
-    Gui.ActiveDocument.setEdit(obj, editpoles.EDIT_POLES)
+    menu = QtWidgets.QMenu()                          # right-click: the view provider's context menu entries
+    obj.ViewObject.Proxy.setupContextMenu(obj.ViewObject, menu)
+    actions = {a.text(): a for a in menu.actions()}
+    check(set(actions) == {"Edit poles", "Edit properties"}, f"context menu {sorted(actions)}")
+    actions["Edit poles"].trigger()
     settle()
     editor = obj.ViewObject.Proxy.editor
+    check(editor is not None and Gui.ActiveDocument.getInEdit() is not None, "Edit poles did not start editing")
     editor.picked = 2
     editor.refresh()
     settle()

@@ -677,7 +677,9 @@ def surface_analysis_overlay():
     check(not sphere.ViewObject.Visibility, "the analysed sphere is still shown under the overlay")
     check(abs(gauss.Maximum - 0.01) < 1e-9 and abs(gauss.Minimum - 0.01) < 1e-9,
           f"sphere K {gauss.Minimum}..{gauss.Maximum}")
+    gauss.ViewObject.ShowLegend = False          # the sphere alone (its colour bar: surface_analysis_colour_bar)
     front_render("Cagd_SurfaceAnalysis", gauss)
+    STATE["gauss"] = gauss
     objs = run_command("Cagd_SurfaceAnalysis", [(cylinder, "Face1")])
     check(len(objs) == 1, "no zebra object")
     zebra = objs[0]
@@ -686,6 +688,49 @@ def surface_analysis_overlay():
     check(zebra.isValid(), zebra.Message)
     front_render("Cagd_SurfaceAnalysisZebra", zebra)
     refused("Cagd_SurfaceAnalysis", [], "select one face")
+
+
+def _labels(node):
+    """The strings of the SoText2 nodes under ``node``."""
+    from pivy import coin
+    search = coin.SoSearchAction()
+    search.setType(coin.SoText2.getClassTypeId())
+    search.setInterest(coin.SoSearchAction.ALL)
+    search.apply(node)
+    paths = search.getPaths()
+    return [paths[k].getTail().string.getValues()[0] for k in range(paths.getLength())]
+
+
+@step
+def surface_analysis_colour_bar():
+    """The sphere's Gaussian map with its colour bar, front view: ``...Legend.png`` with
+    it, ``...Legend-hidden.png`` without (same camera); labels +-0.01 1/mm (symmetric:
+    K = 1/100 everywhere); ``Range`` 0.02 relabels the bar and turns the sphere yellow
+    (K at half the range), ``...Range.png``. test_gui.py checks the pixels."""
+    gauss = STATE["gauss"]
+    view = Gui.ActiveDocument.ActiveView
+    for o in App.ActiveDocument.Objects:
+        o.ViewObject.Visibility = o is gauss
+    gauss.ViewObject.ShowLegend = True
+    Gui.Selection.clearSelection()
+    view.viewFront()
+    view.fitAll()
+    settle()
+    labels = _labels(gauss.ViewObject.Proxy.root)
+    check(labels == ["+0.01 1/mm", "0", "-0.01 1/mm"], f"symmetric colour bar labels {labels}")
+    view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisLegend.png"), WIDTH, HEIGHT, "White")
+    gauss.ViewObject.ShowLegend = False
+    settle()
+    view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisLegend-hidden.png"), WIDTH, HEIGHT, "White")
+    check(_labels(gauss.ViewObject.Proxy.root) == [], "colour bar still drawn with ShowLegend off")
+    gauss.ViewObject.ShowLegend = True
+    gauss.Range = 0.02
+    App.ActiveDocument.recompute()
+    settle()
+    labels = _labels(gauss.ViewObject.Proxy.root)
+    check(labels == ["+0.02 1/mm", "0", "-0.02 1/mm"], f"user range colour bar labels {labels}")
+    view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisRange.png"), WIDTH, HEIGHT, "White")
+    gauss.ViewObject.Visibility = False
 
 
 QtCore.QTimer.singleShot(500, run)
