@@ -119,9 +119,16 @@ def set_point(obj, index: int, point) -> None:
     setattr(obj, name, values)
 
 
+def has_weights(obj) -> bool:
+    """True when the edited points are poles with a Weights list (not the points an
+    interpolating object passes through)."""
+    return point_property(obj) == "Poles" and "Weights" in obj.PropertiesList and \
+        not getattr(obj, "Interpolate", False)
+
+
 def set_weight(obj, index: int, weight: float) -> None:
     """Weight of pole ``index``; an empty Weights list (polynomial) becomes all ones first."""
-    if "Weights" not in obj.PropertiesList or point_property(obj) != "Poles":
+    if not has_weights(obj):
         raise cagd.CagdError(f"{obj.Label}: has no pole weights")
     if not WEIGHT_RANGE[0] <= weight <= WEIGHT_RANGE[1]:
         raise cagd.CagdError(f"Weights: weight {weight!r} outside {WEIGHT_RANGE[0]:g}..{WEIGHT_RANGE[1]:g}")
@@ -363,7 +370,7 @@ class PolePanel:
         self.weight.setSingleStep(0.1)
         self.weight.setEnabled(False)
         self.weight.editingFinished.connect(lambda: editor.change_weight(float(self.weight.value())))
-        if point_property(obj) == "Poles" and "Weights" in obj.PropertiesList:
+        if has_weights(obj):
             layout.addRow("Weight", self.weight)
         self.show_pick()
 

@@ -290,6 +290,45 @@ def drag_surface_pole_along_normal():
 
 
 @step
+def perspective_drag_follows_the_pointer():
+    """Perspective camera, isometric view: a plain drag keeps the pole under the pointer
+    (its projection is the release position, to a pixel) and in the plane through it
+    normal to the view direction; the camera type is restored after."""
+    from cagdwb import curves
+    doc = App.ActiveDocument
+    obj = curves.make_bspline_curve([V(0, 0, 0), V(10, 15, 5), V(20, -5, 10), V(30, 15, 0), V(40, 0, 5)], 3,
+                                    doc=doc)
+    doc.recompute()
+    for o in doc.Objects:
+        o.ViewObject.Visibility = o is obj
+    view = Gui.ActiveDocument.ActiveView
+    kind = view.getCameraType()
+    view.setCameraType("Perspective")
+    try:
+        view.viewIsometric()
+        view.fitAll()
+        settle()
+        Gui.ActiveDocument.setEdit(obj, 10)
+        settle()
+        spy = Spy(obj.ViewObject.Proxy.editor)
+        anchor = vec(obj.Poles[2])
+        drag(view, view.getPointOnScreen(obj.Poles[2]), (35, -25))
+        check(obj.ViewObject.Proxy.editor.picked == 2, "pole 2 not picked")
+        end = np.array(spy.positions[-1], float)
+        seen = np.array(view.getPointOnScreen(obj.Poles[2]), float)
+        d = vec(view.getViewDirection())
+        moved = vec(obj.Poles[2]) - anchor
+        check(np.linalg.norm(moved) > 1.0 and abs(moved @ d) <= 1e-9 * 40, f"moved {moved}, view {d}")
+        check(np.abs(seen - end).max() <= 1.5, f"pole drawn at {seen}, pointer at {end}")
+        log(f"perspective drag: pole at {seen}, pointer at {end}")
+        Gui.ActiveDocument.resetEdit()
+        settle()
+    finally:
+        view.setCameraType(kind)
+    obj.ViewObject.Visibility = False
+
+
+@step
 def linked_vertices():
     """A curve on four Part Vertex objects: dragging pole 1 moves that vertex object (its
     X, Y, Z); a pole from a box's vertex is refused, the reason in the status bar."""

@@ -171,7 +171,8 @@ def test_pole_linked_vertex():
 @case
 def test_pole_weight():
     """set_weight on a polynomial curve makes it rational (all ones, the picked weight
-    set; OCCT's curve carries it); a weight out of range is an error naming Weights."""
+    set; OCCT's curve carries it); a weight out of range is an error naming Weights; the
+    points of a cubic spline or of an interpolating surface have no weights."""
     doc = new_doc("poleweight")
     obj = curves.make_bspline_curve(doc=doc)
     recompute_ok(obj)
@@ -184,4 +185,6 @@ def test_pole_weight():
     _raises(lambda: editpoles.set_weight(obj, 9, 1.0), "Weights")
     spline = curves.make_cubic_spline(doc=doc)
     _raises(lambda: editpoles.set_weight(spline, 0, 2.0), "no pole weights")
+    through = surfaces.make_bspline_surface(Interpolate=True, doc=doc)
+    _raises(lambda: editpoles.set_weight(through, 0, 2.0), "no pole weights")
     check(conversion.array(obj.Poles).shape == (6, 3), "poles changed by a weight")
