@@ -177,7 +177,8 @@ class PoleEditor:
         self.refresh()
         self.callback = self.view.addEventCallbackPivy(coin.SoEvent.getClassTypeId(), self.on_event)
         self.panel = PolePanel(self)
-        if not Gui.Control.activeDialog():
+        self.shown = not Gui.Control.activeDialog()       # another task dialog open: editing without the panel
+        if self.shown:
             Gui.Control.showDialog(self.panel)
 
     # --- drawing -------------------------------------------------------------------------------

@@ -178,8 +178,9 @@ class ViewProvider(Stateless):
         from . import editpoles
         if mode == editpoles.EDIT_POLES and getattr(self, "editor", None) is not None:
             self.editor.close()
+            if self.editor.shown:                 # not another command's dialog
+                Gui.Control.closeDialog()
             self.editor = None
-            Gui.Control.closeDialog()
             return True
         if mode != 0:
             return False

@@ -19,7 +19,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, step  # noqa: E402
+from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, show_only, step  # noqa: E402
 from cagdwb.qt import QtGui  # noqa: E402
 
 RESULT["rates"] = {}
@@ -169,10 +169,7 @@ def drag_curve_pole():
     obj = curves.make_bspline_curve([V(float(a), 10.0 * np.sin(a / 7.0), 0.0) for a in x], 3)
     doc.recompute()
     obj.ViewObject.ShowCurvatureComb = True
-    view = Gui.ActiveDocument.ActiveView
-    view.viewTop()
-    view.fitAll()
-    settle()
+    view = show_only([obj], "viewTop")
     obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)          # what a double-click in the tree or view calls
     settle()
     editor = obj.ViewObject.Proxy.editor
@@ -246,16 +243,11 @@ def drag_surface_pole_along_normal():
     measures the redraw rate."""
     from cagdwb import editpoles, poledrag, surfaces
     doc = App.ActiveDocument
-    STATE["curve"].ViewObject.Visibility = False
     i, j = np.meshgrid(np.arange(30.0), np.arange(30.0), indexing="ij")
     P = np.stack([5 * i, 5 * j, 8 * np.sin(i / 5.0) * np.cos(j / 6.0)], -1)
     obj = surfaces.make_bspline_surface(P, 30, doc=doc)
     doc.recompute()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    settle()
-    Gui.Selection.clearSelection()
+    view = show_only([obj])
     Gui.Selection.addSelection(obj)
     Gui.runCommand("Cagd_EditPoles", 0)
     settle()
@@ -299,15 +291,11 @@ def perspective_drag_follows_the_pointer():
     obj = curves.make_bspline_curve([V(0, 0, 0), V(10, 15, 5), V(20, -5, 10), V(30, 15, 0), V(40, 0, 5)], 3,
                                     doc=doc)
     doc.recompute()
-    for o in doc.Objects:
-        o.ViewObject.Visibility = o is obj
     view = Gui.ActiveDocument.ActiveView
     kind = view.getCameraType()
     view.setCameraType("Perspective")
     try:
-        view.viewIsometric()
-        view.fitAll()
-        settle()
+        view = show_only([obj])
         Gui.ActiveDocument.setEdit(obj, 10)
         settle()
         spy = Spy(obj.ViewObject.Proxy.editor)
@@ -345,12 +333,7 @@ def linked_vertices():
     obj = curves.make_bezier_curve(vertices=[(v, "") for v in points] + [(box, "Vertex2")], doc=doc)
     doc.recompute()
     check(obj.isValid(), obj.Message)
-    view = Gui.ActiveDocument.ActiveView
-    for o in doc.Objects:
-        o.ViewObject.Visibility = o is obj
-    view.viewTop()
-    view.fitAll()
-    settle()
+    view = show_only([obj], "viewTop")
     Gui.ActiveDocument.setEdit(obj, 10)
     settle()
     editor = obj.ViewObject.Proxy.editor
@@ -385,12 +368,7 @@ def screenshot_with_poles():
     obj = curves.make_bspline_curve(doc=doc)
     doc.recompute()
     obj.ViewObject.ShowControlNet = False
-    for o in doc.Objects:
-        o.ViewObject.Visibility = o is obj
-    view = Gui.ActiveDocument.ActiveView
-    view.viewTop()
-    view.fitAll()
-    settle()
+    view = show_only([obj], "viewTop")
     view.saveImage(os.path.join(OUT, "EditPoles-plain.png"), WIDTH, HEIGHT, "White")
     menu = QtWidgets.QMenu()                          # right-click: the view provider's context menu entries
     obj.ViewObject.Proxy.setupContextMenu(obj.ViewObject, menu)

@@ -17,7 +17,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, step  # noqa: E402
+from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, show_only, step  # noqa: E402
 
 RESULT["screenshots"] = []
 V = App.Vector
@@ -27,14 +27,7 @@ WIDTH, HEIGHT = 480, 360
 def render(name, show, hide_for_reference):
     """Save <name>.png showing ``show`` objects, then <name>-hidden.png without
     ``hide_for_reference`` (same camera)."""
-    doc = App.ActiveDocument
-    Gui.Selection.clearSelection()
-    for o in doc.Objects:
-        o.ViewObject.Visibility = o in show
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    settle()
+    view = show_only(show)
     shown = os.path.join(OUT, name + ".png")
     view.saveImage(shown, WIDTH, HEIGHT, "White")
     for o in hide_for_reference:
@@ -644,13 +637,7 @@ def found_when_tried():
 def front_render(name, obj):
     """<name>.png with only ``obj`` shown, front view (looking along +y, z up), and
     <name>-hidden.png without it."""
-    for o in App.ActiveDocument.Objects:
-        o.ViewObject.Visibility = o is obj
-    Gui.Selection.clearSelection()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewFront()
-    view.fitAll()
-    settle()
+    view = show_only([obj], "viewFront")
     view.saveImage(os.path.join(OUT, name + ".png"), WIDTH, HEIGHT, "White")
     obj.ViewObject.Visibility = False
     settle()
@@ -708,14 +695,8 @@ def surface_analysis_colour_bar():
     K = 1/100 everywhere); ``Range`` 0.02 relabels the bar and turns the sphere yellow
     (K at half the range), ``...Range.png``. test_gui.py checks the pixels."""
     gauss = STATE["gauss"]
-    view = Gui.ActiveDocument.ActiveView
-    for o in App.ActiveDocument.Objects:
-        o.ViewObject.Visibility = o is gauss
     gauss.ViewObject.ShowLegend = True
-    Gui.Selection.clearSelection()
-    view.viewFront()
-    view.fitAll()
-    settle()
+    view = show_only([gauss], "viewFront")
     labels = _labels(gauss.ViewObject.Proxy.root)
     check(labels == ["+0.01 1/mm", "0", "-0.01 1/mm"], f"symmetric colour bar labels {labels}")
     view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisLegend.png"), WIDTH, HEIGHT, "White")

@@ -40,6 +40,20 @@ def settle(n=5):
         QtWidgets.QApplication.processEvents()
 
 
+def show_only(objs, orientation="viewIsometric"):
+    """Only ``objs`` shown, nothing selected, the 3-D view turned (``orientation``: the
+    name of a view method such as viewTop) and fitted; returns the view."""
+    import FreeCADGui as Gui
+    Gui.Selection.clearSelection()
+    for o in App.ActiveDocument.Objects:
+        o.ViewObject.Visibility = o in objs
+    view = Gui.ActiveDocument.ActiveView
+    getattr(view, orientation)()
+    view.fitAll()
+    settle()
+    return view
+
+
 def step(fn):
     STEPS.append(fn)
     return fn
