@@ -213,8 +213,8 @@ class PoleEditor:
 
     def pixel(self, x: float, y: float) -> float:
         """Size of a pixel on the focal plane (model units)."""
-        return float(np.linalg.norm(_vec(self.view.getPoint(int(x) + 1, int(y))) - _vec(self.view.getPoint(int(x),
-                                                                                                          int(y)))))
+        a, b = (_vec(self.view.getPoint(int(x) + k, int(y))) for k in (0, 1))
+        return float(np.linalg.norm(b - a))
 
     def on_event(self, cb) -> None:
         coin = self.coin

@@ -286,7 +286,7 @@ def perspective_drag_follows_the_pointer():
     """Perspective camera, isometric view: a plain drag keeps the pole under the pointer
     (its projection is the release position, to a pixel) and in the plane through it
     normal to the view direction; the camera type is restored after."""
-    from cagdwb import curves
+    from cagdwb import curves, editpoles
     doc = App.ActiveDocument
     obj = curves.make_bspline_curve([V(0, 0, 0), V(10, 15, 5), V(20, -5, 10), V(30, 15, 0), V(40, 0, 5)], 3,
                                     doc=doc)
@@ -296,7 +296,7 @@ def perspective_drag_follows_the_pointer():
     view.setCameraType("Perspective")
     try:
         view = show_only([obj])
-        Gui.ActiveDocument.setEdit(obj, 10)
+        Gui.ActiveDocument.setEdit(obj, editpoles.EDIT_POLES)
         settle()
         spy = Spy(obj.ViewObject.Proxy.editor)
         anchor = vec(obj.Poles[2])
@@ -320,7 +320,7 @@ def perspective_drag_follows_the_pointer():
 def linked_vertices():
     """A curve on four Part Vertex objects: dragging pole 1 moves that vertex object (its
     X, Y, Z); a pole from a box's vertex is refused, the reason in the status bar."""
-    from cagdwb import curves
+    from cagdwb import curves, editpoles
     doc = App.ActiveDocument
     points = []
     for n, p in enumerate([V(0, 0, 50), V(10, 20, 50), V(30, 20, 50), V(40, 0, 50)]):
@@ -334,7 +334,7 @@ def linked_vertices():
     doc.recompute()
     check(obj.isValid(), obj.Message)
     view = show_only([obj], "viewTop")
-    Gui.ActiveDocument.setEdit(obj, 10)
+    Gui.ActiveDocument.setEdit(obj, editpoles.EDIT_POLES)
     settle()
     editor = obj.ViewObject.Proxy.editor
     spy = Spy(editor)
