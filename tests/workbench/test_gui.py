@@ -3,16 +3,15 @@ activates the workbench, runs every command on a prepared selection and saves, p
 step, a rendering with the step's new object and one with it hidden (same camera).
 Here the macro's own checks must all pass and every rendering must show the model:
 enough pixels differ between the two images of a step."""
-import json
 import os
 
 import numpy as np
 import pytest
 
-from wb_runner import ADDON, output_dir, need, report, run_group
+from wb_runner import run_gui_macro
 
 TIMEOUT = 240
-STEPS = 18                    # the macro's step count
+STEPS = 19                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
@@ -73,20 +72,27 @@ def zebra_rows(shown, hidden, fractions=(0.3, 0.5, 0.7)):
     return transitions, differ
 
 
+def colour_bar(out):
+    """The surface analysis' colour bar in its screenshots (see gui_macro.py's
+    surface_analysis_colour_bar): (bar pixels: coloured ones only with the bar on, the
+    mean RGB of the bar's top and bottom tenth, the bar's leftmost column, the sphere's
+    rightmost, the sphere's yellow fraction and centre colour with Range = 2 K)."""
+    bar_on, bar_off, ranged = (_image(out / f"Cagd_SurfaceAnalysis{n}.png") for n in ("Legend", "Legend-hidden",
+                                                                                      "Range"))
+    bar = (np.abs(bar_on - bar_off).max(axis=-1) > 0.1) & (np.ptp(bar_on, axis=-1) > 0.35)
+    rows, cols = np.nonzero(bar)
+    tenth = max((rows.max() - rows.min()) // 10, 1) if len(rows) else 1
+    top = bar_on[rows[rows <= rows.min() + tenth], cols[rows <= rows.min() + tenth]].mean(axis=0)
+    bottom = bar_on[rows[rows >= rows.max() - tenth], cols[rows >= rows.max() - tenth]].mean(axis=0)
+    sphere = bar_off.min(axis=-1) < 0.9                       # non-white pixels without the bar
+    srows, scols = np.nonzero(sphere)
+    yellow = sphere & (ranged[..., 0] > 0.8) & (ranged[..., 1] > 0.8) & (ranged[..., 2] < 0.2)
+    centre = ranged[int(srows.mean()), int(scols.mean())]
+    return int(bar.sum()), top, bottom, int(cols.min()), int(scols.max()), yellow.sum() / sphere.sum(), centre
+
+
 def test_gui_commands_and_screenshots(freecad_env):
-    exe = need(["freecad", "FreeCAD"], "FreeCAD")
-    xvfb = need(["xvfb-run"], "Xvfb")
-    out = output_dir("workbench-gui")
-    freecad_env.update(CAGD_WB_OUT=str(out), QTWEBENGINE_DISABLE_SANDBOX="1", QT_QPA_PLATFORM="xcb")
-    log = out / "freecad-gui.log"
-    code, output = run_group([xvfb, "-a", "-s", "-screen 0 1280x1024x24", exe, str(ADDON / "tests" / "gui_macro.py")],
-                             freecad_env, TIMEOUT, log)
-    assert code is not None, f"FreeCAD GUI timed out after {TIMEOUT} s (macro log {out / 'macro.log'})"
-    result_path = out / "result.json"
-    assert result_path.is_file(), f"macro wrote no result (exit {code}); log {log}:\n{output[-3000:]}"
-    result = json.loads(result_path.read_text())
-    result.update(passed=len(result["passed"]), failed=len(result["failed"]), failures=result["failed"])
-    report("FreeCAD GUI macro", result, log)
+    result, out = run_gui_macro(freecad_env, "gui_macro.py", "workbench-gui", TIMEOUT)
     assert result["failed"] == 0, result["failures"]
     assert result["passed"] == STEPS
     counts = {}
@@ -119,4 +125,12 @@ def test_gui_commands_and_screenshots(freecad_env):
                                      out / "Cagd_SurfaceAnalysisZebra-hidden.png")
     print(f"  cylinder zebra: dark/light transitions per row {transitions}, rows differ in {differ} columns")
     assert min(transitions) >= 4 and len(set(transitions)) == 1 and differ <= 4, (transitions, differ)
+    # the colour bar: blue (-range) at the bottom to red (+range) at the top, right of the
+    # sphere; Range = 2 K turns the sphere yellow (the scale's 3/4 stop)
+    pixels, top, bottom, bar_left, sphere_right, yellow, centre = colour_bar(out)
+    print(f"  colour bar: {pixels} pixels, top {np.round(top, 2)}, bottom {np.round(bottom, 2)}, from column "
+          f"{bar_left} (sphere to {sphere_right}); Range 0.02: {yellow:.4f} of the sphere yellow, centre {centre}")
+    assert pixels >= 300 and bar_left > sphere_right, (pixels, bar_left, sphere_right)
+    assert top[0] > 0.8 and top[2] < 0.2 and bottom[2] > 0.8 and bottom[0] < 0.2, (top, bottom)
+    assert yellow >= 0.9 and centre[0] > 0.8 and centre[1] > 0.8 and centre[2] < 0.2, (yellow, centre)
     assert os.path.getsize(out / "macro.log") > 0

@@ -51,6 +51,26 @@ def run_group(cmd, env, timeout, log_path):
         return code, log.read()
 
 
+def run_gui_macro(env, macro, out_name, timeout):
+    """Run workbench/tests/<macro> in FreeCAD's GUI under Xvfb with its output in
+    out/<out_name>; returns (the macro's result.json with passed/failed as counts and the
+    failures listed, the output folder). Fails when FreeCAD times out or writes no result."""
+    exe = need(["freecad", "FreeCAD"], "FreeCAD")
+    xvfb = need(["xvfb-run"], "Xvfb")
+    out = output_dir(out_name)
+    env.update(CAGD_WB_OUT=str(out), QTWEBENGINE_DISABLE_SANDBOX="1", QT_QPA_PLATFORM="xcb")
+    log = out / "freecad-gui.log"
+    code, output = run_group([xvfb, "-a", "-s", "-screen 0 1280x1024x24", exe, str(ADDON / "tests" / macro)],
+                             env, timeout, log)
+    assert code is not None, f"FreeCAD GUI timed out after {timeout} s (macro log {out / 'macro.log'})"
+    result_path = out / "result.json"
+    assert result_path.is_file(), f"macro wrote no result (exit {code}); log {log}:\n{output[-3000:]}"
+    result = json.loads(result_path.read_text())
+    result.update(passed=len(result["passed"]), failed=len(result["failed"]), failures=result["failed"])
+    report(f"FreeCAD GUI {macro}", result, log)
+    return result, out
+
+
 def summary(output):
     """The JSON summary from the suite's last CAGD_WB_RESULT line (None if absent)."""
     lines = [line for line in output.splitlines() if RESULT in line]

@@ -119,14 +119,21 @@ def auto_comb_scale(edge, samples: int = 64, fraction: float = COMB_FRACTION) ->
     return _auto_scale(float(_comb(edge, samples).curvature.max()), edge.Length, fraction)
 
 
-def comb_polylines(edge, samples: int = 64, scale: float = 0.0) -> List[List[App.Vector]]:
-    """The comb of an edge as polylines: each tooth, then the envelope through the tips;
-    ``scale`` 0: automatic (longest tooth COMB_FRACTION of the edge length). One engine
-    comb serves the scale and the teeth."""
+def comb_arrays(edge, samples: int = 64, scale: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+    """(feet, tips), (n, 3) arrays, of the edge's comb; ``scale`` 0: automatic (longest
+    tooth COMB_FRACTION of the edge length). One engine comb serves the scale and the
+    teeth. The view provider draws these without making a vector per point."""
     comb = _comb(edge, samples)
     scale = scale or _auto_scale(float(comb.curvature.max()), edge.Length, COMB_FRACTION)
-    teeth = _teeth(comb.scaled(scale))
-    return [[a, b] for a, b in teeth] + [[b for _, b in teeth]]
+    scaled = comb.scaled(scale)
+    return np.asarray(scaled.base, dtype=float), np.asarray(scaled.tips, dtype=float)
+
+
+def comb_polylines(edge, samples: int = 64, scale: float = 0.0) -> List[List[App.Vector]]:
+    """The comb of an edge as polylines (comb_arrays): each tooth, then the envelope
+    through the tips."""
+    feet, tips = (conversion.vectors(a) for a in comb_arrays(edge, samples, scale))
+    return [[a, b] for a, b in zip(feet, tips)] + [tips]
 
 
 def surface_combs(face, count: int = ISO_COMBS, samples: int = 64, scale: float = 0.0) -> List[List[App.Vector]]:

@@ -450,6 +450,26 @@ class FairnessCommand(Command):
         self.run()
 
 
+class EditPolesCommand(Command):
+    """Pole edit mode (editpoles.py) of the one selected curve or surface with poles."""
+    NAME, MENU, ICON = "Cagd_EditPoles", "Edit poles", "EditPoles"
+    TIP = ("Drag the poles of the selected Bezier / B-spline curve or surface, Bezier triangle (or the points of an "
+           "interpolating curve or cubic spline) in the 3-D view; Shift: along the normal / in depth; Esc leaves")
+
+    def run(self) -> None:
+        from . import editpoles
+        objs = [s.Object for s in Gui.Selection.getSelectionEx()]
+        if len(objs) != 1 or getattr(objs[0], "ViewObject", None) is None or \
+                not hasattr(objs[0].ViewObject, "ShowControlNet") or not editpoles.point_property(objs[0]):
+            return _error(f"{self.MENU}: select one CAGD curve or surface with poles (Bezier, B-spline, Bezier "
+                          "triangle, interpolating curve, cubic spline)")
+        Gui.Selection.clearSelection()
+        Gui.ActiveDocument.setEdit(objs[0], editpoles.EDIT_POLES)
+
+    def Activated(self) -> None:           # each drag is its own transaction
+        self.run()
+
+
 def show_message(title: str, text: str) -> None:
     """A non-modal message box (does not block scripts driving the GUI)."""
     from .qt import QtCore, QtWidgets
@@ -537,7 +557,7 @@ FITTING = [
 NETWORK = [GordonCommand(), SweepCommand(), Sweep2Command(), BlendCurveCommand(), BlendSurfaceCommand(),
            MatchSurfaceCommand()]
 TOOLS = [IntersectionCommand(), DeviationCommand(), ContinuityCommand(), ToggleNetCommand(), ToggleCombCommand(),
-         SurfaceAnalysisCommand(), FairnessCommand()]
+         SurfaceAnalysisCommand(), FairnessCommand(), EditPolesCommand()]
 
 
 def register() -> List[List[str]]:

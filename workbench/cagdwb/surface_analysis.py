@@ -77,6 +77,11 @@ def symmetric_limit(values) -> float:
     return float(finite.max()) if finite.size and finite.max() > 0 else 1.0
 
 
+def unit(kind: str) -> str:
+    """The unit of ``kind``'s values: 1/mm for curvatures, deg for the draft angle."""
+    return "deg" if kind == "draft" else "1/mm" if kind in CURVATURES else ""
+
+
 def vertex_colors(kind: str, values, bands, limit: float) -> np.ndarray:
     """(N, 3) RGB per vertex: striped kinds black/white (zebra: lit white; isophotes:
     alternate bands), the others on the blue-green-red scale from -limit to +limit

@@ -7,13 +7,15 @@ transform, so its points are given in the object's local coordinates.
 """
 from __future__ import annotations
 
-from typing import List, Sequence
+from typing import List, Sequence, Tuple
+
+import numpy as np
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from pivy import coin
 
-from . import analysis, icon
+from . import analysis, conversion, icon
 from .features import Stateless
 
 ICONS = {
@@ -35,10 +37,21 @@ NET_COLOR = (0.85, 0.2, 0.1)
 COMB_COLOR = (0.1, 0.45, 0.9)
 
 
-def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, points: bool) -> coin.SoSeparator:
-    """A separator drawing the polylines (and their vertices as dots), as an
-    SoAnnotation: drawn after the scene without the depth test, so a net or comb is
-    never hidden by its own surface."""
+def _polylines(polylines: Sequence[Sequence[App.Vector]]) -> Tuple[np.ndarray, List[int]]:
+    """Points of the polylines as one (n, 3) array and the polylines' point counts."""
+    flat = [p for line in polylines for p in line]
+    return conversion.array(flat), [len(line) for line in polylines]
+
+
+def _comb_lines(feet: np.ndarray, tips: np.ndarray) -> Tuple[np.ndarray, List[int]]:
+    """The teeth (foot, tip) and the envelope through the tips, as _polylines gives them."""
+    return np.concatenate([np.stack([feet, tips], axis=1).reshape(-1, 3), tips]), [2] * len(feet) + [len(tips)]
+
+
+def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, dots: bool) -> coin.SoSeparator:
+    """A separator drawing polylines (``counts`` consecutive ``points`` each, and their
+    vertices as dots), as an SoAnnotation: drawn after the scene without the depth test,
+    so a net or comb is never hidden by its own surface."""
     sep = coin.SoAnnotation()
     pick = coin.SoPickStyle()
     pick.style = coin.SoPickStyle.UNPICKABLE
@@ -48,13 +61,12 @@ def _lines_node(polylines: Sequence[Sequence[App.Vector]], color, width: float, 
     style.lineWidth = width
     style.pointSize = 6.0
     coords = coin.SoCoordinate3()
-    flat = [(p.x, p.y, p.z) for line in polylines for p in line]
-    coords.point.setValues(0, len(flat), flat)
+    coords.point.setValues(0, len(points), points.tolist())
     lines = coin.SoLineSet()
-    lines.numVertices.setValues(0, len(polylines), [len(line) for line in polylines])
+    lines.numVertices.setValues(0, len(counts), list(counts))
     for node in (pick, base, style, coords, lines):
         sep.addChild(node)
-    if points:
+    if dots:
         sep.addChild(coin.SoPointSet())
     return sep
 
@@ -86,9 +98,10 @@ class ViewProvider(Stateless):
         self.refresh()
 
     # --- drawing ----------------------------------------------------------------------------
-    def _local(self, polylines: List[List[App.Vector]]) -> List[List[App.Vector]]:
-        inverse = self.vobj.Object.Placement.inverse()
-        return [[inverse.multVec(p) for p in line] for line in polylines]
+    def _local(self, points: np.ndarray) -> np.ndarray:
+        """Placed points in the object's local coordinates (the overlay is placed)."""
+        M = np.array(self.vobj.Object.Placement.inverse().toMatrix().A, dtype=float).reshape(4, 4)
+        return points @ M[:3, :3].T + M[:3, 3]
 
     def refresh(self) -> None:
         """Rebuild the overlay from the object's current shape and toggles."""
@@ -96,28 +109,35 @@ class ViewProvider(Stateless):
             return
         self.switch.removeAllChildren()
         obj = self.vobj.Object
+        self.drawn = obj.Placement.toMatrix().A
         if obj.Shape.isNull() or not self.vobj.Visibility:
             return
         if getattr(self.vobj, "ShowControlNet", False):
             net = obj.Proxy.control_net(obj)
             if net:
-                self.switch.addChild(_lines_node(self._local(net), NET_COLOR, 1.0, True))
+                points, counts = _polylines(net)
+                self.switch.addChild(_lines_node(self._local(points), counts, NET_COLOR, 1.0, True))
         if getattr(self.vobj, "ShowCurvatureComb", False) and obj.Shape.Edges:
-            self.switch.addChild(_lines_node(self._local(self.comb(obj)), COMB_COLOR, 1.0, False))
+            points, counts = self.comb(obj)
+            self.switch.addChild(_lines_node(self._local(points), counts, COMB_COLOR, 1.0, False))
 
-    def comb(self, obj) -> List[List[App.Vector]]:
-        """Teeth and the envelope through their tips (placed coordinates): of the edge, or
-        of iso-curves of the face (analysis.surface_combs)."""
+    def comb(self, obj) -> Tuple[np.ndarray, List[int]]:
+        """Teeth and the envelope through their tips (placed coordinates, as _polylines
+        gives them): of the edge, or of iso-curves of the face (analysis.surface_combs)."""
         samples = min(max(int(self.vobj.CombSamples), COMB_SAMPLES[1]), COMB_SAMPLES[2])
         scale = float(self.vobj.CombScale)
         if obj.Shape.Faces:
-            return analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale)
-        return analysis.comb_polylines(obj.Shape.Edges[0], samples, scale)
+            return _polylines(analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale))
+        return _comb_lines(*analysis.comb_arrays(obj.Shape.Edges[0], samples, scale))
 
     # --- FreeCAD protocol -------------------------------------------------------------------
     def updateData(self, obj, prop: str) -> None:
+        if prop == "Placement" and getattr(self, "drawn", None) == obj.Placement.toMatrix().A:
+            return                        # execute sets the same Placement again after the Shape
         if prop in ("Shape", "Placement"):
             self.refresh()
+            if getattr(self, "editor", None) is not None:        # pole editing: markers follow (undo too)
+                self.editor.refresh()
 
     def onChanged(self, vobj, prop: str) -> None:
         if prop == "CombSamples":               # bounds are not saved with a document: clamp here too
@@ -142,6 +162,11 @@ class ViewProvider(Stateless):
         return proxy.claimed(obj) if hasattr(proxy, "claimed") else []
 
     def setEdit(self, vobj, mode: int = 0) -> bool:
+        """Mode 0: the property task panel; editpoles.EDIT_POLES: drag the poles."""
+        from . import editpoles
+        if mode == editpoles.EDIT_POLES and editpoles.point_property(vobj.Object):
+            self.editor = editpoles.PoleEditor(vobj)
+            return True
         if mode != 0:
             return False
         from .taskpanel import TaskPanel
@@ -150,14 +175,34 @@ class ViewProvider(Stateless):
         return True
 
     def unsetEdit(self, vobj, mode: int = 0) -> bool:
+        from . import editpoles
+        if mode == editpoles.EDIT_POLES and getattr(self, "editor", None) is not None:
+            self.editor.close()
+            if self.editor.shown:                 # not another command's dialog
+                Gui.Control.closeDialog()
+            self.editor = None
+            return True
         if mode != 0:
             return False
         Gui.Control.closeDialog()
         return True
 
     def doubleClicked(self, vobj) -> bool:
-        Gui.ActiveDocument.setEdit(vobj.Object, 0)
+        """Objects with poles (or interpolated points) go into pole editing, the others
+        open the property panel."""
+        from . import editpoles
+        Gui.ActiveDocument.setEdit(vobj.Object, editpoles.EDIT_POLES if editpoles.point_property(vobj.Object) else 0)
         return True
+
+    def setupContextMenu(self, vobj, menu) -> None:
+        """Edit poles (objects with poles) and Edit properties (the task panel)."""
+        from . import editpoles
+        modes = [("Edit properties", 0)]
+        if editpoles.point_property(vobj.Object):
+            modes.insert(0, ("Edit poles", editpoles.EDIT_POLES))
+        for text, mode in modes:
+            action = menu.addAction(text)
+            action.triggered.connect(lambda checked=False, m=mode: Gui.ActiveDocument.setEdit(vobj.Object, m))
 
 
 
@@ -204,6 +249,46 @@ class _OneMode(Stateless):
 
     def refresh(self) -> None:
         raise NotImplementedError
+
+
+def colour_bar(flat, limit: float, unit: str) -> coin.SoSeparator:
+    """A vertical colour bar (inspection.colormap, -limit at the bottom to +limit at the
+    top) right of the points' bounding box (height: half its diagonal), labelled
+    +limit, 0 and -limit in ``unit``; unlit colours come from the caller's light model."""
+    from .inspection import colormap
+    P = np.asarray(flat, dtype=float)
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    size = max(float(np.linalg.norm(hi - lo)), 1e-9)
+    x0, y0, z0 = hi[0] + 0.12 * size, 0.5 * (lo[1] + hi[1]), lo[2]
+    width, height = 0.05 * size, 0.5 * size
+    values = np.linspace(-limit, limit, LEGEND_STEPS + 1)
+    zs = z0 + height * np.linspace(0.0, 1.0, LEGEND_STEPS + 1)
+    sep = coin.SoSeparator()
+    coords = coin.SoCoordinate3()
+    corners = [(x0 + width * i, y0, float(z)) for z in zs for i in (0, 1)]
+    coords.point.setValues(0, len(corners), corners)
+    material = coin.SoMaterial()
+    colors = [tuple(map(float, c)) for c in colormap(values, limit) for _ in (0, 1)]
+    material.diffuseColor.setValues(0, len(colors), colors)
+    binding = coin.SoMaterialBinding()
+    binding.value = coin.SoMaterialBinding.PER_VERTEX
+    mesh = coin.SoQuadMesh()
+    mesh.verticesPerRow = 2
+    mesh.verticesPerColumn = LEGEND_STEPS + 1
+    for node in (coords, material, binding, mesh):
+        sep.addChild(node)
+    for value, z in ((limit, zs[-1]), (0.0, 0.5 * (zs[0] + zs[-1])), (-limit, zs[0])):
+        label = coin.SoSeparator()
+        move = coin.SoTranslation()
+        move.translation = (x0 + 1.5 * width, y0, float(z))
+        color = coin.SoBaseColor()
+        color.rgb = (0.1, 0.1, 0.1)
+        text = coin.SoText2()
+        text.string = f"{value:+.3g} {unit}" if value else "0"
+        for node in (move, color, text):
+            label.addChild(node)
+        sep.addChild(label)
+    return sep
 
 
 class DeviationViewProvider(_OneMode):
@@ -260,7 +345,7 @@ class DeviationViewProvider(_OneMode):
             root.addChild(node)
         root.addChild(self.faces(obj, limit))
         if getattr(self.vobj, "ShowLegend", True):
-            root.addChild(self.legend(flat, limit))
+            root.addChild(colour_bar(flat, limit, "mm"))
 
     @staticmethod
     def faces(obj, limit: float) -> coin.SoSeparator:
@@ -291,46 +376,6 @@ class DeviationViewProvider(_OneMode):
             sep.addChild(part)
         return sep
 
-    @staticmethod
-    def legend(flat, limit: float) -> coin.SoSeparator:
-        """A vertical colour bar right of the cloud's bounding box (height: half its
-        diagonal), labelled +range, 0 and -range (mm)."""
-        import numpy as np
-        from .inspection import colormap
-        P = np.array(flat)
-        lo, hi = P.min(axis=0), P.max(axis=0)
-        size = max(float(np.linalg.norm(hi - lo)), 1e-9)
-        x0, y0, z0 = hi[0] + 0.12 * size, 0.5 * (lo[1] + hi[1]), lo[2]
-        width, height = 0.05 * size, 0.5 * size
-        values = np.linspace(-limit, limit, LEGEND_STEPS + 1)
-        zs = z0 + height * np.linspace(0.0, 1.0, LEGEND_STEPS + 1)
-        sep = coin.SoSeparator()
-        coords = coin.SoCoordinate3()
-        corners = [(x0 + width * i, y0, float(z)) for z in zs for i in (0, 1)]
-        coords.point.setValues(0, len(corners), corners)
-        material = coin.SoMaterial()
-        colors = [tuple(map(float, c)) for c in colormap(values, limit) for _ in (0, 1)]
-        material.diffuseColor.setValues(0, len(colors), colors)
-        binding = coin.SoMaterialBinding()
-        binding.value = coin.SoMaterialBinding.PER_VERTEX
-        mesh = coin.SoQuadMesh()
-        mesh.verticesPerRow = 2
-        mesh.verticesPerColumn = LEGEND_STEPS + 1
-        for node in (coords, material, binding, mesh):
-            sep.addChild(node)
-        for value, z in ((limit, zs[-1]), (0.0, 0.5 * (zs[0] + zs[-1])), (-limit, zs[0])):
-            label = coin.SoSeparator()
-            move = coin.SoTranslation()
-            move.translation = (x0 + 1.5 * width, y0, float(z))
-            color = coin.SoBaseColor()
-            color.rgb = (0.1, 0.1, 0.1)
-            text = coin.SoText2()
-            text.string = f"{value:+.3g} mm" if value else "0"
-            for node in (move, color, text):
-                label.addChild(node)
-            sep.addChild(label)
-        return sep
-
     def updateData(self, obj, prop: str) -> None:
         if prop in ("Coordinates", "Distances", "MaxAbs"):
             self.refresh()
@@ -351,10 +396,15 @@ class DeviationViewProvider(_OneMode):
 # --- surface analysis ---------------------------------------------------------------------------
 class AnalysisViewProvider(_OneMode):
     """The surface analysis' mesh with per-vertex colours (surface_analysis.vertex_colors),
-    unlit (SoLightModel BASE_COLOR) so the colours are the values' own."""
+    unlit (SoLightModel BASE_COLOR) so the colours are the values' own; for the colour
+    scale kinds (curvatures, draft) a colour bar beside it (``ShowLegend``) labelled with
+    the range: the object's ``Range``, or symmetric (the largest |value|) when 0."""
     MODE = "Analysis"
 
     def __init__(self, vobj):
+        vobj.addProperty("App::PropertyBool", "ShowLegend", "CAGD",
+                         "Show the colour bar (curvatures, draft angle): -Range blue .. +Range red")
+        vobj.ShowLegend = True
         vobj.Proxy = self
         if getattr(self, "root", None) is None:
             self.attach(vobj)
@@ -373,7 +423,8 @@ class AnalysisViewProvider(_OneMode):
         light = coin.SoLightModel()
         light.model = coin.SoLightModel.BASE_COLOR
         coords = coin.SoCoordinate3()
-        coords.point.setValues(0, len(pts), [(p.x, p.y, p.z) for p in pts])
+        flat = [(p.x, p.y, p.z) for p in pts]
+        coords.point.setValues(0, len(flat), flat)
         material = coin.SoMaterial()
         material.diffuseColor.setValues(0, len(colors), [tuple(map(float, c)) for c in colors])
         binding = coin.SoMaterialBinding()
@@ -385,13 +436,17 @@ class AnalysisViewProvider(_OneMode):
         mesh.coordIndex.setValues(0, len(index), index)
         for node in (light, hints, coords, material, binding, mesh):
             root.addChild(node)
+        from .surface_analysis import STRIPED, unit
+        if obj.Kind not in STRIPED and getattr(self.vobj, "ShowLegend", True):
+            root.addChild(colour_bar(flat, obj.Proxy.limit(obj), unit(obj.Kind)))
 
     def updateData(self, obj, prop: str) -> None:
         if prop in ("Coordinates", "Values", "Bands", "Range"):
             self.refresh()
 
     def onChanged(self, vobj, prop: str) -> None:
-        pass
+        if prop == "ShowLegend":
+            self.refresh()
 
     def getIcon(self) -> str:
         return icon("DeviationMap")

@@ -10,55 +10,24 @@ into $CAGD_WB_OUT: ``<step>.png`` with the step's new object shown and
 own pixels. Checks that need FreeCAD are made here; the summary goes to
 ``$CAGD_WB_OUT/result.json``. The GUI does not exit by itself: ``os._exit`` ends it.
 """
-import json
 import os
 import sys
-import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 
-try:
-    import cagdwb  # noqa: F401  (the installed addon, see workbench/install.py)
-except ImportError:
-    sys.path.insert(0, os.environ["CAGD_WB_ADDON"])          # or the addon folder named here
-from cagdwb.qt import QtCore, QtWidgets  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_support import OUT, RESULT, QtCore, QtWidgets, check, log, run, settle, show_only, step  # noqa: E402
 
-OUT = os.environ.get("CAGD_WB_OUT", "/tmp/cagd-wb-gui")
-os.makedirs(OUT, exist_ok=True)
-LOG = open(os.path.join(OUT, "macro.log"), "w", encoding="utf-8")
-RESULT = {"passed": [], "failed": {}, "screenshots": [], "out": OUT}
+RESULT["screenshots"] = []
 V = App.Vector
 WIDTH, HEIGHT = 480, 360
-
-
-def log(msg):
-    LOG.write(f"{time.strftime('%H:%M:%S')} {msg}\n")
-    LOG.flush()
-
-
-def check(cond, message):
-    if not cond:
-        raise AssertionError(message)
-
-
-def settle(n=5):
-    for _ in range(n):
-        QtWidgets.QApplication.processEvents()
 
 
 def render(name, show, hide_for_reference):
     """Save <name>.png showing ``show`` objects, then <name>-hidden.png without
     ``hide_for_reference`` (same camera)."""
-    doc = App.ActiveDocument
-    Gui.Selection.clearSelection()
-    for o in doc.Objects:
-        o.ViewObject.Visibility = o in show
-    view = Gui.ActiveDocument.ActiveView
-    view.viewIsometric()
-    view.fitAll()
-    settle()
+    view = show_only(show)
     shown = os.path.join(OUT, name + ".png")
     view.saveImage(shown, WIDTH, HEIGHT, "White")
     for o in hide_for_reference:
@@ -120,14 +89,6 @@ def property_text(obj, name):
                     if str(model.index(r, 0, group).data()).replace(" ", "") == name:
                         return model.index(r, 1, group).data()
     return None                         # no property editor showing it (a fresh configuration)
-
-
-STEPS = []
-
-
-def step(fn):
-    STEPS.append(fn)
-    return fn
 
 
 STATE = {}
@@ -676,13 +637,7 @@ def found_when_tried():
 def front_render(name, obj):
     """<name>.png with only ``obj`` shown, front view (looking along +y, z up), and
     <name>-hidden.png without it."""
-    for o in App.ActiveDocument.Objects:
-        o.ViewObject.Visibility = o is obj
-    Gui.Selection.clearSelection()
-    view = Gui.ActiveDocument.ActiveView
-    view.viewFront()
-    view.fitAll()
-    settle()
+    view = show_only([obj], "viewFront")
     view.saveImage(os.path.join(OUT, name + ".png"), WIDTH, HEIGHT, "White")
     obj.ViewObject.Visibility = False
     settle()
@@ -709,7 +664,9 @@ def surface_analysis_overlay():
     check(not sphere.ViewObject.Visibility, "the analysed sphere is still shown under the overlay")
     check(abs(gauss.Maximum - 0.01) < 1e-9 and abs(gauss.Minimum - 0.01) < 1e-9,
           f"sphere K {gauss.Minimum}..{gauss.Maximum}")
+    gauss.ViewObject.ShowLegend = False          # the sphere alone (its colour bar: surface_analysis_colour_bar)
     front_render("Cagd_SurfaceAnalysis", gauss)
+    STATE["gauss"] = gauss
     objs = run_command("Cagd_SurfaceAnalysis", [(cylinder, "Face1")])
     check(len(objs) == 1, "no zebra object")
     zebra = objs[0]
@@ -720,27 +677,41 @@ def surface_analysis_overlay():
     refused("Cagd_SurfaceAnalysis", [], "select one face")
 
 
-def run():
-    start = time.time()
-    try:
-        for fn in STEPS:
-            try:
-                fn()
-            except Exception as exc:
-                RESULT["failed"][fn.__name__] = f"{type(exc).__name__}: {exc}"
-                log(f"FAIL {fn.__name__}\n{traceback.format_exc()}")
-            else:
-                RESULT["passed"].append(fn.__name__)
-                log(f"ok   {fn.__name__}")
-        import numpy
-        RESULT.update(seconds=round(time.time() - start, 2), freecad=".".join(App.Version()[:3]),
-                      numpy=numpy.__version__)
-        with open(os.path.join(OUT, "result.json"), "w", encoding="utf-8") as f:
-            json.dump(RESULT, f, indent=1)
-    finally:
-        LOG.close()
-        sys.stdout.flush()
-        os._exit(0)
+def _labels(node):
+    """The strings of the SoText2 nodes under ``node``."""
+    from pivy import coin
+    search = coin.SoSearchAction()
+    search.setType(coin.SoText2.getClassTypeId())
+    search.setInterest(coin.SoSearchAction.ALL)
+    search.apply(node)
+    paths = search.getPaths()
+    return [paths[k].getTail().string.getValues()[0] for k in range(paths.getLength())]
+
+
+@step
+def surface_analysis_colour_bar():
+    """The sphere's Gaussian map with its colour bar, front view: ``...Legend.png`` with
+    it, ``...Legend-hidden.png`` without (same camera); labels +-0.01 1/mm (symmetric:
+    K = 1/100 everywhere); ``Range`` 0.02 relabels the bar and turns the sphere yellow
+    (K at half the range), ``...Range.png``. test_gui.py checks the pixels."""
+    gauss = STATE["gauss"]
+    gauss.ViewObject.ShowLegend = True
+    view = show_only([gauss], "viewFront")
+    labels = _labels(gauss.ViewObject.Proxy.root)
+    check(labels == ["+0.01 1/mm", "0", "-0.01 1/mm"], f"symmetric colour bar labels {labels}")
+    view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisLegend.png"), WIDTH, HEIGHT, "White")
+    gauss.ViewObject.ShowLegend = False
+    settle()
+    view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisLegend-hidden.png"), WIDTH, HEIGHT, "White")
+    check(_labels(gauss.ViewObject.Proxy.root) == [], "colour bar still drawn with ShowLegend off")
+    gauss.ViewObject.ShowLegend = True
+    gauss.Range = 0.02
+    App.ActiveDocument.recompute()
+    settle()
+    labels = _labels(gauss.ViewObject.Proxy.root)
+    check(labels == ["+0.02 1/mm", "0", "-0.02 1/mm"], f"user range colour bar labels {labels}")
+    view.saveImage(os.path.join(OUT, "Cagd_SurfaceAnalysisRange.png"), WIDTH, HEIGHT, "White")
+    gauss.ViewObject.Visibility = False
 
 
 QtCore.QTimer.singleShot(500, run)

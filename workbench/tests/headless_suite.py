@@ -11,7 +11,8 @@ names and the largest deviations measured. Cases: conversion and analysis here,
 the objects in suite_objects.py, the query objects
 (intersection curve, deviation map) in suite_queries.py, the fitting objects in
 suite_fitting.py, the network and blending objects (Gordon, sweeps, blends, match) in
-suite_network.py, helpers in suite_support.py. ``CAGD_WB_CASES=word`` runs only the
+suite_network.py, the pole edit mode's geometry and property updates in suite_edit.py,
+helpers in suite_support.py. ``CAGD_WB_CASES=word`` runs only the
 cases whose names contain ``word`` (the summary then counts fewer cases).
 """
 import json
@@ -295,6 +296,7 @@ import suite_queries  # noqa: E402,F401  (intersection curve and deviation map c
 import suite_fitting  # noqa: E402  (fit curve/surface, rebuild, remove knots, reduce degree, fair)
 import suite_usability  # noqa: E402,F401  (issue 19: comb per span, tolerances, refusals, Hermite, iso combs)
 import suite_network  # noqa: E402  (issue 18: Gordon, sweeps, blend curve / surface, match surface)
+import suite_edit  # noqa: E402,F401  (issue 19: pole edit mode: drag geometry, pole and weight updates)
 
 
 # --- analysis -------------------------------------------------------------------------------

@@ -1,0 +1,190 @@
+"""Headless cases of the pole edit mode (issue 19): the pure drag geometry of
+cagdwb/poledrag.py and the property updates of cagdwb/editpoles.py (a pole moved in
+global coordinates, a linked Part Vertex moved instead, a vertex of a solid refused, a
+pole's weight). The GUI drags themselves are in gui_edit_macro.py."""
+import math
+
+import numpy as np
+import Part
+
+import FreeCAD as App
+from suite_support import V, cagd, case, check, conversion, curves, new_doc, recompute_ok, surfaces
+
+from cagdwb import editpoles, poledrag
+
+
+def _raises(fn, words):
+    """fn() raises CagdError whose message contains ``words``."""
+    try:
+        fn()
+    except cagd.CagdError as exc:
+        check(words in str(exc), f"message {exc!s} lacks {words!r}")
+        return
+    raise AssertionError(f"no CagdError ({words})")
+
+
+@case
+def test_pole_drag_geometry():
+    """pick_pole: the point nearest the ray (brute force over random clouds), the front
+    one of two on the ray, none beyond tol; drag_in_plane: on the plane and on the ray;
+    drag_along: on the axis, the segment to the ray normal to both (closest points);
+    drag_in_depth: the travel up the screen along the axis; net_normals of a plane
+    z = a x + b y: (-a, -b, 1) / norm."""
+    rng = np.random.default_rng(19)
+    for _ in range(20):
+        P = rng.normal(size=(50, 3)) * 10
+        o, d = rng.normal(size=3) * 20, rng.normal(size=3)
+        u = d / np.linalg.norm(d)
+        rel = P - o
+        dist = np.linalg.norm(rel - np.outer(rel @ u, u), axis=1)
+        check(poledrag.pick_pole(P, o, d, 1e9) == int(np.argmin(dist)), "pick_pole is not the nearest to the ray")
+        check(poledrag.pick_pole(P, o, d, 0.999 * dist.min()) is None, "pick_pole beyond tol")
+    two = np.array([[0, 0, 5.0], [0, 0, -5.0], [3, 0, 0]])
+    check(poledrag.pick_pole(two, [0, 0, 10], [0, 0, -1], 0.5) == 0, "not the front pole")
+    check(poledrag.pick_pole(two, [0, 0, -10], [0, 0, 1], 0.5) == 1, "not the front pole (from below)")
+    for _ in range(20):
+        a, n, o, d = (rng.normal(size=3) for _ in range(4))
+        q = poledrag.drag_in_plane(a, n, o, d)
+        check(abs((q - a) @ n) <= 1e-9 * np.linalg.norm(n) * (1 + np.abs(q).max()), "not on the plane")
+        check(np.linalg.norm(np.cross(q - o, d)) <= 1e-9 * np.linalg.norm(d) * (1 + np.abs(q).max()),
+              "not on the ray")
+        q = poledrag.drag_along(a, n, o, d)
+        check(np.linalg.norm(np.cross(q - a, n)) <= 1e-9 * np.linalg.norm(n) * (1 + np.abs(q).max()),
+              "not on the axis")
+        w = q - o
+        foot = o + (w @ d) / (d @ d) * d                  # the ray's point nearest q
+        gap = q - foot
+        scale = 1e-9 * (1 + np.abs(q).max() + np.abs(foot).max())
+        check(abs(gap @ n) <= scale * np.linalg.norm(n) and abs(gap @ d) <= scale * np.linalg.norm(d),
+              "the segment between the lines is not normal to both")
+    q = poledrag.drag_in_depth([1, 2, 3], [0, 0, -2], [0, 0, 0], [5, 7, 0], [0, 1, 0])
+    check(np.allclose(q, [1, 2, -4], rtol=0, atol=1e-15), f"drag_in_depth {q}")
+    a_, b_ = 0.3, -0.7
+    x, y = np.meshgrid(np.linspace(0, 4, 5), np.linspace(0, 3, 4), indexing="ij")
+    N = poledrag.net_normals(np.stack([x, y, a_ * x + b_ * y], -1))
+    want = np.array([-a_, -b_, 1.0]) / math.sqrt(a_ * a_ + b_ * b_ + 1)
+    check(np.abs(N - want).max() <= 1e-12, f"net normals {N[0, 0]} vs {want}")
+    _raises(lambda: poledrag.drag_in_plane([0, 0, 0], [0, 0, 1], [0, 0, 1], [1, 0, 0]), "direction")
+    _raises(lambda: poledrag.drag_along([0, 0, 0], [0, 0, 1], [1, 0, 0], [0, 0, -1]), "axis")
+    _raises(lambda: poledrag.pick_pole(two, [0, 0, 1], [0, 0, 0], 1.0), "direction")
+    _raises(lambda: poledrag.pick_pole(two, [0, 0, 1], [0, 0, 1], 0.0), "tol")
+
+
+def _single_pole_curve(curve, k, delta):
+    """OCCT's curve with pole k = delta and the others 0: N_k(t) delta (the oracle of a
+    moved pole: C_new - C_old, the curve being linear in its poles)."""
+    one = Part.BSplineCurve()
+    poles = [V(*delta) if i == k else V(0, 0, 0) for i in range(curve.NbPoles)]
+    one.buildFromPolesMultsKnots(poles, curve.getMultiplicities(), curve.getKnots(), curve.isPeriodic(),
+                                 curve.Degree)
+    return one
+
+
+@case
+def test_pole_set_point():
+    """set_point moves a pole given in global coordinates: the property gets it in the
+    placed object's local coordinates, the edge moves by N_k(t) delta (OCCT's one-pole
+    curve, 41 parameters, 1e-9 of the size); on a surface S_new - S_old = N_i(u) N_j(v)
+    delta (OCCT's one-pole surface); placed_points and net normals in global coordinates;
+    an index out of range is an error naming Poles."""
+    doc = new_doc("setpoint")
+    obj = curves.make_bspline_curve(doc=doc)
+    obj.Placement = App.Placement(V(5, -3, 2), App.Rotation(V(0, 0, 1), 30))
+    recompute_ok(obj)
+    edge = obj.Shape.Edges[0]
+    ts = np.linspace(edge.FirstParameter, edge.LastParameter, 41)
+    before = np.array([tuple(edge.valueAt(t)) for t in ts])
+    P = editpoles.placed_points(obj)
+    check(np.abs(P - np.array([tuple(p) for p in edge.Curve.getPoles()])).max() <= 1e-12 * 60,
+          "placed_points are not the shape's poles")
+    delta = np.array([1.5, -2.0, 4.0])
+    editpoles.set_point(obj, 2, P[2] + delta)
+    recompute_ok(obj)
+    local = obj.Placement.inverse().multVec(V(*(P[2] + delta)))
+    check((obj.Poles[2] - local).Length <= 1e-12 * 60, f"property pole {obj.Poles[2]} vs {local}")
+    edge = obj.Shape.Edges[0]
+    one = _single_pole_curve(edge.Curve, 2, delta)
+    after = np.array([tuple(edge.valueAt(t)) for t in ts])
+    dev = np.abs(after - before - np.array([tuple(one.value(t)) for t in ts])).max()
+    check(dev <= 1e-9 * 60, f"edge moved {dev:.3g} off N_k(t) delta")
+    _raises(lambda: editpoles.set_point(obj, 6, (0, 0, 0)), "Poles")
+    i, j = np.meshgrid(np.arange(5.0), np.arange(6.0), indexing="ij")
+    grid = np.stack([10 * i, 10 * j, 3 * np.sin(i + j)], -1)
+    surf = surfaces.make_bspline_surface(grid, 5, doc=doc)
+    recompute_ok(surf)
+    face = surf.Shape.Faces[0]
+    uv = [(u, v) for u in np.linspace(0, 1, 7) for v in np.linspace(0, 1, 7)]
+    before = np.array([tuple(face.Surface.value(u, v)) for u, v in uv])
+    k = 2 * 6 + 3
+    editpoles.set_point(surf, k, grid[2, 3] + delta)
+    recompute_ok(surf)
+    s = surf.Shape.Faces[0].Surface
+    one = Part.BSplineSurface()
+    one.buildFromPolesMultsKnots([[V(*delta) if (a, b) == (2, 3) else V(0, 0, 0) for b in range(6)] for a in range(5)],
+                                 s.getUMultiplicities(), s.getVMultiplicities(), s.getUKnots(), s.getVKnots(),
+                                 False, False, s.UDegree, s.VDegree)
+    after = np.array([tuple(s.value(u, v)) for u, v in uv])
+    dev = np.abs(after - before - np.array([tuple(one.value(u, v)) for u, v in uv])).max()
+    check(dev <= 1e-9 * 60, f"surface moved {dev:.3g} off N_i(u) N_j(v) delta")
+    N = editpoles.surface_normals(surf)
+    check(N is not None and N.shape == (30, 3) and np.allclose(np.linalg.norm(N, axis=1), 1.0),
+          "surface_normals of a 5 x 6 grid")
+    check(editpoles.surface_normals(obj) is None and editpoles.point_property(obj) == "Poles", "curve normals")
+    spline = curves.make_cubic_spline(doc=doc)
+    check(editpoles.point_property(spline) == "Points", "a cubic spline edits its Points")
+    coons = doc.addObject("Part::Feature", "Plain")
+    check(editpoles.point_property(coons) is None, "a Part feature has points to edit")
+
+
+@case
+def test_pole_linked_vertex():
+    """A Bezier curve on Part Vertex objects (one placed): set_point moves that vertex
+    object (X, Y, Z in its own coordinates) and the curve follows; a pole from a box's
+    vertex is refused (CagdError naming Vertices and the box, refusal() says why) and
+    nothing changes."""
+    doc = new_doc("linkedpole")
+    verts = []
+    for n, p in enumerate([V(0, 0, 0), V(10, 20, 0), V(30, 20, 0)]):
+        v = doc.addObject("Part::Vertex", f"P{n}")
+        v.X, v.Y, v.Z = p.x, p.y, p.z
+        verts.append(v)
+    verts[1].Placement = App.Placement(V(1, 2, 3), App.Rotation(V(1, 0, 0), 90))
+    box = doc.addObject("Part::Box", "Block")
+    doc.recompute()
+    obj = curves.make_bezier_curve(vertices=[(v, "") for v in verts] + [(box, "Vertex7")], doc=doc)
+    recompute_ok(obj)
+    target = np.array([12.0, 25.0, -4.0])
+    check(editpoles.refusal(obj, 1) is None, "a Part Vertex refused")
+    editpoles.set_point(obj, 1, target)
+    recompute_ok(obj)
+    moved = verts[1].Shape.Vertexes[0].Point
+    check(np.abs(np.array(tuple(moved)) - target).max() <= 1e-12 * 30, f"vertex at {moved}, wanted {target}")
+    check(np.abs(np.array(tuple(obj.Poles[1])) - target).max() <= 1e-12 * 30, "curve did not follow the vertex")
+    poles = [tuple(p) for p in obj.Poles]
+    reason = editpoles.refusal(obj, 3)
+    check(reason is not None and "Vertices" in reason and "Block.Vertex7" in reason, f"refusal {reason!r}")
+    _raises(lambda: editpoles.set_point(obj, 3, (1, 2, 3)), "Block.Vertex7")
+    recompute_ok(obj)
+    check([tuple(p) for p in obj.Poles] == poles, "a refused move changed the poles")
+
+
+@case
+def test_pole_weight():
+    """set_weight on a polynomial curve makes it rational (all ones, the picked weight
+    set; OCCT's curve carries it); a weight out of range is an error naming Weights; the
+    points of a cubic spline or of an interpolating surface have no weights."""
+    doc = new_doc("poleweight")
+    obj = curves.make_bspline_curve(doc=doc)
+    recompute_ok(obj)
+    editpoles.set_weight(obj, 3, 2.5)
+    recompute_ok(obj)
+    check(list(obj.Weights) == [1.0, 1.0, 1.0, 2.5, 1.0, 1.0], f"weights {list(obj.Weights)}")
+    c = obj.Shape.Edges[0].Curve
+    check(c.isRational() and abs(c.getWeight(4) - 2.5) <= 1e-15, "OCCT's curve lacks the weight")
+    _raises(lambda: editpoles.set_weight(obj, 3, 0.0), "Weights")
+    _raises(lambda: editpoles.set_weight(obj, 9, 1.0), "Weights")
+    spline = curves.make_cubic_spline(doc=doc)
+    _raises(lambda: editpoles.set_weight(spline, 0, 2.0), "no pole weights")
+    through = surfaces.make_bspline_surface(Interpolate=True, doc=doc)
+    _raises(lambda: editpoles.set_weight(through, 0, 2.0), "no pole weights")
+    check(conversion.array(obj.Poles).shape == (6, 3), "poles changed by a weight")
