@@ -28,15 +28,17 @@ used as they are ((1, 1): the first and last legs |Q - P| / n long, the chord-le
 heuristic). By default (a, b) minimise the curvature-variation energy
 E = L^3 int (d kappa / ds)^2 ds of the bridge (Moreton & Sequin's minimum-variation
 functional, made scale-free by the cube of the bridge's length L, so that it does not
-favour long detours; :func:`curvature_variation`) over the box SCALE_BOUNDS^2: the best
-point of a START_GRID x START_GRID log-spaced grid, refined by a bounded Nelder-Mead in
-(log a, log b) (at most MAX_ITERATIONS steps). (1, 1) is kept unless the energy drops
+favour long detours; :func:`curvature_variation`) over the box SCALE_BOUNDS^2: the lowest
+START_MINIMA local minima of a START_GRID x START_GRID log-spaced grid, each refined by a
+bounded Nelder-Mead in (log a, log b) (at most MAX_ITERATIONS steps; the energy is not
+convex in (a, b): several starts). (1, 1) is kept unless the energy drops
 below its value there by more than ENERGY_TIE (two collinear tangents along the chord give
 a straight bridge, energy 0, for every (a, b): the uniform segment is kept).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from math import comb, perm
 from operator import index
 from typing import Callable, Optional, Sequence, Tuple
@@ -57,7 +59,9 @@ COINCIDENT_TOL = 1e-12
 #: the box of the automatic tangent scales a, b (times the chord |Q - P|)
 SCALE_BOUNDS = (0.1, 4.0)
 #: points per axis of the log-spaced grid the automatic search starts from
-START_GRID = 9
+START_GRID = 17
+#: the search refines at most this many of the grid's local minima
+START_MINIMA = 3
 #: bound on the Nelder-Mead steps of the automatic search
 MAX_ITERATIONS = 300
 #: the search stops when the simplex is this small in (log a, log b)
@@ -68,7 +72,7 @@ ENERGY_TIE = 1e-12
 #: energies below this are rounding (a straight bridge)
 ENERGY_FLOOR = 1e-20
 #: Gauss-Legendre panels and nodes per panel of the energy quadrature
-ENERGY_PANELS = 16
+ENERGY_PANELS = 32
 ENERGY_NODES = 8
 _ENDS = ("start", "end")
 
@@ -155,19 +159,22 @@ def _continuity(value: object, allowed: Tuple[int, ...] = (1, 2, 3),
 
 
 def _from_derivatives(D: Sequence[np.ndarray], n: int) -> np.ndarray:
-    """The first len(D) control points of a degree-n Bezier curve with B^(j)(0) = D[j]:
-    Delta^j B_0 = D[j] (n - j)! / n!, B_j = sum_i C(j, i) Delta^i B_0 (Farin 5.3)."""
+    """The first len(D) control points (axis -2) of degree-n Bezier curves with B^(j)(0) = D[j]
+    (each (..., dim)): Delta^j B_0 = D[j] (n - j)! / n!, B_j = sum_i C(j, i) Delta^i B_0 (Farin 5.3)."""
     delta = [D[j] / perm(n, j) for j in range(len(D))]
-    return np.array([sum(comb(j, i) * delta[i] for i in range(j + 1)) for j in range(len(D))])
+    return np.stack([sum(comb(j, i) * delta[i] for i in range(j + 1)) for j in range(len(D))], axis=-2)
 
 
-def _bridge(P: np.ndarray, A: np.ndarray, Q: np.ndarray, C: np.ndarray, s0: float, s1: float, k: int) -> np.ndarray:
-    """Control points of the degree 2k+1 bridge with end speeds s0, s1 (module docstring);
-    A = (T, K, X) at P, C = (U, L, Y) at Q (both oriented along the bridge)."""
+def _bridge(P: np.ndarray, A: np.ndarray, Q: np.ndarray, C: np.ndarray, s0: np.ndarray, s1: np.ndarray,
+            k: int) -> np.ndarray:
+    """Control points (..., 2k + 2, dim) of the degree 2k+1 bridges with end speeds s0, s1 (arrays
+    of one shape; module docstring); A = (T, K, X) at P, C = (U, L, Y) at Q, oriented along the bridge."""
     n = 2 * k + 1
-    B = np.empty((n + 1, P.shape[0]))
-    B[:k + 1] = _from_derivatives([P] + [s0 ** j * A[j - 1] for j in range(1, k + 1)], n)
-    B[n - k:] = _from_derivatives([Q] + [(-s1) ** j * C[j - 1] for j in range(1, k + 1)], n)[::-1]
+    s0, s1 = np.asarray(s0, dtype=float)[..., None], np.asarray(s1, dtype=float)[..., None]
+    B = np.empty(s0.shape[:-1] + (n + 1, P.shape[0]))
+    B[..., :k + 1, :] = _from_derivatives([P + 0.0 * s0] + [s0 ** j * A[j - 1] for j in range(1, k + 1)], n)
+    B[..., n - k:, :] = _from_derivatives([Q + 0.0 * s1] + [(-s1) ** j * C[j - 1] for j in range(1, k + 1)],
+                                          n)[..., ::-1, :]
     return B
 
 
@@ -210,6 +217,7 @@ def curvature_variation(curve: Curve) -> float:
     return float(_variation(D[1], D[2], D[3]))            # invariant under the map to [0, 1]
 
 
+@lru_cache(maxsize=8)
 def _bernstein_derivatives(n: int) -> Tuple[np.ndarray, ...]:
     """M_j (j = 1, 2, 3): B^(j)(nodes) = M_j @ B for degree-n control points B
     (B^(j) = n! / (n-j)! sum_i Delta^j B_i b_i^(n-j); Farin 5.3)."""
@@ -270,20 +278,30 @@ def _nelder_mead(f: Callable[[np.ndarray], float], x0: np.ndarray, lo: float, hi
     return S[int(np.argmin(F))]
 
 
-def _automatic(energy: Callable[[float, float], float]) -> Tuple[float, float]:
-    """The tangent scales of least ``energy`` (dimensionless) in SCALE_BOUNDS^2: grid start,
-    Nelder-Mead in logs; (1, 1) unless beaten by more than ENERGY_TIE (module docstring)."""
+def _automatic(energy: Callable[[np.ndarray, np.ndarray], np.ndarray]) -> Tuple[float, float]:
+    """The tangent scales of least ``energy`` (vectorized over scales a, b) in SCALE_BOUNDS^2:
+    Nelder-Mead in logs from each of the START_MINIMA lowest local minima of a log-spaced
+    START_GRID^2 grid; (1, 1) unless beaten by more than ENERGY_TIE (module docstring)."""
     lo, hi = np.log(SCALE_BOUNDS[0]), np.log(SCALE_BOUNDS[1])
 
     def f(x: np.ndarray) -> float:
-        return energy(float(np.exp(x[0])), float(np.exp(x[1])))
+        return float(energy(np.exp(x[0]), np.exp(x[1])))
 
-    e1 = energy(1.0, 1.0)
+    e1 = float(energy(np.ones(()), np.ones(())))
     g = np.linspace(lo, hi, START_GRID)
-    starts = [np.array([x, y]) for x in g for y in g]
-    values = [f(x) for x in starts]
-    x = _nelder_mead(f, starts[int(np.argmin(values))], lo, hi)
-    if f(x) < e1 * (1.0 - ENERGY_TIE) - ENERGY_FLOOR:
+    E = energy(np.exp(g)[:, None], np.exp(g)[None, :])
+    padded = np.pad(E, 1, constant_values=np.inf)
+    neighbours = np.min([padded[1 + i:1 + i + START_GRID, 1 + j:1 + j + START_GRID]
+                         for i in (-1, 0, 1) for j in (-1, 0, 1) if i or j], axis=0)
+    minima = np.flatnonzero((E <= neighbours).ravel() & np.isfinite(E).ravel())
+    minima = minima[np.argsort(E.ravel()[minima], kind="stable")][:START_MINIMA]
+    best, x = e1, None
+    for m in minima:
+        y = _nelder_mead(f, np.array([g[m // START_GRID], g[m % START_GRID]]), lo, hi)
+        fy = f(y)
+        if fy < best:
+            best, x = fy, y
+    if x is not None and best < e1 * (1.0 - ENERGY_TIE) - ENERGY_FLOOR:
         return float(np.exp(x[0])), float(np.exp(x[1]))
     return 1.0, 1.0
 
@@ -318,8 +336,9 @@ def blend_curve(c1: Curve, end1: str, c2: Curve, end2: str, continuity: int = 1,
         raise CagdError(f"end2: c2's {end2} point coincides with c1's {end1} point (distance {chord:.3g}); "
                         f"a bridge needs two distinct end points")
 
-    def energy(a: float, b: float) -> float:
-        return float(_bridge_variation(_bridge(P, A, Q, C, a * chord, b * chord, k)))
+    def energy(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        a, b = np.broadcast_arrays(a, b)
+        return _bridge_variation(_bridge(P, A, Q, C, a * chord, b * chord, k))
 
     sa, sb = given if given is not None else _automatic(energy)
     bridge = BezierCurve(_bridge(P, A, Q, C, sa * chord, sb * chord, k))
@@ -329,7 +348,7 @@ def blend_curve(c1: Curve, end1: str, c2: Curve, end2: str, continuity: int = 1,
     gaps3 = (_relative_gap(E0[2], A[2], size ** -2), _relative_gap(E1[2], C[2], size ** -2))
     measured = [max(angles), max(gaps), max(gaps3)][:k]
     converged = bool(max(measured) <= CONTINUITY_TOL)
-    E = curvature_variation(bridge)
+    E = float(_bridge_variation(bridge.control_points))     # = curvature_variation(bridge), faster
     message = (f"G{k} bridge of degree {2 * k + 1}, tangent scales ({sa:.6g}, {sb:.6g})"
                f"{'' if given is not None else ' (least curvature variation)'}: tangent angles "
                f"{angles[0]:.3g}, {angles[1]:.3g} rad, relative curvature gaps {gaps[0]:.3g}, {gaps[1]:.3g}, "
