@@ -450,7 +450,8 @@ def test_other_rational_circles_give_the_exact_tensor_product():
     prof = circle(R_MINOR).transformed(XZ, [R_MAJOR, 0.0, 0.0])
     h = math.pi / 3.0
     one_span = BSplineCurve([[R_MAJOR, 0, 0], [R_MAJOR, R_MAJOR * math.tan(h), 0],
-                             [R_MAJOR * math.cos(2 * h), R_MAJOR * math.sin(2 * h), 0]], 2, None, [1.0, math.cos(h), 1.0])
+                             [R_MAJOR * math.cos(2 * h), R_MAJOR * math.sin(2 * h), 0]], 2, None,
+                            [1.0, math.cos(h), 1.0])
     for path in (circle(R_MAJOR).insert_knot(0.1), circle(R_MAJOR).elevate(1), one_span):
         r = sweep(prof, path)
         assert r.converged and r.max_error <= 1e-14 and "revolution" in r.message
