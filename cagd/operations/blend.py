@@ -41,7 +41,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from math import comb, perm
 from operator import index
-from typing import Callable, Optional, Sequence, Tuple
+from typing import Callable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -165,8 +165,8 @@ def _from_derivatives(D: Sequence[np.ndarray], n: int) -> np.ndarray:
     return np.stack([sum(comb(j, i) * delta[i] for i in range(j + 1)) for j in range(len(D))], axis=-2)
 
 
-def _bridge(P: np.ndarray, A: np.ndarray, Q: np.ndarray, C: np.ndarray, s0: np.ndarray, s1: np.ndarray,
-            k: int) -> np.ndarray:
+def _bridge(P: np.ndarray, A: np.ndarray, Q: np.ndarray, C: np.ndarray, s0: Union[float, np.ndarray],
+            s1: Union[float, np.ndarray], k: int) -> np.ndarray:
     """Control points (..., 2k + 2, dim) of the degree 2k+1 bridges with end speeds s0, s1 (arrays
     of one shape; module docstring); A = (T, K, X) at P, C = (U, L, Y) at Q, oriented along the bridge."""
     n = 2 * k + 1
