@@ -265,7 +265,7 @@ SCALE_GRID = np.exp(np.linspace(np.log(SCALE_BOUNDS[0]), np.log(SCALE_BOUNDS[1])
 def test_automatic_scales_beat_the_heuristic_and_a_grid(case, end1, end2, k):
     """Brute force: the energy of the automatic choice is at most that of (1, 1) and of
     every point of a 13 x 13 log-spaced grid over the search box (not the search's own
-    17 x 17 start grid), within rounding."""
+    17 x 17 start grid), within rounding, and of its neighbours (a, b) (1 +- 1e-4) in the box."""
     c1, c2 = CASES[case]
     res = blend_curve(c1, end1, c2, end2, k)
     a, b = res.tangent_scales
@@ -275,6 +275,12 @@ def test_automatic_scales_beat_the_heuristic_and_a_grid(case, end1, end2, k):
     grid = min(blend_curve(c1, end1, c2, end2, k, (x, y)).energy for x in SCALE_GRID for y in SCALE_GRID)
     assert res.energy <= grid * (1.0 + 1e-12), (res.energy, grid)
     assert res.energy < heuristic * (1.0 - 1e-3)       # and these cases are not at (1, 1)
+    lo, hi = SCALE_BOUNDS                                  # a local minimum: no better neighbour at 1e-4
+    for da in (-1, 0, 1):
+        for db in (-1, 0, 1):
+            x = min(max(a * (1.0 + 1e-4 * da), lo), hi)
+            y = min(max(b * (1.0 + 1e-4 * db), lo), hi)
+            assert res.energy <= blend_curve(c1, end1, c2, end2, k, (x, y)).energy * (1.0 + 1e-13), (da, db)
 
 
 def mirrored(c, x):
