@@ -304,3 +304,17 @@ def test_symmetric_inputs_give_symmetric_scales(c1, k):
     Q = P[::-1].copy()
     Q[:, 0] = 2.0 * x - Q[:, 0]
     np.testing.assert_allclose(P, Q, rtol=0, atol=1e-6 * curve_size(c1, c2))
+
+
+def test_curvature_variation_bad_input_and_closed_form():
+    with pytest.raises(CagdError, match=r"^curve: must be a cagd Curve"):
+        curvature_variation(np.zeros((4, 2)))
+    # a circle arc has constant curvature: no variation; a straight line none either
+    assert curvature_variation(ARCS[0]) <= 1e-20 and curvature_variation(LINES[0]) == 0.0
+    # the parabola (t, t^2 / 2) on [0, 1]: kappa = (1 + t^2)^(-3/2), d kappa / ds = -3 t (1 + t^2)^(-3),
+    # ds = sqrt(1 + t^2) dt, L = (sqrt 2 + asinh 1) / 2
+    integrate = pytest.importorskip("scipy.integrate")
+    parabola = BezierCurve([[0.0, 0.0], [0.5, 0.0], [1.0, 0.5]])
+    E = integrate.quad(lambda t: 9 * t * t * (1 + t * t) ** -5.5, 0.0, 1.0, epsabs=0, epsrel=1e-13)[0]
+    L = (math.sqrt(2.0) + math.asinh(1.0)) / 2.0
+    assert curvature_variation(parabola) == pytest.approx(L ** 3 * E, rel=1e-12, abs=0)
