@@ -570,7 +570,8 @@ def blendCurve(self: T, c1: Optional[CurveLike], end1: str, c2: Optional[CurveLi
                continuity: int = 1, tangent_scales: Optional[Sequence[float]] = None, forConstruction: bool = False,
                makeWire: bool = False) -> T:
     """The Bezier bridge from c1's ``end1`` to c2's ``end2`` ("start" or "end"), G1
-    (cubic) or G2 (quintic) to both (:func:`cagd.blend_curve`), as an edge on the
+    (cubic), G2 (quintic) or G3 (degree 7) to both (:func:`cagd.blend_curve`; tangent
+    lengths automatic unless ``tangent_scales``), as an edge on the
     stack and queued as a pending edge like the curve methods. The curves are engine
     curves (local coordinates) or edges of any library; ``None`` takes c1 from the last
     pending edge and c2 from the first (left queued: with both ``None`` the bridge

@@ -451,7 +451,7 @@ def blend_surface(s1: Surface, edge1: str, s2: Surface, edge2: str, continuity: 
     b1, b2 = _surface(s1, "s1"), _surface(s2, "s2")
     e1, e2 = _edge(edge1, "edge1"), _edge(edge2, "edge2")
     k = _continuity(continuity, (1, 2), "1: G1, a cubic blend; 2: G2, a quintic")
-    alpha, beta = _scales(tangent_scales)
+    alpha, beta = _scales(tangent_scales) or (1.0, 1.0)
     f, (b1, b2) = _normalised(b1, b2)
     rational = b1.is_rational or b2.is_rational
     side1, side2 = _side(b1, e1, rational), _side(b2, e2, rational)

@@ -17,6 +17,13 @@ bisected (a bounded loop) until that bound is within ``tol`` at the check parame
 (k/8, k = 1..7, of every station interval; the worst intervals at 63 points). When M(t)
 is constant (the "fixed" frame, or a straight path, with constant laws) the sweep is the
 translational surface with the path's own knots, exact: poles M (P_i - c(0)) + c_j, weights w_i v_j.
+When the path is an arc of a circle (centre O, axis a; a rational curve on it, found by
+:func:`_circle`), the laws are constant and the frame turns rigidly with the path ("rmf" and
+"frenet": a planar path's rotation-minimising frame is its Frenet frame up to a constant
+turn; an up vector along a), M(t) = Rot_a(phi(t)) M(0): the sweep is the surface of
+revolution of the placed profile c(0) + M(0) (C(u) - c(0)) by the path's own rational
+circle, built exactly (:func:`_revolution`; a torus for a circle profile about a circle).
+Both exact cases report the measured distance to the true sweep (rounding).
 
 Frames: "rmf", the rotation-minimising frame by double reflection (Wang, Juettler, Zheng,
 Liu 2008, "Computation of rotation minimizing frames", ACM TOG 27(1), Algorithm 1) on a
@@ -372,6 +379,80 @@ def _finish(surface: BSplineSurface, err: float, tol: float, capped: bool, what:
     return SweepResult(surface, float(err), tol, converged, message)
 
 
+# --- a circular path: the sweep is a surface of revolution -----------------------------------
+#: a path whose samples lie within this times its radius of one circle counts as that circle
+CIRCLE_TOL = 1e-12
+#: an up vector within this (sine of the angle) of the circle's axis keeps the frame rigid
+AXIS_TOL = 1e-12
+#: two arc control nets (cosine, sine factors) agreeing within this are the same
+ARC_MATCH_TOL = 1e-13
+
+
+def _circle(path: BSplineCurve) -> Optional[Tuple[np.ndarray, np.ndarray, float]]:
+    """(centre O, unit axis a, radius R) when the path lies on one circle, a oriented so
+    that the path turns counter-clockwise about it, else None. The circle is the one
+    through c(0), c(1/3), c(2/3) (normalised parameters); the test samples 2 p + 3 points in
+    every knot span: a rational curve of degree p meets a circle (a conic in its plane) in at
+    most 2 p points of a span unless it lies on it, so the samples decide it."""
+    a, b = path.domain
+    breaks = np.unique(np.clip(np.asarray(path.full_knots, dtype=float), a, b))
+    f = np.linspace(0.0, 1.0, 2 * path.degree + 3)
+    t = (breaks[:-1, None] + f[None, :] * np.diff(breaks)[:, None]).ravel()
+    p0, p1, p2 = path(np.array([a, a + (b - a) / 3.0, a + 2.0 * (b - a) / 3.0]))
+    u, v = p1 - p0, p2 - p0
+    w = np.cross(u, v)
+    ww = float(w @ w)
+    if not ww > (STRAIGHT_TOL * max(float(u @ u), float(v @ v))) ** 2:
+        return None
+    O = p0 + (float(v @ v) * np.cross(w, u) + float(u @ u) * np.cross(v, w)) / (2.0 * ww)
+    n = w / np.sqrt(ww)
+    R = float(np.linalg.norm(p0 - O))
+    rel = path(t) - O
+    if np.max(np.abs(np.linalg.norm(rel, axis=-1) - R)) > CIRCLE_TOL * R or np.max(np.abs(rel @ n)) > CIRCLE_TOL * R:
+        return None
+    T0 = path.derivatives(a, 1)[1]
+    return O, (n if float(np.cross(p0 - O, T0) @ n) > 0.0 else -n), R
+
+
+def _revolution(prof: BSplineCurve, path: BSplineCurve, O: np.ndarray, axis: np.ndarray, R: float
+                ) -> BSplineSurface:
+    """The profile (placed: M(0) applied) turned about the axis by the path's own rational
+    circle: S(u, v) = O + Rot(phi(v)) (C(u) - O), phi the path's angle. With e1 = (c(0) - O) / R,
+    e2 = axis x e1 and the path's poles c_j, weights v_j: cos phi = sum N_j v_j alpha_j / sum N_j v_j,
+    sin phi likewise with alpha_j = (c_j - O).e1 / R, beta_j = (c_j - O).e2 / R, so the net
+    :func:`~cagd.surfaces.revolution.turned_net` of the profile's poles by (alpha_j, beta_j),
+    weights w_i v_j, is exact (Piegl & Tiller A8.1 with the path's circle). When the path is
+    the standard arc of :func:`~cagd.surfaces.revolution.arc_parameters` the result is
+    :func:`~cagd.surfaces.revolution.revolve`'s RevolvedSurface (its records kept)."""
+    from ..surfaces.revolution import _arc_count, _revolved, arc_parameters, turned_net
+
+    a, b = path.domain
+    x0 = path(a)
+    e1 = (x0 - O) / R
+    e2 = np.cross(axis, e1)
+    rel = path.control_points - O
+    alpha, beta = rel @ e1 / R, rel @ e2 / R
+    wv = np.ones(len(rel)) if path.weights is None else path.weights
+    kv_ = (np.asarray(path.knots, dtype=float) - a) / (b - a)
+    if path.degree == 2 and not path.periodic and not prof.periodic and len(rel) % 2 == 1 and wv[0] > 0.0:
+        spans = len(rel) // 2
+        half = float(np.arccos(np.clip(wv[1] / wv[0], -1.0, 1.0)))
+        angle = 2.0 * half * spans
+        if abs(angle - 2.0 * np.pi) <= ARC_MATCH_TOL * 2.0 * np.pi:
+            angle = 2.0 * np.pi
+        if 0.0 < angle <= 2.0 * np.pi and _arc_count(angle) == spans:
+            c, s, w, knots = arc_parameters(0.0, angle)
+            if (len(knots) == len(kv_) and np.allclose(knots, kv_, rtol=0, atol=ARC_MATCH_TOL)
+                    and np.allclose(w, wv / wv[0], rtol=0, atol=ARC_MATCH_TOL)
+                    and np.allclose(c, alpha, rtol=0, atol=ARC_MATCH_TOL)
+                    and np.allclose(s, beta, rtol=0, atol=ARC_MATCH_TOL)):
+                return _revolved(prof.clamped(), O, axis, angle, 0.0)
+    P = turned_net(prof.control_points, O, axis, alpha, beta)
+    wu = np.ones(len(P)) if prof.weights is None else prof.weights
+    W = None if prof.weights is None and path.weights is None else np.outer(wu, wv)
+    return BSplineSurface(P, prof.degree, path.degree, prof.knots, kv_, W, prof.periodic, path.periodic)
+
+
 # --- sweep ---------------------------------------------------------------------------------
 def sweep(profile: Curve, path: Curve, frame: Union[str, Sequence[float]] = "rmf", scale: Law = None,
           twist: Law = None, tol: float = SWEEP_TOL) -> SweepResult:
@@ -417,8 +498,16 @@ def sweep(profile: Curve, path: Curve, frame: Union[str, Sequence[float]] = "rmf
         _, M = motion(np.zeros(1))
         surface = _translational(prof, pth, M[0], x0[0])
         tc = np.linspace(0.0, 1.0, 4 * INITIAL_INTERVALS + 1)
-        err = _measured_translational(surface, moved, tc, len(prof.control_points))
+        err = _measured_exact(surface, moved, tc, len(prof.control_points))
         return _finish(surface, err, tol, False, "translational sweep (exact)")
+    circle = _circle(pth) if constant_laws else None
+    if circle is not None and (P.frame != "up" or np.linalg.norm(np.cross(P.up, circle[1])) <= AXIS_TOL):
+        _, M = motion(np.zeros(1))                            # the placed profile, then turned rigidly
+        placed = prof.with_control_points(x0[0] + rel @ M[0].T)
+        surface = _revolution(placed, pth, *circle)
+        tc = np.linspace(0.0, 1.0, 4 * INITIAL_INTERVALS + 1)
+        err = _measured_exact(surface, moved, tc, len(prof.control_points))
+        return _finish(surface, err, tol, False, f"surface of revolution ({P.frame} frame on a circular path, exact)")
     curve, err, capped, count = _refine(moved, _start_stations(pth), tol)
     err += P.rmf_error * radius * float(np.max(np.abs(_law(scale, "scale", P.grid[::64], True))))
     return _finish(_surface(prof, curve), err, tol, capped, f"sweep ({P.frame} frame), {count} stations")
@@ -436,10 +525,10 @@ def _translational(prof: BSplineCurve, path: BSplineCurve, M: np.ndarray, x0: np
     return BSplineSurface(P, prof.degree, path.degree, prof.knots, kv_, W, prof.periodic, path.periodic)
 
 
-def _measured_translational(surface: BSplineSurface, moved: Callable[[np.ndarray], np.ndarray], tc: np.ndarray,
+def _measured_exact(surface: BSplineSurface, moved: Callable[[np.ndarray], np.ndarray], tc: np.ndarray,
                             n: int) -> float:
-    """Largest distance between the surface and the true sweep on a grid (u at the profile
-    evaluated through the moved curves)."""
+    """Largest distance between an exact sweep surface and the true sweep on a grid (u at
+    the profile evaluated through the moved curves; v at ``tc``)."""
     (u0, u1), _ = surface.domain
     us = np.linspace(u0, u1, 33)
     iso = [surface.isocurve("u", float(v)) for v in tc]

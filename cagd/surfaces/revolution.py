@@ -352,16 +352,24 @@ def revolve(profile: Curve, axis_point: ArrayLike = (0.0, 0.0, 0.0), axis_direct
 def _revolved(C: BSplineCurve, a: np.ndarray, d: np.ndarray, angle: float, start: float,
               primitive: Optional[Primitive] = None) -> RevolvedSurface:
     """The net of :func:`revolve` for the clamped NURBS profile C, with its records."""
-    P = C.control_points
-    O = a + ((P - a) @ d)[:, None] * d
-    X = P - O
-    Y = np.cross(d, X)
     c, s, w, knots_v = arc_parameters(start, angle)
-    net = O[:, None, :] + c[None, :, None] * X[:, None, :] + s[None, :, None] * Y[:, None, :]
-    wp = np.ones(len(P)) if C.weights is None else C.weights
+    net = turned_net(C.control_points, a, d, c, s)
+    wp = np.ones(len(net)) if C.weights is None else C.weights
     record = Revolution(C, _frozen_vector(a), _frozen_vector(d), angle, start)
     return RevolvedSurface(net, C.degree, 2, C.knots, knots_v, wp[:, None] * w[None, :], revolution=record,
                            primitive=primitive)
+
+
+def turned_net(P: np.ndarray, a: np.ndarray, d: np.ndarray, c: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The control net P_ik = O_i + c_k X_i + s_k Y_i of the points P_i (n, 3) turned about
+    the axis through a along the unit d (O_i the foot of P_i on the axis, X_i = P_i - O_i,
+    Y_i = d x X_i) by the rational circle whose control points in the frame (X, Y) are
+    (c_k, s_k): with that circle's weights w_k (times the profile's), every isocurve is the
+    curve of P turned by the circle's angle (Piegl & Tiller A8.1)."""
+    O = a + ((P - a) @ d)[:, None] * d
+    X = P - O
+    Y = np.cross(d, X)
+    return O[:, None, :] + c[None, :, None] * X[:, None, :] + s[None, :, None] * Y[:, None, :]
 
 
 def _positive(value: float, name: str) -> float:

@@ -370,3 +370,102 @@ def test_random_sweeps_start_at_the_profile_and_report_honestly(prof, steps, fra
     Y = true_sweep(profile, path, fr, u, t, scale=law)
     miss = np.linalg.norm(r.surface(u, t) - Y, axis=-1)
     assert miss.max() <= r.max_error + 1e-10
+
+
+# --- a circular path: an exact surface of revolution ------------------------------------------------
+R_MAJOR, R_MINOR = 3.0, 1.0
+XZ = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]])     # the xy-plane onto the xz-plane
+
+
+def torus_residual(X, R=R_MAJOR, r=R_MINOR):
+    """(sqrt(x^2 + y^2) - R)^2 + z^2 - r^2: zero on the torus about the z axis."""
+    return (np.hypot(X[:, 0], X[:, 1]) - R) ** 2 + X[:, 2] ** 2 - r ** 2
+
+
+def random_points(surface, count=2000, seed=3):
+    rng = np.random.default_rng(seed)
+    (u0, u1), (v0, v1) = surface.domain
+    return surface(rng.uniform(u0, u1, count), rng.uniform(v0, v1, count))
+
+
+@pytest.mark.parametrize("frame", ["rmf", "frenet", [0.0, 0.0, 1.0], [0.0, 0.0, -2.0]])
+def test_circle_around_a_circle_is_an_exact_torus(frame):
+    from cagd.surfaces.revolution import RevolvedSurface
+    prof = circle(R_MINOR).transformed(XZ, [R_MAJOR, 0.0, 0.0])
+    r = sweep(prof, circle(R_MAJOR), frame=frame)
+    assert r.converged and r.max_error <= 1e-14 and "revolution" in r.message, r.message
+    assert isinstance(r.surface, RevolvedSurface) and r.surface.revolution.angle == 2.0 * math.pi
+    np.testing.assert_allclose(r.surface.revolution.axis_direction, [0.0, 0.0, 1.0], atol=1e-15)
+    X = random_points(r.surface)
+    assert np.abs(torus_residual(X)).max() <= 1e-12
+    # the whole torus is covered: the angles about the axis and about the tube fill [-pi, pi]
+    phi = np.arctan2(X[:, 1], X[:, 0])
+    psi = np.arctan2(X[:, 2], np.hypot(X[:, 0], X[:, 1]) - R_MAJOR)
+    for a in (phi, psi):
+        assert np.histogram(a, bins=8, range=(-math.pi, math.pi))[0].min() > 0
+
+
+def tilted_arc(angle, spans=None):
+    """A circle arc of radius 2 about (1, -1, 0.5) in a tilted plane, from its standard
+    rational quadratic form (the arc_parameters of cagd.surfaces.revolution), and its frame."""
+    from cagd.surfaces.revolution import arc_parameters
+    c, s, w, knots = arc_parameters(0.3, angle)
+    axis = np.array([1.0, 2.0, 2.0]) / 3.0
+    e1 = np.cross(axis, [0.0, 0.0, 1.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    O = np.array([1.0, -1.0, 0.5])
+    arc = BSplineCurve(O + 2.0 * (c[:, None] * e1 + s[:, None] * e2), 2, knots, w)
+    return arc, O, axis
+
+
+@pytest.mark.parametrize("angle", [1.2, 2.5, 2.0 * math.pi])
+def test_profile_along_an_arc_is_exact_against_the_ode_frame(angle):
+    """A space profile swept along a tilted arc, with constant scale and twist: the exact
+    revolution agrees with the true sweep (RMF integrated by scipy) and lies on the surface of
+    revolution (every point at the distance from the axis of its profile point)."""
+    path, O, axis = tilted_arc(angle)
+    x0 = path(0.0)
+    prof = BSplineCurve(x0 + np.array([[0.0, 0.0, 0.0], [0.3, 0.2, 0.1], [0.1, 0.6, -0.2], [-0.2, 0.4, 0.5]]), 3,
+                        None, [1.0, 0.7, 1.3, 1.0])
+    r = sweep(prof, path, scale=1.3, twist=0.4)
+    assert r.converged and r.max_error <= 1e-14 and "revolution" in r.message
+    rng = np.random.default_rng(11)
+    u, t = rng.uniform(0.0, 1.0, 300), np.sort(rng.uniform(0.0, 1.0, 300))
+    X = r.surface(u, t)
+    Y = true_sweep(prof, path, "rmf", u, t, scale=1.3, twist=0.4)
+    assert np.abs(X - Y).max() <= 1e-9                    # the ODE's accuracy
+    start = r.surface(u, np.zeros_like(u))                 # the placed profile, turned about the axis
+    for Z in (X,):
+        rel, rel0 = Z - O, start - O
+        np.testing.assert_allclose(rel @ axis, rel0 @ axis, atol=1e-13)
+        np.testing.assert_allclose(np.linalg.norm(rel - np.outer(rel @ axis, axis), axis=-1),
+                                   np.linalg.norm(rel0 - np.outer(rel0 @ axis, axis), axis=-1), atol=1e-13)
+
+
+def test_other_rational_circles_give_the_exact_tensor_product():
+    """Circles not in the standard form (a knot inserted, degree elevated, a 120 degree arc
+    in one span): a plain NURBS tensor product of the profile and the path, still exact."""
+    from cagd.surfaces.revolution import RevolvedSurface
+    prof = circle(R_MINOR).transformed(XZ, [R_MAJOR, 0.0, 0.0])
+    h = math.pi / 3.0
+    one_span = BSplineCurve([[R_MAJOR, 0, 0], [R_MAJOR, R_MAJOR * math.tan(h), 0],
+                             [R_MAJOR * math.cos(2 * h), R_MAJOR * math.sin(2 * h), 0]], 2, None,
+                            [1.0, math.cos(h), 1.0])
+    for path in (circle(R_MAJOR).insert_knot(0.1), circle(R_MAJOR).elevate(1), one_span):
+        r = sweep(prof, path)
+        assert r.converged and r.max_error <= 1e-14 and "revolution" in r.message
+        assert not isinstance(r.surface, RevolvedSurface) and r.surface.is_rational
+        assert np.abs(torus_residual(random_points(r.surface))).max() <= 1e-12
+
+
+def test_not_a_revolution():
+    """An up vector off the axis turns the frame non-rigidly, an interpolated circle is not a
+    rational circle, a varying law breaks the rotation invariance: the station sweep, not exact."""
+    prof = circle(R_MINOR).transformed(XZ, [R_MAJOR, 0.0, 0.0])
+    th = np.linspace(0.0, 2.0 * math.pi, 33)
+    approx = cagd.interpolate(np.c_[R_MAJOR * np.cos(th), R_MAJOR * np.sin(th), np.zeros_like(th)], 3)
+    for kwargs in (dict(path=circle(R_MAJOR), frame=[0.0, 0.1, 1.0]), dict(path=approx),
+                   dict(path=circle(R_MAJOR), scale=lambda t: 1.0)):
+        r = sweep(prof, **kwargs)
+        assert r.converged and "revolution" not in r.message and "stations" in r.message, r.message

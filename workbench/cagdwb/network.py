@@ -276,8 +276,9 @@ MATCH_NAMES = {"s": "Face", "edge": "Edge", "target": "Target", "target_edge": "
 
 
 def _scales(obj) -> Optional[Tuple[float, float]]:
-    """(TangentScale1, TangentScale2), or None for (1, 1): the engine's default (for a
-    rational blend surface it may shorten a default scale to keep the weights positive)."""
+    """(TangentScale1, TangentScale2), or None for (1, 1): the engine's default (for
+    blend_curve the scales of least curvature variation; for a rational blend surface it
+    may shorten a default scale to keep the weights positive)."""
     a, b = float(obj.TangentScale1), float(obj.TangentScale2)
     return None if (a, b) == (1.0, 1.0) else (a, b)
 
