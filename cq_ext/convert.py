@@ -15,7 +15,7 @@ from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, 
 from cagd.curves.base import Curve
 from cagd.errors import CagdError
 from cagd.occ import from_occ, make_edge, make_face, subshapes
-from cagd.occ.wrapped import describe, occ_shapes
+from cagd.occ.wrapped import describe, is_shape, occ_shapes
 from cagd.surfaces.base import Surface
 
 if TYPE_CHECKING:                               # pragma: no cover
@@ -113,3 +113,55 @@ def from_shape(shape, dim: int = 3):
         CagdError: not one edge or face, or geometry OCCT cannot convert.
     """
     return from_occ(edge_or_face(shape), dim)
+
+
+def global_curve(item, name: str) -> Curve:
+    """An engine curve (as it is) or an edge of any library as an engine curve.
+
+    Raises:
+        CagdError: naming ``name``: neither, or a face."""
+    if isinstance(item, Curve):
+        return item
+    if not is_shape(item):
+        raise CagdError(f"{name}: expected a cagd Curve or an edge, got {describe(item)}")
+    curve = from_occ(edge_or_face(item, name))
+    if not isinstance(curve, Curve):
+        raise CagdError(f"{name}: expected a cagd Curve or an edge, got {describe(item)} (a face)")
+    return curve
+
+
+def untrimmed_surface(item, name: str) -> Surface:
+    """An untrimmed engine surface (as it is) or an untrimmed face of any library as an
+    engine surface, whose edges "u0", "u1", "v0", "v1" are those of its parameter box
+    (a face's: OCCT's UV bounds), for the blends and matches.
+
+    Raises:
+        CagdError: naming ``name``: not a surface or face, or trimmed (a hole or a cut
+            outline: its boundary is not its parameter box)."""
+    from cagd.surfaces.trimmed import TrimmedSurface
+    if isinstance(item, TrimmedSurface):
+        raise CagdError(f"{name}: a TrimmedSurface; the edges u0, u1, v0, v1 exist only on the untrimmed "
+                        "parameter box: pass its untrimmed surface")
+    if isinstance(item, Surface):
+        return item
+    if not is_shape(item):
+        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)}")
+    surface = from_occ(edge_or_face(item, name))
+    if not isinstance(surface, Surface):
+        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)} (an edge)")
+    if isinstance(surface, TrimmedSurface):
+        raise CagdError(f"{name}: a trimmed face (its boundary is not its UV box: a hole or a cut outline); the "
+                        "edges u0, u1, v0, v1 exist only on the untrimmed parameter box, which is not this face's "
+                        "boundary: blend or match an untrimmed face")
+    return surface
+
+
+def reported(method: str, result, what: str, log=None):
+    """The engine result when it met its tolerance (its summary logged on ``log``); else
+    CagdError naming ``what`` with the achieved accuracy (``fitCurve``'s convention)."""
+    if not result.converged:
+        raise CagdError(f"{what}: {method}: {result.message}")
+    if log is not None:
+        log.info("%s: %s", method, result.message)
+    return result
+

@@ -19,10 +19,9 @@ import numpy as np
 from cagd import _checks
 from cagd.curves.base import Curve
 from cagd.errors import CagdError
-from cagd.occ import from_occ
-from cagd.occ.wrapped import describe, is_shape, library
+from cagd.occ.wrapped import describe, library
 
-from .convert import edge_or_face, from_shape, placed
+from .convert import from_shape, global_curve, placed
 
 SURFACE_TYPES = (cq.Face, cq.Shell, cq.Compound, cq.Sketch)     # what surface consumers take from the stack
 
@@ -111,14 +110,7 @@ def with_face(wp: cq.Workplane, face: cq.Shape) -> cq.Workplane:
 def curve_of(item, plane: cq.Plane, name: str) -> Curve:
     """An engine curve (local coordinates, placed on the plane) or an edge of any
     library (global) as a global engine curve."""
-    if isinstance(item, Curve):
-        return placed(item, plane)
-    if not is_shape(item):
-        raise CagdError(f"{name}: expected a cagd Curve or an edge, got {describe(item)}")
-    curve = from_occ(edge_or_face(item, name))
-    if not isinstance(curve, Curve):
-        raise CagdError(f"{name}: expected a cagd Curve or an edge, got {describe(item)} (a face)")
-    return curve
+    return placed(item, plane) if isinstance(item, Curve) else global_curve(item, name)
 
 
 def _wire_curves(wire: cq.Wire, one_per_wire: bool, name: str) -> List[Curve]:

@@ -46,7 +46,7 @@ from cagd.occ import from_occ
 from cagd.occ.wrapped import describe, is_shape, occ_faces
 from cagd.surfaces.base import Surface
 
-from .convert import edge_or_face, from_shape, placed, plane_map, to_cq
+from .convert import from_shape, placed, plane_map, reported, to_cq, untrimmed_surface
 from .cq_api import close_with_caps, sew_solid, thicken
 from .solids import revolution_angle, revolution_face, revolution_input
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
@@ -428,12 +428,8 @@ def removeKnots(self: T, tol: float) -> T:
 
 # --- curve networks, sweeps and blends (issue 18) ---------------------------------------------
 def _reported(method: str, result, what: str):
-    """The engine result when it met its tolerance (its summary logged); else CagdError
-    naming ``what`` with the achieved accuracy (``fitCurve``'s convention)."""
-    if not result.converged:
-        raise CagdError(f"{what}: {method}: {result.message}")
-    LOG.info("%s: %s", method, result.message)
-    return result
+    """:func:`cq_ext.convert.reported` on this module's log."""
+    return reported(method, result, what, LOG)
 
 
 def _filled(wp: cq.Workplane, given: Sequence[Tuple[str, Optional[object]]], method: str
@@ -588,23 +584,10 @@ def blendCurve(self: T, c1: Optional[CurveLike], end1: str, c2: Optional[CurveLi
 
 def _surface_of(wp: cq.Workplane, item, name: str) -> Surface:
     """An engine surface (local coordinates) or a face of any library (global) as a
-    global untrimmed engine surface, whose edges "u0", "u1", "v0", "v1" are those of
-    its parameter box (a face's: OCCT's UV bounds)."""
-    if isinstance(item, cagd.TrimmedSurface):
-        raise CagdError(f"{name}: a TrimmedSurface; the edges u0, u1, v0, v1 exist only on the untrimmed "
-                        "parameter box: pass its untrimmed surface")
-    if isinstance(item, Surface):
+    global untrimmed engine surface (:func:`cq_ext.convert.untrimmed_surface`)."""
+    if isinstance(item, Surface) and not isinstance(item, cagd.TrimmedSurface):
         return placed(item, wp.plane)
-    if not is_shape(item):
-        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)}")
-    surface = from_occ(edge_or_face(item, name))
-    if not isinstance(surface, Surface):
-        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)} (an edge)")
-    if isinstance(surface, cagd.TrimmedSurface):
-        raise CagdError(f"{name}: a trimmed face (its boundary is not its UV box: a hole or a cut outline); the "
-                        "edges u0, u1, v0, v1 exist only on the untrimmed parameter box, which is not this face's "
-                        "boundary: blend or match an untrimmed face")
-    return surface
+    return untrimmed_surface(item, name)
 
 
 def blendSurface(self: T, face1: Union[Surface, FaceLike], edge1: str, face2: Union[Surface, FaceLike], edge2: str,

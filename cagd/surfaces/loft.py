@@ -28,6 +28,11 @@ from ..fitting.parameters import ParameterSpec, averaged_parameters, rule
 _SNAP = 64 * np.finfo(float).eps     # knots this close (on [0, 1]) are the same knot
 CLOSED_RTOL = 1e-9                    # a section whose ends meet within this share of the sections' size is closed
 ORIENTATION_SAMPLES = 64              # points per closed section for its area vector (Newell)
+#: a closed section's seam is moved only when its point nearest the previous section's
+#: start lies farther than this share of its parameter range from its own start: sections
+#: drawn alike (scaled copies, whose nearest points are near but not at each other's
+#: starts) keep their own correspondence
+SEAM_SHIFT = 0.01
 
 
 # --- compatibility ----------------------------------------------------------------------
@@ -201,7 +206,8 @@ def aligned_sections(sections: Sequence[Curve]) -> List[BSplineCurve]:
     skinning: each runs the way of the one before (a section whose area vector (Newell)
     points against the previous one's is reversed) and starts where it comes nearest the
     previous section's start (its certified closest point; the seam moved exactly by
-    :func:`rotated_start`). Open sections are returned as they are, in their own direction.
+    :func:`rotated_start`) unless that point is within SEAM_SHIFT of its parameter range
+    of its own start. Open sections are returned as they are, in their own direction.
 
     Raises:
         CagdError: a non-curve among the sections.
@@ -223,7 +229,7 @@ def aligned_sections(sections: Sequence[Curve]) -> List[BSplineCurve]:
             if float(np.dot(_area_vector(prev), _area_vector(c))) < 0.0:
                 c = unit_nurbs(c.reversed())
             t = float(closest_point(c, prev(0.0)[None]).params[0])
-            if _SNAP < t < 1.0 - _SNAP:
+            if SEAM_SHIFT < t < 1.0 - SEAM_SHIFT:
                 c = rotated_start(c, t)[0]
         out.append(c)
         prev = c

@@ -178,7 +178,8 @@ def test_loft_and_ruled_errors():
     with pytest.raises(CagdError, match=r"loft needs at least 2 section curves, got 0"):
         cq.Workplane().loftSurface()
     with pytest.raises(CagdError, match="degree_v"):
-        cq.Workplane().loftSurface(*SECTIONS[:3])                # degree 3 needs 4 sections
+        cq.Workplane().loftSurface(*SECTIONS[:3], degree_v=0)
+    assert cq.Workplane().loftSurface(*SECTIONS[:3]).val().isValid()   # degree 3 capped at 2 for 3 sections
     with pytest.raises(CagdError, match=r"curves\[1\]: expected a cagd Curve or an edge, got str"):
         cq.Workplane().loftSurface(SECTIONS[0], "x")
     with pytest.raises(CagdError, match=r"curves\[0\]: expected a cagd Curve or an edge, got a CadQuery Face"):
