@@ -24,7 +24,7 @@ narrowly (:func:`_corrected`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Tuple, Union
+from typing import Mapping, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -188,7 +188,9 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
 
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
-                base: Union[str, Surface, None] = None, boundary: Optional[str] = None) -> SurfaceFit:
+                base: Union[str, Surface, None] = None, boundary: Optional[str] = None, *,
+                periodic: Union[bool, str, Tuple[bool, bool], None] = None,
+                tangent_edges: Optional[Mapping[str, object]] = None, smoothing: float = 0.0) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
@@ -206,6 +208,29 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             boundary rows of control points the 1-D least-squares fits (ends held) of the
             grid's boundary rows to the surface's knots; "G0" sets them from those fits
             in model units once more (exact, not through the normalised frame).
+        periodic: grids only: the closed directions, (periodic_u, periodic_v), or "u", "v",
+            "uv" (True: both). A periodic direction is fitted with periodic knots
+            (:func:`cagd.knots.periodic_extend`), so the seam is C^(degree-1); the grid's
+            rows (columns) run once round the loop, a last row within tol of the first is
+            taken for the first again. At least 2 degree + 1 control points there.
+        tangent_edges: grids only: the edges ("u0", "u1", "v0", "v1"; u0 is u = 0, running
+            in v) whose tangent plane is held (G1), each mapped to its cross-boundary data:
+            a neighbouring BSplineSurface (its opposite edge: "u1" for "u0", ...), a pair
+            (neighbour, its edge name), or "grid" (the grid's own boundary row and its
+            one-sided cross derivatives). A neighbour's edge is held exactly (G0: the
+            fit's boundary row of control points is the neighbour's edge row, its knots
+            inserted, its degree raised to the fit's) and the fit's next row is the edge
+            row plus alpha times the neighbour's last difference row (one alpha > 0 per
+            edge, by least squares), so the tangent planes agree along the whole edge
+            (Farin, Curves and Surfaces for CAGD, 16.5, the G1 condition on the nets);
+            the grid's parameters along that edge are the feet of its boundary row on the
+            neighbour's edge. Opposite edges only (two adjacent ones would both own the
+            corner's twist pole); not with a periodic direction.
+        smoothing: grids only: weight of the thin-plate energy int int |S_uu|^2 +
+            2 |S_uv|^2 + |S_vv|^2 against the mean squared miss, in the grid's frame
+            scaled to the unit ball over [0, 1]^2 (Dierckx's smoothing norm; see
+            :mod:`cagd.fitting.surface_net`); > 0 keeps a noisy grid's fit from chasing
+            the noise.
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -219,6 +244,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     if np.ndim(points) == 2:
         if boundary is not None:
             raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
+        for name, given in (("periodic", periodic not in (None, False, (False, False))),
+                            ("tangent_edges", bool(tangent_edges)), ("smoothing", smoothing != 0.0)):
+            if given:
+                raise CagdError(f"{name}: only grid fits (m, n, d) take it; scattered points have none")
         return fit_scattered(points, tol, degree, max_control_points, "plane" if base is None else base)
     if base is not None:
         raise CagdError("base: only scattered (N, 3) points are projected onto a base; a grid has its own parameters")
@@ -233,6 +262,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     held = boundary == "G0"
     if m < pu + 1 or n < pv + 1:
         raise CagdError(f"degree: a {m} x {n} grid fits at most degree {m - 1} x {n - 1}, got {pu} x {pv}")
+    closed = _periodic_pair(periodic)
+    smoothing = _checks.nonnegative(smoothing, "smoothing")
+    if any(closed) or tangent_edges or smoothing > 0.0:
+        return _net_fit(Q, tol, (pu, pv), (cap_u, cap_v), parameters, closed, tangent_edges, smoothing, held)
     u, v = surface_parameters(Q, parameters)
     u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
     center, scale = _frame(Q.reshape(-1, d))
@@ -278,6 +311,132 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     grid_uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
     fit = _measured(out, near, at, grid_uv, tol, rounds)
     return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
+                      fit.converged, fit.message)
+
+
+def _periodic_pair(periodic) -> Tuple[bool, bool]:
+    """(periodic_u, periodic_v) from None / a bool / "u" / "v" / "uv" / a pair of bools."""
+    if periodic is None or periodic is False:
+        return False, False
+    if periodic is True:
+        return True, True
+    if isinstance(periodic, str) and periodic in ("u", "v", "uv"):
+        return "u" in periodic, "v" in periodic
+    if isinstance(periodic, (tuple, list)) and len(periodic) == 2 and all(
+            isinstance(x, (bool, np.bool_)) for x in periodic):
+        return bool(periodic[0]), bool(periodic[1])
+    raise CagdError(f"periodic: expected (bool, bool), 'u', 'v', 'uv' or a bool, got {periodic!r}")
+
+
+def _closed_grid(Q: np.ndarray, tol: float, closed: Tuple[bool, bool]) -> Tuple[np.ndarray, Tuple[bool, bool]]:
+    """The grid without a last row (column) that repeats the first within tol in a
+    periodic direction, and which were dropped."""
+    dropped = [False, False]
+    for axis in (0, 1):
+        if closed[axis]:
+            G = Q if axis == 0 else Q.transpose(1, 0, 2)
+            if float(np.sqrt(((G[-1] - G[0]) ** 2).sum(-1)).max()) <= tol:
+                Q = Q[:-1] if axis == 0 else Q[:, :-1]
+                dropped[axis] = True
+    return Q, (dropped[0], dropped[1])
+
+
+def _net_parameters(Q: np.ndarray, parameters, closed: Tuple[bool, bool]) -> Tuple[np.ndarray, np.ndarray]:
+    """The averaged parameters on [0, 1] per direction; a periodic direction's on [0, 1)
+    with the closing chord (last row to first) counted (the grid closed for the rule)."""
+    from ..surfaces.fitting import surface_parameters
+    G = Q
+    if closed[0]:
+        G = np.concatenate([G, G[:1]], axis=0)
+    if closed[1]:
+        G = np.concatenate([G, G[:, :1]], axis=1)
+    u, v = surface_parameters(G, parameters)
+    u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
+    return (u[:-1] if closed[0] else u), (v[:-1] if closed[1] else v)
+
+
+def _tangent_edges(tangent_edges, Q: np.ndarray, closed: Tuple[bool, bool], degrees: Tuple[int, int]):
+    """The checked Edges of ``tangent_edges`` (:func:`fit_surface`)."""
+    from .surface_net import EDGE_NAMES, Edge, neighbour_edge
+    if not tangent_edges:
+        return []
+    if not isinstance(tangent_edges, Mapping):
+        raise CagdError(f"tangent_edges: expected a mapping of edge names to 'grid' or a neighbouring surface, "
+                        f"got {type(tangent_edges).__name__}")
+    if any(closed):
+        raise CagdError("tangent_edges: not with a periodic direction (its edges would run round the seam)")
+    bad = [k for k in tangent_edges if k not in EDGE_NAMES]
+    if bad:
+        raise CagdError(f"tangent_edges: edge names are {EDGE_NAMES}, got {bad[0]!r}")
+    if {"u0", "u1"} & set(tangent_edges) and {"v0", "v1"} & set(tangent_edges):
+        raise CagdError(f"tangent_edges: adjacent edges {sorted(tangent_edges)} share a corner's twist pole; "
+                        f"hold opposite edges only")
+    edges = []
+    for name, spec in tangent_edges.items():
+        if isinstance(spec, str):
+            if spec != "grid":
+                raise CagdError(f"tangent_edges: edge {name!r} expects 'grid' or a neighbouring surface, "
+                                f"got {spec!r}")
+            edges.append(Edge(name, "grid"))
+        else:
+            edges.append(neighbour_edge(name, spec, Q, *degrees))
+    return edges
+
+
+def _net_fit(Q: np.ndarray, tol: float, degrees: Tuple[int, int], caps: Tuple[int, int], parameters,
+             closed: Tuple[bool, bool], tangent_edges, smoothing: float, g0: bool) -> SurfaceFit:
+    """fit_surface with periodic directions, tangent edges or smoothing: the full-net
+    least squares of :mod:`cagd.fitting.surface_net`, measured by certified closest points
+    of every grid point (the dropped seam rows too)."""
+    from ..queries.closest import closest_point
+    from .surface_net import fit_net
+    m0, n0, d = Q.shape
+    if g0 and any(closed):
+        raise CagdError("boundary: 'G0' holds the four boundary curves; a periodic direction has no boundary there")
+    edges = _tangent_edges(tangent_edges, Q, closed, degrees)
+    Qf, dropped = _closed_grid(Q, tol, closed)
+    u, v = _net_parameters(Qf, parameters, closed)
+    for e in edges:                  # the parameters along a neighbour's edge: the feet on it
+        if e.kind == "surface":
+            if e.name[0] == "u":
+                v = e.feet
+            else:
+                u = e.feet
+    transpose = closed[0] and not closed[1]          # the periodic direction inner: the narrower band
+    if transpose:
+        net = fit_net(Qf.transpose(1, 0, 2), v, u, tol, degrees[::-1], caps[::-1], closed[::-1], edges,
+                      smoothing, g0)
+        P, U, V = net.P.transpose(1, 0, 2), net.V, net.U
+    else:
+        net = fit_net(Qf, u, v, tol, degrees, caps, closed, edges, smoothing, g0)
+        P, U, V = net.P, net.U, net.V
+    if not any(closed) and not edges:
+        P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
+    if g0:
+        held = _boundary_rows(Q, u, v, U, V, degrees[0], degrees[1])
+        keep = {e.name for e in edges}
+        for name, rows in zip(("u0", "u1", "v0", "v1"), held):
+            if name in keep:
+                continue
+            if name == "u0":
+                P[0] = rows
+            elif name == "u1":
+                P[-1] = rows
+            elif name == "v0":
+                P[:, 0] = rows
+            else:
+                P[:, -1] = rows
+    pu, pv = degrees
+    ku = U[pu:len(U) - pu] if closed[0] else U
+    kv_ = V[pv:len(V) - pv] if closed[1] else V
+    out = BSplineSurface(P, pu, pv, ku, kv_, periodic_u=closed[0], periodic_v=closed[1])
+    uu = np.append(u, 1.0) if dropped[0] else u
+    vv = np.append(v, 1.0) if dropped[1] else v
+    near = closest_point(out, Q.reshape(-1, d))
+    at = np.sqrt(((out.grid(uu, vv) - Q) ** 2).sum(-1)).ravel()
+    grid_uv = np.stack(np.meshgrid(uu, vv, indexing="ij"), axis=-1).reshape(-1, 2)
+    fit = _measured(out, near, at, grid_uv, tol, net.rounds)
+    return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m0, n0, 2), net.rounds,
                       fit.converged, fit.message)
 
 
