@@ -212,6 +212,22 @@ class Edge:
         self.name, self.kind, self.E, self.D = name, kind, E, D
         self.required = np.zeros(0) if required is None else required
         self.feet = feet
+        self.knots = None                      # the neighbour's edge knots on [0, 1]
+
+    def on(self, U: np.ndarray, p: int) -> Tuple[np.ndarray, np.ndarray]:
+        """A neighbour's (E, D) on the fit's knots U along the edge (model units): the
+        edge curve and the difference row refined by the fit's extra knots (knot
+        refinement, Piegl & Tiller 5.3: the same curves in the finer space)."""
+        from ..curves.bspline import BSplineCurve
+        assert self.E is not None and self.D is not None and self.knots is not None
+        values, counts = np.unique(U, return_counts=True)
+        own = np.array([np.count_nonzero(self.knots == x) for x in values])
+        extra = np.repeat(values, np.maximum(counts - own, 0))
+        ED = np.concatenate([self.E, self.D], axis=1)
+        refined = np.asarray(BSplineCurve(ED, p, self.knots).refine(extra).control_points, float) \
+            if len(extra) else ED
+        d = self.E.shape[1]
+        return refined[:, :d], refined[:, d:]
 
     def rows(self, nu: int, nv: int) -> Tuple[np.ndarray, np.ndarray]:
         """(row 0, row 1) pole indices (k, 2) along the edge."""
@@ -275,7 +291,9 @@ def neighbour_edge(name: str, spec, Q: np.ndarray, pu: int, pv: int) -> Edge:
     if np.any(np.diff(feet) <= 0.0):
         raise CagdError(f"tangent_edges: the grid's boundary row at {name!r} does not run along the neighbour's "
                         f"edge {other!r} (its feet on it are not increasing)")
-    return Edge(name, "surface", E, D, t[p_own + 1:len(t) - p_own - 1], feet)
+    edge = Edge(name, "surface", E, D, t[p_own + 1:len(t) - p_own - 1], feet)
+    edge.knots = t
+    return edge
 
 
 def _cross_derivatives(Q: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -291,12 +309,13 @@ def _edge_rows(edge: Edge, Q: np.ndarray, u: np.ndarray, v: np.ndarray, du: Dire
                center: np.ndarray, scale: float) -> Tuple[np.ndarray, np.ndarray]:
     """(E, D) of an edge in the normalised frame on the fit's knots: a neighbour's rows,
     or the 1-D fits (ends held) of the grid's boundary row and its cross derivatives."""
+    d_along, t = (dv, v) if edge.name[0] == "u" else (du, u)
     if edge.kind == "surface":
-        return (edge.E - center) / scale, edge.D / scale
+        E, D = edge.on(d_along.U, d_along.p)
+        return (E - center) / scale, D / scale
     from .rebuild import _fit_rows
     G = {"u0": Q, "u1": Q[::-1], "v0": Q.transpose(1, 0, 2), "v1": Q.transpose(1, 0, 2)[::-1]}[edge.name]
     across = {"u0": u, "u1": 1.0 - u[::-1], "v0": v, "v1": 1.0 - v[::-1]}[edge.name]
-    d_along, t = (dv, v) if edge.name[0] == "u" else (du, u)
     k = d_along.n
     E = _fit_rows(d_along.U, d_along.p, t, k, G[0])
     # the derivative into the fit per unit parameter across the edge (as a neighbour's D)
@@ -340,20 +359,20 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     tol_n = tol / scale
     names = {e.name for e in edges}
     least = (_least(pu, periodic[0], len(names & {"u0", "u1"})), _least(pv, periodic[1], len(names & {"v0", "v1"})))
-    required = [np.sort(np.concatenate([np.zeros(0)] + [e.required for e in edges if e.name[0] == axis]))
-                for axis in "vu"]                       # edges u* run along v: the v knots need theirs
+    # edges u0 / u1 run along v: the v knots take their neighbours' knots (and v0 / v1 the u knots)
+    req_u, req_v = (np.sort(np.concatenate([np.zeros(0)] + [e.required for e in edges if e.name[0] == axis]))
+                    for axis in "vu")
     most = tuple(c if per else c - p for c, per, p in zip(caps, periodic, degrees))
     last_alphas = [np.zeros(0)]
 
     def directions(bu, bv):
-        du = Direction(bu, pu, u, periodic[0], required[1] if len(required[1]) else None)
-        dv = Direction(bv, pv, v, periodic[1], required[0] if len(required[0]) else None)
+        du = Direction(bu, pu, u, periodic[0], req_u if len(req_u) else None)
+        dv = Direction(bv, pv, v, periodic[1], req_v if len(req_v) else None)
         return du, dv
 
     def solve(bu, bv):
         du, dv = directions(bu, bv)
-        if du.n < least[0] or dv.n < least[1] or du.n > m + len(required[1]) + pu or \
-                dv.n > n + len(required[0]) + pv:
+        if du.n < least[0] or dv.n < least[1] or du.n > m + len(req_u) + pu or dv.n > n + len(req_v) + pv:
             return None, np.full((m, n), np.inf)
         held = HeldRows()
         if g0:
@@ -408,8 +427,9 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     for e, alpha in zip(edges, alphas):       # the held rows exactly, in model units
         r0, r1 = e.rows(du.n, dv.n)
         if e.kind == "surface":
-            P[r0[:, 0], r0[:, 1]] = e.E
-            P[r1[:, 0], r1[:, 1]] = e.E + alpha * e.D
+            E, D = e.on(*((dv.U, pv) if e.name[0] == "u" else (du.U, pu)))
+            P[r0[:, 0], r0[:, 1]] = E
+            P[r1[:, 0], r1[:, 1]] = E + alpha * D
         else:
             P[r1[:, 0], r1[:, 1]] = P[r0[:, 0], r0[:, 1]] + alpha * scale * _edge_rows(
                 e, Qn, u, v, du, dv, center, scale)[1]
