@@ -43,28 +43,25 @@ from ..errors import CagdError
 from ..knots import vectors as kv
 from .fit import _fold, _gauss, _knots, solve_fixed
 
+#: the thin-plate weight below which no smoothing is asked, relative to the data term
+#: (as the scattered fit's SCATTER_REGULARISATION: moves an exact fit by ~1e-9 of its size)
+NET_REGULARISATION = 1e-9
 #: the smallest alpha (cross tangent length factor) of a held tangent edge: keeps the
 #: tangent plane's orientation where the least squares would fold the surface back
 MIN_ALPHA = 1e-6
 
 
 class Direction:
-    """One direction of the net on the breakpoints ``breaks``: full knots U, the n poles'
-    collocation matrix N (m, n) at the parameters t (dense per direction: m x n, not the
-    net's square), the Gram matrices G_r = int N^(r) N^(r) (r = 0, 1, 2) and the poles'
-    positions in the unknowns (folded when periodic)."""
+    """One direction of the net on the full knots U (unwrapped when periodic): the n poles'
+    collocation matrix N (m, n) at the parameters t when given (dense per direction:
+    m x n, not the net's square), the Gram matrices G_r = int N^(r) N^(r) (r = 0, 1, 2)
+    and the poles' positions in the unknowns (folded when periodic)."""
 
-    def __init__(self, breaks: np.ndarray, p: int, t: np.ndarray, periodic: bool,
-                 required: Optional[np.ndarray] = None):
+    def __init__(self, U: np.ndarray, p: int, t: Optional[np.ndarray] = None, periodic: bool = False):
         self.p, self.periodic = p, periodic
-        if periodic:
-            U = kv.periodic_extend(breaks, p)
-            n = len(breaks) - 1
-        else:
-            U = _knots(breaks, p) if required is None else _with_knots(breaks, p, required)
-            n = len(U) - p - 1
+        n = len(U) - p - 1 - (p if periodic else 0)
         self.U, self.n = U, n
-        self.N = self._matrix(t, 0)
+        self.N = self._matrix(t, 0) if t is not None else np.zeros((0, n))
         x, w = _gauss(U, p)
         self.grams = []
         for r in range(3):
@@ -84,6 +81,15 @@ class Direction:
         M = np.zeros((len(t), self.n))
         np.add.at(M, (np.repeat(np.arange(len(t)), p + 1), cols.ravel()), D.ravel())
         return M
+
+
+def direction(breaks: np.ndarray, p: int, t: np.ndarray, periodic: bool,
+              required: Optional[np.ndarray] = None) -> Direction:
+    """The Direction on the breakpoints: periodic knots (:func:`cagd.knots.periodic_extend`),
+    or clamped ones with a neighbour's ``required`` interior knots in."""
+    if periodic:
+        return Direction(kv.periodic_extend(breaks, p), p, t, True)
+    return Direction(_knots(breaks, p) if required is None else _with_knots(breaks, p, required), p, t)
 
 
 def _with_knots(breaks: np.ndarray, p: int, required: np.ndarray) -> np.ndarray:
@@ -147,10 +153,14 @@ def solve_net(Q: np.ndarray, du: Direction, dv: Direction, smoothing: float, hel
     the held rows, and the alphas of the tangent edges."""
     m, n, d = Q.shape
     nu, nv = du.n, dv.n
-    terms = [(du.N.T @ du.N / m, dv.N.T @ dv.N / n)]
-    if smoothing > 0.0:
-        terms += [(smoothing * A, B) for A, B in thin_plate_terms(du, dv)]
-    start, A = _kron_band(terms, du, dv)
+    data = (du.N.T @ du.N / m, dv.N.T @ dv.N / n)
+    bend = thin_plate_terms(du, dv)
+    # the weight: smoothing, and at least NET_REGULARISATION of the data term's scale
+    # (knot spans the grow / shrink leave without a parameter stay defined)
+    unit = float(np.abs(data[0]).max() * np.abs(data[1]).max()) / max(
+        sum(float(np.abs(A).max() * np.abs(B).max()) for A, B in bend), 1e-300)
+    weight = max(smoothing, NET_REGULARISATION * unit)
+    start, A = _kron_band([data] + [(weight * A, B) for A, B in bend], du, dv)
     index = du.pos[:, None] * nv + dv.pos[None, :]
     rhs = np.zeros((nu * nv, d))
     rhs[index.ravel()] = np.einsum("ki,kla,lj->ija", du.N, Q, dv.N).reshape(-1, d) / (m * n)
@@ -366,8 +376,8 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     last_alphas = [np.zeros(0)]
 
     def directions(bu, bv):
-        du = Direction(bu, pu, u, periodic[0], req_u if len(req_u) else None)
-        dv = Direction(bv, pv, v, periodic[1], req_v if len(req_v) else None)
+        du = direction(bu, pu, u, periodic[0], req_u if len(req_u) else None)
+        dv = direction(bv, pv, v, periodic[1], req_v if len(req_v) else None)
         return du, dv
 
     def solve(bu, bv):
@@ -380,7 +390,10 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
                 k = dv.n if name[0] == "u" else du.n
                 row = {"u0": Qn[0], "u1": Qn[-1], "v0": Qn[:, 0], "v1": Qn[:, -1]}[name]
                 d_along, t = (dv, v) if name[0] == "u" else (du, u)
-                values = _fit_rows(d_along.U, d_along.p, t, k, row)
+                try:
+                    values = _fit_rows(d_along.U, d_along.p, t, k, row)
+                except CagdError:
+                    return None, np.full((m, n), np.inf)
                 for ij, x in zip(Edge(name, "grid").rows(du.n, dv.n)[0], values):
                     held.fixed[tuple(ij)] = x
         if not any(periodic):
@@ -391,7 +404,10 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
             r0, r1 = e.rows(du.n, dv.n)
             for ij in np.concatenate([r0, r1]):
                 held.fixed.pop(tuple(ij), None)
-            E, D = _edge_rows(e, Qn, u, v, du, dv, center, scale)
+            try:
+                E, D = _edge_rows(e, Qn, u, v, du, dv, center, scale)
+            except CagdError:          # a 1-D fit along the edge without a parameter in a span
+                return None, np.full((m, n), np.inf)
             held.tangents.append((r1, E, D))
             for ij, x in zip(r0, E):
                 held.fixed[tuple(ij)] = x
