@@ -410,22 +410,6 @@ def _net_fit(Q: np.ndarray, tol: float, degrees: Tuple[int, int], caps: Tuple[in
     else:
         net = fit_net(Qf, u, v, tol, degrees, caps, closed, edges, smoothing, g0)
         P, U, V = net.P, net.U, net.V
-    if not any(closed) and not edges:
-        P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
-    if g0:
-        held = _boundary_rows(Q, u, v, U, V, degrees[0], degrees[1])
-        keep = {e.name for e in edges}
-        for name, rows in zip(("u0", "u1", "v0", "v1"), held):
-            if name in keep:
-                continue
-            if name == "u0":
-                P[0] = rows
-            elif name == "u1":
-                P[-1] = rows
-            elif name == "v0":
-                P[:, 0] = rows
-            else:
-                P[:, -1] = rows
     pu, pv = degrees
     ku = U[pu:len(U) - pu] if closed[0] else U
     kv_ = V[pv:len(V) - pv] if closed[1] else V

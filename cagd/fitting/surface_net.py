@@ -33,7 +33,7 @@ tangent plane is the neighbour's exactly (G1), the edge is the neighbour's edge 
 """
 from __future__ import annotations
 
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -201,8 +201,6 @@ def net_misses(Q: np.ndarray, du: Direction, dv: Direction, P: np.ndarray) -> np
     return np.sqrt(((S - Q) ** 2).sum(-1))
 
 
-Solver = Callable[[np.ndarray, np.ndarray], Tuple[object, np.ndarray]]
-
 
 #: the edges of a rectangular net (as :data:`cagd.surfaces.continuity.EDGES`): the
 #: direction whose parameter is constant along it, and its end
@@ -358,7 +356,7 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     every point is within tol at its parameters; the span counts driven by each row's and
     column's largest miss. ``g0``: the boundary rows the 1-D fits of the grid's boundary
     rows (as the separable fit); the corners held at the corner points."""
-    from .fit import MAX_FIT_ROUNDS, MAX_SHRINK  # noqa: F401 (the shared limits)
+    from .fit import MAX_FIT_ROUNDS
     from .fit_surface import _grown, _shrunk, _trimmed
     from .interpolation import _frame
     from .rebuild import _fit_rows
@@ -372,6 +370,14 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     # edges u0 / u1 run along v: the v knots take their neighbours' knots (and v0 / v1 the u knots)
     req_u, req_v = (np.sort(np.concatenate([np.zeros(0)] + [e.required for e in edges if e.name[0] == axis]))
                     for axis in "vu")
+    for axis, (size, cap) in enumerate(zip((m, n), caps)):
+        what = ("u", "rows") if axis == 0 else ("v", "columns")
+        if size < least[axis]:
+            raise CagdError(f"points: the fit needs at least {least[axis]} control points along {what[0]}, more than "
+                            f"the grid's {size} {what[1]} allow")
+        if cap < least[axis]:
+            raise CagdError(f"max_control_points: at least {least[axis]} control points along {what[0]} "
+                            f"({'periodic' if periodic[axis] else 'tangent edges held'}), got a cap of {cap}")
     most = tuple(c if per else c - p for c, per, p in zip(caps, periodic, degrees))
     last_alphas = [np.zeros(0)]
 
@@ -440,7 +446,16 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     best, trimmed = _trimmed(best, solve, sources, tol_n, degrees)
     P, du, dv, alphas = best[0]
     P = P * scale + center
-    for e, alpha in zip(edges, alphas):       # the held rows exactly, in model units
+    # the held rows exactly, in model units: the boundary curves' 1-D fits, the corner
+    # points, then the tangent edges' two rows (they win where they meet the others)
+    if g0:
+        from .fit_surface import _boundary_rows
+        for name, rows in zip(EDGE_NAMES, _boundary_rows(Q, u, v, du.U, dv.U, pu, pv)):
+            r0 = Edge(name, "grid").rows(du.n, dv.n)[0]
+            P[r0[:, 0], r0[:, 1]] = rows
+    if not any(periodic):
+        P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
+    for e, alpha in zip(edges, alphas):
         r0, r1 = e.rows(du.n, dv.n)
         if e.kind == "surface":
             E, D = e.on(*((dv.U, pv) if e.name[0] == "u" else (du.U, pu)))

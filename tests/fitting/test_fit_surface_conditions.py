@@ -109,6 +109,11 @@ def test_g1_to_a_neighbour():
     rep = edge_continuity(N, r.surface, "u1", "u0", samples=50)
     assert rep.normal_angle <= 1e-9 and rep.G1
     assert rep.gap <= 1e-12 * rep.size
+    # with the other three boundary curves held too (boundary="G0"), the corners the neighbour's
+    both = fit_surface(Q, 0.01, tangent_edges={"u0": N}, boundary="G0")
+    assert both.converged
+    rep = edge_continuity(N, both.surface, "u1", "u0", samples=50)
+    assert rep.normal_angle <= 1e-9 and rep.gap <= 1e-12 * rep.size
     # without the held edge the fit is within tol but not G1 to 1e-9
     free = fit_surface(Q, 0.01)
     assert edge_continuity(N, free.surface, "u1", "u0", samples=50).normal_angle > 1e-6
@@ -250,6 +255,8 @@ def test_smoothing_on_the_same_knots_lowers_the_energy():
     (dict(tangent_edges={"u0": "grid", "v0": "grid"}), "tangent_edges"),
     (dict(tangent_edges={"u0": "grid"}, periodic="v"), "tangent_edges"),
     (dict(boundary="G0", periodic="u"), "boundary"),
+    (dict(periodic="u", max_control_points=(6, 6)), "max_control_points"),
+    (dict(periodic="u", degree=7), "points"),
 ])
 def test_bad_input(kwargs, word):
     with pytest.raises(CagdError, match=word):
