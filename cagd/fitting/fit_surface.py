@@ -190,7 +190,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
                 base: Union[str, Surface, None] = None, boundary: Optional[str] = None, *,
                 periodic: Union[bool, str, Tuple[bool, bool], None] = None,
-                tangent_edges: Optional[Mapping[str, object]] = None, smoothing: float = 0.0) -> SurfaceFit:
+                tangent_edges: Optional[Mapping[str, object]] = None, smoothing: float = 0.0,
+                minimax: bool = False) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
@@ -230,7 +231,14 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             2 |S_uv|^2 + |S_vv|^2 against the mean squared miss, in the grid's frame
             scaled to the unit ball over [0, 1]^2 (Dierckx's smoothing norm; see
             :mod:`cagd.fitting.surface_net`); > 0 keeps a noisy grid's fit from chasing
-            the noise.
+            the noise (it lowers the bending energy; it does not lower the pole count
+            where the noise takes most of tol: see ``minimax``).
+        minimax: grids only, with none of periodic, tangent_edges, smoothing, boundary:
+            after the least-squares fit, fits towards the best uniform approximation on
+            knots placed by the shape of the least-squares fit (Lawson's reweighted least
+            squares, :func:`_minimax_solve`): a noisy grid's largest miss is set by a few
+            noise peaks, which a minimax fit meets with fewer poles on knots that follow
+            the shape (:func:`_minimax_stage`). The corner points are not held then.
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -245,7 +253,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         if boundary is not None:
             raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
         for name, given in (("periodic", periodic not in (None, False, (False, False))),
-                            ("tangent_edges", bool(tangent_edges)), ("smoothing", smoothing != 0.0)):
+                            ("tangent_edges", bool(tangent_edges)), ("smoothing", smoothing != 0.0),
+                            ("minimax", minimax is not False)):
             if given:
                 raise CagdError(f"{name}: only grid fits (m, n, d) take it; scattered points have none")
         return fit_scattered(points, tol, degree, max_control_points, "plane" if base is None else base)
@@ -264,6 +273,11 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         raise CagdError(f"degree: a {m} x {n} grid fits at most degree {m - 1} x {n - 1}, got {pu} x {pv}")
     closed = _periodic_pair(periodic)
     smoothing = _checks.nonnegative(smoothing, "smoothing")
+    if not isinstance(minimax, (bool, np.bool_)):
+        raise CagdError(f"minimax: expected True or False, got {minimax!r}")
+    if minimax and (any(closed) or tangent_edges or smoothing > 0.0 or held):
+        raise CagdError("minimax: a grid fit without periodic, tangent_edges, smoothing or boundary='G0' only "
+                        "(their rows and seams are held by the least squares)")
     if any(closed) or tangent_edges or smoothing > 0.0:
         return _net_fit(Q, tol, (pu, pv), (cap_u, cap_v), parameters, closed, tangent_edges, smoothing, held)
     u, v = surface_parameters(Q, parameters)
@@ -271,40 +285,16 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     center, scale = _frame(Q.reshape(-1, d))
     Qn = (Q - center) / scale
     tol_n = tol / scale
-    most_u, most_v = cap_u - pu, cap_v - pv
-    bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
-    rounds = 0
-    S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
-    while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
-        rounds += 1
-        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
-        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
-        if len(nu) == len(bu) and len(nv) == len(bv):
-            # each direction alone is within its share: refine the one with the larger residual
-            if ru.max() >= rv.max() and len(bu) - 1 < most_u:
-                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
-            elif len(bv) - 1 < most_v:
-                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
-            else:
-                break
-        bu, bv = nu, nv
-        S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
-    def grid_solve(bu, bv):
-        return _tensor(Qn, u, v, bu, bv, pu, pv)[:2]
-
-    def grid_sources(fit):
-        _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
-        return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
-
-    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), grid_solve, grid_sources, tol_n, (pu, pv),
-                           MAX_FIT_ROUNDS - rounds)
-    best, trimmed = _trimmed(best, grid_solve, grid_sources, tol_n, (pu, pv))
-    rounds += shrunk + trimmed
+    best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+    if minimax:
+        best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+        rounds += more
     S = best[0]
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
         P[0], P[-1], P[:, 0], P[:, -1] = _boundary_rows(Q, u, v, S.knots_u, S.knots_v, pu, pv)
-    P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
+    if not minimax:
+        P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
     out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q.reshape(-1, d))
     at = np.sqrt(((out.grid(u, v) - Q) ** 2).sum(-1)).ravel()
@@ -522,11 +512,12 @@ def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarra
     return uv, S, miss
 
 
-def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
-                     ) -> Tuple[BSplineSurface, np.ndarray]:
+def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int,
+                     weights: Optional[np.ndarray] = None) -> Tuple[BSplineSurface, np.ndarray]:
     """The least-squares tensor B-spline on the breakpoints through the scattered points
     at their parameters (normal equations, the band pu nv + pv wide, a thin-plate
-    regulariser of SCATTER_REGULARISATION), and its misses there."""
+    regulariser of SCATTER_REGULARISATION), and its misses there; ``weights`` (N,) of the
+    points (default: equal), scaled to sum 1."""
     from ..basis.banded import solve_banded_rows
     from ..basis.bspline import basis_derivatives
     from ..knots import vectors as kv
@@ -538,7 +529,7 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
     A = np.zeros_like(E)
     d = Q.shape[1]
     rhs = np.zeros((nu * nv, d))
-    w = 1.0 / len(Q)
+    w = np.full(len(Q), 1.0 / len(Q)) if weights is None else weights / weights.sum()
     a, b = np.meshgrid(np.arange(pu + 1), np.arange(pv + 1), indexing="ij")
     for c0 in range(0, len(Q), SCATTER_CHUNK):
         u, v = uv[c0:c0 + SCATTER_CHUNK, 0], uv[c0:c0 + SCATTER_CHUNK, 1]
@@ -546,15 +537,117 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
         Nu, Nv = basis_derivatives(U, pu, u, su, 0)[0], basis_derivatives(V, pv, v, sv, 0)[0]
         B = (Nu[:, :, None] * Nv[:, None, :]).reshape(len(u), -1)
         cols = ((su - pu)[:, None] + a.ravel()) * nv + (sv - pv)[:, None] + b.ravel()
-        _accumulate(A, start, cols, B, np.full(len(u), w), 1)
+        wc = w[c0:c0 + SCATTER_CHUNK]
+        _accumulate(A, start, cols, B, wc, 1)
         for k in range(d):
-            rhs[:, k] += np.bincount(cols.ravel(), (B * w * Q[c0:c0 + SCATTER_CHUNK, k, None]).ravel(),
+            rhs[:, k] += np.bincount(cols.ravel(), (B * (wc * Q[c0:c0 + SCATTER_CHUNK, k])[:, None]).ravel(),
                                      minlength=nu * nv)
     A += SCATTER_REGULARISATION * float(np.abs(A).max()) / (float(np.abs(E).max()) or 1.0) * E
     P = solve_banded_rows(start, A, rhs, "points").reshape(nu, nv, d)
     S = BSplineSurface(P, pu, pv, U, V)
     miss = np.sqrt(((S(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
     return S, miss
+
+
+def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],
+               most: Tuple[int, int]):
+    """The separable fit's grow / shrink / trim (module docstring) of the normalised grid
+    Qn at the parameters u, v, at most ``most`` spans per direction. Returns (best, rounds),
+    best = (surface, breaks_u, breaks_v, largest miss, misses (m, n))."""
+    pu, pv = degrees
+    most_u, most_v = most
+    bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+    rounds = 0
+    S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
+    while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
+        rounds += 1
+        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
+        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
+        if len(nu) == len(bu) and len(nv) == len(bv):
+            # each direction alone is within its share: refine the one with the larger residual
+            if ru.max() >= rv.max() and len(bu) - 1 < most_u:
+                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
+            elif len(bv) - 1 < most_v:
+                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
+            else:
+                break
+        bu, bv = nu, nv
+        S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
+    def grid_solve(bu, bv):
+        return _tensor(Qn, u, v, bu, bv, pu, pv)[:2]
+
+    def grid_sources(fit):
+        _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
+        return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
+
+    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), grid_solve, grid_sources, tol_n, (pu, pv),
+                           MAX_FIT_ROUNDS - rounds)
+    best, trimmed = _trimmed(best, grid_solve, grid_sources, tol_n, (pu, pv))
+    rounds += shrunk + trimmed
+    return best, rounds
+
+
+#: Lawson passes of a minimax fit per knot vector at most (each: one weighted solve)
+MINIMAX_PASSES = 30
+#: the smallest weight of a point in the Lawson passes, relative to their mean (keeps the
+#: normal equations definite where the misses vanish)
+MINIMAX_FLOOR = 1e-6
+
+
+def _minimax_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int,
+                   tol: float) -> Tuple[BSplineSurface, np.ndarray]:
+    """Towards the best uniform (L-infinity) fit on the breakpoints: Lawson's iteratively
+    reweighted least squares, w_k <- w_k |r_k| after every weighted solve (C. L. Lawson,
+    Contributions to the theory of linear least maximum approximation, 1961; Rice & Usow,
+    Math. Comp. 22, 1968), at most MINIMAX_PASSES solves, stopping as soon as every point
+    is within tol. Returns the fit with the smallest largest miss and its misses."""
+    w = np.ones(len(Q))
+    best: Optional[Tuple[BSplineSurface, np.ndarray]] = None
+    for _ in range(MINIMAX_PASSES):
+        S, miss = _scattered_solve(Q, uv, bu, bv, pu, pv, w)
+        if best is None or miss.max() < best[1].max():
+            best = (S, miss)
+        if miss.max() <= tol:
+            break
+        w = w * miss
+        w = np.maximum(w / w.mean(), MINIMAX_FLOOR) if w.max() > 0.0 else np.ones(len(Q))
+    assert best is not None
+    return best
+
+
+def _minimax_stage(best, Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],
+                   most: Tuple[int, int]):
+    """Fewer poles for a noisy grid: the knots of the separable fit of the least-squares
+    fit's own values (``best``: the noise averaged out, so the knots follow the shape, not
+    the noise peaks), then minimax fits of the grid (:func:`_minimax_solve`) on them, one
+    span more per step (alternately along u and v, the knots' density kept) until every
+    point is within tol; ``best`` is kept when that needs as many poles. Returns (best,
+    rounds)."""
+    m, n, d = Qn.shape
+    pu, pv = degrees
+    flat = Qn.reshape(-1, d)
+    uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
+    shape, rounds = _separable(best[0].grid(u, v), u, v, tol_n, degrees, most)
+    bu, bv = shape[1], shape[2]
+
+    def count(bu: np.ndarray, bv: np.ndarray) -> int:
+        return (len(bu) - 1 + pu) * (len(bv) - 1 + pv)
+    limit = count(best[1], best[2])
+    for step in range(MAX_FIT_ROUNDS):
+        if count(bu, bv) >= limit:
+            break
+        S, miss = _minimax_solve(flat, uv, bu, bv, pu, pv, tol_n)
+        rounds += 1
+        if miss.max() <= tol_n:
+            return (S, bu, bv, float(miss.max()), miss.reshape(m, n)), rounds
+        grow_u = (step % 2 == 0 and len(bu) - 1 < most[0]) or len(bv) - 1 >= most[1]
+        if grow_u and len(bu) - 1 < most[0]:
+            bu = _redistributed(bu, np.ones(len(bu) - 1), len(bu))
+        elif len(bv) - 1 < most[1]:
+            bv = _redistributed(bv, np.ones(len(bv) - 1), len(bv))
+        else:
+            break
+    return best, rounds
 
 
 def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
