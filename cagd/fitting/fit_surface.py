@@ -20,6 +20,11 @@ Scattered points (:func:`fit_scattered`) get their parameters by projection onto
 control points per knot vector, the same grow / shrink / trim, and parameter correction
 by re-projection onto the fit (Piegl & Tiller 9.4.1) where a candidate misses tol
 narrowly (:func:`_corrected`).
+
+Periodic directions, tangent planes held along edges and thin-plate smoothing need the
+least squares over the whole net (:mod:`cagd.fitting.surface_net`); ``minimax`` fits a
+noisy grid with knots placed by the shape of its least-squares fit and Lawson's
+reweighted least squares (:func:`_minimax_stage`).
 """
 from __future__ import annotations
 
@@ -245,7 +250,11 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         MAX_FIT_ROUNDS is reached first.
 
     Raises:
-        CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters.
+        CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters;
+            bad periodic, tangent_edges (unknown or adjacent edges, a neighbour that is
+            not a polynomial BSplineSurface or whose edge does not run along the grid's
+            boundary row, of a higher degree than the fit), smoothing or minimax, or one
+            of them given with scattered points or an option it cannot go with.
     """
     from ..queries.closest import closest_point
     from ..surfaces.fitting import surface_parameters

@@ -179,8 +179,7 @@ def solve_net(Q: np.ndarray, du: Direction, dv: Direction, smoothing: float, hel
         at += len(rows)
     B = np.zeros((nu * nv, d * (k + 1)))
     B[:, :d] = rhs
-    X = solve_fixed(start, A.copy(), B, scalars, values) if len(keys) else \
-        solve_fixed(start, A.copy(), B, np.zeros(0, int), np.zeros((0, d)))
+    X = solve_fixed(start, A.copy(), B, scalars, values)
     X0, alphas = X[:, :d], np.zeros(k)
     if k:
         Xe = [X[:, d * (e + 1):d * (e + 2)] for e in range(k)]
