@@ -330,3 +330,22 @@ def test_lawson_lowers_the_largest_miss_on_fixed_knots():
 def test_minimax_bad_input(kwargs, word):
     with pytest.raises(CagdError, match=word):
         fit_surface(anchor_grid(12), 0.1, **kwargs)
+
+
+def test_g1_to_a_neighbour_with_its_own_knots_domain_and_lower_degree():
+    # the neighbour: degree 2 along the edge, non-uniform knots on [2, 5], a double knot
+    rng = np.random.default_rng(11)
+    X, Y = np.meshgrid(np.linspace(0, 60, 6), np.linspace(0, 40, 7), indexing="ij")
+    kv_ = np.array([2, 2, 2, 2.4, 3.1, 3.1, 4.2, 5, 5, 5.0])
+    F = BSplineSurface(np.stack([X, Y, 3 * rng.random((6, 7))], -1), 3, 2, None, kv_)
+    N, R = F.split("u", 0.45)
+    (a, b), (c, d) = R.domain
+    Q = R.grid(a + (b - a) * np.linspace(0, 1, 35), c + (d - c) * np.linspace(0, 1, 45) ** 1.2)
+    r = fit_surface(Q, 0.01, degree=3, tangent_edges={"u0": N})
+    assert r.converged and float(certified(r.surface, Q).max()) <= 0.01
+    rep = edge_continuity(N, r.surface, "u1", "u0", samples=50)
+    assert rep.normal_angle <= 1e-9 and rep.gap <= 1e-12 * rep.size
+    inner = np.asarray(r.surface.knots_v)
+    for k in (0.4 / 3, 1.1 / 3):                        # the neighbour's knots, mapped to [0, 1]
+        assert np.min(np.abs(inner - k)) <= 1e-12
+    assert np.count_nonzero(np.abs(inner - 1.1 / 3) <= 1e-12) >= 2   # its double knot kept
