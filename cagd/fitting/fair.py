@@ -195,41 +195,13 @@ class SurfaceFairing(ReadOnlyArrays):
     message: str
 
 
-def _gram(U: np.ndarray, p: int, order: int) -> np.ndarray:
-    """[int N_i^(order) N_j^(order)] of one direction's basis, (n, n) (n poles of one
-    direction: its square, not the net's)."""
-    n = len(U) - p - 1
-    t, w = _gauss(U, p)
-    span = kv.find_span(U, p, t, n)
-    D = basis_derivatives(U, p, t, span, order)[order] if order <= p else np.zeros((len(t), p + 1))
-    G = np.zeros((n, n))
-    cols = span[:, None] - p + np.arange(p + 1)
-    np.add.at(G, (np.repeat(cols, p + 1, axis=1), np.tile(cols, (1, p + 1))),
-              (D[:, :, None] * D[:, None, :] * w[:, None, None]).reshape(len(t), -1))
-    return G
-
-
 def _thin_plate_band(Uu: np.ndarray, pu: int, Uv: np.ndarray, pv: int) -> Tuple[np.ndarray, np.ndarray]:
     """(start, band) of the thin-plate energy matrix G2u (x) G0v + 2 G1u (x) G1v + G0u (x) G2v
-    over the net's poles in row-major order (i nv + j): |I - J| <= pu nv + pv."""
-    g = [(_gram(Uu, pu, k), _gram(Uv, pv, k)) for k in range(3)]
-    nu, nv = g[0][0].shape[0], g[0][1].shape[0]
-    size = nu * nv
-    reach = pu * nv + pv
-    width = min(2 * reach + 1, size)
-    start = np.clip(np.arange(size) - reach, 0, size - width)
-    band = np.zeros((size, width))
-    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
-    for di in range(-pu, pu + 1):
-        for dj in range(-pv, pv + 1):
-            i2, j2 = i + di, j + dj
-            ok = (i2 >= 0) & (i2 < nu) & (j2 >= 0) & (j2 < nv)
-            a, b, a2, b2 = i[ok], j[ok], i2[ok], j2[ok]
-            value = (g[2][0][a, a2] * g[0][1][b, b2] + 2.0 * g[1][0][a, a2] * g[1][1][b, b2]
-                     + g[0][0][a, a2] * g[2][1][b, b2])
-            I, J = a * nv + b, a2 * nv + b2
-            band[I, J - start[I]] += value
-    return start, band
+    over the net's poles in row-major order (i nv + j): |I - J| <= pu nv + pv
+    (:func:`cagd.fitting.surface_net._kron_band`)."""
+    from .surface_net import Direction, _kron_band, thin_plate_terms
+    du, dv = Direction(Uu, pu), Direction(Uv, pv)
+    return _kron_band(thin_plate_terms(du, dv), du, dv)
 
 
 def fair_surface(surface: "BSplineSurface", tol: float, keep: str = "G1") -> SurfaceFairing:

@@ -20,11 +20,16 @@ Scattered points (:func:`fit_scattered`) get their parameters by projection onto
 control points per knot vector, the same grow / shrink / trim, and parameter correction
 by re-projection onto the fit (Piegl & Tiller 9.4.1) where a candidate misses tol
 narrowly (:func:`_corrected`).
+
+Periodic directions, tangent planes held along edges and thin-plate smoothing need the
+least squares over the whole net (:mod:`cagd.fitting.surface_net`); ``minimax`` fits a
+noisy grid with knots placed by the shape of its least-squares fit and Lawson's
+reweighted least squares (:func:`_minimax_stage`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Tuple, Union
+from typing import Mapping, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -188,7 +193,10 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int]):
 
 def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
-                base: Union[str, Surface, None] = None, boundary: Optional[str] = None) -> SurfaceFit:
+                base: Union[str, Surface, None] = None, boundary: Optional[str] = None, *,
+                periodic: Union[bool, str, Tuple[bool, bool], None] = None,
+                tangent_edges: Optional[Mapping[str, object]] = None, smoothing: float = 0.0,
+                minimax: bool = False) -> SurfaceFit:
     """A clamped B-spline surface on [0, 1]^2 within ``tol`` (a distance) of every point of
     the grid ``points`` (m, n, d), m, n >= 2, corner points held, with few control
     points; see the module docstring. Scattered points (N, 3) are parametrised by their
@@ -206,19 +214,58 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             boundary rows of control points the 1-D least-squares fits (ends held) of the
             grid's boundary rows to the surface's knots; "G0" sets them from those fits
             in model units once more (exact, not through the normalised frame).
+        periodic: grids only: the closed directions, (periodic_u, periodic_v), or "u", "v",
+            "uv" (True: both). A periodic direction is fitted with periodic knots
+            (:func:`cagd.knots.periodic_extend`), so the seam is C^(degree-1); the grid's
+            rows (columns) run once round the loop, a last row within tol of the first is
+            taken for the first again. At least 2 degree + 1 control points there.
+        tangent_edges: grids only: the edges ("u0", "u1", "v0", "v1"; u0 is u = 0, running
+            in v) whose tangent plane is held (G1), each mapped to its cross-boundary data:
+            a neighbouring BSplineSurface (its opposite edge: "u1" for "u0", ...), a pair
+            (neighbour, its edge name), or "grid" (the grid's own boundary row and its
+            one-sided cross derivatives). A neighbour's edge is held exactly (G0: the
+            fit's boundary row of control points is the neighbour's edge row, its knots
+            inserted, its degree raised to the fit's) and the fit's next row is the edge
+            row plus alpha times the neighbour's last difference row (one alpha > 0 per
+            edge, by least squares), so the tangent planes agree along the whole edge
+            (Farin, Curves and Surfaces for CAGD, 16.5, the G1 condition on the nets);
+            the grid's parameters along that edge are the feet of its boundary row on the
+            neighbour's edge. Opposite edges only (two adjacent ones would both own the
+            corner's twist pole); not with a periodic direction.
+        smoothing: grids only: weight of the thin-plate energy int int |S_uu|^2 +
+            2 |S_uv|^2 + |S_vv|^2 against the mean squared miss, in the grid's frame
+            scaled to the unit ball over [0, 1]^2 (Dierckx's smoothing norm; see
+            :mod:`cagd.fitting.surface_net`); > 0 keeps a noisy grid's fit from chasing
+            the noise (it lowers the bending energy; it does not lower the pole count
+            where the noise takes most of tol: see ``minimax``).
+        minimax: grids only, with none of periodic, tangent_edges, smoothing, boundary:
+            after the least-squares fit, fits towards the best uniform approximation on
+            knots placed by the shape of the least-squares fit (Lawson's reweighted least
+            squares, :func:`_minimax_solve`): a noisy grid's largest miss is set by a few
+            noise peaks, which a minimax fit meets with fewer poles on knots that follow
+            the shape (:func:`_minimax_stage`). The corner points are not held then.
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
         MAX_FIT_ROUNDS is reached first.
 
     Raises:
-        CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters.
+        CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters;
+            bad periodic, tangent_edges (unknown or adjacent edges, a neighbour that is
+            not a polynomial BSplineSurface or whose edge does not run along the grid's
+            boundary row, of a higher degree than the fit), smoothing or minimax, or one
+            of them given with scattered points or an option it cannot go with.
     """
     from ..queries.closest import closest_point
     from ..surfaces.fitting import surface_parameters
     if np.ndim(points) == 2:
         if boundary is not None:
             raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
+        for name, given in (("periodic", periodic not in (None, False, (False, False))),
+                            ("tangent_edges", bool(tangent_edges)), ("smoothing", smoothing != 0.0),
+                            ("minimax", minimax is not False)):
+            if given:
+                raise CagdError(f"{name}: only grid fits (m, n, d) take it; scattered points have none")
         return fit_scattered(points, tol, degree, max_control_points, "plane" if base is None else base)
     if base is not None:
         raise CagdError("base: only scattered (N, 3) points are projected onto a base; a grid has its own parameters")
@@ -233,51 +280,146 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     held = boundary == "G0"
     if m < pu + 1 or n < pv + 1:
         raise CagdError(f"degree: a {m} x {n} grid fits at most degree {m - 1} x {n - 1}, got {pu} x {pv}")
+    closed = _periodic_pair(periodic)
+    smoothing = _checks.nonnegative(smoothing, "smoothing")
+    if not isinstance(minimax, (bool, np.bool_)):
+        raise CagdError(f"minimax: expected True or False, got {minimax!r}")
+    if minimax and (any(closed) or tangent_edges or smoothing > 0.0 or held):
+        raise CagdError("minimax: a grid fit without periodic, tangent_edges, smoothing or boundary='G0' only "
+                        "(their rows and seams are held by the least squares)")
+    if any(closed) or tangent_edges or smoothing > 0.0:
+        return _net_fit(Q, tol, (pu, pv), (cap_u, cap_v), parameters, closed, tangent_edges, smoothing, held)
     u, v = surface_parameters(Q, parameters)
     u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
     center, scale = _frame(Q.reshape(-1, d))
     Qn = (Q - center) / scale
     tol_n = tol / scale
-    most_u, most_v = cap_u - pu, cap_v - pv
-    bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
-    rounds = 0
-    S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
-    while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
-        rounds += 1
-        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
-        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
-        if len(nu) == len(bu) and len(nv) == len(bv):
-            # each direction alone is within its share: refine the one with the larger residual
-            if ru.max() >= rv.max() and len(bu) - 1 < most_u:
-                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
-            elif len(bv) - 1 < most_v:
-                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
-            else:
-                break
-        bu, bv = nu, nv
-        S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
-    def grid_solve(bu, bv):
-        return _tensor(Qn, u, v, bu, bv, pu, pv)[:2]
-
-    def grid_sources(fit):
-        _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
-        return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
-
-    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), grid_solve, grid_sources, tol_n, (pu, pv),
-                           MAX_FIT_ROUNDS - rounds)
-    best, trimmed = _trimmed(best, grid_solve, grid_sources, tol_n, (pu, pv))
-    rounds += shrunk + trimmed
+    best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+    if minimax:
+        best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+        rounds += more
     S = best[0]
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
         P[0], P[-1], P[:, 0], P[:, -1] = _boundary_rows(Q, u, v, S.knots_u, S.knots_v, pu, pv)
-    P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
+    if not minimax:
+        P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
     out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
     near = closest_point(out, Q.reshape(-1, d))
     at = np.sqrt(((out.grid(u, v) - Q) ** 2).sum(-1)).ravel()
     grid_uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
     fit = _measured(out, near, at, grid_uv, tol, rounds)
     return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
+                      fit.converged, fit.message)
+
+
+def _periodic_pair(periodic) -> Tuple[bool, bool]:
+    """(periodic_u, periodic_v) from None / a bool / "u" / "v" / "uv" / a pair of bools."""
+    if periodic is None or periodic is False:
+        return False, False
+    if periodic is True:
+        return True, True
+    if isinstance(periodic, str) and periodic in ("u", "v", "uv"):
+        return "u" in periodic, "v" in periodic
+    if isinstance(periodic, (tuple, list)) and len(periodic) == 2 and all(
+            isinstance(x, (bool, np.bool_)) for x in periodic):
+        return bool(periodic[0]), bool(periodic[1])
+    raise CagdError(f"periodic: expected (bool, bool), 'u', 'v', 'uv' or a bool, got {periodic!r}")
+
+
+def _closed_grid(Q: np.ndarray, tol: float, closed: Tuple[bool, bool]) -> Tuple[np.ndarray, Tuple[bool, bool]]:
+    """The grid without a last row (column) that repeats the first within tol in a
+    periodic direction, and which were dropped."""
+    dropped = [False, False]
+    for axis in (0, 1):
+        if closed[axis]:
+            G = Q if axis == 0 else Q.transpose(1, 0, 2)
+            if float(np.sqrt(((G[-1] - G[0]) ** 2).sum(-1)).max()) <= tol:
+                Q = Q[:-1] if axis == 0 else Q[:, :-1]
+                dropped[axis] = True
+    return Q, (dropped[0], dropped[1])
+
+
+def _net_parameters(Q: np.ndarray, parameters, closed: Tuple[bool, bool]) -> Tuple[np.ndarray, np.ndarray]:
+    """The averaged parameters on [0, 1] per direction; a periodic direction's on [0, 1)
+    with the closing chord (last row to first) counted (the grid closed for the rule)."""
+    from ..surfaces.fitting import surface_parameters
+    G = Q
+    if closed[0]:
+        G = np.concatenate([G, G[:1]], axis=0)
+    if closed[1]:
+        G = np.concatenate([G, G[:, :1]], axis=1)
+    u, v = surface_parameters(G, parameters)
+    u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
+    return (u[:-1] if closed[0] else u), (v[:-1] if closed[1] else v)
+
+
+def _tangent_edges(tangent_edges, Q: np.ndarray, closed: Tuple[bool, bool], degrees: Tuple[int, int]):
+    """The checked Edges of ``tangent_edges`` (:func:`fit_surface`)."""
+    from .surface_net import EDGE_NAMES, Edge, neighbour_edge
+    if not tangent_edges:
+        return []
+    if not isinstance(tangent_edges, Mapping):
+        raise CagdError(f"tangent_edges: expected a mapping of edge names to 'grid' or a neighbouring surface, "
+                        f"got {type(tangent_edges).__name__}")
+    if any(closed):
+        raise CagdError("tangent_edges: not with a periodic direction (its edges would run round the seam)")
+    bad = [k for k in tangent_edges if k not in EDGE_NAMES]
+    if bad:
+        raise CagdError(f"tangent_edges: edge names are {EDGE_NAMES}, got {bad[0]!r}")
+    if {"u0", "u1"} & set(tangent_edges) and {"v0", "v1"} & set(tangent_edges):
+        raise CagdError(f"tangent_edges: adjacent edges {sorted(tangent_edges)} share a corner's twist pole; "
+                        f"hold opposite edges only")
+    edges = []
+    for name, spec in tangent_edges.items():
+        if isinstance(spec, str):
+            if spec != "grid":
+                raise CagdError(f"tangent_edges: edge {name!r} expects 'grid' or a neighbouring surface, "
+                                f"got {spec!r}")
+            edges.append(Edge(name, "grid"))
+        else:
+            edges.append(neighbour_edge(name, spec, Q, *degrees))
+    return edges
+
+
+def _net_fit(Q: np.ndarray, tol: float, degrees: Tuple[int, int], caps: Tuple[int, int], parameters,
+             closed: Tuple[bool, bool], tangent_edges, smoothing: float, g0: bool) -> SurfaceFit:
+    """fit_surface with periodic directions, tangent edges or smoothing: the full-net
+    least squares of :mod:`cagd.fitting.surface_net`, measured by certified closest points
+    of every grid point (the dropped seam rows too)."""
+    from ..queries.closest import closest_point
+    from .surface_net import fit_net
+    m0, n0, d = Q.shape
+    if g0 and any(closed):
+        raise CagdError("boundary: 'G0' holds the four boundary curves; a periodic direction has no boundary there")
+    edges = _tangent_edges(tangent_edges, Q, closed, degrees)
+    Qf, dropped = _closed_grid(Q, tol, closed)
+    u, v = _net_parameters(Qf, parameters, closed)
+    for e in edges:                  # the parameters along a neighbour's edge: the feet on it
+        if e.kind == "surface":
+            if e.name[0] == "u":
+                v = e.feet
+            else:
+                u = e.feet
+    transpose = closed[0] and not closed[1]          # the periodic direction inner: the narrower band
+    if transpose:
+        net = fit_net(Qf.transpose(1, 0, 2), v, u, tol, degrees[::-1], caps[::-1], closed[::-1], edges,
+                      smoothing, g0)
+        P, U, V = net.P.transpose(1, 0, 2), net.V, net.U
+    else:
+        net = fit_net(Qf, u, v, tol, degrees, caps, closed, edges, smoothing, g0)
+        P, U, V = net.P, net.U, net.V
+    pu, pv = degrees
+    ku = U[pu:len(U) - pu] if closed[0] else U
+    kv_ = V[pv:len(V) - pv] if closed[1] else V
+    out = BSplineSurface(P, pu, pv, ku, kv_, periodic_u=closed[0], periodic_v=closed[1])
+    uu = np.append(u, 1.0) if dropped[0] else u
+    vv = np.append(v, 1.0) if dropped[1] else v
+    near = closest_point(out, Q.reshape(-1, d))
+    at = np.sqrt(((out.grid(uu, vv) - Q) ** 2).sum(-1)).ravel()
+    grid_uv = np.stack(np.meshgrid(uu, vv, indexing="ij"), axis=-1).reshape(-1, 2)
+    fit = _measured(out, near, at, grid_uv, tol, net.rounds)
+    return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m0, n0, 2), net.rounds,
                       fit.converged, fit.message)
 
 
@@ -379,11 +521,12 @@ def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarra
     return uv, S, miss
 
 
-def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int
-                     ) -> Tuple[BSplineSurface, np.ndarray]:
+def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int,
+                     weights: Optional[np.ndarray] = None) -> Tuple[BSplineSurface, np.ndarray]:
     """The least-squares tensor B-spline on the breakpoints through the scattered points
     at their parameters (normal equations, the band pu nv + pv wide, a thin-plate
-    regulariser of SCATTER_REGULARISATION), and its misses there."""
+    regulariser of SCATTER_REGULARISATION), and its misses there; ``weights`` (N,) of the
+    points (default: equal), scaled to sum 1."""
     from ..basis.banded import solve_banded_rows
     from ..basis.bspline import basis_derivatives
     from ..knots import vectors as kv
@@ -395,7 +538,7 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
     A = np.zeros_like(E)
     d = Q.shape[1]
     rhs = np.zeros((nu * nv, d))
-    w = 1.0 / len(Q)
+    w = np.full(len(Q), 1.0 / len(Q)) if weights is None else weights / weights.sum()
     a, b = np.meshgrid(np.arange(pu + 1), np.arange(pv + 1), indexing="ij")
     for c0 in range(0, len(Q), SCATTER_CHUNK):
         u, v = uv[c0:c0 + SCATTER_CHUNK, 0], uv[c0:c0 + SCATTER_CHUNK, 1]
@@ -403,15 +546,117 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
         Nu, Nv = basis_derivatives(U, pu, u, su, 0)[0], basis_derivatives(V, pv, v, sv, 0)[0]
         B = (Nu[:, :, None] * Nv[:, None, :]).reshape(len(u), -1)
         cols = ((su - pu)[:, None] + a.ravel()) * nv + (sv - pv)[:, None] + b.ravel()
-        _accumulate(A, start, cols, B, np.full(len(u), w), 1)
+        wc = w[c0:c0 + SCATTER_CHUNK]
+        _accumulate(A, start, cols, B, wc, 1)
         for k in range(d):
-            rhs[:, k] += np.bincount(cols.ravel(), (B * w * Q[c0:c0 + SCATTER_CHUNK, k, None]).ravel(),
+            rhs[:, k] += np.bincount(cols.ravel(), (B * (wc * Q[c0:c0 + SCATTER_CHUNK, k])[:, None]).ravel(),
                                      minlength=nu * nv)
     A += SCATTER_REGULARISATION * float(np.abs(A).max()) / (float(np.abs(E).max()) or 1.0) * E
     P = solve_banded_rows(start, A, rhs, "points").reshape(nu, nv, d)
     S = BSplineSurface(P, pu, pv, U, V)
     miss = np.sqrt(((S(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
     return S, miss
+
+
+def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],
+               most: Tuple[int, int]):
+    """The separable fit's grow / shrink / trim (module docstring) of the normalised grid
+    Qn at the parameters u, v, at most ``most`` spans per direction. Returns (best, rounds),
+    best = (surface, breaks_u, breaks_v, largest miss, misses (m, n))."""
+    pu, pv = degrees
+    most_u, most_v = most
+    bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+    rounds = 0
+    S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
+    while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
+        rounds += 1
+        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
+        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
+        if len(nu) == len(bu) and len(nv) == len(bv):
+            # each direction alone is within its share: refine the one with the larger residual
+            if ru.max() >= rv.max() and len(bu) - 1 < most_u:
+                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
+            elif len(bv) - 1 < most_v:
+                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
+            else:
+                break
+        bu, bv = nu, nv
+        S, miss, ru, rv = _fit(Qn, u, v, bu, bv, pu, pv)
+    def grid_solve(bu, bv):
+        return _tensor(Qn, u, v, bu, bv, pu, pv)[:2]
+
+    def grid_sources(fit):
+        _, _, ru, rv = _fit(Qn, u, v, fit[1], fit[2], pu, pv)
+        return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
+
+    best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), grid_solve, grid_sources, tol_n, (pu, pv),
+                           MAX_FIT_ROUNDS - rounds)
+    best, trimmed = _trimmed(best, grid_solve, grid_sources, tol_n, (pu, pv))
+    rounds += shrunk + trimmed
+    return best, rounds
+
+
+#: Lawson passes of a minimax fit per knot vector at most (each: one weighted solve)
+MINIMAX_PASSES = 30
+#: the smallest weight of a point in the Lawson passes, relative to their mean (keeps the
+#: normal equations definite where the misses vanish)
+MINIMAX_FLOOR = 1e-6
+
+
+def _minimax_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int,
+                   tol: float) -> Tuple[BSplineSurface, np.ndarray]:
+    """Towards the best uniform (L-infinity) fit on the breakpoints: Lawson's iteratively
+    reweighted least squares, w_k <- w_k |r_k| after every weighted solve (C. L. Lawson,
+    Contributions to the theory of linear least maximum approximation, 1961; Rice & Usow,
+    Math. Comp. 22, 1968), at most MINIMAX_PASSES solves, stopping as soon as every point
+    is within tol. Returns the fit with the smallest largest miss and its misses."""
+    w = np.ones(len(Q))
+    best: Optional[Tuple[BSplineSurface, np.ndarray]] = None
+    for _ in range(MINIMAX_PASSES):
+        S, miss = _scattered_solve(Q, uv, bu, bv, pu, pv, w)
+        if best is None or miss.max() < best[1].max():
+            best = (S, miss)
+        if miss.max() <= tol:
+            break
+        w = w * miss
+        w = np.maximum(w / w.mean(), MINIMAX_FLOOR) if w.max() > 0.0 else np.ones(len(Q))
+    assert best is not None
+    return best
+
+
+def _minimax_stage(best, Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],
+                   most: Tuple[int, int]):
+    """Fewer poles for a noisy grid: the knots of the separable fit of the least-squares
+    fit's own values (``best``: the noise averaged out, so the knots follow the shape, not
+    the noise peaks), then minimax fits of the grid (:func:`_minimax_solve`) on them, one
+    span more per step (alternately along u and v, the knots' density kept) until every
+    point is within tol; ``best`` is kept when that needs as many poles. Returns (best,
+    rounds)."""
+    m, n, d = Qn.shape
+    pu, pv = degrees
+    flat = Qn.reshape(-1, d)
+    uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
+    shape, rounds = _separable(best[0].grid(u, v), u, v, tol_n, degrees, most)
+    bu, bv = shape[1], shape[2]
+
+    def count(bu: np.ndarray, bv: np.ndarray) -> int:
+        return (len(bu) - 1 + pu) * (len(bv) - 1 + pv)
+    limit = count(best[1], best[2])
+    for step in range(MAX_FIT_ROUNDS):
+        if count(bu, bv) >= limit:
+            break
+        S, miss = _minimax_solve(flat, uv, bu, bv, pu, pv, tol_n)
+        rounds += 1
+        if miss.max() <= tol_n:
+            return (S, bu, bv, float(miss.max()), miss.reshape(m, n)), rounds
+        grow_u = (step % 2 == 0 and len(bu) - 1 < most[0]) or len(bv) - 1 >= most[1]
+        if grow_u and len(bu) - 1 < most[0]:
+            bu = _redistributed(bu, np.ones(len(bu) - 1), len(bu))
+        elif len(bv) - 1 < most[1]:
+            bv = _redistributed(bv, np.ones(len(bv) - 1), len(bv))
+        else:
+            break
+    return best, rounds
 
 
 def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int]] = 3,
