@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 from scipy.interpolate import make_interp_spline
 
 from cagd import BezierCurve, BSplineCurve, BSplineSurface, CagdError, HermiteCurve, natural_cubic_spline
-from cagd.surfaces.loft import SEAM_SHIFT, aligned_sections, loft, loft_parameters, make_compatible, rotated_start, ruled
+from cagd.surfaces.loft import (SEAM_SHIFT, aligned_sections, loft, loft_parameters, make_compatible,
+                                rotated_start, ruled)
 from cagd.surfaces.revolution import arc_parameters
 
 from strategies import bspline_curves
