@@ -120,14 +120,17 @@ def global_curve(item, name: str) -> Curve:
 
     Raises:
         CagdError: naming ``name``: neither, or a face."""
-    if isinstance(item, Curve):
-        return item
+    return item if isinstance(item, Curve) else _converted(item, name, Curve, "Curve or an edge", "a face")
+
+
+def _converted(item, name: str, kind: type, wanted: str, other: str):
+    """The engine object of an edge or face of any library, of type ``kind``."""
     if not is_shape(item):
-        raise CagdError(f"{name}: expected a cagd Curve or an edge, got {describe(item)}")
-    curve = from_occ(edge_or_face(item, name))
-    if not isinstance(curve, Curve):
-        raise CagdError(f"{name}: expected a cagd Curve or an edge, got {describe(item)} (a face)")
-    return curve
+        raise CagdError(f"{name}: expected a cagd {wanted}, got {describe(item)}")
+    obj = from_occ(edge_or_face(item, name))
+    if not isinstance(obj, kind):
+        raise CagdError(f"{name}: expected a cagd {wanted}, got {describe(item)} ({other})")
+    return obj
 
 
 def untrimmed_surface(item, name: str) -> Surface:
@@ -144,11 +147,7 @@ def untrimmed_surface(item, name: str) -> Surface:
                         "parameter box: pass its untrimmed surface")
     if isinstance(item, Surface):
         return item
-    if not is_shape(item):
-        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)}")
-    surface = from_occ(edge_or_face(item, name))
-    if not isinstance(surface, Surface):
-        raise CagdError(f"{name}: expected a cagd Surface or a face, got {describe(item)} (an edge)")
+    surface = _converted(item, name, Surface, "Surface or a face", "an edge")
     if isinstance(surface, TrimmedSurface):
         raise CagdError(f"{name}: a trimmed face (its boundary is not its UV box: a hole or a cut outline); the "
                         "edges u0, u1, v0, v1 exist only on the untrimmed parameter box, which is not this face's "
