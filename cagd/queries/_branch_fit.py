@@ -6,6 +6,8 @@ coincide but whose parameters differ (a run along a collapsed edge: a pole, an a
 count once in 3-D, and the parameter curves run along the edge there."""
 from __future__ import annotations
 
+from typing import List
+
 import numpy as np
 
 from ..errors import CagdError
@@ -13,6 +15,8 @@ from ._newton import newton
 from ._surface_system import System
 from ._numerics import COLLAPSED_SPEED_RTOL, TINY, residual_tol
 
+STALL_ROUNDS = 2             # fit: rounds in a row that may fail to cut the error ...
+STALL_FACTOR = 2.0           # ... by this factor before the fit stops
 GN_SHIFT_RTOL = 1e-14        # Gauss-Newton shift of the foot projections, share of trace(J^T J)
 
 
@@ -142,7 +146,13 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
     """Cubic interpolation of the branch points and of their parameters (chord-length
     parameters); midpoints (corrected onto the branch) are inserted in segments whose
     samples are off either surface or whose parameter curves are off the 3-D curve
-    by more than tol. Returns (curve, params_a, params_b, max_distance, params_max_distance)."""
+    by more than tol. Returns (curve, params_a, params_b, max_distance, params_max_distance).
+    Bounded: at most ``rounds`` rounds, and it stops once STALL_ROUNDS rounds in a row have
+    not cut the largest distance by STALL_FACTOR (a cubic's error falls like h^4: points
+    that do not help are not on a smooth curve at this tol, e.g. surfaces touching
+    nearly tangentially, where the rounds ran to 11,738 points in 127 s on occ22470.igs
+    SOLID[2] x [3] without getting closer)."""
+    history: List[float] = []
     for r in range(rounds + 1):
         xs, P, runs = _runs(S, xs, P, tol)
         parts = [_thin(xs[a:b], P[a:b]) for a, b in runs]
@@ -178,7 +188,10 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
         d_s, d_p = _span_maxima(S, curve, pa, pb, t)
         worst = float(d_s.max()) if d_s.size else 0.0
         worst_p = float(d_p.max()) if d_p.size else 0.0
-        if (worst <= tol and worst_p <= tol) or r == rounds:
+        history.append(max(worst, worst_p))
+        stalled = len(history) > STALL_ROUNDS and all(
+            history[-i] > history[-i - 1] / STALL_FACTOR for i in range(1, STALL_ROUNDS + 1))
+        if (worst <= tol and worst_p <= tol) or r == rounds or stalled:
             return curve, pa, pb, worst, worst_p
         err = np.maximum(d_s, d_p)
         sel = np.flatnonzero(err > 0.5 * tol)

@@ -49,14 +49,18 @@ def grid_seeds(H: sd.Geometry, P: np.ndarray, lo: np.ndarray, hi: np.ndarray, n:
     """Starts (N, 2) for projecting the points P (N, 3) onto H: the nearest of n x n
     samples of H's parameter boxes (lo, hi) (N, 2) or (1, 2). Robust where one start for
     a whole piece is not: at poles and apexes, where Newton from a piece's centre can
-    stop far from the foot of a corner."""
-    lo = np.broadcast_to(lo, P.shape[:1] + (2,)) if len(lo) == 1 else lo
-    hi = np.broadcast_to(hi, P.shape[:1] + (2,)) if len(hi) == 1 else hi
-    inset = SEED_INSET * (hi - lo)
-    x = _grid(lo + inset, hi - inset, n)      # (N, n*n, 2)
-    Q = H.points(x.reshape(-1, 2)).reshape(len(P), n * n, -1)
+    stop far from the foot of a corner. Each distinct box is sampled once (the points of
+    one piece share its box: 25 x fewer evaluations in :func:`lying_on`)."""
+    boxes, which = np.unique(np.concatenate([np.broadcast_to(lo, P.shape[:1] + (2,)),
+                                             np.broadcast_to(hi, P.shape[:1] + (2,))], axis=1),
+                             axis=0, return_inverse=True)
+    which = which.reshape(-1)
+    blo, bhi = boxes[:, :2], boxes[:, 2:]
+    inset = SEED_INSET * (bhi - blo)
+    x = _grid(blo + inset, bhi - inset, n)    # (boxes, n*n, 2)
+    Q = H.points(x.reshape(-1, 2)).reshape(len(boxes), n * n, -1)[which]
     k = np.argmin(np.einsum("nsd,nsd->ns", Q - P[:, None], Q - P[:, None]), axis=1)
-    return x[np.arange(len(P)), k]
+    return x[which, k]
 
 
 def lying_on(G: sd.Geometry, H, pl, lo, hi, lo_h, hi_h, tol: float):

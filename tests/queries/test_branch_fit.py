@@ -98,3 +98,22 @@ def test_neighbouring_hemispheres_of_boxed_sphere_do_not_raise():
     assert res.curves[0].max_distance <= 1e-6
     (u0, u1), (v0, v1) = by["Document[190]"].domain
     assert res.curves[0].params_max_distance <= 1e-4 * max(u1 - u0, v1 - v0)
+
+
+@pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")
+def test_nearly_tangent_neighbours_of_occ22470_stop_refining():
+    """occ22470.igs SOLID[2] x [3]: a fillet touching its neighbour nearly tangentially
+    (normals 2e-6..3e-4 apart along the shared edge, the edge up to 3.5e-5 off the other
+    face). The branch fit's rounds ran to 6,344-11,738 points per branch (157-243 s) and
+    ended 24 mm off; now the rounds stop once they no longer cut the error (STALL_ROUNDS),
+    each branch is reported not converged with the distance it reached, well under 1 mm."""
+    pytest.importorskip("OCP")
+    import cagd
+    from cagd.occ import read_iges
+    by = {it.name: it.object for it in read_iges(CAD / "iges" / "occ22470.igs")}
+    res = cagd.intersect(by["SOLID[2]"].untrimmed, by["SOLID[3]"].untrimmed)
+    assert res.curves and not res.converged and "fitted within" in res.message
+    for c in res.curves:
+        assert len(c.curve.control_points) <= 2000
+        assert c.converged == (max(c.max_distance, c.params_max_distance) <= res.tol)
+        assert c.max_distance <= 0.1
