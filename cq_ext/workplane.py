@@ -47,7 +47,7 @@ from cagd.occ.wrapped import describe, is_shape, occ_faces
 from cagd.surfaces.base import Surface
 
 from .convert import from_shape, placed, plane_map, reported, to_cq, untrimmed_surface
-from .cq_api import close_with_caps, sew_solid, thicken
+from .cq_api import close_with_caps, sew_shell, sew_solid, thicken
 from .solids import revolution_angle, revolution_face, revolution_input
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
 from .stack import points as as_points
@@ -500,6 +500,25 @@ def _frame(wp: cq.Workplane, frame: Union[str, Points]) -> Union[str, np.ndarray
     return A @ up
 
 
+def _profile_pieces(wp: cq.Workplane, profile, path) -> Optional[Tuple[List[Curve], Callable[[], None]]]:
+    """The edges of a profile wire of several edges (given, or the one pending wire when
+    only the path is given) as engine curves, with the function consuming the pending
+    wire; None for a profile of one curve (:func:`_filled` takes it)."""
+    if path is None:
+        return None
+    if profile is None:
+        ctx = wp.ctx
+        if ctx.pendingEdges or len(ctx.pendingWires) != 1 or len(ctx.pendingWires[0].Edges()) < 2:
+            return None
+
+        def consume():
+            ctx.pendingWires = []
+        return [from_shape(e) for e in ctx.pendingWires[0].Edges()], consume
+    if isinstance(profile, cq.Shape) and not isinstance(profile, cq.Edge) and len(profile.Edges()) > 1:
+        return [from_shape(e) for e in profile.Edges()], lambda: None
+    return None
+
+
 def sweepSurface(self: T, profile: Optional[CurveLike] = None, path: Optional[CurveLike] = None,
                  frame: Union[str, Points] = "rmf", scale: Law = None, twist: Law = None, tol: float = 1e-6) -> T:
     """The profile swept along the path (:func:`cagd.sweep`: frame "rmf"
@@ -508,16 +527,27 @@ def sweepSurface(self: T, profile: Optional[CurveLike] = None, path: Optional[Cu
     refined to ``tol``): the curves given (engine curves in local coordinates, edges of
     any library; the profile where it sits at the path's start), the missing ones the
     pending edges in order (consumed), else the pending wires (CadQuery's ``circle``),
-    else the edges on the stack: ``circle(r).sweepSurface(path=edge)``.
+    else the edges on the stack: ``circle(r).sweepSurface(path=edge)``. A profile wire
+    of several edges (``rect(w, h).sweepSurface(path=edge)``, or a wire given) is swept
+    edge by edge along the same path and frame, and the faces are sewn within 2 ``tol``
+    into one shell on the stack.
 
     Raises:
         CagdError: the engine's refusals, missing curves, or ``max_error`` above ``tol``."""
-    (prof, pth), consume = _filled(self, (("profile", profile), ("path", path)), "sweepSurface")
-    result = _reported("sweepSurface", cagd.sweep(prof, pth, frame=_frame(self, frame), scale=scale, twist=twist,
-                                                  tol=tol), "tol")
-    face = to_cq(result.surface)
+    pieces = _profile_pieces(self, profile, path)
+    if pieces is None:
+        (prof, pth), consume = _filled(self, (("profile", profile), ("path", path)), "sweepSurface")
+        profiles = [prof]
+    else:
+        profiles, consume = pieces
+        pth = curve_of(path, self.plane, "path")
+    faces = [to_cq(_reported("sweepSurface", cagd.sweep(prof, pth, frame=_frame(self, frame), scale=scale,
+                                                        twist=twist, tol=tol), "tol").surface) for prof in profiles]
     consume()
-    return with_face(self, face)
+    if len(faces) == 1:
+        return with_face(self, faces[0])
+    kept = [o for o in self.objects if isinstance(o, (cq.Face, cq.Shell))]
+    return self.newObject(kept + [sew_shell(faces, 2.0 * tol)])     # each edge within tol: neighbours within 2 tol
 
 
 def sweep2Surface(self: T, profiles: Union[CurveLike, Sequence[CurveLike], None] = None,

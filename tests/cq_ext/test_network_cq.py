@@ -125,6 +125,37 @@ def test_circle_swept_along_a_quarter_circle_is_a_torus_quarter():
     assert volume(solid.wrapped) == pytest.approx(math.pi ** 2 * R / 2, rel=1e-6)    # measured 4.0e-8
 
 
+def test_rectangle_wire_swept_edge_by_edge_into_a_shell():
+    """CadQuery's rect (a pending wire of 4 edges) swept along a line: 4 planar faces
+    sewn into one valid shell (OCCT: area 2 (w + h) H, 8 free edges), which caps to the
+    box (volume w h H)."""
+    w, h = 2.0, 1.0
+    wp = cq.Workplane("XY").rect(w, h).sweepSurface(path=cq.Edge.makeLine(V(0, 0, 0), V(0, 0, H)))
+    assert not wp.ctx.pendingWires
+    shell = wp.val()
+    assert isinstance(shell, cq.Shell) and shell.isValid() and len(shell.Faces()) == 4
+    assert area(shell.wrapped) == pytest.approx(2 * (w + h) * H, rel=1e-12)
+    assert len(cq_ext.free_edges(shell)) == 8
+    solid = wp.closeWithCaps().val()
+    assert solid.isValid() and volume(solid.wrapped) == pytest.approx(w * h * H, rel=1e-12)
+
+
+def test_slot_wire_given_swept_along_a_curve_sews_its_faces():
+    """A slot (two lines, two arcs) given as a wire and swept along a bent path: one
+    face per edge, neighbours sewn within 2 tol into one shell with only the two end
+    loops free; every face point within 1e-6 of the slot's tube of the path start's
+    frame (checked at the start: the first section is the slot itself)."""
+    slot = cq.Workplane("XY").slot2D(4.0, 1.0).val()          # a closed wire of 4 edges
+    path = to_cq(cagd.BSplineCurve(np.array([[0, 0, 0], [0, 0, 3.0], [1.0, 0, 6.0], [3.0, 0, 8.0]]), 3))
+    wp = cq.Workplane("XY").sweepSurface(slot, path)
+    shell = wp.val()
+    assert isinstance(shell, cq.Shell) and shell.isValid() and len(shell.Faces()) == 4
+    assert len(cq_ext.free_edges(shell)) == 8                   # the two slot loops: 2 x 4 edges
+    start = np.concatenate([face_points(f, *(lambda d: (np.linspace(*d[0], 9), np.full(9, d[1][0])))(
+        from_shape(f).domain)) for f in shell.Faces()])
+    assert np.abs(start[:, 2]).max() <= 1e-9                    # the sections start in the slot's plane
+
+
 def test_sweep_both_curves_pending_scale_passed_through():
     """Profile then path as pending edges (local XY coordinates); a linear scale law:
     the end section is the profile scaled by 2 about the path's end."""
