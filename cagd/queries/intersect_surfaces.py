@@ -375,7 +375,7 @@ def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
 
 def _touch(S: System, x: np.ndarray):
     """The nearest contact of the surfaces from x: surface pairs by minimizing the
-    distance (:func:`cagd.queries._subdivision.refine`, second order), a surface and a
+    distance (:func:`cagd.queries._newton.refine`, second order), a surface and a
     plane by Newton on grad (n . A) = 0 (the normal along n). Returns (x, distance)."""
     if len(x) == 0:
         return x, np.empty(0)
