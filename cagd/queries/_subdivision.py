@@ -8,8 +8,8 @@ together with its parameter box. The convex-hull property
 of Bezier pieces with positive weights (seed 000, 5.2.3; Farin ch. 4) makes the
 axis-aligned box of the projected control points a rigorous bound of the piece;
 halving by de Casteljau (Lane & Riesenfeld 1980) is done for all pieces at once.
-Candidates are refined on the whole object by a bounded, projected (clamped)
-Newton iteration with a saddle-free Hessian and backtracking (Nocedal & Wright,
+Candidates are refined on the whole object (:func:`cagd.queries._newton.refine`) by a
+bounded, projected (clamped) Newton iteration with a saddle-free Hessian and backtracking (Nocedal & Wright,
 Numerical Optimization, 3.4 and 16.7), vectorized over all candidates.
 """
 from __future__ import annotations
