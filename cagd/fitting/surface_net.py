@@ -33,7 +33,7 @@ tangent plane is the neighbour's exactly (G1), the edge is the neighbour's edge 
 """
 from __future__ import annotations
 
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -42,6 +42,9 @@ from ..basis.bspline import basis_derivatives
 from ..errors import CagdError
 from ..knots import vectors as kv
 from .fit import _fold, _gauss, _knots, solve_fixed
+
+if TYPE_CHECKING:
+    from ..surfaces.bspline import BSplineSurface
 
 #: the thin-plate weight below which no smoothing is asked, relative to the data term
 #: (as the scattered fit's SCATTER_REGULARISATION: moves an exact fit by ~1e-9 of its size)
@@ -253,7 +256,8 @@ class Edge:
         return np.stack([r, np.full(k, first)], 1), np.stack([r, np.full(k, second)], 1)
 
 
-def neighbour_edge(name: str, spec, Q: np.ndarray, pu: int, pv: int) -> Edge:
+def neighbour_edge(name: str, spec: Union["BSplineSurface", Tuple["BSplineSurface", str]], Q: np.ndarray, pu: int,
+                   pv: int) -> Edge:
     """The Edge of a neighbouring surface: ``spec`` a BSplineSurface (its edge opposite to
     ``name``) or (surface, its edge name). Its edge degree raised to the fit's (degree
     elevation, Piegl & Tiller 5.5); the direction of the edge turned to the grid's
