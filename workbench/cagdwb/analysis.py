@@ -4,7 +4,7 @@ faces (cagd.continuity, cagd.edge_continuity) and the curvature comb of an edge.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -16,9 +16,12 @@ from .conversion import cagd
 
 @dataclass
 class JointCheck:
-    """A continuity report with the joint it was measured at, as readable text."""
+    """A continuity report with the joint it was measured at, as readable text;
+    ``profile`` (two faces): the engine's per-station measurements along the shared
+    boundary (a cagd.TrimEdgeContinuityReport: gaps, angles, curvature differences)."""
     report: object
     where: str
+    profile: Optional[object] = None
 
     @property
     def level(self) -> str:
@@ -30,7 +33,29 @@ class JointCheck:
 
     def text(self) -> str:
         flags = "  ".join(f"{k} {'yes' if v else 'no'}" for k, v in self.flags().items())
-        return f"{self.where}\n{flags}\n{self.report}"
+        stations = f"\n{station_text(self.profile)}" if self.profile is not None else ""
+        return f"{self.where}\n{flags}\n{self.report}{stations}"
+
+    def worst(self) -> Optional[Tuple[str, int, float, np.ndarray]]:
+        """The profile's worst station (TrimEdgeContinuityReport.worst: of the first
+        failing measure), None for two edges."""
+        return None if self.profile is None else self.profile.worst()
+
+
+UNITS = {"gap": "mm", "angle": "rad", "curvature": "1/mm"}
+
+
+def station_text(profile) -> str:
+    """Per-station read-out: for each measure its maximum over the stations and where."""
+    lines = [f"along the shared boundary, {len(profile.points)} stations:"]
+    for measure in ("gap", "angle", "curvature"):
+        _, i, value, point = profile.worst(measure)
+        where = "undefined" if i < 0 else \
+            f"{value:.6g} {UNITS[measure]} at station {i} {tuple(round(float(x), 6) for x in point)}"
+        lines.append(f"  max {measure}: {where}")
+    measure, i, value, _ = profile.worst()
+    lines.append(f"  worst station (first failing measure, {measure}): {i}")
+    return "\n".join(lines)
 
 
 def _ends(curve) -> Tuple[np.ndarray, np.ndarray]:
@@ -61,11 +86,13 @@ def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> 
     """Continuity across the common boundary of two faces. Where either face is
     trimmed (:func:`conversion.face_to_trimmed`), along the boundary curves they share
     (cagd.trim_edge_continuity: gap, tangent-plane angle, cross-curvature); else across the pair of
-    box sides ('u0', 'u1', 'v0', 'v1') with the smallest gap, by cagd.edge_continuity."""
+    box sides ('u0', 'u1', 'v0', 'v1') with the smallest gap, by cagd.edge_continuity. Either way
+    the profile is trim_edge_continuity's per-station read-out along the shared boundary (its
+    ``samples`` stations: gap, angle, curvature difference at each)."""
     t1, t2 = conversion.face_to_trimmed(face1)[0], conversion.face_to_trimmed(face2)[0]
     if isinstance(t1, cagd.TrimmedSurface) or isinstance(t2, cagd.TrimmedSurface):
         r = cagd.trim_edge_continuity(t1, t2, samples=samples, rel_tol=rel_tol)
-        return JointCheck(r, f"shared boundary: curve {r.curve1} of face 1 = curve {r.curve2} of face 2")
+        return JointCheck(r, f"shared boundary: curve {r.curve1} of face 1 = curve {r.curve2} of face 2", r)
     s1, s2 = t1, t2                     # face_to_surface's surfaces (the boundary is the box)
     best = None
     for e1 in ("u0", "u1", "v0", "v1"):
@@ -75,7 +102,8 @@ def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> 
                 best = (r.gap, e1, e2)
     _, e1, e2 = best
     report = cagd.edge_continuity(s1, s2, e1, e2, samples=samples, rel_tol=rel_tol)
-    return JointCheck(report, f"shared boundary: {e1} of face 1 = {e2} of face 2")
+    profile = cagd.trim_edge_continuity(s1, s2, samples=samples, rel_tol=rel_tol)
+    return JointCheck(report, f"shared boundary: {e1} of face 1 = {e2} of face 2", profile)
 
 
 def check_shapes(shape1, shape2, rel_tol: float = 1e-9) -> JointCheck:

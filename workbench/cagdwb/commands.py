@@ -23,6 +23,8 @@ from .conversion import cagd
 
 Link = Tuple[object, str]
 LAST_CHECK: List[analysis.JointCheck] = []       # results of the continuity command (newest last)
+LAST_MARKER: list = []                  # (view, node) of the worst-station marker shown in the 3-D view
+MARKER_FRACTION = 0.02                  # the marker's radius, this fraction of the checked shapes' size
 
 
 # --- selection ------------------------------------------------------------------------------
@@ -423,6 +425,7 @@ class ContinuityCommand(Command):
         names = " and ".join(f"{o.Label}.{s}" for o, s in pick)
         text = f"Continuity of {names}: {result.level}\n{result.text()}\n"
         App.Console.PrintMessage(text)
+        mark_worst_station(result, shapes)
         show_message("Continuity check", text)
 
     def Activated(self) -> None:           # no document change: no transaction
@@ -468,6 +471,31 @@ class EditPolesCommand(Command):
 
     def Activated(self) -> None:           # each drag is its own transaction
         self.run()
+
+
+def clear_station_marker() -> None:
+    """Remove the continuity check's worst-station marker from its view."""
+    while LAST_MARKER:
+        view, node = LAST_MARKER.pop()
+        try:
+            view.getSceneGraph().removeChild(node)
+        except Exception:                  # the view was closed
+            pass
+
+
+def mark_worst_station(result: analysis.JointCheck, shapes) -> None:
+    """Replace the previous marker by a red sphere at the check's worst station (two faces;
+    none for two edges) in the active 3-D view."""
+    from .viewproviders import station_marker
+    clear_station_marker()
+    worst = result.worst()
+    view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
+    if worst is None or worst[1] < 0 or view is None or not hasattr(view, "getSceneGraph"):
+        return
+    size = max(s.BoundBox.DiagonalLength for s in shapes)
+    node = station_marker(worst[3], MARKER_FRACTION * size)
+    view.getSceneGraph().addChild(node)
+    LAST_MARKER.append((view, node))
 
 
 def show_message(title: str, text: str) -> None:

@@ -71,6 +71,26 @@ def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, 
     return sep
 
 
+STATION_RED = (1.0, 0.0, 0.0)
+
+
+def station_marker(point, radius: float, color=STATION_RED) -> coin.SoSeparator:
+    """A sphere of ``radius`` at ``point`` (the worst station of a continuity check), as
+    an SoAnnotation (drawn over the faces it sits on), unpickable."""
+    sep = coin.SoAnnotation()
+    pick = coin.SoPickStyle()
+    pick.style = coin.SoPickStyle.UNPICKABLE
+    base = coin.SoBaseColor()
+    base.rgb = color
+    move = coin.SoTranslation()
+    move.translation = tuple(float(x) for x in point)
+    sphere = coin.SoSphere()
+    sphere.radius = float(radius)
+    for node in (pick, base, move, sphere):
+        sep.addChild(node)
+    return sep
+
+
 class ViewProvider(Stateless):
     """Proxy of the workbench objects' view objects."""
 

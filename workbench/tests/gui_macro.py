@@ -210,6 +210,51 @@ def continuity_check():
     for b in boxes:
         b.close()
     render("Cagd_ContinuityCheck", [base, join], [join])
+    continuity_station_marker()
+
+
+def continuity_station_marker():
+    """Issue 19: two faces meeting with a kink that grows along their edge (a plane and
+    the saddle z = c x y, x >= 0): the worst station is the far end (0, L, 0), marked by a
+    red sphere in the 3-D view; ``Cagd_ContinuityStation.png`` with the marker,
+    ``...-hidden.png`` without (the faces shown in both), checked by test_gui.py."""
+    import math
+    import Part
+    from cagdwb import commands
+    from pivy import coin
+    c, length = 0.4, 5.0
+    doc = App.ActiveDocument
+    faces = []
+    for name, poles in (("StationPlane", [[V(-2, 0, 0), V(-2, length, 0)], [V(0, 0, 0), V(0, length, 0)]]),
+                        ("StationSaddle", [[V(0, 0, 0), V(0, length, 0)], [V(2, 0, 0), V(2, length, 2 * c * length)]])):
+        surface = Part.BezierSurface()
+        surface.increase(1, 1)
+        for i in range(2):
+            for j in range(2):
+                surface.setPole(i + 1, j + 1, poles[i][j])
+        obj = doc.addObject("Part::Feature", name)
+        obj.Shape = surface.toShape()
+        faces.append(obj)
+    doc.recompute()
+    run_command("Cagd_ContinuityCheck", [(faces[0], "Face1"), (faces[1], "Face1")])
+    for b in [w for w in QtWidgets.QApplication.topLevelWidgets() if isinstance(w, QtWidgets.QMessageBox)]:
+        b.close()
+    measure, _, value, point = commands.LAST_CHECK[-1].worst()
+    check(measure == "angle" and abs(value - math.atan(c * length)) <= 1e-9, f"worst station {measure} {value}")
+    check(len(commands.LAST_MARKER) == 1, "no worst-station marker")
+    view, node = commands.LAST_MARKER[0]
+    move = [node.getChild(k) for k in range(node.getNumChildren()) if isinstance(node.getChild(k), coin.SoTranslation)]
+    where = move[0].translation.getValue().getValue() if move else None
+    check(where is not None and max(abs(a - b) for a, b in zip(where, (0.0, length, 0.0))) <= 1e-6,
+          f"marker at {where}")
+    shown = show_only(faces, "viewTop")
+    shown.saveImage(os.path.join(OUT, "Cagd_ContinuityStation.png"), WIDTH, HEIGHT, "White")
+    commands.clear_station_marker()
+    settle()
+    shown.saveImage(os.path.join(OUT, "Cagd_ContinuityStation-hidden.png"), WIDTH, HEIGHT, "White")
+    check(not commands.LAST_MARKER, "marker not removed")
+    for f in faces:
+        f.ViewObject.Visibility = False
 
 
 @step
@@ -675,6 +720,32 @@ def surface_analysis_overlay():
     check(zebra.isValid(), zebra.Message)
     front_render("Cagd_SurfaceAnalysisZebra", zebra)
     refused("Cagd_SurfaceAnalysis", [], "select one face")
+
+
+@step
+def torus_gaussian_sign():
+    """The Gaussian curvature of a torus (R = 20, r = 8), K = cos v / (r (R + r cos v)),
+    is positive on the outer half and negative on the inner: seen from the top, the
+    annulus' outer ring is drawn towards red and its inner ring towards blue
+    (``Cagd_TorusGaussian.png``, checked by test_gui.py at known radii)."""
+    doc = App.ActiveDocument
+    torus = doc.addObject("Part::Torus", "AnalysedTorus")
+    torus.Radius1, torus.Radius2 = 20.0, 8.0
+    torus.Placement = App.Placement(V(0, 400, 0), App.Rotation())
+    doc.recompute()
+    objs = run_command("Cagd_SurfaceAnalysis", [(torus, "Face1")])
+    check(len(objs) == 1 and objs[0].isValid(), f"torus analysis: {[o.Message for o in objs]}")
+    gauss = objs[0]
+    outer, inner = 1.0 / (8.0 * 28.0), -1.0 / (8.0 * 12.0)
+    check(abs(gauss.Maximum - outer) <= 1e-3 * abs(outer) and abs(gauss.Minimum - inner) <= 1e-3 * abs(inner),
+          f"torus K {gauss.Minimum}..{gauss.Maximum}, expected {inner}..{outer}")
+    gauss.ViewObject.ShowLegend = False
+    view = show_only([gauss], "viewTop")
+    view.saveImage(os.path.join(OUT, "Cagd_TorusGaussian.png"), WIDTH, HEIGHT, "White")
+    gauss.ViewObject.Visibility = False
+    settle()
+    view.saveImage(os.path.join(OUT, "Cagd_TorusGaussian-hidden.png"), WIDTH, HEIGHT, "White")
+    RESULT["screenshots"].append("Cagd_TorusGaussian")
 
 
 def _labels(node):
