@@ -737,7 +737,9 @@ def torus_gaussian_sign():
     check(len(objs) == 1 and objs[0].isValid(), f"torus analysis: {[o.Message for o in objs]}")
     gauss = objs[0]
     outer, inner = 1.0 / (8.0 * 28.0), -1.0 / (8.0 * 12.0)
-    check(abs(gauss.Maximum - outer) <= 1e-3 * abs(outer) and abs(gauss.Minimum - inner) <= 1e-3 * abs(inner),
+    # the samples reach the inner equator (the minimum, exact); the grid's nearest row to the outer
+    # equator (the seam) gives a maximum a little below 1 / (r (R + r))
+    check(0.99 * outer <= gauss.Maximum <= outer * (1 + 1e-9) and abs(gauss.Minimum - inner) <= 1e-9 * abs(inner),
           f"torus K {gauss.Minimum}..{gauss.Maximum}, expected {inner}..{outer}")
     gauss.ViewObject.ShowLegend = False
     view = show_only([gauss], "viewTop")
