@@ -11,7 +11,7 @@ import pytest
 from wb_runner import run_gui_macro
 
 TIMEOUT = 240
-STEPS = 20                    # the macro's step count
+STEPS = 21                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,

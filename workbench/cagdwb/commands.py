@@ -23,6 +23,7 @@ from .conversion import cagd
 
 Link = Tuple[object, str]
 LAST_CHECK: List[analysis.JointCheck] = []       # results of the continuity command (newest last)
+LAST_PLOT: list = []                    # the curvature plot panel last opened by Curve quality
 LAST_MARKER: list = []                  # (view, node) of the worst-station marker shown in the 3-D view
 MARKER_FRACTION = 0.02                  # the marker's radius, this fraction of the checked shapes' size
 
@@ -434,20 +435,21 @@ class ContinuityCommand(Command):
 
 class FairnessCommand(Command):
     NAME, MENU, ICON = "Cagd_Fairness", "Curve quality", "Comb"
-    TIP = "Fairness of the selected edge: curvature range, energy, inflections, largest curvature jump at a knot"
+    TIP = ("Curvature plot (curvature against arc length) and fairness of the selected edge: curvature range, "
+           "energy, inflections, largest curvature jump at a knot")
 
     def run(self) -> None:
         edges = selected_edges()
         if len(edges) != 1:
             return _error(f"Curve quality: select one edge (got {len(edges)})")
         obj, sub = edges[0]
+        from . import plotpanel
         try:
-            _, text = analysis.fairness_readout(obj.Shape.getElement(sub))
+            panel = plotpanel.show(obj.Shape.getElement(sub), f"Curvature of {obj.Label}.{sub}")
         except cagd.CagdError as exc:
             return _error(f"Curve quality: {obj.Label}.{sub}: {exc}")
-        text = f"Curve quality of {obj.Label}.{sub}:\n{text}\n"
-        App.Console.PrintMessage(text)
-        show_message("Curve quality", text)
+        LAST_PLOT[:] = [panel]
+        App.Console.PrintMessage(f"Curve quality of {obj.Label}.{sub}:\n{panel.text}\n")
 
     def Activated(self) -> None:           # no document change: no transaction
         self.run()
