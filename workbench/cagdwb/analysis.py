@@ -116,6 +116,49 @@ def check_shapes(shape1, shape2, rel_tol: float = 1e-9) -> JointCheck:
     raise cagd.CagdError(f"selection: need two edges or two faces, got {kinds[0]} and {kinds[1]}")
 
 
+SHARED_EDGE_FRACTION = 1e-3   # two edges are one shared boundary: samples within this fraction of the length
+SHARED_EDGE_SAMPLES = 9       # samples of the first edge tested against the second
+
+
+def _coincident(edge1, edge2) -> bool:
+    """Every one of SHARED_EDGE_SAMPLES points along edge1 (ends included) lies within
+    SHARED_EDGE_FRACTION of its length from edge2, and the lengths agree as closely."""
+    import Part
+    size = max(edge1.Length, edge2.Length)
+    if abs(edge1.Length - edge2.Length) > SHARED_EDGE_FRACTION * size:
+        return False
+    params = np.linspace(edge1.FirstParameter, edge1.LastParameter, SHARED_EDGE_SAMPLES)
+    return all(Part.Vertex(edge1.valueAt(float(t))).distToShape(edge2)[0] <= SHARED_EDGE_FRACTION * size
+               for t in params)
+
+
+def shared_edge_faces(link1, link2):
+    """The two faces meeting along two selected edges ``(obj, 'EdgeN')`` that are one
+    shared boundary (:func:`_coincident`, e.g. the common edge picked on each of two
+    face objects): the faces of each object's shape bounding its edge, a different face
+    on each side. None when the edges are not one edge, or no such pair exists."""
+    import Part
+    (o1, s1), (o2, s2) = link1, link2
+    e1, e2 = o1.Shape.getElement(s1), o2.Shape.getElement(s2)
+    if e1.ShapeType != "Edge" or e2.ShapeType != "Edge" or not _coincident(e1, e2):
+        return None
+    faces1, faces2 = o1.Shape.ancestorsOfType(e1, Part.Face), o2.Shape.ancestorsOfType(e2, Part.Face)
+    pairs = [(f1, f2) for f1 in faces1 for f2 in faces2 if not f1.isSame(f2)]
+    return pairs[0] if pairs else None
+
+
+def check_selection(link1, link2, rel_tol: float = 1e-9) -> JointCheck:
+    """Two selected sub-elements ``(obj, 'EdgeN' / 'FaceN')``: two edges that are one
+    shared boundary of two faces are checked as those faces along it
+    (:func:`shared_edge_faces`, :func:`faces_continuity`: every station); otherwise
+    :func:`check_shapes` (two edges: at the joint of their nearest ends)."""
+    faces = shared_edge_faces(link1, link2)
+    if faces is not None:
+        r = faces_continuity(*faces, rel_tol=rel_tol)
+        return JointCheck(r.report, f"the faces of the selected edges, {r.where}", r.profile)
+    return check_shapes(link1[0].Shape.getElement(link1[1]), link2[0].Shape.getElement(link2[1]), rel_tol)
+
+
 COMB_FRACTION = 0.2        # automatic comb scale: the longest tooth this fraction of the size
 ISO_COMBS = 5              # iso-curves per direction carrying a comb on a surface
 

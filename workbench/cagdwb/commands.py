@@ -410,7 +410,8 @@ class MatchSurfaceCommand(NetworkCommand):
 
 class ContinuityCommand(Command):
     NAME, MENU, ICON = "Cagd_ContinuityCheck", "Check continuity", "Continuity"
-    TIP = "Measure C0/C1/C2/G1/G2 between two selected edges, or C0/G1/C1 between two faces"
+    TIP = ("Measure C0/C1/C2/G1/G2 where two selected edges meet, or G0/G1/G2 at every station along the boundary "
+           "two faces share (select the faces, or the shared edge on each); the worst station is marked red")
 
     def run(self) -> None:
         faces, edges = selected_faces(), selected_edges()
@@ -419,7 +420,7 @@ class ContinuityCommand(Command):
             return _error("Continuity: select two edges or two faces")
         shapes = [o.Shape.getElement(s) for o, s in pick]
         try:
-            result = analysis.check_shapes(*shapes, rel_tol=1e-7)
+            result = analysis.check_selection(*pick, rel_tol=1e-7)
         except cagd.CagdError as exc:
             return _error(f"Continuity: {exc}")
         LAST_CHECK.append(result)

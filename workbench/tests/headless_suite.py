@@ -360,6 +360,22 @@ def test_continuity_stations():
     check(np.abs(p.curvature_differences - 1 / radius).max() <= 1e-9 and p.gaps.max() <= 1e-9,
           f"plane/cylinder per station: {p.curvature_differences}, gaps {p.gaps}")
     check("max curvature: 0.333333 1/mm" in r.text() and r.worst()[0] == "curvature", r.text())
+    # the same faces as objects, the shared line picked as an edge on each: the faces are checked along it
+    doc = new_doc("stationedges")
+    objs = []
+    for name, shape in (("Plane", plane), ("Cylinder", cyl)):
+        objs.append(doc.addObject("Part::Feature", name))
+        objs[-1].Shape = shape
+    links = [(o, f"Edge{k + 1}") for o in objs for k, e in enumerate(o.Shape.Edges)
+             if max(abs(e.valueAt(t).x - radius) + abs(e.valueAt(t).y) for t in (e.FirstParameter, e.LastParameter))
+             <= 1e-9]
+    check(len(links) == 2 and links[0][0] is objs[0], f"shared edges {links}")
+    r = analysis.check_selection(*links, rel_tol=1e-7)
+    check(r.profile is not None and "selected edges" in r.where and r.level == "G1"
+          and np.abs(r.profile.curvature_differences - 1 / radius).max() <= 1e-9, f"shared edges: {r.text()}")
+    corner = [(objs[0], "Edge1"), (objs[0], "Edge2")]           # two sides of the plane meeting at a corner
+    r = analysis.check_selection(*corner, rel_tol=1e-7)
+    check(r.profile is None and r.worst() is None and "joint" in r.where, f"corner edges: {r.text()}")
     c = 0.4
     flat = surfaces.make_bezier_surface(np.array([[[-2, 0, 0], [-2, length, 0]], [[0, 0, 0], [0, length, 0]]]),
                                         2, doc=new_doc("stations"))
