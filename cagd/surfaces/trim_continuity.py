@@ -16,7 +16,7 @@ kappa(d) = II(w, w) / I(w, w) with S_u w_u + S_v w_v = d (do Carmo, 3.2).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
 import numpy as np
@@ -49,6 +49,11 @@ class TrimEdgeContinuityReport:
     sample; size: the length scale (the larger surface size); samples: the samples
     used (where the normal is defined on both); converged: every closest point
     certified; message: what limited the measure, if anything.
+
+    Per station (the ``samples`` points along the first face's curve, in order; not
+    compared by ==): points, (samples, 3), the stations on face 1; gaps, their distances
+    to face 2; angles and curvature_differences, as above per station, NaN where a
+    normal or the cross curvature is undefined. :meth:`worst` names the largest.
     """
     curve1: int
     curve2: int
@@ -64,11 +69,32 @@ class TrimEdgeContinuityReport:
     samples: int
     converged: bool
     message: str
+    points: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
+    gaps: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
+    angles: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
+    curvature_differences: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
 
     @property
     def level(self) -> str:
         """The strongest property that holds: "G2" > "G1" > "C0" > "none"."""
         return "G2" if self.G2 else "G1" if self.G1 else "C0" if self.C0 else "none"
+
+    def worst(self, measure: Optional[str] = None) -> Tuple[str, int, float, np.ndarray]:
+        """(measure, station index, value, point) of the station where ``measure``
+        ("gap", "angle" or "curvature", the per-station arrays) is largest (NaN stations
+        skipped). ``measure`` None: the first that fails, gap unless C0, angle unless G1,
+        else curvature (for a G2 joint the largest curvature difference). A measure
+        undefined at every station gives index -1, value NaN, point NaN."""
+        if measure is None:
+            measure = "gap" if not self.C0 else "angle" if not self.G1 else "curvature"
+        arrays = {"gap": self.gaps, "angle": self.angles, "curvature": self.curvature_differences}
+        if measure not in arrays:
+            raise CagdError(f"measure: must be one of {tuple(arrays)} or None, got {measure!r}")
+        values = arrays[measure]
+        if values is None or self.points is None or not np.isfinite(values).any():
+            return measure, -1, float("nan"), np.full(3, np.nan)
+        i = int(np.nanargmax(values))
+        return measure, i, float(values[i]), self.points[i]
 
     def __str__(self) -> str:
         return (f"{self.level} along boundary curve {self.curve1} of face 1 = curve {self.curve2} of face 2: "
@@ -143,12 +169,14 @@ def trim_edge_continuity(s1: Surface, s2: Surface, samples: int = 33, rel_tol: f
     n1, ok1 = S1.normals(uv1[:, 0], uv1[:, 1])
     n2, ok2 = S2.normals(uv2[:, 0], uv2[:, 1])
     ok = ok1 & ok2
-    cosines = np.clip(np.abs(np.einsum("ij,ij->i", n1[ok], n2[ok])), 0.0, 1.0)
-    angle = float(np.arccos(cosines.min())) if ok.any() else float("nan")
+    with np.errstate(invalid="ignore"):
+        angles = np.where(ok, np.arccos(np.clip(np.abs(np.einsum("ij,ij->i", n1, n2)), 0.0, 1.0)), np.nan)
+    angle = float(np.nanmax(angles)) if ok.any() else float("nan")
     k1 = _cross_curvature(S1, uv1, c.derivative(np.linspace(a, b, samples), 1), n1, n1)
     k2 = _cross_curvature(S2, uv2, c.derivative(np.linspace(a, b, samples), 1), n1, n2, S1, uv1)
     both = ok & np.isfinite(k1) & np.isfinite(k2)
-    diff = np.abs(k1 - k2)[both]
+    differences = np.where(both, np.abs(k1 - k2), np.nan)
+    diff = differences[both]
     curvature_difference = float(diff.max()) if both.any() else float("nan")
     G2_ok = both.any() and all(d <= rel_tol * curvature_scale(np.array([x]), np.array([y]), size)
                                for d, x, y in zip(diff, k1[both], k2[both]))
@@ -162,7 +190,15 @@ def trim_edge_continuity(s1: Surface, s2: Surface, samples: int = 33, rel_tol: f
     G1 = bool(C0 and ok.any() and angle <= angle_tol)
     G2 = bool(G1 and G2_ok)
     return TrimEdgeContinuityReport(i1, i2, gap, angle, bool(C0), G1, curvature_difference, G2, float(rel_tol),
-                                    float(angle_tol), size, int(np.count_nonzero(ok)), converged, "; ".join(notes))
+                                    float(angle_tol), size, int(np.count_nonzero(ok)), converged, "; ".join(notes),
+                                    _frozen(P), _frozen(np.asarray(r.distances, dtype=float).reshape(-1)),
+                                    _frozen(angles), _frozen(differences))
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    out = np.array(a, dtype=float)
+    out.flags.writeable = False
+    return out
 
 
 def _cross_curvature(S: Surface, uv: np.ndarray, dc: np.ndarray, n1: np.ndarray, n: np.ndarray,

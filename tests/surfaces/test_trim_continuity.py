@@ -113,3 +113,36 @@ def test_bad_input(args, match):
     flat = BSplineSurface(np.array([[[0, 0], [0, 1]], [[1, 0], [1, 1]]], float), 1, 1)
     with pytest.raises(cagd.CagdError, match="3-D"):
         cagd.trim_edge_continuity(flat, square(0, 1, 0, 1))
+
+
+def test_per_station_read_out_along_a_plane_tangent_to_a_cylinder():
+    """Every station along the shared line: gap 0, angle 0, curvature difference 1 / R
+    (closed form); the stations lie on the line x = z = 0, y from 0 to 1."""
+    radius = 0.7
+    r = cagd.trim_edge_continuity(square(-1.0, 0.0, 0.0, 1.0), _cylinder_strip(radius), samples=17)
+    assert r.points.shape == (17, 3) and not r.points.flags.writeable
+    assert np.abs(r.points[:, [0, 2]]).max() <= 1e-14
+    assert np.allclose(np.sort(r.points[:, 1]), np.linspace(0.0, 1.0, 17), atol=1e-14)
+    assert r.gaps.max() <= 1e-14 and np.nanmax(r.angles) <= 1e-12
+    assert np.abs(r.curvature_differences - 1 / radius).max() <= 1e-9
+    measure, i, value, point = r.worst()             # G1 holds: the worst is the curvature difference
+    assert measure == "curvature" and abs(value - 1 / radius) <= 1e-9 and np.array_equal(point, r.points[i])
+
+
+def test_worst_station_of_a_growing_kink_is_at_the_far_end():
+    """A plane z = 0 (x <= 0) against the saddle z = c x y (x >= 0, y in [0, L]): along
+    x = 0 the saddle's normal is (-c y, 0, 1), the kink angle atan(c y) grows with y,
+    worst at the end (0, L, 0), atan(c L) exactly."""
+    c, length = 0.8, 2.0
+    plane = square(-1.0, 0.0, 0.0, length)
+    P = np.array([[[0.0, 0.0, 0.0], [0.0, length, 0.0]], [[1.0, 0.0, 0.0], [1.0, length, c * length]]])
+    r = cagd.trim_edge_continuity(plane, BSplineSurface(P, 1, 1), samples=21)
+    assert r.C0 and not r.G1
+    y = r.points[:, 1]
+    assert np.abs(r.angles - np.arctan(c * y)).max() <= 1e-12
+    measure, i, value, point = r.worst()
+    assert measure == "angle" and abs(value - math.atan(c * length)) <= 1e-12
+    assert np.abs(point - [0.0, length, 0.0]).max() <= 1e-14 and value == r.normal_angle
+    assert r.worst("gap")[2] <= 1e-14
+    with pytest.raises(cagd.CagdError, match="measure"):
+        r.worst("twist")

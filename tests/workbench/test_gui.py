@@ -11,7 +11,7 @@ import pytest
 from wb_runner import run_gui_macro
 
 TIMEOUT = 240
-STEPS = 19                    # the macro's step count
+STEPS = 21                    # the macro's step count
 SCREENSHOTS = {               # step -> minimum number of the model's own pixels
     "Cagd_BezierCurve": 200, "Cagd_BSplineCurve": 200, "Cagd_InterpolationCurve": 200,
     "Cagd_CubicSpline": 200, "Cagd_HermiteCurve": 200, "Cagd_Join": 200,
@@ -70,6 +70,38 @@ def zebra_rows(shown, hidden, fractions=(0.3, 0.5, 0.7)):
     transitions = [int(np.count_nonzero(np.diff(d.astype(int)))) for d in dark]
     differ = max(int(np.count_nonzero(d != dark[0])) for d in dark)
     return transitions, differ
+
+
+def red_marker(shown, hidden):
+    """(pixels of the worst-station marker: red where the render without it is not,
+    their mean row and column, the faces' top row and middle column in the render
+    without it: the faces x in [-2, 2], y in [0, L] from the top, so the far end of the
+    shared edge x = 0 is the middle of the top side)."""
+    a, b = _image(shown), _image(hidden)
+    red = (a[..., 0] > 0.8) & (a[..., 1] < 0.25) & (a[..., 2] < 0.25) & (np.abs(a - b).max(axis=-1) > 0.1)
+    rows, cols = np.nonzero(red)
+    frows, fcols = np.nonzero(b.min(axis=-1) < 0.9)
+    return (int(red.sum()), (float(rows.mean()) if len(rows) else -1.0), (float(cols.mean()) if len(cols) else -1.0),
+            int(frows.min()), (fcols.min() + fcols.max()) / 2.0)
+
+
+def torus_signs(shown, hidden, outer=28.0, inner=12.0, radius=20.0, minor=8.0):
+    """The torus' Gaussian map seen from the top: an annulus of radii inner..outer (mm)
+    about its centre. Its pixel extent along the centre row gives centre and scale; at
+    the radii radius +- minor / 2 (outer half: K > 0; inner half: K < 0) on both sides
+    of the centre row and column, (red - blue) of the pixel. Returns the (4,) outer and
+    (4,) inner values."""
+    a, b = _image(shown), _image(hidden)
+    model = np.abs(a - b).max(axis=-1) > 0.1
+    rows, cols = np.nonzero(model)
+    r0, r1, c0, c1 = rows.min(), rows.max(), cols.min(), cols.max()
+    centre_r, centre_c = (r0 + r1) / 2.0, (c0 + c1) / 2.0
+    scale = ((c1 - c0) + (r1 - r0)) / (4.0 * outer)          # pixels per mm
+    def sample(rho):
+        d = rho * scale
+        pts = [(centre_r, centre_c + d), (centre_r, centre_c - d), (centre_r + d, centre_c), (centre_r - d, centre_c)]
+        return np.array([a[int(round(r)), int(round(c)), 0] - a[int(round(r)), int(round(c)), 2] for r, c in pts])
+    return sample(radius + minor / 2), sample(radius - minor / 2)
 
 
 def colour_bar(out):
@@ -133,4 +165,14 @@ def test_gui_commands_and_screenshots(freecad_env):
     assert pixels >= 300 and bar_left > sphere_right, (pixels, bar_left, sphere_right)
     assert top[0] > 0.8 and top[2] < 0.2 and bottom[2] > 0.8 and bottom[0] < 0.2, (top, bottom)
     assert yellow >= 0.9 and centre[0] > 0.8 and centre[1] > 0.8 and centre[2] < 0.2, (yellow, centre)
+    # issue 19: the worst station of the growing kink (the far end of the shared edge) marked red
+    pixels, row, col, top, middle = red_marker(out / "Cagd_ContinuityStation.png",
+                                               out / "Cagd_ContinuityStation-hidden.png")
+    print(f"  worst-station marker: {pixels} red pixels at row {row:.1f}, column {col:.1f}; "
+          f"the far end of the shared edge at row {top}, column {middle:.1f}")
+    assert pixels >= 20 and abs(row - top) <= 4 and abs(col - middle) <= 4, (pixels, row, col, top, middle)
+    # the torus' Gaussian map: K > 0 on the outer half (towards red), K < 0 on the inner (towards blue)
+    outer, inner = torus_signs(out / "Cagd_TorusGaussian.png", out / "Cagd_TorusGaussian-hidden.png")
+    print(f"  torus Gaussian map, red - blue: outer half {np.round(outer, 2)}, inner half {np.round(inner, 2)}")
+    assert outer.min() > 0.3 and inner.max() < -0.3, (outer, inner)
     assert os.path.getsize(out / "macro.log") > 0

@@ -4,7 +4,7 @@ faces (cagd.continuity, cagd.edge_continuity) and the curvature comb of an edge.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -16,9 +16,12 @@ from .conversion import cagd
 
 @dataclass
 class JointCheck:
-    """A continuity report with the joint it was measured at, as readable text."""
+    """A continuity report with the joint it was measured at, as readable text;
+    ``profile`` (two faces): the engine's per-station measurements along the shared
+    boundary (a cagd.TrimEdgeContinuityReport: gaps, angles, curvature differences)."""
     report: object
     where: str
+    profile: Optional[object] = None
 
     @property
     def level(self) -> str:
@@ -30,7 +33,29 @@ class JointCheck:
 
     def text(self) -> str:
         flags = "  ".join(f"{k} {'yes' if v else 'no'}" for k, v in self.flags().items())
-        return f"{self.where}\n{flags}\n{self.report}"
+        stations = f"\n{station_text(self.profile)}" if self.profile is not None else ""
+        return f"{self.where}\n{flags}\n{self.report}{stations}"
+
+    def worst(self) -> Optional[Tuple[str, int, float, np.ndarray]]:
+        """The profile's worst station (TrimEdgeContinuityReport.worst: of the first
+        failing measure), None for two edges."""
+        return None if self.profile is None else self.profile.worst()
+
+
+UNITS = {"gap": "mm", "angle": "rad", "curvature": "1/mm"}
+
+
+def station_text(profile) -> str:
+    """Per-station read-out: for each measure its maximum over the stations and where."""
+    lines = [f"along the shared boundary, {len(profile.points)} stations:"]
+    for measure in ("gap", "angle", "curvature"):
+        _, i, value, point = profile.worst(measure)
+        where = "undefined" if i < 0 else \
+            f"{value:.6g} {UNITS[measure]} at station {i} {tuple(round(float(x), 6) for x in point)}"
+        lines.append(f"  max {measure}: {where}")
+    measure, i, value, _ = profile.worst()
+    lines.append(f"  worst station (first failing measure, {measure}): {i}")
+    return "\n".join(lines)
 
 
 def _ends(curve) -> Tuple[np.ndarray, np.ndarray]:
@@ -61,11 +86,13 @@ def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> 
     """Continuity across the common boundary of two faces. Where either face is
     trimmed (:func:`conversion.face_to_trimmed`), along the boundary curves they share
     (cagd.trim_edge_continuity: gap, tangent-plane angle, cross-curvature); else across the pair of
-    box sides ('u0', 'u1', 'v0', 'v1') with the smallest gap, by cagd.edge_continuity."""
+    box sides ('u0', 'u1', 'v0', 'v1') with the smallest gap, by cagd.edge_continuity. Either way
+    the profile is trim_edge_continuity's per-station read-out along the shared boundary (its
+    ``samples`` stations: gap, angle, curvature difference at each)."""
     t1, t2 = conversion.face_to_trimmed(face1)[0], conversion.face_to_trimmed(face2)[0]
     if isinstance(t1, cagd.TrimmedSurface) or isinstance(t2, cagd.TrimmedSurface):
         r = cagd.trim_edge_continuity(t1, t2, samples=samples, rel_tol=rel_tol)
-        return JointCheck(r, f"shared boundary: curve {r.curve1} of face 1 = curve {r.curve2} of face 2")
+        return JointCheck(r, f"shared boundary: curve {r.curve1} of face 1 = curve {r.curve2} of face 2", r)
     s1, s2 = t1, t2                     # face_to_surface's surfaces (the boundary is the box)
     best = None
     for e1 in ("u0", "u1", "v0", "v1"):
@@ -75,7 +102,8 @@ def faces_continuity(face1, face2, rel_tol: float = 1e-9, samples: int = 33) -> 
                 best = (r.gap, e1, e2)
     _, e1, e2 = best
     report = cagd.edge_continuity(s1, s2, e1, e2, samples=samples, rel_tol=rel_tol)
-    return JointCheck(report, f"shared boundary: {e1} of face 1 = {e2} of face 2")
+    profile = cagd.trim_edge_continuity(s1, s2, samples=samples, rel_tol=rel_tol)
+    return JointCheck(report, f"shared boundary: {e1} of face 1 = {e2} of face 2", profile)
 
 
 def check_shapes(shape1, shape2, rel_tol: float = 1e-9) -> JointCheck:
@@ -86,6 +114,49 @@ def check_shapes(shape1, shape2, rel_tol: float = 1e-9) -> JointCheck:
     if kinds == ("Face", "Face"):
         return faces_continuity(shape1, shape2, rel_tol)
     raise cagd.CagdError(f"selection: need two edges or two faces, got {kinds[0]} and {kinds[1]}")
+
+
+SHARED_EDGE_FRACTION = 1e-3   # two edges are one shared boundary: samples within this fraction of the length
+SHARED_EDGE_SAMPLES = 9       # samples of the first edge tested against the second
+
+
+def _coincident(edge1, edge2) -> bool:
+    """Every one of SHARED_EDGE_SAMPLES points along edge1 (ends included) lies within
+    SHARED_EDGE_FRACTION of its length from edge2, and the lengths agree as closely."""
+    import Part
+    size = max(edge1.Length, edge2.Length)
+    if abs(edge1.Length - edge2.Length) > SHARED_EDGE_FRACTION * size:
+        return False
+    params = np.linspace(edge1.FirstParameter, edge1.LastParameter, SHARED_EDGE_SAMPLES)
+    return all(Part.Vertex(edge1.valueAt(float(t))).distToShape(edge2)[0] <= SHARED_EDGE_FRACTION * size
+               for t in params)
+
+
+def shared_edge_faces(link1, link2):
+    """The two faces meeting along two selected edges ``(obj, 'EdgeN')`` that are one
+    shared boundary (:func:`_coincident`, e.g. the common edge picked on each of two
+    face objects): the faces of each object's shape bounding its edge, a different face
+    on each side. None when the edges are not one edge, or no such pair exists."""
+    import Part
+    (o1, s1), (o2, s2) = link1, link2
+    e1, e2 = o1.Shape.getElement(s1), o2.Shape.getElement(s2)
+    if e1.ShapeType != "Edge" or e2.ShapeType != "Edge" or not _coincident(e1, e2):
+        return None
+    faces1, faces2 = o1.Shape.ancestorsOfType(e1, Part.Face), o2.Shape.ancestorsOfType(e2, Part.Face)
+    pairs = [(f1, f2) for f1 in faces1 for f2 in faces2 if not f1.isSame(f2)]
+    return pairs[0] if pairs else None
+
+
+def check_selection(link1, link2, rel_tol: float = 1e-9) -> JointCheck:
+    """Two selected sub-elements ``(obj, 'EdgeN' / 'FaceN')``: two edges that are one
+    shared boundary of two faces are checked as those faces along it
+    (:func:`shared_edge_faces`, :func:`faces_continuity`: every station); otherwise
+    :func:`check_shapes` (two edges: at the joint of their nearest ends)."""
+    faces = shared_edge_faces(link1, link2)
+    if faces is not None:
+        r = faces_continuity(*faces, rel_tol=rel_tol)
+        return JointCheck(r.report, f"the faces of the selected edges, {r.where}", r.profile)
+    return check_shapes(link1[0].Shape.getElement(link1[1]), link2[0].Shape.getElement(link2[1]), rel_tol)
 
 
 COMB_FRACTION = 0.2        # automatic comb scale: the longest tooth this fraction of the size

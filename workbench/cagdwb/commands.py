@@ -23,6 +23,9 @@ from .conversion import cagd
 
 Link = Tuple[object, str]
 LAST_CHECK: List[analysis.JointCheck] = []       # results of the continuity command (newest last)
+LAST_PLOT: list = []                    # the curvature plot panel last opened by Curve quality
+LAST_MARKER: list = []                  # (view, node) of the worst-station marker shown in the 3-D view
+MARKER_FRACTION = 0.02                  # the marker's radius, this fraction of the checked shapes' size
 
 
 # --- selection ------------------------------------------------------------------------------
@@ -407,7 +410,8 @@ class MatchSurfaceCommand(NetworkCommand):
 
 class ContinuityCommand(Command):
     NAME, MENU, ICON = "Cagd_ContinuityCheck", "Check continuity", "Continuity"
-    TIP = "Measure C0/C1/C2/G1/G2 between two selected edges, or C0/G1/C1 between two faces"
+    TIP = ("Measure C0/C1/C2/G1/G2 where two selected edges meet, or G0/G1/G2 at every station along the boundary "
+           "two faces share (select the faces, or the shared edge on each); the worst station is marked red")
 
     def run(self) -> None:
         faces, edges = selected_faces(), selected_edges()
@@ -416,13 +420,14 @@ class ContinuityCommand(Command):
             return _error("Continuity: select two edges or two faces")
         shapes = [o.Shape.getElement(s) for o, s in pick]
         try:
-            result = analysis.check_shapes(*shapes, rel_tol=1e-7)
+            result = analysis.check_selection(*pick, rel_tol=1e-7)
         except cagd.CagdError as exc:
             return _error(f"Continuity: {exc}")
         LAST_CHECK.append(result)
         names = " and ".join(f"{o.Label}.{s}" for o, s in pick)
         text = f"Continuity of {names}: {result.level}\n{result.text()}\n"
         App.Console.PrintMessage(text)
+        mark_worst_station(result, shapes)
         show_message("Continuity check", text)
 
     def Activated(self) -> None:           # no document change: no transaction
@@ -431,20 +436,21 @@ class ContinuityCommand(Command):
 
 class FairnessCommand(Command):
     NAME, MENU, ICON = "Cagd_Fairness", "Curve quality", "Comb"
-    TIP = "Fairness of the selected edge: curvature range, energy, inflections, largest curvature jump at a knot"
+    TIP = ("Curvature plot (curvature against arc length) and fairness of the selected edge: curvature range, "
+           "energy, inflections, largest curvature jump at a knot")
 
     def run(self) -> None:
         edges = selected_edges()
         if len(edges) != 1:
             return _error(f"Curve quality: select one edge (got {len(edges)})")
         obj, sub = edges[0]
+        from . import plotpanel
         try:
-            _, text = analysis.fairness_readout(obj.Shape.getElement(sub))
+            panel = plotpanel.show(obj.Shape.getElement(sub), f"Curvature of {obj.Label}.{sub}")
         except cagd.CagdError as exc:
             return _error(f"Curve quality: {obj.Label}.{sub}: {exc}")
-        text = f"Curve quality of {obj.Label}.{sub}:\n{text}\n"
-        App.Console.PrintMessage(text)
-        show_message("Curve quality", text)
+        LAST_PLOT[:] = [panel]
+        App.Console.PrintMessage(f"Curve quality of {obj.Label}.{sub}:\n{panel.text}\n")
 
     def Activated(self) -> None:           # no document change: no transaction
         self.run()
@@ -468,6 +474,31 @@ class EditPolesCommand(Command):
 
     def Activated(self) -> None:           # each drag is its own transaction
         self.run()
+
+
+def clear_station_marker() -> None:
+    """Remove the continuity check's worst-station marker from its view."""
+    while LAST_MARKER:
+        view, node = LAST_MARKER.pop()
+        try:
+            view.getSceneGraph().removeChild(node)
+        except Exception:                  # the view was closed
+            pass
+
+
+def mark_worst_station(result: analysis.JointCheck, shapes) -> None:
+    """Replace the previous marker by a red sphere at the check's worst station (two faces;
+    none for two edges) in the active 3-D view."""
+    from .viewproviders import station_marker
+    clear_station_marker()
+    worst = result.worst()
+    view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
+    if worst is None or worst[1] < 0 or view is None or not hasattr(view, "getSceneGraph"):
+        return
+    size = max(s.BoundBox.DiagonalLength for s in shapes)
+    node = station_marker(worst[3], MARKER_FRACTION * size)
+    view.getSceneGraph().addChild(node)
+    LAST_MARKER.append((view, node))
 
 
 def show_message(title: str, text: str) -> None:

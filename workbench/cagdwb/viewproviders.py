@@ -48,15 +48,23 @@ def _comb_lines(feet: np.ndarray, tips: np.ndarray) -> Tuple[np.ndarray, List[in
     return np.concatenate([np.stack([feet, tips], axis=1).reshape(-1, 3), tips]), [2] * len(feet) + [len(tips)]
 
 
-def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, dots: bool) -> coin.SoSeparator:
-    """A separator drawing polylines (``counts`` consecutive ``points`` each, and their
-    vertices as dots), as an SoAnnotation: drawn after the scene without the depth test,
-    so a net or comb is never hidden by its own surface."""
+def _annotation(color) -> coin.SoAnnotation:
+    """An SoAnnotation (drawn after the scene, no depth test), unpickable, in ``color``."""
     sep = coin.SoAnnotation()
     pick = coin.SoPickStyle()
     pick.style = coin.SoPickStyle.UNPICKABLE
     base = coin.SoBaseColor()
     base.rgb = color
+    sep.addChild(pick)
+    sep.addChild(base)
+    return sep
+
+
+def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, dots: bool) -> coin.SoSeparator:
+    """A separator drawing polylines (``counts`` consecutive ``points`` each, and their
+    vertices as dots), as an SoAnnotation: drawn after the scene without the depth test,
+    so a net or comb is never hidden by its own surface."""
+    sep = _annotation(color)
     style = coin.SoDrawStyle()
     style.lineWidth = width
     style.pointSize = 6.0
@@ -64,10 +72,26 @@ def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, 
     coords.point.setValues(0, len(points), points.tolist())
     lines = coin.SoLineSet()
     lines.numVertices.setValues(0, len(counts), list(counts))
-    for node in (pick, base, style, coords, lines):
+    for node in (style, coords, lines):
         sep.addChild(node)
     if dots:
         sep.addChild(coin.SoPointSet())
+    return sep
+
+
+STATION_RED = (1.0, 0.0, 0.0)
+
+
+def station_marker(point, radius: float, color=STATION_RED) -> coin.SoSeparator:
+    """A sphere of ``radius`` at ``point`` (the worst station of a continuity check), as
+    an SoAnnotation (drawn over the faces it sits on), unpickable."""
+    sep = _annotation(color)
+    move = coin.SoTranslation()
+    move.translation = tuple(float(x) for x in point)
+    sphere = coin.SoSphere()
+    sphere.radius = float(radius)
+    for node in (move, sphere):
+        sep.addChild(node)
     return sep
 
 

@@ -10,6 +10,7 @@ into $CAGD_WB_OUT: ``<step>.png`` with the step's new object shown and
 own pixels. Checks that need FreeCAD are made here; the summary goes to
 ``$CAGD_WB_OUT/result.json``. The GUI does not exit by itself: ``os._exit`` ends it.
 """
+import math
 import os
 import sys
 
@@ -210,6 +211,51 @@ def continuity_check():
     for b in boxes:
         b.close()
     render("Cagd_ContinuityCheck", [base, join], [join])
+    continuity_station_marker()
+
+
+def continuity_station_marker():
+    """Issue 19: two faces meeting with a kink that grows along their edge (a plane and
+    the saddle z = c x y, x >= 0): the worst station is the far end (0, L, 0), marked by a
+    red sphere in the 3-D view; ``Cagd_ContinuityStation.png`` with the marker,
+    ``...-hidden.png`` without (the faces shown in both), checked by test_gui.py."""
+    import math
+    import Part
+    from cagdwb import commands
+    from pivy import coin
+    c, length = 0.4, 5.0
+    doc = App.ActiveDocument
+    faces = []
+    for name, poles in (("StationPlane", [[V(-2, 0, 0), V(-2, length, 0)], [V(0, 0, 0), V(0, length, 0)]]),
+                        ("StationSaddle", [[V(0, 0, 0), V(0, length, 0)], [V(2, 0, 0), V(2, length, 2 * c * length)]])):
+        surface = Part.BezierSurface()
+        surface.increase(1, 1)
+        for i in range(2):
+            for j in range(2):
+                surface.setPole(i + 1, j + 1, poles[i][j])
+        obj = doc.addObject("Part::Feature", name)
+        obj.Shape = surface.toShape()
+        faces.append(obj)
+    doc.recompute()
+    run_command("Cagd_ContinuityCheck", [(faces[0], "Face1"), (faces[1], "Face1")])
+    for b in [w for w in QtWidgets.QApplication.topLevelWidgets() if isinstance(w, QtWidgets.QMessageBox)]:
+        b.close()
+    measure, _, value, point = commands.LAST_CHECK[-1].worst()
+    check(measure == "angle" and abs(value - math.atan(c * length)) <= 1e-9, f"worst station {measure} {value}")
+    check(len(commands.LAST_MARKER) == 1, "no worst-station marker")
+    view, node = commands.LAST_MARKER[0]
+    move = [node.getChild(k) for k in range(node.getNumChildren()) if isinstance(node.getChild(k), coin.SoTranslation)]
+    where = move[0].translation.getValue().getValue() if move else None
+    check(where is not None and max(abs(a - b) for a, b in zip(where, (0.0, length, 0.0))) <= 1e-6,
+          f"marker at {where}")
+    shown = show_only(faces, "viewTop")
+    shown.saveImage(os.path.join(OUT, "Cagd_ContinuityStation.png"), WIDTH, HEIGHT, "White")
+    commands.clear_station_marker()
+    settle()
+    shown.saveImage(os.path.join(OUT, "Cagd_ContinuityStation-hidden.png"), WIDTH, HEIGHT, "White")
+    check(not commands.LAST_MARKER, "marker not removed")
+    for f in faces:
+        f.ViewObject.Visibility = False
 
 
 @step
@@ -645,6 +691,13 @@ def front_render(name, obj):
     RESULT["screenshots"].append(name)
 
 
+def analysed(obj):
+    """The one valid object Cagd_SurfaceAnalysis makes of ``obj``'s Face1."""
+    objs = run_command("Cagd_SurfaceAnalysis", [(obj, "Face1")])
+    check(len(objs) == 1 and objs[0].isValid(), f"surface analysis of {obj.Label}: {[o.Message for o in objs]}")
+    return objs[0]
+
+
 @step
 def surface_analysis_overlay():
     """Cagd_SurfaceAnalysis on a Part sphere (Gaussian: one colour, red = +range) and a
@@ -658,9 +711,7 @@ def surface_analysis_overlay():
     cylinder.Radius, cylinder.Height = 10.0, 40.0
     cylinder.Placement = App.Placement(V(300, 0, 0), App.Rotation())
     doc.recompute()
-    objs = run_command("Cagd_SurfaceAnalysis", [(sphere, "Face1")])
-    check(len(objs) == 1 and objs[0].isValid(), f"surface analysis: {[o.Message for o in objs]}")
-    gauss = objs[0]
+    gauss = analysed(sphere)
     check(not sphere.ViewObject.Visibility, "the analysed sphere is still shown under the overlay")
     check(abs(gauss.Maximum - 0.01) < 1e-9 and abs(gauss.Minimum - 0.01) < 1e-9,
           f"sphere K {gauss.Minimum}..{gauss.Maximum}")
@@ -675,6 +726,74 @@ def surface_analysis_overlay():
     check(zebra.isValid(), zebra.Message)
     front_render("Cagd_SurfaceAnalysisZebra", zebra)
     refused("Cagd_SurfaceAnalysis", [], "select one face")
+
+
+@step
+def torus_gaussian_sign():
+    """The Gaussian curvature of a torus (R = 20, r = 8), K = cos v / (r (R + r cos v)),
+    is positive on the outer half and negative on the inner: seen from the top, the
+    annulus' outer ring is drawn towards red and its inner ring towards blue
+    (``Cagd_TorusGaussian.png``, checked by test_gui.py at known radii)."""
+    doc = App.ActiveDocument
+    torus = doc.addObject("Part::Torus", "AnalysedTorus")
+    torus.Radius1, torus.Radius2 = 20.0, 8.0
+    torus.Placement = App.Placement(V(0, 400, 0), App.Rotation())
+    doc.recompute()
+    gauss = analysed(torus)
+    outer, inner = 1.0 / (8.0 * 28.0), -1.0 / (8.0 * 12.0)
+    # the samples reach the inner equator (the minimum, exact); the grid's nearest row to the outer
+    # equator (the seam) gives a maximum a little below 1 / (r (R + r))
+    check(0.99 * outer <= gauss.Maximum <= outer * (1 + 1e-9) and abs(gauss.Minimum - inner) <= 1e-9 * abs(inner),
+          f"torus K {gauss.Minimum}..{gauss.Maximum}, expected {inner}..{outer}")
+    gauss.ViewObject.ShowLegend = False
+    view = show_only([gauss], "viewTop")
+    view.saveImage(os.path.join(OUT, "Cagd_TorusGaussian.png"), WIDTH, HEIGHT, "White")
+    gauss.ViewObject.Visibility = False
+    settle()
+    view.saveImage(os.path.join(OUT, "Cagd_TorusGaussian-hidden.png"), WIDTH, HEIGHT, "White")
+    RESULT["screenshots"].append("Cagd_TorusGaussian")
+
+
+@step
+def curvature_plot_panel():
+    """Cagd_Fairness on a circle arc of radius R = 25 opens the curvature plot panel; the
+    plotted line (its colour in a grab of the widget) is flat at 1/R: every red pixel's
+    row maps back (CurvaturePlot.curvature_at_row) to 1/R within the line's width, and
+    the line spans the plot from s = 0 to the arc length pi R / 2."""
+    import Part
+    from cagdwb import commands, plotpanel
+    radius = 25.0
+    arc = App.ActiveDocument.addObject("Part::Feature", "PlottedArc")
+    arc.Shape = Part.makeCircle(radius, V(0, 0, 0), V(0, 0, 1), 0, 90)
+    App.ActiveDocument.recompute()
+    run_command("Cagd_Fairness", [(arc, "Edge1")])
+    check(commands.LAST_PLOT and Gui.Control.activeDialog(), "no curvature plot panel open")
+    panel = commands.LAST_PLOT[-1]
+    settle()
+    image = panel.plot.grab().toImage()
+    red = [(x, y) for y in range(image.height()) for x in range(image.width())
+           if _rgb(image.pixel(x, y)) == plotpanel.CURVE_COLOUR]
+    check(len(red) > 100, f"{len(red)} pixels of the curvature line")
+    plot = panel.plot.plot
+    rows = [y + 0.5 for _, y in red]
+    ks = [plot.curvature_at_row(r) for r in (min(rows), max(rows))]
+    pixel = (plot.k_high - plot.k_low) / (plot.height - 2 * plot.margin)
+    log(f"curvature plot of the R = {radius} arc: plotted {ks[0]:.6g}..{ks[1]:.6g}, 1/R = {1 / radius:.6g}, "
+        f"one pixel {pixel:.3g}")
+    check(all(abs(k - 1 / radius) <= 2 * pixel for k in ks), f"plotted curvature {ks}, expected {1 / radius}")
+    columns = [x for x, _ in red]
+    check(min(columns) <= plot.margin + 1 and max(columns) >= plot.width - plot.margin - 2, f"line columns "
+          f"{min(columns)}..{max(columns)}")
+    check(abs(plot.length - math.pi * radius / 2) <= 1e-9 * radius, f"arc length {plot.length}")
+    check("curvature 0.04..0.04" in panel.label.text(), panel.label.text())
+    Gui.Control.closeDialog()
+    settle()
+    arc.ViewObject.Visibility = False
+
+
+def _rgb(value):
+    """(r, g, b) of a QImage.pixel value (0xAARRGGBB)."""
+    return ((value >> 16) & 255, (value >> 8) & 255, value & 255)
 
 
 def _labels(node):

@@ -344,6 +344,59 @@ def test_continuity_trimmed_faces():
 
 
 @case
+def test_continuity_stations():
+    """Issue 19: the face check measures at every station of the shared boundary.
+    A plane tangent to a cylinder of radius R along a ruling: gap 0, angle 0 and a
+    curvature difference of 1/R at every station (closed form). A plane z = 0 against
+    the saddle z = c x y (x >= 0, y in [0, L]): across x = 0 the kink angle is atan(c y),
+    so the worst station is the far end (0, L, 0), atan(c L)."""
+    radius, length = 3.0, 5.0
+    cyl = _cylinder(radius).toShape(0.0, math.pi / 2, 0.0, length)      # (R cos u, R sin u, v)
+    plane = Part.Face(Part.makePolygon([V(radius, -2, 0), V(radius, 0, 0), V(radius, 0, length),
+                                        V(radius, -2, length), V(radius, -2, 0)]))
+    r = analysis.check_shapes(plane, cyl, rel_tol=1e-7)
+    p = r.profile
+    check(r.level == "G1" and len(p.points) == 33, f"plane/cylinder: {r.text()}")
+    check(np.abs(p.curvature_differences - 1 / radius).max() <= 1e-9 and p.gaps.max() <= 1e-9,
+          f"plane/cylinder per station: {p.curvature_differences}, gaps {p.gaps}")
+    check("max curvature: 0.333333 1/mm" in r.text() and r.worst()[0] == "curvature", r.text())
+    # the same faces as objects, the shared line picked as an edge on each: the faces are checked along it
+    doc = new_doc("stationedges")
+    objs = []
+    for name, shape in (("Plane", plane), ("Cylinder", cyl)):
+        objs.append(doc.addObject("Part::Feature", name))
+        objs[-1].Shape = shape
+    links = [(o, f"Edge{k + 1}") for o in objs for k, e in enumerate(o.Shape.Edges)
+             if max(abs(e.valueAt(t).x - radius) + abs(e.valueAt(t).y) for t in (e.FirstParameter, e.LastParameter))
+             <= 1e-9]
+    check(len(links) == 2 and links[0][0] is objs[0], f"shared edges {links}")
+    r = analysis.check_selection(*links, rel_tol=1e-7)
+    check(r.profile is not None and "selected edges" in r.where and r.level == "G1"
+          and np.abs(r.profile.curvature_differences - 1 / radius).max() <= 1e-9, f"shared edges: {r.text()}")
+    corner = [(objs[0], "Edge1"), (objs[0], "Edge2")]           # two sides of the plane meeting at a corner
+    r = analysis.check_selection(*corner, rel_tol=1e-7)
+    check(r.profile is None and r.worst() is None and "joint" in r.where, f"corner edges: {r.text()}")
+    c = 0.4
+    flat = surfaces.make_bezier_surface(np.array([[[-2, 0, 0], [-2, length, 0]], [[0, 0, 0], [0, length, 0]]]),
+                                        2, doc=new_doc("stations"))
+    saddle = surfaces.make_bezier_surface(np.array([[[0, 0, 0], [0, length, 0]],
+                                                    [[2, 0, 0], [2, length, 2 * c * length]]]), 2, doc=flat.Document)
+    flat.Document.recompute()
+    r = analysis.check_shapes(flat.Shape.Faces[0], saddle.Shape.Faces[0], rel_tol=1e-7)
+    measure, i, value, point = r.worst()
+    check(r.level == "C0" and measure == "angle" and abs(value - math.atan(c * length)) <= 1e-12
+          and np.abs(np.asarray(point) - [0, length, 0]).max() <= 1e-12, f"saddle: {r.text()}")
+    y = r.profile.points[:, 1]
+    check(np.abs(r.profile.angles - np.arctan(c * y)).max() <= 1e-12, f"saddle angles {r.profile.angles}")
+
+
+def _cylinder(radius):
+    s = Part.Cylinder()
+    s.Radius = radius
+    return s
+
+
+@case
 def test_continuity_edges_orientation():
     a = Part.makeCircle(10.0, V(0, 0, 0), V(0, 0, 1), 0, 90)
     b = Part.makeCircle(10.0, V(0, 0, 0), V(0, 0, 1), 90, 200)
