@@ -11,7 +11,7 @@ import sys
 import warnings
 from array import array
 from pathlib import Path
-from typing import TYPE_CHECKING, Iterator, List, Optional, Sequence, TextIO, Tuple, Union
+from typing import TYPE_CHECKING, Callable, Iterator, List, Optional, Sequence, TextIO, Tuple, Union
 
 import numpy as np
 
@@ -209,12 +209,27 @@ def write_point_table(path: Path, pts: np.ndarray, result: "Deviation") -> None:
             np.savetxt(f, block, fmt=fmt)
 
 
+def _progress_bar(count: int, wanted: Optional[bool]) -> Callable[[int, int], None]:
+    """The ``progress`` callback of :func:`cagd.queries.deviation.deviation` drawing a bar
+    on stderr (one step per chunk of DEVIATION_CHUNK points); shown when ``wanted``, or
+    when None and stderr is a terminal."""
+    from ._progress import Progress
+    from .queries.deviation import DEVIATION_CHUNK
+    bar = Progress(-(-count // DEVIATION_CHUNK), enabled=sys.stderr.isatty() if wanted is None else wanted)
+
+    def step(done: int, total: int) -> None:
+        bar.step(f"{done:,} of {total:,} points measured")
+    return step
+
+
 def run_deviation(args: argparse.Namespace) -> int:
     """The command; its outputs (report and colour map) are checked before any work and
     written all or nothing (:mod:`cagd._atomic`)."""
     from ._atomic import Output, check_target, write_files
+    from ._parallel import checked_workers
     from .queries.deviation import deviation, deviation_map
     try:
+        workers = checked_workers(args.workers, "--workers")
         check_target(args.output, "--output")
         png = args.png or args.output.with_suffix(".png")
         check_target(png, "--png")
@@ -231,7 +246,7 @@ def run_deviation(args: argparse.Namespace) -> int:
         objects = [o for _, o in items]
         if pts.shape[1] != objects[0].dim:
             raise CagdError(f"points: {pts.shape[1]}-D points against {objects[0].dim}-D geometry")
-        result = deviation(objects, pts)
+        result = deviation(objects, pts, workers=workers, progress=_progress_bar(len(pts), args.progress))
     except KeyError as exc:
         print(f"cagd deviation: --object {exc.args[0]}: no such entry in {args.model}", file=sys.stderr)
         return 2
