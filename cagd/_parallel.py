@@ -131,7 +131,10 @@ def _result(index: int, future: Future, timeout: Optional[float], name: Callable
     except BrokenProcessPool as exc:
         # the whole pool is broken: the first item without a result is named (the process
         # that died may have held a later one)
-        raise CagdError(f"workers: {name(index)} was not finished: a worker process ended abruptly ({exc})") from None
+        raise CagdError(f"workers: {name(index)} was not finished: a worker process ended abruptly "
+                        f"({str(exc).rstrip('.')}; out of memory? a script run by python that starts workers "
+                        f"needs its code under `if __name__ == \"__main__\":`, which spawned workers do not run)"
+                        ) from None
     except CagdError as exc:
         raise CagdError(f"workers: {name(index)}: {exc}") from exc
     except Exception as exc:

@@ -8,6 +8,7 @@ import multiprocessing
 import operator
 import re
 import threading
+import time
 
 import pytest
 
@@ -15,8 +16,12 @@ from cagd import CagdError
 from cagd._parallel import IN_FLIGHT_PER_WORKER, checked_workers, ordered_map
 
 
-def no_children_left():
-    """The pool's processes were ended and reaped (a failure must not leave any behind)."""
+def no_children_left(wait: float = 30.0):
+    """The pool's processes end (a failure must not leave one running: the tasks that
+    fail here would run for 10 minutes); idle ones may take a moment on a loaded machine."""
+    end = time.monotonic() + wait
+    while multiprocessing.active_children() and time.monotonic() < end:
+        time.sleep(0.1)
     left = multiprocessing.active_children()
     assert not left, [(p.name, p.pid, p.exitcode) for p in left]
     return True
