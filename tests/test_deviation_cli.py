@@ -342,10 +342,12 @@ LIDS = [{"name": "left", "type": "bezier_surface",
          "control_points": [[[40, 0, 0], [40, 10, 2], [40, 20, 0]], [[50, 0, -1], [50, 10, 0], [50, 20, -1]],
                             [[60, 0, 0], [60, 10, 3], [60, 20, 0]]]}]
 
-#: `cagd deviation` in a child process with DEVIATION_CHUNK = 300 (several chunks from a
-#: small scan; the parent process does the chunking, the workers measure)
-SMALL_CHUNKS = ("import sys; from cagd.queries import deviation; "
+#: `cagd deviation` in a child process with DEVIATION_CHUNK = 300 and TABLE_CHUNK = 250
+#: (several chunks from a small scan; the parent process does the chunking, the workers
+#: measure and format the per-point CSV)
+SMALL_CHUNKS = ("import sys; from cagd.queries import deviation; import cagd.deviation_cli; "
                 "sys.modules['cagd.queries.deviation'].DEVIATION_CHUNK = 300; "
+                "sys.modules['cagd.deviation_cli'].TABLE_CHUNK = 250; "
                 "from cagd.cli import main; raise SystemExit(main(sys.argv[1:]))")
 
 
