@@ -143,14 +143,19 @@ def _result(index: int, future: Future, timeout: Optional[float], name: Callable
 
 def _stop(pool: ProcessPoolExecutor, pending: list) -> None:
     """Cancel what has not started, terminate the worker processes (a task that runs on
-    would keep the pool, and the caller, waiting) and reap them."""
+    would keep the pool, and the caller, waiting) and reap them: after the pool's own
+    manager thread has ended (it joins the processes too; two threads reaping one
+    process can leave it listed as running)."""
     for f in pending:
         f.cancel()
     procs = list((getattr(pool, "_processes", None) or {}).values())     # (private; Python 3.14 has terminate_workers)
+    manager = getattr(pool, "_executor_manager_thread", None)
     pool.shutdown(wait=False, cancel_futures=True)
     for p in procs:
         if p.is_alive():
             p.terminate()
+    if manager is not None:
+        manager.join(STOP_WAIT)
     for p in procs:
         p.join(STOP_WAIT)
         if p.is_alive():
