@@ -7,7 +7,8 @@ Usage (commands run in the repo root, so relative paths are taken from there):
     python3 dev.py test-b3d [pytest args...]  only the OCCT 8.0 / build123d 0.13 stage
 
 Both first make the virtual environment .venv in the repo root and install the
-project into it with `pip install -e '.[cad,test,plot,lint]'` (CadQuery 2.8, OCCT 7.9),
+project into it with `pip install -e '.[cad,test,plot,lint,dask]'` (CadQuery 2.8, OCCT 7.9;
+dask for the test that runs the queries on a local Dask cluster),
 installing first, as root, the Debian packages that venv and OCP need
 (python3.X-venv, libgl1, libx11-6).  All that is skipped when .venv/.cagd-installed
 holds the sha256 of setup.py, setup.cfg and pyproject.toml, so a second run starts
@@ -42,7 +43,7 @@ VENV = ROOT / ".venv"
 BIN = VENV / "bin"
 PYTHON = BIN / "python"
 STAMP = VENV / ".cagd-installed"
-EXTRAS = "cad,test,plot,lint"
+EXTRAS = "cad,test,plot,lint,dask"
 VENV_B3D = ROOT / ".venv-b3d"
 EXTRAS_B3D = "b3d,test"
 WHEEL_DIR = ROOT / ".build" / "wheel"

@@ -23,8 +23,14 @@ def readonly(value: _T) -> _T:
 
 class ReadOnlyArrays:
     """Mixin for frozen dataclasses: every array field (and array in a tuple field) is
-    made read-only on creation."""
+    made read-only on creation, and again when unpickled (a result sent back by a
+    worker process or a Dask task: pickle restores writable arrays)."""
 
     def __post_init__(self):
         for f in dataclasses.fields(self):
             readonly(getattr(self, f.name))
+
+    def __setstate__(self, state: dict) -> None:
+        for name, value in state.items():
+            object.__setattr__(self, name, value)
+        self.__post_init__()

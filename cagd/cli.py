@@ -43,6 +43,11 @@ def _parser() -> argparse.ArgumentParser:
     dev.add_argument("--no-csv", action="store_true", help="no per-point results")
     dev.add_argument("--object", action="append", help="measure to this entry only (repeatable; default: "
                                                        "every exported surface, or every curve if none)")
+    dev.add_argument("--workers", type=int, default=1, metavar="N",
+                     help="processes measuring the points, 65,536 at a time (default 1; the results are the "
+                          "same for any N)")
+    dev.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                     help="a progress bar on stderr (default: when stderr is a terminal)")
     from .fit_cli import add_parser
     add_parser(sub)
     from .analysis_cli import add_parser as add_plot

@@ -331,3 +331,74 @@ def test_csv_and_no_csv_together_exit_2_before_any_work(tmp_path, capsys):
                  str(tmp_path / "t.csv")]) == 2
     assert "--csv and --no-csv" in capsys.readouterr().err
     assert not (tmp_path / "r.md").exists() and not (tmp_path / "t.csv").exists()
+
+
+# --- issue 16, scan scale: --workers N and the progress bar -----------------------------------
+
+LIDS = [{"name": "left", "type": "bezier_surface",
+         "control_points": [[[20, 0, 0], [20, 10, 2], [20, 20, 0]], [[30, 0, 1], [30, 10, 4], [30, 20, 1]],
+                            [[40, 0, 0], [40, 10, 2], [40, 20, 0]]]},
+        {"name": "right", "type": "bezier_surface",
+         "control_points": [[[40, 0, 0], [40, 10, 2], [40, 20, 0]], [[50, 0, -1], [50, 10, 0], [50, 20, -1]],
+                            [[60, 0, 0], [60, 10, 3], [60, 20, 0]]]}]
+
+#: `cagd deviation` in a child process with DEVIATION_CHUNK = 300 and TABLE_CHUNK = 250
+#: (several chunks from a small scan; the parent process does the chunking, the workers
+#: measure and format the per-point CSV)
+SMALL_CHUNKS = ("import sys; from cagd.queries import deviation; import cagd.deviation_cli; "
+                "sys.modules['cagd.queries.deviation'].DEVIATION_CHUNK = 300; "
+                "sys.modules['cagd.deviation_cli'].TABLE_CHUNK = 250; "
+                "from cagd.cli import main; raise SystemExit(main(sys.argv[1:]))")
+
+
+def test_workers_write_the_serial_run_byte_for_byte(tmp_path):
+    """`cagd deviation model.json scan.csv --workers 2` (a child process, as a user runs
+    it: the pool's processes are spawned from it) writes the same per-point CSV and report,
+    byte for byte, as the serial run; --progress draws one step per chunk on stderr."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+    # the child imports the cagd under test (the runs' working folders are elsewhere)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(cagd.__file__).parents[1]),
+                                                        os.environ.get("PYTHONPATH", "")])}
+    model = write_model(tmp_path, LIDS)
+    rng = np.random.default_rng(11)
+    n = 1300
+    X = np.column_stack([rng.uniform(18, 62, n), rng.uniform(-2, 22, n), rng.normal(1, 1, n)])
+    np.savetxt(tmp_path / "scan.csv", X, delimiter=",", fmt="%.17g")
+    runs = {}
+    for workers in ("1", "2"):
+        out = tmp_path / f"w{workers}"
+        out.mkdir()
+        run = subprocess.run([sys.executable, "-c", SMALL_CHUNKS, "deviation", str(model), str(tmp_path / "scan.csv"),
+                              "-o", "r.md", "--workers", workers, "--progress"],
+                             cwd=out, env=env, capture_output=True, text=True, timeout=600)
+        assert run.returncode == 0, run.stderr[-2000:]
+        runs[workers] = run
+        steps = [ln for ln in run.stderr.splitlines() if "points measured" in ln]
+        assert len(steps) == 5 and steps[-1].endswith("5/5 1,300 of 1,300 points measured"), run.stderr
+    for name in ("r.md", "r.points.csv"):
+        assert (tmp_path / "w1" / name).read_bytes() == (tmp_path / "w2" / name).read_bytes(), name
+    assert runs["1"].stdout == runs["2"].stdout
+    table = np.loadtxt(tmp_path / "w2" / "r.points.csv", delimiter=",", skiprows=1)
+    assert set(table[:, 3].astype(int).tolist()) == {0, 1}       # both patches are nearest somewhere
+    np.testing.assert_array_equal(table[:, :3], X)                # in the order of the scan
+
+
+def test_no_progress_bar_unless_asked_or_on_a_terminal(tmp_path, capsys):
+    pts = tmp_path / "p.csv"
+    pts.write_text("1,2,3\n4,5,6\n")
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "r.md")]) == 0
+    assert "points measured" not in capsys.readouterr().err         # stderr is no terminal here
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "s.md"), "--progress"]) == 0
+    assert "[########################] 1/1 2 of 2 points measured" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value", ["0", "-1"])
+def test_bad_workers_exit_2_before_any_work(tmp_path, capsys, value):
+    pts = tmp_path / "p.csv"
+    pts.write_text("1,2,3\n")
+    assert main(["deviation", str(ball(tmp_path)), str(pts), "-o", str(tmp_path / "r.md"), "--workers", value]) == 2
+    one_line(capsys, "--workers", "at least 1")
+    assert not (tmp_path / "r.md").exists()

@@ -155,13 +155,14 @@ class Projector:
         self.frame = Frame.of(raw.control_points, raw.breaks)
         self.pieces = self.frame.pieces(raw)
         k, m = self.pieces.k, len(self.pieces)
-        usual = min(512, max(64, 16 * m)) if k == 1 else min(4096, max(FINE_CELLS if fine else 256, 16 * m))
-        default = max(m, LIGHT_CELLS[k - 1]) if light else usual
+        usual = _tier_cells(k, m, 2 if fine else 1)
+        default = _tier_cells(k, m, 0) if light else usual
         self.light = light
         # the branch-and-bound budget's per-cell share: a light projector's cells are
         # larger, certifying them takes the default's cells' share and their own splits
         self._budget_cells = LIGHT_BUDGET * usual if light else usual
         target = _checks.integer(cells, "cells", 1) if cells is not None else default
+        self._target = None if cells is not None else target
         # a light projector of at least LIGHT_CELLS pieces: the pieces are the cells
         self.cells: BezierPieces = self.pieces if light and cells is None and m >= target else \
             self.pieces.subdivided(_cell_counts(self.pieces, target))
@@ -1099,10 +1100,26 @@ def _union_boxes(pid: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: np.ndarr
             np.maximum.reduceat(step, first))
 
 
+def _tier_cells(k: int, m: int, tier: int) -> int:
+    """The number of cells a projector of ``tier`` (0 light, 1 default, 2 fine) aims at for
+    ``m`` Bezier pieces in ``k`` parameters (see :class:`Projector`)."""
+    if tier == 0:
+        return max(m, LIGHT_CELLS[k - 1])
+    if k == 1:
+        return min(512, max(64, 16 * m))
+    return min(4096, max(FINE_CELLS if tier == 2 else 256, 16 * m))
+
+
 def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
     """The cached :class:`Projector` of ``obj`` for a query of ``points`` points: light
-    below LIGHT_POINTS (unless a fuller one is cached), the default one, or for at least
-    FINE_POINTS points on a surface the ``fine`` one.
+    below LIGHT_POINTS, the default one, or for at least FINE_POINTS points on a surface
+    the ``fine`` one.
+
+    The tier is a function of ``points`` alone (issue 16, scan scale: a small query after
+    a large one used the fuller projector already cached, whose answers differ in the last
+    bits, so a result depended on the calls before it and a worker process or a Dask task
+    could not reproduce it); the default and the fine projector are one where they aim at
+    the same cells (a surface of 256 pieces or more).
 
     Cached by identity (while the object lives) and by content (issue 16: an equal object
     built again, e.g. by ``cq_ext.from_shape`` on every call, finds the same projector):
@@ -1121,9 +1138,10 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
                 _BY_CONTENT.move_to_end(key)
     if held is None:
         held = {}
-    best = next((held[t] for t in range(2, tier - 1, -1) if t in held), None)     # the fullest one
-    if best is None and tier == 2 and 1 in held and len(held[1].cells) >= FINE_CELLS:
-        best = held[1]
+    best = held.get(tier)
+    other = held.get(3 - tier) if tier else None            # built with the same cells: the same projector
+    if best is None and other is not None and other._target == _tier_cells(other.k, len(other.pieces), tier):
+        best = other
     if best is None:
         best = Projector(obj, fine=tier == 2, light=tier == 0)
         held[tier] = best               # one dict per content: its identity and content entries share it

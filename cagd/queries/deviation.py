@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import List, Optional, Sequence, Union
+from typing import Callable, List, Optional, Sequence, Union
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _checks
+from .._parallel import checked_workers, ordered_map
 from .._deprecation import changed
 from ..curves.base import Curve
 from ..errors import CagdError
@@ -138,6 +139,13 @@ def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Opt
     return (*best, is_signed)
 
 
+def _measure_chunk(shared: tuple, X: np.ndarray) -> tuple:
+    """:func:`_deviation_chunk` of the points X, with ``shared`` = (objects, signed, tol,
+    param_tol): the task of :func:`deviation`'s chunks, in this process or a worker's."""
+    objs, signed, tol, param_tol = shared
+    return _deviation_chunk(objs, X, signed, tol, param_tol)
+
+
 def _broadcast_rows(a: np.ndarray, row: tuple) -> np.ndarray:
     """``a`` (N, ...) with rows broadcast against the row shape ``row`` (curve parameters
     (N,) among surface parameters (N, 2) repeat in both columns)."""
@@ -149,7 +157,8 @@ def _broadcast_rows(a: np.ndarray, row: tuple) -> np.ndarray:
 
 def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
               percentiles: Sequence[float] = (1, 5, 25, 50, 75, 95, 99), tol: Optional[float] = None, *,
-              param_tol: Optional[float] = None) -> Deviation:
+              param_tol: Optional[float] = None, workers: int = 1,
+              progress: Optional[Callable[[int, int], None]] = None) -> Deviation:
     """Signed distances from ``points`` (N, dim) to a curve or surface (or to the nearest
     of several: the patches of one model), with max, min, mean, RMS, max |d| and
     percentiles.
@@ -165,17 +174,28 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
             distance in model units (the foot moves by less; default 1e-12 times each
             object's size), ``param_tol`` a step relative to the parameter range. ``tol``
             was relative until cagd 0.1 (now ``param_tol``); passing it warns for one release.
+        workers: processes measuring the chunks (issue 16, scan scale): 1 measures them
+            here; N > 1 in a pool of N processes on this machine (:mod:`cagd._parallel`;
+            started with ``spawn``, so a script calling this needs the
+            ``if __name__ == "__main__":`` guard), the results the same bit for bit.
+        progress: called as ``progress(done, total)`` (points measured, all points) after
+            every chunk, in order.
 
     Raises:
         CagdError: not a curve or surface, empty/NaN points, wrong dimension, bad percentiles,
-            tol or param_tol <= 0.
+            tol or param_tol <= 0, ``workers`` not an integer >= 1; a worker's failure
+            (naming the chunk and its points).
 
     The points are measured DEVIATION_CHUNK at a time (the closest-point queries'
-    working memory is bounded by the chunk; the results are O(N)).
+    working memory is bounded by the chunk, with workers at most 2 x workers chunks are
+    in flight; the results are O(N)). Every chunk is measured alone (the closest points
+    are a function of the chunk's points: :func:`cagd.queries.closest.projector`), so
+    the answer does not depend on ``workers``.
     """
     if tol is not None:
         changed("deviation", TOL_CHANGED)
     objs = _objects(obj)
+    workers = checked_workers(workers)
     pct = _checks.finite_array(percentiles, "percentiles", ndim=1)
     if np.any((pct < 0) | (pct > 100)):
         raise CagdError(f"percentiles: must lie in [0, 100], got {pct.tolist()}")
@@ -189,13 +209,22 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     # 10^7 points through one query ran out of memory)
     out: List[np.ndarray] = []
     is_signed = True
-    for s in range(0, max(len(X), 1), DEVIATION_CHUNK):
-        part = _deviation_chunk(objs, X[s:s + DEVIATION_CHUNK], signed, tol, param_tol)
+    starts = range(0, max(len(X), 1), DEVIATION_CHUNK)
+
+    def name(k: int) -> str:
+        return f"chunk {k} (points {starts[k]} to {min(starts[k] + DEVIATION_CHUNK, len(X)) - 1})"
+
+    parts = ordered_map(_measure_chunk, (objs, signed, tol, param_tol),
+                        (X[s:s + DEVIATION_CHUNK] for s in starts), min(workers, len(starts)), name=name)
+    for k, part in enumerate(parts):                  # (to the end: the pool closes there)
+        s = starts[k]
         if not out:                                   # (N,)-sized results, filled chunk by chunk
             out = [np.empty((len(X),) + a.shape[1:], a.dtype) for a in part[:6]]
         for a, b in zip(out, part[:6]):
             a[s:s + len(b)] = b
         is_signed = is_signed and part[6]
+        if progress is not None:
+            progress(s + len(part[0]), len(X))
     d, params, feet, lower, owner, conv = out
     bad = np.flatnonzero(~conv)
     message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "

@@ -50,17 +50,52 @@ def test_light_projector_against_brute_force():
 
 def test_tiers_and_reuse(monkeypatch):
     """Fewer than LIGHT_POINTS points build the light projector; a larger query the
-    default one, which later small queries reuse (no second set-up)."""
+    default one; each is built once and a query always gets its own tier's (issue 16:
+    a small query after a large one took the default projector, and its answer depended
+    on the calls made before: 5e-15 apart, so no worker process could reproduce it)."""
     monkeypatch.setattr(cl, "_CACHE", type(cl._CACHE)())
     monkeypatch.setattr(cl, "_BY_CONTENT", type(cl._BY_CONTENT)())
     monkeypatch.setattr(cl, "LIGHT_POINTS", 64)
     s = _bumpy(20)
     X = s(np.full(200, 0.3), np.linspace(0, 1, 200)) + 1.0
-    cagd.closest_point(s, X[:1])
+    first = cagd.closest_point(s, X[:5])
     assert set(cl._CACHE[s]) == {0} and cl._CACHE[s][0].light
+    light = cl._CACHE[s][0]
     cagd.closest_point(s, X)
     assert set(cl._CACHE[s]) == {0, 1}
-    assert cl.projector(s, 1) is cl._CACHE[s][1]
+    assert cl.projector(s, 1) is light and cl.projector(s, 64) is cl._CACHE[s][1]
+    again = cagd.closest_point(s, X[:5])
+    for name in ("params", "feet", "distances", "lower_bounds"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(first, name))
+
+
+def test_a_query_answers_the_same_whatever_was_cached_before(monkeypatch):
+    """closest_point is a function of its arguments (issue 16: worker processes and Dask
+    tasks start with an empty cache): the same answers, bit for bit, with a fresh cache
+    and after queries of every tier on the same object."""
+    monkeypatch.setattr(cl, "FINE_POINTS", 300)
+    monkeypatch.setattr(cl, "LIGHT_POINTS", 64)
+    s = _bumpy(12, 0.5, 1)
+    rng = np.random.default_rng(3)
+    X = s(rng.uniform(0, 1, 400), rng.uniform(0, 1, 400)) + rng.normal(0, 2.0, (400, 3))
+    sizes = (5, 100, 400)
+
+    def answers(order):
+        got = {n: cagd.closest_point(s, X[:n]) for n in order}
+        return [got[n] for n in sizes]
+
+    monkeypatch.setattr(cl, "_CACHE", type(cl._CACHE)())
+    monkeypatch.setattr(cl, "_BY_CONTENT", type(cl._BY_CONTENT)())
+    fresh = []
+    for n in sizes:                             # each with an empty cache
+        cl._CACHE.clear()
+        cl._BY_CONTENT.clear()
+        fresh.append(cagd.closest_point(s, X[:n]))
+    assert set(cl._CACHE[s]) == {2}
+    for warm in (answers(sizes), answers(sizes[::-1])):     # every tier cached, the fullest last or first
+        for a, b in zip(fresh, warm):
+            for name in ("params", "feet", "distances", "lower_bounds"):
+                np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
 
 
 def test_projectors_are_cached_by_content(monkeypatch):

@@ -142,3 +142,110 @@ def test_many_objects_far_ones_cost_their_box_test_only(monkeypatch):
     assert np.all(many.owner == 2)
     twice = deviation([far[0], near, near], X)
     assert np.all(twice.owner == 1)
+
+
+# --- issue 16, scan scale: worker processes and Dask tasks give the serial answer ---------------
+
+def two_lids():
+    """Two bumpy biquadratic Bezier patches side by side (x in [20, 40] and [40, 60])."""
+    a = cagd.BezierSurface([[[20, 0, 0], [20, 10, 2], [20, 20, 0]], [[30, 0, 1], [30, 10, 4], [30, 20, 1]],
+                            [[40, 0, 0], [40, 10, 2], [40, 20, 0]]])
+    b = cagd.BezierSurface([[[40, 0, 0], [40, 10, 2], [40, 20, 0]], [[50, 0, -1], [50, 10, 0], [50, 20, -1]],
+                            [[60, 0, 0], [60, 10, 3], [60, 20, 0]]])
+    return [a, b]
+
+
+def scan(n, seed=0):
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(18, 62, n), rng.uniform(-2, 22, n), rng.normal(1, 1, n)])
+
+
+def assert_same(a, b):
+    """Two results equal bit for bit: every array, statistic and flag."""
+    import dataclasses
+    assert type(a) is type(b)
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and np.array_equal(x, y), f.name
+            assert not y.flags.writeable, f.name
+        else:
+            assert x == y, f.name
+
+
+def test_workers_give_the_serial_answer_bit_for_bit(monkeypatch):
+    """deviation(..., workers=2): the chunks measured in two spawned processes (each with
+    an empty projector cache), the results equal to the serial run's bit for bit, the
+    progress reported chunk by chunk in order."""
+    import sys
+    dv = sys.modules["cagd.queries.deviation"]
+    monkeypatch.setattr(dv, "DEVIATION_CHUNK", 300)        # 5 chunks (the parent does the chunking)
+    objs, X = two_lids(), scan(1300)
+    for o in objs:                  # fuller projectors cached here than a worker builds for its chunks
+        cagd.closest_point(o, scan(1500, seed=1))
+    serial = deviation(objs, X)
+    seen = []
+    pooled = deviation(objs, X, workers=2, progress=lambda done, total: seen.append((done, total)))
+    assert_same(serial, pooled)
+    assert seen == [(min(s + 300, 1300), 1300) for s in range(0, 1300, 300)]
+    assert set(pooled.owner.tolist()) == {0, 1} and pooled.signed
+    assert np.all(pooled.lower_bounds <= np.abs(pooled.distances))
+
+
+class Unsendable(cagd.BezierSurface):
+    """A patch that pickles here and fails to unpickle in a worker (divides by zero)."""
+
+    def __reduce__(self):
+        import operator
+        return operator.truediv, (1, 0)
+
+
+def test_a_failure_in_a_worker_is_a_cagd_error_naming_the_chunk(monkeypatch):
+    import multiprocessing
+    import sys
+    dv = sys.modules["cagd.queries.deviation"]
+    monkeypatch.setattr(dv, "DEVIATION_CHUNK", 300)
+    a, b = two_lids()
+    bad = Unsendable(np.array(b.control_points))
+    assert np.array_equal(deviation([a, bad], scan(50)).distances, deviation([a, b], scan(50)).distances)
+    with pytest.raises(CagdError, match=r"^workers: chunk 0 \(points 0 to 299\) failed: .*ZeroDivisionError"):
+        deviation([a, bad], scan(1300), workers=2)
+    assert not multiprocessing.active_children()
+
+
+@pytest.mark.parametrize("bad", [0, -1, True, 2.5, "2", None])
+def test_bad_workers(bad):
+    with pytest.raises(CagdError, match="^workers: "):
+        deviation(two_lids(), scan(10), workers=bad)
+
+
+def test_queries_run_unchanged_as_dask_tasks(monkeypatch):
+    """closest_point and deviation submitted as they are to a local Dask cluster of two
+    worker processes (the objects pickled to them, each worker with an empty projector
+    cache) give the serial answers bit for bit, also after this process cached fuller
+    projectors of the same objects; a scan split into chunks mapped over the cluster gives
+    the serial run's distances."""
+    distributed = pytest.importorskip("dask.distributed")
+    import logging
+    import sys
+    dv = sys.modules["cagd.queries.deviation"]
+    objs, X = two_lids(), scan(3000, seed=5)
+    ball = cagd.sphere(10.0)
+    Y = ball(*np.random.default_rng(6).uniform(0, 1, (2, 1500))) * 1.01
+    cagd.closest_point(ball, Y)                 # a default projector cached here (a worker has none)
+    cagd.closest_point(objs[0], X)
+    tasks = [(cagd.closest_point, ball, Y[:200]), (cagd.closest_point, objs[1], X[:1500]),
+             (deviation, objs, X[:700]), (deviation, objs + [ball], X[700:1000])]
+    serial = [f(o, pts) for f, o, pts in tasks]
+    monkeypatch.setattr(dv, "DEVIATION_CHUNK", 1000)
+    whole = deviation(objs, X)                  # in chunks of 1000, here
+    with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None,
+                                  silence_logs=logging.ERROR) as cluster, distributed.Client(cluster) as client:
+        got = client.gather([client.submit(f, o, pts) for f, o, pts in tasks])
+        parts = client.gather(client.map(deviation, [objs] * 3, [X[s:s + 1000] for s in range(0, 3000, 1000)]))
+        assert len(client.scheduler_info()["workers"]) == 2
+    for a, b in zip(serial, got):
+        assert_same(a, b)
+    np.testing.assert_array_equal(np.concatenate([p.distances for p in parts]), whole.distances)
+    np.testing.assert_array_equal(np.concatenate([p.feet for p in parts]), whole.feet)
+    np.testing.assert_array_equal(np.concatenate([p.owner for p in parts]), whole.owner)

@@ -68,6 +68,21 @@ def test_query_results_are_frozen_with_converged_and_message(result):
     assert type(copy) is type(result)
 
 
+@pytest.mark.parametrize("result", SAMPLES, ids=[type(r).__name__ for r in SAMPLES])
+def test_pickled_results_are_equal_and_still_read_only(result):
+    """A result sent back from a worker process or a Dask task (issue 16) is pickled:
+    pickle restored writable arrays; they are read-only again, with the same values."""
+    import pickle
+    back = pickle.loads(pickle.dumps(result))
+    assert type(back) is type(result)
+    for f in dataclasses.fields(result):
+        got, want = list(_arrays(getattr(back, f.name))), list(_arrays(getattr(result, f.name)))
+        assert len(got) == len(want)
+        for a, b in zip(got, want):
+            np.testing.assert_array_equal(a, b)
+            assert not a.flags.writeable, f.name
+
+
 def test_report_classes_are_frozen():
     A = cagd.BezierCurve([[0.0, 0.0], [1.0, 0.0]])
     reports = [cagd.continuity(A, A.translated([1.0, 0.0])),
