@@ -262,3 +262,28 @@ def test_huge_equal_weights_and_tiny_tol():
         fit_curve(A * 1e3, 5e-324)
     r = fit_curve(A[:5], 1e-3, start_tangent=[0, 1, 0.3])          # m points + a tangent: m + 1 poles
     assert r.converged
+
+
+def test_dense_samples_of_a_b_spline_fit_at_a_tight_tolerance():
+    """500 points of a 7-pole cubic on knots (0.2, 0.5, 0.7), at tol 1e-8 of a size-10
+    curve: converged with fewer poles than points (it ended at the cap, 500 poles, 3e-8
+    off, when one slow parameter-correction pass stopped the corrections), every point
+    within tol by a brute-force oracle (the fit sampled at 200,001 parameters, each
+    point's nearest sample refined by Newton on the squared distance)."""
+    rng = np.random.default_rng(0)
+    P = rng.random((7, 3)) * 10
+    Q = BSplineCurve(P, 3, [0, 0, 0, 0, 0.2, 0.5, 0.7, 1, 1, 1, 1])(np.linspace(0, 1, 500))
+    r = fit_curve(Q, 1e-8)
+    assert r.converged and r.max_error <= 1e-8
+    assert len(r.curve.control_points) < 450
+    s = np.linspace(0, 1, 200001)
+    from scipy.spatial import cKDTree
+    _, i = cKDTree(r.curve(s)).query(Q)
+    t = s[i]
+    for _ in range(8):                                             # Newton on |C(t) - Q|^2 / 2
+        D = r.curve.derivatives(t, 2)
+        R = D[0] - Q
+        g, h = np.sum(R * D[1], 1), np.sum(D[1] * D[1], 1) + np.sum(R * D[2], 1)
+        t = np.clip(t - g / h, 0.0, 1.0)
+    d = np.linalg.norm(r.curve(t) - Q, axis=1)
+    assert d.max() <= 1e-8 * (1 + 1e-6)
