@@ -54,7 +54,7 @@ from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from . import _subdivision as sd
 from . import _surface_overlaps as so
-from ._branch_fit import degenerate as _degenerate, fit as _fit
+from ._branch_fit import degenerate as _degenerate, edge_fit as _edge_fit, fit as _fit
 from ._marching import Marcher, segments_distance
 from ._point_solver import Plane, plane_geometry, run, sine_of
 from .results import IntersectionCurve, IntersectionPoint, IntersectionResult, SurfaceOverlap
@@ -486,7 +486,8 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     messages = []
     for xs, ends, P in items:
         closed = ends[0] == "closed"
-        curve, pa, pb, worst, worst_p = _fit(S, xs, P, closed, tol)
+        fitted = None if closed else _edge_fit(S, xs)
+        curve, pa, pb, worst, worst_p = fitted if fitted is not None else _fit(S, xs, P, closed, tol)
         why = [f"fitted within {max(worst, worst_p):.2e} > tol"] if max(worst, worst_p) > tol else []
         why += [f"the march {e} at an end" for e in ends if e in ("stalled", "limit")]
         doms = [(S.lo[k:k + 2], S.hi[k:k + 2], S.per[k:k + 2]) for k in range(0, S.n, 2)]

@@ -549,3 +549,25 @@ def test_plane_first_is_the_swapped_surface_first_answer():
     assert two.curves[0].domains[0] is None and one.curves[0].domains[1] is None
     assert two.curves[0].domains[1] is one.curves[0].domains[0] or \
         all(np.array_equal(x, y) for x, y in zip(two.curves[0].domains[1], one.curves[0].domains[0]))
+
+
+def test_two_halves_of_a_surface_meet_in_their_exact_edge():
+    """Two halves of a bicubic split at u = 0.5 (C2 across the cut: the surfaces only
+    touch there, normals parallel along the whole edge): one branch, the exact iso-curve
+    u = 0.5 of the whole surface (its own control points, distance 3e-15), converged.
+    Before: 237 fitted poles, parameter curves 7e-9 off, not converged at tol 1e-9."""
+    rng = np.random.default_rng(1)
+    X, Y = np.meshgrid(np.linspace(0, 10, 7), np.linspace(0, 10, 5), indexing="ij")
+    S = cagd.BSplineSurface(np.stack([X, Y, rng.normal(size=X.shape)], -1), 3, 3)
+    a, b = S.split("u", 0.5)
+    res = cagd.intersect(a, b, tol=1e-9)
+    assert res.converged and len(res.curves) == 1
+    c = res.curves[0]
+    iso = S.isocurve("v", 0.5)
+    t = np.linspace(0, 1, 41)
+    along = c.curve(t) if np.linalg.norm(c.curve(0.0) - iso(0.0)) < 1e-9 else c.curve(1 - t)
+    assert np.abs(along - iso(t)).max() <= 1e-12 * S.size
+    assert len(c.curve.control_points) == len(iso.control_points)
+    assert c.max_distance <= 1e-12 * S.size and c.params_max_distance <= 1e-12 * S.size
+    uv_a, uv_b = c.surface_params(t)
+    assert np.all(uv_a[:, 0] == 0.5) or np.all(uv_b[:, 0] == 0.5)
