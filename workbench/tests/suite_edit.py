@@ -188,3 +188,88 @@ def test_pole_weight():
     through = surfaces.make_bspline_surface(Interpolate=True, doc=doc)
     _raises(lambda: editpoles.set_weight(through, 0, 2.0), "no pole weights")
     check(conversion.array(obj.Poles).shape == (6, 3), "poles changed by a weight")
+
+
+# --- knot and degree edits (cagdwb/knotedit.py) --------------------------------------------------
+def _edge_points(obj, n=61):
+    """Part's own points of the object's edge at n parameters of its domain."""
+    edge = obj.Shape.Edges[0]
+    ts = np.linspace(edge.FirstParameter, edge.LastParameter, n)
+    return np.array([tuple(edge.valueAt(t)) for t in ts])
+
+
+def _face_points(obj, n=13):
+    """Part's own points of the object's face on an n x n grid of its parameter box."""
+    s = obj.Shape.Faces[0].Surface
+    u0, u1, v0, v1 = s.bounds()
+    return np.array([tuple(s.value(u, v)) for u in np.linspace(u0, u1, n) for v in np.linspace(v0, v1, n)])
+
+
+KNOT_PROPERTIES = ("Poles", "Degree", "Knots", "Weights", "Periodic", "CountU", "DegreeU", "DegreeV", "KnotsU",
+                   "KnotsV", "PeriodicU", "PeriodicV")
+
+
+def _snapshot(obj):
+    return {n: [tuple(v) if hasattr(v, "x") else v for v in getattr(obj, n)] if isinstance(getattr(obj, n), list)
+            else getattr(obj, n) for n in KNOT_PROPERTIES if n in obj.PropertiesList}
+
+
+def _undo_restores(obj, before, undo_count):
+    """One more undo step than ``undo_count``; undoing it gives back ``before``."""
+    doc = obj.Document
+    check(doc.UndoCount == undo_count + 1, f"undo stack {undo_count} -> {doc.UndoCount}, not one step")
+    doc.undo()
+    doc.recompute()
+    check(_snapshot(obj) == before, "undo did not restore the properties")
+
+
+@case
+def test_knot_insert_elevate_curve():
+    """Insert knot at the pole nearest parameter and elevate degree on a placed rational
+    B-spline curve and a periodic one: Part's edge points (61 parameters) unchanged to
+    1e-9 of the size; Knots one longer, Part's curve has one more knot (or multiplicity)
+    at OCCT's own projection of the pole (Curve.parameter, 1e-6); Degree + 1; each edit
+    one undo step restoring every property; an end pole and a linked-vertex curve are
+    refused (CagdError naming Poles / Vertices) without a transaction."""
+    from cagdwb import knotedit
+    doc = new_doc("knotedit")
+    doc.UndoMode = 1
+    obj = curves.make_bspline_curve(weights=[1, 2, 0.5, 1, 3, 1], knots=[0, 0, 0, 0, 0.3, 0.55, 1, 1, 1, 1],
+                                    doc=doc)
+    obj.Placement = App.Placement(V(5, -3, 2), App.Rotation(V(1, 1, 0), 40))
+    periodic = curves.make_bspline_curve(periodic=True, knots=[0, 0.1, 0.3, 0.5, 0.6, 0.8, 1], doc=doc)
+    doc.recompute()
+    for o in (obj, periodic):
+        points, before, undo = _edge_points(o), _snapshot(o), doc.UndoCount
+        pole = o.Placement.multVec(o.Poles[2])
+        occ_t = o.Shape.Edges[0].Curve.parameter(pole)
+        mults = sum(o.Shape.Edges[0].Curve.getMultiplicities())
+        knotedit.run(o, "Insert knot", lambda g: knotedit.insert_knot(g, 2))
+        check(len(o.Knots) == len(before["Knots"]) + 1 and len(o.Poles) == len(before["Poles"]) + 1,
+              f"{o.Label}: knots {len(before['Knots'])} -> {len(o.Knots)}")
+        new = sorted(set(o.Knots) - set(before["Knots"]))
+        check(len(new) == 1 and abs(new[0] - occ_t) <= 1e-6, f"{o.Label}: knot {new} vs OCCT's parameter {occ_t}")
+        c = o.Shape.Edges[0].Curve
+        check(sum(c.getMultiplicities()) == mults + 1, "OCCT's curve has no new knot")
+        dev = np.abs(_edge_points(o) - points).max()
+        check(dev <= 1e-9 * 60, f"{o.Label}: insert moved the edge by {dev:.3g}")
+        _undo_restores(o, before, undo)
+        check(np.abs(_edge_points(o) - points).max() <= 1e-12 * 60, "undo did not restore the edge")
+        knotedit.run(o, "Elevate degree", lambda g: knotedit.elevate(g))
+        check(o.Degree == before["Degree"] + 1 and o.Shape.Edges[0].Curve.Degree == before["Degree"] + 1,
+              f"{o.Label}: degree {before['Degree']} -> {o.Degree}")
+        dev = np.abs(_edge_points(o) - points).max()
+        check(dev <= 1e-9 * 60, f"{o.Label}: elevate moved the edge by {dev:.3g}")
+        _undo_restores(o, before, undo)
+    verts = []
+    for n, p in enumerate([V(0, 0, 0), V(10, 20, 0), V(30, 20, 0), V(40, 0, 0)]):
+        v = doc.addObject("Part::Vertex", f"K{n}")
+        v.X, v.Y, v.Z = p.x, p.y, p.z
+        verts.append(v)
+    linked = curves.make_bspline_curve(vertices=[(v, "") for v in verts], doc=doc)
+    doc.recompute()
+    undo, before = doc.UndoCount, _snapshot(obj)
+    _raises(lambda: knotedit.run(obj, "Insert knot", lambda g: knotedit.insert_knot(g, 0)), "Poles")
+    _raises(lambda: knotedit.run(linked, "Elevate degree", knotedit.elevate), "Vertices")
+    check(doc.UndoCount == undo and _snapshot(obj) == before, "a refused edit changed the document")
+
