@@ -273,3 +273,101 @@ def test_knot_insert_elevate_curve():
     _raises(lambda: knotedit.run(linked, "Elevate degree", knotedit.elevate), "Vertices")
     check(doc.UndoCount == undo and _snapshot(obj) == before, "a refused edit changed the document")
 
+
+
+def _removal_samples(knots, p):
+    """The parameters at which the engine measures a removal's deviation (its
+    definition, cagd.knots.removal): DEVIATION_SAMPLES per span of the original knots."""
+    brk = np.unique(np.asarray(knots)[p:len(knots) - p])
+    f = np.linspace(0.0, 1.0, cagd.knots.removal.DEVIATION_SAMPLES)
+    return np.unique((brk[:-1, None] + f[None] * np.diff(brk)[:, None]).ravel())
+
+
+@case
+def test_knot_remove_curve():
+    """Remove knots on a curve made by OCCT with a redundant knot (Part's insertKnot at
+    0.37): that knot goes, the others stay, the reported deviation <= 1e-9 and Part's
+    edge is unchanged (1e-9); on a smooth curve with tolerance 0.5 (size 60) a knot goes
+    and the reported deviation (> 1e-6, <= tolerance) equals Part's largest distance of
+    the old and new edges at the engine's sample parameters (to 1e-9 of the size), and
+    bounds the distance of each old point from the new edge (Part's distToShape); one
+    undo step each."""
+    from cagdwb import knotedit
+    doc = new_doc("knotremove")
+    doc.UndoMode = 1
+    poles = [V(0, 0, 0), V(10, 15, 0), V(20, -5, 5), V(30, 15, 5), V(40, 0, 0), V(50, 10, 0)]
+    knots = [0, 0, 0, 0, 0.3, 0.55, 1, 1, 1, 1]
+    part = Part.BSplineCurve()
+    part.buildFromPolesMultsKnots(poles, [4, 1, 1, 4], [0, 0.3, 0.55, 1], False, 3)
+    part.insertKnot(0.37, 1)
+    full = [k for k, m in zip(part.getKnots(), part.getMultiplicities()) for _ in range(m)]
+    obj = curves.make_bspline_curve(poles=part.getPoles(), knots=full, doc=doc)
+    doc.recompute()
+    points, before, undo = _edge_points(obj), _snapshot(obj), doc.UndoCount
+    _, message, removed, dev = knotedit.run(obj, "Remove knots", lambda g: knotedit.remove_knots(g, 1e-6))
+    check(removed == 1 and list(obj.Knots) == knots, f"knots after removal {list(obj.Knots)} ({message})")
+    check(dev <= 1e-9, f"redundant knot removal deviation {dev:.3g}")
+    check(np.abs(_edge_points(obj) - points).max() <= 1e-9 * 60, "removing a redundant knot moved the edge")
+    _undo_restores(obj, before, undo)
+    knots = [0, 0, 0, 0, 0.2, 0.45, 0.7, 1, 1, 1, 1]
+    poles = [V(0, 0, 0), V(10, 3, 0), V(20, 5, 1), V(30, 6, 1), V(40, 5, 0), V(50, 2, 0), V(60, 0, 0)]
+    generic = curves.make_bspline_curve(poles=poles, knots=knots, doc=doc)
+    doc.recompute()
+    old_edge, before, undo = generic.Shape.Edges[0], _snapshot(generic), doc.UndoCount
+    tol = 0.5
+    _, message, removed, dev = knotedit.run(generic, "Remove knots", lambda g: knotedit.remove_knots(g, tol))
+    new_edge = generic.Shape.Edges[0]
+    check(removed >= 1 and len(generic.Knots) == len(knots) - removed, f"no knot removed: {message}")
+    check(1e-6 < dev <= tol, f"deviation {dev:.3g} of a removal that is not free")
+    ts = _removal_samples(knots, 3)
+    old = np.array([tuple(old_edge.valueAt(t)) for t in ts])
+    new = np.array([tuple(new_edge.valueAt(t)) for t in ts])
+    measured = float(np.linalg.norm(old - new, axis=1).max())
+    check(abs(measured - dev) <= 1e-9 * 60, f"reported deviation {dev:.12g}, Part measures {measured:.12g}")
+    gaps = [Part.Vertex(V(*p)).distToShape(new_edge)[0] for p in old]
+    check(max(gaps) <= dev + 1e-9 and max(gaps) > 0.0, f"distToShape {max(gaps):.3g} vs deviation {dev:.3g}")
+    check(f"{dev:.3g}" in message, f"message {message!r} lacks the deviation")
+    _undo_restores(generic, before, undo)
+
+
+@case
+def test_knot_edit_surface():
+    """A 5 x 6 B-spline surface: insert knot (Both) at the parameters nearest pole (2, 3)
+    adds one knot in u and one in v (Part's multiplicity sums + 1 each) and leaves Part's
+    face points (13 x 13) unchanged to 1e-9; elevate U raises DegreeU (Part's UDegree)
+    with the same face; remove knots (Both, 1e-7) then takes the two inserted knots
+    away with deviation <= 1e-9; each one undo step."""
+    from cagdwb import knotedit
+    doc = new_doc("knotsurface")
+    doc.UndoMode = 1
+    i, j = np.meshgrid(np.arange(5.0), np.arange(6.0), indexing="ij")
+    grid = np.stack([10 * i, 10 * j, 3 * np.sin(i + 0.7 * j)], -1)
+    obj = surfaces.make_bspline_surface(grid, 5, doc=doc)
+    doc.recompute()
+    points, start = _face_points(obj), _snapshot(obj)
+    s = obj.Shape.Faces[0].Surface
+    mults = (sum(s.getUMultiplicities()), sum(s.getVMultiplicities()))
+    undo = doc.UndoCount
+    knotedit.run(obj, "Insert knot", lambda g: knotedit.insert_knot(g, 2 * 6 + 3, "Both"))
+    check(doc.UndoCount == undo + 1, "insert knot is not one undo step")
+    s = obj.Shape.Faces[0].Surface
+    check((sum(s.getUMultiplicities()), sum(s.getVMultiplicities())) == (mults[0] + 1, mults[1] + 1),
+          f"multiplicities {mults} -> {sum(s.getUMultiplicities())}, {sum(s.getVMultiplicities())}")
+    check(obj.CountU == 6 and len(obj.Poles) == 6 * 7, f"pole grid {obj.CountU} x {len(obj.Poles) // obj.CountU}")
+    dev = np.abs(_face_points(obj) - points).max()
+    check(dev <= 1e-9 * 40, f"insert moved the face by {dev:.3g}")
+    inserted, undo = _snapshot(obj), doc.UndoCount
+    knotedit.run(obj, "Elevate degree", lambda g: knotedit.elevate(g, "U"))
+    check(obj.DegreeU == 4 and obj.DegreeV == 3 and obj.Shape.Faces[0].Surface.UDegree == 4, "elevate U")
+    dev = np.abs(_face_points(obj) - points).max()
+    check(dev <= 1e-9 * 40, f"elevate moved the face by {dev:.3g}")
+    _undo_restores(obj, inserted, undo)
+    _, message, removed, dev = knotedit.run(obj, "Remove knots", lambda g: knotedit.remove_knots(g, 1e-7, "Both"))
+    check(removed == 2 and dev <= 1e-9, f"remove knots: {message}")
+    s = obj.Shape.Faces[0].Surface
+    check((sum(s.getUMultiplicities()), sum(s.getVMultiplicities())) == mults, "the inserted knots stayed")
+    check(np.abs(_face_points(obj) - points).max() <= 1e-9 * 40, "remove knots moved the face")
+    doc.undo()
+    doc.undo()
+    doc.recompute()
+    check(_snapshot(obj) == start, "two undos do not give back the surface")
