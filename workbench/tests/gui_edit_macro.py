@@ -240,7 +240,8 @@ def knot_buttons():
     pressed through Qt, insert a knot (Knots one longer, OCCT's edge unchanged at 61
     parameters to 1e-9 of the size), elevate the degree (4, the edge unchanged) and
     remove knots within the panel's tolerance (the deviation in the status bar), each
-    one undo step; three undos give back the properties; Esc leaves."""
+    one undo step; three undos give back the properties; the context menu's Elevate
+    degree does the same as the button; Esc leaves."""
     obj = STATE["curve"]
     doc = App.ActiveDocument
     obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
@@ -276,6 +277,17 @@ def knot_buttons():
     log(f"knot buttons: insert {dev:.3g}, elevate {dev_elevate:.3g}, remove {dev_remove:.3g} off the edge; {text}")
     RESULT["knot_buttons"] = {"insert": float(dev), "elevate": float(dev_elevate), "remove": float(dev_remove),
                               "status": text}
+    menu = QtWidgets.QMenu()                 # the view's context menu in edit mode has the same edits
+    obj.ViewObject.Proxy.setupContextMenu(obj.ViewObject, menu)
+    actions = {a.text(): a for a in menu.actions()}
+    check({"Insert knot at picked pole", "Elevate degree", "Remove knots..."} <= set(actions),
+          f"context menu {sorted(actions)}")
+    actions["Elevate degree"].trigger()
+    settle()
+    check(obj.Degree == 4 and len(doc.UndoNames) == undo + 1, f"context Elevate degree: degree {obj.Degree}")
+    check(np.abs(edge_points(obj) - before).max() <= 1e-9 * 400, "context Elevate degree moved the edge")
+    doc.undo()
+    settle()
     Mouse(Gui.ActiveDocument.ActiveView).key(QtCore.Qt.Key_Escape)
     settle()
     check(Gui.ActiveDocument.getInEdit() is None, "Esc did not leave")
