@@ -11,7 +11,11 @@ one undo step; Esc cancels a drag, or leaves the mode. A point given by a linked
 vertex moves that vertex when it is a point object (Part Vertex, Draft Point: X, Y, Z
 properties); a vertex of another shape is refused with the reason in the status bar.
 The task panel shows the picked pole and, for rational objects (or to make one), its
-weight. The geometry is in poledrag.py (no GUI); this module maps mouse events to it.
+weight. On B-spline curve and surface objects the panel and the view's context menu
+also insert a knot at the parameter nearest the picked pole, elevate the degree and
+remove knots within a tolerance (the deviation reported in the status bar and report
+view), each one undo step with the shape kept (knotedit.py, no GUI). The geometry is
+in poledrag.py (no GUI); this module maps mouse events to it.
 """
 from __future__ import annotations
 
@@ -22,7 +26,7 @@ import numpy as np
 
 import FreeCAD as App
 
-from . import conversion, poledrag
+from . import conversion, knotedit, poledrag
 from .conversion import cagd
 
 EDIT_POLES = 10                  # the view providers' edit mode number of this mode (0: the property panel)
@@ -337,10 +341,51 @@ class PoleEditor:
         self.doc.commitTransaction()
         self.refresh()
 
+    KNOT_EDITS = ("Insert knot", "Elevate degree", "Remove knots")
 
-def _status(message: str) -> None:
+    def knot_edit(self, title: str, direction: str = "Both", tol: float = knotedit.REMOVE_TOL) -> Optional[str]:
+        """One of KNOT_EDITS on the object (Insert knot: at the parameter nearest the
+        picked pole; a surface in ``direction``), one undo step; its message (None on a
+        refusal) goes to the status bar and the report view."""
+        if title == "Insert knot" and self.picked is None:
+            _status("Edit poles: pick a pole first (the knot goes at the curve's or surface's point nearest it)")
+            return None
+        edit = {"Insert knot": lambda g: knotedit.insert_knot(g, self.picked, direction),
+                "Elevate degree": lambda g: knotedit.elevate(g, direction),
+                "Remove knots": lambda g: knotedit.remove_knots(g, tol, direction)}[title]
+        try:
+            message = knotedit.run(self.obj, title, edit)[1]
+        except cagd.CagdError as exc:
+            _status(f"Edit poles: {exc}")
+            return None
+        self.picked = None                      # the pole indices changed
+        _status(f"{title} ({self.obj.Label}): {message}", warning=False)
+        self.refresh()
+        return message
+
+    def context_actions(self, menu) -> None:
+        """The knot and degree edits in the view's context menu (B-spline objects);
+        Remove knots asks for the tolerance (a surface: the panel's direction)."""
+        if knotedit.refusal(self.obj):
+            return
+        from .qt import QtWidgets
+        panel = self.panel
+        menu.addAction("Insert knot at picked pole").triggered.connect(
+            lambda checked=False: self.knot_edit("Insert knot", panel.direction()))
+        menu.addAction("Elevate degree").triggered.connect(
+            lambda checked=False: self.knot_edit("Elevate degree", panel.direction()))
+
+        def remove(checked=False):
+            tol, ok = QtWidgets.QInputDialog.getDouble(None, "Remove knots", "Tolerance (mm)",
+                                                       float(panel.tol.value()), 1e-9, 1e3, 9)
+            if ok:
+                self.knot_edit("Remove knots", panel.direction(), float(tol))
+        menu.addAction("Remove knots...").triggered.connect(remove)
+
+
+def _status(message: str, warning: bool = True) -> None:
     import FreeCADGui as Gui
-    App.Console.PrintWarning(message + "\n")
+    (App.Console.PrintWarning if warning else App.Console.PrintMessage)(message + "\n")
     if Gui.getMainWindow() is not None:
         Gui.getMainWindow().statusBar().showMessage(message, 8000)
 
@@ -373,12 +418,36 @@ class PolePanel:
         self.weight.editingFinished.connect(lambda: editor.change_weight(float(self.weight.value())))
         if has_weights(obj):
             layout.addRow("Weight", self.weight)
+        self.directions = QtWidgets.QComboBox()
+        self.directions.addItems(list(knotedit.DIRECTIONS))
+        self.tol = QtWidgets.QDoubleSpinBox()
+        self.tol.setDecimals(9)
+        self.tol.setRange(1e-9, 1e3)
+        self.tol.setValue(knotedit.REMOVE_TOL)
+        self.buttons = {}
+        if not knotedit.refusal(obj):
+            if obj.Shape.Faces:
+                layout.addRow("Direction", self.directions)
+            for title in editor.KNOT_EDITS:
+                button = QtWidgets.QPushButton({"Insert knot": "Insert knot here"}.get(title, title))
+                button.clicked.connect(lambda checked=False, t=title: editor.knot_edit(
+                    t, self.direction(), float(self.tol.value())))
+                self.buttons[title] = button
+            layout.addRow(self.buttons["Insert knot"], self.buttons["Elevate degree"])
+            layout.addRow("Tolerance (mm)", self.tol)
+            layout.addRow(self.buttons["Remove knots"])
         self.show_pick()
+
+    def direction(self) -> str:
+        """A surface's direction of the knot and degree edits (Both, U, V)."""
+        return str(self.directions.currentText())
 
     def show_pick(self) -> None:
         editor, obj = self.editor, self.editor.obj
         i = editor.picked
         name = point_property(obj)
+        if "Insert knot" in self.buttons:
+            self.buttons["Insert knot"].setEnabled(i is not None)
         if i is None or name is None or i >= len(getattr(obj, name)):
             self.label.setText("none")
             self.weight.setEnabled(False)

@@ -345,14 +345,27 @@ class Rebuild(Operation):
         return r.result, {"Deviation": float(r.deviation)}, None if r.converged else r.message
 
 
-def _direction_steps(obj, source, tol: float):
-    """[(direction or None, tol share)]: a curve one step; a face in U, V or both
+def _direction_steps(direction: str, source, tol: float):
+    """[(direction or None, tol share)]: a curve one step; a face in U, V or Both
     (U with half of Tolerance, then V with what its bound left, as cq_ext's removeKnots)."""
     if not _surface(source):
         return [(None, tol)]
-    if obj.Direction == "Both":
+    if direction == "Both":
         return [("u", 0.5 * tol), ("v", None)]
-    return [(obj.Direction.lower(), tol)]
+    return [(direction.lower(), tol)]
+
+
+def remove_knots_within(source, tol: float, direction: str = "Both") -> Tuple[object, int, float, float]:
+    """(geometry, knots removed, summed error bound, summed deviation) of the engine
+    curve or surface ``source`` with as many knots removed as keep it within ``tol``
+    (a surface in ``direction``: U, V or Both, see :func:`_direction_steps`; Tiller's
+    removal, Piegl & Tiller A5.8). The RemoveKnots object and the pole editor use it."""
+    removed, bound, dev, geometry = 0, 0.0, 0.0, source
+    for step, share in _direction_steps(direction, source, tol):
+        share = tol - bound if share is None else share
+        r = geometry.remove_knots(share) if step is None else geometry.remove_knots(share, step)
+        geometry, removed, bound, dev = r.result, removed + r.removed, bound + r.error_bound, dev + r.deviation
+    return geometry, removed, bound, dev
 
 
 def _direction_property(obj, group: str, what: str) -> None:
@@ -377,12 +390,7 @@ class RemoveKnots(Operation):
         add(obj, PRECISION, "ErrorBound", "Status", "Tiller's certified bound of the deviation (mm, <= Tolerance)", 0.0)
 
     def operate(self, obj, source):
-        tol = _tolerance(obj)
-        removed, bound, dev, geometry = 0, 0.0, 0.0, source
-        for direction, share in _direction_steps(obj, source, tol):
-            share = tol - bound if share is None else share
-            r = geometry.remove_knots(share) if direction is None else geometry.remove_knots(share, direction)
-            geometry, removed, bound, dev = r.result, removed + r.removed, bound + r.error_bound, dev + r.deviation
+        geometry, removed, bound, dev = remove_knots_within(source, _tolerance(obj), obj.Direction)
         return geometry, {"Deviation": float(dev), "KnotsRemoved": int(removed), "ErrorBound": float(bound)}, None
 
 
@@ -407,7 +415,7 @@ class ReduceDegree(Operation):
     def operate(self, obj, source):
         tol = _tolerance(obj)
         bound, dev, geometry, ok, notes = 0.0, 0.0, source, True, []
-        for direction, share in _direction_steps(obj, source, tol):
+        for direction, share in _direction_steps(obj.Direction, source, tol):
             share = max(tol - bound, 0.0) if share is None else share
             r = geometry.reduce_degree(share) if direction is None else geometry.reduce_degree(share, direction)
             geometry, bound, dev = r.result, bound + r.error_bound, dev + r.deviation

@@ -219,7 +219,8 @@ class ViewProvider(Stateless):
         return True
 
     def setupContextMenu(self, vobj, menu) -> None:
-        """Edit poles (objects with poles) and Edit properties (the task panel)."""
+        """Edit poles (objects with poles) and Edit properties (the task panel); in pole
+        editing, the knot and degree edits of a B-spline object."""
         from . import editpoles
         modes = [("Edit properties", 0)]
         if editpoles.point_property(vobj.Object):
@@ -227,6 +228,9 @@ class ViewProvider(Stateless):
         for text, mode in modes:
             action = menu.addAction(text)
             action.triggered.connect(lambda checked=False, m=mode: Gui.ActiveDocument.setEdit(vobj.Object, m))
+        if getattr(self, "editor", None) is not None:          # pole editing: knot and degree edits
+            menu.addSeparator()
+            self.editor.context_actions(menu)
 
 
 

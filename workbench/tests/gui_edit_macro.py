@@ -235,6 +235,65 @@ def weight_of_picked_pole():
 
 
 @step
+def knot_buttons():
+    """Back in pole editing on the same curve, pole 100 picked: the panel's buttons,
+    pressed through Qt, insert a knot (Knots one longer, OCCT's edge unchanged at 61
+    parameters to 1e-9 of the size), elevate the degree (4, the edge unchanged) and
+    remove knots within the panel's tolerance (the deviation in the status bar), each
+    one undo step; three undos give back the properties; the context menu's Elevate
+    degree does the same as the button; Esc leaves."""
+    obj = STATE["curve"]
+    doc = App.ActiveDocument
+    obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
+    settle()
+    editor = obj.ViewObject.Proxy.editor
+    check(editor is not None and set(editor.panel.buttons) == set(editor.KNOT_EDITS), "no knot buttons")
+    editor.picked = 100
+    editor.refresh()
+    check(editor.panel.buttons["Insert knot"].isEnabled(), "Insert knot disabled with a picked pole")
+    before, knots, undo = edge_points(obj), len(obj.Knots) or 204, len(doc.UndoNames)
+    props = (list(obj.Poles), list(obj.Knots), obj.Degree)
+    editor.panel.buttons["Insert knot"].click()
+    settle()
+    dev = np.abs(edge_points(obj) - before).max()
+    check(len(obj.Knots) == knots + 1 and len(obj.Poles) == 201, f"knots {knots} -> {len(obj.Knots)}")
+    check(dev <= 1e-9 * 400 and len(doc.UndoNames) == undo + 1, f"insert: edge {dev:.3g}, undo {doc.UndoNames[:2]}")
+    editor.panel.buttons["Elevate degree"].click()
+    settle()
+    dev_elevate = np.abs(edge_points(obj) - before).max()
+    check(obj.Degree == 4 and obj.Shape.Edges[0].Curve.Degree == 4, f"degree {obj.Degree}")
+    check(dev_elevate <= 1e-9 * 400 and len(doc.UndoNames) == undo + 2, f"elevate: edge {dev_elevate:.3g}")
+    editor.panel.tol.setValue(1e-7)
+    editor.panel.buttons["Remove knots"].click()
+    settle()
+    text = Gui.getMainWindow().statusBar().currentMessage()
+    dev_remove = np.abs(edge_points(obj) - before).max()
+    check("deviation" in text and len(doc.UndoNames) == undo + 3, f"remove knots: status {text!r}")
+    check(dev_remove <= 1e-7 + 1e-9 * 400, f"remove knots moved the edge {dev_remove:.3g} > 1e-7")
+    for _ in range(3):
+        doc.undo()
+    settle()
+    check((list(obj.Poles), list(obj.Knots), obj.Degree) == props, "three undos did not restore the curve")
+    log(f"knot buttons: insert {dev:.3g}, elevate {dev_elevate:.3g}, remove {dev_remove:.3g} off the edge; {text}")
+    RESULT["knot_buttons"] = {"insert": float(dev), "elevate": float(dev_elevate), "remove": float(dev_remove),
+                              "status": text}
+    menu = QtWidgets.QMenu()                 # the view's context menu in edit mode has the same edits
+    obj.ViewObject.Proxy.setupContextMenu(obj.ViewObject, menu)
+    actions = {a.text(): a for a in menu.actions()}
+    check({"Insert knot at picked pole", "Elevate degree", "Remove knots..."} <= set(actions),
+          f"context menu {sorted(actions)}")
+    actions["Elevate degree"].trigger()
+    settle()
+    check(obj.Degree == 4 and len(doc.UndoNames) == undo + 1, f"context Elevate degree: degree {obj.Degree}")
+    check(np.abs(edge_points(obj) - before).max() <= 1e-9 * 400, "context Elevate degree moved the edge")
+    doc.undo()
+    settle()
+    Mouse(Gui.ActiveDocument.ActiveView).key(QtCore.Qt.Key_Escape)
+    settle()
+    check(Gui.ActiveDocument.getInEdit() is None, "Esc did not leave")
+
+
+@step
 def drag_surface_pole_along_normal():
     """A 30 x 30 B-spline surface with its net, isometric view, entered by Cagd_EditPoles:
     a drag with Shift moves pole (15, 15) along the net's normal there; the on-screen
