@@ -223,9 +223,12 @@ def edge_fit(S: System, xs: np.ndarray):
     of a bicubic: 237 fitted poles, 7e-9 off, before). Returns what :func:`fit` returns,
     or None when the rows are not on one boundary line."""
     from ..curves.bspline import BSplineCurve
+    from ..surfaces.bspline import BSplineSurface
     found = None
     for k in range(S.n // 2):
         G = (S.A, S.B)[k]
+        if G is None:
+            break
         for d in range(2):
             col = xs[:, 2 * k + d]
             if not G.closed[d] and (col[0] == G.lo[d] or col[0] == G.hi[d]) and np.all(col == col[0]):
@@ -237,6 +240,8 @@ def edge_fit(S: System, xs: np.ndarray):
         return None
     k, d, val = found
     G = (S.A, S.B)[k]
+    if G is None or not isinstance(G.nurbs, BSplineSurface):
+        return None
     s = xs[:, 2 * k + 1 - d]
     s0, s1 = float(s[0]), float(s[-1])
     if not s0 != s1:
