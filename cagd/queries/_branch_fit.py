@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import CagdError
 from ._newton import newton
 from ._surface_system import System
-from ._numerics import COLLAPSED_SPEED_RTOL, TINY, residual_tol
+from ._numerics import AT_END_RTOL, COLLAPSED_SPEED_RTOL, TINY, residual_tol
 
 STALL_ROUNDS = 2             # fit: rounds in a row that may fail to cut the error ...
 STALL_FACTOR = 2.0           # ... by this factor before the fit stops
@@ -211,10 +211,45 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
         P = S.eval(xs)[2]
 
 
+def boundary_line(S: System, xs: np.ndarray):
+    """(k, d, val) when every row of the branch xs lies within AT_END_RTOL of the boundary
+    line "parameter d of surface k = val" (not a seam), else None."""
+    for k in range(S.n // 2):
+        G = (S.A, S.B)[k]
+        if G is None:
+            break
+        for d in range(2):
+            if G.closed[d]:
+                continue
+            near = AT_END_RTOL * (G.hi[d] - G.lo[d])
+            for val in (G.lo[d], G.hi[d]):
+                if np.all(np.abs(xs[:, 2 * k + d] - val) <= near):
+                    return k, d, float(val)
+    return None
+
+
+def _settled_ends(S: System, xs: np.ndarray, k: int) -> np.ndarray:
+    """The rows' parameters on surface k, an end row on a collapsed edge of it (a pole,
+    where the parameter along the edge is arbitrary: a projection lands anywhere on it)
+    given its neighbour's value in that direction, so the parameter curve does not jump."""
+    x = xs[:, 2 * k:2 * k + 2].copy()
+    G = (S.A, S.B)[k]
+    if G is None or len(x) < 2:
+        return x
+    for end, neighbour in ((0, 1), (-1, -2)):
+        partials = S._partials(k, S.wrap(xs[end][None])[:, 2 * k:2 * k + 2])[1][0]     # (2, dim)
+        speed = np.linalg.norm(partials, axis=1)
+        j = int(np.argmin(speed))
+        if speed[j] <= COLLAPSED_SPEED_RTOL * G.size:
+            x[end, j] = x[neighbour, j]
+    return x
+
+
 def edge_fit(S: System, xs: np.ndarray):
-    """A branch along a boundary of one surface (the rows of a boundary piece lying on
-    the other surface, :func:`cagd.queries.intersect_surfaces._edge_rows`: every row on
-    the same boundary line) as the exact boundary: the 3-D curve is that surface's
+    """A branch along a boundary of one surface (the rows of boundary pieces lying on
+    the other surface, :func:`cagd.queries.intersect_surfaces._edge_rows`: every row
+    within AT_END_RTOL of the same boundary line (:func:`boundary_line`; such branches
+    are not joined to others), monotone along it) as the exact boundary: the 3-D curve is that surface's
     iso-curve over the rows' range (reparametrised linearly onto [0, 1]), its parameter
     curve the straight boundary line, the other surface's parameter curve the cubic
     through the rows' projections. Two faces sharing an edge, G1 or G2 across it (where
@@ -224,18 +259,7 @@ def edge_fit(S: System, xs: np.ndarray):
     or None when the rows are not on one boundary line."""
     from ..curves.bspline import BSplineCurve
     from ..surfaces.bspline import BSplineSurface
-    found = None
-    for k in range(S.n // 2):
-        G = (S.A, S.B)[k]
-        if G is None:
-            break
-        for d in range(2):
-            col = xs[:, 2 * k + d]
-            if not G.closed[d] and (col[0] == G.lo[d] or col[0] == G.hi[d]) and np.all(col == col[0]):
-                found = k, d, float(col[0])
-                break
-        if found:
-            break
+    found = boundary_line(S, xs)
     if found is None or len(xs) < 2:
         return None
     k, d, val = found
@@ -244,8 +268,9 @@ def edge_fit(S: System, xs: np.ndarray):
         return None
     s = xs[:, 2 * k + 1 - d]
     s0, s1 = float(s[0]), float(s[-1])
-    if not s0 != s1:
-        return None
+    step = np.diff(s) * np.sign(s1 - s0)
+    if not s0 != s1 or not np.all(step > 0):
+        return None                     # not one monotone run along the boundary
     iso = G.nurbs.isocurve("v" if d == 0 else "u", val)
     a, b = min(s0, s1), max(s0, s1)
     piece = iso if (a, b) == tuple(iso.domain) else iso.segment(a, b)
@@ -256,7 +281,7 @@ def edge_fit(S: System, xs: np.ndarray):
     line = np.zeros((2, 2))
     line[:, d], line[:, 1 - d] = val, (s0, s1)
     on_g = BSplineCurve(line, 1)
-    on_h = _interpolate(xs[:, 2 * (1 - k):2 * (1 - k) + 2], 3, t) if S.n == 4 else None
+    on_h = _interpolate(_settled_ends(S, xs, 1 - k), 3, t) if S.n == 4 else None
     pa, pb = (on_g, on_h) if k == 0 else (on_h, on_g)
     d_s, d_p = _span_maxima(S, curve, pa, pb, t)
     return curve, pa, pb, float(d_s.max()) if d_s.size else 0.0, float(d_p.max()) if d_p.size else 0.0

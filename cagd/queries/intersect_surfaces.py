@@ -54,7 +54,8 @@ from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from . import _subdivision as sd
 from . import _surface_overlaps as so
-from ._branch_fit import degenerate as _degenerate, edge_fit as _edge_fit, fit as _fit
+from ._branch_fit import boundary_line as _boundary_line, degenerate as _degenerate, edge_fit as _edge_fit, \
+    fit as _fit
 from ._marching import Marcher, segments_distance
 from ._point_solver import Plane, plane_geometry, run, sine_of
 from .results import IntersectionCurve, IntersectionPoint, IntersectionResult, SurfaceOverlap
@@ -436,6 +437,8 @@ def _join(S: System, branches, tol):
         changed = False
         ends = []
         for bi, (xs, e, P) in enumerate(items):
+            if _boundary_line(S, xs) is not None:
+                continue                # a shared edge stays one exact boundary curve (edge_fit)
             for side, k, k1 in ((0, 0, 1), (1, -1, -2)):
                 if len(P) >= 2 and (e[side] == "singular" or (e[side] == "boundary" and _degenerate(S, xs[k]))):
                     ends.append((bi, side, P[k], unit(P[k1] - P[k])))
