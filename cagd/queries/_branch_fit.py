@@ -273,7 +273,7 @@ def edge_fit(S: System, xs: np.ndarray):
         return None                     # not one monotone run along the boundary
     iso = G.nurbs.isocurve("v" if d == 0 else "u", val)
     a, b = min(s0, s1), max(s0, s1)
-    piece = iso if (a, b) == tuple(iso.domain) else iso.segment(a, b)
+    piece = iso.clamped() if (a, b) == tuple(iso.domain) else iso.segment(a, b)     # (a periodic edge: clamped)
     piece = piece.reversed() if s0 > s1 else piece
     knots = (piece.knots - a) / (b - a)
     curve = BSplineCurve(piece.control_points, piece.degree, knots, piece.weights)

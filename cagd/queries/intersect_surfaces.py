@@ -490,7 +490,10 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     for xs, ends, P in items:
         closed = ends[0] == "closed"
         fitted = None if closed else _edge_fit(S, xs)
-        curve, pa, pb, worst, worst_p = fitted if fitted is not None else _fit(S, xs, P, closed, tol)
+        if fitted is None or max(fitted[3], fitted[4]) > tol:       # not an edge, or its parameter curve
+            fit = _fit(S, xs, P, closed, tol)                         # on the other surface is off: the fit
+            fitted = fit if fitted is None or max(fit[3], fit[4]) < max(fitted[3], fitted[4]) else fitted
+        curve, pa, pb, worst, worst_p = fitted
         why = [f"fitted within {max(worst, worst_p):.2e} > tol"] if max(worst, worst_p) > tol else []
         why += [f"the march {e} at an end" for e in ends if e in ("stalled", "limit")]
         doms = [(S.lo[k:k + 2], S.hi[k:k + 2], S.per[k:k + 2]) for k in range(0, S.n, 2)]

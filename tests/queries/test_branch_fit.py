@@ -148,3 +148,26 @@ def test_patches_of_one_surface_meet_in_their_exact_shared_edges():
         P = c.curve(t)
         for s in (a, b):
             assert closest_point(s, P).distances.max() <= 1e-12 * s.size
+
+
+@pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")
+def test_a_periodic_face_edge_inside_its_neighbour():
+    """trj12_gd1-id-214.stp faces 1 x 5 and 1 x 7 (benchmarks.neighbour_pairs): face 1 is
+    periodic in u, its boundary circle lies inside the neighbouring face (a closed loop
+    in that face's parameters, not one of its boundaries). The exact-edge path raised
+    'knots: expected 9 values' on the periodic iso-curve, and its cubic through the
+    other face's parameters missed by 2.6e-4; now the iso-curve is clamped, and a
+    parameter curve off by more than tol falls back to the fit: converged, as before."""
+    pytest.importorskip("OCP")
+    import warnings
+    import cagd
+    from benchmarks.neighbour_pairs import pairs_of
+    from cagd.occ import from_occ
+    pairs = pairs_of(CAD / "step" / "trj12_gd1-id-214.stp", 2)
+    assert len(pairs) == 2
+    for ia, ib, fa, fb in pairs:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a, b = (getattr(s, "untrimmed", s) for s in (from_occ(fa), from_occ(fb)))
+        res = cagd.intersect(a, b)
+        assert res.converged and len(res.curves) == 1, (ia, ib, res.message)
