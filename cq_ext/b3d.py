@@ -22,15 +22,13 @@ a CagdError giving the accuracy reached, as for the CadQuery methods.
 from __future__ import annotations
 
 import logging
-from typing import Callable, List, Optional, Sequence, Union
+from typing import Callable, Optional, Sequence, Union
 
 import build123d as bd
 
 import cagd
-from cagd.errors import CagdError
-from cagd.occ.wrapped import describe, is_shape
 
-from .convert import from_shape, global_curve, reported, to_b3d, untrimmed_surface
+from .convert import curve_list, from_shape, global_curve, reported, to_b3d, untrimmed_surface
 from .solids import front_end, gap_report
 
 LOG = logging.getLogger(__name__)            # achieved accuracy of the network, sweep and blend functions
@@ -43,17 +41,6 @@ __all__ = ["to_b3d", "from_shape", "sew_shell", "sew_solid", "close_with_caps", 
            "blend_surface", "match_surface"]
 
 
-def _curves(items, name: str) -> List[cagd.Curve]:
-    """Engine curves or edges of any library (one or a sequence) as engine curves."""
-    if isinstance(items, cagd.Curve) or is_shape(items):
-        items = [items]
-    try:
-        items = list(items)
-    except TypeError:
-        raise CagdError(f"{name}: expected a sequence of curves or edges, got {describe(items)}") from None
-    return [global_curve(c, f"{name}[{i}]") for i, c in enumerate(items)]
-
-
 def loft_surface(sections, degree_v: int = 3, parameters="chord", *, guides=None, tol: float = 1e-6,
                  align: bool = True) -> bd.Face:
     """The skinned face through the sections (:func:`cagd.loft`: any degrees, knots and
@@ -61,8 +48,8 @@ def loft_surface(sections, degree_v: int = 3, parameters="chord", *, guides=None
 
     Raises:
         CagdError: the engine's refusals (naming sections, degree_v, parameters, guides)."""
-    g = None if guides is None else _curves(guides, "guides")
-    return to_b3d(cagd.loft(_curves(sections, "sections"), degree_v, parameters, guides=g, tol=tol, align=align))
+    g = None if guides is None else curve_list(guides, "guides")
+    return to_b3d(cagd.loft(curve_list(sections, "sections"), degree_v, parameters, guides=g, tol=tol, align=align))
 
 
 def gordon_surface(profiles, guides, tol: float = 1e-6) -> bd.Face:
@@ -71,8 +58,8 @@ def gordon_surface(profiles, guides, tol: float = 1e-6) -> bd.Face:
 
     Raises:
         CagdError: the engine's refusals, or ``max_error`` above ``tol``."""
-    result = reported("gordon_surface", cagd.gordon(_curves(profiles, "profiles"), _curves(guides, "guides"), tol),
-                      "tol", LOG)
+    network = cagd.gordon(curve_list(profiles, "profiles"), curve_list(guides, "guides"), tol)
+    result = reported("gordon_surface", network, "tol", LOG)
     return to_b3d(result.surface)
 
 
@@ -93,7 +80,7 @@ def sweep2_surface(profiles, rail1, rail2, tol: float = 1e-6) -> bd.Face:
 
     Raises:
         CagdError: the engine's refusals, or ``max_error`` above ``tol``."""
-    result = cagd.sweep2(_curves(profiles, "profiles"), global_curve(rail1, "rail1"), global_curve(rail2, "rail2"),
+    result = cagd.sweep2(curve_list(profiles, "profiles"), global_curve(rail1, "rail1"), global_curve(rail2, "rail2"),
                          tol=tol)
     return to_b3d(reported("sweep2_surface", result, "tol", LOG).surface)
 

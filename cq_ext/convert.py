@@ -7,7 +7,7 @@ shapes (or bare OCCT shapes) by duck typing (:mod:`cagd.occ.wrapped`).
 from __future__ import annotations
 
 from collections import Counter
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING, Callable, List, Union
 
 import numpy as np
 from OCP.TopAbs import TopAbs_COMPOUND, TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_WIRE
@@ -163,4 +163,19 @@ def reported(method: str, result, what: str, log=None):
     if log is not None:
         log.info("%s: %s", method, result.message)
     return result
+
+
+def curve_list(items, name: str, convert: Callable[[object, str], Curve] = global_curve) -> List[Curve]:
+    """One curve or edge, or a sequence of them, as engine curves, each converted by
+    ``convert(item, name[i])`` (default :func:`global_curve`).
+
+    Raises:
+        CagdError: naming ``name``: not a sequence, or an item ``convert`` refuses."""
+    if isinstance(items, Curve) or is_shape(items):
+        items = [items]
+    try:
+        items = list(items)
+    except TypeError:
+        raise CagdError(f"{name}: expected a sequence of curves or edges, got {describe(items)}") from None
+    return [convert(c, f"{name}[{i}]") for i, c in enumerate(items)]
 

@@ -43,10 +43,10 @@ from cagd.curves.base import Curve
 from cagd._deprecation import RELATIVE, renamed
 from cagd.errors import CagdError
 from cagd.occ import from_occ
-from cagd.occ.wrapped import describe, is_shape, occ_faces
+from cagd.occ.wrapped import describe, occ_faces
 from cagd.surfaces.base import Surface
 
-from .convert import from_shape, placed, plane_map, reported, to_cq, untrimmed_surface
+from .convert import curve_list, from_shape, placed, plane_map, reported, to_cq, untrimmed_surface
 from .cq_api import close_with_caps, sew_shell, sew_solid, thicken
 from .solids import revolution_angle, revolution_face, revolution_input
 from .stack import curve_of, faces_given_or_stacked, local_points, queued_curves, surface_objects, with_face
@@ -451,13 +451,7 @@ def _filled(wp: cq.Workplane, given: Sequence[Tuple[str, Optional[object]]], met
 
 
 def _curve_list(wp: cq.Workplane, curves, name: str) -> List[Curve]:
-    if isinstance(curves, Curve) or is_shape(curves):
-        curves = [curves]
-    try:
-        items = list(curves)
-    except TypeError:
-        raise CagdError(f"{name}: expected a sequence of curves or edges, got {describe(curves)}") from None
-    return [curve_of(c, wp.plane, f"{name}[{i}]") for i, c in enumerate(items)]
+    return curve_list(curves, name, lambda c, n: curve_of(c, wp.plane, n))
 
 
 def gordonSurface(self: T, profiles: Optional[Sequence[CurveLike]] = None,
