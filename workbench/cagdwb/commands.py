@@ -368,7 +368,8 @@ class Sweep2Command(NetworkCommand):
 
 class BlendCurveCommand(NetworkCommand):
     NAME, MENU, ICON, KIND = "Cagd_BlendCurve", "Blend curve", "BlendCurve", "BlendCurve"
-    TIP = "G2 bridge between the nearest ends of two selected edges (edit End1, End2, Continuity)"
+    TIP = ("G2 bridge between the nearest ends of two selected edges (edit End1, End2, Continuity G1/G2/G3, "
+           "AutomaticScales)")
 
     def links(self) -> dict:
         edges = _edge_picks("two edges", 2, 2)

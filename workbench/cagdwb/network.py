@@ -40,6 +40,7 @@ EDGES = ("u0", "u1", "v0", "v1")
 ENDS = ("start", "end")
 FRAMES = ("rmf", "frenet", "fixed")
 G12 = ("G1", "G2")
+G123 = ("G1", "G2", "G3")
 G012 = ("G0", "G1", "G2")
 SIDE_SAMPLES = 9                 # points of a box edge compared with a selected edge (edge_side)
 
@@ -276,16 +277,31 @@ MATCH_NAMES = {"s": "Face", "edge": "Edge", "target": "Target", "target_edge": "
 
 
 def _scales(obj) -> Optional[Tuple[float, float]]:
-    """(TangentScale1, TangentScale2), or None for (1, 1): the engine's default (for
-    blend_curve the scales of least curvature variation; for a rational blend surface it
-    may shorten a default scale to keep the weights positive)."""
+    """(TangentScale1, TangentScale2), or None for the engine's default: for a blend curve
+    when AutomaticScales is on (the scales of least curvature variation), for a blend
+    surface at (1, 1) (a rational blend surface may shorten a default scale to keep its
+    weights positive)."""
     a, b = float(obj.TangentScale1), float(obj.TangentScale2)
+    if hasattr(obj, "AutomaticScales"):
+        return None if obj.AutomaticScales else (a, b)
     return None if (a, b) == (1.0, 1.0) else (a, b)
 
 
-def _scale_properties(obj, group: str) -> None:
-    add(obj, "Float", "TangentScale1", group, "Tangent length at Edge1 relative to the default (> 0)", 1.0)
-    add(obj, "Float", "TangentScale2", group, "Tangent length at Edge2 relative to the default (> 0)", 1.0)
+SURFACE_SCALE_DOC = "Tangent length at Edge{k} relative to the default (> 0; 1 = the default)"
+CURVE_SCALE_DOC = ("Used when AutomaticScales is off: the bridge's end speed at Edge{k} = this x the chord "
+                   "between the two ends (> 0; 1: the first leg is the chord / degree long)")
+AUTOMATIC_DOC = ("On (default): the tangent scales of least curvature variation (the engine's automatic "
+                 "choice; TangentScale1/2 are not used, UsedScale1/2 show what was chosen). Off: "
+                 "TangentScale1/2 as given")
+
+
+def _scale_properties(obj, group: str, doc: str = SURFACE_SCALE_DOC) -> None:
+    add(obj, "Float", "TangentScale1", group, doc.format(k=1), 1.0)
+    add(obj, "Float", "TangentScale2", group, doc.format(k=2), 1.0)
+
+
+CONTINUITY_DOC = ("G1: cubic bridge; G2: quintic, curvature matched too; G3: degree 7, also the curvature's "
+                  "arc-length derivative (and the torsion)")
 
 
 def _level(obj) -> int:
@@ -293,14 +309,17 @@ def _level(obj) -> int:
 
 
 class BlendCurve(Measured):
-    """A Bezier bridge from End1 of Edge1 to End2 of Edge2, G1 (cubic) or G2 (quintic) to
-    both (cagd.blend_curve, Farin 14.1). Ends are the edges' own: start = FirstParameter."""
+    """A Bezier bridge from End1 of Edge1 to End2 of Edge2, G1 (cubic), G2 (quintic) or
+    G3 (degree 7) to both (cagd.blend_curve, Farin 14.1). Ends are the edges' own: start
+    = FirstParameter. Tangent scales automatic (least curvature variation) unless
+    AutomaticScales is off."""
 
     TYPE = "Cagd::BlendCurve"
     DEFAULT_LABEL = "BlendCurve"
     LINKS = ("Edge1", "Edge2")
     POINTS = "Edge1, Edge2"
-    RESULTS = (("MaxAngle", 0.0), ("MaxCurvatureGap", 0.0), ("Converged", False))
+    RESULTS = (("MaxAngle", 0.0), ("MaxCurvatureGap", 0.0), ("MaxCurvatureDerivativeGap", 0.0),
+               ("UsedScale1", 0.0), ("UsedScale2", 0.0), ("Converged", False))
 
     def setup(self, obj) -> None:
         add(obj, "LinkSub", "Edge1", "Blend", "The first edge")
@@ -308,14 +327,45 @@ class BlendCurve(Measured):
                  "end")
         add(obj, "LinkSub", "Edge2", "Blend", "The second edge")
         add_enum(obj, "End2", "Blend", "The end of Edge2 the bridge ends at", ENDS, "start")
-        add_enum(obj, "Continuity", "Blend", "G1: cubic bridge; G2: quintic, curvature matched too", G12, "G2")
-        _scale_properties(obj, "Blend")
-        add(obj, "Float", "MaxAngle", "Status", "Largest angle between the bridge's and the edges' tangents (rad)",
-            0.0)
-        add(obj, "Float", "MaxCurvatureGap", "Status", "Largest relative curvature-vector difference at the ends",
-            0.0)
-        add(obj, "Bool", "Converged", "Status", "The requested continuity reached at both ends", False)
+        add_enum(obj, "Continuity", "Blend", CONTINUITY_DOC, G123, "G2")
+        self.add_automatic(obj)
+        _scale_properties(obj, "Blend", CURVE_SCALE_DOC)
+        self.add_status(obj)
+
+    @staticmethod
+    def add_automatic(obj, value: bool = True) -> None:
+        add(obj, "Bool", "AutomaticScales", "Blend", AUTOMATIC_DOC)
+        obj.AutomaticScales = value
+
+    def add_status(self, obj) -> None:
+        """The read-only results (those a restored older document lacks are added)."""
+        docs = {"MaxAngle": ("Float", "Largest angle between the bridge's and the edges' tangents (rad)"),
+                "MaxCurvatureGap": ("Float", "Largest relative curvature-vector difference at the ends"),
+                "MaxCurvatureDerivativeGap": ("Float", "Largest relative difference of the third arc-length "
+                                              "derivative (d curvature / ds, torsion) at the ends: the G3 measure"),
+                "UsedScale1": ("Float", "The tangent scale used at Edge1 (given or automatic)"),
+                "UsedScale2": ("Float", "The tangent scale used at Edge2 (given or automatic)"),
+                "Converged": ("Bool", "The requested continuity reached at both ends")}
+        for name, empty in self.RESULTS:
+            if not hasattr(obj, name):
+                add(obj, docs[name][0], name, "Status", docs[name][1], empty)
         _readonly(obj, [n for n, _ in self.RESULTS])
+
+    def onDocumentRestored(self, obj) -> None:
+        """A document saved before G3 and AutomaticScales: G3 added to Continuity (its
+        value kept), AutomaticScales on exactly when the scales were (1, 1) (what (1, 1)
+        meant then), the new results added."""
+        super().onDocumentRestored(obj)
+        if "G3" not in obj.getEnumerationsOfProperty("Continuity"):
+            value = str(obj.Continuity)
+            obj.Continuity = list(G123)
+            obj.Continuity = value
+            obj.setDocumentationOfProperty("Continuity", CONTINUITY_DOC)
+        if not hasattr(obj, "AutomaticScales"):
+            self.add_automatic(obj, (float(obj.TangentScale1), float(obj.TangentScale2)) == (1.0, 1.0))
+            for k in (1, 2):
+                obj.setDocumentationOfProperty(f"TangentScale{k}", CURVE_SCALE_DOC.format(k=k))
+        self.add_status(obj)
 
     def claimed(self, obj) -> list:
         """Nothing: the bridged edges stay curves of their own."""
@@ -326,6 +376,8 @@ class BlendCurve(Measured):
         with renamed(BLEND_CURVE_NAMES):
             r = cagd.blend_curve(c1, str(obj.End1), c2, str(obj.End2), _level(obj), _scales(obj))
         values = {"MaxAngle": float(max(r.g1_angles)), "MaxCurvatureGap": float(max(r.curvature_gaps)),
+                  "MaxCurvatureDerivativeGap": float(max(r.curvature_derivative_gaps)),
+                  "UsedScale1": float(r.tangent_scales[0]), "UsedScale2": float(r.tangent_scales[1]),
                   "Converged": bool(r.converged)}
         return r.curve, values, _warning(r)
 
@@ -483,7 +535,7 @@ def facing_sides(f1, f2) -> Tuple[str, str]:
 #: property values of a new object of each kind (besides its links), for :func:`check`
 DEFAULTS = {"GordonSurface": {"Tolerance": 1e-3}, "Sweep": {"Frame": "rmf", "Tolerance": 1e-4},
             "Sweep2": {"Tolerance": 1e-4},
-            "BlendCurve": {"Continuity": "G2", "TangentScale1": 1.0, "TangentScale2": 1.0},
+            "BlendCurve": {"Continuity": "G2", "AutomaticScales": True, "TangentScale1": 1.0, "TangentScale2": 1.0},
             "BlendSurface": {"Continuity": "G1", "TangentScale1": 1.0, "TangentScale2": 1.0},
             "MatchSurface": {"Continuity": "G1"}}
 

@@ -447,9 +447,25 @@ def test_blend_curve():
     obj.Edge2 = (c2, "Vertex1")
     expect_error(obj, ["Edge2", "not an edge"])
     obj.Edge2, obj.End2 = (c2, "Edge1"), "start"
-    obj.TangentScale2 = 0.0
+    recompute_ok(obj)
+    automatic = (obj.UsedScale1, obj.UsedScale2)
+    check(automatic != (1.0, 1.0), f"automatic scales {automatic}: the explicit (1, 1) below would test nothing")
+    auto_shape = obj.Shape.copy()
+    obj.TangentScale2 = 0.0                                  # not used while AutomaticScales is on
+    recompute_ok(obj)
+    obj.AutomaticScales = False
     expect_error(obj, ["TangentScale2"])
-    obj.TangentScale2 = 1.0
+    obj.TangentScale2 = 1.0                                  # explicit (1, 1): the chord-length legs
+    recompute_ok(obj)
+    e = obj.Shape.Edges[0]
+    leg = (e.Curve.getPole(2) - e.Curve.getPole(1)).Length
+    chord = (e.valueAt(e.LastParameter) - e.valueAt(e.FirstParameter)).Length
+    check((obj.UsedScale1, obj.UsedScale2) == (1.0, 1.0) and abs(leg - chord / 5) <= 1e-9 * chord,
+          f"explicit (1, 1): used {obj.UsedScale1}, {obj.UsedScale2}, first leg {leg} vs chord / 5 {chord / 5}")
+    check(not obj.Shape.isPartner(auto_shape) and abs(e.Length - auto_shape.Edges[0].Length) > 1e-6,
+          "explicit (1, 1) gave the automatic bridge")
+    joints("G2")
+    obj.AutomaticScales = True
     recompute_ok(obj)
     path = os.path.join(OUT, "blendcurve.FCStd")               # saved and reloaded: recomputes, links kept
     doc.saveAs(path)
@@ -463,6 +479,127 @@ def test_blend_curve():
     check(obj.Edge1[0].Label == "BSplineCurve" and obj.Continuity == "G2", "reloaded links or Continuity")
     e, f = obj.Shape.Edges[0], shape.Edges[0]
     check(max((e.valueAt(t) - f.valueAt(t)).Length for t in np.linspace(0, 1, 11)) <= 1e-12, "reloaded shape")
+
+
+def _curvature_and_derivatives(d1, d2, d3):
+    """(kappa, d kappa / ds, kappa tau) from the first three derivatives of a curve in any
+    parameter (closed forms: kappa = |w| / |d1|^3 with w = d1 x d2, w' = d1 x d3,
+    d kappa / dt = w.w' / (|w| |d1|^3) - 3 |w| (d1.d2) / |d1|^5, tau = w.d3 / |w|^2)."""
+    d1, d2, d3 = (np.array(tuple(d), dtype=float) for d in (d1, d2, d3))
+    w, v = np.cross(d1, d2), float(np.linalg.norm(d1))
+    nw = float(np.linalg.norm(w))
+    kappa = nw / v ** 3
+    dk = (w @ np.cross(d1, d3)) / (nw * v ** 3) - 3.0 * nw * (d1 @ d2) / v ** 5
+    return kappa, dk / v, kappa * float(w @ d3) / nw ** 2
+
+
+def _g3_gaps(pairs, size):
+    """Largest relative differences of (kappa, d kappa / ds, kappa tau) over the joints
+    ``pairs`` of (derivatives of a curve, derivatives of the bridge) at the shared point,
+    relative to max(|a|, |b|, floor) with floors 1 / size and 1 / size^2."""
+    out = np.zeros(3)
+    for da, db in pairs:
+        a, b = _curvature_and_derivatives(*da), _curvature_and_derivatives(*db)
+        floors = (1.0 / size, size ** -2, size ** -2)
+        out = np.maximum(out, [abs(x - y) / max(abs(x), abs(y), f) for x, y, f in zip(a, b, floors)])
+    return out
+
+
+@case
+def test_blend_curve_g3():
+    """A G3 bridge (degree 7) between a B-spline object's edge and an ellipse arc (a Part
+    feature turned out of its plane): at both joints the engine's continuity (G2 at
+    rel_tol 1e-9) of the edges and the bridge as FreeCAD holds them, and the curvature,
+    its arc-length derivative and kappa tau (closed forms from the derivatives) equal to
+    1e-9 relative, from the engine's curves and from Part's own derivative1At/2At/3At
+    and curvatureAt; a G2 bridge between the same ends misses d kappa / ds. An old
+    document (Continuity G1/G2 only, no AutomaticScales) reloads with G3 offered and its
+    scales' meaning kept."""
+    from cagdwb import curves
+    cagd = conversion.cagd
+    doc = new_doc("blendg3")
+    c1 = curves.make_bspline_curve(conversion.vectors(np.array([[0, 0, 0], [10, 8, 0], [20, 2, 3], [30, 10, 0]],
+                                                               float)), 3, doc=doc)
+    arc = _feature(doc, Part.ArcOfEllipse(Part.Ellipse(V(60, 20, 5), 12.0, 5.0), 2.5, 4.0).toShape(), "EllipseArc")
+    arc.Placement = App.Placement(V(0, 0, 0), App.Rotation(V(1, 0.3, 0), 25), V(55, 20, 5))
+    doc.recompute()
+    obj = network.make_blend_curve((c1, "Edge1"), (arc, "Edge1"), doc=doc, End1="end", End2="start",
+                                   Continuity="G3")
+    check(obj.getEnumerationsOfProperty("Continuity") == ["G1", "G2", "G3"], "Continuity choices")
+    check("G3" in obj.getDocumentationOfProperty("Continuity"), "Continuity tooltip")
+    check("automatic" in obj.getDocumentationOfProperty("AutomaticScales") and
+          "AutomaticScales" in obj.getDocumentationOfProperty("TangentScale1"), "scale tooltips")
+    recompute_ok(obj)
+    compare(obj)
+    _readonly(obj, ("MaxCurvatureDerivativeGap", "UsedScale1", "UsedScale2"))
+    check(obj.Shape.Edges[0].Curve.Degree == 7 and obj.Converged, f"G3 bridge: {obj.Message}")
+
+    def measure():
+        e1, e2, br = c1.Shape.Edges[0], arc.Shape.Edges[0], obj.Shape.Edges[0]
+        E1, E2, B = (conversion.edge_to_curve(e) for e in (e1, e2, br))
+        size = max(e.BoundBox.DiagonalLength for e in (e1, e2, br))
+        joints = [cagd.continuity(E1, B, rel_tol=1e-9), cagd.continuity(B, E2, rel_tol=1e-9)]
+        a1, b1 = E1.domain[1], B.domain[0]
+        b2, a2 = B.domain[1], E2.domain[0]
+        engine = _g3_gaps([(E1.derivatives(a1, 3)[1:], B.derivatives(b1, 3)[1:]),
+                           (E2.derivatives(a2, 3)[1:], B.derivatives(b2, 3)[1:])], size)
+
+        def part(e, t):
+            return e.derivative1At(t), e.derivative2At(t), e.derivative3At(t)
+        ends = ((e1, e1.LastParameter, br.FirstParameter), (e2, e2.FirstParameter, br.LastParameter))
+        freecad = _g3_gaps([(part(e, t), part(br, tb)) for e, t, tb in ends], size)
+        kappa = max(abs(e.curvatureAt(t) - br.curvatureAt(tb)) / max(e.curvatureAt(t), 1.0 / size)
+                    for e, t, tb in ends)
+        return joints, engine, freecad, kappa
+    joints, engine, freecad, kappa = measure()
+    for what, value in (("engine continuity: tangent angle (rad)", max(j.tangent_angle for j in joints)),
+                        ("engine curves: relative curvature difference", engine[0]),
+                        ("engine curves: relative d kappa / ds difference", engine[1]),
+                        ("engine curves: relative kappa tau difference", engine[2]),
+                        ("Part derivatives: relative d kappa / ds difference", freecad[1]),
+                        ("Part derivatives: relative kappa tau difference", freecad[2]),
+                        ("Part curvatureAt: relative difference", kappa)):
+        _note(f"blend curve G3: {what}", value)
+    check(all(j.G2 for j in joints), f"engine continuity: {joints}")
+    check(engine.max() <= 1e-9 and freecad.max() <= 1e-9 and kappa <= 1e-9,
+          f"G3 gaps: engine {engine}, Part {freecad}, Part curvatureAt {kappa:.3g}")
+    check(obj.MaxCurvatureDerivativeGap <= 1e-9, f"engine result {obj.MaxCurvatureDerivativeGap}")
+    obj.Continuity = "G2"                                    # the measure separates G2 from G3
+    recompute_ok(obj)
+    joints, engine, freecad, kappa = measure()
+    _note("blend curve G2 (for contrast): relative d kappa / ds difference, Part derivatives", freecad[1])
+    check(all(j.G2 for j in joints) and kappa <= 1e-9 and min(engine[1], freecad[1]) > 1e-6,
+          f"G2 bridge: d kappa / ds gaps engine {engine[1]:.3g}, Part {freecad[1]:.3g}")
+    obj.Continuity = "G3"
+    recompute_ok(obj)
+    # an old document: Continuity G1/G2 only, no AutomaticScales nor the new results
+    explicit = network.make_blend_curve((c1, "Edge1"), (arc, "Edge1"), doc=doc, End1="end", End2="start",
+                                        TangentScale1=1.5, TangentScale2=0.8)
+    olds = [network.make_blend_curve((c1, "Edge1"), (arc, "Edge1"), doc=doc, End1="end", End2="start"), explicit]
+    for o in olds:
+        for name in ("AutomaticScales", "MaxCurvatureDerivativeGap", "UsedScale1", "UsedScale2"):
+            o.removeProperty(name)
+        o.Continuity = ["G1", "G2"]
+        o.Continuity = "G1" if o is explicit else "G2"
+    path = os.path.join(OUT, "blendcurve_old.FCStd")
+    doc.saveAs(path)
+    names = [o.Name for o in olds]
+    App.closeDocument(doc.Name)
+    doc = App.openDocument(path)
+    auto, explicit = (doc.getObject(n) for n in names)
+    for o, level, automatic in ((auto, "G2", True), (explicit, "G1", False)):
+        check(o.getEnumerationsOfProperty("Continuity") == ["G1", "G2", "G3"] and o.Continuity == level,
+              f"{o.Label}: Continuity {o.Continuity} of {o.getEnumerationsOfProperty('Continuity')}")
+        check(o.AutomaticScales is automatic, f"{o.Label}: AutomaticScales {o.AutomaticScales}")
+        o.touch()
+    doc.recompute()
+    for o in (auto, explicit):
+        recompute_ok(o)
+    check((explicit.UsedScale1, explicit.UsedScale2) == (1.5, 0.8), f"explicit scales {explicit.UsedScale1}")
+    check((auto.UsedScale1, auto.UsedScale2) != (1.0, 1.0), f"automatic scales {auto.UsedScale1}")
+    auto.Continuity = "G3"
+    recompute_ok(auto)
+    check(auto.Shape.Edges[0].Curve.Degree == 7 and auto.MaxCurvatureDerivativeGap <= 1e-9, auto.Message)
 
 
 @case
