@@ -1,14 +1,17 @@
 """A task panel for every workbench object (double-click, or Edit): one widget per
 scalar or vector property of the object's own groups (integers, floats, angles,
-tolerances as typed numbers, booleans, enumerations, vectors); each change
-recomputes at once and the panel shows the object's Message. Cancel undoes the changes (one transaction); point and
-knot lists are edited in the property editor."""
+tolerances as typed numbers, booleans, enumerations, vectors) and per link property
+(the links listed with Add selection / Remove / Up / Down, or Set from selection:
+linkedit.py); each change recomputes at once and the panel shows the object's Message.
+Cancel undoes the changes (one transaction); point and knot lists are edited in the
+property editor."""
 from __future__ import annotations
 
 from typing import Callable
 
 import FreeCAD as App
 import FreeCADGui as Gui
+from .linkedit import KINDS as LINK_KINDS, LinkEditor
 from .qt import QtWidgets
 
 SKIP_GROUPS = ("", "Base", "Status")
@@ -94,6 +97,8 @@ class TaskPanel:
                 boxes.append(_spin(c, 4, changed))
                 hbox.addWidget(boxes[-1])
             return row
+        if kind in LINK_KINDS:
+            return LinkEditor(obj, name, kind, self.apply, self.say)
         if kind in ("App::PropertyVectorList", "App::PropertyFloatList"):
             return QtWidgets.QLabel(f"{len(value)} values (edit in the property editor)")
         return None
@@ -103,6 +108,10 @@ class TaskPanel:
         setattr(self.obj, name, value)
         self.obj.Document.recompute()
         self.message.setText(self.obj.Message)
+
+    def say(self, text: str) -> None:
+        """A note in the status line (a selection a link button cannot use)."""
+        self.message.setText(text)
 
     def apply_text(self, name: str, box) -> None:
         """A typed tolerance ('1e-7', '0.001'); text that is not a number is put back."""
