@@ -47,6 +47,7 @@ SIDE_SAMPLES = 9                 # points of a box edge compared with a selected
 
 # --- messages ---------------------------------------------------------------------------------
 _TOKEN = re.compile(r"^([A-Za-z_]+)(\[(\d+)\])?$")
+_INDEXED = re.compile(r"\b([a-z_]+)\[(\d+)\]")       # an indexed argument inside a message: 'guides[0]'
 
 
 @contextlib.contextmanager
@@ -54,7 +55,14 @@ def renamed(names: Dict[str, str], labels: Optional[Dict[str, Sequence[str]]] = 
     """Re-raise an engine CagdError whose head (the text before the first ':') names
     engine arguments, e.g. 'profiles[1], guides[2]: ...', with the properties instead
     ('Profiles[1] (Sketch.Edge2), Guides[2] (Line.Edge1): ...'; ``labels`` gives the
-    linked elements of a list property by index). Other messages are kept."""
+    linked elements of a list property by index); in the rest of such a message the
+    indexed list arguments ('meets guides[0]') are renamed likewise. Other messages are
+    kept."""
+    labels = labels or {}
+
+    def indexed(base: str, k: int) -> str:
+        label = labels.get(base)
+        return names[base] + f"[{k}]" + (f" ({label[k]})" if label is not None and k < len(label) else "")
     try:
         yield
     except cagd.CagdError as exc:
@@ -71,12 +79,9 @@ def renamed(names: Dict[str, str], labels: Optional[Dict[str, Sequence[str]]] = 
             m = _TOKEN.match(token)
             if m is None or m.group(1) not in names:
                 raise
-            name = names[m.group(1)]
-            if m.group(2):
-                k = int(m.group(3))
-                label = (labels or {}).get(m.group(1))
-                name += f"[{k}]" + (f" ({label[k]})" if label is not None and k < len(label) else "")
-            out.append(name)
+            out.append(indexed(m.group(1), int(m.group(3))) if m.group(2) else names[m.group(1)])
+        rest = _INDEXED.sub(lambda m: indexed(m.group(1), int(m.group(2))) if m.group(1) in labels else m.group(0),
+                            rest)
         raise cagd.CagdError(f"{', '.join(out)}:{rest}") from None
 
 

@@ -179,7 +179,7 @@ def gordon_guide_added_moved_removed_and_cancelled():
     check(listed(editor) == ["NetG1.Edge1", "NetG2.Edge1"], f"after Remove: {listed(editor)}")
     check(not gordon.isValid() and gordon.Shape.isNull(), "a network without its boundary guide accepted")
     check(message.startswith("error:") and "Profiles[0] (NetP0.Edge1)" in message and
-          "first and last curve" in message, message)
+          "meets Guides[0] (NetG1.Edge1)" in message and "first and last curve" in message, message)
     check(editor.list.currentRow() == 1, f"current row {editor.list.currentRow()}")
     click(editor.buttons["Remove"])                  # one guide left: not a network
     message = panel.message.text()

@@ -625,6 +625,13 @@ def test_network_selection_helpers():
     except conversion.cagd.CagdError as exc:
         raised = str(exc)
     check(raised.startswith("Profiles: need 2"), f"check: {raised!r}")
+    try:                                             # P0, a boundary of the other family, left out
+        network.check("GordonSurface", Profiles=first, Guides=second[1:])
+        raised = ""
+    except conversion.cagd.CagdError as exc:
+        raised = str(exc)
+    check(raised.startswith("Profiles[") and "(G" in raised.split(":")[0] and
+          "meets Guides[1] (P1.Edge1)" in raised, f"check: {raised!r}")     # the body renamed too: P1 is now first
     a = _grid_surface(doc, 0.0, "A")
     b = _grid_surface(doc, 60.0, "B", lift=6.0)
     check(network.facing_sides(a.Shape.Faces[0], b.Shape.Faces[0]) == ("u1", "u0"), "facing sides")
