@@ -6,7 +6,7 @@ checks must all pass."""
 from wb_runner import run_gui_macro
 
 TIMEOUT = 240
-STEPS = 4                     # the macro's step count
+STEPS = 5                     # the macro's step count
 
 
 def test_gui_link_rows(freecad_env):

@@ -336,6 +336,20 @@ class BlendCurve(Measured):
         self.add_automatic(obj)
         _scale_properties(obj, "Blend", CURVE_SCALE_DOC)
         self.add_status(obj)
+        self.scale_modes(obj)
+
+    @staticmethod
+    def scale_modes(obj) -> None:
+        """TangentScale1/2 read-only (in the property editor and the task panel) while
+        AutomaticScales is on: they are not used then."""
+        for k in (1, 2):
+            if hasattr(obj, f"TangentScale{k}") and hasattr(obj, "AutomaticScales"):
+                obj.setEditorMode(f"TangentScale{k}", 1 if obj.AutomaticScales else 0)
+
+    def onChanged(self, obj, prop: str) -> None:
+        super().onChanged(obj, prop)
+        if prop == "AutomaticScales":
+            self.scale_modes(obj)
 
     @staticmethod
     def add_automatic(obj, value: bool = True) -> None:
@@ -371,6 +385,7 @@ class BlendCurve(Measured):
             for k in (1, 2):
                 obj.setDocumentationOfProperty(f"TangentScale{k}", CURVE_SCALE_DOC.format(k=k))
         self.add_status(obj)
+        self.scale_modes(obj)
 
     def claimed(self, obj) -> list:
         """Nothing: the bridged edges stay curves of their own."""

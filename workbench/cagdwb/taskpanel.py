@@ -57,7 +57,14 @@ class TaskPanel:
         self.message = QtWidgets.QLabel(obj.Message)
         self.message.setWordWrap(True)
         layout.addRow("Status", self.message)
+        self.sync_enabled()
         obj.Document.openTransaction(f"Edit {obj.Label}")
+
+    def sync_enabled(self) -> None:
+        """A row is disabled while its property is read-only (e.g. the tangent scales of
+        a blend curve with automatic scales)."""
+        for name, widget in self.widgets.items():
+            widget.setEnabled("ReadOnly" not in self.obj.getEditorMode(name))
 
     def _widget(self, name: str, kind: str):
         obj = self.obj
@@ -108,6 +115,7 @@ class TaskPanel:
         setattr(self.obj, name, value)
         self.obj.Document.recompute()
         self.message.setText(self.obj.Message)
+        self.sync_enabled()
 
     def say(self, text: str) -> None:
         """A note in the status line (a selection a link button cannot use)."""

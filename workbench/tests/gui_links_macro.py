@@ -218,6 +218,55 @@ def sweep_path_set_from_selection():
     check(abs(max(v.Point.z for v in sweep.Shape.Vertexes) - 20.0) <= 1e-9, "Cancel: height")
 
 
+@step
+def blend_curve_panel():
+    """The Blend curve's panel offers G3 (the combo box makes a degree-7 bridge meeting
+    both edges G3 by the engine's measure), its tangent-scale rows are disabled while
+    AutomaticScales is on and enabled when the check box is cleared (the typed scales
+    then used); its Edge1/Edge2 rows set from the selection; Cancel undoes it all."""
+    import Part
+    from cagdwb import network
+    doc = STATE["doc"]
+    a = doc.addObject("Part::Feature", "BridgeA")
+    a.Shape = Part.BSplineCurve([V(0, 60, 0), V(10, 68, 0), V(20, 62, 3), V(30, 70, 0)]).toShape()
+    b = doc.addObject("Part::Feature", "BridgeB")
+    b.Shape = Part.ArcOfEllipse(Part.Ellipse(V(60, 80, 5), 12.0, 5.0), 2.5, 4.0).toShape()
+    c = doc.addObject("Part::Feature", "BridgeC")
+    c.Shape = Part.makeLine(V(55, 60, 0), V(75, 50, 5))
+    obj = network.make_blend_curve((a, "Edge1"), (b, "Edge1"), doc=doc, End1="end", End2="start")
+    doc.recompute()
+    check(obj.isValid() and obj.Shape.Edges[0].Curve.Degree == 5, obj.Message)
+    before = (obj.UsedScale1, obj.UsedScale2)
+    panel = open_panel(obj)
+    w = panel.widgets
+    combo = w["Continuity"]
+    check([combo.itemText(k) for k in range(combo.count())] == ["G1", "G2", "G3"], "Continuity choices")
+    check(w["AutomaticScales"].isChecked() and not w["TangentScale1"].isEnabled() and
+          not w["TangentScale2"].isEnabled(), "scale rows enabled while automatic")
+    combo.setCurrentText("G3")
+    settle()
+    check(obj.Continuity == "G3" and obj.isValid() and obj.Shape.Edges[0].Curve.Degree == 7 and
+          obj.MaxCurvatureDerivativeGap <= 1e-9 and panel.message.text() == "ok",
+          f"G3: {obj.Message}, gap {obj.MaxCurvatureDerivativeGap}")
+    auto = (obj.UsedScale1, obj.UsedScale2)
+    w["AutomaticScales"].setChecked(False)
+    settle()
+    check(w["TangentScale1"].isEnabled() and w["TangentScale2"].isEnabled(), "scale rows disabled when explicit")
+    w["TangentScale1"].setValue(1.7)
+    settle()
+    check((obj.UsedScale1, obj.UsedScale2) == (1.7, 1.0) and obj.isValid(),
+          f"explicit scales used {obj.UsedScale1}, {obj.UsedScale2} (automatic were {auto})")
+    select((c, "Edge1"))
+    click(w["Edge2"].buttons["Set from selection"])
+    check(listed(w["Edge2"]) == ["BridgeC.Edge1"] and obj.isValid(), f"Edge2: {obj.Message}")
+    e = obj.Shape.Edges[0]
+    check((e.valueAt(e.LastParameter) - V(55, 60, 0)).Length <= 1e-9, "bridge does not end at BridgeC's start")
+    cancel(panel)
+    check(obj.Continuity == "G2" and obj.AutomaticScales and obj.Edge2[0] is b and
+          (obj.UsedScale1, obj.UsedScale2) == before and obj.Shape.Edges[0].Curve.Degree == 5,
+          f"Cancel: {obj.Continuity}, {obj.AutomaticScales}, {obj.Edge2}, {obj.UsedScale1}, {obj.UsedScale2}")
+
+
 def leave_edit_mode():
     if Gui.Control.activeDialog():
         Gui.Control.closeDialog()

@@ -451,9 +451,11 @@ def test_blend_curve():
     automatic = (obj.UsedScale1, obj.UsedScale2)
     check(automatic != (1.0, 1.0), f"automatic scales {automatic}: the explicit (1, 1) below would test nothing")
     auto_shape = obj.Shape.copy()
+    check(all("ReadOnly" in obj.getEditorMode(f"TangentScale{k}") for k in (1, 2)), "scales editable while unused")
     obj.TangentScale2 = 0.0                                  # not used while AutomaticScales is on
     recompute_ok(obj)
     obj.AutomaticScales = False
+    check(not any("ReadOnly" in obj.getEditorMode(f"TangentScale{k}") for k in (1, 2)), "scales read-only")
     expect_error(obj, ["TangentScale2"])
     obj.TangentScale2 = 1.0                                  # explicit (1, 1): the chord-length legs
     recompute_ok(obj)
@@ -591,6 +593,7 @@ def test_blend_curve_g3():
         check(o.getEnumerationsOfProperty("Continuity") == ["G1", "G2", "G3"] and o.Continuity == level,
               f"{o.Label}: Continuity {o.Continuity} of {o.getEnumerationsOfProperty('Continuity')}")
         check(o.AutomaticScales is automatic, f"{o.Label}: AutomaticScales {o.AutomaticScales}")
+        check(("ReadOnly" in o.getEditorMode("TangentScale1")) is automatic, f"{o.Label}: TangentScale1 mode")
         o.touch()
     doc.recompute()
     for o in (auto, explicit):
