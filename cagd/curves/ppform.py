@@ -21,6 +21,7 @@ from .._value import Value
 from ..basis.bspline import basis_derivatives
 
 _CHUNK = 1 << 15
+FEW_POINTS = 16          # up to this many parameters are evaluated all coordinates at once
 
 #: Highest degree evaluated in the power form. Measured (issue 14): random Bezier curves
 #: in the unit cube against exact (Fraction) de Casteljau, worst of 7 parameters in
@@ -122,7 +123,8 @@ class PPForm(Value):
             j += (t >= self.breaks[np.minimum(j + 1, last + 1)]) & (j < last)
             return j
         j = np.searchsorted(self.breaks, t, side="right") - 1
-        np.clip(j, 0, last, out=j)
+        np.minimum(j, last, out=j)              # np.clip's dispatch costs more on a few points
+        np.maximum(j, 0, out=j)
         return j
 
     def derived(self, order: int) -> "PPForm":
@@ -162,12 +164,29 @@ class PPForm(Value):
     def _horner(self, t: np.ndarray, out: np.ndarray, ndim: int, project: bool = False) -> None:
         j = self.span_of(t)
         x = self.local(t, j)
+        if t.shape[0] <= FEW_POINTS:         # one gather of every coordinate: fewer numpy calls
+            self._horner_few(j, x, out, ndim, project)
+            return
         inv_w = 1.0 / self._horner_1d(j, x, self.dim - 1) if project else None
         for d in range(ndim):
             acc = self._horner_1d(j, x, d)
             if project:
                 acc *= inv_w
             out[:, d] = acc
+
+    def _horner_few(self, j: np.ndarray, x: np.ndarray, out: np.ndarray, ndim: int, project: bool) -> None:
+        """:meth:`_horner` on a few points, all coordinates at once (the same operations
+        on every number as the per-coordinate path, so the same bits)."""
+        c = self.coefficients[:, j]                   # (p+1, n, dim)
+        acc = c[self.degree].copy()
+        xc = x[:, None]
+        for k in range(self.degree - 1, -1, -1):
+            acc *= xc
+            acc += c[k]
+        if project:
+            out[:] = acc[:, :ndim] * (1.0 / acc[:, ndim:ndim + 1])
+        else:
+            out[:] = acc[:, :ndim]
 
     def local(self, t: np.ndarray, j: np.ndarray) -> np.ndarray:
         """x = (t - m_j) / h_j of parameters t in spans j."""

@@ -30,31 +30,38 @@ set-up dominates).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .. import _checks
 from .._results import ReadOnlyArrays
+from ..basis.bernstein import bernstein_values
 from ..basis.bspline import basis_matrix
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ..knots import vectors as kv
+from ._crossings import network_crossings
 from .bspline import BSplineSurface
-from .loft import compatible_plain, rotated_start, unit_nurbs
+from .loft import compatible_plain, plain, rotated_start, unit_nurbs
 
 SKIN_DEGREE = 3          # interpolation degree across the curves (lower with fewer curves)
 REPARAM_SHARE = 0.01     # a family is reparametrised when the common parameters move an intersection by > this * tol
 REFIT_SHARE = 0.3        # a reparametrised curve is fitted to within this * tol of the original (sampled)
 REFIT_ROUNDS = 12        # knot-halving rounds of the refit, at most
 REFIT_MAX_POLES = 2000   # poles of a refitted family, at most
-REFIT_SAMPLES = 6        # fit samples per knot span (and checks between them)
+REFIT_MIN_DEGREE = 3     # a refit is at least cubic (its error falls as h^(p+1))
+REFIT_SAMPLES = 6        # fit samples per knot span
+INVERSE_TABLE = 257      # values of r bracketing r^-1 ...
+INVERSE_ROUNDS = 60      # ... then regula falsi rounds, at most ...
+INVERSE_RTOL = 2e-15     # ... stopping at this residual or step (r maps [0, 1] onto [0, 1])
 ERROR_SAMPLES = 8        # samples per Bezier span of every input curve for max_error ...
 ERROR_MIN_SAMPLES = 64   # ... at least this many per curve
 MAX_CURVES = 200         # curves per family, at most
 MAX_PAIRS = 2500         # profile-guide pairs, at most (one intersect each, ~10 ms)
 SEAM_SNAP = 1e-12        # a closed profile meeting guides[0] this close to its start (or end) keeps its start
+WEIGHT_RTOL = 1e-10      # crossings' weights match when c_i w_f = d_j w_g holds to this (relative)
 INTERSECT_ANGLE_TOL = 1e-6   # cagd.intersect's defaults: tangential contact angle, radians ...
 INTERSECT_DEPTH = 64         # ... subdivision depth ...
 INTERSECT_PAIRS = 20000      # ... live piece pairs ...
@@ -100,13 +107,7 @@ def _family(curves: Sequence[Curve], name: str, tol: float, closed_ok: bool = Fa
         raise CagdError(f"{name}: expected a sequence of cagd curves, got {type(curves).__name__}") from None
     if not 2 <= len(curves) <= MAX_CURVES:
         raise CagdError(f"{name}: need 2 to {MAX_CURVES} curves, got {len(curves)}")
-    out = []
-    for i, c in enumerate(curves):
-        u = unit_nurbs(c, f"{name}[{i}]")
-        if u.is_rational:
-            raise CagdError(f"{name}[{i}]: rational curves are not supported by gordon (the Boolean sum of "
-                            "rational skins is not the rational Gordon surface); pass polynomial curves")
-        out.append(u)
+    out = [_polynomial_if_constant(unit_nurbs(c, f"{name}[{i}]")) for i, c in enumerate(curves)]
     closed = [_closed(c, tol) for c in out]
     if any(closed) and not closed_ok:
         i = closed.index(True)
@@ -119,55 +120,70 @@ def _family(curves: Sequence[Curve], name: str, tol: float, closed_ok: bool = Fa
     return out
 
 
+def _polynomial_if_constant(c: BSplineCurve) -> BSplineCurve:
+    """Equal weights cancel (sum N_i w P_i / sum N_i w = sum N_i P_i): such a curve is
+    polynomial, exactly."""
+    w = c.weights
+    if w is not None and np.all(w == w[0]):
+        return BSplineCurve(c.control_points, c.degree, c.knots)
+    return c
+
+
 def _closed(c: BSplineCurve, tol: float) -> bool:
-    return bool(np.linalg.norm(c(0.0) - c(1.0)) <= tol)
+    """Ends within tol (the curve is clamped: its ends are its end poles)."""
+    return bool(np.linalg.norm(c.control_points[0] - c.control_points[-1]) <= tol)
 
 
 def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol: float):
     """(u, v, miss, X) arrays (m, n), (m, n), (m, n), (m, n, dim): each profile-guide
-    pair's one meeting point (the midpoint where they miss by up to tol), by the
-    subdivision of :func:`cagd.intersect` on curves prepared once (Bezier pieces), and
+    pair's one meeting point (the midpoint where they miss by up to tol): crossings at a
+    clear angle all at once (:func:`._crossings.network_crossings`: box candidates, the
+    hodograph cone test, batched Gauss-Newton), the other pairs by the subdivision of
+    :func:`cagd.intersect` on curves prepared once (Bezier pieces), and
     :func:`cagd.min_distance` where no point is solved within tol."""
     from ..queries import _subdivision as sd
     from ..queries.distance import min_distance
     from ..queries._point_solver import run
-    m, n = len(profiles), len(guides)
     size = max(float(np.ptp(c.control_points, axis=0).max()) for c in profiles + guides)
     if tol < INTERSECT_MIN_TOL * size:
         raise CagdError(f"tol: {tol:g} is below {INTERSECT_MIN_TOL:g} of the network's size {size:.6g}, beyond "
                         "the precision of doubles there; pass a larger tol")
-    # each curve prepared once for all its pairs (what cagd.intersect does per call)
-    A = [sd.Geometry(f, f"profiles[{i}]") for i, f in enumerate(profiles)]
-    B = [sd.Geometry(g, f"guides[{j}]") for j, g in enumerate(guides)]
-    U, V, miss = np.empty((m, n)), np.empty((m, n)), np.empty((m, n))
-    X = np.empty((m, n, profiles[0].dim))
-    for i, f in enumerate(profiles):
-        for j, g in enumerate(guides):
-            res = run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
-            if not res.converged:
-                raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
-                                f"({res.message})")
-            if res.overlaps:
-                raise CagdError(f"profiles[{i}], guides[{j}]: the curves overlap along a stretch, "
-                                "not a network crossing")
-            pts = [p for p in res.points if p.residual <= tol]
-            if len(pts) > 1:
-                spread = max(float(np.linalg.norm(q.point - pts[0].point)) for q in pts)
-                if spread > tol:
-                    a = [round(float(np.asarray(q.param_a)), 6) for q in pts]
-                    raise CagdError(f"profiles[{i}], guides[{j}]: meet {len(pts)} times (at profile parameters "
-                                    f"{a}), a network needs exactly one crossing per pair")
-            if pts:
-                best = min(pts, key=lambda p: p.residual)
-                s, t, d = float(np.asarray(best.param_a)), float(np.asarray(best.param_b)), best.residual
-            else:
-                r = min_distance(f, g)
-                s, t, d = float(r.params[0]), float(r.params[1]), float(r.distance)
-                if d > tol:
-                    raise CagdError(f"profiles[{i}], guides[{j}]: do not meet (they miss each other by {d:.3g} "
-                                    f"> tol {tol:g})")
-            U[i, j], V[i, j], miss[i, j] = s, t, d
-            X[i, j] = 0.5 * (f(s) + g(t))
+    U, V, miss, proven = network_crossings(profiles, guides, tol)
+    # the rest by the general solver, each curve prepared once for all its pairs (what
+    # cagd.intersect does per call)
+    A: Dict[int, Any] = {}
+    B: Dict[int, Any] = {}
+    for i, j in zip(*np.nonzero(~proven)):
+        f, g = profiles[i], guides[j]
+        if i not in A:
+            A[i] = sd.Geometry(f, f"profiles[{i}]")
+        if j not in B:
+            B[j] = sd.Geometry(g, f"guides[{j}]")
+        res = run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
+        if not res.converged:
+            raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
+                            f"({res.message})")
+        if res.overlaps:
+            raise CagdError(f"profiles[{i}], guides[{j}]: the curves overlap along a stretch, "
+                            "not a network crossing")
+        pts = [p for p in res.points if p.residual <= tol]
+        if len(pts) > 1:
+            spread = max(float(np.linalg.norm(q.point - pts[0].point)) for q in pts)
+            if spread > tol:
+                a = [round(float(np.asarray(q.param_a)), 6) for q in pts]
+                raise CagdError(f"profiles[{i}], guides[{j}]: meet {len(pts)} times (at profile parameters "
+                                f"{a}), a network needs exactly one crossing per pair")
+        if pts:
+            best = min(pts, key=lambda p: p.residual)
+            s, t, d = float(np.asarray(best.param_a)), float(np.asarray(best.param_b)), best.residual
+        else:
+            r = min_distance(f, g)
+            s, t, d = float(r.params[0]), float(r.params[1]), float(r.distance)
+            if d > tol:
+                raise CagdError(f"profiles[{i}], guides[{j}]: do not meet (they miss each other by {d:.3g} "
+                                f"> tol {tol:g})")
+        U[i, j], V[i, j], miss[i, j] = s, t, d
+    X = 0.5 * (np.stack([f(u) for f, u in zip(profiles, U)]) + np.stack([g(v) for g, v in zip(guides, V.T)], axis=1))
     return U, V, miss, X
 
 
@@ -223,10 +239,12 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     monotone with r_k(new_j) = old_kj (:func:`_reparametrisation`), fitted by least squares
     on one common knot vector (the curves' knots mapped by r_k^-1, averaged) with the
     c_k(old_kj) as equality constraints (Piegl & Tiller 9.4.2, constrained fitting through
-    the Lagrange system), spans halved where the sampled parametric error exceeds
-    REFIT_SHARE * tol. Returns the curves, the largest sampled
-    |c~_k(s) - c_k(r_k(s))| and whether it met REFIT_SHARE * tol."""
-    p = max(c.degree for c in curves)
+    the Lagrange system), spans halved where the parametric error (sampled between the
+    fitting points, then bounded once the samples pass) exceeds
+    REFIT_SHARE * tol; degree at least REFIT_MIN_DEGREE. Returns the curves, a bound of
+    the largest |c~_k(s) - c_k(r_k(s))| (:func:`_deviation_bound`) and whether it met
+    REFIT_SHARE * tol."""
+    p = max(max(c.degree for c in curves), REFIT_MIN_DEGREE)
     maps = [_reparametrisation(new, o) for o in old]
     dense = np.linspace(0.0, 1.0, 1025)
     mapped = []
@@ -241,6 +259,8 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
         k = max(len(t) for t in mapped)
         inner = np.quantile(pool, np.arange(1, k + 1) / (k + 1))
     breaks = np.unique(np.concatenate([[0.0], inner, [1.0]]))
+    kinks = [_kinks(c, r, new) for c, r in zip(curves, maps)]
+    homs = [_homogeneous(c) for c in curves]
     target = REFIT_SHARE * tol
     err = np.inf
     fitted: List[BSplineCurve] = []
@@ -266,22 +286,105 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
         except np.linalg.LinAlgError:
             raise CagdError(f"{name}: the reparametrising fit is singular") from None
         sol = sol.reshape(npoles + ncon, count, dim)
+        fitted = [BSplineCurve(sol[:npoles, k], p, knots) for k in range(count)]
+        # samples between the fitting points first (cheap); the bound once they pass
         at_chk = np.einsum("ka,acd->ckd", basis_matrix(knots, p, chk, npoles), sol[:npoles])
         dev = np.linalg.norm(at_chk - np.stack([c(r(chk)) for c, r in zip(curves, maps)]), axis=2)
-        err = float(dev.max())
-        fitted = [BSplineCurve(sol[:npoles, k], p, knots) for k in range(count)]
-        if err <= target:
-            return fitted, err, True
-        bad_spans = np.unique(np.searchsorted(breaks, chk[np.any(dev > target, axis=0)], side="right") - 1)
+        if dev.max() > target:
+            err = float(dev.max())
+            bad = chk[np.any(dev > target, axis=0)]
+        else:
+            bounds = [_deviation_bound(f, c, h, r, k) for f, c, h, r, k in zip(fitted, curves, homs, maps, kinks)]
+            err = max(float(b.max()) for _, b in bounds)
+            if err <= target:
+                return fitted, err, True
+            bad = np.concatenate([starts[b > target] for starts, b in bounds])
+        bad_spans = np.unique(np.clip(np.searchsorted(breaks, bad, side="right") - 1, 0, len(breaks) - 2))
         breaks = np.unique(np.concatenate([breaks, 0.5 * (breaks[bad_spans] + breaks[bad_spans + 1])]))
     return fitted, err, False
 
 
-def _skin_coefficients(params: np.ndarray, degree: int) -> Tuple[np.ndarray, np.ndarray]:
-    """Knots (averaged, Piegl & Tiller eq. 9.8) and the inverse collocation matrix of the
-    interpolation at ``params`` (Piegl & Tiller 9.2.1)."""
-    knots = kv.averaged(params, degree)
-    return knots, np.linalg.inv(basis_matrix(knots, degree, params, len(params)))
+def _inverse(r: Callable[[np.ndarray], np.ndarray], y: np.ndarray) -> np.ndarray:
+    """s with r(s) = y for an increasing r on [0, 1] with r(0) = 0, r(1) = 1: bracketed
+    in a table of INVERSE_TABLE values, then the Illinois variant of regula falsi
+    (superlinear; Dowell & Jarratt 1971), vectorized, at most INVERSE_ROUNDS rounds,
+    stopping once every residual or step is within INVERSE_RTOL."""
+    grid = np.linspace(0.0, 1.0, INVERSE_TABLE)
+    table = r(grid)
+    k = np.clip(np.searchsorted(table, y, side="right") - 1, 0, INVERSE_TABLE - 2)   # r(grid_k) <= y
+    lo, hi = grid[k], grid[k + 1]
+    flo, fhi = table[k] - y, table[k + 1] - y
+    hit = np.where(flo == 0.0, lo, np.where(fhi == 0.0, hi, np.nan))      # y a table value
+    exact = ~np.isnan(hit)
+    s = hit                                   # NaN: no step taken yet
+    last = np.zeros(y.shape, bool)            # the previous round moved lo
+    done = exact
+    for _ in range(INVERSE_ROUNDS):
+        before = s
+        with np.errstate(invalid="ignore", divide="ignore"):
+            s = np.where(fhi > flo, lo - flo * (hi - lo) / (fhi - flo), 0.5 * (lo + hi))
+        s = np.where(done, before, np.where((s > lo) & (s < hi), s, 0.5 * (lo + hi)))
+        f = r(s) - y
+        done = done | (np.abs(f) <= INVERSE_RTOL) | (np.abs(s - before) <= INVERSE_RTOL)   # settled: kept
+        if done.all():
+            break
+        left = f < 0                      # the root is right of s: s becomes lo
+        again = left == last              # the same end moved twice: the kept end's f halves
+        lo, flo = np.where(left, s, lo), np.where(left, f, np.where(again, 0.5 * flo, flo))
+        hi, fhi = np.where(left, hi, s), np.where(left, np.where(again, 0.5 * fhi, fhi), f)
+        last = left
+    return s
+
+
+def _kinks(c: BSplineCurve, r: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndarray:
+    """Where c o r may break: the breaks of r (at most x and the interior knots of its
+    spline on averaged knots, :func:`_reparametrisation`) and the preimages r^-1 of c's
+    interior knots."""
+    inner = np.unique(c.knots)[1:-1]
+    averaged = np.unique(kv.averaged(x, min(3, len(x) - 1)))[1:-1]
+    return np.concatenate([x[1:-1], averaged, _inverse(r, inner)])
+
+
+def _deviation_bound(fitted: BSplineCurve, c: BSplineCurve, hom: BSplineCurve,
+                     r: Callable[[np.ndarray], np.ndarray], kinks: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """A rigorous bound of |fitted(s) - c(r(s))| piece by piece: (piece starts, bounds).
+    Between the fitted curve's knots and the ``kinks`` (:func:`_kinks`), w(r(s)) fitted(s)
+    - C(r(s)) (C = w c the homogeneous numerator, w = 1 for a polynomial c; r piecewise
+    cubic) is a polynomial of degree at most p + 3q (max(p, 3q) when w = 1); its Bernstein coefficients, found by
+    interpolation at Chebyshev points, bound it (convex hull property, Farin ch. 5), and
+    dividing by c's smallest weight bounds the deviation. Rounding: the coefficients
+    carry about 1e3 ulps of the curves' size."""
+    deg = fitted.degree + 3 * c.degree if c.is_rational else max(fitted.degree, 3 * c.degree)
+    cuts = np.unique(np.concatenate([[0.0, 1.0], np.unique(fitted.knots)[1:-1], kinks]))
+    a, h = cuts[:-1], np.diff(cuts)
+    a, h = a[h > 0], h[h > 0]
+    nodes = 0.5 - 0.5 * np.cos(np.pi * np.arange(deg + 1) / deg)           # Chebyshev-Lobatto on [0, 1]
+    s = (a[:, None] + h[:, None] * nodes).ravel()
+    H = hom(r(s))                                                          # (w c, w) = _homogeneous(c)
+    values = (H[:, -1:] * fitted(s) - H[:, :-1]).reshape(len(a), deg + 1, -1)
+    coef = np.linalg.solve(bernstein_values(deg, nodes), values)           # per piece
+    smallest = 1.0 if c.weights is None else float(c.weights.min())
+    return a, np.linalg.norm(coef, axis=-1).max(axis=1) / smallest
+
+
+def _skin_coefficients(params: np.ndarray, degree: int, periodic: bool = False) -> Tuple[np.ndarray, np.ndarray]:
+    """Knots and the matrix A (poles x data) of the interpolation at ``params``: clamped
+    on averaged knots (Piegl & Tiller eq. 9.8, 9.2.1), A the inverse collocation matrix;
+    or ``periodic`` with period 1 (params in [0, 1), params[0] = 0, ``degree`` odd: the
+    knots are the parameters), A the poles of the periodic cardinal splines (interpolating
+    the columns of the identity) after exact conversion to clamped knots on [0, 1]."""
+    if not periodic:
+        knots = kv.averaged(params, degree)
+        return knots, np.linalg.inv(basis_matrix(knots, degree, params, len(params)))
+    n = len(params)
+    period = np.append(params, 1.0)
+    collocation = BSplineCurve(np.eye(n), degree, period, periodic=True)(params)   # [N_i(t_k)]
+    try:
+        cardinal = BSplineCurve(np.linalg.inv(collocation), degree, period, periodic=True).clamped()
+    except np.linalg.LinAlgError:
+        raise CagdError(f"guides: the periodic interpolation through {n} guides at u = "
+                        f"{np.round(params, 6).tolist()} is singular") from None
+    return cardinal.knots, cardinal.control_points
 
 
 def _compatible_nets(nets: List[Tuple[np.ndarray, int, np.ndarray]]) -> List[Tuple[np.ndarray, int, np.ndarray]]:
@@ -293,12 +396,23 @@ def _compatible_nets(nets: List[Tuple[np.ndarray, int, np.ndarray]]) -> List[Tup
 
 
 def _boolean_sum(profiles: List[BSplineCurve], guides: List[BSplineCurve], us: np.ndarray, vs: np.ndarray,
-                 X: np.ndarray) -> Tuple[BSplineSurface, float, float]:
-    """S = L_f + L_g - T on [0, 1]^2 (profiles and guides each compatible), with exact
-    bounds of max_u |S(u, v_i) - f_i(u)| and max_v |S(u_j, v) - g_j(v)| over all i, j."""
+                 X: np.ndarray, closed: bool = False) -> Tuple[np.ndarray, int, int, np.ndarray, np.ndarray,
+                                                            np.ndarray, np.ndarray]:
+    """S = L_f + L_g - T on [0, 1]^2 (profiles and guides each compatible, any dimension:
+    also homogeneous coordinates): (poles, pu, pv, U, V, Df, Dg), Df the poles of
+    S(u, v_i) - f_i(u) for every i and Dg those of S(u_j, v) - g_j(v) (their largest
+    norms bound the distances exactly, by the convex hull property). ``closed``: the last
+    guide repeats the first at u = 1 and the skin along u is the periodic cubic through
+    the distinct guides, so L_g and T are as smooth across the seam as inside."""
     m, n = len(profiles), len(guides)
-    du, dv = min(SKIN_DEGREE, n - 1), min(SKIN_DEGREE, m - 1)
-    Ku, Au = _skin_coefficients(us, du)                  # along u, through the guides
+    dv = min(SKIN_DEGREE, m - 1)
+    if closed:
+        du = SKIN_DEGREE                                 # n - 1 >= 3 distinct guides
+        Ku, Au = _skin_coefficients(us[:-1], du, periodic=True)
+        Au = np.concatenate([Au, np.zeros((len(Au), 1))], axis=1)    # the repeated guide adds nothing
+    else:
+        du = min(SKIN_DEGREE, n - 1)
+        Ku, Au = _skin_coefficients(us, du)              # along u, through the guides
     Kv, Av = _skin_coefficients(vs, dv)                  # along v, through the profiles
     F = np.stack([c.control_points for c in profiles])  # (m, nu, dim)
     G = np.stack([c.control_points for c in guides])    # (n, nv, dim)
@@ -313,12 +427,12 @@ def _boolean_sum(profiles: List[BSplineCurve], guides: List[BSplineCurve], us: n
     (Lf, pv, V), (Lg, _, _), (T, _, _) = _compatible_nets([(sw[0], dv, Kv), (sw[1], qg, Vg), (sw[2], dv, Kv)])
     P = np.swapaxes(Lf + Lg - T, 0, 1)
     # S(u, v_i) - f_i(u) = sum_j (g_j(v_i) - X_ij) a_j(u), a_j the cardinal splines along u
-    # (Lf(u, v_i) = f_i(u), T(u, v_i) = sum_j X_ij a_j(u)); its poles bound it (convex hull)
+    # (Lf(u, v_i) = f_i(u), T(u, v_i) = sum_j X_ij a_j(u)); likewise along v
     Gv = np.stack([c(vs) for c in guides], axis=1)      # (m, n, dim): g_j(v_i)
     Fu = np.stack([c(us) for c in profiles])            # (m, n, dim): f_i(u_j)
-    iso_f = float(np.linalg.norm(np.einsum("aj,ijd->iad", Au, Gv - X), axis=-1).max())
-    iso_g = float(np.linalg.norm(np.einsum("bi,ijd->jbd", Av, Fu - X), axis=-1).max())
-    return BSplineSurface(P, pu, pv, U, V), iso_f, iso_g
+    Df = np.einsum("aj,ijd->iad", Au, Gv - X)
+    Dg = np.einsum("bi,ijd->jbd", Av, Fu - X)
+    return P, pu, pv, U, V, Df, Dg
 
 
 def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6, *,
@@ -338,28 +452,35 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     (:func:`_refit`); otherwise the curves are used exactly (degree elevation and knot
     merging) and the surface contains them as iso-curves up to the network's misses. ``max_error`` bounds the
     distance of the input curves either way (module docstring); ``certify`` measures it
-    by certified closest points too. Rational curves are rejected (CagdError).
+    by certified closest points too.
 
-    Closed networks: closed profiles (ends within tol; all or none) around open guides
-    give a surface closed in u: every ring is started (split and rejoined exactly, the
-    joint pole the midpoint of its ends) where it meets ``guides[0]``, which becomes the
-    seam S(0, v) = S(1, v) and is repeated at u = 1 in ``guide_order`` and
-    ``intersections`` (n + 1 columns). The skins are not periodic: the surface is in
-    general only C0 across the seam, and it depends on which guide comes first. Closed
-    guides are rejected (pass them as the profiles), and so is a network closed both
-    ways.
+    Rational curves (NURBS circles, conics): where the curves meet at common parameters
+    and their weights match at the crossings up to one constant per curve (curves made
+    alike, such as circles of one construction), the surface is the exact rational
+    Gordon surface through them (:func:`_rational_sum`); otherwise the rational family is
+    approximated by polynomial B-splines (:func:`_refit`, to REFIT_SHARE * tol, counted in
+    ``max_error``, named in ``reparametrised`` and ``message``).
+
+    Closed networks (a fuselage): closed profiles (ends within tol; all or none) around
+    open guides give a surface closed in u: every ring is started (split and rejoined
+    exactly, the joint pole the midpoint of its ends) where it meets ``guides[0]``,
+    which becomes the seam S(0, v) = S(1, v) and is repeated at u = 1 in
+    ``guide_order`` and ``intersections`` (n + 1 columns). The skin across the guides is
+    the periodic cubic through them, so the surface is as smooth across the seam as the
+    profiles are there (C2 for smooth rings). Closed guides are rejected (pass them as
+    the profiles), and so is a network closed both ways.
     Bounded: at most MAX_CURVES curves per family and MAX_PAIRS pairs, one bounded :func:`cagd.intersect` per
     pair, at most REFIT_ROUNDS refits of at most REFIT_MAX_POLES poles.
 
     Raises:
         CagdError: fewer than 2 curves in a family (or more than MAX_CURVES, or more
-            than MAX_PAIRS profile-guide pairs), a non-curve, a rational curve, a
-            closed guide, open and closed profiles mixed, a closed network with fewer
-            than 3 guides, curves of different dimensions, tol <= 0, a pair that does
-            not meet within tol, meets more than once or whose intersection search does
-            not settle (naming the pair), a curve meeting the other family in another
-            order or not ending on its first and last curve, a reparametrisation
-            needing more than REFIT_MAX_POLES.
+            than MAX_PAIRS profile-guide pairs), a non-curve, a closed guide, open and
+            closed profiles mixed, a closed network with fewer than 3 guides, curves of
+            different dimensions, tol <= 0, a pair that does not meet within tol, meets
+            more than once or whose intersection search does not settle (naming the
+            pair), a curve meeting the other family in another order or not ending on
+            its first and last curve, a reparametrisation needing more than
+            REFIT_MAX_POLES.
     """
     tol = _checks.positive(tol, "tol")
     F, G = _family(profiles, "profiles", tol, closed_ok=True), _family(guides, "guides", tol)
@@ -408,10 +529,18 @@ def gordon(profiles: Sequence[Curve], guides: Sequence[Curve], tol: float = 1e-6
     us, vs = U.mean(axis=0), V.mean(axis=1)
     notes: List[str] = []
     refitted: List[str] = []
-    F, fit_f, ok_f = _compatible_family(F, U, us, tol, "profiles", notes, refitted)
-    G, fit_g, ok_g = _compatible_family(G, V.T, vs, tol, "guides", notes, refitted)
-    ok = ok_f and ok_g
-    S, iso_f, iso_g = _boolean_sum(F, G, us, vs, X)
+    exact = _rational_sum(F, G, U, V, us, vs, X, tol, closed) if any(c.is_rational for c in F + G) else None
+    if exact is not None:
+        S, iso_f, iso_g = exact
+        fit_f = fit_g = 0.0
+        ok = True
+    else:
+        F, fit_f, ok_f = _compatible_family(F, U, us, tol, "profiles", notes, refitted)
+        G, fit_g, ok_g = _compatible_family(G, V.T, vs, tol, "guides", notes, refitted)
+        ok = ok_f and ok_g
+        P, pu, pv, Ku, Kv, Df, Dg = _boolean_sum(F, G, us, vs, X, closed)
+        S = BSplineSurface(P, pu, pv, Ku, Kv)
+        iso_f, iso_g = _largest(Df), _largest(Dg)
     err = max(fit_f + iso_f + seam, fit_g + iso_g)
     if err > tol:
         ok = False
@@ -449,16 +578,80 @@ def _ends(curves: List[BSplineCurve], P: np.ndarray, tol: float, name: str, othe
                                 f"curve of the other family")
 
 
+def _largest(D: np.ndarray) -> float:
+    return float(np.linalg.norm(D, axis=-1).max())
+
+
+def _moved(curves: List[BSplineCurve], P: np.ndarray, common: np.ndarray) -> float:
+    """How far the curves' points at the common parameters are from their meeting points."""
+    return max(float(np.linalg.norm(c(common) - c(p), axis=1).max()) for c, p in zip(curves, P))
+
+
 def _compatible_family(curves: List[BSplineCurve], P: np.ndarray, common: np.ndarray, tol: float, name: str,
                        notes: List[str], refitted: List[str]) -> Tuple[List[BSplineCurve], float, bool]:
-    """The family on one degree and knot vector, meeting the other family at ``common``:
-    exact (compatible_plain) when the parameters P agree to REPARAM_SHARE * tol as
-    points, else refitted (:func:`_refit`)."""
-    moved = max(float(np.linalg.norm(c(common) - c(p), axis=1).max()) for c, p in zip(curves, P))
-    if moved <= REPARAM_SHARE * tol:
+    """The family as polynomial B-splines on one degree and knot vector, meeting the other
+    family at ``common``: exact (compatible_plain) when the curves are polynomial and the
+    parameters P agree to REPARAM_SHARE * tol as points, else refitted (:func:`_refit`:
+    also the polynomial approximation of rational curves)."""
+    rational = any(c.is_rational for c in curves)
+    if not rational and _moved(curves, P, common) <= REPARAM_SHARE * tol:
         return compatible_plain(curves), 0.0, True
     out, err, ok = _refit(curves, P, common, tol, name)
     refitted.append(name)
+    if rational:
+        notes.append(f"{name}: rational curves approximated by polynomial B-splines to {err:.3g} (the exact "
+                     "rational surface needs curves meeting at common parameters with matching weights)")
     if not ok:
         notes.append(f"{name}: the reparametrising fit reached {err:.3g}, not {REFIT_SHARE * tol:g}")
     return out, err, ok
+
+
+def _homogeneous(c: BSplineCurve) -> BSplineCurve:
+    """(w P, w) as a polynomial B-spline (w = 1 for a polynomial curve)."""
+    if c.is_rational:
+        return plain(c)
+    return BSplineCurve(np.column_stack([c.control_points, np.ones(len(c.control_points))]), c.degree, c.knots)
+
+
+def _rational_sum(F: List[BSplineCurve], G: List[BSplineCurve], U: np.ndarray, V: np.ndarray, us: np.ndarray,
+                  vs: np.ndarray, X: np.ndarray, tol: float, closed: bool
+                  ) -> Optional[Tuple[BSplineSurface, float, float]]:
+    """The exact rational Gordon surface (S, bound along the profiles, bound along the
+    guides), or None where it does not exist this way. The Boolean sum is taken of the
+    homogeneous curves (w P, w) (Piegl & Tiller 10.5 apply to them unchanged): with
+    constants c_i, d_j such that c_i w_fi(u_j) = d_j w_gj(v_i) at every crossing, the
+    curves c_i f_i^w and d_j g_j^w meet in homogeneous space and the sum contains every
+    one of them. Needs curves already meeting at common parameters (no refit: a
+    reparametrisation of a rational curve is not rational of its degree), log-ratios
+    log(w_g / w_f) additive in i and j to WEIGHT_RTOL (then c, d are their row and
+    column parts; a closed network also needs the seam guide's constant at both ends)
+    and positive weights in the sum. The bounds: with delta, eps the position and weight
+    parts of S^w - f^w and sigma S's weight, S - f = (delta - f eps) / sigma (taken about
+    the network's centre, the sum being affine invariant)."""
+    if max(_moved(F, U, us), _moved(G, V.T, vs)) > REPARAM_SHARE * tol:
+        return None
+    Hf, Hg = [_homogeneous(c) for c in F], [_homogeneous(c) for c in G]
+    wf = np.stack([h(u)[:, -1] for h, u in zip(Hf, U)])                  # (m, n): w_fi at the crossings
+    wg = np.stack([h(v)[:, -1] for h, v in zip(Hg, V.T)], axis=1)        # (m, n): w_gj there
+    R = np.log(wg / wf)
+    a, b = R.mean(axis=1), R.mean(axis=0) - R.mean()                     # R ~ a_i + b_j
+    seam_ok = not closed or abs(b[-1] - b[0]) <= WEIGHT_RTOL
+    if not (np.abs(R - a[:, None] - b[None, :]).max() <= WEIGHT_RTOL and seam_ok):
+        return None
+    c, d = np.exp(a), np.exp(-b)
+    W = 0.5 * (c[:, None] * wf + d[None, :] * wg)
+    Xh = np.concatenate([X * W[..., None], W[..., None]], axis=-1)
+    Hf = compatible_plain([BSplineCurve(h.control_points * k, h.degree, h.knots) for h, k in zip(Hf, c)])
+    Hg = compatible_plain([BSplineCurve(h.control_points * k, h.degree, h.knots) for h, k in zip(Hg, d)])
+    P, pu, pv, Ku, Kv, Df, Dg = _boolean_sum(Hf, Hg, us, vs, Xh, closed)
+    w = P[..., -1]
+    if not w.min() > 0:
+        return None
+    pts = np.concatenate([h.control_points for h in F + G])
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    reach = float(np.linalg.norm(pts - centre, axis=1).max())
+
+    def bound(D: np.ndarray) -> float:
+        delta = D[..., :-1] - centre * D[..., -1:]
+        return float((np.linalg.norm(delta, axis=-1).max() + reach * np.abs(D[..., -1]).max()) / w.min())
+    return BSplineSurface(P[..., :-1] / w[..., None], pu, pv, Ku, Kv, weights=w), bound(Df), bound(Dg)

@@ -12,6 +12,7 @@ from cagd.knots import vectors as kv
 
 GRID = np.linspace(0.0, 1.0, 21)
 SAMPLES = 200           # closest-point samples per network curve
+ROUNDING = 1e-12 * 100  # closest-point distances of exact cases carry rounding of the 100 mm size
 NET_TOL = 1e-4          # interpolants of 20-30 points of one surface miss each other by up to ~5e-6
 
 
@@ -201,11 +202,108 @@ def test_two_intersections_per_pair():
         cagd.gordon(flat, [sides[0], cagd.interpolate(snake), sides[1]])
 
 
-def test_rational_curves_are_rejected():
-    profiles, guides = interpolated_network(3, 3, 10)
-    arc = cagd.BSplineCurve([[0, 0, 0], [50, 0, 20], [100, 0, 0]], 2, weights=[1, 0.7, 1])
-    with pytest.raises(cagd.CagdError, match=r"^profiles\[0\]: rational curves are not supported"):
-        cagd.gordon([arc] + profiles[1:], guides)
+S2 = np.sqrt(0.5)
+CIRCLE_KNOTS = [0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1]
+
+
+def nurbs_circle(x, r):
+    """The 9-pole quadratic NURBS circle of radius r about the x-axis in the plane at x."""
+    P = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], float) * r
+    return cagd.BSplineCurve(np.column_stack([np.full(9, x), P]), 2, CIRCLE_KNOTS, [1, S2, 1, S2, 1, S2, 1, S2, 1])
+
+
+def fuselage(angles_deg=(20, 100, 200, 290)):
+    """Circles of radius 20-25 at x = 0..100 (rational profiles, one construction) and
+    cubic guides through them at fixed angles (polynomial)."""
+    xs = np.array([0.0, 30.0, 60.0, 100.0])
+    radii = 20 + 5 * np.sin(np.pi * xs / 100)
+    th = np.radians(angles_deg)
+    guides = [cagd.interpolate(np.column_stack([xs, radii * np.cos(t), radii * np.sin(t)])) for t in th]
+    return [nurbs_circle(x, r) for x, r in zip(xs, radii)], guides, xs, radii
+
+
+def test_fuselage_of_nurbs_circles_is_the_exact_rational_surface_smooth_across_the_seam():
+    """Closed rational profiles: the surface contains every circle exactly (their implicit
+    equation x = x_i, y^2 + z^2 = r_i^2 on S(u, v_i) to 1e-12 of the size), every curve
+    within max_error by certified closest points, and the seam (guides[0], inside a
+    circle's span) is C2: S_u and S_uu agree at u = 0 and u = 1."""
+    rings, guides, xs, radii = fuselage()
+    r = cagd.gordon(rings, guides, 1e-6)
+    assert r.converged and r.reparametrised == () and r.message == ""
+    S = r.surface
+    assert S.is_rational and r.max_error <= 1e-9
+    u = np.linspace(0.0, 1.0, 400)
+    for i, v in enumerate(r.intersections[:, 0, 1]):
+        p = S(u, np.full_like(u, v))
+        assert np.abs(np.hypot(p[:, 1], p[:, 2]) - radii[i]).max() <= 1e-12 * 100
+        assert np.abs(p[:, 0] - xs[i]).max() <= 1e-12 * 100
+    assert off_surface(S, rings + guides) <= r.max_error
+    v = np.linspace(0.0, 1.0, 60)
+    for k in (0, 1, 2):
+        a, b = S.derivative(np.zeros_like(v), v, k, 0), S.derivative(np.ones_like(v), v, k, 0)
+        assert np.abs(a - b).max() <= 1e-9 * np.abs(a).max(), k
+
+
+def conic_arcs(weights):
+    """Rational quadratic arcs over [0, 100] in the planes y = 0, 40, 100 (middle weights
+    ``weights``), a straight guide at each end and one through the arcs' midpoints."""
+    ys = np.array([0.0, 40.0, 100.0])
+    arcs = [cagd.BSplineCurve([[0, y, 0], [50, y, 20], [100, y, 0]], 2, weights=[1, w, 1])
+            for y, w in zip(ys, weights)]
+    mid = np.array([a(0.5) for a in arcs])
+    guides = [cagd.BSplineCurve([[0, 0, 0], [0, 100, 0]], 1), cagd.interpolate(mid, 2),
+              cagd.BSplineCurve([[100, 0, 0], [100, 100, 0]], 1)]
+    return arcs, guides
+
+
+def test_arcs_with_matching_weights_give_the_exact_rational_surface():
+    arcs, guides = conic_arcs([0.7, 0.7, 0.7])
+    r = cagd.gordon(arcs, guides)
+    assert r.converged and r.reparametrised == () and r.surface.is_rational
+    u = np.linspace(0.0, 1.0, 101)
+    for arc, v in zip(arcs, r.intersections[:, 0, 1]):
+        assert np.abs(r.surface(u, np.full_like(u, v)) - arc(u)).max() <= 1e-12 * 100
+    assert off_surface(r.surface, arcs + guides) <= r.max_error + ROUNDING and r.max_error <= 1e-9
+
+
+def test_arcs_with_other_weights_are_approximated_and_reported():
+    """Weights 0.5 / 0.9 / 1.6 at the middle crossing are not one constant per curve:
+    the arcs are fitted by polynomial B-splines within a share of tol, which the result
+    says; the network still lies on the surface within max_error (certified)."""
+    arcs, guides = conic_arcs([0.5, 0.9, 1.6])
+    r = cagd.gordon(arcs, guides, 1e-5)
+    assert r.converged, r.message
+    assert "profiles" in r.reparametrised and not r.surface.is_rational
+    assert "rational curves approximated by polynomial B-splines" in r.message
+    assert off_surface(r.surface, arcs + guides) <= r.max_error <= 1e-5
+
+
+def test_equal_weights_are_a_polynomial_curve():
+    arcs, guides = conic_arcs([1.0, 1.0, 1.0])
+    heavy = [a.with_weights([3.0, 3.0, 3.0]) for a in arcs]
+    a, b = cagd.gordon(arcs, guides), cagd.gordon(heavy, guides)
+    assert not b.surface.is_rational and b.reparametrised == ()
+    assert np.array_equal(a.surface.control_points, b.surface.control_points)
+
+
+def test_closed_network_of_iso_curves_is_c2_across_the_seam():
+    """Iso-curves of a bicubic closed (periodic) in u meet at common parameters, so the
+    rings are used exactly; the skin across the guides is periodic, so the seam is C2
+    (a clamped skin leaves a crease: S_u differs by ~20% across it)."""
+    rng = np.random.default_rng(5)
+    ang = np.linspace(0.0, 2 * np.pi, 8, endpoint=False)
+    P = np.stack([np.stack([(20 + 3 * rng.random(8)) * np.cos(ang), (20 + 3 * rng.random(8)) * np.sin(ang),
+                            np.full(8, z)], axis=-1) for z in (0, 25, 50, 75, 100)], axis=1)   # (8, 5, 3)
+    T = cagd.BSplineSurface(P, 3, 3, np.linspace(0, 1, 9), None, periodic_u=True)
+    rings = [T.isocurve("u", v) for v in (0.0, 0.3, 0.6, 1.0)]
+    guides = [T.isocurve("v", u) for u in (0.05, 0.3, 0.55, 0.8)]
+    r = cagd.gordon(rings, guides, 1e-6)
+    assert r.converged and r.reparametrised == ()
+    S, v = r.surface, np.linspace(0.0, 1.0, 60)
+    for k in (0, 1, 2):
+        a, b = S.derivative(np.zeros_like(v), v, k, 0), S.derivative(np.ones_like(v), v, k, 0)
+        assert np.abs(a - b).max() <= 1e-9 * np.abs(a).max(), k
+    assert off_surface(S, rings + guides) <= r.max_error + ROUNDING and r.max_error <= 1e-9
 
 
 def tube(u, v):
