@@ -171,3 +171,47 @@ def test_match_surface_meets_its_target():
     uv = np.stack([np.full(9, u0), np.linspace(v0, v1, 9)], 1)
     assert np.abs(np.abs(normals(face, uv)[:, 2]) - 1.0).max() <= 1e-9
     assert np.abs(points(face, uv)[:, [0, 2]]).max() <= 1e-12
+
+
+def test_occt8_geomfill_gordon_agrees_with_cagd_gordon():
+    """OCCT 8.0's GeomFill_Gordon (skipped on OCCT 7.9, which has none) on a network of
+    curves interpolated through 8 points of a smooth surface, crossing among them: both
+    surfaces contain the network (each curve's samples, projected by OCCT's own
+    GeomAPI_ProjectPointOnSurf, within cagd's max_error of ours and within the 1e-6 asked
+    of OCCT's), so they agree along it."""
+    GeomFill = pytest.importorskip("OCP.GeomFill")
+    if not hasattr(GeomFill, "GeomFill_Gordon"):
+        pytest.skip("OCCT before 8.0: no GeomFill_Gordon")
+    from OCP.collections import Array1_Geom_Curve
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+    from OCP.gp import gp_Pnt
+    from cagd.occ import to_occ
+
+    def height(u, v):
+        return np.stack([100 * u, 100 * v, 10 * np.sin(3 * u) * np.cos(2 * v) + 5 * u * v], axis=-1)
+    at = np.array([0.0, 0.15, 0.3, 0.5, 0.62, 0.75, 0.88, 1.0])          # the crossings 0, 0.5, 1 among them
+    profiles = [cagd.interpolate(height(at, np.full_like(at, v))) for v in (0.0, 0.5, 1.0)]
+    guides = [cagd.interpolate(height(np.full_like(at, u), at)) for u in (0.0, 0.5, 1.0)]
+    result = cagd.gordon(profiles, guides, 1e-6)
+    ours = to_occ(result.surface)
+
+    def array(curves):
+        a = Array1_Geom_Curve(1, len(curves))
+        for i, c in enumerate(curves, 1):
+            a.SetValue(i, to_occ(c))
+        return a
+    g = GeomFill.GeomFill_Gordon()
+    g.Init(array(profiles), array(guides), 1e-6)
+    g.Perform()
+    assert g.IsDone(), g.Status()
+    theirs = g.Surface()
+    off = {"ours": 0.0, "theirs": 0.0}
+    for c in profiles + guides:
+        for p in c(np.linspace(0.0, 1.0, 40)):
+            for name, surface in (("ours", ours), ("theirs", theirs)):
+                proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*map(float, p)), surface)
+                assert proj.NbPoints() > 0
+                off[name] = max(off[name], proj.LowerDistance())
+    print(off, result.max_error)
+    assert off["ours"] <= result.max_error + 1e-12 and result.max_error <= 1e-6
+    assert off["theirs"] <= 1e-6

@@ -90,6 +90,26 @@ def test_gordon_engine_error_passes_through():
         cq.Workplane().gordonSurface([PATCH.isocurve("u", v) for v in ISO], far)
 
 
+def test_gordon_of_cadquery_circles_is_an_exact_fuselage():
+    """CadQuery circles (rational edges) around splines through them: the exact rational
+    Gordon surface, every circle on the face (BRepExtrema to 1e-9) and its iso-curves at
+    the circles' heights of the circles' radii (BRepAdaptor points)."""
+    zs, rs = (0.0, 30.0, 60.0, 100.0), (20.0, 24.0, 25.0, 20.0)
+    circles = [cq.Edge.makeCircle(r, V(0, 0, z), V(0, 0, 1)) for r, z in zip(rs, zs)]
+    guides = [cq.Edge.makeSpline([V(r * math.cos(a), r * math.sin(a), z) for r, z in zip(rs, zs)])
+              for a in np.radians([10, 100, 190, 280])]
+    face = cq.Workplane().gordonSurface(circles, guides, tol=1e-6).val()
+    assert face.isValid()
+    for c in circles:
+        on = [c.positionAt(t).toTuple() for t in np.linspace(0.0, 1.0, 13)]
+        assert distance_to_shape(face, on).max() <= 1e-9
+    S = from_shape(face)
+    assert S.is_rational
+    (u0, u1), (v0, v1) = S.domain
+    pts = S(np.linspace(u0, u1, 50), np.full(50, v0))
+    assert np.abs(np.hypot(pts[:, 0], pts[:, 1]) - rs[0]).max() <= 1e-9
+
+
 # --- sweeps ----------------------------------------------------------------------------------
 R_TUBE, H = 1.5, 4.0
 
