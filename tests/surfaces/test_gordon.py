@@ -390,6 +390,21 @@ def test_unevenly_parametrised_profiles_are_refitted_onto_common_parameters():
     assert off_surface(r.surface, profiles + guides) <= r.max_error <= NET_TOL
 
 
+def test_polyline_profiles_keep_their_corners_in_the_refit():
+    """Polylines (degree 1, a corner at every point) meeting the guides at differing
+    parameters: the refit keeps each corner as a knot of full multiplicity at its exact
+    preimage, so it converges with few poles (averaging the corners away left 1,082 poles
+    and max_error 8e-4 at tol 1e-6); the network lies on the surface within max_error."""
+    t = np.array([0, 0.2, 0.45, 0.6, 0.8, 1.0])
+    profiles = [cagd.interpolate(height(t, np.full_like(t, v)), 1) for v in (0.0, 0.35, 0.7, 1.0)]
+    guides = [cagd.interpolate(np.array([p(min(1.0, s + 0.04 * i * (0 < s < 1))) for i, p in enumerate(profiles)]), 3)
+              for s in (0.0, 0.3, 0.62, 1.0)]
+    r = cagd.gordon(profiles, guides, 1e-6)
+    assert r.converged and "profiles" in r.reparametrised
+    assert r.surface.control_points.shape[0] <= 60
+    assert off_surface(r.surface, profiles + guides) <= r.max_error <= 1e-6
+
+
 def test_reparametrisation_functions_are_monotone_and_interpolate():
     """Brute force on 10^4 samples: the C2 spline when its coefficients increase, else the
     Fritsch-Carlson cubic; both hit the data and never decrease."""
