@@ -541,11 +541,13 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     breaks = np.linspace(0.0, 1.0, (p + 2) if periodic else (least - p + 1))
     knots = (lambda b: kv.periodic_extend(b, p)) if periodic else (lambda b: _knots(b, p))
     fits = 0
+    guides: List[Tuple[np.ndarray, np.ndarray, np.ndarray]] = []      # every fit: (U, P, t)
 
     def attempt(b: np.ndarray, start: np.ndarray) -> Tuple[BSplineCurve, np.ndarray, np.ndarray, float]:
         nonlocal fits
         fits += 1
         c, tt, ee = _fit_on(problem, knots(b), start, tol_n)
+        guides.append((np.asarray(c.knots), c.control_points, tt))
         return c, tt, ee * counted, float(ee[counted].max())
 
     # grow: until every point is within tol (or the cap)
@@ -589,6 +591,8 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         return _measured(result, Q, t, counted, tol, fits)
     if best[4] <= tol_n:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
+    if smoothing == 0.0 and not any(T is not None for T in tangents):
+        curve, t, fits = _recovered(problem, guides, curve, t, best[4] <= tol_n, most, tol_n, counted, fits)
     P = curve.control_points * scale + center
     P[0], P[-1] = Q[0], Q[-1]                      # the end points, bit for bit
     if tangents[0] is not None:                    # the tangent lines, in the model's frame
@@ -633,6 +637,25 @@ def _after_removal(problem: _Problem, curve: BSplineCurve, t: np.ndarray, tol_n:
     if float(e2[counted].max()) <= tol_n:
         return c2, t2
     return curve, t
+
+
+def _recovered(problem: _Problem, guides: List[Tuple[np.ndarray, np.ndarray, np.ndarray]], curve: BSplineCurve,
+               t: np.ndarray, ok: bool, most: int, tol_n: float, counted: np.ndarray, fits: int
+               ) -> Tuple[BSplineCurve, np.ndarray, int]:
+    """The knot-recovery stage (:func:`cagd.fitting.free_knots.recover_knots`, guided by
+    the fits of the rounds): fewer control points than ``curve`` has (than ``most`` + 1
+    when it misses tol) with the interior knots moved, kept when every point is within
+    tol."""
+    from .free_knots import recover_knots
+    p = problem.p
+    n = len(curve.control_points) if ok else most + 1
+    if n <= problem.least:
+        return curve, t, fits
+    guides.append((np.asarray(curve.knots), curve.control_points, t))
+    found = recover_knots(problem, guides, tol_n, counted, n - p - 2)
+    if found is None:
+        return curve, t, fits
+    return BSplineCurve(found[1], p, found[0]), found[2], fits + 1
 
 
 def _measured(curve: BSplineCurve, Q: np.ndarray, t: np.ndarray, counted: np.ndarray, tol: float,
