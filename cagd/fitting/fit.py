@@ -541,13 +541,11 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     breaks = np.linspace(0.0, 1.0, (p + 2) if periodic else (least - p + 1))
     knots = (lambda b: kv.periodic_extend(b, p)) if periodic else (lambda b: _knots(b, p))
     fits = 0
-    guides: List[Tuple[np.ndarray, np.ndarray, np.ndarray]] = []      # every fit: (U, P, t)
 
     def attempt(b: np.ndarray, start: np.ndarray) -> Tuple[BSplineCurve, np.ndarray, np.ndarray, float]:
         nonlocal fits
         fits += 1
         c, tt, ee = _fit_on(problem, knots(b), start, tol_n)
-        guides.append((np.asarray(c.knots), c.control_points, tt))
         return c, tt, ee * counted, float(ee[counted].max())
 
     # grow: until every point is within tol (or the cap)
@@ -592,7 +590,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     if best[4] <= tol_n:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
     if smoothing == 0.0 and not any(T is not None for T in tangents):
-        curve, t, fits = _recovered(problem, guides, curve, t, best[4] <= tol_n, most, tol_n, counted, fits)
+        curve, t, fits = _recovered(problem, curve, t, u, best[4] <= tol_n, most, tol_n, counted, fits)
     P = curve.control_points * scale + center
     P[0], P[-1] = Q[0], Q[-1]                      # the end points, bit for bit
     if tangents[0] is not None:                    # the tangent lines, in the model's frame
@@ -639,23 +637,28 @@ def _after_removal(problem: _Problem, curve: BSplineCurve, t: np.ndarray, tol_n:
     return curve, t
 
 
-def _recovered(problem: _Problem, guides: List[Tuple[np.ndarray, np.ndarray, np.ndarray]], curve: BSplineCurve,
-               t: np.ndarray, ok: bool, most: int, tol_n: float, counted: np.ndarray, fits: int
-               ) -> Tuple[BSplineCurve, np.ndarray, int]:
+def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: np.ndarray, ok: bool, most: int,
+               tol_n: float, counted: np.ndarray, fits: int) -> Tuple[BSplineCurve, np.ndarray, int]:
     """The knot-recovery stage (:func:`cagd.fitting.free_knots.recover_knots`, guided by
-    the fits of the rounds): fewer control points than ``curve`` has (than ``most`` + 1
-    when it misses tol) with the interior knots moved, kept when every point is within
-    tol."""
+    the fit ``curve`` with the points' parameters t on it; ``initial`` their first
+    parameters): fewer control points than ``curve`` has (than ``most`` + 1 when it
+    misses tol) with the interior knots moved, kept when every point is within tol. The
+    search over counts runs only for a tol below SEARCH_TOL (the points' frame is the
+    unit ball): the exactness case, a sampled B-spline asked back."""
     from .free_knots import recover_knots
     p = problem.p
     n = len(curve.control_points) if ok else most + 1
     if n <= problem.least:
         return curve, t, fits
-    guides.append((np.asarray(curve.knots), curve.control_points, t))
-    found = recover_knots(problem, guides, tol_n, counted, n - p - 2)
+    found = recover_knots(problem, (np.asarray(curve.knots), curve.control_points, t), initial, tol_n, counted,
+                          n - p - 2, tol_n <= SEARCH_TOL)
     if found is None:
         return curve, t, fits
     return BSplineCurve(found[1], p, found[0]), found[2], fits + 1
+
+
+#: the knot-recovery stage searches the counts below this tol (in the unit-ball frame)
+SEARCH_TOL = 1e-6
 
 
 def _measured(curve: BSplineCurve, Q: np.ndarray, t: np.ndarray, counted: np.ndarray, tol: float,

@@ -45,12 +45,12 @@ if TYPE_CHECKING:  # pragma: no cover
     from .fit import _Problem
 
 #: Gauss-Newton passes per knot count at most
-MAX_KNOT_PASSES = 40
+MAX_KNOT_PASSES = 100
 #: knot counts tried at most (each a free-knot run)
 MAX_KNOT_TRIES = 12
 #: a pass that lowers the sum of squares by less than this fraction is slow; the run
 #: stops after KNOT_SLOW_PASSES slow passes in a row
-KNOT_GAIN = 0.1
+KNOT_GAIN = 0.02
 KNOT_SLOW_PASSES = 3
 #: a run stops after KNOT_REJECTS rejected passes in a row, or after one once its
 #: largest miss is at the rounding level KNOT_ROUNDOFF (the points' frame is the unit ball)
@@ -76,22 +76,35 @@ JUMP_GAP = 8.0
 
 
 def knot_jacobian(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """dC(t)/dk for each simple interior knot k of U at fixed control points P:
-    (len(t), d, q), by central differences (step KNOT_DIFF_STEP times the smaller gap
-    beside the knot); only the points in the knot's support [U_(i-p-1), U_(i+p+1)] are
-    evaluated (the others do not move)."""
-    from .fit import _values
-    inner = np.arange(p + 1, len(U) - p - 1)
-    G = np.zeros((len(t), P.shape[1], len(inner)))
-    for j, i in enumerate(inner):
-        h = KNOT_DIFF_STEP * min(U[i] - U[i - 1], U[i + 1] - U[i])
-        sel = np.flatnonzero((t >= U[i - p - 1]) & (t <= U[i + p + 1]))
-        if not sel.size:
-            continue
-        Up, Um = U.copy(), U.copy()
-        Up[i] += h
-        Um[i] -= h
-        G[sel, :, j] = (_values(Up, p, P, t[sel], 0)[0] - _values(Um, p, P, t[sel], 0)[0]) / (2.0 * h)
+    """dC(t)/dk for each interior knot k of the clamped U at fixed control points P:
+    (len(t), d, q), exact: de Boor's algorithm (Piegl & Tiller A5.1's triangle; The NURBS
+    Book 3.2) differentiated forward through its ratios alpha = (t - a) / (b - a) with
+    respect to each of the 2p knots U_(s-p+1) .. U_(s+p) of the point's span s, at once
+    for all points (d alpha / da = (t - b) / (b - a)^2, d alpha / db = -(t - a) / (b - a)^2)."""
+    n, d = P.shape
+    q = len(U) - 2 * (p + 1)
+    G = np.zeros((len(t), d, max(q, 0)))
+    if q <= 0 or p == 0:
+        return G
+    s = kv.find_span(U, p, t, n)
+    K = U[s[:, None] - p + 1 + np.arange(2 * p)]                        # (m, 2p): U_(s-p+1+j)
+    D = P[s[:, None] - p + np.arange(p + 1)]                            # (m, p + 1, d)
+    dD = np.zeros((len(t), 2 * p, p + 1, d))                            # d/dK_j of each D_i
+    eye = np.eye(2 * p)
+    tt = t[:, None]
+    for r in range(1, p + 1):
+        for i in range(p, r - 1, -1):
+            a, b = K[:, i - 1:i], K[:, p + i - r:p + i - r + 1]         # U_(s-p+i), U_(s+i+1-r)
+            h = b - a
+            alpha = (tt - a) / h                                        # (m, 1)
+            dalpha = ((tt - b) / h ** 2) * eye[i - 1] - ((tt - a) / h ** 2) * eye[p + i - r]  # (m, 2p)
+            diff = D[:, i] - D[:, i - 1]                                # (m, d)
+            dD[:, :, i] = ((1.0 - alpha)[:, :, None] * dD[:, :, i - 1] + alpha[:, :, None] * dD[:, :, i]
+                           + dalpha[:, :, None] * diff[:, None, :])
+            D[:, i] = D[:, i - 1] + alpha * diff
+    k = s[:, None] - p + 1 + np.arange(2 * p) - (p + 1)                 # interior index of K_j
+    rows, js = np.nonzero((k >= 0) & (k < q))
+    G[rows, :, k[rows, js]] = dD[rows, js, p]
     return G
 
 
@@ -160,7 +173,7 @@ def free_knot_fit(problem: "_Problem", inner: np.ndarray, t: np.ndarray, tol_n: 
     """Interior knots moved from ``inner`` (strictly increasing in (0, 1)) to lower the
     weighted sum of squared distances of the points from the curve (module docstring):
     returns (knots U, control points, parameters, misses at them) of the best pass."""
-    from .fit import _feet, _values
+    from .fit import _feet, _fit_on, _values
     p, Q, w = problem.p, problem.Q, problem.w
 
     def state(knots_in: np.ndarray, P: np.ndarray, tt: np.ndarray):
@@ -170,8 +183,8 @@ def free_knot_fit(problem: "_Problem", inner: np.ndarray, t: np.ndarray, tol_n: 
         miss = np.sqrt(((D[0] - Q) ** 2).sum(-1))
         return knots_in, P, tt, miss, float((w * miss ** 2).sum()), D[1]
 
-    U0 = _knots(inner, p)
-    best = state(inner, problem.solve(U0, t)[0], t)
+    settled, t, _ = _fit_on(problem, _knots(inner, p), t, np.inf)     # the parameters first
+    best = state(inner, settled.control_points, t)
     lam, mu, slow, rejects = KNOT_DAMPING_START, 1e-2, 0, 0
     for passes in range(MAX_KNOT_PASSES):
         if best[4] == 0.0:
@@ -250,37 +263,88 @@ def first_count(mass: np.ndarray) -> Tuple[Optional[int], float]:
 Guide = Tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
-def recover_knots(problem: "_Problem", guides: Sequence[Guide], tol_n: float, counted: np.ndarray,
-                  most_inner: int) -> Optional[Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+Run = Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def _within(run: Run, tol_n: float, counted: np.ndarray) -> bool:
+    return float(run[3][counted].max()) <= tol_n
+
+
+def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n: float, counted: np.ndarray,
+                  most_inner: int, search: bool) -> Optional[Run]:
     """At most ``most_inner`` interior knots within tol_n by free-knot runs
-    (:func:`free_knot_fit`). The last of the guides, fits (U, P, t) of the points (t
-    their parameters), gives the start: its ranked jumps (:func:`jump_clusters`) before
-    their first fall by JUMP_GAP; on success a knot
-    at a time is dropped (the one with the smallest jump of the p-th derivative on the
-    last success) while the runs stay within tol_n, on failure the next jump is added.
-    Without such a fall only a single span is tried.
-    MAX_KNOT_TRIES runs at most. Returns (U, P, t, misses) of the fewest knots whose
-    every counted miss (at the feet: an upper bound of the distance) is within tol_n,
-    or None."""
+    (:func:`free_knot_fit`), or None. Two ways, the second only with ``search``:
+
+    - guided: the guide (U, P, t), a fit of the points with t their parameters on it,
+      has ranked jumps of the p-th derivative (:func:`jump_clusters`) that fall by
+      JUMP_GAP: the jumps before the fall start a run; on success a knot at a time is
+      dropped (the smallest jump on the last success) while the runs stay within tol_n,
+      on failure the next jump is added; MAX_KNOT_TRIES runs at most;
+    - searched (:func:`_search`): counts from a single span upwards.
+
+    Returns (U, P, t, misses) of the fewest knots found whose every counted miss (at
+    the feet: an upper bound of the distance) is within tol_n."""
     p = problem.p
-    U, P, start = guides[-1]
+    U, P, start = guide
     pos, mass = jump_clusters(U, p, P)
     q = first_count(mass)[0]
-    if q is None or q > most_inner:
-        pos, q = np.zeros(0), 0
     found = None
-    inner = np.sort(pos[:q])
-    for _ in range(MAX_KNOT_TRIES):
-        run = free_knot_fit(problem, inner, start, tol_n, counted)
-        if float(run[3][counted].max()) <= tol_n:
-            found, start = run, run[2]
-            if q == 0:
+    if q is not None and q <= most_inner:
+        inner = np.sort(pos[:q])
+        for _ in range(MAX_KNOT_TRIES):
+            run = free_knot_fit(problem, inner, start, tol_n, counted)
+            if _within(run, tol_n, counted):
+                found, start = run, run[2]
+                if q == 0:
+                    break
+                inner = np.delete(run[0][p + 1:-p - 1], int(np.argmin(knot_jumps(run[0], p, run[1])[1])))
+                q -= 1
+            elif found is not None or q + 1 > min(most_inner, len(pos)):
                 break
-            inner = np.delete(run[0][p + 1:-p - 1], int(np.argmin(knot_jumps(run[0], p, run[1])[1])))
-            q -= 1
-        elif found is not None or q + 1 > min(most_inner, len(pos)):
-            break
-        else:
-            q += 1
-            inner = np.sort(pos[:q])
+            else:
+                q += 1
+                inner = np.sort(pos[:q])
+    if found is None and search:
+        found = _search(problem, initial, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS))
     return found
+
+
+#: the searched way tries at most this many interior knots (a 12-pole cubic has 8)
+MAX_SEARCH_KNOTS = 10
+
+
+def _search(problem: "_Problem", initial: np.ndarray, tol_n: float, counted: np.ndarray, most: int
+            ) -> Optional[Run]:
+    """Counts q = 0, 1, ..., ``most`` of interior knots, two starts each: the best run
+    of the count before with one knot inserted where its misses are
+    (:func:`_insert_where`; knot insertion with free-knot optimisation, as in
+    Schwetlick & Schuetze, BIT 35, 1995) and q equally spaced knots with the points'
+    initial parameters; the first run within tol_n, or None."""
+    p, w = problem.p, problem.w * counted
+    prev: Optional[Run] = None
+    for q in range(most + 1):
+        starts = [(np.zeros(0), initial)] if prev is None else [
+            (_insert_where(prev[0][p + 1:-p - 1], prev[2], w * prev[3] ** 2), prev[2]),
+            (np.linspace(0.0, 1.0, q + 2)[1:-1], initial)]
+        best: Optional[Run] = None
+        for inner, t in starts:
+            run = free_knot_fit(problem, inner, t, tol_n, counted)
+            if _within(run, tol_n, counted):
+                return run
+            if best is None or float((w * run[3] ** 2).sum()) < float((w * best[3] ** 2).sum()):
+                best = run
+        prev = best
+    return None
+
+
+def _insert_where(inner: np.ndarray, t: np.ndarray, e2: np.ndarray) -> np.ndarray:
+    """``inner`` with one more knot: in the span (of 0, inner, 1) holding the largest sum
+    of weighted squared misses e2, at their mean parameter, kept within the span's middle
+    half."""
+    brk = np.concatenate([[0.0], inner, [1.0]])
+    span = np.clip(np.searchsorted(brk, t, side="right") - 1, 0, len(brk) - 2)
+    score = np.bincount(span, e2, minlength=len(brk) - 1)
+    s = int(np.argmax(score))
+    a, b = brk[s], brk[s + 1]
+    at = float((e2 * t)[span == s].sum() / score[s]) if score[s] > 0.0 else 0.5 * (a + b)
+    return np.sort(np.append(inner, np.clip(at, a + 0.25 * (b - a), b - 0.25 * (b - a))))
