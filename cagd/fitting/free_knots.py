@@ -54,10 +54,12 @@ if TYPE_CHECKING:  # pragma: no cover
     from .fit import _Problem
 
 #: Gauss-Newton passes per knot count at most
-MAX_KNOT_PASSES = 100
+MAX_KNOT_PASSES = 250
 #: Gauss-Newton passes of the whole stage at most (its time: each pass is a banded solve
 #: and a few evaluations of the points)
-MAX_STAGE_PASSES = 300
+MAX_STAGE_PASSES = 400
+#: ... of which the guided start (the jumps of the adaptive fit) may take this many
+GUIDED_PASSES = 100
 #: knot counts tried at most (each a free-knot run)
 MAX_KNOT_TRIES = 12
 #: a pass that lowers the sum of squares by less than this fraction is slow; the run
@@ -301,7 +303,7 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
     Returns (U, P, t, misses) of the fewest knots found whose every counted miss (at
     the feet: an upper bound of the distance) is within tol_n."""
     p = problem.p
-    budget = [MAX_STAGE_PASSES]
+    budget = [GUIDED_PASSES]
     U, P, start = guide
     pos, mass = jump_clusters(U, p, P)
     q = first_count(mass)[0]
@@ -322,6 +324,7 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
                 q += 1
                 inner = np.sort(pos[:q])
     if found is None and search:
+        budget[0] += MAX_STAGE_PASSES - GUIDED_PASSES
         found = _search(problem, initial, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS), budget)
     return found
 
