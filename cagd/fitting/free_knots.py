@@ -339,11 +339,20 @@ def _search(problem: "_Problem", initial: np.ndarray, tol_n: float, counted: np.
     of the count before with one knot inserted where its misses are
     (:func:`_insert_where`; knot insertion with free-knot optimisation, as in
     Schwetlick & Schuetze, BIT 35, 1995) and q equally spaced knots with the points'
-    initial parameters; the first run within tol_n, or None."""
+    initial parameters. A count whose best run misses MERGE_GAIN times less than the
+    count before also tries q - 1 knots: its closest two merged (:func:`_merged`; a
+    knot of the sampled curve found as two). After a run within tol_n, the closest two
+    knots are merged while the runs stay within tol_n. Returns the last run within tol_n,
+    or None."""
     p, w = problem.p, problem.w * counted
+
+    def ss(run: Run) -> float:
+        return float((w * run[3] ** 2).sum())
+
     prev: Optional[Run] = None
+    found: Optional[Run] = None
     for q in range(most + 1):
-        if budget[0] <= 0:
+        if budget[0] <= 0 or found is not None:
             break
         starts = [(np.zeros(0), initial)] if prev is None else [
             (_insert_where(prev[0][p + 1:-p - 1], prev[2], w * prev[3] ** 2), prev[2]),
@@ -352,11 +361,45 @@ def _search(problem: "_Problem", initial: np.ndarray, tol_n: float, counted: np.
         for inner, t in starts:
             run = free_knot_fit(problem, inner, t, tol_n, counted, budget)
             if _within(run, tol_n, counted):
-                return run
-            if best is None or float((w * run[3] ** 2).sum()) < float((w * best[3] ** 2).sum()):
+                found = run
+                break
+            if best is None or ss(run) < ss(best):
                 best = run
+        if found is None and best is not None and prev is not None and q >= 2 \
+                and ss(best) * MERGE_GAIN ** 2 <= ss(prev):
+            run = free_knot_fit(problem, _merged(best[0][p + 1:-p - 1], best[0], p, best[1]), best[2], tol_n,
+                                counted, budget)
+            if _within(run, tol_n, counted):
+                found = run
         prev = best
-    return None
+    while found is not None and len(found[0]) > 2 * (p + 1) and budget[0] > 0:
+        run = free_knot_fit(problem, _merged(found[0][p + 1:-p - 1], found[0], p, found[1]), found[2], tol_n,
+                            counted, budget)
+        if not _within(run, tol_n, counted):
+            break
+        found = run
+    return found
+
+
+#: a count's best run missing this many times less than the count before's also tries
+#: one knot fewer (two close knots merged)
+MERGE_GAIN = 10.0
+
+
+def _merged(inner: np.ndarray, U: np.ndarray, p: int, P: np.ndarray) -> np.ndarray:
+    """``inner`` with its closest two neighbours (0 and 1 counted as neighbours) made one,
+    at their mean weighted by the jumps of the p-th derivative of (U, P) there (a single
+    knot next to an end is dropped)."""
+    brk = np.concatenate([[0.0], inner, [1.0]])
+    i = int(np.argmin(np.diff(brk)))                 # the gap brk[i] .. brk[i + 1]
+    if i == 0:
+        return inner[1:]
+    if i == len(inner):
+        return inner[:-1]
+    J = knot_jumps(U, p, P)[1]
+    a, b = J[i - 1], J[i]
+    at = (a * inner[i - 1] + b * inner[i]) / (a + b) if a + b > 0.0 else 0.5 * (inner[i - 1] + inner[i])
+    return np.concatenate([inner[:i - 1], [at], inner[i + 1:]])
 
 
 def _insert_where(inner: np.ndarray, t: np.ndarray, e2: np.ndarray) -> np.ndarray:
