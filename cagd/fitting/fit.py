@@ -21,6 +21,12 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
   that density into equal parts; rounds grow the count until every point is within tol,
   then shrink it while they stay, then Tiller's knot removal (:mod:`cagd.knots.removal`)
   takes out what its bound allows and the curve is fitted once more on those knots;
+- knot recovery (:mod:`cagd.fitting.free_knots`; no smoothing, no held tangents, not
+  periodic): fewer control points with the interior knots as unknowns (free-knot least
+  squares, Jupp 1978; de Boor & Rice 1968), started at the jumps of the fit's p-th
+  derivative, and below SEARCH_TOL a search over the counts, so that points sampled from
+  a B-spline come back as it; a smaller count is kept only when every point stays within
+  tol;
 - the error reported is the certified closest-point distance of every point from the
   result (:func:`cagd.closest_point`), not the distance at the fitting parameters.
 """
