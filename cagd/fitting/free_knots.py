@@ -82,6 +82,9 @@ KNOT_DAMPING_MIN = 1e-12
 KNOT_DAMPING_MAX = 1e6
 KNOT_DAMPING_UP = 4.0
 KNOT_DAMPING_DOWN = 3.0
+#: the first point-distance weight mu of a run (small: a larger one holds the parameters
+#: back where they must slide along the curve)
+POINT_WEIGHT_START = 1e-6
 #: a knot moves by at most this fraction of the smaller gap beside it per pass
 MAX_KNOT_MOVE = 0.3
 #: the window of the smoothed jump (a fraction of the parameter range: knots of the
@@ -205,7 +208,7 @@ def free_knot_fit(problem: "_Problem", inner: np.ndarray, t: np.ndarray, tol_n: 
 
     settled, t, _ = _fit_on(problem, _knots(inner, p), t, np.inf)
     best = state(inner, settled.control_points, t)
-    lam, mu, slow, rejects = KNOT_DAMPING_START, 1e-2, 0, 0
+    lam, mu, slow, rejects = KNOT_DAMPING_START, POINT_WEIGHT_START, 0, 0
     for _ in range(MAX_KNOT_PASSES):
         if budget is not None:
             if budget[0] <= 0:

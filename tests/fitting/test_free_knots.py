@@ -14,30 +14,10 @@ from hypothesis import strategies as st
 import cagd
 import cagd.fitting.free_knots as free_knots
 from cagd import BSplineCurve, fit_curve
+from benchmarks.knot_recovery import both_ways, fair_poles, random_curve, sampled
 from cagd.fitting.free_knots import knot_jacobian
 
 EXACT = 1e-10
-
-
-def both_ways(a: BSplineCurve, b: BSplineCurve, samples: int = 2000) -> float:
-    s = np.linspace(0.0, 1.0, samples)
-    return max(float(cagd.closest_point(a, b(s)).distances.max()),
-               float(cagd.closest_point(b, a(s)).distances.max()))
-
-
-def fair_poles(rng: np.random.Generator, n: int) -> np.ndarray:
-    """n control points of a random walk that turns by a bounded random amount per step."""
-    d, P = np.array([1.0, 0.0, 0.0]), [np.zeros(3)]
-    for _ in range(n - 1):
-        d = d + rng.normal(0.0, 0.5, 3)
-        d /= np.linalg.norm(d)
-        P.append(P[-1] + 3.0 * d * rng.uniform(0.7, 1.3))
-    return np.array(P)
-
-
-def sampled(curve: BSplineCurve, m: int, rng: np.random.Generator) -> np.ndarray:
-    """m points at random parameters (the ends included), in order."""
-    return curve(np.sort(np.r_[0.0, 1.0, rng.random(m - 2)]))
 
 
 @settings(max_examples=25, deadline=None)
@@ -85,10 +65,7 @@ def test_random_b_splines_come_back(p, extra, m, seed):
     start): the same count back, within 1e-10 both ways, at tol 1e-9."""
     rng = np.random.default_rng(seed)
     n = min(5 + extra, p + 3)
-    q = n - p - 1
-    gaps = rng.uniform(1.0, 2.5, q + 1)
-    inner = np.cumsum(gaps)[:-1] / gaps.sum()
-    c = BSplineCurve(fair_poles(rng, n), p, np.r_[np.zeros(p + 1), inner, np.ones(p + 1)])
+    c = random_curve(rng, p, n)
     r = fit_curve(sampled(c, m, rng), 1e-9, degree=p)
     assert r.converged and r.max_error <= 1e-9
     assert len(r.curve.control_points) == n
