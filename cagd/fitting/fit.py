@@ -650,21 +650,27 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
     parameters): fewer control points than ``curve`` has (than ``most`` + 1 when it
     misses tol) with the interior knots moved, kept when every point is within tol. The
     search over counts runs only for a tol below SEARCH_TOL (the points' frame is the
-    unit ball): the exactness case, a sampled B-spline asked back."""
+    unit ball) when the adaptive fit missed it or needed SEARCH_FILL control points per
+    point or more: the exactness case, a sampled B-spline asked back, whose smooth pieces
+    the adaptive knots cannot follow to that tol (ordinary data is spared the search's
+    seconds: the anchor curve at tol 1e-5 takes 191 poles for 2,000 points)."""
     from .free_knots import recover_knots
     p = problem.p
     n = len(curve.control_points) if ok else most + 1
     if n <= problem.least:
         return curve, t, fits
+    search = tol_n <= SEARCH_TOL and (not ok or n >= SEARCH_FILL * np.count_nonzero(counted))
     found = recover_knots(problem, (np.asarray(curve.knots), curve.control_points, t), initial, tol_n, counted,
-                          n - p - 2, tol_n <= SEARCH_TOL)
+                          n - p - 2, search)
     if found is None:
         return curve, t, fits
     return BSplineCurve(found[1], p, found[0]), found[2], fits + 1
 
 
-#: the knot-recovery stage searches the counts below this tol (in the unit-ball frame)
+#: the knot-recovery stage searches the counts below this tol (in the unit-ball frame),
+#: when the adaptive fit misses tol or takes at least SEARCH_FILL control points per point
 SEARCH_TOL = 1e-6
+SEARCH_FILL = 0.5
 
 
 def _measured(curve: BSplineCurve, Q: np.ndarray, t: np.ndarray, counted: np.ndarray, tol: float,
