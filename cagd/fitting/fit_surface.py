@@ -294,7 +294,11 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     center, scale = _frame(Q.reshape(-1, d))
     Qn = (Q - center) / scale
     tol_n = tol / scale
-    best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+    recovered = _recovered(Qn, tol_n, (pu, pv), cap_u * cap_v + 1) if not (minimax or held) else None
+    if recovered is not None:              # a sampled B-spline surface: its knots and parameters
+        best, rounds, u, v = (recovered[0],), 0, recovered[1], recovered[2]
+    else:
+        best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
     if minimax:
         best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
         rounds += more
@@ -311,6 +315,15 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     fit = _measured(out, near, at, grid_uv, tol, rounds)
     return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
                       fit.converged, fit.message)
+
+
+def _recovered(Qn: np.ndarray, tol_n: float, degrees: Tuple[int, int], poles: int):
+    """Below the curve stage's SEARCH_TOL (the exactness case): the grid's knots and
+    parameters recovered per direction (:func:`cagd.fitting.surface_knots.recovered_surface`),
+    or None (then the adaptive separable fit)."""
+    from .fit import SEARCH_TOL
+    from .surface_knots import recovered_surface
+    return recovered_surface(Qn, tol_n, degrees, poles) if tol_n <= SEARCH_TOL else None
 
 
 def _periodic_pair(periodic) -> Tuple[bool, bool]:
