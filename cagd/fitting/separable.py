@@ -75,6 +75,7 @@ class SeparableGrid:
         self.m, self.n, self.d = Q.shape
         self._ops: Tuple[Dict[bytes, Tuple[np.ndarray, np.ndarray]], ...] = ({}, {})
         self._rows: Dict[bytes, np.ndarray] = {}
+        self._res: Tuple[Dict[bytes, np.ndarray], ...] = ({}, {})
 
     def operator(self, axis: int, breaks: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(N, F) of direction ``axis`` (0: u, 1: v) on the breakpoints, cached."""
@@ -119,15 +120,34 @@ class SeparableGrid:
     def fit(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(P (cu, cv, d), misses |S(u_k, v_l) - Q_kl| (m, n))."""
         P = self.poles(bu, bv)
-        return P, np.sqrt(((self.values(P, bu, bv) - self.Q) ** 2).sum(-1))
+        return P, _norms(self.values(P, bu, bv) - self.Q)
+
+    def residual(self, axis: int, breaks: np.ndarray) -> np.ndarray:
+        """The misses (m, n) of the grid's columns fitted along u alone on the breakpoints
+        (axis 0: N_u F_u Q) or of its rows fitted along v alone (axis 1: Q F_v^T N_v^T),
+        cached: each direction's knots' share of the error."""
+        cache = self._res[axis]
+        key = np.ascontiguousarray(breaks, dtype=float).tobytes()
+        r = cache.get(key)
+        if r is None:
+            N, F = self.operator(axis, breaks)
+            if axis == 0:
+                rows = self._along_u(breaks)
+                along = (N @ rows.reshape(rows.shape[0], -1)).reshape(self.Q.shape)
+            else:
+                Qt = self.Q.transpose(1, 0, 2).reshape(self.n, -1)
+                along = (N @ (F @ Qt)).reshape(self.n, self.m, self.d).transpose(1, 0, 2)
+            r = _norms(along - self.Q)
+            if len(cache) >= CACHE_OPERATORS:
+                cache.pop(next(iter(cache)))
+            cache[key] = r
+        return r
 
     def residuals(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-        """(ru, rv) (m, n): the misses of the columns fitted along u alone and of the rows
-        fitted along v alone (each direction's knots' share of the error)."""
-        Nu = self.operator(0, bu)[0]
-        rows = self._along_u(bu)
-        along_u = (Nu @ rows.reshape(rows.shape[0], -1)).reshape(self.Q.shape)
-        Nv, Fv = self.operator(1, bv)
-        Qt = self.Q.transpose(1, 0, 2).reshape(self.n, -1)
-        along_v = (Nv @ (Fv @ Qt)).reshape(self.n, self.m, self.d).transpose(1, 0, 2)
-        return (np.sqrt(((along_u - self.Q) ** 2).sum(-1)), np.sqrt(((along_v - self.Q) ** 2).sum(-1)))
+        """(ru, rv) (m, n): :meth:`residual` of both directions."""
+        return self.residual(0, bu), self.residual(1, bv)
+
+
+def _norms(D: np.ndarray) -> np.ndarray:
+    """|D| over the last axis."""
+    return np.sqrt(np.einsum("...i,...i->...", D, D))

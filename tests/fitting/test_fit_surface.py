@@ -219,3 +219,41 @@ def test_boundary_bad():
         fit_surface(anchor_grid(6), 0.1, boundary="G2")
     with pytest.raises(CagdError, match="boundary"):
         fit_surface(scattered(100), 0.1, boundary="G0")
+
+
+# --- the measurement (certified where it decides the largest distance) ------------------------
+@pytest.mark.parametrize("tol", [0.01, 0.001])
+def test_max_error_is_the_certified_largest_distance(tol):
+    """Oracle: the default closest-point query of every point (global, certified); the fit
+    certifies only the points near the largest distance and must report the same maximum,
+    and no point's reported distance may be below its certified one."""
+    from cagd import closest_point
+    Q = anchor_grid(50)
+    r = fit_surface(Q, tol)
+    near = closest_point(r.surface, Q.reshape(-1, 3))
+    d = np.asarray(near.distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 * float(np.abs(Q).max())
+    # rms from distances each at least the certified one (an upper bound where not certified)
+    assert r.rms_error >= float(np.sqrt(np.mean(d ** 2))) - 1e-12
+    # the reported feet are points of the surface within the reported distances' rms
+    feet = r.surface(r.params[..., 0].ravel(), r.params[..., 1].ravel())
+    assert float(np.sqrt(np.mean(((feet - Q.reshape(-1, 3)) ** 2).sum(-1)))) <= r.rms_error + 1e-12
+
+
+def test_measured_certifies_more_when_the_share_misses():
+    """The points' distances at their fitting parameters may overstate the certified ones
+    by more than CERTIFY_SHARE: a fit evaluated at parameters shifted far off (the grid's
+    own surface, parameters moved) still reports the certified largest distance."""
+    from cagd import closest_point
+    from cagd.fitting.fit_surface import _measured
+    t = np.linspace(0, 1, 30)
+    X, Y = np.meshgrid(t, t, indexing="ij")
+    S = BSplineSurface(np.stack([np.stack([X, Y, 0.1 * np.sin(3 * X) * Y], -1)[::9, ::9]], 0)[0], 3, 3)
+    Q = S.grid(t, t) + np.array([0.0, 0.0, 1e-3])
+    uv = np.stack(np.meshgrid(t, t, indexing="ij"), -1).reshape(-1, 2)
+    # every point's fitting parameter off its foot: half by 0.05 in u, half by 0.01
+    shifted = np.clip(uv + np.array([0.05, 0.0]) * np.where(uv[:, :1] < 0.5, 1.0, 0.2), 0, 1)
+    at = np.sqrt(((S(shifted[:, 0], shifted[:, 1]) - Q.reshape(-1, 3)) ** 2).sum(-1))
+    r = _measured(S, Q.reshape(-1, 3), at, shifted, 0.01, 0)
+    d = np.asarray(closest_point(S, Q.reshape(-1, 3)).distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 and r.converged
