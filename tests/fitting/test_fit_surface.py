@@ -257,3 +257,45 @@ def test_measured_certifies_more_when_the_share_misses():
     r = _measured(S, Q.reshape(-1, 3), at, shifted, 0.01, 0)
     d = np.asarray(closest_point(S, Q.reshape(-1, 3)).distances)
     assert abs(r.max_error - float(d.max())) <= 1e-12 and r.converged
+
+
+# --- degree="auto" and the trimming polish ----------------------------------------------------
+def test_auto_degree_keeps_the_fewest_poles():
+    from cagd.fitting.fit_surface import AUTO_DEGREES
+    Q = anchor_grid(60)
+    fits = {p: fit_surface(Q, 0.001, degree=p) for p in AUTO_DEGREES}
+    r = fit_surface(Q, 0.001, degree="auto")
+    count = lambda f: int(np.prod(f.surface.control_points.shape[:2]))   # noqa: E731
+    fewest = min(count(f) for f in fits.values() if f.converged)
+    assert r.converged and count(r) == fewest
+    first = min(p for p, f in fits.items() if f.converged and count(f) == fewest)
+    assert r.surface.degree_u == r.surface.degree_v == first
+    assert abs(r.max_error - fits[first].max_error) <= 1e-15 and "degree" in r.message
+    with pytest.raises(CagdError, match="degree"):
+        fit_surface(Q, 0.01, degree="best")
+
+
+def test_auto_degree_skips_what_the_grid_cannot_take():
+    g = anchor_grid(5)                         # degree 5 needs 6 rows: skipped
+    r = fit_surface(g, 0.1, degree="auto")
+    assert r.converged and r.surface.degree_u <= 4
+
+
+def test_polish_moves_uniform_knots_within_tol():
+    """Uniform 10 x 10 spans miss the anchor at tol 0.01 by 4x (uniform knots need about
+    twice the poles); redistributing them by the fit's own row and column misses at the same counts
+    brings the fit within tol."""
+    from cagd.fitting.fit_surface import _polished
+    from cagd.fitting.separable import SeparableGrid
+    from cagd.surfaces.fitting import surface_parameters
+    Q = anchor_grid(100)
+    u, v = surface_parameters(Q, "centripetal")
+    u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
+    g = SeparableGrid(Q, u, v, 3, 3)
+    b = np.linspace(0, 1, 11)
+    P, miss = g.fit(b, b)
+    assert miss.max() > 4 * 0.01
+    out = _polished((P, b, b, float(miss.max()), miss), g.fit, (12, u, v), 0.01, (3, 3))
+    assert out is not None and len(out[1]) == len(out[2]) == 11
+    P2, miss2 = g.fit(out[1], out[2])
+    assert float(miss2.max()) <= 0.01 and np.array_equal(miss2, out[4])
