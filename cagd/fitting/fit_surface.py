@@ -550,11 +550,11 @@ def _base_parameters(Q: np.ndarray, base) -> np.ndarray:
 def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarray, bu: np.ndarray, bv: np.ndarray,
                pu: int, pv: int) -> Tuple[np.ndarray, BSplineSurface, np.ndarray]:
     """Parameter correction (Hoschek 1988; Piegl & Tiller 9.4.1, here for a surface): the
-    parameters move to the points' certified closest points on the current fit and the
-    fit is solved again on the same knots, at most SCATTER_CORRECTIONS passes, stopping
+    parameters move to the points' feet on the current fit (:func:`_local_feet`, from
+    the current parameters) and the fit is solved again on the same knots, at most SCATTER_CORRECTIONS passes, stopping
     when the largest miss drops by less than CORRECTION_GAIN; the better fit is kept."""
     for _ in range(SCATTER_CORRECTIONS):
-        uv2 = np.clip(np.asarray(_certified(S, Q).params, dtype=float), 0.0, 1.0)
+        uv2 = _local_feet(S, Q, uv)
         S2, miss2 = _scattered_solve(Q, uv2, bu, bv, pu, pv)
         gain = float(miss2.max()) < (1.0 - CORRECTION_GAIN) * float(miss.max())
         if float(miss2.max()) < float(miss.max()):
@@ -562,6 +562,38 @@ def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarra
         if not gain:
             break
     return uv, S, miss
+
+
+#: Gauss-Newton steps of :func:`_local_feet`
+FOOT_STEPS = 3
+
+
+def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """The points' feet on S near their parameters uv (N, 2): FOOT_STEPS Gauss-Newton
+    steps on |S(x) - Q|^2 (x <- x + (J^T J)^-1 J^T (Q - S(x)), J = [S_u S_v]; Piegl &
+    Tiller 6.1 without the curvature term, which vanishes with the distance), clamped to
+    [0, 1]^2, each point's step kept only where its distance drops. Local (the parameter
+    correction of a fit whose points lie near it; the measurement certifies)."""
+    x = np.array(uv, dtype=float)
+    D = S.derivatives(x[:, 0], x[:, 1], 1, 1)
+    r = Q - D[0, 0]
+    d = np.einsum("ij,ij->i", r, r)
+    Su, Sv = D[1, 0], D[0, 1]
+    for _ in range(FOOT_STEPS):
+        a, b, c = (np.einsum("ij,ij->i", A, B) for A, B in ((Su, Su), (Su, Sv), (Sv, Sv)))
+        gu, gv = np.einsum("ij,ij->i", Su, r), np.einsum("ij,ij->i", Sv, r)
+        det = a * c - b * b
+        ok = det > 1e-12 * np.maximum(a * c, 1e-300)
+        safe = np.where(ok, det, 1.0)
+        step = np.stack([np.where(ok, (c * gu - b * gv) / safe, 0.0), np.where(ok, (a * gv - b * gu) / safe, 0.0)], 1)
+        y = np.clip(x + step, 0.0, 1.0)
+        E = S.derivatives(y[:, 0], y[:, 1], 1, 1)
+        r2 = Q - E[0, 0]
+        d2 = np.einsum("ij,ij->i", r2, r2)
+        better = d2 < d
+        x[better], r[better], d[better] = y[better], r2[better], d2[better]
+        Su[better], Sv[better] = E[1, 0][better], E[0, 1][better]
+    return x
 
 
 def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int,

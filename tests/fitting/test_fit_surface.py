@@ -299,3 +299,22 @@ def test_polish_moves_uniform_knots_within_tol():
     assert out is not None and len(out[1]) == len(out[2]) == 11
     P2, miss2 = g.fit(out[1], out[2])
     assert float(miss2.max()) <= 0.01 and np.array_equal(miss2, out[4])
+
+
+def test_local_feet_are_the_closest_points_of_near_points():
+    """Oracle: the certified closest points (cagd.closest_point) of points lying near a
+    surface, from parameters off by up to 0.02; the feet never move a point farther."""
+    from cagd import closest_point
+    from cagd.fitting.fit_surface import _local_feet
+    rng = np.random.default_rng(4)
+    X, Y = np.meshgrid(np.linspace(0, 10, 5), np.linspace(0, 10, 5), indexing="ij")
+    S = BSplineSurface(np.stack([X, Y, rng.random((5, 5))], -1), 3, 3)
+    uv = rng.random((2000, 2)) * 0.96 + 0.02
+    Q = S(uv[:, 0], uv[:, 1]) + rng.normal(0, 0.01, (2000, 3))
+    start = np.clip(uv + rng.uniform(-0.02, 0.02, uv.shape), 0, 1)
+    x = _local_feet(S, Q, start)
+    near = closest_point(S, Q)
+    d = np.sqrt(((S(x[:, 0], x[:, 1]) - Q) ** 2).sum(-1))
+    d0 = np.sqrt(((S(start[:, 0], start[:, 1]) - Q) ** 2).sum(-1))
+    assert np.all(d <= d0)
+    assert np.abs(d - np.asarray(near.distances)).max() <= 1e-9
