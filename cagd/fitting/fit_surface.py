@@ -135,7 +135,7 @@ def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: in
 
 
 def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
-             polish: Optional[Tuple[int, np.ndarray, np.ndarray]] = None):
+             polish=None):
     """Greedy knot trimming (knot placement that follows the residual): while the fit
     ``best`` = (surface, breaks_u, breaks_v, largest miss, misses) is within tol, try one
     span fewer along u and along v, the breakpoints redistributed by each error source
@@ -143,8 +143,8 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
     equidistribution, as the rounds), each candidate solved by ``solve(bu, bv)`` ->
     (surface, misses); keep the one with the smallest largest miss while it stays within
     tol, at most MAX_TRIM_STEPS steps. Grids: when every candidate misses, each
-    direction's best one gets :func:`_polished` (``polish`` = (passes, u, v), the grid's
-    parameters; for cheap solves only: the separable one). Returns (best, steps)."""
+    direction's best one gets :func:`_polished` (``polish`` = (passes, misses), see
+    there). Returns (best, steps)."""
     steps = 0
     while best[3] <= tol and steps < MAX_TRIM_STEPS:
         steps += 1
@@ -172,17 +172,18 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
     return best, steps
 
 
-def _polished(fit, solve, polish: Tuple[int, np.ndarray, np.ndarray], tol: float, degrees: Tuple[int, int]):
-    """The knots of a grid fit that misses tol moved at the same span counts: both
-    directions' breakpoints redistributed by the fit's largest misses per row and per
-    column (de Boor's equidistribution repeated, towards equal span errors), at most
-    ``polish[0]`` solves, stopping when the largest miss grows; the first fit within tol,
-    or None."""
-    passes, u, v = polish
+def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int]):
+    """The knots of a fit that misses tol moved at the same span counts: both directions'
+    breakpoints redistributed by the fit's own misses (``polish`` = (passes, misses):
+    ``misses(fit)`` per direction a pair (parameters, misses), e.g. a grid's largest per
+    row and per column; de Boor's equidistribution repeated, towards equal span errors),
+    at most ``passes`` solves, stopping when the largest miss grows; the first fit within
+    tol, or None."""
+    passes, misses = polish
     for _ in range(passes):
-        new = [_redistributed(fit[1 + axis], _worth(_span_errors(fit[1 + axis], t, fit[4].max(axis=1 - axis)),
-                                                    tol, degrees[axis]), len(fit[1 + axis]) - 1)
-               for axis, t in enumerate((u, v))]
+        new = [_redistributed(fit[1 + axis], _worth(_span_errors(fit[1 + axis], t, e), tol, degrees[axis]),
+                              len(fit[1 + axis]) - 1)
+               for axis, (t, e) in enumerate(misses(fit))]
         S2, miss2, *extra = solve(*new)
         if float(miss2.max()) > fit[3]:
             return None
@@ -472,6 +473,12 @@ def _net_fit(Q: np.ndarray, tol: float, degrees: Tuple[int, int], caps: Tuple[in
 SCATTER_REGULARISATION = 1e-9
 #: the points' second principal spread below this fraction of the first: they lie on a line
 PLANE_SPREAD_TOL = 1e-9
+#: a scattered fit's trimming polish passes (:func:`_polished`; each one solve)
+SCATTER_POLISH = 2
+#: a scattered fit's spans grow by at most this factor per round (the error model
+#: overshot: 12 x 12 -> 28 x 34 poles on the 10,000-point anchor at tol 0.001, trimmed back
+#: to 22 x 21 span by span in 49 solves; 23 with the factor 2)
+SCATTER_GROWTH = 2
 #: points per chunk of the scattered normal equations
 SCATTER_CHUNK = 65536
 
@@ -667,7 +674,8 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
 
     best, shrunk = _shrunk((P, bu, bv, float(miss.max()), miss), grid.fit, grid_sources, tol_n, (pu, pv),
                            MAX_FIT_ROUNDS - rounds)
-    best, trimmed = _trimmed(best, grid.fit, grid_sources, tol_n, (pu, pv), (POLISH_PASSES, u, v))
+    best, trimmed = _trimmed(best, grid.fit, grid_sources, tol_n, (pu, pv),
+                             (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))))
     rounds += shrunk + trimmed
     S = BSplineSurface(best[0], pu, pv, _knots(best[1], pu), _knots(best[2], pv))
     return (S,) + tuple(best[1:]), rounds
@@ -768,8 +776,8 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     rounds = 0
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
-        nu = _grown(bu, uv[:, 0], miss, tol_n, pu, most_u)
-        nv = _grown(bv, uv[:, 1], miss, tol_n, pv, most_v)
+        nu = _grown(bu, uv[:, 0], miss, tol_n, pu, min(most_u, SCATTER_GROWTH * (len(bu) - 1)))
+        nv = _grown(bv, uv[:, 1], miss, tol_n, pv, min(most_v, SCATTER_GROWTH * (len(bv) - 1)))
         if len(nu) == len(bu) and len(nv) == len(bv):
             break
         bu, bv = nu, nv
@@ -789,7 +797,8 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
 
     best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss, uv), solve, sources, tol_n, (pu, pv),
                            MAX_FIT_ROUNDS - rounds)
-    best, trimmed = _trimmed(best, solve, sources, tol_n, (pu, pv))
+    best, trimmed = _trimmed(best, solve, sources, tol_n, (pu, pv),
+                             (SCATTER_POLISH, lambda fit: ((fit[5][:, 0], fit[4]), (fit[5][:, 1], fit[4]))))
     rounds += shrunk + trimmed
     S, uv = best[0], best[5]
     out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)

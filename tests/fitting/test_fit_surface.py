@@ -295,7 +295,8 @@ def test_polish_moves_uniform_knots_within_tol():
     b = np.linspace(0, 1, 11)
     P, miss = g.fit(b, b)
     assert miss.max() > 4 * 0.01
-    out = _polished((P, b, b, float(miss.max()), miss), g.fit, (12, u, v), 0.01, (3, 3))
+    out = _polished((P, b, b, float(miss.max()), miss), g.fit,
+                    (12, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))), 0.01, (3, 3))
     assert out is not None and len(out[1]) == len(out[2]) == 11
     P2, miss2 = g.fit(out[1], out[2])
     assert float(miss2.max()) <= 0.01 and np.array_equal(miss2, out[4])
@@ -318,3 +319,26 @@ def test_local_feet_are_the_closest_points_of_near_points():
     d0 = np.sqrt(((S(start[:, 0], start[:, 1]) - Q) ** 2).sum(-1))
     assert np.all(d <= d0)
     assert np.abs(d - np.asarray(near.distances)).max() <= 1e-9
+
+
+def test_scattered_growth_at_most_doubles_per_round(monkeypatch):
+    """The scattered rounds grow each direction's spans by at most SCATTER_GROWTH (the
+    error model overshot: 12 x 12 -> 28 x 34 poles in one round on the anchor), and the
+    result stays within tol with no more poles than the trimmed count measured before."""
+    import sys
+    fs = sys.modules["cagd.fitting.fit_surface"]
+    seen = []
+    solve = fs._scattered_solve
+
+    def traced(Q, uv, bu, bv, pu, pv, weights=None):
+        seen.append((len(bu) - 1, len(bv) - 1))
+        return solve(Q, uv, bu, bv, pu, pv, weights)
+    monkeypatch.setattr(fs, "_scattered_solve", traced)
+    r = fit_surface(scattered(), 0.001)
+    assert r.converged and r.max_error <= 0.001
+    k = 1
+    while k < len(seen) and seen[k][0] * seen[k][1] > seen[k - 1][0] * seen[k - 1][1]:
+        k += 1
+    grow = seen[:k]                                                  # the growing rounds
+    assert len(grow) >= 3, seen
+    assert all(b[0] <= fs.SCATTER_GROWTH * a[0] and b[1] <= fs.SCATTER_GROWTH * a[1] for a, b in zip(grow, grow[1:]))
