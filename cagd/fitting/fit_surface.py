@@ -603,17 +603,33 @@ def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> np.ndarray:
     return x
 
 
+def _chunk_basis(uv: np.ndarray, U: np.ndarray, V: np.ndarray, pu: int, pv: int):
+    """Per chunk of SCATTER_CHUNK points: (first row, B (k, (pu+1)(pv+1)) the tensor basis
+    values N_i(u) N_j(v) of the poles each point touches, cols their flat pole indices
+    i nv + j)."""
+    from ..basis.bspline import basis_derivatives
+    from ..knots import vectors as kv
+    nu, nv = len(U) - pu - 1, len(V) - pv - 1
+    a, b = np.meshgrid(np.arange(pu + 1), np.arange(pv + 1), indexing="ij")
+    for c0 in range(0, len(uv), SCATTER_CHUNK):
+        u, v = uv[c0:c0 + SCATTER_CHUNK, 0], uv[c0:c0 + SCATTER_CHUNK, 1]
+        su, sv = kv.find_span(U, pu, u, nu), kv.find_span(V, pv, v, nv)
+        Nu, Nv = basis_derivatives(U, pu, u, su, 0)[0], basis_derivatives(V, pv, v, sv, 0)[0]
+        B = (Nu[:, :, None] * Nv[:, None, :]).reshape(len(u), -1)
+        cols = ((su - pu)[:, None] + a.ravel()) * nv + (sv - pv)[:, None] + b.ravel()
+        yield c0, B, cols
+
+
 def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarray, pu: int, pv: int,
                      weights: Optional[np.ndarray] = None) -> Tuple[BSplineSurface, np.ndarray]:
     """The least-squares tensor B-spline on the breakpoints through the scattered points
-    at their parameters (normal equations, the band pu nv + pv wide, a thin-plate
-    regulariser of SCATTER_REGULARISATION), and its misses there; ``weights`` (N,) of the
-    points (default: equal), scaled to sum 1."""
+    at their parameters (normal equations accumulated per knot cell,
+    :func:`cagd.fitting.separable.cell_normal_band`; the band pu nv + pv wide; a thin-plate
+    regulariser of SCATTER_REGULARISATION), and its misses there (from the same basis
+    values); ``weights`` (N,) of the points (default: equal), scaled to sum 1."""
     from ..basis.banded import solve_banded_rows
-    from ..basis.bspline import basis_derivatives
-    from ..knots import vectors as kv
     from .fair import _thin_plate_band
-    from .fit import _accumulate
+    from .separable import cell_normal_band
     U, V = _knots(bu, pu), _knots(bv, pv)
     nu, nv = len(U) - pu - 1, len(V) - pv - 1
     start, E = _thin_plate_band(U, pu, V, pv)
@@ -621,23 +637,20 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
     d = Q.shape[1]
     rhs = np.zeros((nu * nv, d))
     w = np.full(len(Q), 1.0 / len(Q)) if weights is None else weights / weights.sum()
-    a, b = np.meshgrid(np.arange(pu + 1), np.arange(pv + 1), indexing="ij")
-    for c0 in range(0, len(Q), SCATTER_CHUNK):
-        u, v = uv[c0:c0 + SCATTER_CHUNK, 0], uv[c0:c0 + SCATTER_CHUNK, 1]
-        su, sv = kv.find_span(U, pu, u, nu), kv.find_span(V, pv, v, nv)
-        Nu, Nv = basis_derivatives(U, pu, u, su, 0)[0], basis_derivatives(V, pv, v, sv, 0)[0]
-        B = (Nu[:, :, None] * Nv[:, None, :]).reshape(len(u), -1)
-        cols = ((su - pu)[:, None] + a.ravel()) * nv + (sv - pv)[:, None] + b.ravel()
-        wc = w[c0:c0 + SCATTER_CHUNK]
-        _accumulate(A, start, cols, B, wc, 1)
+    for c0, B, cols in _chunk_basis(uv, U, V, pu, pv):
+        wc = w[c0:c0 + len(B)]
+        cell_normal_band(A, start, cols, B, wc)
         for k in range(d):
-            rhs[:, k] += np.bincount(cols.ravel(), (B * (wc * Q[c0:c0 + SCATTER_CHUNK, k])[:, None]).ravel(),
+            rhs[:, k] += np.bincount(cols.ravel(), (B * (wc * Q[c0:c0 + len(B), k])[:, None]).ravel(),
                                      minlength=nu * nv)
     A += SCATTER_REGULARISATION * float(np.abs(A).max()) / (float(np.abs(E).max()) or 1.0) * E
-    P = solve_banded_rows(start, A, rhs, "points").reshape(nu, nv, d)
-    S = BSplineSurface(P, pu, pv, U, V)
-    miss = np.sqrt(((S(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
-    return S, miss
+    P = solve_banded_rows(start, A, rhs, "points")
+    miss = np.empty(len(Q))
+    for c0, B, cols in _chunk_basis(uv, U, V, pu, pv):
+        values = np.einsum("kq,kqd->kd", B, P[cols])
+        D = values - Q[c0:c0 + len(B)]
+        miss[c0:c0 + len(B)] = np.sqrt(np.einsum("kd,kd->k", D, D))
+    return BSplineSurface(P.reshape(nu, nv, d), pu, pv, U, V), miss
 
 
 def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],

@@ -72,3 +72,34 @@ def test_grid_poles_are_the_tensor_of_one_direction_fits(degrees):
     cols = lsq_ends_held(Q.transpose(1, 0, 2).reshape(n, -1), v, V, pv)
     along_v = BSpline(V, cols, pv)(v).reshape(n, m, 3).transpose(1, 0, 2)
     assert np.abs(rv - np.sqrt(((along_v - Q) ** 2).sum(-1))).max() <= 1e-9
+
+
+@pytest.mark.parametrize("crowded", [False, True])
+def test_cell_normal_band_is_the_normal_matrix(crowded):
+    """Oracle: the dense normal matrix sum_k w_k B_k B_k^T of the scattered tensor basis
+    (built by numpy outer products), read through the band layout; crowded: most points
+    in one cell (the per-span fallback)."""
+    from cagd.basis.bspline import basis_matrix
+    from cagd.fitting.separable import cell_normal_band
+    from cagd.fitting.fit_surface import _chunk_basis
+    rng = np.random.default_rng(2)
+    uv = rng.random((3000, 2))
+    if crowded:
+        uv[:2900] = 0.01 + 0.02 * rng.random((2900, 2))
+    bu, bv = np.array([0.0, 0.3, 0.5, 1.0]), np.array([0.0, 0.25, 0.6, 0.8, 1.0])
+    U, V = clamped(bu, 3), clamped(bv, 2)
+    nu, nv = len(U) - 4, len(V) - 3
+    w = rng.random(3000)
+    size = nu * nv
+    reach = 3 * nv + 2
+    width = 2 * reach + 1
+    start = np.clip(np.arange(size) - reach, 0, size - width)
+    band = np.zeros((size, width))
+    for c0, B, cols in _chunk_basis(uv, U, V, 3, 2):
+        cell_normal_band(band, start, cols, B, w[c0:c0 + len(B)])
+    K = np.einsum("ki,kj->kij", basis_matrix(U, 3, uv[:, 0], nu), basis_matrix(V, 2, uv[:, 1], nv)).reshape(3000, -1)
+    dense = (K * w[:, None]).T @ K
+    got = np.zeros((size, size))
+    rows = np.arange(size)[:, None]
+    got[rows, start[:, None] + np.arange(width)] = band
+    assert np.abs(got - dense).max() <= 1e-12 * np.abs(dense).max()
