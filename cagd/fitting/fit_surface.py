@@ -637,7 +637,11 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
     d = Q.shape[1]
     rhs = np.zeros((nu * nv, d))
     w = np.full(len(Q), 1.0 / len(Q)) if weights is None else weights / weights.sum()
-    for c0, B, cols in _chunk_basis(uv, U, V, pu, pv):
+    chunks = _chunk_basis(uv, U, V, pu, pv)
+    kept = []                       # one chunk: its basis values serve the misses too
+    for c0, B, cols in chunks:
+        if len(uv) <= SCATTER_CHUNK:
+            kept.append((c0, B, cols))
         wc = w[c0:c0 + len(B)]
         cell_normal_band(A, start, cols, B, wc)
         for k in range(d):
@@ -646,7 +650,7 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
     A += SCATTER_REGULARISATION * float(np.abs(A).max()) / (float(np.abs(E).max()) or 1.0) * E
     P = solve_banded_rows(start, A, rhs, "points")
     miss = np.empty(len(Q))
-    for c0, B, cols in _chunk_basis(uv, U, V, pu, pv):
+    for c0, B, cols in kept or _chunk_basis(uv, U, V, pu, pv):
         values = np.einsum("kq,kqd->kd", B, P[cols])
         D = values - Q[c0:c0 + len(B)]
         miss[c0:c0 + len(B)] = np.sqrt(np.einsum("kd,kd->k", D, D))
