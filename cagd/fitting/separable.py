@@ -153,35 +153,29 @@ def _norms(D: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("...i,...i->...", D, D))
 
 
-#: padded entries (cells x most points in a cell x basis values) of :func:`cell_normal_band`
-#: at most this many times the points' entries; beyond (points crowded in a few cells) the
-#: per-span accumulation of :func:`cagd.fitting.fit._accumulate`
-PAD_FACTOR = 4
-
-
 def cell_normal_band(band: np.ndarray, start: np.ndarray, cols: np.ndarray, B: np.ndarray, w: np.ndarray) -> None:
     """band += sum_k w_k B_k B_k^T at the unknowns cols[k] (k, q) (w >= 0; the rows of
     :func:`cagd.basis.banded.solve_banded_rows`: entry (i, j) at band[i, j - start[i]]):
-    the points grouped by their knot cell (their first unknown), each cell's q x q sum
-    one product of its padded rows sqrt(w) B (batched matmul), scattered into the band
-    once per cell. The same sums as :func:`cagd.fitting.fit._accumulate` (d = 1, no
-    coupling), with less memory traffic."""
-    from .fit import _accumulate
+    the points grouped by their knot cell (their first unknown) into bins of at most
+    s = ceil(points / cells) rows of one cell each, each bin's q x q sum one product of
+    its zero-padded rows sqrt(w) B (a batched matmul over (bins, s, q), bins <= points / s +
+    cells, so at most twice the points' entries), scattered into the band once per bin.
+    The same sums as :func:`cagd.fitting.fit._accumulate` (d = 1, no coupling), with less
+    memory traffic."""
     n, q = B.shape
     order = np.argsort(cols[:, 0], kind="stable")
     first = cols[order, 0]
     cut = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
     counts = np.diff(np.r_[cut, n])
-    most = int(counts.max())
-    if len(cut) * most > PAD_FACTOR * n:
-        _accumulate(band, start, cols, B, w, 1)
-        return
-    cell = np.repeat(np.arange(len(cut)), counts)
-    slot = np.arange(n) - np.repeat(cut, counts)
-    padded = np.zeros((len(cut), most, q))
-    padded[cell, slot] = B[order] * np.sqrt(w[order])[:, None]
-    G = np.matmul(padded.transpose(0, 2, 1), padded)                         # (cells, q, q)
-    cc = cols[order[cut]]
+    size = max(1, -(-n // len(cut)))
+    slot = np.arange(n) - np.repeat(cut, counts)                 # the row's place in its cell
+    per = -(-counts // size)                                     # bins per cell
+    base = np.r_[0, np.cumsum(per)[:-1]]
+    binn = np.repeat(base, counts) + slot // size
+    padded = np.zeros((int(per.sum()), size, q))
+    padded[binn, slot % size] = B[order] * np.sqrt(w[order])[:, None]
+    G = np.matmul(padded.transpose(0, 2, 1), padded)                         # (bins, q, q)
+    cc = np.repeat(cols[order[cut]], per, axis=0)                            # each bin's unknowns
     rows = cc[:, :, None]
     index = np.broadcast_to(rows * band.shape[1] + cc[:, None, :] - start[rows], G.shape)
     band.ravel()[:] += np.bincount(index.ravel(), G.ravel(), minlength=band.size)

@@ -78,7 +78,7 @@ def test_grid_poles_are_the_tensor_of_one_direction_fits(degrees):
 def test_cell_normal_band_is_the_normal_matrix(crowded):
     """Oracle: the dense normal matrix sum_k w_k B_k B_k^T of the scattered tensor basis
     (built by numpy outer products), read through the band layout; crowded: most points
-    in one cell (the per-span fallback)."""
+    in one cell (split into several bins)."""
     from cagd.basis.bspline import basis_matrix
     from cagd.fitting.separable import cell_normal_band
     from cagd.fitting.fit_surface import _chunk_basis
