@@ -3,6 +3,7 @@ dense sampling of the result), a bicubic patch sampled at its own parameters com
 as itself, noise does not multiply the control points, bad input names the argument."""
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from cagd import BSplineSurface, CagdError, fit_surface
@@ -342,3 +343,21 @@ def test_scattered_growth_at_most_doubles_per_round(monkeypatch):
     grow = seen[:k]                                                  # the growing rounds
     assert len(grow) >= 3, seen
     assert all(b[0] <= fs.SCATTER_GROWTH * a[0] and b[1] <= fs.SCATTER_GROWTH * a[1] for a, b in zip(grow, grow[1:]))
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10_000), m=st.integers(8, 30), n=st.integers(8, 30),
+       tol=st.sampled_from([0.05, 0.01, 0.002]), degree=st.sampled_from([2, 3, 4]))
+def test_measured_max_is_certified_property(seed, m, n, tol, degree):
+    """On random bumpy grids the reported max_error is the largest certified distance of
+    all points (cagd.closest_point of every point, the oracle), within tol when converged."""
+    from cagd import closest_point
+    rng = np.random.default_rng(seed)
+    x, y = np.linspace(0, 10, m), np.linspace(0, 10, n)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    a, b, c = rng.uniform(0.2, 1.0, 3)
+    Q = np.stack([X, Y, np.sin(a * X) * np.cos(b * Y) + c * rng.normal(0, 0.01, X.shape)], -1)
+    r = fit_surface(Q, tol, degree=min(degree, m - 1, n - 1))
+    d = np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 * 10
+    assert not r.converged or float(d.max()) <= tol
