@@ -57,9 +57,8 @@ DIRECTION_SHARE = 1.0 / np.sqrt(2.0)
 class SurfaceFit(ReadOnlyArrays):
     """The result of :func:`fit_surface`: ``surface``; ``max_error`` the largest certified
     distance of the points from it; ``rms_error`` the root-mean-square of their distances
-    (certified near the largest, elsewhere at the fitting parameters: an upper bound);
-    ``params`` (m, n, 2) (or (N, 2)) the feet where certified, else the fitting
-    parameters; ``rounds``; ``converged`` (max_error <= tol) and ``message``."""
+    (certified near the largest, elsewhere at the local feet); ``params`` (m, n, 2) (or
+    (N, 2)) the feet; ``rounds``; ``converged`` (max_error <= tol) and ``message``."""
     surface: BSplineSurface
     max_error: float
     rms_error: float
@@ -561,7 +560,7 @@ def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarra
     the current parameters) and the fit is solved again on the same knots, at most SCATTER_CORRECTIONS passes, stopping
     when the largest miss drops by less than CORRECTION_GAIN; the better fit is kept."""
     for _ in range(SCATTER_CORRECTIONS):
-        uv2 = _local_feet(S, Q, uv)
+        uv2 = _local_feet(S, Q, uv)[0]
         S2, miss2 = _scattered_solve(Q, uv2, bu, bv, pu, pv)
         gain = float(miss2.max()) < (1.0 - CORRECTION_GAIN) * float(miss.max())
         if float(miss2.max()) < float(miss.max()):
@@ -575,12 +574,13 @@ def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarra
 FOOT_STEPS = 3
 
 
-def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> np.ndarray:
+def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """The points' feet on S near their parameters uv (N, 2): FOOT_STEPS Gauss-Newton
     steps on |S(x) - Q|^2 (x <- x + (J^T J)^-1 J^T (Q - S(x)), J = [S_u S_v]; Piegl &
     Tiller 6.1 without the curvature term, which vanishes with the distance), clamped to
     [0, 1]^2, each point's step kept only where its distance drops. Local (the parameter
-    correction of a fit whose points lie near it; the measurement certifies)."""
+    correction of a fit whose points lie near it; the measurement certifies where it
+    decides). Returns (feet (N, 2), distances (N,))."""
     x = np.array(uv, dtype=float)
     D = S.derivatives(x[:, 0], x[:, 1], 1, 1)
     r = Q - D[0, 0]
@@ -600,7 +600,7 @@ def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> np.ndarray:
         better = d2 < d
         x[better], r[better], d[better] = y[better], r2[better], d2[better]
         Su[better], Sv[better] = E[1, 0][better], E[0, 1][better]
-    return x
+    return x, np.sqrt(d)
 
 
 def _chunk_basis(uv: np.ndarray, U: np.ndarray, V: np.ndarray, pu: int, pv: int):
@@ -853,8 +853,8 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     below s times the largest ``at``, every point below CERTIFY_FLOOR). The other points
     are closer than s max(at), at most that largest certified distance, so ``max_error``
     is the certified largest distance of all points; ``rms_error`` and ``params`` take
-    the certified distance and foot where computed and ``at`` and ``uv`` (an upper bound,
-    the fitting parameters) elsewhere."""
+    the certified distance and foot where computed and the local foot from ``uv``
+    elsewhere (:func:`_local_feet`: the closest point of a point near the fit)."""
     from ..queries.closest import Projector
     top = float(at.max())
     dist, params = at.copy(), uv.copy()
@@ -872,6 +872,11 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
         if done.all() or float(dist[done].max()) >= share * top:
             break
         share *= CERTIFY_LOWER
+    rest = np.flatnonzero(~done)
+    if len(rest):                   # the others' local feet: their distances for the rms
+        feet, local = _local_feet(out, X[rest], uv[rest])
+        closer = local < dist[rest]
+        dist[rest[closer]], params[rest[closer]] = local[closer], feet[closer]
     worst, rms = float(dist.max()), float(np.sqrt(np.mean(dist ** 2)))
     shape = out.control_points.shape[:2]
     ok = worst <= tol
