@@ -5,23 +5,28 @@ The grid Q (m, n, d) gets averaged parameters per direction (Piegl & Tiller 9.2.
 :func:`cagd.surfaces.surface_parameters`), and a tensor-product least-squares fit with the
 corner rows held: along u for every column, then along v (the tensor least squares
 separates; Piegl & Tiller 9.4.3), by dense per-direction operators built once per knot
-vector (:mod:`cagd.fitting.separable`: a solve is two matrix products). The knots of each direction are placed as in
-:func:`cagd.fit_curve` (de Boor's equidistribution of the error), each direction by its
-own error: the residuals of fitting the grid's columns along u alone (the u knots'
-part of the error) and its rows along v alone (the v knots' part). Rounds grow the
-span counts until every grid point is within tol at its parameters (an upper bound of
-its distance), then shrink both counts while they stay within (:func:`_shrunk`), then
-trim one span at a time, the direction and error source whose candidate misses least
-(:func:`_trimmed`); the reported largest error is the certified closest-point distance
-(the closest-point machinery's light tier, :func:`_certified`), certified for the points
-that can decide it (:func:`_measured`). The separable fit holds the boundary curves: its boundary
-rows of control points are the 1-D fits of the grid's boundary rows (``boundary="G0"``).
+vector (:mod:`cagd.fitting.separable`: a solve is four matrix products). The knots of
+each direction are placed as in :func:`cagd.fit_curve` (de Boor's equidistribution of
+the error), each direction by its own error: the residuals of fitting the grid's
+columns along u alone (the u knots' part of the error) and its rows along v alone (the
+v knots' part). Rounds grow the span counts until every grid point is within tol at its
+parameters (an upper bound of its distance), then shrink both counts while they stay
+within (:func:`_shrunk`), then trim one span at a time, the direction and error source
+whose candidate misses least (:func:`_trimmed`; a candidate that misses gets its knots
+re-equidistributed by its own misses at the same counts, :func:`_polished`). The
+reported largest error is the certified closest-point distance (the closest-point
+machinery's light tier, :func:`_certified`), certified for the points that can decide it
+(:func:`_measured`); the others get their local feet. The separable fit holds the
+boundary curves: its boundary rows of control points are the 1-D fits of the grid's
+boundary rows (``boundary="G0"``). ``degree="auto"`` keeps the degree of AUTO_DEGREES with
+the fewest control points.
 
 Scattered points (:func:`fit_scattered`) get their parameters by projection onto a base
 (plane, least-squares quadric, or a given surface), one least-squares solve over all
-control points per knot vector, the same grow / shrink / trim, and parameter correction
-by re-projection onto the fit (Piegl & Tiller 9.4.1) where a candidate misses tol
-narrowly (:func:`_corrected`).
+control points per knot vector (normal equations per knot cell), the same grow (at most
+SCATTER_GROWTH per round) / shrink / trim, and parameter correction by re-projection
+onto the fit (local feet, Piegl & Tiller 9.4.1) where a candidate misses tol narrowly
+(:func:`_corrected`).
 
 Periodic directions, tangent planes held along edges and thin-plate smoothing need the
 least squares over the whole net (:mod:`cagd.fitting.surface_net`); ``minimax`` fits a
