@@ -317,9 +317,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     if not minimax:
         P[0, 0], P[0, -1], P[-1, 0], P[-1, -1] = Q[0, 0], Q[0, -1], Q[-1, 0], Q[-1, -1]
     out = BSplineSurface(P, pu, pv, S.knots_u, S.knots_v)
-    at = np.sqrt(((out.grid(u, v) - Q) ** 2).sum(-1)).ravel()
+    jet = (out.grid(u, v).reshape(-1, d), out.grid(u, v, 1, 0).reshape(-1, d), out.grid(u, v, 0, 1).reshape(-1, d))
+    at = np.sqrt(((jet[0] - Q.reshape(-1, d)) ** 2).sum(-1))
     grid_uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
-    fit = _measured(out, Q.reshape(-1, d), at, grid_uv, tol, rounds)
+    fit = _measured(out, Q.reshape(-1, d), at, grid_uv, tol, rounds, jet)
     return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
                       fit.converged, fit.message)
 
@@ -579,19 +580,23 @@ def _corrected(Q: np.ndarray, uv: np.ndarray, S: BSplineSurface, miss: np.ndarra
 FOOT_STEPS = 3
 
 
-def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray,
+                jet: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None) -> Tuple[np.ndarray, np.ndarray]:
     """The points' feet on S near their parameters uv (N, 2): FOOT_STEPS Gauss-Newton
     steps on |S(x) - Q|^2 (x <- x + (J^T J)^-1 J^T (Q - S(x)), J = [S_u S_v]; Piegl &
     Tiller 6.1 without the curvature term, which vanishes with the distance), clamped to
-    [0, 1]^2, each point's step kept only where its distance drops. Local (the parameter
-    correction of a fit whose points lie near it; the measurement certifies where it
-    decides). Returns (feet (N, 2), distances (N,))."""
+    [0, 1]^2, each point's step kept only where its distance drops; ``jet`` (S, S_u, S_v)
+    at uv when known (a grid's, by matrix products), the last step's point evaluated
+    without derivatives. Local (the parameter correction of a fit whose points lie near
+    it; the measurement certifies where it decides). Returns (feet (N, 2), distances (N,))."""
     x = np.array(uv, dtype=float)
-    D = S.derivatives(x[:, 0], x[:, 1], 1, 1)
-    r = Q - D[0, 0]
+    if jet is None:
+        D = S.derivatives(x[:, 0], x[:, 1], 1, 1)
+        jet = (D[0, 0], D[1, 0], D[0, 1])
+    F, Su, Sv = (np.array(a, dtype=float) for a in jet)
+    r = Q - F
     d = np.einsum("ij,ij->i", r, r)
-    Su, Sv = D[1, 0], D[0, 1]
-    for _ in range(FOOT_STEPS):
+    for k in range(FOOT_STEPS):
         a, b, c = (np.einsum("ij,ij->i", A, B) for A, B in ((Su, Su), (Su, Sv), (Sv, Sv)))
         gu, gv = np.einsum("ij,ij->i", Su, r), np.einsum("ij,ij->i", Sv, r)
         det = a * c - b * b
@@ -599,12 +604,14 @@ def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray) -> Tuple[np.nd
         safe = np.where(ok, det, 1.0)
         step = np.stack([np.where(ok, (c * gu - b * gv) / safe, 0.0), np.where(ok, (a * gv - b * gu) / safe, 0.0)], 1)
         y = np.clip(x + step, 0.0, 1.0)
-        E = S.derivatives(y[:, 0], y[:, 1], 1, 1)
+        last = k == FOOT_STEPS - 1
+        E = S.derivatives(y[:, 0], y[:, 1], 0 if last else 1, 0 if last else 1)
         r2 = Q - E[0, 0]
         d2 = np.einsum("ij,ij->i", r2, r2)
         better = d2 < d
         x[better], r[better], d[better] = y[better], r2[better], d2[better]
-        Su[better], Sv[better] = E[1, 0][better], E[0, 1][better]
+        if not last:
+            Su[better], Sv[better] = E[1, 0][better], E[0, 1][better]
     return x, np.sqrt(d)
 
 
@@ -850,7 +857,7 @@ CERTIFY_FLOOR = 1e-3
 
 
 def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray, tol: float,
-              rounds: int) -> SurfaceFit:
+              rounds: int, jet: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None) -> SurfaceFit:
     """The result measured: every point's distance is at most ``at``, its distance from
     the fit at its fitting parameters ``uv``, and the certified closest-point distance
     (:func:`_certified`) of the points where ``at`` is at least s times the largest,
@@ -859,7 +866,8 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     are closer than s max(at), at most that largest certified distance, so ``max_error``
     is the certified largest distance of all points; ``rms_error`` and ``params`` take
     the certified distance and foot where computed and the local foot from ``uv``
-    elsewhere (:func:`_local_feet`: the closest point of a point near the fit)."""
+    elsewhere (:func:`_local_feet`: the closest point of a point near the fit; ``jet``:
+    S, S_u, S_v (N, d) at uv when known)."""
     from ..queries.closest import Projector
     top = float(at.max())
     dist, params = at.copy(), uv.copy()
@@ -879,7 +887,8 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
         share *= CERTIFY_LOWER
     rest = np.flatnonzero(~done)
     if len(rest):                   # the others' local feet: their distances for the rms
-        feet, local = _local_feet(out, X[rest], uv[rest])
+        feet, local = _local_feet(out, X[rest], uv[rest],
+                                  None if jet is None else (jet[0][rest], jet[1][rest], jet[2][rest]))
         closer = local < dist[rest]
         dist[rest[closer]], params[rest[closer]] = local[closer], feet[closer]
     worst, rms = float(dist.max()), float(np.sqrt(np.mean(dist ** 2)))
