@@ -16,10 +16,11 @@ at the same tol, plain, with ``minimax=True`` and with the thin-plate smoothing
 (``smoothing=1e-9``), the ratios of the poles printed (the issue's target: 1.2); then
 10,000 scattered points of the same field (base plane and quadric).
 
-Every engine row is timed once after a warm-up fit; OCCT's rows print the ratios engine / OCCT
-of poles and time. The time of the numpy parts depends on the BLAS threads: on a loaded
-machine run with OPENBLAS_NUM_THREADS=1 (multithreaded OpenBLAS made a 133 x 133 solve
-10x slower with 2 cores shared).
+Every engine row is timed once after a warm-up fit; OCCT's rows print the ratios engine /
+OCCT of poles and time (wall clock, and process CPU time: less sensitive to a shared
+machine). The time of the numpy parts depends on the BLAS threads: on a loaded machine
+run with OPENBLAS_NUM_THREADS=1 (multithreaded OpenBLAS made a 133 x 133 solve 10x
+slower with 2 cores shared).
 
 Run: python -m benchmarks.fitting [--points N] [--tols 0.1,0.01,0.001] [--no-curve] [--no-surface]
 [--no-scattered] [--quick]
@@ -100,10 +101,10 @@ def occt_surface_fit(Q: np.ndarray, tol: float):
     for i in range(m):
         for j in range(n):
             arr.SetValue(i + 1, j + 1, gp_Pnt(*map(float, Q[i, j])))
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     fit = GeomAPI_PointsToBSplineSurface(arr, 3, 8, GeomAbs_C2, tol)
-    dt = time.perf_counter() - t0
-    return from_occ(fit.Surface()), dt
+    dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return from_occ(fit.Surface()), dt, cpu
 
 
 def _poles(S) -> int:
@@ -131,9 +132,9 @@ def surfaces(quick: bool = False, scattered: bool = True) -> bool:
                  ("clean smoothing=1e-9", Q, 0.02, {"smoothing": 1e-9})]
     occ_cache = {}
     for label, data, tol, options in rows:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         r = fit_surface(data, tol, **options)
-        dt = time.perf_counter() - t0
+        dt, cpu = time.perf_counter() - t0, time.process_time() - c0
         ok &= r.converged and r.max_error <= tol
         nu, nv = r.surface.control_points.shape[:2]
         counts[label] = nu * nv
@@ -146,14 +147,14 @@ def surfaces(quick: bool = False, scattered: bool = True) -> bool:
                 occ_cache[key] = occt_surface_fit(data, tol)
             occ = occ_cache[key]
             if occ is not None:
-                S, t_occ = occ
+                S, t_occ, cpu_occ = occ
                 ou, ov = S.control_points.shape[:2]
                 dev = float(cagd.closest_point(S, data.reshape(-1, 3)).distances.max())
                 if label != "degree=auto":
                     print(f"{'':7s} {'OCCT PointsToBSplineSurface':30s} {ou:4d}x{ov:<4d} {dev:13.3g} {t_occ:8.3f}"
                           f"   deg {S.degree_u}x{S.degree_v}")
                 print(f"{'':7s} {'  engine / OCCT':30s} poles {nu * nv / (ou * ov):.2f}, time {dt / t_occ:.3f}"
-                      f"  (issue 17: <= 0.6, <= 0.1)")
+                      f" (CPU {cpu / cpu_occ:.3f})  (issue 17: <= 0.6, <= 0.1)")
     line = (f"noisy / clean poles at tol 0.02 (issue 17 asks <= 1.2): {counts['noisy'] / counts['clean']:.2f}; "
             f"minimax=True {counts['noisy minimax'] / counts['clean']:.2f}")
     if not quick:
