@@ -361,3 +361,23 @@ def test_measured_max_is_certified_property(seed, m, n, tol, degree):
     d = np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances)
     assert abs(r.max_error - float(d.max())) <= 1e-12 * 10
     assert not r.converged or float(d.max()) <= tol
+
+
+def test_exact_fit_certifies_nothing(monkeypatch):
+    """A grid sampled from a bicubic patch comes back to rounding: its points' distances at
+    their parameters are within CERTIFY_ROUNDING of its extent, so no point goes to the
+    closest-point query (oracle: closest_point of every point, also within rounding)."""
+    import sys
+    from cagd import closest_point
+    fs = sys.modules["cagd.fitting.fit_surface"]
+    asked = []
+    certified = fs._certified
+    monkeypatch.setattr(fs, "_certified", lambda S, X, light=None: asked.append(len(X)) or certified(S, X, light))
+    X, Y = np.meshgrid(np.arange(4.0), np.arange(4.0), indexing="ij")
+    S = BSplineSurface(np.stack([X, Y, np.random.default_rng(3).random((4, 4))], -1), 3, 3)
+    t = np.linspace(0, 1, 60)
+    Q = S.grid(t, t)
+    r = fit_surface(Q, 1e-10, parameters="uniform")
+    assert r.converged and sum(asked) == 0
+    assert r.max_error <= fs.CERTIFY_ROUNDING * 3.0
+    assert float(np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances).max()) <= 1e-12 * 3.0
