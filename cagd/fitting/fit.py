@@ -659,7 +659,7 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
     n = len(curve.control_points) if ok else most + 1
     if n <= problem.least:
         return curve, t, fits
-    search = tol_n <= SEARCH_TOL and (not ok or n >= SEARCH_FILL * np.count_nonzero(counted))
+    search = bool(tol_n <= SEARCH_TOL and (not ok or n >= SEARCH_FILL * np.count_nonzero(counted)))
     found = recover_knots(problem, (np.asarray(curve.knots), curve.control_points, t), initial, tol_n, counted,
                           n - p - 2, search)
     if found is None:

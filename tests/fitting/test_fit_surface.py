@@ -3,6 +3,7 @@ dense sampling of the result), a bicubic patch sampled at its own parameters com
 as itself, noise does not multiply the control points, bad input names the argument."""
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from cagd import BSplineSurface, CagdError, fit_surface
@@ -219,3 +220,164 @@ def test_boundary_bad():
         fit_surface(anchor_grid(6), 0.1, boundary="G2")
     with pytest.raises(CagdError, match="boundary"):
         fit_surface(scattered(100), 0.1, boundary="G0")
+
+
+# --- the measurement (certified where it decides the largest distance) ------------------------
+@pytest.mark.parametrize("tol", [0.01, 0.001])
+def test_max_error_is_the_certified_largest_distance(tol):
+    """Oracle: the default closest-point query of every point (global, certified); the fit
+    certifies only the points near the largest distance and must report the same maximum,
+    and no point's reported distance may be below its certified one."""
+    from cagd import closest_point
+    Q = anchor_grid(50)
+    r = fit_surface(Q, tol)
+    near = closest_point(r.surface, Q.reshape(-1, 3))
+    d = np.asarray(near.distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 * float(np.abs(Q).max())
+    # rms from the certified distances and elsewhere the local feet's: the same here
+    assert abs(r.rms_error - float(np.sqrt(np.mean(d ** 2)))) <= 1e-7 * r.rms_error
+    # the reported feet are points of the surface within the reported distances' rms
+    feet = r.surface(r.params[..., 0].ravel(), r.params[..., 1].ravel())
+    assert float(np.sqrt(np.mean(((feet - Q.reshape(-1, 3)) ** 2).sum(-1)))) <= r.rms_error + 1e-12
+
+
+def test_measured_certifies_more_when_the_share_misses():
+    """The points' distances at their fitting parameters may overstate the certified ones
+    by more than CERTIFY_SHARE: a fit evaluated at parameters shifted far off (the grid's
+    own surface, parameters moved) still reports the certified largest distance."""
+    from cagd import closest_point
+    from cagd.fitting.fit_surface import _measured
+    t = np.linspace(0, 1, 30)
+    X, Y = np.meshgrid(t, t, indexing="ij")
+    S = BSplineSurface(np.stack([np.stack([X, Y, 0.1 * np.sin(3 * X) * Y], -1)[::9, ::9]], 0)[0], 3, 3)
+    Q = S.grid(t, t) + np.array([0.0, 0.0, 1e-3])
+    uv = np.stack(np.meshgrid(t, t, indexing="ij"), -1).reshape(-1, 2)
+    # every point's fitting parameter off its foot: half by 0.05 in u, half by 0.01
+    shifted = np.clip(uv + np.array([0.05, 0.0]) * np.where(uv[:, :1] < 0.5, 1.0, 0.2), 0, 1)
+    at = np.sqrt(((S(shifted[:, 0], shifted[:, 1]) - Q.reshape(-1, 3)) ** 2).sum(-1))
+    r = _measured(S, Q.reshape(-1, 3), at, shifted, 0.01, 0)
+    d = np.asarray(closest_point(S, Q.reshape(-1, 3)).distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 and r.converged
+
+
+# --- degree="auto" and the trimming polish ----------------------------------------------------
+def test_auto_degree_keeps_the_fewest_poles():
+    from cagd.fitting.fit_surface import AUTO_DEGREES
+    Q = anchor_grid(60)
+    fits = {p: fit_surface(Q, 0.001, degree=p) for p in AUTO_DEGREES}
+    r = fit_surface(Q, 0.001, degree="auto")
+    count = lambda f: int(np.prod(f.surface.control_points.shape[:2]))   # noqa: E731
+    fewest = min(count(f) for f in fits.values() if f.converged)
+    assert r.converged and count(r) == fewest
+    first = min(p for p, f in fits.items() if f.converged and count(f) == fewest)
+    assert r.surface.degree_u == r.surface.degree_v == first
+    assert abs(r.max_error - fits[first].max_error) <= 1e-15 and "degree" in r.message
+    with pytest.raises(CagdError, match="degree"):
+        fit_surface(Q, 0.01, degree="best")
+
+
+def test_auto_degree_skips_what_the_grid_cannot_take():
+    g = anchor_grid(5)                         # degree 5 needs 6 rows: skipped
+    r = fit_surface(g, 0.1, degree="auto")
+    assert r.converged and r.surface.degree_u <= 4
+
+
+def test_polish_moves_uniform_knots_within_tol():
+    """Uniform 10 x 10 spans miss the anchor at tol 0.01 by 4x (uniform knots need about
+    twice the poles); redistributing them by the fit's own row and column misses at the same counts
+    brings the fit within tol."""
+    from cagd.fitting.fit_surface import _polished
+    from cagd.fitting.separable import SeparableGrid
+    from cagd.surfaces.fitting import surface_parameters
+    Q = anchor_grid(100)
+    u, v = surface_parameters(Q, "centripetal")
+    u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
+    g = SeparableGrid(Q, u, v, 3, 3)
+    b = np.linspace(0, 1, 11)
+    P, miss = g.fit(b, b)
+    assert miss.max() > 4 * 0.01
+    out = _polished((P, b, b, float(miss.max()), miss), g.fit,
+                    (12, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))), 0.01, (3, 3))
+    assert out is not None and len(out[1]) == len(out[2]) == 11
+    P2, miss2 = g.fit(out[1], out[2])
+    assert float(miss2.max()) <= 0.01 and np.array_equal(miss2, out[4])
+
+
+def test_local_feet_are_the_closest_points_of_near_points():
+    """Oracle: the certified closest points (cagd.closest_point) of points lying near a
+    surface, from parameters off by up to 0.02; the feet never move a point farther."""
+    from cagd import closest_point
+    from cagd.fitting.fit_surface import _local_feet
+    rng = np.random.default_rng(4)
+    X, Y = np.meshgrid(np.linspace(0, 10, 5), np.linspace(0, 10, 5), indexing="ij")
+    S = BSplineSurface(np.stack([X, Y, rng.random((5, 5))], -1), 3, 3)
+    uv = rng.random((2000, 2)) * 0.96 + 0.02
+    Q = S(uv[:, 0], uv[:, 1]) + rng.normal(0, 0.01, (2000, 3))
+    start = np.clip(uv + rng.uniform(-0.02, 0.02, uv.shape), 0, 1)
+    x, dist = _local_feet(S, Q, start)
+    near = closest_point(S, Q)
+    d = np.sqrt(((S(x[:, 0], x[:, 1]) - Q) ** 2).sum(-1))
+    d0 = np.sqrt(((S(start[:, 0], start[:, 1]) - Q) ** 2).sum(-1))
+    assert np.all(d <= d0)
+    assert np.abs(d - np.asarray(near.distances)).max() <= 1e-9 and np.abs(dist - d).max() <= 1e-15
+
+
+def test_scattered_growth_at_most_doubles_per_round(monkeypatch):
+    """The scattered rounds grow each direction's spans by at most SCATTER_GROWTH (the
+    error model overshot: 12 x 12 -> 28 x 34 poles in one round on the anchor), and the
+    result stays within tol with no more poles than the trimmed count measured before."""
+    import sys
+    fs = sys.modules["cagd.fitting.fit_surface"]
+    seen = []
+    solve = fs._scattered_solve
+
+    def traced(Q, uv, bu, bv, pu, pv, weights=None):
+        seen.append((len(bu) - 1, len(bv) - 1))
+        return solve(Q, uv, bu, bv, pu, pv, weights)
+    monkeypatch.setattr(fs, "_scattered_solve", traced)
+    r = fit_surface(scattered(), 0.001)
+    assert r.converged and r.max_error <= 0.001
+    k = 1
+    while k < len(seen) and seen[k][0] * seen[k][1] > seen[k - 1][0] * seen[k - 1][1]:
+        k += 1
+    grow = seen[:k]                                                  # the growing rounds
+    assert len(grow) >= 3, seen
+    assert all(b[0] <= fs.SCATTER_GROWTH * a[0] and b[1] <= fs.SCATTER_GROWTH * a[1] for a, b in zip(grow, grow[1:]))
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10_000), m=st.integers(8, 30), n=st.integers(8, 30),
+       tol=st.sampled_from([0.05, 0.01, 0.002]), degree=st.sampled_from([2, 3, 4]))
+def test_measured_max_is_certified_property(seed, m, n, tol, degree):
+    """On random bumpy grids the reported max_error is the largest certified distance of
+    all points (cagd.closest_point of every point, the oracle), within tol when converged."""
+    from cagd import closest_point
+    rng = np.random.default_rng(seed)
+    x, y = np.linspace(0, 10, m), np.linspace(0, 10, n)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    a, b, c = rng.uniform(0.2, 1.0, 3)
+    Q = np.stack([X, Y, np.sin(a * X) * np.cos(b * Y) + c * rng.normal(0, 0.01, X.shape)], -1)
+    r = fit_surface(Q, tol, degree=min(degree, m - 1, n - 1))
+    d = np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 * 10
+    assert not r.converged or float(d.max()) <= tol
+
+
+def test_exact_fit_certifies_nothing(monkeypatch):
+    """A grid sampled from a bicubic patch comes back to rounding: its points' distances at
+    their parameters are within CERTIFY_ROUNDING of its extent, so no point goes to the
+    closest-point query (oracle: closest_point of every point, also within rounding)."""
+    import sys
+    from cagd import closest_point
+    fs = sys.modules["cagd.fitting.fit_surface"]
+    asked = []
+    certified = fs._certified
+    monkeypatch.setattr(fs, "_certified", lambda S, X, light=None: asked.append(len(X)) or certified(S, X, light))
+    X, Y = np.meshgrid(np.arange(4.0), np.arange(4.0), indexing="ij")
+    S = BSplineSurface(np.stack([X, Y, np.random.default_rng(3).random((4, 4))], -1), 3, 3)
+    t = np.linspace(0, 1, 60)
+    Q = S.grid(t, t)
+    r = fit_surface(Q, 1e-10, parameters="uniform")
+    assert r.converged and sum(asked) == 0
+    assert r.max_error <= fs.CERTIFY_ROUNDING * 3.0
+    assert float(np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances).max()) <= 1e-12 * 3.0
