@@ -265,7 +265,7 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     kink_at, kink_mult = _merged(np.concatenate(sharp), np.concatenate(sharp_mult).astype(int))
     breaks = np.unique(np.concatenate([[0.0], inner, kink_at, [1.0]]))
     kinks = [_kinks(c, r, new) for c, r in zip(curves, maps)]
-    homs = [_homogeneous(c) for c in curves]
+    homs = [_homogeneous(c) if c.is_rational else None for c in curves]
     target = REFIT_SHARE * tol
     err = np.inf
     fitted: List[BSplineCurve] = []
@@ -362,7 +362,7 @@ def _kinks(c: BSplineCurve, r: Callable[[np.ndarray], np.ndarray], x: np.ndarray
     return np.concatenate([x[1:-1], averaged, _inverse(r, inner)])
 
 
-def _deviation_bound(fitted: BSplineCurve, c: BSplineCurve, hom: BSplineCurve,
+def _deviation_bound(fitted: BSplineCurve, c: BSplineCurve, hom: Optional[BSplineCurve],
                      r: Callable[[np.ndarray], np.ndarray], kinks: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """A rigorous bound of |fitted(s) - c(r(s))| piece by piece: (piece starts, bounds).
     Between the fitted curve's knots and the ``kinks`` (:func:`_kinks`), w(r(s)) fitted(s)
@@ -377,8 +377,12 @@ def _deviation_bound(fitted: BSplineCurve, c: BSplineCurve, hom: BSplineCurve,
     a, h = a[h > 0], h[h > 0]
     nodes = 0.5 - 0.5 * np.cos(np.pi * np.arange(deg + 1) / deg)           # Chebyshev-Lobatto on [0, 1]
     s = (a[:, None] + h[:, None] * nodes).ravel()
-    H = hom(r(s))                                                          # (w c, w) = _homogeneous(c)
-    values = (H[:, -1:] * fitted(s) - H[:, :-1]).reshape(len(a), deg + 1, -1)
+    if hom is None:                                                        # w = 1
+        values = fitted(s) - c(r(s))
+    else:
+        H = hom(r(s))                                                      # (w c, w) = _homogeneous(c)
+        values = H[:, -1:] * fitted(s) - H[:, :-1]
+    values = values.reshape(len(a), deg + 1, -1)
     coef = np.linalg.solve(bernstein_values(deg, nodes), values)           # per piece
     smallest = 1.0 if c.weights is None else float(c.weights.min())
     return a, np.linalg.norm(coef, axis=-1).max(axis=1) / smallest
@@ -445,8 +449,9 @@ def _boolean_sum(profiles: List[BSplineCurve], guides: List[BSplineCurve], us: n
     P = np.swapaxes(Lf + Lg - T, 0, 1)
     # S(u, v_i) - f_i(u) = sum_j (g_j(v_i) - X_ij) a_j(u), a_j the cardinal splines along u
     # (Lf(u, v_i) = f_i(u), T(u, v_i) = sum_j X_ij a_j(u)); likewise along v
-    Gv = np.stack([c(vs) for c in guides], axis=1)      # (m, n, dim): g_j(v_i)
-    Fu = np.stack([c(us) for c in profiles])            # (m, n, dim): f_i(u_j)
+    # the family's curves share degree and knots: one basis matrix each way
+    Gv = np.einsum("ia,jad->ijd", basis_matrix(Vg, qg, vs, G.shape[1]), G)    # (m, n, dim): g_j(v_i)
+    Fu = np.einsum("ja,iad->ijd", basis_matrix(Uf, pf, us, F.shape[1]), F)    # (m, n, dim): f_i(u_j)
     Df = np.einsum("aj,ijd->iad", Au, Gv - X)
     Dg = np.einsum("bi,ijd->jbd", Av, Fu - X)
     return P, pu, pv, U, V, Df, Dg
