@@ -34,7 +34,8 @@ CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within thi
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
 BOUND_MARGIN_RTOL = 1e-13     # the convexity intervals' rounding margin, share of g
 
-__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "robust_distance"]
+__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "net_box",
+           "robust_distance"]
 
 
 _POWER: Dict[Tuple[int, int], np.ndarray] = {}
@@ -499,6 +500,20 @@ class Frame:
                 f = np.clip((out[:, a] - inner[j]) / (inner[j + 1] - inner[j]), 0.0, 1.0)
                 out[:, a] = np.where(f >= 1.0, b[j + 1], (1.0 - f) * b[j] + f * b[j + 1])
         return out
+
+
+def net_box(obj: Union[Curve, Surface]) -> Tuple[Frame, np.ndarray, np.ndarray]:
+    """(frame, lower, upper): the axis-aligned box (1, dim) of the control points of
+    ``obj``'s NURBS form, in the frame of those points (:meth:`Frame.of`). The object
+    lies in it: in the convex hull of its control points, its weights being positive
+    (Farin, Curves and Surfaces for CAGD, 3.3 and 16.2; Piegl & Tiller 4.2). No Bezier
+    decomposition: a bound for the cost of ``to_nurbs()`` and a pass over the net (issue 16,
+    many objects: a far object is dismissed before any set-up)."""
+    P = np.asarray(obj.to_nurbs().control_points, dtype=np.float64)
+    P = P.reshape(-1, P.shape[-1])
+    frame = Frame.of(P)
+    Pf = frame.inward(P)
+    return frame, Pf.min(axis=0, keepdims=True), Pf.max(axis=0, keepdims=True)
 
 
 def robust_distance(X: np.ndarray, Y: np.ndarray) -> np.ndarray:

@@ -23,7 +23,7 @@ from .._deprecation import changed
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import robust_distance
+from .bounds import net_box, robust_distance
 from .closest import TOL_CHANGED, _closest_point, projector
 from .results import Deviation
 from ._numerics import TINY
@@ -76,23 +76,25 @@ MAP_POINTS = 200_000
 
 def _box_bounds(o: Union[Curve, Surface], X: np.ndarray, boxes: str = "nodes") -> np.ndarray:
     """Certified lower bounds (N,) of the distance from the points X to ``o``: the
-    distance to the box of its Bezier control points (``boxes="whole"``) or to the
-    nearest box of the top level of its closest-point hierarchy ("nodes"; at most
-    TREE_TOP boxes, BOX_ROWS points at a time); the object lies in the convex hulls of
+    distance to the box of its control net (``boxes="whole"``, :func:`net_box`: no set-up)
+    or to the nearest box of the top level of its closest-point hierarchy ("nodes"; at
+    most TREE_TOP boxes, BOX_ROWS points at a time); the object lies in the convex hulls of
     those control points (Farin 3.3), a trimmed face in its surface's. Computed in the
-    object's frame (:func:`robust_distance`: no overflow)."""
+    frame of those boxes (:func:`robust_distance`: no overflow)."""
     from ..surfaces.trimmed import TrimmedSurface
-    p = projector(o.untrimmed if isinstance(o, TrimmedSurface) else o)
-    lo, hi = p._tree[-1][0], p._tree[-1][1]                     # (T, dim) each
+    whole = o.untrimmed if isinstance(o, TrimmedSurface) else o
     if boxes == "whole":
-        lo, hi = lo.min(axis=0, keepdims=True), hi.max(axis=0, keepdims=True)
+        frame, lo, hi = net_box(whole)
+    else:
+        p = projector(whole)
+        frame, lo, hi = p.frame, p._tree[-1][0], p._tree[-1][1]         # (T, dim) each
     out = np.empty(len(X))
     with np.errstate(over="ignore", invalid="ignore"):
         for s in range(0, len(X), BOX_ROWS):
-            Xf = p.frame.inward(X[s:s + BOX_ROWS])[:, None, :]
+            Xf = frame.inward(X[s:s + BOX_ROWS])[:, None, :]
             gap = np.maximum(np.maximum(lo - Xf, Xf - hi), 0.0)     # (n, T, dim)
             out[s:s + BOX_ROWS] = robust_distance(gap, np.zeros_like(gap)).min(axis=1)
-    return out * p.frame.scale
+    return out * frame.scale
 
 
 def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Optional[float],
@@ -102,8 +104,9 @@ def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Opt
 
     Many objects (issue 16): the objects are measured nearest first (by the median of
     their box bounds over the points), and each only at the points its box bound does not
-    put beyond the distance found so far, so objects far from every point cost their box
-    test only."""
+    put beyond the distance found so far: the box of its control net (no set-up), then on
+    the points that box leaves the top boxes of its closest-point hierarchy; objects far
+    from every point cost the pass over their control net only."""
     N = len(X)
     bounds = [_box_bounds(o, X, "whole") for o in objs] if len(objs) > 1 else [np.zeros(N)]
     order = np.argsort([float(np.median(b)) for b in bounds], kind="stable")
@@ -114,7 +117,8 @@ def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Opt
         rows = np.arange(N)
         if best is not None:                # the whole box, then the hierarchy's top boxes
             rows = np.flatnonzero(bounds[k] <= np.abs(best[0]))
-            rows = rows[_box_bounds(o, X[rows]) <= np.abs(best[0][rows])]
+            if len(rows):               # (the hierarchy costs the object's set-up)
+                rows = rows[_box_bounds(o, X[rows]) <= np.abs(best[0][rows])]
             if not len(rows):
                 continue
         Xr = X[rows]
