@@ -28,7 +28,7 @@ from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
-from ._numerics import SLACK_RTOL, TINY, ULP_RTOL
+from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
 
 CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
@@ -221,7 +221,11 @@ class BezierPieces:
         """Axis-aligned boxes (lo, hi), each (m, dim), containing each piece (convex hull)."""
         if "_boxes" not in self.__dict__:
             P = self.control_points.reshape(len(self), -1, self.dim)
-            object.__setattr__(self, "_boxes", (frozen(P.min(axis=1)), frozen(P.max(axis=1))))
+            lo, hi = P[:, 0].copy(), P[:, 0].copy()
+            for i in range(1, P.shape[1]):          # (a reduction over the middle axis is slow)
+                np.minimum(lo, P[:, i], out=lo)
+                np.maximum(hi, P[:, i], out=hi)
+            object.__setattr__(self, "_boxes", (frozen(lo), frozen(hi)))
         return self.__dict__["_boxes"]
 
     def hull_spheres(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -231,7 +235,7 @@ class BezierPieces:
             lo, hi = self.hull_boxes()
             c = 0.5 * (lo + hi)
             P = self.control_points.reshape(len(self), -1, self.dim)
-            r = np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1))
+            r = np.sqrt(squared_norms(P - c[:, None]).max(axis=1))
             object.__setattr__(self, "_spheres", (frozen(c), frozen(r)))
         return self.__dict__["_spheres"]
 
@@ -266,7 +270,7 @@ class BezierPieces:
                 out = np.diff(out, n=n, axis=1 + a) if n else out
             if out.size == 0:
                 return np.zeros(m)
-            mag = np.sqrt((out ** 2).sum(-1)) if norm else np.abs(out)
+            mag = np.sqrt(squared_norms(out)) if norm else np.abs(out)
             return scale * mag.reshape(m, -1).max(axis=1)
 
         alphas = sorted((al for al in itertools.product(range(order + 1), repeat=k) if sum(al) <= order), key=sum)
@@ -447,7 +451,7 @@ class Frame:
     def of(points: np.ndarray, breaks: Tuple[np.ndarray, ...] = ()) -> "Frame":
         """The frame of the control points ``points`` (n, dim) (their box) and breaks."""
         P = points.reshape(-1, points.shape[-1])
-        hi, lo = P.max(axis=0), P.min(axis=0)
+        lo, hi = column_extremes(P)
         mag = _pow2(float(max(np.abs(hi).max(), np.abs(lo).max())) or 1.0)
         extent = float(((hi / mag - lo / mag).max())) * mag          # no overflow for |P| ~ 1e308
         centre = lo / 2 + hi / 2
@@ -513,7 +517,8 @@ def net_box(obj: Union[Curve, Surface]) -> Tuple[Frame, np.ndarray, np.ndarray]:
     P = P.reshape(-1, P.shape[-1])
     frame = Frame.of(P)
     Pf = frame.inward(P)
-    return frame, Pf.min(axis=0, keepdims=True), Pf.max(axis=0, keepdims=True)
+    lo, hi = column_extremes(Pf)
+    return frame, lo[None], hi[None]
 
 
 def robust_distance(X: np.ndarray, Y: np.ndarray) -> np.ndarray:

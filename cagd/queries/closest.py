@@ -72,7 +72,7 @@ from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, bezier_piec
 from ._cells import PowerTable, pair_distances as _distances, split_boxes as _split
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
-    SLACK_RTOL, TINY, ULP_RTOL
+    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
 
 MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
 WIN_GAP_RTOL = 1e-10         # a cell wins only by more than this share of the distance ...
@@ -208,10 +208,11 @@ class Projector:
         # spheres centred at the cell midpoints' images (convex hull inside): the distance
         # to the midpoint gives both the seed and the sphere bound
         Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
-        self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + SLACK_RTOL)
+        self.mid_radii = np.sqrt(squared_norms(Pc - self.mid_points[:, None]).max(axis=1)) * (1.0 + SLACK_RTOL)
         P = self.pieces.control_points.reshape(-1, self.dim)
-        self.size = max(float(np.ptp(P, axis=0).max()), TINY)
-        self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
+        lo, hi = column_extremes(P)
+        self.size = max(float((hi - lo).max()), TINY)
+        self.hull_radius = float(np.sqrt(squared_norms(P)).max())      # about the frame's origin
         if light:
             self.T, self._origin = 0.0, None
             self._grid_cells, self._grid_key = np.zeros(0, dtype=np.intp), np.zeros(0)
