@@ -697,27 +697,19 @@ def bumpy_patch(seed, n=6, degree=3):
     return cagd.BSplineSurface(P, degree, degree)
 
 
-def test_list_with_far_surfaces_is_the_near_one_alone(monkeypatch):
+def test_list_with_far_surfaces_is_the_near_one_alone(projectors_built):
     """Four surfaces, three far from every point: the answer is the near surface's alone
     bit for bit (params, feet, distances, lower bounds), owner its index, and no
     projector is ever built for the far ones (a pass over their control nets only)."""
-    from cagd.queries import closest as cl
     near = bumpy_patch(1)
     far = [bumpy_patch(k).transformed(np.eye(3), off) for k, off in ((2, [40.0, 0, 0]), (3, [0, 35.0, 0]),
                                                                       (4, [0, 0, -30.0]))]
     rng = np.random.default_rng(2)
     X = near(rng.uniform(0, 1, 80), rng.uniform(0, 1, 80)) + rng.normal(0, 0.3, (80, 3))
     alone = closest_point(near, X)
-    built = []
-    real = cl.Projector.__init__
-
-    def spy(self, obj, *a, **kw):
-        built.append(obj)
-        real(self, obj, *a, **kw)
-
-    monkeypatch.setattr(cl.Projector, "__init__", spy)
-    cl._BY_CONTENT.clear()
-    cl._CACHE.pop(near, None)
+    built = projectors_built
+    built.forget(near)                           # near is set up again (the spy sees it)
+    built.clear()
     many = closest_point([far[0], far[1], near, far[2]], X)
     assert built and all(o is near for o in built)
     for f in ("params", "feet", "distances", "lower_bounds", "point_converged"):

@@ -146,11 +146,10 @@ def test_many_objects_far_ones_cost_their_box_test_only(monkeypatch):
     assert np.all(twice.owner == 1)
 
 
-def test_many_objects_far_ones_are_never_set_up(monkeypatch):
+def test_many_objects_far_ones_are_never_set_up(projectors_built):
     """Issue 16, many objects: surfaces far from every point cost a pass over their
     control net only: no closest-point projector (no Bezier cells, bounds or hierarchy)
     is built for them, and the answer is the near surface's alone bit for bit."""
-    from cagd.queries import closest as cl
     rng = np.random.default_rng(3)
     P = np.stack([*np.meshgrid(np.linspace(0, 10, 6), np.linspace(0, 10, 6), indexing="ij"), np.zeros((6, 6))], -1)
     P[..., 2] = rng.normal(0, 1, (6, 6))
@@ -158,16 +157,9 @@ def test_many_objects_far_ones_are_never_set_up(monkeypatch):
     far = [near.transformed(np.eye(3), off) for off in ([30.0, 0, 0], [0, -40.0, 0], [0, 0, 25.0])]
     X = near(rng.uniform(0, 1, 40), rng.uniform(0, 1, 40)) + rng.normal(0, 0.2, (40, 3))
     alone = deviation(near, X)
-    built = []
-    real = cl.Projector.__init__
-
-    def spy(self, obj, *a, **kw):
-        built.append(obj)
-        real(self, obj, *a, **kw)
-
-    monkeypatch.setattr(cl.Projector, "__init__", spy)
-    cl._BY_CONTENT.clear()                       # near is set up again (the spy sees it)
-    cl._CACHE.pop(near, None)
+    built = projectors_built
+    built.forget(near)                           # near is set up again (the spy sees it)
+    built.clear()
     many = deviation([far[0], near, far[1], far[2]], X)
     assert built and all(o is near for o in built)
     for f in ("distances", "feet", "params", "lower_bounds"):
