@@ -6,10 +6,12 @@ out either ``apart`` (150 units between their origins along x: the others are fa
 every point) or as ``tiles`` (a 2 x 2 tiling, edge to edge: near the shared edges the
 neighbours compete); the points scatter at ``level`` of the size (100) about the first
 surface. Per point count it times, cold (fresh objects, the content cache emptied: every
-set-up included), best of ``--repeat``:
+set-up included), best of ``--repeat``, in CPU seconds of this process (wall times on a
+shared machine swing by 2x):
 - ``deviation(first, X)`` and ``deviation(all four, X)``, and their ratio (target <= 1.5);
 - whether the 4-surface answer equals the 1-surface one bit for bit where the first
-  surface owns every point (``apart``).
+  surface owns every point (``apart``);
+- the same pair for ``closest_point`` (a list of objects against the first alone).
 ``--save FILE`` writes every answer (distances, feet, params, lower bounds, owner) to an
 npz file, ``--compare FILE`` checks them bit for bit against such a file (written by
 another version of the code).
@@ -26,6 +28,7 @@ import numpy as np
 
 from benchmarks.setup import bumpy
 from cagd.queries import closest as cl
+from cagd.queries.closest import closest_point
 from cagd.queries.deviation import deviation
 
 FIELDS = ("distances", "feet", "params", "lower_bounds", "owner")
@@ -48,14 +51,14 @@ def scan(s, n: int, level: float, seed: int = 0) -> np.ndarray:
     return s(u0 + uv[:, 0] * (u1 - u0), v0 + uv[:, 1] * (v1 - v0)) + level * 100.0 * rng.standard_normal((n, 3))
 
 
-def _cold(layout: str, X: np.ndarray, many: bool, repeat: int):
+def _cold(layout: str, X: np.ndarray, many: bool, repeat: int, fn=deviation):
     best, res = float("inf"), None
     for _ in range(repeat):
         cl._BY_CONTENT.clear()
         objs = surfaces(layout)
-        t0 = time.perf_counter()
-        res = deviation(objs if many else objs[0], X)
-        best = min(best, time.perf_counter() - t0)
+        t0 = time.process_time()
+        res = fn(objs if many else objs[0], X)
+        best = min(best, time.process_time() - t0)
     return best, res
 
 
@@ -71,7 +74,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     saved: Dict[str, np.ndarray] = {}
     ok = True
     print(f"{'layout':7s} {'points':>7s} {'1 surface':>10s} {'4 surfaces':>11s} {'ratio':>6s}  owners            "
-          "4 = 1 bit for bit")
+          f"{'4 = 1 bit for bit':24s} closest_point: 1 / 4 surfaces, ratio")
     for layout in a.layout:
         for n in a.points:
             X = scan(surfaces(layout)[0], n, a.level)
@@ -83,7 +86,12 @@ def main(argv: Optional[List[str]] = None) -> int:
             if owners[0] == n:
                 same = str(all(np.array_equal(getattr(one, f), getattr(many, f)) for f in FIELDS[:4]))
                 ok &= same == "True"
-            print(f"{layout:7s} {n:7d} {t1:9.3f}s {t4:10.3f}s {t4 / t1:6.2f}  {str(owners.tolist()):17s} {same}")
+            c1, _ = _cold(layout, X, False, a.repeat, closest_point)
+            c4, cmany = _cold(layout, X, True, a.repeat, closest_point)
+            ok &= bool(np.array_equal(cmany.distances, np.abs(many.distances))
+                       and np.array_equal(cmany.owner, many.owner))
+            print(f"{layout:7s} {n:7d} {t1:9.3f}s {t4:10.3f}s {t4 / t1:6.2f}  {str(owners.tolist()):17s} {same:24s} "
+                  f"{c1:.3f}s / {c4:.3f}s {c4 / c1:5.2f}")
             for f in FIELDS:
                 saved[f"{layout}_{n}_one_{f}"] = np.asarray(getattr(one, f))
                 saved[f"{layout}_{n}_many_{f}"] = np.asarray(getattr(many, f))
