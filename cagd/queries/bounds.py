@@ -258,25 +258,40 @@ class BezierPieces:
         m, k, deg = len(self), self.k, self.degrees
         Q, R = self.hull_spheres()
         w = np.ones(self.control_points.shape[:-1]) if self.weights is None else self.weights
-        A = w[..., None] * (self.control_points - Q.reshape((m,) + (1,) * k + (-1,)))
+        A = self.control_points - Q.reshape((m,) + (1,) * k + (-1,))
+        if self.weights is not None:            # (times w = 1 changes nothing)
+            A = w[..., None] * A
         h = self.upper - self.lower
         wmin = w.reshape(m, -1).min(axis=1)
+        nets = {"A": A, "w": w[..., None]}
+        diffs: Dict[Tuple[str, Tuple[int, ...]], np.ndarray] = {}
 
-        def hodograph_bound(x, alpha, norm):
-            out, scale = x, np.ones(m)
+        def differenced(net: str, alpha: Tuple[int, ...]) -> np.ndarray:
+            """nets[net] differenced alpha[0] times along u, then alpha[1] times along v;
+            each from the one with a difference less in the last direction (np.diff with
+            n > 1 differences n times: the same values, each difference taken once)."""
+            if not any(alpha):
+                return nets[net]
+            if (net, alpha) not in diffs:
+                last = max(a for a, n in enumerate(alpha) if n)
+                prev = tuple(n - int(a == last) for a, n in enumerate(alpha))
+                diffs[(net, alpha)] = np.diff(differenced(net, prev), axis=1 + last)
+            return diffs[(net, alpha)]
+
+        def hodograph_bound(net, alpha):
+            scale = np.ones(m)
             for a, n in enumerate(alpha):
                 for j in range(n):
                     scale = scale * (deg[a] - j) / h[:, a]
-                out = np.diff(out, n=n, axis=1 + a) if n else out
+            out = differenced(net, alpha)
             if out.size == 0:
                 return np.zeros(m)
-            mag = np.sqrt(squared_norms(out)) if norm else np.abs(out)
-            return scale * mag.reshape(m, -1).max(axis=1)
+            return scale * np.sqrt(squared_norms(out)).reshape(m, -1).max(axis=1)
 
         alphas = sorted((al for al in itertools.product(range(order + 1), repeat=k) if sum(al) <= order), key=sum)
         B: Dict[Tuple[int, ...], np.ndarray] = {(0,) * k: R}
         for al in alphas[1:]:
-            acc = hodograph_bound(A, al, True)
+            acc = hodograph_bound("A", al)
             if self.weights is None:            # w = 1: no Leibniz terms
                 B[al] = acc
                 continue
@@ -285,7 +300,7 @@ class BezierPieces:
                     continue
                 coef = float(np.prod([comb(a, b) for a, b in zip(al, be)]))
                 diff = tuple(a - b for a, b in zip(al, be))
-                acc = acc + coef * hodograph_bound(w[..., None], diff, True) * B[be]
+                acc = acc + coef * hodograph_bound("w", diff) * B[be]
             B[al] = acc / wmin
         B = {al: frozen(b) for al, b in B.items()}
         object.__setattr__(self, "_partials", (order, B))
