@@ -23,6 +23,8 @@ Where each step lives:
   :mod:`.intersect_surfaces` with :mod:`._surface_system` (F = A - B and its
   Jacobian), :mod:`._marching` (predictor-corrector along a branch) and
   :mod:`._branch_fit` (branches as B-splines within tol).
+- many objects: :mod:`._many` (closest points and deviations over a list: the nearest
+  object per point, far objects dismissed by the box of their control net).
 - trimmed faces: :mod:`.trimmed` (closest points, clipping of intersections),
   :mod:`._distance_trimmed` (minimum distance).
 - :mod:`._numerics`: the named tolerances shared by all of these.

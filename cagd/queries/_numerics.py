@@ -30,6 +30,23 @@ def residual_tol(tol: float, size: float) -> float:
     return max(RESIDUAL_SHARE * tol, RESIDUAL_FLOOR * size)
 
 
+def squared_norms(v: np.ndarray) -> np.ndarray:
+    """|v|^2 along the last axis, summed component by component in order: what
+    ``(v ** 2).sum(-1)`` gives for a few components, bit for bit, without numpy's slow
+    reduction over a short last axis (issue 16, set-up: 6x faster on (m, 16, 3) nets)."""
+    acc = v[..., 0] ** 2
+    for a in range(1, v.shape[-1]):
+        acc = acc + v[..., a] ** 2
+    return acc
+
+
+def column_extremes(P: np.ndarray) -> "tuple[np.ndarray, np.ndarray]":
+    """(min, max) per coordinate of points P (..., dim), through the transposed copy:
+    numpy reduces (n, 3) arrays along axis 0 ten times slower (issue 16, set-up)."""
+    Pt = np.ascontiguousarray(P.reshape(-1, P.shape[-1]).T)
+    return Pt.min(axis=1), Pt.max(axis=1)
+
+
 def unit(v: np.ndarray) -> np.ndarray:
     """v / |v| along the last axis (0 where v = 0)."""
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), TINY)

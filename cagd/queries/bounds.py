@@ -28,13 +28,14 @@ from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
-from ._numerics import SLACK_RTOL, TINY, ULP_RTOL
+from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
 
 CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
 BOUND_MARGIN_RTOL = 1e-13     # the convexity intervals' rounding margin, share of g
 
-__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "robust_distance"]
+__all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "net_box",
+           "robust_distance"]
 
 
 _POWER: Dict[Tuple[int, int], np.ndarray] = {}
@@ -220,7 +221,11 @@ class BezierPieces:
         """Axis-aligned boxes (lo, hi), each (m, dim), containing each piece (convex hull)."""
         if "_boxes" not in self.__dict__:
             P = self.control_points.reshape(len(self), -1, self.dim)
-            object.__setattr__(self, "_boxes", (frozen(P.min(axis=1)), frozen(P.max(axis=1))))
+            lo, hi = P[:, 0].copy(), P[:, 0].copy()
+            for i in range(1, P.shape[1]):          # (a reduction over the middle axis is slow)
+                np.minimum(lo, P[:, i], out=lo)
+                np.maximum(hi, P[:, i], out=hi)
+            object.__setattr__(self, "_boxes", (frozen(lo), frozen(hi)))
         return self.__dict__["_boxes"]
 
     def hull_spheres(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -230,7 +235,7 @@ class BezierPieces:
             lo, hi = self.hull_boxes()
             c = 0.5 * (lo + hi)
             P = self.control_points.reshape(len(self), -1, self.dim)
-            r = np.sqrt(((P - c[:, None]) ** 2).sum(-1).max(axis=1))
+            r = np.sqrt(squared_norms(P - c[:, None]).max(axis=1))
             object.__setattr__(self, "_spheres", (frozen(c), frozen(r)))
         return self.__dict__["_spheres"]
 
@@ -253,25 +258,40 @@ class BezierPieces:
         m, k, deg = len(self), self.k, self.degrees
         Q, R = self.hull_spheres()
         w = np.ones(self.control_points.shape[:-1]) if self.weights is None else self.weights
-        A = w[..., None] * (self.control_points - Q.reshape((m,) + (1,) * k + (-1,)))
+        A = self.control_points - Q.reshape((m,) + (1,) * k + (-1,))
+        if self.weights is not None:            # (times w = 1 changes nothing)
+            A = w[..., None] * A
         h = self.upper - self.lower
         wmin = w.reshape(m, -1).min(axis=1)
+        nets = {"A": A, "w": w[..., None]}
+        diffs: Dict[Tuple[str, Tuple[int, ...]], np.ndarray] = {}
 
-        def hodograph_bound(x, alpha, norm):
-            out, scale = x, np.ones(m)
+        def differenced(net: str, alpha: Tuple[int, ...]) -> np.ndarray:
+            """nets[net] differenced alpha[0] times along u, then alpha[1] times along v;
+            each from the one with a difference less in the last direction (np.diff with
+            n > 1 differences n times: the same values, each difference taken once)."""
+            if not any(alpha):
+                return nets[net]
+            if (net, alpha) not in diffs:
+                last = max(a for a, n in enumerate(alpha) if n)
+                prev = tuple(n - int(a == last) for a, n in enumerate(alpha))
+                diffs[(net, alpha)] = np.diff(differenced(net, prev), axis=1 + last)
+            return diffs[(net, alpha)]
+
+        def hodograph_bound(net, alpha):
+            scale = np.ones(m)
             for a, n in enumerate(alpha):
                 for j in range(n):
                     scale = scale * (deg[a] - j) / h[:, a]
-                out = np.diff(out, n=n, axis=1 + a) if n else out
+            out = differenced(net, alpha)
             if out.size == 0:
                 return np.zeros(m)
-            mag = np.sqrt((out ** 2).sum(-1)) if norm else np.abs(out)
-            return scale * mag.reshape(m, -1).max(axis=1)
+            return scale * np.sqrt(squared_norms(out)).reshape(m, -1).max(axis=1)
 
         alphas = sorted((al for al in itertools.product(range(order + 1), repeat=k) if sum(al) <= order), key=sum)
         B: Dict[Tuple[int, ...], np.ndarray] = {(0,) * k: R}
         for al in alphas[1:]:
-            acc = hodograph_bound(A, al, True)
+            acc = hodograph_bound("A", al)
             if self.weights is None:            # w = 1: no Leibniz terms
                 B[al] = acc
                 continue
@@ -280,7 +300,7 @@ class BezierPieces:
                     continue
                 coef = float(np.prod([comb(a, b) for a, b in zip(al, be)]))
                 diff = tuple(a - b for a, b in zip(al, be))
-                acc = acc + coef * hodograph_bound(w[..., None], diff, True) * B[be]
+                acc = acc + coef * hodograph_bound("w", diff) * B[be]
             B[al] = acc / wmin
         B = {al: frozen(b) for al, b in B.items()}
         object.__setattr__(self, "_partials", (order, B))
@@ -446,7 +466,7 @@ class Frame:
     def of(points: np.ndarray, breaks: Tuple[np.ndarray, ...] = ()) -> "Frame":
         """The frame of the control points ``points`` (n, dim) (their box) and breaks."""
         P = points.reshape(-1, points.shape[-1])
-        hi, lo = P.max(axis=0), P.min(axis=0)
+        lo, hi = column_extremes(P)
         mag = _pow2(float(max(np.abs(hi).max(), np.abs(lo).max())) or 1.0)
         extent = float(((hi / mag - lo / mag).max())) * mag          # no overflow for |P| ~ 1e308
         centre = lo / 2 + hi / 2
@@ -499,6 +519,21 @@ class Frame:
                 f = np.clip((out[:, a] - inner[j]) / (inner[j + 1] - inner[j]), 0.0, 1.0)
                 out[:, a] = np.where(f >= 1.0, b[j + 1], (1.0 - f) * b[j] + f * b[j + 1])
         return out
+
+
+def net_box(obj: Union[Curve, Surface]) -> Tuple[Frame, np.ndarray, np.ndarray]:
+    """(frame, lower, upper): the axis-aligned box (1, dim) of the control points of
+    ``obj``'s NURBS form, in the frame of those points (:meth:`Frame.of`). The object
+    lies in it: in the convex hull of its control points, its weights being positive
+    (Farin, Curves and Surfaces for CAGD, 3.3 and 16.2; Piegl & Tiller 4.2). No Bezier
+    decomposition: a bound for the cost of ``to_nurbs()`` and a pass over the net (issue 16,
+    many objects: a far object is dismissed before any set-up)."""
+    P = np.asarray(obj.to_nurbs().control_points, dtype=np.float64)
+    P = P.reshape(-1, P.shape[-1])
+    frame = Frame.of(P)
+    Pf = frame.inward(P)
+    lo, hi = column_extremes(Pf)
+    return frame, lo[None], hi[None]
 
 
 def robust_distance(X: np.ndarray, Y: np.ndarray) -> np.ndarray:

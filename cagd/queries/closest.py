@@ -55,7 +55,7 @@ from __future__ import annotations
 from collections import OrderedDict
 from dataclasses import replace
 import hashlib
-from typing import Callable, List, Optional, Tuple, Union
+from typing import Callable, List, Optional, Sequence, Tuple, Union, cast
 import weakref
 
 import numpy as np
@@ -72,7 +72,7 @@ from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, bezier_piec
 from ._cells import PowerTable, pair_distances as _distances, split_boxes as _split
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
-    SLACK_RTOL, TINY, ULP_RTOL
+    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
 
 MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
 WIN_GAP_RTOL = 1e-10         # a cell wins only by more than this share of the distance ...
@@ -208,10 +208,11 @@ class Projector:
         # spheres centred at the cell midpoints' images (convex hull inside): the distance
         # to the midpoint gives both the seed and the sphere bound
         Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
-        self.mid_radii = np.sqrt(((Pc - self.mid_points[:, None]) ** 2).sum(-1).max(axis=1)) * (1.0 + SLACK_RTOL)
+        self.mid_radii = np.sqrt(squared_norms(Pc - self.mid_points[:, None]).max(axis=1)) * (1.0 + SLACK_RTOL)
         P = self.pieces.control_points.reshape(-1, self.dim)
-        self.size = max(float(np.ptp(P, axis=0).max()), TINY)
-        self.hull_radius = float(np.sqrt((P ** 2).sum(-1)).max())      # about the frame's origin
+        lo, hi = column_extremes(P)
+        self.size = max(float((hi - lo).max()), TINY)
+        self.hull_radius = float(np.sqrt(squared_norms(P)).max())      # about the frame's origin
         if light:
             self.T, self._origin = 0.0, None
             self._grid_cells, self._grid_key = np.zeros(0, dtype=np.intp), np.zeros(0)
@@ -840,14 +841,7 @@ class Projector:
         return out
 
     def _points(self, points: ArrayLike) -> np.ndarray:
-        X = _checks.finite_array(points, "points")
-        if X.ndim == 1:
-            X = X[None]
-        if X.ndim != 2 or X.shape[0] == 0:
-            raise CagdError(f"points: expected a non-empty (N, {self.dim}) array, got shape {X.shape}")
-        if X.shape[1] != self.dim:
-            raise CagdError(f"points: expected {self.dim}-D points (the object is {self.dim}-D), got {X.shape[1]}-D")
-        return X
+        return _query_points(points, self.dim)
 
     def _inward(self, model: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """Model points in frame units, and which of them are farther than FAR_POINT: those
@@ -883,11 +877,27 @@ class Projector:
             x = np.stack([x[:, 0], x[:, 1] * (1.0 - x[:, 0])], axis=1)
         params = x[:, 0].copy() if self.k == 1 else x.copy()
         conv = np.array(conv, dtype=bool)
-        bad = np.flatnonzero(~conv)
-        message = "" if not bad.size else (
-            f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
-            f"their distances are the best found, lower_bounds still hold")
-        return ClosestPoints(params, feet, d.copy(), conv, lower, None, not bad.size, message)
+        return ClosestPoints(params, feet, d.copy(), conv, lower, None, bool(conv.all()), _unconverged(conv))
+
+
+def _query_points(points: ArrayLike, dim: int) -> np.ndarray:
+    """The query points as a finite (N, dim) array, N >= 1 (one point may be (dim,))."""
+    X = _checks.finite_array(points, "points")
+    if X.ndim == 1:
+        X = X[None]
+    if X.ndim != 2 or X.shape[0] == 0:
+        raise CagdError(f"points: expected a non-empty (N, {dim}) array, got shape {X.shape}")
+    if X.shape[1] != dim:
+        raise CagdError(f"points: expected {dim}-D points (the object is {dim}-D), got {X.shape[1]}-D")
+    return X
+
+
+def _unconverged(conv: np.ndarray) -> str:
+    """The message naming the points where Newton did not converge ("" when it did everywhere)."""
+    bad = np.flatnonzero(~conv)
+    return "" if not bad.size else (
+        f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
+        f"their distances are the best found, lower_bounds still hold")
 
 
 def _merge(res: ClosestPoints, rows: np.ndarray, sub: ClosestPoints) -> ClosestPoints:
@@ -909,11 +919,7 @@ def _concat(parts: List[ClosestPoints]) -> ClosestPoints:
     fields = {f: np.concatenate([getattr(p, f) for p in parts])
               for f in ("params", "feet", "distances", "point_converged", "lower_bounds")}
     conv = fields["point_converged"]
-    bad = np.flatnonzero(~conv)
-    message = "" if not bad.size else (
-        f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
-        f"their distances are the best found, lower_bounds still hold")
-    return ClosestPoints(**fields, isolated=None, converged=not bad.size, message=message)
+    return ClosestPoints(**fields, isolated=None, converged=bool(conv.all()), message=_unconverged(conv))
 
 
 def _c2_by_knots(obj: Union[Curve, Surface], raw: BezierPieces) -> List[Optional[np.ndarray]]:
@@ -1196,13 +1202,19 @@ def content_key(obj: object) -> Optional[Tuple]:
     return tuple(parts)
 
 
-def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,
-                  max_iterations: int = 50, *, param_tol: Optional[float] = None) -> ClosestPoints:
-    """Closest points of an engine curve or surface to N points, global and certified.
+def closest_point(obj: Union[Curve, Surface, Sequence[Union[Curve, Surface]]], points: ArrayLike,
+                  all_minima: bool = False, tol: Optional[float] = None, max_iterations: int = 50, *,
+                  param_tol: Optional[float] = None) -> ClosestPoints:
+    """Closest points of an engine curve or surface (or of the nearest of several) to N
+    points, global and certified.
 
     Args:
         obj: any cagd Curve or Surface (including Bezier triangles: their parameters are
-            returned in the triangle's (u, v), u = s, v = t (1 - s) of the NURBS form).
+            returned in the triangle's (u, v), u = s, v = t (1 - s) of the NURBS form), or
+            a list of them (the patches of a model, the faces of a STEP file): each point
+            gets the nearest object's closest point, ``owner`` says which (issue 16, many
+            objects: objects far from every point cost a pass over their control net only,
+            :mod:`cagd.queries._many`).
         points: (N, dim) points (one point may be given as (dim,)).
         all_minima: return every local minimum of the distance from one point instead.
         tol: a distance in model units: Newton stops when a step moves the foot by less
@@ -1221,13 +1233,34 @@ def closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: boo
 
     Raises:
         CagdError: not a curve or surface, empty or NaN points, wrong dimension, tol or
-            param_tol <= 0, a distance beyond the float64 range.
+            param_tol <= 0, a distance beyond the float64 range; ``all_minima`` with a
+            list; objects of different dimensions.
 
     Piegl & Tiller 6.1 (point inversion by Newton); seed 004, ch. 1 §4 (minimum distance).
     """
     if tol is not None:
         changed("closest_point", TOL_CHANGED)
-    return _closest_point(obj, points, all_minima, tol, param_tol, max_iterations)
+    if isinstance(obj, (list, tuple)):
+        return _closest_of_many(obj, points, all_minima, tol, param_tol, max_iterations)
+    return _closest_point(cast(Union[Curve, Surface], obj), points, all_minima, tol, param_tol, max_iterations)
+
+
+def _closest_of_many(objs: Sequence[Union[Curve, Surface]], points: ArrayLike, all_minima: bool,
+                     tol: Optional[float], param_tol: Optional[float], max_iterations: int) -> ClosestPoints:
+    """:func:`closest_point` of a list of objects: each point against the nearest
+    (:func:`cagd.queries._many.nearest`), ``owner`` its index."""
+    from ._many import nearest, objects
+    checked = objects(objs)
+    if all_minima:
+        raise CagdError("all_minima: needs one object, not a list")
+    X = _query_points(points, checked[0].dim)
+
+    def measure(o: Union[Curve, Surface], Xr: np.ndarray) -> Tuple[list, bool]:
+        r = _closest_point(o, Xr, False, tol, param_tol, max_iterations)
+        return [r.distances, r.params, r.feet, r.lower_bounds, r.point_converged], True
+
+    (d, params, feet, lower, owner, conv), _ = nearest(checked, X, measure)
+    return ClosestPoints(params, feet, d, conv, lower, None, bool(conv.all()), _unconverged(conv), owner)
 
 
 def _closest_point(obj: Union[Curve, Surface], points: ArrayLike, all_minima: bool = False, tol: Optional[float] = None,

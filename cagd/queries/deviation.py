@@ -23,8 +23,8 @@ from .._deprecation import changed
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
-from .bounds import robust_distance
-from .closest import TOL_CHANGED, _closest_point, projector
+from ._many import nearest, objects
+from .closest import TOL_CHANGED, _closest_point
 from .results import Deviation
 from ._numerics import TINY
 
@@ -52,90 +52,26 @@ def _signs(obj: Union[Curve, Surface], params: np.ndarray, feet: np.ndarray, X: 
     return np.where(s == 0, 1.0, s)
 
 
-def _objects(obj: Objects) -> list:
-    objs: list = list(obj) if isinstance(obj, (list, tuple)) else [obj]
-    if not objs:
-        raise CagdError("obj: no object given")
-    for k, o in enumerate(objs):
-        if not isinstance(o, (Curve, Surface)):
-            raise CagdError(f"obj: expected a cagd Curve or Surface (or a list of them), item {k} is "
-                            f"{type(o).__name__}")
-    if len({o.dim for o in objs}) > 1:
-        raise CagdError(f"obj: the objects have different dimensions {sorted({o.dim for o in objs})}")
-    return objs
-
-
 #: Points measured per closest-point query by :func:`deviation` (bounds its working memory).
 DEVIATION_CHUNK = 1 << 16
-#: Points per block of the box bounds of :func:`deviation` over many objects (memory
-#: BOX_ROWS x TREE_TOP x dim doubles).
-BOX_ROWS = 4096
 #: Points drawn at most by :func:`deviation_map` (every k-th, and the largest |d|).
 MAP_POINTS = 200_000
-
-
-def _box_bounds(o: Union[Curve, Surface], X: np.ndarray, boxes: str = "nodes") -> np.ndarray:
-    """Certified lower bounds (N,) of the distance from the points X to ``o``: the
-    distance to the box of its Bezier control points (``boxes="whole"``) or to the
-    nearest box of the top level of its closest-point hierarchy ("nodes"; at most
-    TREE_TOP boxes, BOX_ROWS points at a time); the object lies in the convex hulls of
-    those control points (Farin 3.3), a trimmed face in its surface's. Computed in the
-    object's frame (:func:`robust_distance`: no overflow)."""
-    from ..surfaces.trimmed import TrimmedSurface
-    p = projector(o.untrimmed if isinstance(o, TrimmedSurface) else o)
-    lo, hi = p._tree[-1][0], p._tree[-1][1]                     # (T, dim) each
-    if boxes == "whole":
-        lo, hi = lo.min(axis=0, keepdims=True), hi.max(axis=0, keepdims=True)
-    out = np.empty(len(X))
-    with np.errstate(over="ignore", invalid="ignore"):
-        for s in range(0, len(X), BOX_ROWS):
-            Xf = p.frame.inward(X[s:s + BOX_ROWS])[:, None, :]
-            gap = np.maximum(np.maximum(lo - Xf, Xf - hi), 0.0)     # (n, T, dim)
-            out[s:s + BOX_ROWS] = robust_distance(gap, np.zeros_like(gap)).min(axis=1)
-    return out * p.frame.scale
 
 
 def _deviation_chunk(objs: list, X: np.ndarray, signed: Optional[bool], tol: Optional[float],
                      param_tol: Optional[float]) -> tuple:
     """(d, params, feet, lower_bounds, owner, point_converged, signed) of the points X
-    against the nearest of ``objs`` (on equal distances the first of them).
-
-    Many objects (issue 16): the objects are measured nearest first (by the median of
-    their box bounds over the points), and each only at the points its box bound does not
-    put beyond the distance found so far, so objects far from every point cost their box
-    test only."""
-    N = len(X)
-    bounds = [_box_bounds(o, X, "whole") for o in objs] if len(objs) > 1 else [np.zeros(N)]
-    order = np.argsort([float(np.median(b)) for b in bounds], kind="stable")
-    best: Optional[List[np.ndarray]] = None
-    is_signed = True
-    for k in order.tolist():
-        o = objs[k]
-        rows = np.arange(N)
-        if best is not None:                # the whole box, then the hierarchy's top boxes
-            rows = np.flatnonzero(bounds[k] <= np.abs(best[0]))
-            rows = rows[_box_bounds(o, X[rows]) <= np.abs(best[0][rows])]
-            if not len(rows):
-                continue
-        Xr = X[rows]
+    against the nearest of ``objs`` (:func:`cagd.queries._many.nearest`: objects far from
+    every point cost a pass over their control net; on equal distances the first)."""
+    def measure(o: Union[Curve, Surface], Xr: np.ndarray) -> tuple:
         r = _closest_point(o, Xr, tol=tol, param_tol=param_tol)
         sign = _signs(o, r.params, r.feet, Xr) if signed is not False else None
         if signed and sign is None:
             raise CagdError(f"signed: a {o.dim}-D curve has no side; use signed=False")
         d = r.distances if sign is None else sign * r.distances
-        fields = [d, r.params, r.feet, r.lower_bounds, np.full(len(d), k), r.point_converged]
-        is_signed = is_signed and sign is not None
-        if best is None:
-            best = [np.array(f) for f in fields]            # writable copies (results are read-only)
-            continue
-        ad, ab = np.abs(d), np.abs(best[0][rows])
-        closer = (ad < ab) | ((ad == ab) & (k < best[4][rows]))
-        win = rows[closer]
-        for i in range(6):
-            best[i] = _broadcast_rows(best[i], fields[i].shape[1:])
-            val = fields[i][closer]
-            best[i][win] = val.reshape(val.shape + (1,) * (best[i].ndim - val.ndim))
-    assert best is not None                     # _objects gives at least one object
+        return [d, r.params, r.feet, r.lower_bounds, r.point_converged], sign is not None
+
+    best, is_signed = nearest(objs, X, measure)
     return (*best, is_signed)
 
 
@@ -144,15 +80,6 @@ def _measure_chunk(shared: tuple, X: np.ndarray) -> tuple:
     param_tol): the task of :func:`deviation`'s chunks, in this process or a worker's."""
     objs, signed, tol, param_tol = shared
     return _deviation_chunk(objs, X, signed, tol, param_tol)
-
-
-def _broadcast_rows(a: np.ndarray, row: tuple) -> np.ndarray:
-    """``a`` (N, ...) with rows broadcast against the row shape ``row`` (curve parameters
-    (N,) among surface parameters (N, 2) repeat in both columns)."""
-    shape = np.broadcast_shapes(a.shape[1:], row)
-    if shape == a.shape[1:]:
-        return a
-    return np.array(np.broadcast_to(a.reshape(a.shape + (1,) * (len(shape) - a.ndim + 1)), (len(a),) + shape))
 
 
 def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
@@ -194,7 +121,7 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     """
     if tol is not None:
         changed("deviation", TOL_CHANGED)
-    objs = _objects(obj)
+    objs = objects(obj)
     workers = checked_workers(workers)
     pct = _checks.finite_array(percentiles, "percentiles", ndim=1)
     if np.any((pct < 0) | (pct > 100)):
@@ -249,7 +176,7 @@ def deviation_map(obj: Objects, points: ArrayLike, path: Union[str, os.PathLike]
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    objs = _objects(obj)
+    objs = objects(obj)
     res = deviation(objs, points) if result is None else result
     X = np.atleast_2d(_checks.finite_array(points, "points"))
     lim = max(res.max_abs, TINY)

@@ -42,7 +42,10 @@ class ClosestPoints(ReadOnlyArrays):
     along the free parameters, so the minima form a curve or a region through it (the
     centre of a sphere, a point on the axis of a surface of revolution); the rows are
     then samples of that continuum, one per Bezier cell. A foot at a collapsed edge (a
-    pole) is one row, isolated when the distance grows away from it."""
+    pole) is one row, isolated when the distance grows away from it. owner (a list of
+    objects only, else None): (N,) the index of the nearest object, the first of equally
+    near ones; params are on it (curve parameters repeated in both columns among
+    surfaces)."""
     params: np.ndarray
     feet: np.ndarray
     distances: np.ndarray
@@ -51,6 +54,7 @@ class ClosestPoints(ReadOnlyArrays):
     isolated: Optional[np.ndarray] = None
     converged: bool = True
     message: str = ""
+    owner: Optional[np.ndarray] = None
 
 
 @dataclass(frozen=True)

@@ -68,3 +68,13 @@ def test_trimmed_benchmark_on_real_faces(capsys, monkeypatch):
     trimmed.bench_real_faces(folder, 200, [0.1])
     out = capsys.readouterr().out
     assert "closest, occ22470.igs (2 faces" in out and "not converged" not in out, out
+
+
+def test_many_objects_benchmark_runs(capsys):
+    """benchmarks/many_objects.py at tiny sizes: it runs, and the 4-surface answers equal
+    the 1-surface ones bit for bit where the first surface owns every point, closest_point's
+    the unsigned deviation's (main returns 1 otherwise)."""
+    from benchmarks import many_objects
+    assert many_objects.main(["--layout", "apart", "--points", "1", "5", "--repeat", "1"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("True") == 2

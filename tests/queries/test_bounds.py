@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 import cagd
 from cagd import CagdError
-from cagd.queries.bounds import bernstein_derivatives, bezier_pieces, restriction_matrix
+from cagd.queries.bounds import bernstein_derivatives, bezier_pieces, net_box, restriction_matrix
 
 SETTINGS = settings(max_examples=15, deadline=None, suppress_health_check=list(HealthCheck))
 
@@ -107,6 +107,36 @@ def test_surface_pieces_evaluate_and_bound(data):
                           (M[:, 1, 1], (0, 2))):
         sampled = _max_per_piece(idx, np.linalg.norm(d[i, j], axis=1), m)
         assert np.all(sampled <= bound * (1 + 1e-9) + 1e-9 * scale)
+
+
+@SETTINGS
+@given(st.data())
+def test_net_box_holds_the_object_and_its_bezier_hulls(data):
+    """net_box (issue 16, many objects: no set-up) holds every Bezier piece's hull box
+    (the object lies in those: the pieces' own test above) and sampled points, at every
+    model scale (the box is in the net's frame); it is the control points' box itself."""
+    import occ_strategies as S
+    obj = data.draw(st.one_of(S.bspline_surfaces_3d(max_degree_u=3, max_degree_v=3),
+                              S.bezier_surfaces_3d(max_degree=4, rational=True), S.revolved_surfaces(),
+                              S.quadrics(), S.bezier_triangles(), S.periodic_curves(), S.bezier_curves()))
+    scale = data.draw(st.sampled_from([1.0, 1e-200, 1e200]))
+    obj = obj.transformed(scale * np.eye(obj.dim), np.full(obj.dim, 3.0 * scale))
+    frame, lo, hi = net_box(obj)
+    assert lo.shape == hi.shape == (1, obj.dim)
+    blo, bhi = bezier_pieces(obj).hull_boxes()
+    slack = 1e-12 * float(np.abs(np.r_[lo.ravel(), hi.ravel()]).max())
+    assert np.all(frame.inward(blo) >= lo - slack) and np.all(frame.inward(bhi) <= hi + slack)
+    if obj.dim == 3 and hasattr(obj, "rectangular"):
+        (u0, u1), (v0, v1) = obj.domain
+        U, V = np.meshgrid(np.linspace(u0, u1, 9), np.linspace(v0, v1, 9), indexing="ij")
+        pts = obj(U.ravel(), V.ravel() * (1.0 - U.ravel()) if not obj.rectangular else V.ravel())
+    else:
+        pts = obj(np.linspace(*obj.domain, 33))
+    assert np.all(frame.inward(pts) >= lo - slack) and np.all(frame.inward(pts) <= hi + slack)
+    P = np.asarray(obj.to_nurbs().control_points).reshape(-1, obj.dim)
+    size = float(np.abs(P).max())
+    assert np.abs(frame.outward(lo)[0] - P.min(axis=0)).max() <= 1e-15 * size
+    assert np.abs(frame.outward(hi)[0] - P.max(axis=0)).max() <= 1e-15 * size
 
 
 def test_layout_locate_and_periodic_flags():

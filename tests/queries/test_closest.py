@@ -686,3 +686,101 @@ def test_rational_patch_with_tiny_weights(seed):
     uv = rng.random((40, 2))
     r = closest_point(S, S(uv[:, 0], uv[:, 1]))
     assert r.distances.max() <= 1e-10 and np.all(r.lower_bounds <= r.distances)
+
+
+# --- issue 16, many objects: closest_point over a list --------------------------------------------
+def bumpy_patch(seed, n=6, degree=3):
+    """A bumpy n x n B-spline patch over [0, 10]^2 (z ~ N(0, 1))."""
+    rng = np.random.default_rng(seed)
+    P = np.stack([*np.meshgrid(np.linspace(0, 10, n), np.linspace(0, 10, n), indexing="ij"), np.zeros((n, n))], -1)
+    P[..., 2] = rng.normal(0, 1, (n, n))
+    return cagd.BSplineSurface(P, degree, degree)
+
+
+def test_list_with_far_surfaces_is_the_near_one_alone(projectors_built):
+    """Four surfaces, three far from every point: the answer is the near surface's alone
+    bit for bit (params, feet, distances, lower bounds), owner its index, and no
+    projector is ever built for the far ones (a pass over their control nets only)."""
+    near = bumpy_patch(1)
+    far = [bumpy_patch(k).transformed(np.eye(3), off) for k, off in ((2, [40.0, 0, 0]), (3, [0, 35.0, 0]),
+                                                                      (4, [0, 0, -30.0]))]
+    rng = np.random.default_rng(2)
+    X = near(rng.uniform(0, 1, 80), rng.uniform(0, 1, 80)) + rng.normal(0, 0.3, (80, 3))
+    alone = closest_point(near, X)
+    built = projectors_built
+    built.forget(near)                           # near is set up again (the spy sees it)
+    built.clear()
+    many = closest_point([far[0], far[1], near, far[2]], X)
+    assert built and all(o is near for o in built)
+    for f in ("params", "feet", "distances", "lower_bounds", "point_converged"):
+        np.testing.assert_array_equal(getattr(many, f), getattr(alone, f))
+    assert many.owner is not None and np.all(many.owner == 2) and alone.owner is None
+    assert many.converged == alone.converged and many.message == alone.message
+    single = closest_point([near], X)
+    np.testing.assert_array_equal(single.distances, alone.distances)
+    assert np.all(single.owner == 0)
+
+
+@pytest.mark.parametrize("order", [(0, 1), (1, 0)])
+def test_a_point_equidistant_from_two_surfaces(order):
+    """A bumpy patch and its mirror image in the plane z = 0 (different nets), points on
+    that plane over the patches: equal distances from both (mirror symmetry); the first in
+    the list owns each point, with its own foot, parameters and lower bound."""
+    a = bumpy_patch(5).transformed(np.eye(3), [0, 0, 4.0])
+    b = a.transformed(np.diag([1.0, 1.0, -1.0]))
+    pair = [(a, b)[i] for i in order]
+    rng = np.random.default_rng(6)
+    X = np.column_stack([rng.uniform(1, 9, 40), rng.uniform(1, 9, 40), np.zeros(40)])
+    both = closest_point(pair, X)
+    first = closest_point(pair[0], X)
+    other = closest_point(pair[1], X)
+    np.testing.assert_allclose(first.distances, other.distances, rtol=1e-13)
+    tie = first.distances == other.distances
+    assert tie.sum() >= 10                             # exact ties happen (mirrored in z: no rounding)
+    assert np.all(both.owner[tie] == 0)
+    np.testing.assert_array_equal(both.owner, np.where(first.distances <= other.distances, 0, 1))
+    mine = both.owner == 0
+    for f in ("params", "feet", "distances", "lower_bounds"):
+        np.testing.assert_array_equal(getattr(both, f)[mine], getattr(first, f)[mine])
+        np.testing.assert_array_equal(getattr(both, f)[~mine], getattr(other, f)[~mine])
+
+
+@FAST
+@given(st.lists(st.tuples(st.floats(-20, 20), st.floats(-20, 20), st.floats(-4, 4)), min_size=1, max_size=3),
+       st.integers(0, 2 ** 31), st.booleans())
+def test_list_gives_the_nearest_of_each_alone(offsets, seed, with_curve):
+    """Patches placed anywhere (apart, overlapping, touching) and a space curve: every
+    point's distance is the smallest over the objects alone (to 1e-12 of the size: each
+    is queried on other row sets), the owner one of the nearest, its foot on the owner at
+    that distance, at its params; the lower bound certified."""
+    rng = np.random.default_rng(seed)
+    objs = [bumpy_patch(seed % 97 + k, 4, 2).transformed(np.eye(3), off) for k, off in enumerate([(0, 0, 0)] + offsets)]
+    if with_curve:
+        objs.append(cagd.BSplineCurve(rng.uniform(-5, 15, (6, 3)), 3))
+    X = objs[0](rng.uniform(0, 1, 60), rng.uniform(0, 1, 60)) + rng.normal(0, 3.0, (60, 3))
+    many = closest_point(objs, X)
+    each = np.array([closest_point(o, X).distances for o in objs])
+    size = 60.0
+    assert np.all(np.abs(many.distances - each.min(axis=0)) <= 1e-12 * size)
+    assert np.all(each[many.owner, np.arange(len(X))] <= each.min(axis=0) + 1e-12 * size)
+    assert np.all(many.lower_bounds <= many.distances)
+    at = [objs[k](p[0]) if isinstance(objs[k], cagd.BSplineCurve) else objs[k](p[0], p[1])
+          for k, p in zip(many.owner, many.params)]
+    assert np.abs(np.reshape(at, (-1, 3)) - many.feet).max() <= 1e-12 * size
+    assert np.all(np.abs(np.linalg.norm(many.feet - X, axis=1) - many.distances) <= 1e-12 * size)
+
+
+def test_list_bad_input():
+    s = bumpy_patch(1)
+    with pytest.raises(CagdError, match="obj: no object"):
+        closest_point([], np.zeros((1, 3)))
+    with pytest.raises(CagdError, match="item 1"):
+        closest_point([s, "face"], np.zeros((1, 3)))
+    with pytest.raises(CagdError, match="different dimensions"):
+        closest_point([s, cagd.BSplineCurve(np.eye(2), 1)], np.zeros((1, 3)))
+    with pytest.raises(CagdError, match="all_minima"):
+        closest_point([s, s], np.zeros(3), all_minima=True)
+    with pytest.raises(CagdError, match="3-D points"):
+        closest_point([s, s], np.zeros((2, 2)))
+    with pytest.raises(CagdError, match="points"):
+        closest_point([s, s], np.full((2, 3), np.nan))

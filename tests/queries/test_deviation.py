@@ -2,6 +2,8 @@
 statistics against numpy, the colour map is a PNG, bad input."""
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cagd
 from cagd import CagdError
@@ -142,6 +144,68 @@ def test_many_objects_far_ones_cost_their_box_test_only(monkeypatch):
     assert np.all(many.owner == 2)
     twice = deviation([far[0], near, near], X)
     assert np.all(twice.owner == 1)
+
+
+def test_many_objects_far_ones_are_never_set_up(projectors_built):
+    """Issue 16, many objects: surfaces far from every point cost a pass over their
+    control net only: no closest-point projector (no Bezier cells, bounds or hierarchy)
+    is built for them, and the answer is the near surface's alone bit for bit."""
+    rng = np.random.default_rng(3)
+    P = np.stack([*np.meshgrid(np.linspace(0, 10, 6), np.linspace(0, 10, 6), indexing="ij"), np.zeros((6, 6))], -1)
+    P[..., 2] = rng.normal(0, 1, (6, 6))
+    near = cagd.BSplineSurface(P, 3, 3)
+    far = [near.transformed(np.eye(3), off) for off in ([30.0, 0, 0], [0, -40.0, 0], [0, 0, 25.0])]
+    X = near(rng.uniform(0, 1, 40), rng.uniform(0, 1, 40)) + rng.normal(0, 0.2, (40, 3))
+    alone = deviation(near, X)
+    built = projectors_built
+    built.forget(near)                           # near is set up again (the spy sees it)
+    built.clear()
+    many = deviation([far[0], near, far[1], far[2]], X)
+    assert built and all(o is near for o in built)
+    for f in ("distances", "feet", "params", "lower_bounds"):
+        np.testing.assert_array_equal(getattr(many, f), getattr(alone, f))
+    assert np.all(many.owner == 1)
+
+
+@pytest.mark.parametrize("first", [0, 1])
+def test_a_point_equidistant_from_two_surfaces_belongs_to_the_first(first):
+    """Two planes z = -1 and z = +1 (different objects, not copies) and points at z = 0:
+    the distance 1 to both; the owner is the first in the list whichever plane it is,
+    its foot, parameters, sign and lower bound those of that plane alone."""
+    low, high = plane().transformed(np.eye(3), [0, 0, -1.0]), plane().transformed(np.eye(3), [0, 0, 1.0])
+    pair = [low, high] if first == 0 else [high, low]
+    rng = np.random.default_rng(4)
+    X = np.column_stack([rng.uniform(0.1, 1.9, 50), rng.uniform(0.1, 0.9, 50), np.zeros(50)])
+    both = deviation(pair, X)
+    assert np.all(both.owner == 0)
+    own = deviation(pair[0], X)
+    np.testing.assert_allclose(np.abs(both.distances), 1.0, rtol=1e-15)
+    for f in ("distances", "feet", "params", "lower_bounds"):
+        np.testing.assert_array_equal(getattr(both, f), getattr(own, f))
+    assert np.all(both.distances == (1.0 if pair[0] is low else -1.0))
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.lists(st.tuples(st.floats(-30, 30), st.floats(-30, 30), st.floats(-5, 5)), min_size=1, max_size=4),
+       st.integers(0, 2 ** 31))
+def test_many_objects_give_the_nearest_of_each_alone(offsets, seed):
+    """Copies of one bumpy patch placed anywhere (apart, overlapping, touching): every
+    point's |distance| is the smallest over the objects measured alone (to 1e-12 of the
+    size: the queries see other row sets), its owner one of those nearest, its foot on the
+    owner at that distance, and the lower bound certified (<= the distance)."""
+    rng = np.random.default_rng(seed)
+    P = np.stack([*np.meshgrid(np.linspace(0, 10, 4), np.linspace(0, 10, 4), indexing="ij"), np.zeros((4, 4))], -1)
+    P[..., 2] = rng.normal(0, 1, (4, 4))
+    objs = [cagd.BSplineSurface(P, 2, 2).transformed(np.eye(3), off) for off in [(0, 0, 0)] + offsets]
+    X = objs[0](rng.uniform(0, 1, 60), rng.uniform(0, 1, 60)) + rng.normal(0, 3.0, (60, 3))
+    many = deviation(objs, X)
+    each = np.array([np.abs(deviation(o, X).distances) for o in objs])
+    size = 50.0
+    assert np.all(np.abs(np.abs(many.distances) - each.min(axis=0)) <= 1e-12 * size)
+    assert np.all(each[many.owner, np.arange(len(X))] <= each.min(axis=0) + 1e-12 * size)
+    assert np.all(many.lower_bounds <= np.abs(many.distances))
+    on = np.array([np.linalg.norm(objs[k](*p) - f) for k, p, f in zip(many.owner, many.params, many.feet)])
+    assert on.max() <= 1e-12 * size
 
 
 # --- issue 16, scan scale: worker processes and Dask tasks give the serial answer ---------------
