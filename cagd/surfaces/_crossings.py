@@ -120,13 +120,27 @@ def network_crossings(profiles: List[BSplineCurve], guides: List[BSplineCurve], 
     return np.where(proven, S, np.nan), np.where(proven, T, np.nan), np.where(proven, miss, np.nan), proven
 
 
+def _jet(c: BSplineCurve, t: np.ndarray) -> np.ndarray:
+    """(point, first derivative) at t in the curve's domain, from its cached pp form and
+    that form's own derivative (enough for Newton steps; the Bernstein path above the pp
+    form's degree limit)."""
+    if c._by_bernstein:
+        return c.derivatives(t, 1)
+    H, dH = c.ppform(t), c.ppform(t, 1)
+    if not c.is_rational:
+        return np.stack([H, dH])
+    w, dw = H[:, -1:], dH[:, -1:]
+    P = H[:, :-1] / w
+    return np.stack([P, (dH[:, :-1] - P * dw) / w])
+
+
 def _newton(profiles: List[BSplineCurve], guides: List[BSplineCurve], S: np.ndarray, T: np.ndarray
             ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Gauss-Newton on |f_i(s) - g_j(t)|^2 for every pair at once, s and t held in [0, 1]:
     (s, t, distance)."""
     for _ in range(NEWTON_ROUNDS):
-        F = np.stack([f.derivatives(S[i], 1) for i, f in enumerate(profiles)], axis=1)        # (2, m, n, dim)
-        G = np.stack([g.derivatives(T[:, j], 1) for j, g in enumerate(guides)], axis=2)
+        F = np.stack([_jet(f, S[i]) for i, f in enumerate(profiles)], axis=1)        # (2, m, n, dim)
+        G = np.stack([_jet(g, T[:, j]) for j, g in enumerate(guides)], axis=2)
         D, fd, gd = F[0] - G[0], F[1], G[1]
         a, b, c = (fd * fd).sum(-1), -(fd * gd).sum(-1), (gd * gd).sum(-1)
         r1, r2 = -(fd * D).sum(-1), (gd * D).sum(-1)

@@ -248,14 +248,16 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     p = max(max(c.degree for c in curves), REFIT_MIN_DEGREE)
     maps = [_reparametrisation(new, o) for o in old]
     dense = np.linspace(0.0, 1.0, 1025)
-    mapped, sharp, sharp_mult = [], [], []
+    mapped, sharp, sharp_mult, kinks = [], [], [], []
     for c, r in zip(curves, maps):
-        c = c.elevate(p - c.degree) if c.degree < p else c
-        interior = c.knots[p + 1:-p - 1]
+        e = c.elevate(p - c.degree) if c.degree < p else c
+        interior = e.knots[p + 1:-p - 1]
         values, mult = kv.distinct_with_multiplicities(interior) if interior.size else (interior, interior)
-        mapped.append(np.interp(values[mult == 1], r(dense), dense))    # r^-1 of the curve's smooth knots
-        sharp.append(_inverse(r, values[mult > 1]))                     # ... and exactly of its kinks,
-        sharp_mult.append(mult[mult > 1])                               # kept at their multiplicity
+        pre = _inverse(r, values)                                       # r^-1 of the curve's knots, exactly
+        mapped.append(np.interp(values[mult == 1], r(dense), dense))    # the smooth ones as before (averaged)
+        sharp.append(pre[mult > 1])                                     # the kinks kept exactly,
+        sharp_mult.append(mult[mult > 1])                               # at their multiplicity
+        kinks.append(_kinks(r, new, pre))
     if len({len(t) for t in mapped}) == 1:
         inner = np.mean(mapped, axis=0)                              # knot by knot
     else:
@@ -264,7 +266,6 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
         inner = np.quantile(pool, np.arange(1, k + 1) / (k + 1))
     kink_at, kink_mult = _merged(np.concatenate(sharp), np.concatenate(sharp_mult).astype(int))
     breaks = np.unique(np.concatenate([[0.0], inner, kink_at, [1.0]]))
-    kinks = [_kinks(c, r, new) for c, r in zip(curves, maps)]
     homs = [_homogeneous(c) if c.is_rational else None for c in curves]
     target = REFIT_SHARE * tol
     err = np.inf
@@ -326,6 +327,8 @@ def _inverse(r: Callable[[np.ndarray], np.ndarray], y: np.ndarray) -> np.ndarray
     in a table of INVERSE_TABLE values, then the Illinois variant of regula falsi
     (superlinear; Dowell & Jarratt 1971), vectorized, at most INVERSE_ROUNDS rounds,
     stopping once every residual or step is within INVERSE_RTOL."""
+    if y.size == 0:
+        return y.copy()
     grid = np.linspace(0.0, 1.0, INVERSE_TABLE)
     table = r(grid)
     k = np.clip(np.searchsorted(table, y, side="right") - 1, 0, INVERSE_TABLE - 2)   # r(grid_k) <= y
@@ -353,13 +356,12 @@ def _inverse(r: Callable[[np.ndarray], np.ndarray], y: np.ndarray) -> np.ndarray
     return s
 
 
-def _kinks(c: BSplineCurve, r: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndarray:
+def _kinks(r: Callable[[np.ndarray], np.ndarray], x: np.ndarray, preimages: np.ndarray) -> np.ndarray:
     """Where c o r may break: the breaks of r (at most x and the interior knots of its
-    spline on averaged knots, :func:`_reparametrisation`) and the preimages r^-1 of c's
-    interior knots."""
-    inner = np.unique(c.knots)[1:-1]
+    spline on averaged knots, :func:`_reparametrisation`) and the ``preimages`` r^-1 of
+    c's interior knots."""
     averaged = np.unique(kv.averaged(x, min(3, len(x) - 1)))[1:-1]
-    return np.concatenate([x[1:-1], averaged, _inverse(r, inner)])
+    return np.concatenate([x[1:-1], averaged, preimages])
 
 
 def _deviation_bound(fitted: BSplineCurve, c: BSplineCurve, hom: Optional[BSplineCurve],
