@@ -18,6 +18,7 @@ from ._numerics import AT_END_RTOL, COLLAPSED_SPEED_RTOL, TINY, residual_tol
 STALL_ROUNDS = 2             # fit: rounds in a row that may fail to cut the error ...
 STALL_FACTOR = 2.0           # ... by this factor before the fit stops
 GN_SHIFT_RTOL = 1e-14        # Gauss-Newton shift of the foot projections, share of trace(J^T J)
+FOOT_STEP_RTOL = 1e-15       # foot projections: steps below this share of the width end the iteration
 
 
 #: the branch fit's collocation is used while it hits its points within this fraction of
@@ -318,18 +319,21 @@ def _foot(S: System, k: int, C: np.ndarray, uv: np.ndarray, iters: int = 6):
     (J^T J) du = J^T (C - S(uv)) from uv, a start within the fit's error of the foot, so
     that it converges at the rate distance x curvature; never below the true distance.
     Returns (distance from the foot, distance from the start point S(uv))."""
-    p0, _ = S._partials(k, uv)
-    start = np.linalg.norm(p0 - C, axis=1)
-    best = start.copy()
     g = (S.A, S.B)[k]
     assert g is not None                        # k = 1 only with a second surface
+    start = best = None
     for _ in range(iters):
         p, d = S._partials(k, uv)
-        best = np.minimum(best, np.linalg.norm(C - p, axis=1))
+        dist = np.linalg.norm(C - p, axis=1)
+        start = dist if start is None else start
+        best = dist if best is None else np.minimum(best, dist)
         JtJ = np.einsum("nid,njd->nij", d, d)
         JtJ += np.eye(2) * (GN_SHIFT_RTOL * np.trace(JtJ, axis1=1, axis2=2)[:, None, None] + TINY)
         step = np.linalg.solve(JtJ, np.einsum("nid,nd->ni", d, C - p)[..., None])[..., 0]
-        uv = g.clamp(uv + step)
+        new = g.clamp(uv + step)
+        if np.all(np.abs(new - uv) <= FOOT_STEP_RTOL * (g.hi - g.lo)):
+            return best, start                  # converged: further steps change nothing
+        uv = new
     best = np.minimum(best, np.linalg.norm(C - S._partials(k, uv)[0], axis=1))
     return best, start
 

@@ -372,14 +372,32 @@ def project_onto(B: Geometry, pts: np.ndarray, y0: np.ndarray, iters: int = 30
 
 
 # --- the surface intersection system ---------------------------------------------------------
-def newton(S: System, x, C=None, g0=None, ftol=NEWTON_FTOL, iters=NEWTON_ITERATIONS):
+def newton(S: System, x, C=None, g0=None, ftol=NEWTON_FTOL, iters=NEWTON_ITERATIONS, full=False):
     """Newton on [F(x); C.(x) - g0] = 0 (C (N, n) one constraint row per point), or the
-    minimum-norm step when C is None. Returns (x, converged)."""
-    x = x.copy()
+    minimum-norm step when C is None. A row is converged at an evaluated x with
+    |F(x)| <= ftol whose next step is below STEP_RTOL of the width (a root, not a point
+    of a tangency's flat valley where |F| <= ftol over a whole patch); it stops there
+    (the rows still moving go on, one evaluation of all of them per iteration). Returns (x, converged), with ``full``
+    also :meth:`System.eval`'s arrays at the returned x (F, J, point, normals, da)."""
+    x = np.array(x, dtype=float)
     ok = np.zeros(len(x), bool)
     step_tol = STEP_RTOL * S.span
+    act = np.arange(len(x))
+    out: list = []
+
+    def keep(rows, ev):
+        if not out:
+            out.extend(np.empty((len(x),) + np.shape(a)[1:]) for a in ev)
+        for o, a in zip(out, ev):
+            o[rows] = a
+
     for _ in range(iters):
-        F, J, *_ = S.eval(x)
+        if not act.size:
+            break
+        xa = x[act]
+        ev = S.eval(xa)
+        keep(act, ev)
+        F, J = ev[0], ev[1]
         res = np.linalg.norm(F, axis=1)
         if C is None:
             JJ = J @ J.transpose(0, 2, 1)
@@ -390,19 +408,24 @@ def newton(S: System, x, C=None, g0=None, ftol=NEWTON_FTOL, iters=NEWTON_ITERATI
                 y = np.einsum("nij,njk->nik", np.linalg.pinv(JJ), -F[..., None])
             dx = (J.transpose(0, 2, 1) @ y)[..., 0]
         else:
-            M = np.concatenate([J, C[:, None, :]], axis=1)
-            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", C, x) - g0)[:, None]], axis=1)
+            Ca = C[act]
+            M = np.concatenate([J, Ca[:, None, :]], axis=1)
+            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", Ca, xa) - g0[act])[:, None]], axis=1)
             det = np.abs(np.linalg.det(M))
             good = det > TINY
-            dx = np.zeros_like(x)
-            if good.any():
+            dx = np.zeros_like(xa)
+            if good.all():
+                dx = np.linalg.solve(M, rhs[..., None])[..., 0]
+            elif good.any():
                 dx[good] = np.linalg.solve(M[good], rhs[good][..., None])[..., 0]
         small = np.all(np.abs(dx) <= step_tol, axis=1)
-        ok = (res <= ftol) & (small | ok)     # converged: a root, not a point of a tangency's
-        x = S.clip(x + dx)                    # flat valley where |F| <= ftol over a whole patch
-        if np.all(ok):
-            break
-    F = S.eval(x)[0]
-    ok = np.linalg.norm(F, axis=1) <= ftol
-    return x, ok
-
+        conv = (res <= ftol) & small
+        ok[act[conv]] = True
+        go = ~conv
+        act = act[go]
+        x[act] = S.clip(xa[go] + dx[go])
+    if act.size or not out:
+        ev = S.eval(x[act])
+        keep(act, ev)
+        ok[act] = np.linalg.norm(ev[0], axis=1) <= ftol
+    return (x, ok, tuple(out)) if full else (x, ok)

@@ -11,7 +11,7 @@ import numpy as np
 
 from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
-from ._numerics import unit
+from ._numerics import SLACK_RTOL, TINY, unit
 
 INSIDE_SLACK = 1e-12      # a parameter this share of the width outside the domain is inside
 
@@ -27,6 +27,22 @@ class System:
         self.span = self.hi - self.lo
         self.size = max(g.size for g in gs)
         self.pieces = [g.bezier for g in gs]
+
+    @property
+    def collapsed(self) -> bool:
+        """Some boundary edge of a surface collapses to a point (a pole, an apex, a
+        triangle's corner): its control points span under SLACK_RTOL of the net."""
+        if getattr(self, "_collapsed", None) is None:
+            out = False
+            for g in (self.A, self.B):
+                P = getattr(getattr(g, "nurbs", None), "control_points", None)
+                if P is None or np.ndim(P) != 3:
+                    continue
+                size = max(float(np.ptp(P.reshape(-1, P.shape[-1]), axis=0).max()), TINY)
+                for edge in (P[0], P[-1], P[:, 0], P[:, -1]):
+                    out |= bool(np.ptp(edge, axis=0).max() <= SLACK_RTOL * size)
+            self._collapsed = out
+        return self._collapsed
 
     def _partials(self, k, x):
         """Point and first partials (N, 2, 3) of surface k at parameters x (N, 2)."""

@@ -323,6 +323,19 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         if len(x):
             alive &= ~_absorbed(P, [branches[-1]], M.ftol)
     queue: List[np.ndarray] = []
+    if alive.any() and not S.collapsed:      # one start per cell of 1/16 of the size, all marched at once
+        # (not where a surface has a pole: a lane reaching it from inside ends there as singular,
+        # on an arbitrary parameter along the collapsed edge; the one-by-one march starts there)
+        pick = np.flatnonzero(alive)
+        pick = pick[_spread(P[pick], _SEED_FRACTION * S.size)]
+        chains, used, queue = M.march_seeds(x[pick])
+        alive[pick[used]] = False
+        for xs, ends in chains:
+            problems += [e for e in ends if e in ("stalled", "limit")]
+            branches.append((xs, list(ends), S.eval(xs)[2]))
+        if chains and alive.any():
+            rest = np.flatnonzero(alive)
+            alive[rest[_absorbed(P[rest], branches[-len(chains):], M.ftol)]] = False
     order = list(range(len(x)))
     while True:
         if queue:
@@ -336,11 +349,11 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         Pst = S.eval(start[None])[2]
         if branches and _absorbed(Pst, branches, M.ftol)[0]:
             continue
-        fw, end_f, other_f = M.march(start, 1.0)
-        if end_f == "closed":
+        (fw, end_f, other_f), back = M.march_both(start)
+        if back is None:
             xs, ends = np.array(fw), ("closed", "closed")
         else:
-            bw, end_b, other_b = M.march(start, -1.0)
+            bw, end_b, other_b = back
             xs = np.array(bw[::-1] + fw[1:])
             ends = (end_b, end_f)
             if other_b is not None:
@@ -361,6 +374,13 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
             rest = np.flatnonzero(alive)
             alive[rest[_absorbed(P[rest], [branches[-1]], M.ftol)]] = False
     return branches, isolated, problems
+
+
+def _spread(P: np.ndarray, cell: float) -> np.ndarray:
+    """Indices of the first point in each cube of edge ``cell`` (in their order)."""
+    key = np.floor((P - P.min(axis=0)) / max(cell, TINY)).astype(np.int64)
+    _, first = np.unique(key, axis=0, return_index=True)
+    return np.sort(first)
 
 
 def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
