@@ -4,6 +4,8 @@ stops on domain boundaries, loop closure and singular points (bisection on the
 orientation of the kernel). See :mod:`cagd.queries.intersect_surfaces`."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._surface_system import System, cofactors, velocity
@@ -17,6 +19,7 @@ CROSSING_SINE = 1e-4        # ... and above this where the bisection ends: no si
 
 MAX_ANGLE = 0.35              # largest turn of the tangent per step (rad)
 MAX_STEPS = 20000
+COS_MAX_ANGLE = math.cos(MAX_ANGLE)
 MEET_ANGLE_FLOOR = 0.05       # march_seeds: the turn assumed at least this (rad) in the meeting test
 
 class Marcher:
@@ -174,7 +177,8 @@ class Marcher:
                     return xs, "stalled", None
                 continue
             P1, c1, T1, speed1, sine1 = fy
-            dist = np.linalg.norm(P1 - Ps[-1])
+            step3 = P1 - Ps[-1]
+            dist = math.sqrt(float(step3 @ step3))
             if dist > 2.0 * h or (dist < 0.1 * h and fix is None):
                 h *= 0.5
                 if h < self.hmin:
@@ -182,7 +186,7 @@ class Marcher:
                 continue
             T1s = sigma * T1
             cos = float(T @ T1s)
-            if cos < -np.cos(MAX_ANGLE) and fix is None:      # the kernel flipped
+            if cos < -COS_MAX_ANGLE and fix is None:      # the kernel flipped
                 found = None
                 if h <= 4 * self.hmin or (kappa is not None and kappa * h <= 0.2):
                     found = yield from self.crossing(x, y, c)
@@ -193,7 +197,7 @@ class Marcher:
                     continue
                 xs.append(found[0])
                 return xs, "singular", y
-            if cos < np.cos(MAX_ANGLE) or sine1 <= self.sing:
+            if cos < COS_MAX_ANGLE or sine1 <= self.sing:
                 if sine1 <= self.sing and h <= 4 * self.hmin:
                     xs.append(y)
                     return xs, "singular", None
@@ -224,7 +228,7 @@ class Marcher:
                     xs.append(xc)
                     return xs, "closed", None
             travelled += dist
-            angle = np.arccos(np.clip(cos, -1.0, 1.0))
+            angle = math.acos(min(max(cos, -1.0), 1.0))
             kappa = angle / max(dist, TINY)
             xs.append(y)
             Ps.append(P1)
@@ -245,22 +249,22 @@ class Marcher:
         L2 = float(seg @ seg)
         if L2 <= 0.0:
             return None
-        w = Q - Pa
-        tau = (w @ seg) / L2
-        near = np.linalg.norm(w - tau[:, None] * seg, axis=1)
-        angle = max(float(np.arccos(np.clip(cos, -1.0, 1.0))), MEET_ANGLE_FLOOR)
-        along = T @ T1
-        hit = (tau >= -0.05) & (tau <= 1.05) & (near <= 0.25 * dist * angle + 10 * self.ftol) \
-            & (np.abs(along) >= np.cos(MAX_ANGLE))
-        hit[own] = False
-        if not hit.any():
-            return None
-        cand = np.flatnonzero(hit)
-        cand = cand[np.all(np.abs(self.S.wrapdiff(X[cand] - y)) <= 0.25 * self.S.span, axis=1)]
+        tau = ((Q - Pa) @ seg) / L2
+        cand = np.flatnonzero((tau >= -0.05) & (tau <= 1.05))
+        cand = cand[cand != own]
         if not cand.size:
             return None
-        j = int(cand[np.argmin(tau[cand])])
-        return j, float(tau[j]), 1.0 if along[j] > 0 else -1.0
+        w = Q[cand] - Pa
+        near = np.linalg.norm(w - tau[cand, None] * seg, axis=1)
+        angle = max(math.acos(min(max(cos, -1.0), 1.0)), MEET_ANGLE_FLOOR)
+        along = T[cand] @ T1
+        hit = (near <= 0.25 * dist * angle + 10 * self.ftol) & (np.abs(along) >= COS_MAX_ANGLE)
+        hit &= np.all(np.abs(self.S.wrapdiff(X[cand] - y)) <= 0.25 * self.S.span, axis=1)
+        if not hit.any():
+            return None
+        cand, along = cand[hit], along[hit]
+        k = int(np.argmin(tau[cand]))
+        return int(cand[k]), float(tau[cand[k]]), 1.0 if along[k] > 0 else -1.0
 
     def march_seeds(self, x):
         """March from all starts x (K, n) at once, both directions, every lane ending on

@@ -334,11 +334,15 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
             rt = residual(w, 0, idx[rows])[0]
             return w, 0.5 * np.einsum("nd,nd->n", rt, rt)
 
-        for rows, ok, trial_z, ft in backtrack(np.arange(idx.size), trial, lambda rows, ft: ft <= f0[rows], 30):
+        small = np.all(np.abs(step) <= STALL_STEP_RTOL * span, axis=1)
+        # a short step that cannot decrease f at full length is at the rounding floor: it is
+        # not halved further (the halvings would only chase rounding, 30 evaluations each)
+        for rows, ok, trial_z, ft in backtrack(np.arange(idx.size), trial,
+                                               lambda rows, ft: (ft <= f0[rows]) | small[rows], 30):
+            ok = ok & (ft <= f0[rows])
             znew[rows[ok]], fnew[rows[ok]] = trial_z[ok], ft[ok]
             accepted[rows[ok]] = True
         moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
-        small = np.all(np.abs(step) <= STALL_STEP_RTOL * span, axis=1)
         ok = (accepted & np.all(moved <= ULP_RTOL * span, axis=1)) | (fnew == 0) | (~accepted & small)
         z[idx], f[idx] = znew, fnew
         converged[idx[ok]] = True

@@ -17,7 +17,12 @@ surface–plane x = (u, v), F = n.(A(u, v) - o) (the signed distance, 1 equation
    curvature so that a cubic interpolant stays within ``tol`` (error ~ 5/384 h^4 k^3),
    the march stops on a domain boundary (solved exactly with the boundary parameter
    fixed), when the loop closes, or at a singular point. Closed but non-periodic
-   directions (revolved surfaces, seams) are marched across.
+   directions (revolved surfaces, seams) are marched across. All marches advance in
+   arrays: one start per cell of 1/16 of the model size, both directions, every lane
+   in lock step (one evaluation of both surfaces and one batched corrector per round,
+   :meth:`cagd.queries._marching.Marcher.drive`); a lane also ends where it meets
+   another start, and the lanes are chained through the starts they met. Starts left
+   over (on no chain) are marched one by one, as are pairs with a collapsed edge.
 3. Singular points (n_A parallel to n_B: branch crossings such as the Steinmetz and
    Villarceau cases): the kernel vector changes orientation across a simple crossing
    (the determinant of the bordered Jacobian changes sign), so the crossing is found by
@@ -113,10 +118,11 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
     leaf = _SEED_FRACTION * size
     seeds, complete = [], True
     cov: Tuple[List[np.ndarray], ...] = ([], [], [], [])  # covered boxes of a, their params on b; the same for b
-    for _ in range(40):
+    for level in range(40):
         if len(pa.ctrl) == 0:
             break
-        live = ~_separated(pa, pb, tol)
+        # (children come from _children, which kept only the pairs _separated does not part)
+        live = ~_separated(pa, pb, tol) if level == 0 else np.ones(len(pa.ctrl), bool)
         live &= ~so.covered(pa.lo, pa.hi, cov[0]) & ~so.covered(pb.lo, pb.hi, cov[2])
         dev_a, ext_a = sd.flatness(pa.ctrl)
         dev_b, ext_b = sd.flatness(pb.ctrl)
