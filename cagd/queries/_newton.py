@@ -41,6 +41,8 @@ BOUND_SLACK = 1e-15     # refine: a coordinate within this share of its range of
 _DECREASE = 1e-15     # relative slack when comparing squared distances (rounding)
 
 NEWTON_ITERATIONS = 12
+BACKTRACK_TRIES = 30      # refine: step halvings at most (t = 1, 1/2, ...)
+BACKTRACK_BLOCK = 8       # refine: at most this many halvings evaluated together
 
 
 def held_at_bounds(x: np.ndarray, grad: np.ndarray, lo: np.ndarray, hi: np.ndarray,
@@ -330,18 +332,32 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
         fnew = f0.copy()
 
         def trial(rows, t):
-            w = clamp(zi[rows] + t * step[rows])
+            w = clamp(zi[rows] + t[:, None] * step[rows])
             rt = residual(w, 0, idx[rows])[0]
             return w, 0.5 * np.einsum("nd,nd->n", rt, rt)
 
         small = np.all(np.abs(step) <= STALL_STEP_RTOL * span, axis=1)
-        # a short step that cannot decrease f at full length is at the rounding floor: it is
-        # not halved further (the halvings would only chase rounding, 30 evaluations each)
-        for rows, ok, trial_z, ft in backtrack(np.arange(idx.size), trial,
-                                               lambda rows, ft: (ft <= f0[rows]) | small[rows], 30):
-            ok = ok & (ft <= f0[rows])
-            znew[rows[ok]], fnew[rows[ok]] = trial_z[ok], ft[ok]
-            accepted[rows[ok]] = True
+        # step halving, t = 1, 1/2, ... (BACKTRACK_TRIES of them), the first t where f does
+        # not increase taken; the halvings of the rows still to place are evaluated in
+        # blocks of 1, 2, 4, ... BACKTRACK_BLOCK values of t (one evaluation a block, the
+        # same result as one at a time).
+        # A short step that cannot decrease f at full length is at the rounding floor: it
+        # is not halved (the halvings would only chase rounding)
+        rows, t, left, m = np.arange(idx.size), 1.0, BACKTRACK_TRIES, 1
+        while rows.size and left:
+            m = min(m, left)
+            ts = t * 0.5 ** np.arange(m)
+            wz, ft = trial(np.repeat(rows, m), np.tile(ts, rows.size))
+            good = (ft <= f0[np.repeat(rows, m)]).reshape(rows.size, m)
+            hit = good.any(axis=1)
+            pick = np.flatnonzero(hit) * m + np.argmax(good[hit], axis=1)
+            znew[rows[hit]], fnew[rows[hit]] = wz[pick], ft[pick]
+            accepted[rows[hit]] = True
+            rows = rows[~hit]
+            if left == BACKTRACK_TRIES:
+                rows = rows[~small[rows]]
+            t, left = t * 0.5 ** m, left - m
+            m = 1 if left == BACKTRACK_TRIES - 1 else min(2 * m, BACKTRACK_BLOCK)
         moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
         ok = (accepted & np.all(moved <= ULP_RTOL * span, axis=1)) | (fnew == 0) | (~accepted & small)
         z[idx], f[idx] = znew, fnew
