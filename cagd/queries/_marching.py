@@ -47,10 +47,6 @@ class Marcher:
         sine = np.linalg.norm(np.cross(na, nb), axis=1)
         return P, c, v / np.maximum(speed, TINY)[:, None], speed, sine
 
-    def frame(self, x):
-        """Point, kernel vector c (unnormalized), 3-D unit tangent of c, speed |dP/dc|, sine."""
-        return _row(self.frames(self.S.eval(x[None])), 0)
-
     def step_for(self, kappa):
         if kappa <= 0:
             return self.hmax
@@ -120,10 +116,6 @@ class Marcher:
         except StopIteration as e:
             live.pop(i, None)
             results[i] = e.value
-
-    def march(self, x0, sigma):
-        """March from x0 in the direction sigma * c. Returns (xs, end, other_side)."""
-        return self.drive([self.lane(x0, sigma)])[0]
 
     def march_both(self, x0):
         """Both directions from x0 at once: (forward, backward) results of :meth:`march`;
