@@ -18,6 +18,7 @@ from ._numerics import AT_END_RTOL, COLLAPSED_SPEED_RTOL, TINY, residual_tol
 STALL_ROUNDS = 2             # fit: rounds in a row that may fail to cut the error ...
 STALL_FACTOR = 2.0           # ... by this factor before the fit stops
 GN_SHIFT_RTOL = 1e-14        # Gauss-Newton shift of the foot projections, share of trace(J^T J)
+FOOT_STEP_RTOL = 1e-15       # foot projections: steps below this share of the width end the iteration
 
 
 #: the branch fit's collocation is used while it hits its points within this fraction of
@@ -198,7 +199,7 @@ def fit(S: System, xs, P, closed, tol, rounds=10):
         bad = seg[sel]
         xs = xs_all
         # a cubic's error falls like h^4: cut the span into m = (err / (tol / 2))^(1/4)
-        m = np.clip(np.ceil((err[sel] / (0.5 * tol)) ** 0.25), 2, 8).astype(int)
+        m = np.clip(np.ceil((err[sel] / (0.25 * tol)) ** 0.25), 2, 8).astype(int)
         at = np.repeat(bad, m - 1)
         frac = np.concatenate([np.arange(1, k) / k for k in m])[:, None]
         d = xs[at + 1] - xs[at]
@@ -316,21 +317,38 @@ def _span_maxima(S: System, curve, pa, pb, t, n: int = 8):
 def _foot(S: System, k: int, C: np.ndarray, uv: np.ndarray, iters: int = 6):
     """Distance of the points C from surface k by Gauss-Newton on the foot point
     (J^T J) du = J^T (C - S(uv)) from uv, a start within the fit's error of the foot, so
-    that it converges at the rate distance x curvature; never below the true distance.
+    that it converges at the rate distance x curvature; never below the true distance
+    (the least distance from C of the surface points evaluated). A row stops once its
+    step changes its parameters by at most FOOT_STEP_RTOL of the width.
     Returns (distance from the foot, distance from the start point S(uv))."""
-    p0, _ = S._partials(k, uv)
-    start = np.linalg.norm(p0 - C, axis=1)
-    best = start.copy()
     g = (S.A, S.B)[k]
     assert g is not None                        # k = 1 only with a second surface
-    for _ in range(iters):
-        p, d = S._partials(k, uv)
-        best = np.minimum(best, np.linalg.norm(C - p, axis=1))
-        JtJ = np.einsum("nid,njd->nij", d, d)
-        JtJ += np.eye(2) * (GN_SHIFT_RTOL * np.trace(JtJ, axis1=1, axis2=2)[:, None, None] + TINY)
-        step = np.linalg.solve(JtJ, np.einsum("nid,nd->ni", d, C - p)[..., None])[..., 0]
-        uv = g.clamp(uv + step)
-    best = np.minimum(best, np.linalg.norm(C - S._partials(k, uv)[0], axis=1))
+    uv = np.array(uv, dtype=float)
+    width = g.hi - g.lo
+    act = np.arange(len(C))
+    start = best = np.zeros(len(C))
+    for it in range(iters):
+        p, d = S._partials(k, uv[act])
+        r = C[act] - p
+        dist = np.sqrt(np.einsum("nd,nd->n", r, r))
+        if it == 0:
+            start, best = dist, dist.copy()
+        else:
+            best[act] = np.minimum(best[act], dist)
+        d0, d1 = d[:, 0], d[:, 1]
+        a, b, c = np.einsum("nd,nd->n", d0, d0), np.einsum("nd,nd->n", d0, d1), np.einsum("nd,nd->n", d1, d1)
+        shift = GN_SHIFT_RTOL * (a + c) + TINY
+        a, c = a + shift, c + shift
+        g0, g1 = np.einsum("nd,nd->n", d0, r), np.einsum("nd,nd->n", d1, r)
+        det = a * c - b * b                     # J^T J + shift: positive definite
+        step = np.stack([(c * g0 - b * g1) / det, (a * g1 - b * g0) / det], axis=1)
+        new = g.clamp(uv[act] + step)
+        done = np.all(np.abs(new - uv[act]) <= FOOT_STEP_RTOL * width, axis=1)
+        uv[act] = new
+        act = act[~done]
+        if not act.size:
+            return best, start
+    best[act] = np.minimum(best[act], np.linalg.norm(C[act] - S._partials(k, uv[act])[0], axis=1))
     return best, start
 
 

@@ -41,6 +41,8 @@ BOUND_SLACK = 1e-15     # refine: a coordinate within this share of its range of
 _DECREASE = 1e-15     # relative slack when comparing squared distances (rounding)
 
 NEWTON_ITERATIONS = 12
+BACKTRACK_TRIES = 30      # refine: step halvings at most (t = 1, 1/2, ...)
+BACKTRACK_BLOCK = 8       # refine: at most this many halvings evaluated together
 
 
 def held_at_bounds(x: np.ndarray, grad: np.ndarray, lo: np.ndarray, hi: np.ndarray,
@@ -330,15 +332,33 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
         fnew = f0.copy()
 
         def trial(rows, t):
-            w = clamp(zi[rows] + t * step[rows])
+            w = clamp(zi[rows] + t[:, None] * step[rows])
             rt = residual(w, 0, idx[rows])[0]
             return w, 0.5 * np.einsum("nd,nd->n", rt, rt)
 
-        for rows, ok, trial_z, ft in backtrack(np.arange(idx.size), trial, lambda rows, ft: ft <= f0[rows], 30):
-            znew[rows[ok]], fnew[rows[ok]] = trial_z[ok], ft[ok]
-            accepted[rows[ok]] = True
-        moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
         small = np.all(np.abs(step) <= STALL_STEP_RTOL * span, axis=1)
+        # step halving, t = 1, 1/2, ... (BACKTRACK_TRIES of them), the first t where f does
+        # not increase taken; the halvings of the rows still to place are evaluated in
+        # blocks of 1, 2, 4, ... BACKTRACK_BLOCK values of t (one evaluation a block, the
+        # same result as one at a time).
+        # A short step that cannot decrease f at full length is at the rounding floor: it
+        # is not halved (the halvings would only chase rounding)
+        rows, t, left, m = np.arange(idx.size), 1.0, BACKTRACK_TRIES, 1
+        while rows.size and left:
+            m = min(m, left)
+            ts = t * 0.5 ** np.arange(m)
+            wz, ft = trial(np.repeat(rows, m), np.tile(ts, rows.size))
+            good = (ft <= f0[np.repeat(rows, m)]).reshape(rows.size, m)
+            hit = good.any(axis=1)
+            pick = np.flatnonzero(hit) * m + np.argmax(good[hit], axis=1)
+            znew[rows[hit]], fnew[rows[hit]] = wz[pick], ft[pick]
+            accepted[rows[hit]] = True
+            rows = rows[~hit]
+            if left == BACKTRACK_TRIES:
+                rows = rows[~small[rows]]
+            t, left = t * 0.5 ** m, left - m
+            m = 1 if left == BACKTRACK_TRIES - 1 else min(2 * m, BACKTRACK_BLOCK)
+        moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
         ok = (accepted & np.all(moved <= ULP_RTOL * span, axis=1)) | (fnew == 0) | (~accepted & small)
         z[idx], f[idx] = znew, fnew
         converged[idx[ok]] = True
@@ -372,14 +392,32 @@ def project_onto(B: Geometry, pts: np.ndarray, y0: np.ndarray, iters: int = 30
 
 
 # --- the surface intersection system ---------------------------------------------------------
-def newton(S: System, x, C=None, g0=None, ftol=NEWTON_FTOL, iters=NEWTON_ITERATIONS):
+def newton(S: System, x, C=None, g0=None, ftol=NEWTON_FTOL, iters=NEWTON_ITERATIONS, full=False):
     """Newton on [F(x); C.(x) - g0] = 0 (C (N, n) one constraint row per point), or the
-    minimum-norm step when C is None. Returns (x, converged)."""
-    x = x.copy()
+    minimum-norm step when C is None. A row is converged at an evaluated x with
+    |F(x)| <= ftol whose next step is below STEP_RTOL of the width (a root, not a point
+    of a tangency's flat valley where |F| <= ftol over a whole patch); it stops there
+    (the rows still moving go on, one evaluation of all of them per iteration). Returns (x, converged), with ``full``
+    also :meth:`System.eval`'s arrays at the returned x (F, J, point, normals, da)."""
+    x = np.array(x, dtype=float)
     ok = np.zeros(len(x), bool)
     step_tol = STEP_RTOL * S.span
+    act = np.arange(len(x))
+    out: list = []
+
+    def keep(rows, ev):
+        if not out:
+            out.extend(np.empty((len(x),) + np.shape(a)[1:]) for a in ev)
+        for o, a in zip(out, ev):
+            o[rows] = a
+
     for _ in range(iters):
-        F, J, *_ = S.eval(x)
+        if not act.size:
+            break
+        xa = x[act]
+        ev = S.eval(xa)
+        keep(act, ev)
+        F, J = ev[0], ev[1]
         res = np.linalg.norm(F, axis=1)
         if C is None:
             JJ = J @ J.transpose(0, 2, 1)
@@ -390,19 +428,24 @@ def newton(S: System, x, C=None, g0=None, ftol=NEWTON_FTOL, iters=NEWTON_ITERATI
                 y = np.einsum("nij,njk->nik", np.linalg.pinv(JJ), -F[..., None])
             dx = (J.transpose(0, 2, 1) @ y)[..., 0]
         else:
-            M = np.concatenate([J, C[:, None, :]], axis=1)
-            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", C, x) - g0)[:, None]], axis=1)
+            Ca = C[act]
+            M = np.concatenate([J, Ca[:, None, :]], axis=1)
+            rhs = -np.concatenate([F, (np.einsum("nk,nk->n", Ca, xa) - g0[act])[:, None]], axis=1)
             det = np.abs(np.linalg.det(M))
             good = det > TINY
-            dx = np.zeros_like(x)
-            if good.any():
+            dx = np.zeros_like(xa)
+            if good.all():
+                dx = np.linalg.solve(M, rhs[..., None])[..., 0]
+            elif good.any():
                 dx[good] = np.linalg.solve(M[good], rhs[good][..., None])[..., 0]
         small = np.all(np.abs(dx) <= step_tol, axis=1)
-        ok = (res <= ftol) & (small | ok)     # converged: a root, not a point of a tangency's
-        x = S.clip(x + dx)                    # flat valley where |F| <= ftol over a whole patch
-        if np.all(ok):
-            break
-    F = S.eval(x)[0]
-    ok = np.linalg.norm(F, axis=1) <= ftol
-    return x, ok
-
+        conv = (res <= ftol) & small
+        ok[act[conv]] = True
+        go = ~conv
+        act = act[go]
+        x[act] = S.clip(xa[go] + dx[go])
+    if act.size or not out:
+        ev = S.eval(x[act])
+        keep(act, ev)
+        ok[act] = np.linalg.norm(ev[0], axis=1) <= ftol
+    return (x, ok, tuple(out)) if full else (x, ok)

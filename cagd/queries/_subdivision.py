@@ -157,8 +157,11 @@ def project(ctrl: np.ndarray) -> np.ndarray:
 def boxes(ctrl: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """Axis-aligned bounding boxes (M, D) low and high corners of each piece's control
     hull: by the convex-hull property they contain the piece."""
-    pts = project(ctrl).reshape(ctrl.shape[0], -1, ctrl.shape[-1] - 1)
-    return pts.min(axis=1), pts.max(axis=1)
+    M, D = ctrl.shape[0], ctrl.shape[-1] - 1
+    h = ctrl.reshape(M, -1, D + 1).transpose(1, 0, 2)
+    pts = np.empty((h.shape[0], M, D))             # point-major: the reductions run over whole rows
+    np.divide(h[..., :-1], h[..., -1:], out=pts)
+    return np.minimum.reduce(pts, axis=0), np.maximum.reduce(pts, axis=0)
 
 
 def box_gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarray) -> np.ndarray:

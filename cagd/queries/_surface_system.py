@@ -11,7 +11,7 @@ import numpy as np
 
 from .._periodic import wrap, wrapped_difference
 from . import _subdivision as sd
-from ._numerics import unit
+from ._numerics import SLACK_RTOL, TINY, unit
 
 INSIDE_SLACK = 1e-12      # a parameter this share of the width outside the domain is inside
 
@@ -28,17 +28,37 @@ class System:
         self.size = max(g.size for g in gs)
         self.pieces = [g.bezier for g in gs]
 
+    @property
+    def collapsed(self) -> bool:
+        """Some boundary edge of a surface collapses to a point (a pole, an apex, a
+        triangle's corner): its control points span under SLACK_RTOL of the net."""
+        if getattr(self, "_collapsed", None) is None:
+            out = False
+            for g in (self.A, self.B):
+                P = getattr(getattr(g, "nurbs", None), "control_points", None)
+                if P is None or np.ndim(P) != 3:
+                    continue
+                size = max(float(np.ptp(P.reshape(-1, P.shape[-1]), axis=0).max()), TINY)
+                for edge in (P[0], P[-1], P[:, 0], P[:, -1]):
+                    out |= bool(np.ptp(edge, axis=0).max() <= SLACK_RTOL * size)
+            self._collapsed = out
+        return self._collapsed
+
     def _partials(self, k, x):
         """Point and first partials (N, 2, 3) of surface k at parameters x (N, 2)."""
         g, bp = (self.A, self.B)[k], self.pieces[k]
-        x = g.clamp(x)
+        x = g.clamp(x) if g.periodic.any() else np.minimum(np.maximum(x, g.lo), g.hi)
         d = bp.derivatives(bp.locate(x), x, 1)
         return d[0, 0], np.stack([d[1, 0], d[0, 1]], axis=1)
 
     def wrap(self, x):
+        if not self.per.any():
+            return x
         return np.where(self.per, wrap(x, self.lo, self.span), x)
 
     def wrapdiff(self, d):
+        if not self.per.any():
+            return d
         return np.where(self.per, wrapped_difference(d, 0.0, self.span), d)
 
     def inside(self, x, slack=INSIDE_SLACK):
@@ -46,13 +66,14 @@ class System:
         return np.all(self.per | ((x >= self.lo - s) & (x <= self.hi + s)), axis=-1)
 
     def clip(self, x):
-        return np.where(self.per, x, np.clip(x, self.lo, self.hi))
+        out = np.minimum(np.maximum(x, self.lo), self.hi)
+        return np.where(self.per, x, out) if self.per.any() else out
 
     def eval(self, x):
         """F (N, m), J (N, m, n), point (N, 3), unit normals of a and b (N, 3)."""
         xw = self.wrap(x)
         pa, da = self._partials(0, xw[:, :2])
-        na = unit(np.cross(da[:, 0], da[:, 1]))
+        na = unit(_cross(da[:, 0], da[:, 1]))
         if self.B is None:
             o, nrm = self.pl
             F = ((pa - o) @ nrm)[:, None]
@@ -62,9 +83,18 @@ class System:
             pb, db = self._partials(1, xw[:, 2:])
             F = pa - pb
             J = np.concatenate([da.transpose(0, 2, 1), -db.transpose(0, 2, 1)], axis=2)
-            nb = unit(np.cross(db[:, 0], db[:, 1]))
+            nb = unit(_cross(db[:, 0], db[:, 1]))
         return F, J, pa, na, nb, da
 
+
+
+def _cross(a, b):
+    """a x b of 3-vectors (N, 3) (np.cross without its axis handling)."""
+    out = np.empty(a.shape)
+    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
 
 
 def cofactors(J):

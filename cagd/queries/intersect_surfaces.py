@@ -17,7 +17,12 @@ surface–plane x = (u, v), F = n.(A(u, v) - o) (the signed distance, 1 equation
    curvature so that a cubic interpolant stays within ``tol`` (error ~ 5/384 h^4 k^3),
    the march stops on a domain boundary (solved exactly with the boundary parameter
    fixed), when the loop closes, or at a singular point. Closed but non-periodic
-   directions (revolved surfaces, seams) are marched across.
+   directions (revolved surfaces, seams) are marched across. All marches advance in
+   arrays: one start per cell of 1/16 of the model size, both directions, every lane
+   in lock step (one evaluation of both surfaces and one batched corrector per round,
+   :meth:`cagd.queries._marching.Marcher.drive`); a lane also ends where it meets
+   another start, and the lanes are chained through the starts they met. Starts left
+   over (on no chain) are marched one by one, as are pairs with a collapsed edge.
 3. Singular points (n_A parallel to n_B: branch crossings such as the Steinmetz and
    Villarceau cases): the kernel vector changes orientation across a simple crossing
    (the determinant of the bordered Jacobian changes sign), so the crossing is found by
@@ -113,10 +118,11 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
     leaf = _SEED_FRACTION * size
     seeds, complete = [], True
     cov: Tuple[List[np.ndarray], ...] = ([], [], [], [])  # covered boxes of a, their params on b; the same for b
-    for _ in range(40):
+    for level in range(40):
         if len(pa.ctrl) == 0:
             break
-        live = ~_separated(pa, pb, tol)
+        # (children come from _children, which kept only the pairs _separated does not part)
+        live = ~_separated(pa, pb, tol) if level == 0 else np.ones(len(pa.ctrl), bool)
         live &= ~so.covered(pa.lo, pa.hi, cov[0]) & ~so.covered(pb.lo, pb.hi, cov[2])
         dev_a, ext_a = sd.flatness(pa.ctrl)
         dev_b, ext_b = sd.flatness(pb.ctrl)
@@ -323,6 +329,19 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         if len(x):
             alive &= ~_absorbed(P, [branches[-1]], M.ftol)
     queue: List[np.ndarray] = []
+    if alive.any() and not S.collapsed:      # one start per cell of 1/16 of the size, all marched at once
+        # (not where a surface has a pole: a lane reaching it from inside ends there as singular,
+        # on an arbitrary parameter along the collapsed edge; the one-by-one march starts there)
+        pick = np.flatnonzero(alive)
+        pick = pick[_spread(P[pick], _SEED_FRACTION * S.size)]
+        chains, used, queue = M.march_seeds(x[pick])
+        alive[pick[used]] = False
+        for xs, ends in chains:
+            problems += [e for e in ends if e in ("stalled", "limit")]
+            branches.append((xs, list(ends), S.eval(xs)[2]))
+        if chains and alive.any():
+            rest = np.flatnonzero(alive)
+            alive[rest[_absorbed(P[rest], branches[-len(chains):], M.ftol)]] = False
     order = list(range(len(x)))
     while True:
         if queue:
@@ -336,11 +355,11 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
         Pst = S.eval(start[None])[2]
         if branches and _absorbed(Pst, branches, M.ftol)[0]:
             continue
-        fw, end_f, other_f = M.march(start, 1.0)
-        if end_f == "closed":
+        (fw, end_f, other_f), back = M.march_both(start)
+        if back is None:
             xs, ends = np.array(fw), ("closed", "closed")
         else:
-            bw, end_b, other_b = M.march(start, -1.0)
+            bw, end_b, other_b = back
             xs = np.array(bw[::-1] + fw[1:])
             ends = (end_b, end_f)
             if other_b is not None:
@@ -361,6 +380,13 @@ def _trace(S: System, seeds: np.ndarray, tol: float, regions=(), edges=()):
             rest = np.flatnonzero(alive)
             alive[rest[_absorbed(P[rest], [branches[-1]], M.ftol)]] = False
     return branches, isolated, problems
+
+
+def _spread(P: np.ndarray, cell: float) -> np.ndarray:
+    """Indices of the first point in each cube of edge ``cell`` (in their order)."""
+    key = np.floor((P - P.min(axis=0)) / max(cell, TINY)).astype(np.int64)
+    _, first = np.unique(key, axis=0, return_index=True)
+    return np.sort(first)
 
 
 def _near_misses(S: System, x: np.ndarray, tol: float) -> np.ndarray:
