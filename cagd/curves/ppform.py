@@ -115,9 +115,10 @@ class PPForm(Value):
     def span_of(self, t: np.ndarray) -> np.ndarray:
         """Index j of the span with b_j <= t < b_{j+1} (last span closed at the end)."""
         last = len(self.breaks) - 2
-        if self._uniform:
+        if self._uniform and t.shape[0] > FEW_POINTS:      # (a few: one searchsorted is cheaper, same j)
             j = ((t - self.breaks[0]) * self._inv_h).astype(np.intp)
-            np.clip(j, 0, last, out=j)
+            np.minimum(j, last, out=j)
+            np.maximum(j, 0, out=j)
             # rounding in the division can land one span off at a break: fix exactly
             j -= (t < self.breaks[j]) & (j > 0)
             j += (t >= self.breaks[np.minimum(j + 1, last + 1)]) & (j < last)

@@ -53,7 +53,7 @@ REFIT_ROUNDS = 12        # knot-halving rounds of the refit, at most
 REFIT_MAX_POLES = 2000   # poles of a refitted family, at most
 REFIT_MIN_DEGREE = 3     # a refit is at least cubic (its error falls as h^(p+1))
 REFIT_SAMPLES = 6        # fit samples per knot span
-INVERSE_TABLE = 257      # values of r bracketing r^-1 ...
+INVERSE_TABLE = 1025     # values of r bracketing r^-1 ...
 INVERSE_ROUNDS = 60      # ... then regula falsi rounds, at most ...
 INVERSE_RTOL = 2e-15     # ... stopping at this residual or step (r maps [0, 1] onto [0, 1])
 ERROR_SAMPLES = 8        # samples per Bezier span of every input curve for max_error ...
@@ -211,8 +211,8 @@ def _reparametrisation(x: np.ndarray, y: np.ndarray) -> Callable[[np.ndarray], n
     knots = kv.averaged(x, deg)
     coef = np.linalg.solve(basis_matrix(knots, deg, x, len(x)), y)
     if np.all(np.diff(coef) > 0):
-        spline = BSplineCurve(coef[:, None], deg, knots)
-        return lambda s: np.clip(spline(s)[:, 0], 0.0, 1.0)
+        pp = BSplineCurve(coef[:, None], deg, knots).ppform      # s in [0, 1]: its pp form directly
+        return lambda s: np.minimum(np.maximum(pp(np.asarray(s, dtype=float))[:, 0], 0.0), 1.0)
     return _pchip(x, y)
 
 
