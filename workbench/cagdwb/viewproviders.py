@@ -55,11 +55,15 @@ def _annotation(color) -> coin.SoAnnotation:
     return sep
 
 
+PARTIAL_UPDATE = 16                  # Lines.set: at most this many changed points are set one by one
+
+
 class Lines:
     """Polylines (and their vertices as dots) drawn as an SoAnnotation: after the scene
     without the depth test, so a net or comb is never hidden by its own surface. The
-    nodes are made once; :meth:`set` replaces the coordinates and counts in place (a
-    drag moves them without rebuilding the scene graph)."""
+    nodes are made once; :meth:`set` replaces the coordinates and counts in place, only
+    the points that changed when they are few (a dragged pole moves two points of a net)
+    without rebuilding the scene graph."""
 
     def __init__(self, color, width: float, dots: bool):
         self.node = _annotation(color)
@@ -74,14 +78,27 @@ class Lines:
         self.set(np.zeros((0, 3)), [])
 
     def set(self, points: np.ndarray, counts: Sequence[int]) -> None:
-        """Draw ``counts`` consecutive ``points`` (n, 3) per polyline; nothing when empty."""
-        counts = [int(c) for c in counts]
-        self.lines.numVertices.setNum(len(counts))
-        if counts:
-            self.lines.numVertices.setValues(0, len(counts), counts)
+        """Draw ``counts`` consecutive ``points`` (n, 3) per polyline; nothing when empty.
+        Counts equal to the drawn ones are not set again (a drag changes points only)."""
+        counts = np.asarray(counts, dtype=np.int64).tolist()
+        if counts != getattr(self, "counts", None):
+            self.lines.numVertices.setNum(len(counts))
+            if counts:
+                self.lines.numVertices.setValues(0, len(counts), counts)
+            self.counts = counts
+        points = np.array(points, dtype=float).reshape(-1, 3)
+        drawn = getattr(self, "points", None)
+        if drawn is not None and drawn.shape == points.shape:
+            changed = np.flatnonzero((drawn != points).any(axis=1))
+            if len(changed) <= PARTIAL_UPDATE:          # a pole dragged: its two net points
+                for i in changed.tolist():
+                    self.coords.point.set1Value(i, points[i].tolist())
+                self.points = points
+                return
         self.coords.point.setNum(len(points))
         if len(points):
-            self.coords.point.setValues(0, len(points), np.asarray(points, dtype=float).tolist())
+            self.coords.point.setValues(0, len(points), points.tolist())
+        self.points = points
 
 
 STATION_RED = (1.0, 0.0, 0.0)
