@@ -41,9 +41,11 @@ def vectors(points) -> list:
     """An (n, 3) array (or nested (n, m, 3)) as a list of App.Vector (nested lists);
     one App.Vector(x, y, z) call per point from the columns' Python floats."""
     a = np.asarray(points, dtype=float)
+    flat = list(map(App.Vector, *a.reshape(-1, 3).T.tolist()))
     if a.ndim == 3:
-        return [vectors(row) for row in a]
-    return list(map(App.Vector, *a.reshape(-1, 3).T.tolist()))
+        n = a.shape[1]
+        return [flat[i * n:(i + 1) * n] for i in range(a.shape[0])]
+    return flat
 
 
 def array(vecs) -> np.ndarray:
