@@ -23,7 +23,8 @@ def test_gui_pole_editing(freecad_env):
         print(f"  {name}: {r['redraws_per_s']:.1f} redraws/s, {r['updates_per_s']:.1f} updates/s "
               f"({r['paints']} paints, {r['updates']} updates), editor "
               f"{r['editor_ms_per_update']:.1f} ms per update, a redraw alone {r['frame_ms']:.1f} ms "
-              f"(viewport {r['viewport']}, load {r['load']:.1f})")
+              f"(viewport {r['viewport']}, load {r['load']:.1f}); CPU per update: GUI thread "
+              f"{r['gui_cpu_ms_per_update']:.1f} ms, other threads {r['other_cpu_ms_per_update']:.1f} ms")
     assert result["failed"] == 0, result["failures"]
     assert result["passed"] == STEPS
     assert set(result["rates"]) == {"curve 200 poles + comb", "surface 30x30 + net"}
