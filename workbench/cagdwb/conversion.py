@@ -21,6 +21,7 @@ that OCCT declares C0.
 """
 from __future__ import annotations
 
+from itertools import chain
 from typing import Optional, Tuple, Union
 
 import numpy as np
@@ -37,18 +38,23 @@ EngineGeometry = Union["cagd.Curve", "cagd.Surface"]
 
 
 def vectors(points) -> list:
-    """An (n, 3) array (or nested (n, m, 3)) as a list of App.Vector (nested lists)."""
+    """An (n, 3) array (or nested (n, m, 3)) as a list of App.Vector (nested lists);
+    one App.Vector(x, y, z) call per point from the columns' Python floats."""
     a = np.asarray(points, dtype=float)
+    flat = list(map(App.Vector, *a.reshape(-1, 3).T.tolist()))
     if a.ndim == 3:
-        return [vectors(row) for row in a]
-    return [App.Vector(*map(float, p)) for p in a]
+        n = a.shape[1]
+        return [flat[i * n:(i + 1) * n] for i in range(a.shape[0])]
+    return flat
 
 
 def array(vecs) -> np.ndarray:
-    """A list of App.Vector (or nested lists) as a float array (..., 3)."""
+    """A list of App.Vector (or nested lists) as a float array (..., 3), read through
+    the vectors' own iteration (numpy.fromiter over their coordinates)."""
     if len(vecs) and isinstance(vecs[0], (list, tuple)):
-        return np.array([[[v.x, v.y, v.z] for v in row] for row in vecs], dtype=float)
-    return np.array([[v.x, v.y, v.z] for v in vecs], dtype=float).reshape(-1, 3)
+        rows = len(vecs)
+        return array([v for row in vecs for v in row]).reshape(rows, -1, 3)
+    return np.fromiter(chain.from_iterable(vecs), dtype=float, count=3 * len(vecs)).reshape(-1, 3)
 
 
 def curve_to_part(curve: "cagd.Curve") -> "Part.BSplineCurve":

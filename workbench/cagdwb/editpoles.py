@@ -100,9 +100,10 @@ def refusal(obj, index: int) -> Optional[str]:
             f"(move {o.Label} itself, or unlink the vertices)")
 
 
-def set_point(obj, index: int, point) -> None:
+def set_point(obj, index: int, point) -> "App.Vector":
     """Move point ``index`` to ``point`` (global coordinates): the property entry (in
     the object's local coordinates), or the linked point object's X, Y, Z (in its own);
+    returns the point in the object's local coordinates (the markers' frame).
     CagdError naming the property for an index out of range or a vertex that cannot move."""
     name = point_property(obj)
     if name is None:
@@ -118,9 +119,10 @@ def set_point(obj, index: int, point) -> None:
         target = vertex_links(obj)[index][0]
         local = target.Placement.inverse().multVec(p)
         target.X, target.Y, target.Z = local.x, local.y, local.z
-        return
+        return obj.Placement.inverse().multVec(p)
     values[index] = obj.Placement.inverse().multVec(p)
     setattr(obj, name, values)
+    return values[index]
 
 
 def has_weights(obj) -> bool:
@@ -187,7 +189,16 @@ class PoleEditor:
 
     # --- drawing -------------------------------------------------------------------------------
     def refresh(self) -> None:
-        """Markers at the property's points (local coordinates: the root is placed)."""
+        """Markers at the property's points (local coordinates: the root is placed);
+        during a drag only the dragged point's two markers move (its other points are
+        unchanged), in place."""
+        local = self.drag.get("local") if self.drag is not None else None
+        if local is not None:
+            p = [float(local.x), float(local.y), float(local.z)]
+            self.coords.point.set1Value(self.drag["index"], p)
+            self.picked_coords.point.setValues(0, 1, [p])
+            self.panel.show_point(self.drag["index"], local)
+            return
         name = point_property(self.obj)
         P = conversion.array(getattr(self.obj, name)) if name else np.zeros((0, 3))
         self.coords.point.setNum(len(P))
@@ -201,8 +212,7 @@ class PoleEditor:
     def close(self) -> None:
         if self.drag is not None:
             self.doc.commitTransaction()
-            self.drag = None
-            self.coarse(False)
+            self.end_drag()
         self.view.removeEventCallbackPivy(self.coin.SoEvent.getClassTypeId(), self.callback)
         self.vobj.RootNode.removeChild(self.root)
 
@@ -269,8 +279,21 @@ class PoleEditor:
                 self.drag["normal"] = None
         self.doc.openTransaction(f"Drag {point_property(self.obj)[:-1].lower()} {index} of {self.obj.Label}")
         self.coarse(True)
+        viewer = self.view.getViewer()
+        self.drag["navicube"] = viewer.isEnabledNaviCube()
+        viewer.setEnabledNaviCube(False)
         self.refresh()
         return True
+
+    def end_drag(self) -> None:
+        """The drag is over: the face's own Deviation and the navigation cube back. The
+        cube is off while dragging: FreeCAD 0.20 draws it in pick mode and waits for the
+        GL pipeline (glFinish, glReadPixels) on every mouse move over the view, 10-13 ms
+        a move with software OpenGL, and it cannot be used during a drag anyway."""
+        drag, self.drag = self.drag, None
+        self.coarse(False)
+        if drag is not None and drag.get("navicube"):
+            self.view.getViewer().setEnabledNaviCube(True)
 
     def coarse(self, on: bool) -> None:
         """A face drawn with DRAG_DEVIATION while dragging, its own Deviation again after."""
@@ -303,24 +326,23 @@ class PoleEditor:
         except cagd.CagdError as exc:
             _status(f"Edit poles: {exc}")
             return
-        set_point(self.obj, self.drag["index"], point)
+        self.drag["local"] = set_point(self.obj, self.drag["index"], point)
         self.doc.recompute()                 # the view provider's updateData redraws net, comb and markers
+        self.view.redraw()                   # one paint per move, now (not when Coin's delay queue fires)
         self.redraws += 1
         self.busy += time.perf_counter() - started
 
     def release(self) -> None:
-        self.drag = None
         self.doc.commitTransaction()
-        self.coarse(False)
+        self.end_drag()
         self.refresh()
 
     def escape(self) -> None:
         """Esc: cancel the drag in progress (its changes undone), else leave the mode."""
         if self.drag is not None:
-            self.drag = None
+            self.end_drag()
             self.doc.abortTransaction()
             self.doc.recompute()
-            self.coarse(False)
             self.refresh()
             return
         from .qt import QtCore
@@ -442,6 +464,11 @@ class PolePanel:
         """A surface's direction of the knot and degree edits (Both, U, V)."""
         return str(self.directions.currentText())
 
+    def show_point(self, i: int, p) -> None:
+        """The picked point's index and coordinates (local)."""
+        name = point_property(self.editor.obj) or "Points"
+        self.label.setText(f"{name[:-1].lower()} {i}: ({p.x:.4g}, {p.y:.4g}, {p.z:.4g})")
+
     def show_pick(self) -> None:
         editor, obj = self.editor, self.editor.obj
         i = editor.picked
@@ -452,8 +479,7 @@ class PolePanel:
             self.label.setText("none")
             self.weight.setEnabled(False)
             return
-        p = getattr(obj, name)[i]
-        self.label.setText(f"{name[:-1].lower()} {i}: ({p.x:.4g}, {p.y:.4g}, {p.z:.4g})")
+        self.show_point(i, getattr(obj, name)[i])
         W = list(getattr(obj, "Weights", []) or [])
         self.weight.blockSignals(True)
         self.weight.setValue(W[i] if len(W) == len(getattr(obj, name)) else 1.0)

@@ -183,27 +183,50 @@ class Feature(Stateless):
             raise cagd.CagdError(f"{self.POINTS}: all {what} coincide: the {kind} is a point")
 
     # --- helpers for the view provider ------------------------------------------------------
-    def control_net(self, obj) -> List[List[App.Vector]]:
-        """Polylines of the control polygon / net of the object's shape (placed)."""
-        lines = []
+    def net_arrays(self, obj) -> Tuple[np.ndarray, List[int]]:
+        """The control polygon / net as one (n, 3) array of placed points and the
+        polylines' point counts: each B-spline or Bezier edge's poles (a periodic one
+        closed), each face's pole rows then columns (an analytic face: the engine's exact
+        NURBS form of :meth:`build`). A subclass with its own :meth:`control_net` (lists
+        of vectors) is read through it."""
+        if type(self).control_net is not Feature.control_net:
+            return polylines_array(self.control_net(obj))
+        parts: List[np.ndarray] = []
+        counts: List[int] = []
         for edge in obj.Shape.Edges if not obj.Shape.Faces else []:
             curve = edge.Curve
             if isinstance(curve, (Part.BSplineCurve, Part.BezierCurve)):
-                poles = curve.getPoles()
+                P = conversion.array(curve.getPoles())
                 if isinstance(curve, Part.BSplineCurve) and curve.isPeriodic():
-                    poles = poles + poles[:1]
-                lines.append(poles)
+                    P = np.concatenate([P, P[:1]])
+                parts.append(P)
+                counts.append(len(P))
         for face in obj.Shape.Faces:
             surface = face.Surface
             if isinstance(surface, (Part.BSplineSurface, Part.BezierSurface)):
-                net = surface.getPoles()
+                net = conversion.array(surface.getPoles())
             else:                         # an analytic face: the net of the engine's exact NURBS form
-                place = obj.Placement
-                net = [[place.multVec(p) for p in row] for row in
-                       conversion.vectors(self.build(obj).to_nurbs().control_points)]
-            lines.extend(list(row) for row in net)
-            lines.extend([row[j] for row in net] for j in range(len(net[0])))
-        return lines
+                net = np.asarray(self.build(obj).to_nurbs().control_points, dtype=float)
+                M = np.array(obj.Placement.toMatrix().A, dtype=float).reshape(4, 4)
+                net = net @ M[:3, :3].T + M[:3, 3]
+            m, n = net.shape[:2]
+            parts += [net.reshape(-1, 3), net.transpose(1, 0, 2).reshape(-1, 3)]
+            counts += [n] * m + [m] * n
+        return (np.concatenate(parts) if parts else np.zeros((0, 3))), counts
+
+    def control_net(self, obj) -> List[List[App.Vector]]:
+        """Polylines of the control polygon / net of the object's shape (placed), as
+        lists of vectors (:meth:`net_arrays`)."""
+        points, counts = self.net_arrays(obj)
+        flat = conversion.vectors(points)
+        ends = np.cumsum([0] + list(counts))
+        return [flat[a:b] for a, b in zip(ends[:-1], ends[1:])]
+
+
+def polylines_array(polylines: Sequence[Sequence[App.Vector]]) -> Tuple[np.ndarray, List[int]]:
+    """Points of the polylines as one (n, 3) array and the polylines' point counts."""
+    flat = [p for line in polylines for p in line]
+    return (conversion.array(flat) if flat else np.zeros((0, 3))), [len(line) for line in polylines]
 
 
 def make(feature_class, name: Optional[str] = None, doc=None, **values):

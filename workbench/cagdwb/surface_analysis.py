@@ -1,9 +1,12 @@
 """Surface analysis overlay: a face (ours or any FreeCAD face Part can convert to a
 B-spline) coloured by the engine's curvature map (Gaussian, mean, maximum or minimum
 principal curvature), zebra stripes, isophotes or draft angle (cagd.analysis), all
-computed at once (vectorized) on the vertices of a parameter-grid tessellation of the
-face's surface. The object stores the mesh and the values; the view provider
-(viewproviders.AnalysisViewProvider) only draws them with :func:`vertex_colors`.
+computed at once (vectorized) on the vertices of a tessellation of the face
+(:func:`face_mesh`): a parameter grid where the face is all of its surface over its
+parameter box, else Part's own triangulation of the trimmed face with each vertex's
+(u, v) found by the engine's certified closest point. The object stores the mesh and
+the values; the view provider (viewproviders.AnalysisViewProvider) only draws them with
+:func:`vertex_colors`.
 """
 from __future__ import annotations
 
@@ -25,6 +28,10 @@ RESOLUTION = (48, 4, 1000, 1)             # grid points per direction: default, 
 UNDEFINED_COLOR = (0.5, 0.5, 0.5)         # where the normal is undefined (NaN value)
 DARK, LIGHT = (0.05, 0.05, 0.05), (1.0, 1.0, 1.0)
 _ZERO_DIRECTION = 1e-12                   # a direction vector shorter than this is refused
+WHOLE_BOX_RTOL = 1e-9                     # a face whose area is its parameter box's to this is untrimmed
+DEFLECTION = 0.25                         # Part's mesh of a trimmed face: deflection = this x size / Resolution
+ON_SURFACE_RTOL = 1e-4                    # a vertex's foot farther than this x size: value undefined (a face
+                                          # converted by toNurbs may lie 1e-6 x size off Part's: 11752.stp)
 
 
 def _unit(v, name: str) -> np.ndarray:
@@ -48,13 +55,58 @@ def grid_mesh(surface, count: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray, 
     return u, v, np.asarray(surface(u, v), dtype=float), triangles
 
 
+def whole_box(face) -> bool:
+    """True when the face is all of its surface over its parameter box: its area equals
+    (to WHOLE_BOX_RTOL) that of Part's face of ``face.Surface`` on ``face.ParameterRange``
+    (a hole, or an outer boundary other than the box, makes it smaller). Then the grid
+    of :func:`grid_mesh` over the engine surface (conversion.face_to_surface, cut to that
+    box) is the face exactly."""
+    try:
+        box = face.Surface.toShape(*face.ParameterRange).Area
+    except Exception:             # a surface Part cannot bound by the box: treated as trimmed
+        return False
+    return abs(box - face.Area) <= WHOLE_BOX_RTOL * max(abs(box), abs(face.Area))
+
+
+def face_mesh(face, surface, count: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(u, v, points, triangles) of the face as :func:`grid_mesh` gives them: the
+    count x count grid of ``surface`` (the face's, conversion.face_to_surface) when the
+    face is its whole parameter box (:func:`whole_box`), else Part's triangulation of the
+    face itself (``face.tessellate`` with deflection DEFLECTION x size / count, size the
+    face's bounding-box diagonal: it respects the trims) with each vertex's (u, v) on
+    ``surface`` from the engine's vectorized, certified ``cagd.closest_point``; points
+    are the feet S(u, v). Where a foot is farther than ON_SURFACE_RTOL x size from its
+    vertex (u, v) are NaN (the caller's values there are undefined)."""
+    if whole_box(face):
+        return grid_mesh(surface, count)
+    size = float(face.BoundBox.DiagonalLength)
+    vertices, facets = face.tessellate(DEFLECTION * size / count)
+    P = conversion.array(vertices)
+    triangles = np.asarray(facets, dtype=np.int64).reshape(-1, 3)
+    if not len(P) or not len(triangles):
+        raise cagd.CagdError("Face: Part's tessellation of the face is empty")
+    feet = cagd.closest_point(surface, P)
+    uv = np.array(feet.params, dtype=float)
+    off = ~(np.asarray(feet.distances) <= ON_SURFACE_RTOL * size)
+    uv[off] = np.nan
+    points = np.where(off[:, None], P, np.asarray(feet.feet, dtype=float))
+    return uv[:, 0], uv[:, 1], points, triangles
+
+
 def analyse(surface, kind: str, u, v, direction=(0.0, 0.0, 1.0), view=(0.0, -1.0, 0.0),
             stripes: int = 8) -> Tuple[np.ndarray, np.ndarray]:
     """(values, bands) of ``kind`` at S(u, v), one engine call: a curvature (1/mm, signs
     as cagd.analysis.curvature_map), zebra phase with bands = lit (1/0), isophote value
     n.L with bands = the engine's band, or draft angle in degrees (``direction``: the
     light bars' direction, the light or the pull direction; ``view``: the view ray for
-    zebra). NaN values (band -1) where the normal is undefined."""
+    zebra). NaN values (band -1) where the normal is undefined or (u, v) is NaN."""
+    u, v = np.asarray(u, dtype=float), np.asarray(v, dtype=float)
+    known = np.isfinite(u) & np.isfinite(v)
+    if not known.all():                      # evaluated where known, NaN / band -1 elsewhere
+        values, bands = np.full(len(u), np.nan), np.full(len(u), -1.0)
+        if known.any():
+            values[known], bands[known] = analyse(surface, kind, u[known], v[known], direction, view, stripes)
+        return values, bands
     if kind in CURVATURES:
         values = np.asarray(cagd.analysis.curvature_map(surface, u, v, kind), dtype=float)
         return values, np.zeros_like(values)
@@ -112,7 +164,8 @@ class SurfaceAnalysis(Stateless):
         add(obj, "Vector", "ViewDirection", "Analysis", "Zebra: the view ray (eye to surface)", App.Vector(0, -1, 0))
         add(obj, "Integer", "Stripes", "Analysis", "Zebra: bars around the direction; isophotes: bands of n.L", 8)
         obj.addProperty("App::PropertyIntegerConstraint", "Resolution", "Analysis",
-                        "Grid points per parameter direction of the tessellation")
+                        "Grid points per parameter direction of the tessellation (a trimmed face: Part's "
+                        "mesh with deflection size / (4 Resolution))")
         obj.Resolution = RESOLUTION
         add(obj, "Float", "Range", "Analysis", "Values at the ends of the colour scale; 0 = symmetric, "
             "the largest |value|", 0.0)
@@ -140,9 +193,10 @@ class SurfaceAnalysis(Stateless):
 
     def execute(self, obj) -> None:
         try:
-            surface = conversion.face_to_surface(linked_face(obj.Face, "Face"))
+            face = linked_face(obj.Face, "Face")
+            surface = conversion.face_to_surface(face)
             count = min(max(int(obj.Resolution), RESOLUTION[1]), RESOLUTION[2])
-            u, v, points, triangles = grid_mesh(surface, count)
+            u, v, points, triangles = face_mesh(face, surface, count)
             values, bands = analyse(surface, obj.Kind, u, v, _unit(obj.Direction, "Direction"),
                                     _unit(obj.ViewDirection, "ViewDirection"), int(obj.Stripes))
         except Exception as exc:

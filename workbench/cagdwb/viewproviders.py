@@ -15,7 +15,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from pivy import coin
 
-from . import analysis, conversion, icon
+from . import analysis, icon
 from .features import Stateless
 
 ICONS = {
@@ -37,14 +37,9 @@ NET_COLOR = (0.85, 0.2, 0.1)
 COMB_COLOR = (0.1, 0.45, 0.9)
 
 
-def _polylines(polylines: Sequence[Sequence[App.Vector]]) -> Tuple[np.ndarray, List[int]]:
-    """Points of the polylines as one (n, 3) array and the polylines' point counts."""
-    flat = [p for line in polylines for p in line]
-    return conversion.array(flat), [len(line) for line in polylines]
-
-
 def _comb_lines(feet: np.ndarray, tips: np.ndarray) -> Tuple[np.ndarray, List[int]]:
-    """The teeth (foot, tip) and the envelope through the tips, as _polylines gives them."""
+    """The teeth (foot, tip) and the envelope through the tips, as points and polyline
+    point counts (features.polylines_array's form)."""
     return np.concatenate([np.stack([feet, tips], axis=1).reshape(-1, 3), tips]), [2] * len(feet) + [len(tips)]
 
 
@@ -60,23 +55,50 @@ def _annotation(color) -> coin.SoAnnotation:
     return sep
 
 
-def _lines_node(points: np.ndarray, counts: Sequence[int], color, width: float, dots: bool) -> coin.SoSeparator:
-    """A separator drawing polylines (``counts`` consecutive ``points`` each, and their
-    vertices as dots), as an SoAnnotation: drawn after the scene without the depth test,
-    so a net or comb is never hidden by its own surface."""
-    sep = _annotation(color)
-    style = coin.SoDrawStyle()
-    style.lineWidth = width
-    style.pointSize = 6.0
-    coords = coin.SoCoordinate3()
-    coords.point.setValues(0, len(points), points.tolist())
-    lines = coin.SoLineSet()
-    lines.numVertices.setValues(0, len(counts), list(counts))
-    for node in (style, coords, lines):
-        sep.addChild(node)
-    if dots:
-        sep.addChild(coin.SoPointSet())
-    return sep
+PARTIAL_UPDATE = 16                  # Lines.set: at most this many changed points are set one by one
+
+
+class Lines:
+    """Polylines (and their vertices as dots) drawn as an SoAnnotation: after the scene
+    without the depth test, so a net or comb is never hidden by its own surface. The
+    nodes are made once; :meth:`set` replaces the coordinates and counts in place, only
+    the points that changed when they are few (a dragged pole moves two points of a net)
+    without rebuilding the scene graph."""
+
+    def __init__(self, color, width: float, dots: bool):
+        self.node = _annotation(color)
+        style = coin.SoDrawStyle()
+        style.lineWidth = width
+        style.pointSize = 6.0
+        self.coords, self.lines = coin.SoCoordinate3(), coin.SoLineSet()
+        for node in (style, self.coords, self.lines):
+            self.node.addChild(node)
+        if dots:
+            self.node.addChild(coin.SoPointSet())
+        self.set(np.zeros((0, 3)), [])
+
+    def set(self, points: np.ndarray, counts: Sequence[int]) -> None:
+        """Draw ``counts`` consecutive ``points`` (n, 3) per polyline; nothing when empty.
+        Counts equal to the drawn ones are not set again (a drag changes points only)."""
+        counts = np.asarray(counts, dtype=np.int64).tolist()
+        if counts != getattr(self, "counts", None):
+            self.lines.numVertices.setNum(len(counts))
+            if counts:
+                self.lines.numVertices.setValues(0, len(counts), counts)
+            self.counts = counts
+        points = np.array(points, dtype=float).reshape(-1, 3)
+        drawn = getattr(self, "points", None)
+        if drawn is not None and drawn.shape == points.shape:
+            changed = np.flatnonzero((drawn != points).any(axis=1))
+            if len(changed) <= PARTIAL_UPDATE:          # a pole dragged: its two net points
+                for i in changed.tolist():
+                    self.coords.point.set1Value(i, points[i].tolist())
+                self.points = points
+                return
+        self.coords.point.setNum(len(points))
+        if len(points):
+            self.coords.point.setValues(0, len(points), points.tolist())
+        self.points = points
 
 
 STATION_RED = (1.0, 0.0, 0.0)
@@ -118,6 +140,9 @@ class ViewProvider(Stateless):
         self.vobj = vobj
         self.switch = coin.SoSwitch()
         self.switch.whichChild = coin.SO_SWITCH_ALL
+        self.net, self.comb_lines = Lines(NET_COLOR, 1.0, True), Lines(COMB_COLOR, 1.0, False)
+        self.switch.addChild(self.net.node)
+        self.switch.addChild(self.comb_lines.node)
         vobj.RootNode.addChild(self.switch)
         self.refresh()
 
@@ -128,30 +153,31 @@ class ViewProvider(Stateless):
         return points @ M[:3, :3].T + M[:3, 3]
 
     def refresh(self) -> None:
-        """Rebuild the overlay from the object's current shape and toggles."""
+        """The overlay from the object's current shape and toggles (coordinates replaced
+        in the existing nodes)."""
         if not getattr(self, "switch", None):
             return
-        self.switch.removeAllChildren()
         obj = self.vobj.Object
         self.drawn = obj.Placement.toMatrix().A
-        if obj.Shape.isNull() or not self.vobj.Visibility:
-            return
-        if getattr(self.vobj, "ShowControlNet", False):
-            net = obj.Proxy.control_net(obj)
-            if net:
-                points, counts = _polylines(net)
-                self.switch.addChild(_lines_node(self._local(points), counts, NET_COLOR, 1.0, True))
-        if getattr(self.vobj, "ShowCurvatureComb", False) and obj.Shape.Edges:
-            points, counts = self.comb(obj)
-            self.switch.addChild(_lines_node(self._local(points), counts, COMB_COLOR, 1.0, False))
+        empty: Tuple[np.ndarray, List[int]] = (np.zeros((0, 3)), [])
+        shown = not obj.Shape.isNull() and self.vobj.Visibility
+        net = comb = empty
+        if shown and getattr(self.vobj, "ShowControlNet", False):
+            net = obj.Proxy.net_arrays(obj)
+        if shown and getattr(self.vobj, "ShowCurvatureComb", False) and obj.Shape.Edges:
+            comb = self.comb(obj)
+        for lines, (points, counts) in ((self.net, net), (self.comb_lines, comb)):
+            lines.set(self._local(points) if len(points) else points, counts)
 
     def comb(self, obj) -> Tuple[np.ndarray, List[int]]:
-        """Teeth and the envelope through their tips (placed coordinates, as _polylines
-        gives them): of the edge, or of iso-curves of the face (analysis.surface_combs)."""
+        """Teeth and the envelope through their tips (placed coordinates, as
+        features.polylines_array gives them): of the edge, or of iso-curves of the face
+        (analysis.surface_combs)."""
+        from .features import polylines_array
         samples = min(max(int(self.vobj.CombSamples), COMB_SAMPLES[1]), COMB_SAMPLES[2])
         scale = float(self.vobj.CombScale)
         if obj.Shape.Faces:
-            return _polylines(analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale))
+            return polylines_array(analysis.surface_combs(obj.Shape.Faces[0], samples=samples, scale=scale))
         return _comb_lines(*analysis.comb_arrays(obj.Shape.Edges[0], samples, scale))
 
     # --- FreeCAD protocol -------------------------------------------------------------------

@@ -3,6 +3,7 @@ tolerances kept as PropertyPrecision, wrong selections refused by the checks the
 commands call, the debug-traceback preference, Hermite example tangents without hooks
 and iso-curve combs on surfaces."""
 import math
+import os
 
 import numpy as np
 import Part
@@ -170,12 +171,15 @@ def test_surface_iso_combs():
 
 
 # --- surface analysis overlay ------------------------------------------------------------------
-def _analysed(doc, shape, kind, **values):
+def _analysed(doc, shape, kind, face=None, **values):
+    """The analysis of ``shape``'s face number ``face`` (0-based; default its largest):
+    (object, vertices, values, bands)."""
     from cagdwb import surface_analysis
     holder = doc.addObject("Part::Feature", "Analysed")
     holder.Shape = shape
     doc.recompute()
-    face = max(range(len(shape.Faces)), key=lambda i: shape.Faces[i].Area)
+    if face is None:
+        face = max(range(len(shape.Faces)), key=lambda i: shape.Faces[i].Area)
     obj = surface_analysis.make_surface_analysis((holder, f"Face{face + 1}"), kind, doc=doc, **values)
     doc.recompute()
     check(obj.isValid() and obj.Message == "ok", f"{kind}: {obj.Message}")
@@ -236,6 +240,107 @@ def test_surface_analysis_cylinder_zebra():
             check(np.allclose(np.abs(values), 1.0 / (2 * R), rtol=1e-8), f"H {values.min()}..{values.max()}")
         else:
             check(np.allclose(values, expected, atol=1e-9), f"{kind} {values.min()}..{values.max()}")
+
+
+STEP_DIR = "/work/shared/data/cad/step"
+ON_FACE_RTOL = 1e-6          # every overlay vertex within this x the face's size of the face (Part's distToShape)
+AREA_RTOL = 0.01             # the overlay's triangle areas sum to the face's Area within this
+
+
+def _trimmed_cases():
+    """(name, shape, face index, radius, kind of surface) of trimmed faces made by Part
+    cuts, and a face of a real STEP file when the file is there: a plane with a round
+    hole, a B-spline face with a round hole, a sphere cut by a box and drilled, a
+    cylinder drilled across, boxed_sphere.step's B-spline sphere patch (radius 5)."""
+    plane = Part.makePlane(40.0, 30.0).cut(Part.makeCylinder(6.0, 10.0, V(15, 12, -5)))
+    bs = Part.BSplineSurface()
+    bs.interpolate([[V(3.0 * i, 3.0 * j, math.sin(i / 3.0) * math.cos(j / 4.0)) for j in range(10)]
+                    for i in range(10)])
+    holed = bs.toShape().cut(Part.makeCylinder(5.0, 10.0, V(12, 15, -5)))
+    R = 5.0
+    sphere = Part.makeSphere(R).cut(Part.makeBox(20, 20, 20, V(-10, -10, 2))).cut(
+        Part.makeCylinder(2.0, 20.0, V(-10, 0, 0), V(1, 0, 0)))
+    cylinder = Part.makeCylinder(R, 20.0).cut(Part.makeCylinder(2.0, 20.0, V(-10, 0, 10), V(1, 0, 0)))
+
+    def index(shape, kind):
+        return next(k for k, f in enumerate(shape.Faces) if kind in f.Surface.TypeId)
+    out = [("plane with a hole", plane, 0, None, "plane"),
+           ("B-spline face with a hole", holed, index(holed, "BSpline"), None, "freeform"),
+           ("trimmed sphere", sphere, index(sphere, "Sphere"), R, "sphere"),
+           ("drilled cylinder", cylinder, index(cylinder, "Cylinder"), R, "cylinder")]
+    path = os.path.join(STEP_DIR, "boxed_sphere.step")
+    if os.path.isfile(path):
+        shape = Part.read(path)
+        k = max((k for k, f in enumerate(shape.Faces) if "BSpline" in f.Surface.TypeId),
+                key=lambda k: shape.Faces[k].Area)
+        out.append(("boxed_sphere.step B-spline sphere patch", shape, k, R, "sphere"))
+    return out
+
+
+@case
+def test_surface_analysis_trimmed_faces():
+    """The overlay of a trimmed face covers the face and nothing else: every vertex lies
+    on the face (Part's distToShape of each vertex, brute force, <= 1e-6 x size; the old
+    grid over the whole surface put vertices in the holes), the triangles' areas sum to
+    Part's face.Area within 1%, and on a sphere K = 1/R^2, mean and principal curvatures
+    -+1/R, on a cylinder K = 0 and |H| = 1/(2R) (closed forms) at every vertex where the
+    normal is defined. The faces are Part's triangulations (not the grid): the decision
+    compares the face's area with its parameter box's (whole_box)."""
+    from cagdwb import surface_analysis
+    doc = new_doc("trimmed_map")
+    for name, shape, face, R, kind in _trimmed_cases():
+        f = shape.Faces[face]
+        check(not surface_analysis.whole_box(f), f"{name}: taken for its whole parameter box")
+        obj, P, K, _ = _analysed(doc, shape, "gaussian", face=face, Resolution=24)
+        T = np.array(obj.Facets, dtype=int).reshape(-1, 3)
+        size = f.BoundBox.DiagonalLength
+        off = max(f.distToShape(Part.Vertex(V(*p)))[0] for p in P)
+        a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+        area = 0.5 * float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
+        MEASURED_TRIM[name] = (off / size, area / f.Area - 1.0, len(P))
+        check(off <= ON_FACE_RTOL * size, f"{name}: a vertex {off:.3g} off the face (size {size:.3g})")
+        check(abs(area - f.Area) <= AREA_RTOL * f.Area, f"{name}: mesh area {area:.6g}, face {f.Area:.6g}")
+        ok = np.isfinite(K)
+        check(ok.sum() >= len(K) - 2, f"{name}: {(~ok).sum()} undefined of {len(K)}")
+        if kind == "sphere":
+            check(np.allclose(K[ok], 1.0 / R ** 2, rtol=1e-6), f"{name}: K {K[ok].min()}..{K[ok].max()}")
+            for k in ("mean", "max", "min"):
+                obj.Kind = k
+                doc.recompute()
+                H = np.array(obj.Values)
+                h = H[np.isfinite(H)]
+                check(h.size >= len(H) - 2 and np.allclose(np.abs(h), 1.0 / R, rtol=1e-6), f"{name} {k}: {h}")
+        elif kind == "cylinder":
+            check(np.allclose(K[ok], 0.0, atol=1e-9), f"{name}: K {K[ok].min()}..{K[ok].max()}")
+            obj.Kind = "mean"
+            doc.recompute()
+            check(np.allclose(np.abs(obj.Values), 1.0 / (2 * R), rtol=1e-8), f"{name}: H {obj.Values[:3]}")
+        elif kind == "plane":
+            check(np.allclose(K, 0.0, atol=1e-12), f"{name}: K on a plane {K.min()}..{K.max()}")
+    print("  trimmed overlays (off the face / size, area error, vertices): " +
+          "; ".join(f"{k} {v[0]:.2g}, {v[1]:+.2g}, {v[2]}" for k, v in MEASURED_TRIM.items()))
+
+
+MEASURED_TRIM = {}
+
+
+@case
+def test_surface_analysis_whole_box():
+    """The grid is kept where it is the face: Part's sphere and cylinder and a B-spline
+    face on its whole domain (their area is their parameter box's); a face cut to a
+    rectangle inside its B-spline surface's domain (ParameterRange smaller than the
+    surface's bounds) too; a plane face rotated in its plane (its parameter box is
+    bigger than it) is not."""
+    from cagdwb import surface_analysis
+    bs = Part.BSplineSurface()
+    bs.interpolate([[V(i, j, math.sin(i / 3.0)) for j in range(6)] for i in range(6)])
+    for name, face, expected in (("sphere", Part.makeSphere(5.0).Faces[0], True),
+                                 ("cylinder", Part.makeCylinder(5.0, 20.0).Faces[0], True),
+                                 ("B-spline", bs.toShape(), True),
+                                 ("B-spline inner box", bs.toShape(0.2, 0.6, 0.3, 0.7), True),
+                                 ("rotated square", Part.Face(Part.makePolygon(
+                                     [V(0, 0, 0), V(10, 5, 0), V(5, 15, 0), V(-5, 10, 0), V(0, 0, 0)])), False)):
+        check(surface_analysis.whole_box(face) == expected, f"{name}: whole_box {not expected}")
 
 
 @case
