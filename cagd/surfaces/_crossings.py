@@ -39,13 +39,22 @@ DEGENERATE = 1e-300       # a control-point difference or a determinant below th
 
 
 class _Prepared:
-    """One curve's Bezier spans: breaks, bounding boxes, unit control-point differences,
-    and SPAN_SAMPLES samples per span."""
+    """One curve's spans: breaks, bounding boxes, unit control-point differences (of the
+    Bezier nets of a rational curve; of the poles acting on the span for a polynomial one,
+    whose hull and hodograph cone hold the span too: Piegl & Tiller 3.2, 3.3), and
+    SPAN_SAMPLES samples per span."""
 
     def __init__(self, c: BSplineCurve):
         self.curve = c
-        breaks, nets = c.bezier_net()
-        P = nets[..., :-1] / nets[..., -1:] if c.is_rational else nets
+        if c.is_rational:
+            breaks, nets = c.bezier_net()
+            P = nets[..., :-1] / nets[..., -1:]
+        else:       # span i lies in the hull of poles i-p..i, its tangents in their differences' cone
+            U, p = c.knots, c.degree
+            spans = np.flatnonzero(U[p:-p - 1] < U[p + 1:-p]) + p
+            breaks = np.append(U[spans], U[-1])
+            P = c.control_points[spans[:, None] - p + np.arange(p + 1)]
+        self.breaks = breaks
         self.lo, self.hi = P.min(axis=1), P.max(axis=1)
         d = np.diff(P, axis=1)
         length = np.linalg.norm(d, axis=-1, keepdims=True)
@@ -110,10 +119,10 @@ def network_crossings(profiles: List[BSplineCurve], guides: List[BSplineCurve], 
         return S, T, np.full((m, n), np.nan), usable
     S, T, miss = _newton(profiles, guides, np.where(usable, S, 0.0), np.where(usable, T, 0.0))
     # the crossing must lie in the candidate spans (where the cones hold)
-    span_a = np.stack([np.clip(np.searchsorted(a.curve.bezier_net()[0], S[i], side="right") - 1, 0,
-                               len(a.lo) - 1) for i, a in enumerate(A)])
-    span_b = np.stack([np.clip(np.searchsorted(b.curve.bezier_net()[0], T[:, j], side="right") - 1, 0,
-                               len(b.lo) - 1) for j, b in enumerate(B)], axis=1)
+    span_a = np.stack([np.clip(np.searchsorted(a.breaks, S[i], side="right") - 1, 0, len(a.lo) - 1)
+                       for i, a in enumerate(A)])
+    span_b = np.stack([np.clip(np.searchsorted(b.breaks, T[:, j], side="right") - 1, 0, len(b.lo) - 1)
+                       for j, b in enumerate(B)], axis=1)
     inside = ((span_a >= ranges[..., 0]) & (span_a <= ranges[..., 1])
               & (span_b >= ranges[..., 2]) & (span_b <= ranges[..., 3]))
     proven = usable & inside & (miss <= tol)

@@ -41,6 +41,7 @@ from ..basis.bspline import basis_matrix
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
+from ..fitting.fit import _values
 from ..knots import vectors as kv
 from ._crossings import network_crossings
 from .bspline import BSplineSurface
@@ -207,13 +208,22 @@ def _reparametrisation(x: np.ndarray, y: np.ndarray) -> Callable[[np.ndarray], n
     cubic spline interpolant on averaged knots (Piegl & Tiller 9.2.1) when its B-spline
     coefficients increase (then r' >= 0: the derivative's coefficients are positive,
     Piegl & Tiller 3.3), else the monotone C1 cubic of :func:`_pchip`."""
+    return _reparametrisations(x, y[None])[0]
+
+
+def _reparametrisations(x: np.ndarray, Y: np.ndarray) -> List[Callable[[np.ndarray], np.ndarray]]:
+    """:func:`_reparametrisation` for every row of Y on the same x: one solve and one pp
+    form for all the splines (a curve with a coordinate per row)."""
     deg = min(3, len(x) - 1)
     knots = kv.averaged(x, deg)
-    coef = np.linalg.solve(basis_matrix(knots, deg, x, len(x)), y)
-    if np.all(np.diff(coef) > 0):
-        pp = BSplineCurve(coef[:, None], deg, knots).ppform      # s in [0, 1]: its pp form directly
-        return lambda s: np.minimum(np.maximum(pp(np.asarray(s, dtype=float))[:, 0], 0.0), 1.0)
-    return _pchip(x, y)
+    coef = np.linalg.solve(basis_matrix(knots, deg, x, len(x)), Y.T)          # (len(x), rows)
+    increasing = np.all(np.diff(coef, axis=0) > 0, axis=0)
+    pp = BSplineCurve(coef, deg, knots).ppform if increasing.any() else None  # s in [0, 1]: the pp form directly
+
+    def spline(k: int) -> Callable[[np.ndarray], np.ndarray]:
+        assert pp is not None
+        return lambda s: np.minimum(np.maximum(pp(np.asarray(s, dtype=float))[:, k], 0.0), 1.0)
+    return [spline(k) if up else _pchip(x, y) for k, (up, y) in enumerate(zip(increasing, Y))]
 
 
 def _pchip(x: np.ndarray, y: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
@@ -246,7 +256,7 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     the largest |c~_k(s) - c_k(r_k(s))| (:func:`_deviation_bound`) and whether it met
     REFIT_SHARE * tol."""
     p = max(max(c.degree for c in curves), REFIT_MIN_DEGREE)
-    maps = [_reparametrisation(new, o) for o in old]
+    maps = _reparametrisations(new, np.asarray(old, dtype=float))
     dense = np.linspace(0.0, 1.0, 1025)
     mapped, sharp, sharp_mult, kinks = [], [], [], []
     for c, r in zip(curves, maps):
@@ -269,7 +279,7 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     homs = [_homogeneous(c) if c.is_rational else None for c in curves]
     target = REFIT_SHARE * tol
     err = np.inf
-    fitted: List[BSplineCurve] = []
+    ends = np.stack([c(o) for c, o in zip(curves, old)])                 # the constraints c_k(old_kj)
     for _ in range(REFIT_ROUNDS):
         mult = np.ones(len(breaks), int)
         mult[np.searchsorted(breaks, kink_at)] = kink_mult
@@ -281,35 +291,38 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
         frac = (np.arange(REFIT_SAMPLES) + 0.5) / REFIT_SAMPLES
         s = (breaks[:-1, None] + np.diff(breaks)[:, None] * frac).ravel()
         chk = (breaks[:-1, None] + np.diff(breaks)[:, None] * (frac + 0.5 / REFIT_SAMPLES)[:-1]).ravel()
-        N, C = basis_matrix(knots, p, s, npoles), basis_matrix(knots, p, new, npoles)
+        ns, nc = len(s), len(chk)
+        B = basis_matrix(knots, p, np.concatenate([s, chk, new]), npoles)         # one basis call a round
+        N, C = B[:ns], B[ns + nc:]
+        at = np.stack([c(r(np.concatenate([s, chk]))) for c, r in zip(curves, maps)])   # one evaluation a curve
         ncon = len(new)
         K = np.zeros((npoles + ncon, npoles + ncon))
         K[:npoles, :npoles] = N.T @ N
         K[:npoles, npoles:], K[npoles:, :npoles] = C.T, C
-        rhs = np.concatenate([np.stack([N.T @ c(r(s)) for c, r in zip(curves, maps)], axis=0),
-                              np.stack([c(o) for c, o in zip(curves, old)])], axis=1)   # (count, npoles + ncon, dim)
+        rhs = np.concatenate([np.einsum("ka,ckd->cad", N, at[:, :ns]), ends], axis=1)   # (count, npoles + ncon, dim)
         count, dim = rhs.shape[0], rhs.shape[2]
         try:
             sol = np.linalg.solve(K, rhs.transpose(1, 0, 2).reshape(npoles + ncon, -1))
         except np.linalg.LinAlgError:
             raise CagdError(f"{name}: the reparametrising fit is singular") from None
         sol = sol.reshape(npoles + ncon, count, dim)
-        fitted = [BSplineCurve(sol[:npoles, k], p, knots) for k in range(count)]
+        poles = sol[:npoles].transpose(1, 0, 2)                                  # (count, npoles, dim)
         # samples between the fitting points first (cheap); the bound once they pass
-        at_chk = np.einsum("ka,acd->ckd", basis_matrix(knots, p, chk, npoles), sol[:npoles])
-        dev = np.linalg.norm(at_chk - np.stack([c(r(chk)) for c, r in zip(curves, maps)]), axis=2)
+        at_chk = np.einsum("ka,acd->ckd", B[ns:ns + nc], sol[:npoles])
+        dev = np.linalg.norm(at_chk - at[:, ns:], axis=2)
         if dev.max() > target:
             err = float(dev.max())
             bad = chk[np.any(dev > target, axis=0)]
         else:
-            bounds = [_deviation_bound(f, c, h, r, k) for f, c, h, r, k in zip(fitted, curves, homs, maps, kinks)]
+            bounds = [_deviation_bound(knots, p, P, c, h, r, k)
+                      for P, c, h, r, k in zip(poles, curves, homs, maps, kinks)]
             err = max(float(b.max()) for _, b in bounds)
             if err <= target:
-                return fitted, err, True
+                return [BSplineCurve(P, p, knots) for P in poles], err, True
             bad = np.concatenate([starts[b > target] for starts, b in bounds])
         bad_spans = np.unique(np.clip(np.searchsorted(breaks, bad, side="right") - 1, 0, len(breaks) - 2))
         breaks = np.unique(np.concatenate([breaks, 0.5 * (breaks[bad_spans] + breaks[bad_spans + 1])]))
-    return fitted, err, False
+    return [BSplineCurve(P, p, knots) for P in poles], err, False
 
 
 def _merged(at: np.ndarray, mult: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -364,26 +377,28 @@ def _kinks(r: Callable[[np.ndarray], np.ndarray], x: np.ndarray, preimages: np.n
     return np.concatenate([x[1:-1], averaged, preimages])
 
 
-def _deviation_bound(fitted: BSplineCurve, c: BSplineCurve, hom: Optional[BSplineCurve],
+def _deviation_bound(knots: np.ndarray, p: int, poles: np.ndarray, c: BSplineCurve, hom: Optional[BSplineCurve],
                      r: Callable[[np.ndarray], np.ndarray], kinks: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """A rigorous bound of |fitted(s) - c(r(s))| piece by piece: (piece starts, bounds).
+    """A rigorous bound of |fitted(s) - c(r(s))| piece by piece, the fitted curve of degree
+    p on ``knots`` with ``poles``: (piece starts, bounds).
     Between the fitted curve's knots and the ``kinks`` (:func:`_kinks`), w(r(s)) fitted(s)
     - C(r(s)) (C = w c the homogeneous numerator, w = 1 for a polynomial c; r piecewise
     cubic) is a polynomial of degree at most p + 3q (max(p, 3q) when w = 1); its Bernstein coefficients, found by
     interpolation at Chebyshev points, bound it (convex hull property, Farin ch. 5), and
     dividing by c's smallest weight bounds the deviation. Rounding: the coefficients
     carry about 1e3 ulps of the curves' size."""
-    deg = fitted.degree + 3 * c.degree if c.is_rational else max(fitted.degree, 3 * c.degree)
-    cuts = np.unique(np.concatenate([[0.0, 1.0], np.unique(fitted.knots)[1:-1], kinks]))
+    deg = p + 3 * c.degree if c.is_rational else max(p, 3 * c.degree)
+    cuts = np.unique(np.concatenate([[0.0, 1.0], np.unique(knots)[1:-1], kinks]))
     a, h = cuts[:-1], np.diff(cuts)
     a, h = a[h > 0], h[h > 0]
     nodes = 0.5 - 0.5 * np.cos(np.pi * np.arange(deg + 1) / deg)           # Chebyshev-Lobatto on [0, 1]
     s = (a[:, None] + h[:, None] * nodes).ravel()
+    fitted = _values(knots, p, poles, s, 0)[0]                             # the local basis, no pp form
     if hom is None:                                                        # w = 1
-        values = fitted(s) - c(r(s))
+        values = fitted - c(r(s))
     else:
         H = hom(r(s))                                                      # (w c, w) = _homogeneous(c)
-        values = H[:, -1:] * fitted(s) - H[:, :-1]
+        values = H[:, -1:] * fitted - H[:, :-1]
     values = values.reshape(len(a), deg + 1, -1)
     coef = np.linalg.solve(bernstein_values(deg, nodes), values)           # per piece
     smallest = 1.0 if c.weights is None else float(c.weights.min())
@@ -589,10 +604,12 @@ def _certified_error(surface: BSplineSurface, curves: Sequence[BSplineCurve]) ->
 
 def _ends(curves: List[BSplineCurve], P: np.ndarray, tol: float, name: str, other: str, index: np.ndarray,
           other_index: np.ndarray) -> None:
-    """Both ends of every curve lie on the first and last curve of the other family."""
+    """Both ends of every curve (clamped: its end poles) lie on the first and last curve
+    of the other family."""
     for k, c in enumerate(curves):
-        for end, col in ((0.0, 0), (1.0, -1)):
-            gap = float(np.linalg.norm(c(end) - c(P[k, col])))
+        met = c(np.array([P[k, 0], P[k, -1]]))
+        for end, col, at in ((0.0, 0, met[0]), (1.0, -1, met[1])):
+            gap = float(np.linalg.norm(c.control_points[col] - at))
             if gap > tol:
                 which = "start" if end == 0.0 else "end"
                 raise CagdError(f"{name}[{index[k]}]: its {which} is {gap:.3g} from where it meets "
@@ -606,7 +623,12 @@ def _largest(D: np.ndarray) -> float:
 
 def _moved(curves: List[BSplineCurve], P: np.ndarray, common: np.ndarray) -> float:
     """How far the curves' points at the common parameters are from their meeting points."""
-    return max(float(np.linalg.norm(c(common) - c(p), axis=1).max()) for c, p in zip(curves, P))
+    n = len(common)
+
+    def moved(c: BSplineCurve, p: np.ndarray) -> float:
+        both = c(np.concatenate([common, p]))                     # one evaluation a curve
+        return float(np.linalg.norm(both[:n] - both[n:], axis=1).max())
+    return max(moved(c, p) for c, p in zip(curves, P))
 
 
 def _compatible_family(curves: List[BSplineCurve], P: np.ndarray, common: np.ndarray, tol: float, name: str,

@@ -75,12 +75,12 @@ def test_gordon_needs_a_family():
 
 def test_gordon_unmet_tol_is_an_error_with_max_error():
     """A profile that is a 7-point cubic through S(t^2, 0.3): the network misses by
-    1.7e-3 and the surface's max_error is 2.35e-3: accepted at tol 3e-3, an error at 2e-3."""
+    1.7e-3 and the surface's max_error is 2.36e-3 (a bound): accepted at tol 3e-3, an error at 2e-3."""
     profiles = [PATCH.isocurve("u", v) for v in ISO]
     profiles[1] = cagd.BSplineCurve(profiles[1](np.linspace(0, 1, 7) ** 2), 3)
     guides = [PATCH.isocurve("v", u) for u in ISO]
     assert cq.Workplane().gordonSurface(profiles, guides, tol=3e-3).val().isValid()
-    with pytest.raises(CagdError, match=r"tol: gordonSurface: max_error 0\.00235 > tol 0\.002"):
+    with pytest.raises(CagdError, match=r"tol: gordonSurface: max_error 0\.0023\d > tol 0\.002"):
         cq.Workplane().gordonSurface(profiles, guides, tol=2e-3)
 
 
