@@ -90,3 +90,25 @@ def test_bad_input_names_the_argument():
     with pytest.raises(CagdError, match="grid"):
         poledrag.net_normals(np.zeros((1, 4, 3)))
 
+
+
+@settings(deadline=None, max_examples=60)
+@given(vec3, st.floats(1e-3, 20), st.sampled_from([None, "X", "Y", "Z"]))
+def test_snap_rounds_to_the_grid(p, step, name):
+    """Every coordinate (no axis) or only the axis' coordinate lands on a multiple of
+    step, within half a step of where it was; the others are untouched."""
+    axis = poledrag.AXES["View plane" if name is None else name]
+    q = poledrag.snapped(p, step, axis)
+    moved = np.ones(3, bool) if axis is None else np.abs(np.array(axis)) == 1.0
+    ratio = q[moved] / step
+    assert np.abs(ratio - np.round(ratio)).max() <= 1e-9 * (1 + np.abs(ratio).max())
+    assert np.abs(q - p)[moved].max() <= 0.5 * step * (1 + 1e-12)
+    assert np.array_equal(q[~moved], p[~moved])
+
+
+def test_snap_bad_input():
+    assert np.array_equal(poledrag.snapped([1.2, 3.4, 5.6], 0.0), [1.2, 3.4, 5.6])
+    with pytest.raises(CagdError, match="step"):
+        poledrag.snapped([0, 0, 0], -1.0)
+    with pytest.raises(CagdError, match="coordinate axis"):
+        poledrag.snapped([0, 0, 0], 1.0, (1.0, 1.0, 0.0))

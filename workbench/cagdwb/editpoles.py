@@ -5,7 +5,9 @@ Double-click a Bezier / B-spline curve or surface, a Bezier triangle, an interpo
 curve or a cubic spline (or run Cagd_EditPoles): the points are drawn as markers on
 top of the scene; the left mouse drags the picked one in the view plane through it,
 with Shift held along the net's normal at that pole (surfaces given by a grid) or in
-depth along the view direction (the pointer's travel up the screen); the object's
+depth along the view direction (the pointer's travel up the screen), or held to the
+X, Y or Z axis chosen in the panel ("Drag along"), optionally snapped to a grid ("Snap",
+poledrag.snapped); the object's
 property changes and the shape, net and comb recompute while dragging; each drag is
 one undo step; Esc cancels a drag, or leaves the mode. A point given by a linked
 vertex moves that vertex when it is a point object (Part Vertex, Draft Point: X, Y, Z
@@ -37,6 +39,7 @@ PICKED_PIXELS = 11.0
 MARKER_COLOR = (0.1, 0.1, 0.1)
 PICKED_COLOR = (1.0, 0.55, 0.0)
 WEIGHT_RANGE = (1e-6, 1e6)
+SNAP_MAX = 1e6                   # the largest snap grid the panel offers (mm)
 DRAG_DEVIATION = 1.0             # display Deviation (%) of a face while dragging: 5x coarser than FreeCAD's 0.2,
                                  # a 30 x 30 net's face meshes in a quarter of the time; restored on release
 
@@ -164,6 +167,8 @@ class PoleEditor:
         self.picked: Optional[int] = None
         self.drag: Optional[dict] = None
         self.redraws, self.busy = 0, 0.0          # property updates made by drags and their seconds (for tests)
+        self.axis: Optional[np.ndarray] = None     # a drag held to X, Y or Z (the panel's Drag along)
+        self.snap = 0.0                            # the grid the dragged point snaps to (0: none)
         self.root = coin.SoAnnotation()
         pick = coin.SoPickStyle()
         pick.style = coin.SoPickStyle.UNPICKABLE
@@ -277,6 +282,13 @@ class PoleEditor:
                 self.drag["grab_along"] = poledrag.drag_along(P[index], normal, origin, direction)
             except cagd.CagdError:
                 self.drag["normal"] = None
+        self.drag["axis"] = None
+        if self.axis is not None:           # held to X, Y or Z (unless it points at the viewer)
+            try:
+                self.drag["grab_axis"] = poledrag.drag_along(P[index], self.axis, origin, direction)
+                self.drag["axis"] = self.axis
+            except cagd.CagdError as exc:
+                _status(f"Edit poles: {exc}; dragging in the view plane")
         self.doc.openTransaction(f"Drag {point_property(self.obj)[:-1].lower()} {index} of {self.obj.Label}")
         self.coarse(True)
         viewer = self.view.getViewer()
@@ -284,6 +296,14 @@ class PoleEditor:
         viewer.setEnabledNaviCube(False)
         self.refresh()
         return True
+
+    def set_axis(self, name: str) -> None:
+        """Hold the next drags to the axis ``name`` of poledrag.AXES (None: the view plane)."""
+        axis = poledrag.AXES[str(name)]
+        self.axis = None if axis is None else np.array(axis)
+
+    def set_snap(self, step: float) -> None:
+        self.snap = float(step)
 
     def end_drag(self) -> None:
         """The drag is over: the face's own Deviation and the navigation cube back. The
@@ -310,6 +330,8 @@ class PoleEditor:
         """Where the dragged point goes for the pointer at (x, y)."""
         d = self.drag
         origin, direction = self.ray(x, y)
+        if d["axis"] is not None and not shift:
+            return d["anchor"] + poledrag.drag_along(d["anchor"], d["axis"], origin, direction) - d["grab_axis"]
         if not shift:
             return d["anchor"] + poledrag.drag_in_plane(d["anchor"], d["view"], origin, direction) - d["grab"]
         if d["normal"] is not None:
@@ -322,7 +344,7 @@ class PoleEditor:
     def move(self, x: float, y: float, shift: bool = False) -> None:
         started = time.perf_counter()
         try:
-            point = self.target(x, y, shift)
+            point = poledrag.snapped(self.target(x, y, shift), self.snap, None if shift else self.drag["axis"])
         except cagd.CagdError as exc:
             _status(f"Edit poles: {exc}")
             return
@@ -430,6 +452,16 @@ class PolePanel:
         layout = QtWidgets.QFormLayout(self.form)
         layout.addRow(QtWidgets.QLabel("Drag a marker with the left mouse (Shift: along the normal / in depth); "
                                        "each drag is one undo step; Esc leaves."))
+        self.along = QtWidgets.QComboBox()
+        self.along.addItems(list(poledrag.AXES))
+        self.along.currentTextChanged.connect(editor.set_axis)
+        layout.addRow("Drag along", self.along)
+        self.snap = QtWidgets.QDoubleSpinBox()
+        self.snap.setDecimals(4)
+        self.snap.setRange(0.0, SNAP_MAX)
+        self.snap.setToolTip("Grid spacing the dragged point snaps to (mm; 0: no snap)")
+        self.snap.valueChanged.connect(editor.set_snap)
+        layout.addRow("Snap (mm)", self.snap)
         self.label = QtWidgets.QLabel("none")
         layout.addRow("Picked", self.label)
         self.weight = QtWidgets.QDoubleSpinBox()

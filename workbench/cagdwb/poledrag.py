@@ -1,7 +1,7 @@
 """The geometry of dragging a pole with the mouse, free of GUI code (numpy only):
 which pole a picked ray hits, where the dragged pole goes in the plane through it
-normal to the view, along an axis (a surface net's normal) or in depth along the
-view direction, and the normals of a pole grid. The pole editor (editpoles.py) turns
+normal to the view, along an axis (a surface net's normal, or X, Y, Z) or in depth
+along the view direction, its place on a snap grid, and the normals of a pole grid. The pole editor (editpoles.py) turns
 mouse positions into rays (origin on the focal plane, direction into the scene) and
 calls these; the headless suite and tests/workbench/test_poledrag.py test them.
 
@@ -91,6 +91,30 @@ def drag_along(anchor, axis, origin, direction) -> np.ndarray:
     w = p - o
     t = (b * float(d @ w) - float(u @ w)) / denom
     return p + t * u
+
+
+#: the directions a drag can be held to (the panel's "Drag along"): None is the view plane
+AXES = {"View plane": None, "X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+def snapped(point, step: float, axis=None) -> np.ndarray:
+    """The point on a grid of spacing ``step`` (model units; 0: unchanged): every
+    coordinate rounded to a multiple of step, or, for a drag held to a coordinate
+    ``axis``, that coordinate only (so the point stays on the axis' line)."""
+    p = _point(point, "point")
+    if not (np.isfinite(step) and step >= 0.0):
+        raise CagdError(f"step: must be a finite number >= 0, got {step!r}")
+    if step == 0.0:
+        return p
+    if axis is None:
+        return np.round(p / step) * step
+    u = _unit(axis, "axis")
+    k = int(np.argmax(np.abs(u)))
+    if abs(u[k]) < 1.0 - PARALLEL:
+        raise CagdError(f"axis: a snap along an axis needs a coordinate axis (X, Y or Z), got {tuple(u)}")
+    q = p.copy()
+    q[k] = np.round(p[k] / step) * step
+    return q
 
 
 def drag_in_depth(anchor, axis, start, now, up) -> np.ndarray:
