@@ -253,7 +253,7 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     the Lagrange system), spans halved where the parametric error (sampled between the
     fitting points, then bounded once the samples pass) exceeds
     REFIT_SHARE * tol; degree at least REFIT_MIN_DEGREE. Returns the curves, a bound of
-    the largest |c~_k(s) - c_k(r_k(s))| (:func:`_deviation_bound`) and whether it met
+    the largest |c~_k(s) - c_k(r_k(s))| (:func:`_deviation_bounds`) and whether it met
     REFIT_SHARE * tol."""
     p = max(max(c.degree for c in curves), REFIT_MIN_DEGREE)
     maps = _reparametrisations(new, np.asarray(old, dtype=float))
@@ -314,12 +314,11 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
             err = float(dev.max())
             bad = chk[np.any(dev > target, axis=0)]
         else:
-            bounds = [_deviation_bound(knots, p, P, c, h, r, k)
-                      for P, c, h, r, k in zip(poles, curves, homs, maps, kinks)]
-            err = max(float(b.max()) for _, b in bounds)
+            starts, bounds = _deviation_bounds(knots, p, poles, curves, homs, maps, np.concatenate(kinks))
+            err = float(bounds.max())
             if err <= target:
                 return [BSplineCurve(P, p, knots) for P in poles], err, True
-            bad = np.concatenate([starts[b > target] for starts, b in bounds])
+            bad = starts[np.any(bounds > target, axis=0)]
         bad_spans = np.unique(np.clip(np.searchsorted(breaks, bad, side="right") - 1, 0, len(breaks) - 2))
         breaks = np.unique(np.concatenate([breaks, 0.5 * (breaks[bad_spans] + breaks[bad_spans + 1])]))
     return [BSplineCurve(P, p, knots) for P in poles], err, False
@@ -377,32 +376,38 @@ def _kinks(r: Callable[[np.ndarray], np.ndarray], x: np.ndarray, preimages: np.n
     return np.concatenate([x[1:-1], averaged, preimages])
 
 
-def _deviation_bound(knots: np.ndarray, p: int, poles: np.ndarray, c: BSplineCurve, hom: Optional[BSplineCurve],
-                     r: Callable[[np.ndarray], np.ndarray], kinks: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """A rigorous bound of |fitted(s) - c(r(s))| piece by piece, the fitted curve of degree
-    p on ``knots`` with ``poles``: (piece starts, bounds).
-    Between the fitted curve's knots and the ``kinks`` (:func:`_kinks`), w(r(s)) fitted(s)
-    - C(r(s)) (C = w c the homogeneous numerator, w = 1 for a polynomial c; r piecewise
-    cubic) is a polynomial of degree at most p + 3q (max(p, 3q) when w = 1); its Bernstein coefficients, found by
+def _deviation_bounds(knots: np.ndarray, p: int, poles: np.ndarray, curves: List[BSplineCurve],
+                      homs: List[Optional[BSplineCurve]], maps: List[Callable[[np.ndarray], np.ndarray]],
+                      kinks: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """A rigorous bound of |fitted_k(s) - c_k(r_k(s))| piece by piece for every curve k,
+    the fitted curves of degree p on one knot vector with ``poles`` (count, npoles, dim):
+    (piece starts, bounds (count, pieces)). Between the fitted knots and all the curves'
+    ``kinks`` (:func:`_kinks`), w(r(s)) fitted(s) - C(r(s)) (C = w c the homogeneous
+    numerator, w = 1 for a polynomial c; r piecewise cubic) is a polynomial of degree at
+    most p + 3q (max(p, 3q) when w = 1); its Bernstein coefficients, found by
     interpolation at Chebyshev points, bound it (convex hull property, Farin ch. 5), and
     dividing by c's smallest weight bounds the deviation. Rounding: the coefficients
     carry about 1e3 ulps of the curves' size."""
-    deg = p + 3 * c.degree if c.is_rational else max(p, 3 * c.degree)
+    deg = max(p + 3 * c.degree if c.is_rational else max(p, 3 * c.degree) for c in curves)
     cuts = np.unique(np.concatenate([[0.0, 1.0], np.unique(knots)[1:-1], kinks]))
     a, h = cuts[:-1], np.diff(cuts)
     a, h = a[h > 0], h[h > 0]
     nodes = 0.5 - 0.5 * np.cos(np.pi * np.arange(deg + 1) / deg)           # Chebyshev-Lobatto on [0, 1]
     s = (a[:, None] + h[:, None] * nodes).ravel()
-    fitted = _values(knots, p, poles, s, 0)[0]                             # the local basis, no pp form
-    if hom is None:                                                        # w = 1
-        values = fitted - c(r(s))
-    else:
-        H = hom(r(s))                                                      # (w c, w) = _homogeneous(c)
-        values = H[:, -1:] * fitted - H[:, :-1]
-    values = values.reshape(len(a), deg + 1, -1)
-    coef = np.linalg.solve(bernstein_values(deg, nodes), values)           # per piece
-    smallest = 1.0 if c.weights is None else float(c.weights.min())
-    return a, np.linalg.norm(coef, axis=-1).max(axis=1) / smallest
+    count, npoles, dim = poles.shape
+    fitted = _values(knots, p, poles.transpose(1, 0, 2).reshape(npoles, -1), s, 0)[0].reshape(len(s), count, dim)
+    values = np.empty_like(fitted)
+    smallest = np.ones(count)
+    for k, (c, hom, r) in enumerate(zip(curves, homs, maps)):
+        if hom is None:                                                    # w = 1
+            values[:, k] = fitted[:, k] - c(r(s))
+        else:
+            H = hom(r(s))                                                  # (w c, w) = _homogeneous(c)
+            values[:, k] = H[:, -1:] * fitted[:, k] - H[:, :-1]
+            smallest[k] = float(hom.control_points[:, -1].min())
+    coef = np.linalg.solve(bernstein_values(deg, nodes), values.reshape(len(a), deg + 1, -1))    # per piece
+    norms = np.linalg.norm(coef.reshape(len(a), deg + 1, count, dim), axis=-1).max(axis=1)    # (pieces, count)
+    return a, (norms / smallest).T
 
 
 def _skin_coefficients(params: np.ndarray, degree: int, periodic: bool = False) -> Tuple[np.ndarray, np.ndarray]:
