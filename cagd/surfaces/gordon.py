@@ -257,14 +257,13 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
     REFIT_SHARE * tol."""
     p = max(max(c.degree for c in curves), REFIT_MIN_DEGREE)
     maps = _reparametrisations(new, np.asarray(old, dtype=float))
-    dense = np.linspace(0.0, 1.0, 1025)
     mapped, sharp, sharp_mult, kinks = [], [], [], []
     for c, r in zip(curves, maps):
         e = c.elevate(p - c.degree) if c.degree < p else c
         interior = e.knots[p + 1:-p - 1]
         values, mult = kv.distinct_with_multiplicities(interior) if interior.size else (interior, interior)
         pre = _inverse(r, values)                                       # r^-1 of the curve's knots, exactly
-        mapped.append(np.interp(values[mult == 1], r(dense), dense))    # the smooth ones as before (averaged)
+        mapped.append(pre[mult == 1])                                   # the smooth ones averaged below,
         sharp.append(pre[mult > 1])                                     # the kinks kept exactly,
         sharp_mult.append(mult[mult > 1])                               # at their multiplicity
         kinks.append(_kinks(r, new, pre))
@@ -321,6 +320,8 @@ def _refit(curves: List[BSplineCurve], old: np.ndarray, new: np.ndarray, tol: fl
             bad = starts[np.any(bounds > target, axis=0)]
         bad_spans = np.unique(np.clip(np.searchsorted(breaks, bad, side="right") - 1, 0, len(breaks) - 2))
         breaks = np.unique(np.concatenate([breaks, 0.5 * (breaks[bad_spans] + breaks[bad_spans + 1])]))
+    # out of rounds: the last fit's error is reported as a bound too (it may have been sampled)
+    err = max(err, float(_deviation_bounds(knots, p, poles, curves, homs, maps, np.concatenate(kinks))[1].max()))
     return [BSplineCurve(P, p, knots) for P in poles], err, False
 
 
