@@ -27,16 +27,13 @@ from typing import Dict, Tuple
 import numpy as np
 
 from ..basis.bspline import basis_matrix
+from .fit import _knots
 
 #: |R_ii| below this share of the largest: the reduced QR is not trusted (rank deficient or
 #: nearly), the pseudo-inverse is used instead
 RANK_RTOL = 1e-10
 #: operators (m x count entries of one direction) kept per grid, the most recent
 CACHE_OPERATORS = 64
-
-
-def _clamped(breaks: np.ndarray, p: int) -> np.ndarray:
-    return np.concatenate([np.zeros(p), breaks, np.ones(p)])
 
 
 def ends_held_operator(U: np.ndarray, p: int, t: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -84,7 +81,7 @@ class SeparableGrid:
         hit = cache.get(key)
         if hit is None:
             p, t = (self.pu, self.u) if axis == 0 else (self.pv, self.v)
-            hit = ends_held_operator(_clamped(breaks, p), p, t)
+            hit = ends_held_operator(_knots(breaks, p), p, t)
             if len(cache) >= CACHE_OPERATORS:
                 cache.pop(next(iter(cache)))
             cache[key] = hit
