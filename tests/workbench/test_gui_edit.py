@@ -11,7 +11,7 @@ from test_gui import _image, model_pixels
 from wb_runner import run_gui_macro
 
 TIMEOUT = 240
-STEPS = 8                     # the macro's step count
+STEPS = 9                     # the macro's step count
 MIN_REDRAWS_PER_S = 0.5       # a floor only: a drag that stops redrawing fails
 EXTRA_PAINTS = 2              # paints beyond one per move (the press's marker change, a late delay-queue one)
 MARKERS = 6                   # poles of the screenshot's curve

@@ -27,6 +27,8 @@ V = App.Vector
 WIDTH, HEIGHT = 480, 360
 MOVES = 30                     # mouse moves per measured drag
 STATE = {}
+CLICK_MARGIN = 0.05            # s beyond Qt's double-click interval between two presses
+LAST_PRESS = [-1e9]            # time.monotonic() of the macro's last press
 
 
 def vec(v):
@@ -65,7 +67,15 @@ class Mouse:
         QtWidgets.QApplication.sendEvent(self.widget, event)
 
     def press(self, x, y, shift=False):
+        """A press at least a double-click interval after the last one: FreeCAD's
+        navigation style takes a press sooner than that for a double-click's second and
+        hands it to the scene graph only with the release (NavigationStyle::
+        processClickEvent), so a drag started then would not move (as for a user)."""
+        wait = QtWidgets.QApplication.doubleClickInterval() / 1000.0 + CLICK_MARGIN - (time.monotonic() - LAST_PRESS[0])
+        if wait > 0:
+            time.sleep(wait)
         self.send(QtCore.QEvent.MouseButtonPress, x, y, QtCore.Qt.LeftButton, QtCore.Qt.LeftButton, shift)
+        LAST_PRESS[0] = time.monotonic()
 
     def move(self, x, y, shift=False):
         self.send(QtCore.QEvent.MouseMove, x, y, QtCore.Qt.NoButton, QtCore.Qt.LeftButton, shift)
@@ -422,6 +432,41 @@ def linked_vertices():
     log(f"linked vertex moved; refused: {status}")
     Gui.ActiveDocument.resetEdit()
     settle()
+
+
+@step
+def drag_along_an_axis_with_snap():
+    """The panel's Drag along Z and Snap 2.5, seen from the front (Z up the screen): a
+    drag of pole 2 moves it along Z only (x and y bit for bit) to a multiple of 2.5,
+    about as far as the pointer went; one undo step."""
+    from cagdwb import curves
+    doc = App.ActiveDocument
+    obj = curves.make_bspline_curve([V(float(x), 5.0 * (x % 2), 0.0) for x in (0, 20, 40, 60, 80, 100)], 3, doc=doc)
+    doc.recompute()
+    view = show_only([obj], "viewFront")
+    obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
+    settle()
+    editor = obj.ViewObject.Proxy.editor
+    check(editor is not None and editor.panel is not None, "no pole editor")
+    editor.panel.along.setCurrentText("Z")
+    editor.panel.snap.setValue(2.5)
+    k, step = 2, 2.5
+    poles, undo = [vec(p) for p in obj.Poles], len(doc.UndoNames)
+    start, made = view.getPointOnScreen(obj.Poles[k]), editor.redraws
+    drag(view, start, (15, 150))
+    check(editor.picked == k and editor.redraws > made, f"picked {editor.picked} (expected {k}), "
+          f"{editor.redraws - made} moves reached the editor")
+    p = vec(obj.Poles[k])
+    pointer = vec(view.getPoint(start[0] + 15, start[1] + 150)) - vec(view.getPoint(*start))
+    check(p[0] == poles[k][0] and p[1] == poles[k][1], f"pole left its Z line: {p} from {poles[k]}")
+    check(abs(p[2] / step - round(p[2] / step)) <= 1e-9 and abs(p[2] - poles[k][2]) >= step,
+          f"z = {p[2]} is not a moved multiple of {step}")
+    check(abs(p[2] - poles[k][2] - pointer[2]) <= step / 2 + 1e-9, f"z moved {p[2] - poles[k][2]}, pointer {pointer}")
+    check(len(doc.UndoNames) == undo + 1, f"undo steps {doc.UndoNames[:3]} (was {undo})")
+    log(f"axis drag: pole {k} z {poles[k][2]:.4g} -> {p[2]:.4g} (pointer {pointer[2]:.4g}), x, y unchanged")
+    Gui.ActiveDocument.resetEdit()
+    settle()
+    RESULT["axis_drag"] = {"z": float(p[2]), "pointer_z": float(pointer[2])}
 
 
 @step
