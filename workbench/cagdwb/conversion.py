@@ -243,9 +243,13 @@ def face_to_surface(face) -> "cagd.BSplineSurface":
     ``Geom_BSplineSurface::Segment`` on a copy (exact, wraps around the period)."""
     surface = face.Surface
     if not isinstance(surface, (Part.BSplineSurface, Part.BezierSurface)):
-        face = face.toNurbs().Faces[0]
-        surface = face.Surface
+        # NURBS conversion restricts the surface to the face's box already; the new
+        # face's ParameterRange is not cut by: on a closed surface it can start at
+        # another seam (11752.stp's torus faces: u from 0.108, the surface's 0.091 ..
+        # 6.375: a cut lost a strip of the face) or leave the bounds (Segment fails)
+        return part_surface_to_engine(face.toNurbs().Faces[0].Surface)
     u0, u1, v0, v1 = face.ParameterRange
+    cut_u = cut_v = False
     if isinstance(surface, Part.BSplineSurface) and (surface.isUPeriodic() or surface.isVPeriodic()):
         a, b, c, d = surface.bounds()
         eps = 1e-12 * max(1.0, *map(abs, (a, b, c, d, u0, u1, v0, v1)))
@@ -257,9 +261,11 @@ def face_to_surface(face) -> "cagd.BSplineSurface":
     s = part_surface_to_engine(surface)
     (a, b), (c, d) = s.domain
     eps = 1e-12 * max(1.0, abs(a), abs(b), abs(c), abs(d))
-    if u0 > a + eps or u1 < b - eps:
+    # a direction Segment cut is the face's box already, its range possibly moved by whole
+    # periods (trj3_s1-al-214.stp: [2, 6] of a period [2, 10] comes back as [10, 14])
+    if not cut_u and (u0 > a + eps or u1 < b - eps):
         s = s.segment("u", max(u0, a), min(u1, b))
-    if v0 > c + eps or v1 < d - eps:
+    if not cut_v and (v0 > c + eps or v1 < d - eps):
         s = s.segment("v", max(v0, c), min(v1, d))
     return s
 

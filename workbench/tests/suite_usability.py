@@ -244,6 +244,7 @@ def test_surface_analysis_cylinder_zebra():
 
 STEP_DIR = "/work/shared/data/cad/step"
 ON_FACE_RTOL = 1e-6          # every overlay vertex within this x the face's size of the face (Part's distToShape)
+ON_FACE_CHECKS = 1000        # vertices checked by distToShape (evenly spaced) per face
 AREA_RTOL = 0.01             # the overlay's triangle areas sum to the face's Area within this
 
 
@@ -274,7 +275,19 @@ def _trimmed_cases():
         k = max((k for k, f in enumerate(shape.Faces) if "BSpline" in f.Surface.TypeId),
                 key=lambda k: shape.Faces[k].Area)
         out.append(("boxed_sphere.step B-spline sphere patch", shape, k, R, "sphere"))
+    for name, k in REAL_TRIMMED:
+        path = os.path.join(os.path.dirname(STEP_DIR), name)
+        if os.path.isfile(path):
+            out.append((f"{os.path.basename(name)} face {k}", Part.read(path), k, None, "freeform"))
     return out
+
+
+# real faces whose overlay had holes: edges 0.022 mm off their B-spline surface (BRep
+# tolerance, 917_fusee.stp), a torus whose NURBS form's face starts at another seam
+# (11752.stp), a periodic B-spline face whose cut comes back a period on (trj3_s1-al-214.stp:
+# conversion raised); and a 0.03 mm face whose mesh by Part's face.tessellate ran for minutes
+REAL_TRIMMED = (("step/917_fusee.stp", 2), ("step/11752.stp", 456), ("step/trj3_s1-al-214.stp", 2),
+                ("iges/bearing.iges", 166))
 
 
 @case
@@ -285,7 +298,9 @@ def test_surface_analysis_trimmed_faces():
     Part's face.Area within 1%, and on a sphere K = 1/R^2, mean and principal curvatures
     -+1/R, on a cylinder K = 0 and |H| = 1/(2R) (closed forms) at every vertex where the
     normal is defined. The faces are Part's triangulations (not the grid): the decision
-    compares the face's area with its parameter box's (whole_box)."""
+    compares the face's area with its parameter box's (whole_box). Real faces
+    (REAL_TRIMMED) too, where the vertices may leave the face by twice its edges'
+    tolerance."""
     from cagdwb import surface_analysis
     doc = new_doc("trimmed_map")
     for name, shape, face, R, kind in _trimmed_cases():
@@ -294,11 +309,15 @@ def test_surface_analysis_trimmed_faces():
         obj, P, K, _ = _analysed(doc, shape, "gaussian", face=face, Resolution=24)
         T = np.array(obj.Facets, dtype=int).reshape(-1, 3)
         size = f.BoundBox.DiagonalLength
-        off = max(f.distToShape(Part.Vertex(V(*p)))[0] for p in P)
+        # a file's edges may leave the surface by their tolerance t: a vertex on an edge
+        # has its foot within t, and that within t of the edge's point on the face (2 t)
+        tolerance = max([f.Tolerance] + [e.Tolerance for e in f.Edges])
+        off = max(f.distToShape(Part.Vertex(V(*p)))[0] for p in P[::max(1, len(P) // ON_FACE_CHECKS)])
         a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
         area = 0.5 * float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
         MEASURED_TRIM[name] = (off / size, area / f.Area - 1.0, len(P))
-        check(off <= ON_FACE_RTOL * size, f"{name}: a vertex {off:.3g} off the face (size {size:.3g})")
+        check(off <= ON_FACE_RTOL * size + 2.0 * tolerance, f"{name}: a vertex {off:.3g} off the face (size "
+              f"{size:.3g}, edge tolerance {tolerance:.3g})")
         check(abs(area - f.Area) <= AREA_RTOL * f.Area, f"{name}: mesh area {area:.6g}, face {f.Area:.6g}")
         ok = np.isfinite(K)
         check(ok.sum() >= len(K) - 2, f"{name}: {(~ok).sum()} undefined of {len(K)}")
