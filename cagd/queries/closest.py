@@ -36,13 +36,20 @@ GRID_ENTRIES entries, and large objects get one cell per Bezier piece.
 Bounded work (issue 14): points the voxel grid does not serve (farther than T, or
 outside it) descend a binary hierarchy of the cells (boxes of their control points)
 instead of meeting every cell; every point keeps at most K = max(CANDIDATES,
-PAIR_BUDGET / N) candidate cells and the branch and bound at most
+PAIR_BUDGET / N) candidate cells and the branch and bound at most B =
 min(BRANCH_PER_POINT N + BRANCH_PER_CELL cells, BRANCH_MAX) open pairs per chunk; what a
 cap leaves out enters ``lower_bounds`` with its own bound, so the certificate holds
 whatever is cut (it is only less tight: on crumpled random nets and curves whose every
-cell's hull meets thousands of others). Points whose candidate list was cut are solved
-again in a group small enough to keep every cell. Surface queries of FINE_POINTS points
-or more use finer cells (FINE_CELLS).
+cell's hull meets thousands of others). When more than B boxes are open after a split,
+every point keeps an equal share of B, its boxes where Newton came nearest first (the
+rest into ``lower_bounds``), and the search goes on until BRANCH_WORK B (point, box) rows
+have been refined in all; the boxes still open then enter ``lower_bounds`` and their
+points keep the nearest foot found. (The search used to stop at the first overflow: the
+points still open kept their local foot, reported converged with lower bound 0; a grid
+point on a folded fit got 0.68 for 2.5e-10 among 120 points.) Newton in a box starts at
+the nearer, in space, of the foot found (clamped to the box) and the box's midpoint.
+Points whose candidate list was cut are solved again in a group small enough to keep
+every cell. Surface queries of FINE_POINTS points or more use finer cells (FINE_CELLS).
 
 Set-up (issue 16): queries of fewer than LIGHT_POINTS points build a light projector
 (about one cell per Bezier piece, no voxel grid: every point descends the hierarchy),
@@ -111,9 +118,9 @@ TREE_TOP = 64           # nodes of the hierarchy's top level, at most
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
 BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
 BRANCH_MAX = 2_000_000  # ... and at most this many in all
-BRANCH_WORK = 8         # (point, box) rows refined by Newton in all, at most this many times that budget (a
-                        # grid point on a folded fit found its foot 2.5e-10 away, not 0.68, from 6; 4 left
-                        # two of 120 at a local foot)
+BRANCH_WORK = 6         # (point, box) rows refined by Newton in all, at most this many times that budget
+                        # (the 120 grid points on a folded fit, tests/queries/test_closest_budget.py: 4 left
+                        # two at a local foot, 0.1 and 0.4 away for 1e-10; 5 none)
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
