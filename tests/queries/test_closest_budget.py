@@ -1,0 +1,62 @@
+"""closest_point when the branch-and-bound budget runs out (cagd.queries.closest,
+"Bounded work"): a point whose boxes are still open when the budget is spent must not
+keep its local foot. The case: the fit of tests/fitting's
+test_measured_max_is_certified_property at seed 1 (m 8, n 15, tol 0.002, degree 2), whose
+control net swings out to 6e5 between the grid lines (a folded surface, every hull
+sphere huge); its grid points queried together used to get local feet up to 0.68 away
+with the global foot within 1e-9 (converged, lower bound 0)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cagd import closest_point
+from cagd.fitting import fit_surface
+from cagd.queries.closest import CLOSEST_TOL
+
+
+@pytest.fixture(scope="module")
+def folded():
+    rng = np.random.default_rng(1)
+    X, Y = np.meshgrid(np.linspace(0, 10, 8), np.linspace(0, 10, 15), indexing="ij")
+    a, b, c = rng.uniform(0.2, 1.0, 3)
+    Q = np.stack([X, Y, np.sin(a * X) * np.cos(b * Y) + c * rng.normal(0, 0.01, X.shape)], -1)
+    fit = fit_surface(Q, 0.002, degree=2)
+    P = np.asarray(fit.surface.control_points).reshape(-1, 3)
+    # Newton's default stop, a distance: CLOSEST_TOL times the control net's extent
+    slack = CLOSEST_TOL * float(np.ptp(P, axis=0).max())
+    return fit, Q.reshape(-1, 3), slack
+
+
+def test_points_queried_together_get_their_global_foot(folded):
+    """Oracle (evaluation only): S at the fit's own parameters of each grid point is a
+    point of S, so its distance bounds the closest distance from above; the 120 points
+    queried at once (the budget is spent) must not be farther, and lower_bounds hold."""
+    fit, Q, slack = folded
+    S = fit.surface
+    uv = fit.params.reshape(-1, 2)
+    upper = np.linalg.norm(S(uv[:, 0], uv[:, 1]) - Q, axis=1)
+    r = closest_point(S, Q)
+    assert np.all(r.distances <= upper + slack), np.flatnonzero(r.distances > upper + slack)
+    assert np.all(r.lower_bounds <= r.distances)
+    # the same points queried one at a time (the budget not spent) agree
+    for i in np.argsort(r.distances - upper)[-3:]:
+        alone = closest_point(S, Q[i])
+        assert abs(alone.distances[0] - r.distances[i]) <= slack
+
+
+@pytest.mark.parametrize("copies", [12, 100])
+def test_copies_of_a_point_get_its_global_foot(folded, copies):
+    """Copies of one grid point (every copy shares the budget) get the foot of the point
+    queried alone, to Newton's tolerance; the point lies on the surface (upper bound from
+    the fit's parameters)."""
+    fit, Q, slack = folded
+    S = fit.surface
+    i = 35
+    u, v = fit.params.reshape(-1, 2)[i]
+    upper = float(np.linalg.norm(S(u, v) - Q[i]))
+    alone = closest_point(S, Q[i]).distances[0]
+    r = closest_point(S, np.repeat(Q[i:i + 1], copies, axis=0))
+    assert alone <= upper + slack
+    assert np.all(np.abs(r.distances - alone) <= slack)
+    assert np.all(r.lower_bounds <= r.distances)
