@@ -128,9 +128,10 @@ class _Problem:
                   width: int, force: bool = False) -> np.ndarray:
         """The band of lam E_r, plus REGULARISATION E_2 where the data alone may not fix
         the curve (fewer weighted points than control points, a knot span without one,
-        or, ends held, no Schoenberg-Whitney matching: :func:`_determined`) or when
-        ``force``d; relative to the data term's scale, 1 / (number of spans). Cached for
-        the last knot vector (the parameter corrections of one round share it)."""
+        or, ends held, no Schoenberg-Whitney matching: :func:`_determined`) or with
+        ``force``, each span's part scaled to its width (:func:`_energy`, ``local``),
+        1 / (number of spans) of the data term's scale. Cached for the last knot vector
+        (the parameter corrections of one round share it)."""
         p = self.p
         brk = np.unique(U[p:len(U) - p])
         counted = t[self.w > 0]

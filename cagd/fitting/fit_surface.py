@@ -213,8 +213,9 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         points: (m, n, d) grid, rows along u; or (N, 3) scattered points.
         tol: the largest allowed distance of a point from the surface (> 0).
         degree: per direction, or a pair (degree_u, degree_v); or "auto": the fit of
-            each degree of AUTO_DEGREES (both directions) with the fewest control points
-            (the lower degree on a tie; the smallest error when none is within tol).
+            each degree of AUTO_DEGREES (both directions; a grid's at most m - 1 and
+            n - 1) with the fewest control points (the lower degree on a tie; the
+            smallest error when none is within tol).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
         max_control_points: a cap (count_u, count_v) (default: the grid's size).
         base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
