@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any, List
+from typing import Any, List, Union
 
 import numpy as np
 
@@ -28,7 +28,9 @@ def add_parser(sub: Any) -> None:
     fit.add_argument("--tol", type=float, required=True, help="the largest distance of a point from the curve")
     fit.add_argument("-o", "--output", type=Path, required=True,
                      help="the fit: .step/.stp, .igs/.iges or .json (a cagd model file)")
-    fit.add_argument("--degree", type=int, default=3, help="degree of the curve (3)")
+    fit.add_argument("--degree", type=_degree, default=3,
+                     help="degree of the fit (3); with --surface also 'auto': each of the degrees of "
+                          "cagd.fitting.fit_surface.AUTO_DEGREES tried, the fewest control points kept")
     fit.add_argument("--parameters", default="centripetal", help="initial parameters of the points "
                                                                  "(uniform, chord, centripetal)")
     fit.add_argument("--max-poles", type=int, help="at most this many control points")
@@ -38,6 +40,20 @@ def add_parser(sub: Any) -> None:
     fit.add_argument("--smoothing", type=float, default=0.0, help="weight of the bending energy (0)")
     fit.add_argument("--report", type=Path, help="also write the report (Markdown) here")
     fit.add_argument("--png", type=Path, help="also draw the points, coloured by distance, and the fit")
+
+
+def _degree(text: str) -> Union[int, str]:
+    """--degree: an integer (checked by the fit) or 'auto' (surfaces only: checked by run_fit)."""
+    if text.strip().lower() == AUTO:
+        return AUTO
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer or '{AUTO}', got {text!r}") from None
+
+
+#: the --degree value that lets fit_surface choose the degree
+AUTO = "auto"
 
 
 def _picture(path: Path, pts: np.ndarray, fit) -> None:
@@ -89,13 +105,15 @@ def run_fit(args: argparse.Namespace) -> int:
             check_target(path, option)
     if args.png is not None and args.png.suffix.lower() != ".png":
         raise CagdError(f"--png {args.png}: the picture is a .png file")
+    if args.surface and args.periodic:
+        raise CagdError("--periodic: a periodic fit is a curve's; leave it out with --surface")
+    if not args.surface and args.degree == AUTO:
+        raise CagdError(f"--degree: '{AUTO}' chooses a surface's degree (with --surface); give the curve's degree")
     pts = read_points(args.points)
     fit: Any
     curve: Any                                          # what is written: the fitted curve or surface
     if args.surface:
         from .fitting import fit_surface
-        if args.periodic:
-            raise CagdError("--periodic: a periodic fit is a curve's; leave it out with --surface")
         fit = fit_surface(pts, args.tol, args.degree,
                           max_control_points=None if args.max_poles is None else (args.max_poles, args.max_poles))
         curve = fit.surface

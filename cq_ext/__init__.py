@@ -5,7 +5,7 @@ With CadQuery installed, ``import cq_ext`` registers on ``cadquery.Workplane``:
 ``joinCurves``, ``cagdCurve``, ``cagdSurface``, ``bezierSurface``,
 ``bsplineSurface``, ``coonsPatch``, ``loftSurface``, ``ruledSurface``,
 ``bezierTriangle``, ``revolveSurface``, ``sewSolid``, ``closeWithCaps``,
-``thickenSurface``, ``projectPoints``, ``intersectFaces``, ``fitCurve``, ``rebuild``,
+``thickenSurface``, ``projectPoints``, ``intersectFaces``, ``fitCurve``, ``fitSurface``, ``rebuild``,
 ``removeKnots``, ``gordonSurface``, ``sweepSurface``, ``sweep2Surface``,
 ``blendCurve``, ``blendSurface``, ``matchSurface`` (chainable, following
 CadQuery's stack conventions: curves are pending edges that ``coonsPatch``,
@@ -45,7 +45,7 @@ if _cq is not None:
     from .cq_api import close_with_caps, free_edges, sew_shell, sew_solid, thicken  # noqa: F401
     from .workplane import (METHODS, bezierCurve, bezierSurface, bezierTriangle, blendCurve,  # noqa: F401
                             blendSurface, bsplineSurface, cagdCurve, cagdSurface, closeWithCaps, coonsPatch,
-                            fitCurve, gordonSurface, hermiteCurve, interpCurve, intersectFaces, joinCurves,
+                            fitCurve, fitSurface, gordonSurface, hermiteCurve, interpCurve, intersectFaces, joinCurves,
                             loftSurface, matchSurface, nurbsCurve, projectPoints, rebuild, removeKnots,
                             revolveSurface, ruledSurface, sewSolid, sweep2Surface, sweepSurface, thickenSurface)
 

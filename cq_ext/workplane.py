@@ -381,6 +381,24 @@ def fitCurve(self: T, points: Optional[Points] = None, tol: float = 1e-3, degree
     return self.newObject([edge])
 
 
+def fitSurface(self: T, points: Points, tol: float = 1e-3, degree: Union[int, Tuple[int, int], str] = 3,
+               parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
+               boundary: Optional[str] = None) -> T:
+    """A B-spline face within ``tol`` of the points (:func:`cagd.fit_surface`: a grid
+    (m, n, 3), or scattered points (N, 3) parametrised on their plane; local coordinates),
+    added to the faces on the stack. ``degree``: per direction, a pair, or "auto" (each
+    degree of ``cagd.fitting.fit_surface.AUTO_DEGREES`` tried, the fewest control points
+    kept: the face's degree, named in the logged summary); ``max_control_points`` caps the
+    counts (count_u, count_v); ``boundary="G0"`` holds a grid's boundary curves.
+
+    Raises:
+        CagdError: bad arguments, or ``tol`` not met (the message gives the achieved
+            error, as ``fitCurve``'s)."""
+    fit = _reported("fitSurface", cagd.fit_surface(as_points(points, "points"), tol, degree, parameters,
+                                                   max_control_points, boundary=boundary), "tol")
+    return cagdSurface(self, fit.surface)
+
+
 def _stacked_geometry(wp: cq.Workplane, what: str) -> list:
     """The engine curve or surface of every edge and face on the stack (global)."""
     from .convert import from_shape
@@ -654,5 +672,5 @@ def matchSurface(self: T, face: Union[Surface, FaceLike], edge: str, target: Uni
 
 METHODS = [cagdCurve, bezierCurve, nurbsCurve, interpCurve, hermiteCurve, joinCurves, cagdSurface, bezierSurface,
            bsplineSurface, coonsPatch, loftSurface, ruledSurface, bezierTriangle, revolveSurface, sewSolid,
-           closeWithCaps, thickenSurface, projectPoints, intersectFaces, fitCurve, rebuild, removeKnots,
+           closeWithCaps, thickenSurface, projectPoints, intersectFaces, fitCurve, fitSurface, rebuild, removeKnots,
            gordonSurface, sweepSurface, sweep2Surface, blendCurve, blendSurface, matchSurface]

@@ -103,3 +103,40 @@ def test_surface_flag_fits_scattered_points(tmp_path, capsys):
     assert float(cagd.closest_point(face, P).distances.max()) <= 0.01 + 1e-9
     assert "surface: degree 3 x 3" in capsys.readouterr().out and png.stat().st_size > 10_000
     assert main(["fit", str(pts), "--tol", "0.01", "--surface", "--periodic", "-o", str(out)]) == 2
+
+
+def test_surface_degree_auto_is_the_engines_choice(tmp_path, capsys):
+    """``--surface --degree auto``: the written surface is fit_surface(..., degree="auto")'s,
+    whose degree is the one of AUTO_DEGREES with the fewest control points among the
+    converged fits (each degree fitted on its own here), every point within tol of it."""
+    from cagd.fitting.fit_surface import AUTO_DEGREES
+    rng = np.random.default_rng(5)
+    X, Y = rng.random(600) * 40, rng.random(600) * 30
+    P = np.stack([X, Y, 3 * np.sin(X / 9) * np.cos(Y / 7)], axis=1)
+    pts = tmp_path / "scan.csv"
+    np.savetxt(pts, P, delimiter=",")
+    out = tmp_path / "sheet.json"
+    assert main(["fit", str(pts), "--tol", "0.02", "--surface", "--degree", "auto", "-o", str(out)]) == 0
+    surface, = cagd.model.load_model(out)["fit"].objects
+    direct = cagd.fit_surface(P, 0.02, degree="auto").surface
+    assert np.array_equal(surface.control_points, direct.control_points)
+    each = {p: cagd.fit_surface(P, 0.02, degree=p) for p in AUTO_DEGREES}
+    fewest = min((f.surface.control_points[..., 0].size, p) for p, f in each.items() if f.converged)[1]
+    assert (surface.degree_u, surface.degree_v) == (fewest, fewest)
+    assert float(cagd.closest_point(surface, P).distances.max()) <= 0.02
+    assert f"surface: degree {fewest} x {fewest}" in capsys.readouterr().out
+
+
+def test_degree_auto_is_a_surface_option(tmp_path, capsys):
+    """'auto' without --surface is bad input (exit 2, nothing written); a word other than
+    'auto' is refused by the parser (exit 2)."""
+    pts, _ = points_file(tmp_path, 50)
+    out = tmp_path / "fit.json"
+    assert main(["fit", str(pts), "--tol", "0.1", "--degree", "auto", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("cagd fit: ") and "--degree" in err and "--surface" in err
+    assert not out.exists()
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(pts), "--tol", "0.1", "--degree", "cubic", "-o", str(out)])
+    assert exc.value.code == 2 and "--degree" in capsys.readouterr().err
+    assert not out.exists()

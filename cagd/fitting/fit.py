@@ -8,7 +8,9 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
   eq. 9.63-9.67), weighted, plus an optional smoothing energy
   ``smoothing * int_0^1 |C^(r)(u)|^2 du`` (r = 2 or 3; Dierckx, Curve and Surface Fitting
   with Splines, 5.2), in the points' normalised frame; REGULARISATION times the same
-  energy keeps the normal equations definite where a knot span holds no point;
+  energy (each span's part scaled to its width) keeps the normal equations definite
+  where the points leave a control point undetermined (a knot span without a point, no
+  Schoenberg-Whitney matching of the poles to the points);
 - end tangent directions held exactly: P_1 = P_0 + a T_0 (and P_(n-1) = P_n - b T_1) with
   the magnitudes a, b chosen by the least squares too (the reduced problem in a, b is
   quadratic: two extra right-hand sides and a 2 x 2 solve);
@@ -33,7 +35,7 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
+from typing import Callable, List, Optional, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -123,24 +125,30 @@ class _Problem:
         return _fold(cols % n, n) if self.periodic else cols
 
     def _energies(self, U: np.ndarray, t: np.ndarray, n: int, d: int, start: np.ndarray,
-                  width: int) -> np.ndarray:
+                  width: int, force: bool = False) -> np.ndarray:
         """The band of lam E_r, plus REGULARISATION E_2 where the data alone may not fix
-        the curve (fewer weighted points than control points, or a knot span without
-        one); relative to the data term's scale, 1 / (number of spans). Cached for the
-        last knot vector (the parameter corrections of one round share it)."""
+        the curve (fewer weighted points than control points, a knot span without one,
+        or, ends held, no Schoenberg-Whitney matching: :func:`_determined`) or with
+        ``force``, each span's part scaled to its width (:func:`_energy`, ``local``),
+        1 / (number of spans) of the data term's scale. Cached for the last knot vector
+        (the parameter corrections of one round share it)."""
         p = self.p
         brk = np.unique(U[p:len(U) - p])
-        held = np.bincount(np.clip(np.searchsorted(brk, t[self.w > 0], side="right") - 1, 0, len(brk) - 2),
+        counted = t[self.w > 0]
+        held = np.bincount(np.clip(np.searchsorted(brk, counted, side="right") - 1, 0, len(brk) - 2),
                            minlength=len(brk) - 1)
-        regularise = bool(np.count_nonzero(self.w) < n or held.min() == 0)
+        regularise = bool(force or np.count_nonzero(self.w) < n or held.min() == 0
+                          or not (self.periodic or _determined(U, p, counted, n)))
         key = U.tobytes() + bytes([regularise])
         if self._cached[0] != key:
             band = np.zeros((n * d, width))
             spans = len(brk) - 1
-            for order, weight in ((self.r, self.lam), (min(2, p), REGULARISATION / spans * regularise)):
-                if weight > 0.0 and order <= p:
-                    _energy(band, start, U, p, d, order, weight / _energy_unit(U, p, order),
-                            lambda c: self.layout(c, n))
+            if self.lam > 0.0 and self.r <= p:
+                _energy(band, start, U, p, d, self.r, self.lam / _energy_unit(U, p, self.r),
+                        lambda c: self.layout(c, n))
+            if regularise:
+                _energy(band, start, U, p, d, min(2, p), REGULARISATION / spans, lambda c: self.layout(c, n),
+                        local=True)
             self._cached = (key, band)
         return self._cached[1]
 
@@ -168,10 +176,9 @@ class _Problem:
         for a in range(d):
             rhs += np.bincount(cols.ravel() * d + a, (N * self.w[:, None] * MQ[:, a, None]).ravel(),
                                minlength=n * d)
-        A += self._energies(U, t, n, d, start, A.shape[1])
-        band = A.copy()
         if self.periodic:                                  # nothing held; back to pole order
-            X = solve_banded_rows(start, A, rhs[:, None], "points")[:, 0].reshape(n, d)
+            X = self.normal_solve(U, t, A, start, lambda band: solve_banded_rows(
+                start, band, rhs[:, None], "points"))[1][:, 0].reshape(n, d)
             P = X[_fold(np.arange(n), n)]
             P_full = P[np.arange(full) % n]
             return P_full, self._misses(N, span, P_full)
@@ -195,7 +202,8 @@ class _Problem:
         B = np.zeros((n * d, k))
         B[:, 0] = rhs
         scalars = np.array([f * d + a for f in idx for a in range(d)])
-        X = solve_fixed(start, A, B, scalars, values.reshape(-1, k))
+        band, X = self.normal_solve(U, t, A, start, lambda band: solve_fixed(
+            start, band, B.copy(), scalars, values.reshape(-1, k)))
         x0 = X[:, 0]
         if k == 1:
             P = x0.reshape(n, d)
@@ -213,6 +221,23 @@ class _Problem:
             if len(fixed[f]) == 1:
                 P[f] = values[row, :, 0]
         return P, self._misses(N, span, P)
+
+    def normal_solve(self, U: np.ndarray, t: np.ndarray, A: np.ndarray, start: np.ndarray,
+                     solve: Callable[[np.ndarray], np.ndarray]) -> Tuple[np.ndarray, np.ndarray]:
+        """(band, solve(band)): the data's normal band A (kept) plus :meth:`_energies`;
+        when the banded solve finds that singular (the points leave a pole undetermined
+        where the checks there did not see it), again with the regulariser forced (then
+        definite: E_2 vanishes only on straight lines, which the held ends or the points
+        fix)."""
+        n = A.shape[0] // self.Q.shape[1]
+        for force in (False, True):
+            band = A + self._energies(U, t, n, self.Q.shape[1], start, A.shape[1], force)
+            try:
+                return band, solve(band.copy())
+            except CagdError:
+                if force:
+                    raise
+        raise AssertionError("unreachable")
 
     def _misses(self, N: np.ndarray, span: np.ndarray, P: np.ndarray) -> np.ndarray:
         return np.sqrt(((_combine(N[None], P, span - self.p)[0] - self.Q) ** 2).sum(-1))
@@ -262,6 +287,23 @@ def _fold(i: np.ndarray, n: int) -> np.ndarray:
     neighbours within p of each other (cyclically) are within 2 p + 1 positions, so the
     cyclic band of a periodic fit becomes an ordinary band (no n x n matrix)."""
     return np.where(i < (n + 1) // 2, 2 * i, 2 * (n - 1 - i) + 1)
+
+
+def _determined(U: np.ndarray, p: int, t: np.ndarray, n: int) -> bool:
+    """Whether the points' parameters t determine the interior poles 1 .. n - 2 of the
+    clamped (U, p) with the end poles held: the Schoenberg-Whitney condition of least
+    squares, increasing parameters t_(j_1) < ... < t_(j_(n-2)) with U_i < t_(j_i) <
+    U_(i+p+1) (the collocation matrix of those poles then has full column rank: de Boor,
+    A Practical Guide to Splines, XIII and XIV). The greedy matching is optimal for
+    supports whose ends increase with i: pole i takes the first parameter beyond U_i and
+    beyond its predecessor's, j_i = max(j_(i-1) + 1, a_i), so j_i - i is the running
+    maximum of a_i - i."""
+    s = np.unique(t)
+    i = np.arange(1, n - 1)
+    if not i.size:
+        return True
+    j = i + np.maximum.accumulate(np.searchsorted(s, U[i], side="right") - i)
+    return bool(j[-1] < len(s) and np.all(s[j] < U[i + p + 1]))
 
 
 #: the smallest tangent magnitude |P_1 - P_0| (normalised frame): a held tangent keeps its
@@ -339,11 +381,15 @@ def _gauss(U: np.ndarray, p: int) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def _energy(band: np.ndarray, start: np.ndarray, U: np.ndarray, p: int, d: int, order: int,
-            weight: float, layout=None) -> None:
+            weight: float, layout=None, local: bool = False) -> None:
     """band += weight * [int N_i^(order) N_j^(order)] (x) I_d (pole indices through
-    ``layout`` when given: a periodic fit's folded positions)."""
+    ``layout`` when given: a periodic fit's folded positions); ``local``: each span's
+    integral times h^(2 order - 1), h its width (the unit hat's energy there: every span's
+    part of the same size, however narrow or wide it is beside the others)."""
     n = len(U) - p - 1
     t, wt = _gauss(U, p)
+    if local:
+        wt = wt * np.repeat(np.diff(np.unique(U[p:len(U) - p])), p + 1) ** (2 * order - 1)
     span = kv.find_span(U, p, t, n)
     D = basis_derivatives(U, p, t, span, order)[order]
     cols = span[:, None] - p + np.arange(p + 1)

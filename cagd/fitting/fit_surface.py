@@ -49,8 +49,8 @@ from ..surfaces.bspline import BSplineSurface
 from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
                   _span_errors, _worth)
 from .interpolation import _frame
-from .rebuild import _fit_rows, _pair
-from .separable import SeparableGrid
+from .rebuild import _pair
+from .separable import SeparableGrid, ends_held_operator
 
 
 #: the share of tol each direction's own residual is grown to (the two add up to at most
@@ -90,10 +90,11 @@ def _boundary_rows(Q: np.ndarray, u: np.ndarray, v: np.ndarray, U: np.ndarray, V
                    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The four boundary rows of control points: 1-D least-squares fits (ends held, P&T
     9.4.1) of the grid's boundary rows to the surface's knots: u = 0 and u = 1 along v
-    (cv, d), v = 0 and v = 1 along u (cu, d)."""
-    cu, cv = len(U) - pu - 1, len(V) - pv - 1
-    return (_fit_rows(V, pv, v, cv, Q[0]), _fit_rows(V, pv, v, cv, Q[-1]),
-            _fit_rows(U, pu, u, cu, Q[:, 0]), _fit_rows(U, pu, u, cu, Q[:, -1]))
+    (cv, d), v = 0 and v = 1 along u (cu, d), by the separable fit's operators
+    (:func:`cagd.fitting.separable.ends_held_operator`: the minimum-norm least squares
+    where a count at the grid's size leaves a pole without a site; the ends exact)."""
+    Fu, Fv = ends_held_operator(U, pu, u)[1], ends_held_operator(V, pv, v)[1]
+    return Fv @ Q[0], Fv @ Q[-1], Fu @ Q[:, 0], Fu @ Q[:, -1]
 
 
 def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, most: int) -> np.ndarray:
@@ -212,8 +213,9 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         points: (m, n, d) grid, rows along u; or (N, 3) scattered points.
         tol: the largest allowed distance of a point from the surface (> 0).
         degree: per direction, or a pair (degree_u, degree_v); or "auto": the fit of
-            each degree of AUTO_DEGREES (both directions) with the fewest control points
-            (the lower degree on a tie; the smallest error when none is within tol).
+            each degree of AUTO_DEGREES (both directions; a grid's at most m - 1 and
+            n - 1) with the fewest control points (the lower degree on a tie; the
+            smallest error when none is within tol).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
         max_control_points: a cap (count_u, count_v) (default: the grid's size).
         base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
@@ -347,17 +349,25 @@ AUTO_DEGREES = (3, 4, 5)
 def _auto_degree(name: str, args: dict) -> SurfaceFit:
     """:func:`fit_surface` with ``degree="auto"``: a fit per degree of AUTO_DEGREES, the
     converged one with the fewest control points kept (the first on a tie), else the one
-    with the smallest max_error. A degree the points are too few for is skipped (degree 3
-    first: bad input raises there)."""
+    with the smallest max_error. A grid of m x n points caps the degrees at m - 1 and
+    n - 1 (a 3 x 20 grid tries 2 x 3, 2 x 4, 2 x 5); a degree that cannot be fitted
+    otherwise is skipped (the first tried: bad input raises there)."""
     if name != "auto":
         raise CagdError(f"degree: expected a degree, a pair (degree_u, degree_v) or 'auto', got {name!r}")
     best: Optional[SurfaceFit] = None
     rounds = 0
+    shape = np.shape(args["points"])
+    grid = len(shape) == 3 and min(shape[:2]) >= 2
+    tried: list = []
     for p in AUTO_DEGREES:
+        degrees = (min(p, shape[0] - 1), min(p, shape[1] - 1)) if grid else (p, p)
+        if degrees in tried:
+            continue
+        tried.append(degrees)
         try:
-            fit = fit_surface(degree=p, **args)
+            fit = fit_surface(degree=degrees, **args)
         except CagdError:
-            if p == AUTO_DEGREES[0]:
+            if len(tried) == 1:
                 raise
             continue
         rounds += fit.rounds
@@ -365,7 +375,8 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
             best = fit
     assert best is not None
     return SurfaceFit(best.surface, best.max_error, best.rms_error, best.params, rounds, best.converged,
-                      f"{best.message}; degree {best.surface.degree_u} of {AUTO_DEGREES} (the fewest control points)")
+                      f"{best.message}; degree {best.surface.degree_u} x {best.surface.degree_v} of {AUTO_DEGREES} "
+                      f"(the fewest control points)")
 
 
 def _count(fit: SurfaceFit) -> int:

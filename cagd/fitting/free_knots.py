@@ -143,7 +143,6 @@ def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarra
     q = G.shape[2]
     start, A = _blocks(n, d, p)
     _accumulate(A, start, cols, N, w, d, M)
-    A += problem._energies(U, t, n, d, start, A.shape[1])
     MQ = np.einsum("kab,kb->ka", M, Q)
     MG = np.einsum("kab,kbq->kaq", M, G)                                  # (m, d, q)
     rhs = np.zeros((n * d, 1 + q))
@@ -159,7 +158,7 @@ def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarra
     scalars = np.array([a for a in range(d)] + [(n - 1) * d + a for a in range(d)])
     values = np.zeros((2 * d, 1 + q))
     values[:d, 0], values[d:, 0] = Q[0], Q[-1]
-    X = solve_fixed(start, A, rhs, scalars, values)
+    X = problem.normal_solve(U, t, A, start, lambda band: solve_fixed(start, band, rhs.copy(), scalars, values))[1]
     S = Dm - Cm.T @ X[:, 1:]
     S = 0.5 * (S + S.T)
     S[np.diag_indices(q)] *= 1.0 + lam

@@ -75,3 +75,49 @@ def test_periodic_fit_is_a_closed_wire_that_extrudes():
     solid = wp.extrude(2.0).val()
     assert solid.isValid()
     assert solid.Volume() == pytest.approx(np.pi * 10 * 6 * 2.0, rel=1e-3)
+
+
+def _grid():
+    x, y = np.meshgrid(np.linspace(0, 40, 30), np.linspace(0, 30, 25), indexing="ij")
+    return np.stack([x, y, 3 * np.sin(x / 9) * np.cos(y / 7)], -1)
+
+
+def test_fit_surface_auto_degree_is_the_engines_choice(caplog):
+    """fitSurface(degree="auto"): the face read back through OCCT is fit_surface(...,
+    degree="auto")'s surface (degree and poles), which is the degree of AUTO_DEGREES with
+    the fewest control points (each fitted here), every grid point within tol of the face
+    (certified closest points); the summary with the degree is logged."""
+    import logging
+    from cagd.fitting.fit_surface import AUTO_DEGREES
+    Q = _grid()
+    with caplog.at_level(logging.INFO, logger="cq_ext.workplane"):
+        wp = cq.Workplane("XY").fitSurface(Q, tol=0.01, degree="auto")
+    face = wp.val()
+    assert isinstance(face, cq.Face)
+    back = from_shape(face)
+    each = {p: cagd.fit_surface(Q, 0.01, degree=p) for p in AUTO_DEGREES}
+    fewest = min((f.surface.control_points[..., 0].size, p) for p, f in each.items() if f.converged)[1]
+    assert fewest != 3                                 # the default degree would not pass
+    assert (back.degree_u, back.degree_v) == (fewest, fewest)
+    assert np.abs(np.asarray(back.control_points) - each[fewest].surface.control_points).max() <= 1e-9
+    assert float(cagd.closest_point(back, Q.reshape(-1, 3)).distances.max()) <= 0.01 + 1e-9
+    assert f"degree {fewest} x {fewest}" in caplog.text
+
+
+def test_fit_surface_placed_scattered_and_refusing_an_unmet_tol():
+    """On an offset workplane the face is the local fit placed; scattered points fit too;
+    a cap that cannot meet tol raises with the achieved error."""
+    Q = _grid()
+    wp = cq.Workplane("XZ", origin=(0, 5, 0)).fitSurface(Q, tol=0.01, degree=4)
+    plane = cq.Workplane("XZ", origin=(0, 5, 0)).plane
+    glob = np.array([plane.toWorldCoords(tuple(p)).toTuple() for p in Q.reshape(-1, 3)])
+    assert float(cagd.closest_point(from_shape(wp.val()), glob).distances.max()) <= 0.01 + 1e-9
+    rng = np.random.default_rng(1)
+    X, Y = rng.random(500) * 40, rng.random(500) * 30
+    P = np.stack([X, Y, 3 * np.sin(X / 9) * np.cos(Y / 7)], -1)
+    face = from_shape(cq.Workplane("XY").fitSurface(P, tol=0.02, degree="auto").val())
+    assert float(cagd.closest_point(face, P).distances.max()) <= 0.02 + 1e-9
+    with pytest.raises(CagdError, match="tol.*not met"):
+        cq.Workplane("XY").fitSurface(Q, tol=1e-6, max_control_points=(5, 5))
+    with pytest.raises(CagdError, match="degree"):
+        cq.Workplane("XY").fitSurface(Q, tol=0.01, degree="best")

@@ -110,6 +110,7 @@ CALLS = {
     "intersectFaces": (lambda: cq.Workplane().sphere(1.0).faces(),
                        (cq.Face.makePlane(4, 4, (0, 0, 0.5), (0, 0, 1)),), {}, cq.Edge),
     "fitCurve": (cq.Workplane, ([(0, 0), (1, 1), (2, 0), (3, 1), (4, 0)],), {"tol": 0.01}, cq.Edge),
+    "fitSurface": (cq.Workplane, (_P44,), {"tol": 0.01}, cq.Face),
     "rebuild": (lambda: cq.Workplane().nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1)]), (6,), {}, cq.Edge),
     "removeKnots": (lambda: cq.Workplane().nurbsCurve([(0, 0), (1, 1), (2, 0), (3, 1), (4, 0)]), (1e-6,), {},
                     cq.Edge),

@@ -381,3 +381,93 @@ def test_exact_fit_certifies_nothing(monkeypatch):
     assert r.converged and sum(asked) == 0
     assert r.max_error <= fs.CERTIFY_ROUNDING * 3.0
     assert float(np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances).max()) <= 1e-12 * 3.0
+
+
+# --- the contract on random grids: a fit or converged=False, never a raise --------------------
+@st.composite
+def random_grids(draw):
+    """A grid of 3-20 x 3-20 points: random heights over a uniform or a random-parameter
+    (sorted random x, y) grid, or a random B-spline surface at random parameters; a tol
+    of 1e-6 .. 1e-1, a degree of 1-5 (at most the grid's) or "auto", and sometimes the
+    boundary curves held or a cap below the grid's size."""
+    rng = np.random.default_rng(draw(st.integers(0, 2 ** 31)))
+    m, n = draw(st.integers(3, 20)), draw(st.integers(3, 20))
+    kind = draw(st.sampled_from(["heights", "random parameters", "surface"]))
+    x, y = (np.linspace(0, 1, m), np.linspace(0, 1, n)) if kind == "heights" else \
+        (np.sort(np.r_[0, rng.random(m - 2), 1]), np.sort(np.r_[0, rng.random(n - 2), 1]))
+    if kind == "surface":
+        pu, pv = rng.integers(1, 5, 2)
+        cu, cv = int(rng.integers(pu + 1, 8)), int(rng.integers(pv + 1, 8))
+        U = np.r_[np.zeros(pu + 1), np.sort(rng.random(cu - pu - 1)), np.ones(pu + 1)]
+        V = np.r_[np.zeros(pv + 1), np.sort(rng.random(cv - pv - 1)), np.ones(pv + 1)]
+        Q = BSplineSurface(rng.normal(size=(cu, cv, 3)), int(pu), int(pv), U, V).grid(x, y)
+    else:
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        Q = np.stack([X, Y, rng.normal(size=(m, n)) * 10.0 ** rng.uniform(-2, 0)], -1)
+    degree = draw(st.sampled_from(["auto", 1, 2, 3, 4, 5]))
+    kwargs = dict(degree=degree if degree == "auto" else min(degree, m - 1, n - 1),
+                  parameters=draw(st.sampled_from(["uniform", "chord", "centripetal"])))
+    extra = draw(st.sampled_from(["none", "G0", "cap"]))
+    if extra == "G0":
+        kwargs["boundary"] = "G0"
+    elif extra == "cap":
+        kwargs["max_control_points"] = (draw(st.integers(min(m, 6), m)), draw(st.integers(min(n, 6), n)))
+    return Q, 10.0 ** draw(st.floats(-6.0, -1.0)), kwargs
+
+
+@settings(max_examples=8, deadline=None)
+@given(random_grids())
+def test_random_grids_fit_or_say_why_property(case):
+    """fit_surface on valid random grids does not raise; its max_error is the largest
+    distance of the points from the fit (oracle: brute force against a 300 x 300
+    sampling of the fit: an upper bound of each distance, at most about a sampling step
+    above it), within tol when converged, above it with a message otherwise."""
+    Q, tol, kwargs = case
+    r = fit_surface(Q, tol, **kwargs)
+    d, step = sampled(r.surface, Q, 300)
+    size = float(np.abs(Q).max())
+    assert r.max_error - 1e-12 * size <= float(d.max()) <= r.max_error + step
+    if r.converged:
+        assert r.max_error <= tol
+    else:
+        assert r.max_error > tol and "not met" in r.message
+
+
+def test_boundary_g0_at_the_grid_size_is_the_minimum_norm_fit():
+    """A 15 x 18 random-parameter grid of random heights at degree 1, boundary 'G0': the
+    counts reach the grid's size with knots that leave some pole without a site, so the
+    boundary curves' least squares is rank deficient ('rank deficient' raised). Now the
+    fit returns (here converged=False, the cap reached), its boundary rows the
+    minimum-norm least squares with the ends held (oracle: numpy's lstsq on scipy's
+    design matrix)."""
+    rng = np.random.default_rng(0)
+    x, y = np.sort(rng.random(15)), np.sort(rng.random(18))
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    Q = np.stack([X, Y, 0.3 * rng.normal(size=(15, 18))], -1)
+    r = fit_surface(Q, 0.01, degree=1, boundary="G0")
+    assert not r.converged and r.max_error > 0.01 and "not met" in r.message
+    S = r.surface
+    assert S.control_points.shape[:2] == (15, 18)
+    from cagd.surfaces.fitting import surface_parameters
+    u, v = surface_parameters(Q, "centripetal")
+    u, v = (u - u[0]) / (u[-1] - u[0]), (v - v[0]) / (v[-1] - v[0])
+    P = S.control_points
+    for row, data, t, U in ((P[0], Q[0], v, S.knots_v), (P[-1], Q[-1], v, S.knots_v),
+                            (P[:, 0], Q[:, 0], u, S.knots_u), (P[:, -1], Q[:, -1], u, S.knots_u)):
+        assert np.abs(row - lsq_ends_held(data, t, U, 1)).max() <= 1e-12
+
+
+def test_auto_degree_on_a_grid_too_small_for_cubics():
+    """'auto' on a 3 x 21 grid (and 3 x 3): the degrees capped at the grid's (2 x 3, 2 x 4,
+    2 x 5); it raised for degree 3 before. The kept fit is the one of the capped pairs
+    with the fewest control points (each fitted on its own here)."""
+    rng = np.random.default_rng(4)
+    X, Y = np.meshgrid(np.linspace(0, 1, 3), np.linspace(0, 4, 21), indexing="ij")
+    Q = np.stack([X, Y, np.sin(2 * Y) * (1 + X) + 0.01 * rng.normal(size=X.shape)], -1)
+    r = fit_surface(Q, 1e-3, degree="auto")
+    fits = [fit_surface(Q, 1e-3, degree=(2, p)) for p in (3, 4, 5)]
+    fewest = min(f.surface.control_points[..., 0].size for f in fits if f.converged)
+    assert r.converged and r.surface.control_points[..., 0].size == fewest
+    assert r.surface.degree_u == 2 and f"degree 2 x {r.surface.degree_v}" in r.message
+    small = fit_surface(Q[:, :3], 1e-3, degree="auto")
+    assert small.converged and (small.surface.degree_u, small.surface.degree_v) == (2, 2)

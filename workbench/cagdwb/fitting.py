@@ -5,7 +5,9 @@ reduction, fairing) that show the deviation they caused.
 FitCurve / FitSurface: ``cagd.fit_curve`` / ``cagd.fit_surface`` of the points of a
 linked Points object, a mesh's vertices, a shape's vertices, or linked vertices in
 order; the achieved ``MaxError`` / ``RmsError`` (certified closest points, measured
-by the engine) and ``Converged`` are read-only. A tolerance the engine cannot meet
+by the engine) and ``Converged`` are read-only; FitSurface's ``AutoDegree`` (off by
+default; added on restore to older documents) lets the engine choose the degree
+(``degree="auto"``), shown in the read-only ``AchievedDegreeU/V``. A tolerance the engine cannot meet
 (``converged`` False: the cap or its rounds reached) leaves the object valid with the
 best fit and a warning in ``Message`` and the report view, as the intersection curve
 does for its tolerance.
@@ -32,6 +34,7 @@ import numpy as np
 from . import conversion
 from .conversion import cagd
 from .features import Feature, _element, add, add_enum, link_target, linked_edge, linked_points, make, vector
+from cagd.fitting.fit_surface import AUTO_DEGREES  # noqa: E402  (after .conversion: the engine on the path)
 
 PARAMETERS = cagd.fitting.PARAMETERS
 KEEP = ("G0", "G1", "G2")
@@ -204,16 +207,24 @@ class FitCurve(Measured):
         return fit.curve, values, _fit_warning(fit, tol)
 
 
+AUTO_DEGREE_DOC = ("On: the engine chooses the degree: it fits with each of the degrees "
+                   f"{', '.join(map(str, AUTO_DEGREES))} (both directions; at most a "
+                   "grid's rows - 1 and columns - 1) and keeps the fit with the fewest control points; DegreeU "
+                   "and DegreeV are not used then (AchievedDegreeU/V show the choice). Off (default): DegreeU, "
+                   "DegreeV")
+
+
 class FitSurface(Measured):
     """A B-spline surface within Tolerance of a grid of points (GridRows > 0: the points
     row-major, GridRows rows) or of scattered points (a sheet over its least-squares
-    plane) (cagd.fit_surface)."""
+    plane) (cagd.fit_surface); with AutoDegree the engine's degree="auto"."""
 
     TYPE = "Cagd::FitSurface"
     DEFAULT_LABEL = "FitSurface"
     LINKS = ("Source", "Vertices")
     POINTS = "Source"
-    RESULTS = FIT_RESULTS + (("ControlPointsU", 0), ("ControlPointsV", 0))
+    RESULTS = FIT_RESULTS + (("ControlPointsU", 0), ("ControlPointsV", 0), ("AchievedDegreeU", 0),
+                             ("AchievedDegreeV", 0))
 
     def setup(self, obj) -> None:
         _fit_properties(obj, "surface", 0.01)
@@ -225,7 +236,35 @@ class FitSurface(Measured):
             "engine's default (the grid's size)", 0)
         add(obj, "Integer", "ControlPointsU", "Status", "Control points of the fit in u", 0)
         add(obj, "Integer", "ControlPointsV", "Status", "Control points of the fit in v", 0)
+        self.add_auto_degree(obj)
+
+    def add_auto_degree(self, obj) -> None:
+        """AutoDegree (off) and the read-only achieved degrees, where missing (a document
+        saved before them gets them on restore)."""
+        if not hasattr(obj, "AutoDegree"):
+            add(obj, "Bool", "AutoDegree", "Fit", AUTO_DEGREE_DOC, False)
+        for name, axis in (("AchievedDegreeU", "u"), ("AchievedDegreeV", "v")):
+            if not hasattr(obj, name):
+                add(obj, "Integer", name, "Status", f"Degree of the fit in {axis} (DegreeU/V, or the engine's "
+                    "choice with AutoDegree)", 0)
         _readonly(obj, [n for n, _ in self.RESULTS])
+        self.degree_modes(obj)
+
+    @staticmethod
+    def degree_modes(obj) -> None:
+        """DegreeU and DegreeV read-only while AutoDegree is on (they are not used then)."""
+        if hasattr(obj, "AutoDegree"):
+            for name in ("DegreeU", "DegreeV"):
+                obj.setEditorMode(name, 1 if obj.AutoDegree else 0)
+
+    def onChanged(self, obj, prop: str) -> None:
+        super().onChanged(obj, prop)
+        if prop == "AutoDegree":
+            self.degree_modes(obj)
+
+    def onDocumentRestored(self, obj) -> None:
+        super().onDocumentRestored(obj)
+        self.add_auto_degree(obj)
 
     def compute(self, obj):
         tol = _tolerance(obj)
@@ -237,12 +276,14 @@ class FitSurface(Measured):
         if rows:
             P = P.reshape(rows, len(P) // rows, 3)
         cap = _cap(obj)
-        with renamed(dict(_fit_names(obj), degree="DegreeU, DegreeV")):
-            fit = cagd.fit_surface(P, tol, (int(obj.DegreeU), int(obj.DegreeV)),
+        auto = bool(getattr(obj, "AutoDegree", False))
+        with renamed(dict(_fit_names(obj), degree="AutoDegree" if auto else "DegreeU, DegreeV")):
+            fit = cagd.fit_surface(P, tol, "auto" if auto else (int(obj.DegreeU), int(obj.DegreeV)),
                                    max_control_points=(cap, cap) if cap else None)
         nu, nv = np.asarray(fit.surface.control_points).shape[:2]
         values = {"MaxError": float(fit.max_error), "RmsError": float(fit.rms_error),
-                  "Converged": bool(fit.converged), "ControlPointsU": int(nu), "ControlPointsV": int(nv)}
+                  "Converged": bool(fit.converged), "ControlPointsU": int(nu), "ControlPointsV": int(nv),
+                  "AchievedDegreeU": int(fit.surface.degree_u), "AchievedDegreeV": int(fit.surface.degree_v)}
         return fit.surface, values, _fit_warning(fit, tol)
 
 

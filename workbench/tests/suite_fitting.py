@@ -61,6 +61,17 @@ def _within(obj, P, what):
     return d
 
 
+def _reloaded(obj, filename):
+    """(document, object) after saving obj's document in OUT as ``filename``, closing and
+    opening it again."""
+    path = os.path.join(OUT, filename)
+    obj.Document.saveAs(path)
+    name, doc_name = obj.Name, obj.Document.Name
+    App.closeDocument(doc_name)
+    doc = App.openDocument(path)
+    return doc, doc.getObject(name)
+
+
 def _readonly(obj, names):
     for name in names:
         check("ReadOnly" in obj.getEditorMode(name), f"{obj.Label}.{name} is editable")
@@ -240,6 +251,58 @@ def test_fit_surface_from_mesh_and_grid():
     recompute_ok(obj)
 
 
+@case
+def test_fit_surface_auto_degree_and_an_old_document():
+    """AutoDegree on a 20 x 15 grid at 0.001: the face's degree (Part's UDegree / VDegree)
+    and the read-only AchievedDegreeU/V are the engine's degree="auto" choice, 4 here,
+    the degree of 3, 4, 5 with the fewest control points (each fitted by the engine), every
+    point within Tolerance (Part's distToShape); DegreeU/V read-only while it is on and
+    used again when it is off. A document saved before AutoDegree loads with it added
+    (off) and the achieved degrees shown after a recompute."""
+    doc = new_doc("fitsurface_auto")
+    x, y = np.linspace(0, 40, 20), np.linspace(0, 30, 15)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    cloud = _cloud(doc, np.stack([X, Y, _height(X, Y)], -1).reshape(-1, 3), "Grid")
+    P = _stored(cloud)
+    obj = fitting.make_fit_surface(cloud, doc=doc, GridRows=20, Tolerance=0.001)
+    check(obj.AutoDegree is False, "AutoDegree on by default")
+    obj.AutoDegree = True
+    recompute_ok(obj)
+    _readonly(obj, ("DegreeU", "DegreeV", "AchievedDegreeU", "AchievedDegreeV"))
+    G = P.reshape(20, 15, 3)
+    each = {p: cagd.fit_surface(G, 0.001, degree=p) for p in (3, 4, 5)}
+    fewest = min((f.surface.control_points[..., 0].size, p) for p, f in each.items() if f.converged)[1]
+    face = obj.Shape.Faces[0].Surface
+    MEASURED["fit surface AutoDegree: achieved, fewest, Part's degrees"] = (
+        obj.AchievedDegreeU, fewest, face.UDegree, face.VDegree)
+    check(fewest == 4 and (obj.AchievedDegreeU, obj.AchievedDegreeV) == (fewest, fewest) and
+          (face.UDegree, face.VDegree) == (fewest, fewest), f"AutoDegree chose {obj.AchievedDegreeU} x "
+          f"{obj.AchievedDegreeV} (Part {face.UDegree} x {face.VDegree}), the fewest poles at {fewest}")
+    check((obj.ControlPointsU, obj.ControlPointsV) == each[fewest].surface.control_points.shape[:2],
+          f"{obj.ControlPointsU} x {obj.ControlPointsV}")
+    _within(obj, P, "fit surface, AutoDegree, 20 x 15 grid at 0.001")
+    compare(obj)
+    obj.AutoDegree = False
+    check("ReadOnly" not in obj.getEditorMode("DegreeU"), "DegreeU read-only with AutoDegree off")
+    obj.DegreeU = obj.DegreeV = 5
+    recompute_ok(obj)
+    check((obj.AchievedDegreeU, obj.AchievedDegreeV) == (5, 5), f"{obj.AchievedDegreeU}")
+    # an old document: no AutoDegree, no achieved degrees
+    for name in ("AutoDegree", "AchievedDegreeU", "AchievedDegreeV"):
+        obj.removeProperty(name)
+    doc, obj = _reloaded(obj, "fitsurface_old.FCStd")
+    check(hasattr(obj, "AutoDegree") and obj.AutoDegree is False and hasattr(obj, "AchievedDegreeV"),
+          "old document: AutoDegree or the achieved degrees not added")
+    _readonly(obj, ("AchievedDegreeU", "AchievedDegreeV"))
+    obj.touch()
+    recompute_ok(obj)
+    check((obj.AchievedDegreeU, obj.AchievedDegreeV) == (5, 5) and obj.Converged, f"{obj.AchievedDegreeU}")
+    obj.AutoDegree = True
+    recompute_ok(obj)
+    check(obj.AchievedDegreeU == fewest and "ReadOnly" in obj.getEditorMode("DegreeV"), "reloaded AutoDegree")
+    App.closeDocument(doc.Name)
+
+
 def _bspline_edge(doc, P, degree=3, knots=None, name="Source"):
     c = cagd.BSplineCurve(np.asarray(P, float), degree, knots)
     obj = curves.make_bspline_curve(conversion.vectors(c.control_points), degree,
@@ -353,12 +416,7 @@ def test_remove_knots_keeps_small_tolerance():
     check(obj.KnotsRemoved < 4, f"{obj.KnotsRemoved} knots removed after a pole moved")
     _source_within(obj.Shape, src.Shape, obj.Deviation, "remove knots after the edit")
     # saved and reloaded: Tolerance 1e-7 kept
-    path = os.path.join(OUT, "removeknots.FCStd")
-    doc.saveAs(path)
-    name = obj.Name
-    App.closeDocument(doc.Name)
-    doc = App.openDocument(path)
-    obj = doc.getObject(name)
+    doc, obj = _reloaded(obj, "removeknots.FCStd")
     check(obj.Tolerance == 1e-7, f"reloaded Tolerance {obj.Tolerance!r}")
     obj.touch()
     doc.recompute()
