@@ -5,6 +5,7 @@ orientation of the kernel). See :mod:`cagd.queries.intersect_surfaces`."""
 from __future__ import annotations
 
 import math
+from typing import Optional
 
 import numpy as np
 
@@ -360,15 +361,24 @@ def _row(fr, j):
     return tuple(a[j] for a in fr)
 
 
-def segments_distance(Q, P, chunk: int = 512):
+SEGMENT_GROUP = 32            # segments_distance(within=...): consecutive segments boxed together
+POINT_CHUNK = 4096            # ... and points boxed at once
+
+
+def segments_distance(Q, P, chunk: int = 512, within: Optional[float] = None):
     """Distance from points Q (S, 3) to the polyline P (K, 3) and the length of the
     nearest segment. The nearest segment is found from |q - a - tau ab|^2 expanded into
     matrix products (centred coordinates; (S, K) arrays, a chunk of points at a time),
     then the distance to it and to its two neighbours is computed directly (the
-    expansion's rounding, ~1e-16 of the size squared, can only confuse neighbours)."""
+    expansion's rounding, ~1e-16 of the size squared, can only confuse neighbours).
+    ``within``: only distances up to this matter; points farther from every segment get
+    inf (and length 0): the segments are boxed in runs of SEGMENT_GROUP, and a point is
+    measured against the runs whose box grown by ``within`` holds it only."""
     if len(P) < 2:
         d = np.linalg.norm(Q - P[0], axis=1)
         return d, np.zeros(len(Q))
+    if within is not None:
+        return _segments_within(np.asarray(Q, float), np.asarray(P, float), float(within))
     c = P.mean(axis=0)
     Pc, Qc = P - c, Q - c
     a, ab = Pc[:-1], np.diff(Pc, axis=0)
@@ -392,3 +402,35 @@ def segments_distance(Q, P, chunk: int = 512):
         better = d < best
         best[better], L[better] = d[better], np.sqrt(L2[k][better])
     return best, L
+
+
+def _segments_within(Q, P, within: float):
+    """segments_distance(Q, P, within=within): (S, G) box tests of the points against
+    runs of SEGMENT_GROUP segments, then every segment of a run that holds the point,
+    the nearest kept per point (exact: |q - a - tau ab| with tau clipped)."""
+    a, ab = P[:-1], np.diff(P, axis=0)
+    K = len(a)
+    starts = np.arange(0, K, SEGMENT_GROUP)
+    lo = np.minimum.reduceat(np.minimum(P[:-1], P[1:]), starts) - within
+    hi = np.maximum.reduceat(np.maximum(P[:-1], P[1:]), starts) + within
+    best, L = np.full(len(Q), np.inf), np.zeros(len(Q))
+    for s0 in range(0, len(Q), POINT_CHUNK):
+        q = Q[s0:s0 + POINT_CHUNK]
+        pt, grp = np.nonzero(np.all((q[:, None] >= lo) & (q[:, None] <= hi), axis=2))
+        if not len(pt):
+            continue
+        k = (starts[grp][:, None] + np.arange(SEGMENT_GROUP)).ravel()
+        pt = np.repeat(pt, SEGMENT_GROUP)
+        ok = k < K
+        k, pt = k[ok], pt[ok]
+        w = q[pt] - a[k]
+        L2 = np.maximum(np.einsum("kd,kd->k", ab[k], ab[k]), TINY)
+        t = np.clip(np.einsum("kd,kd->k", w, ab[k]) / L2, 0.0, 1.0)
+        d = np.linalg.norm(w - t[:, None] * ab[k], axis=1)
+        order = np.lexsort((d, pt))
+        first = order[np.r_[True, pt[order][1:] != pt[order][:-1]]]
+        best[s0 + pt[first]], L[s0 + pt[first]] = d[first], np.sqrt(L2[first])
+    far = best > within
+    best[far], L[far] = np.inf, 0.0
+    return best, L
+

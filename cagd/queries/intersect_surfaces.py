@@ -447,9 +447,12 @@ def _tangencies(S: System, x: np.ndarray, tol: float, angle: float = DEFAULT_ANG
 
 
 def _absorbed(Q, branches, ftol):
+    """Points within a tenth of the nearest segment's length (plus 10 ftol) of a branch's
+    polyline."""
     hit = np.zeros(len(Q), bool)
     for _, _, Pb in branches:
-        d, L = segments_distance(Q, Pb)
+        within = 0.1 * float(np.linalg.norm(np.diff(Pb, axis=0), axis=1).max(initial=0.0)) + 10 * ftol
+        d, L = segments_distance(Q, Pb, within=within)
         hit |= d <= 0.1 * L + 10 * ftol
     return hit
 

@@ -38,6 +38,27 @@ def test_segments_distance_matches_brute_force(seed, log_off, log_scale):
     assert np.all(np.isclose(L1, L0) | np.isclose(d1, d0, rtol=0, atol=1e-12 * 10.0 ** log_scale))
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 31), st.floats(-14, 0), st.floats(-3, 4), st.floats(-6, 0.5), st.integers(2, 200))
+def test_segments_distance_within_matches_brute_force(seed, log_off, log_scale, log_within, n):
+    """Up to ``within`` the distance and nearest length are the brute force's; beyond it
+    inf (runs of SEGMENT_GROUP segments boxed: polylines shorter and longer than a run)."""
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.random(n))
+    P = 10.0 ** log_scale * (np.stack([np.cos(5 * t), np.sin(5 * t), t], 1) + 3.0)
+    Q = np.concatenate([P[rng.integers(0, len(P), 60)] + 10.0 ** (log_off + log_scale) * rng.normal(size=(60, 3)),
+                        10.0 ** log_scale * (rng.random((20, 3)) * 4.0 + 1.0)])
+    within = 10.0 ** (log_within + log_scale)
+    d0, L0 = _brute(Q, P)
+    d1, L1 = segments_distance(Q, P, within=within)
+    near = d0 <= within * (1 - 1e-9)
+    assert np.allclose(d1[near], d0[near], rtol=1e-12, atol=1e-13 * 10.0 ** log_scale)
+    assert np.all(np.isclose(L1[near], L0[near]) | np.isclose(d1[near], d0[near], rtol=0,
+                                                            atol=1e-12 * 10.0 ** log_scale))
+    far = d0 > within * (1 + 1e-9)
+    assert np.all(np.isinf(d1[far]))
+
+
 @pytest.fixture(scope="module")
 def system():
     a, b = model_patches(8)
