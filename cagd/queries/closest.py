@@ -657,7 +657,8 @@ class Projector:
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
             near = np.tile(dy[open_], 2)                 # per half, how near Newton came in the box
-            pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_])
+            pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_],
+                                           self.L[cell[open_]])
             if len(pid) > budget:       # bounded work: per point an equal share of the budget, the
                 if work > BRANCH_WORK * budget:          # boxes where Newton came nearest first
                     break
