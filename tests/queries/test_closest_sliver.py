@@ -2,9 +2,10 @@
 strip 0.1 x 10 mm and 0.01 x 10 mm (benchmarks.closest_sliver), points 1e-7, 1e-5 and
 1e-3 of its size off. Face 16 of bug24595_281390.stp, such a strip, took 70x the time
 for its mesh's single-precision vertices: the box bounds took the short direction for a
-degenerate one (their scale floored at a quarter of the long direction's) and the boxes
-were halved across the strip. The answers were right, only slow; so besides the oracle
-the tests count the (point, box) rows Newton refines in the branch and bound."""
+degenerate one (their scale floored at a quarter of the long direction's), the boxes
+were halved across the strip and the cells cut it 8 times across. The answers were
+right, only slow; so besides the oracle the tests count the (point, box) rows Newton
+refines in the branch and bound."""
 from __future__ import annotations
 
 import numpy as np
