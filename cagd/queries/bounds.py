@@ -33,6 +33,8 @@ from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norm
 CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
 BOUND_MARGIN_RTOL = 1e-13     # the convexity intervals' rounding margin, share of g
+SCALE_FLOOR_RTOL = 1e-6       # box bounds: a direction's scale (its first-derivative bound), at least this share of
+                              # the largest
 
 __all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "net_box",
            "robust_distance"]
@@ -567,9 +569,9 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     first, second and third partials valid on the hull of c and the box; S, J, H2 the
     point, first and second partials at c. The quadratic is minimised over the box
     exactly (it is separable). The bound is taken in the variables y_a = s_a x_a, s_a the
-    power of two nearest the first-derivative bound L_a (at least a quarter of the
-    largest), so that a large second derivative along one direction is weighed against
-    the first derivative along that direction: m bounds the smallest eigenvalue of
+    power of two nearest the first-derivative bound L_a (at least SCALE_FLOOR_RTOL of
+    the largest), so that a large second derivative along one direction is weighed
+    against the first derivative along that direction: m bounds the smallest eigenvalue of
     diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2.
 
     ``convexity``: also return m and, for c in the box, the box (tlo, thi) (n, k) of offsets
@@ -593,13 +595,16 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
             nn = nn + Jc[a][d] * Jc[a][d]
         grad.append(2.0 * g)
         sc.append(np.sqrt(nn))
-    # scales from the first-derivative bounds over the cell, within a factor 4 of the
-    # largest (degenerate directions, e.g. at a pole)
+    # scales from the first-derivative bounds over the cell, at least SCALE_FLOOR_RTOL of
+    # the largest (a direction degenerate over the whole cell). Issue 16: a floor of a
+    # quarter of the largest made a sliver's short direction (L 1/300 of the long one's)
+    # look degenerate: m ~ 1e-4 of the true one, boxes ~1/30 of the curvature radius
+    # before any closed (a 0.1 x 10 mm face, points 1e-6 off: 70x the time)
     top = L.max(axis=1)
     top = np.where(top > 0, top, 1.0)
     for a in range(k):
         nrm = sc[a]
-        sa = np.exp2(np.round(np.log2(np.maximum(L[:, a], 0.25 * top))))
+        sa = np.exp2(np.round(np.log2(np.maximum(L[:, a], SCALE_FLOOR_RTOL * top))))
         sc[a] = sa
         si.append(1.0 / sa)
         Sn.append(nrm / sa)                                            # |S_a(c)| scaled

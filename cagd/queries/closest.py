@@ -4,7 +4,8 @@ For each query point X the engine minimises g(x) = |S(x) - X|^2 over the paramet
 domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distance):
 
 1. the object is cut into small Bezier cells (:mod:`cagd.queries.bounds`), each Bezier
-   piece into parts of about equal geometric size per row and column of pieces; each
+   piece into parts of about equal geometric size per row and column of pieces (a thin
+   face, a sliver, along its length: issue 16, :func:`_cell_counts`); each
    cell has a hull sphere (centre c_k, radius r_k), so |S - X| >= |X - c_k| - r_k on it;
 2. a voxel grid lists per voxel the cells whose spheres come near it, ordered by their
    bound over the voxel; the nearest midpoint among the voxel's first few cells seeds a
@@ -15,7 +16,9 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
    distance d found (a prefix of the voxel's list) get a second-order bound
    g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2, with m a lower bound of the
    Hessian 2 (J^T J + (S - X).d2S) over the cell from the hodograph bounds; cells that
-   may still hold a closer point are refined by box-constrained Newton and split. The
+   may still hold a closer point are refined by box-constrained Newton and halved
+   along the longer side of their image (the parameter width times the cell's
+   first-derivative bound: a sliver's boxes along its length). The
    first round bounds, per point, the parameter box spanned by its nearby cells at once
    (expanded at x* itself, no evaluation; only cells not across a break where the object
    is less than C2, found numerically); only points it does not settle go cell by cell,
@@ -94,6 +97,7 @@ INWARD_RTOL = 1e-4           # a foot on a domain edge is tested this share of t
 SECOND_ORDER_RTOL = 1e-3     # the second-order start is used where it moves under this share of a cell
 C2_RTOL = 1e-10              # the derivatives at a break agree to this share: the object is C2 there
 COUNT_SLACK = 1e-9           # rounding slack of the cell counts ceil(extent / step)
+THIN_SHARE = 0.25            # a direction of less than this share of the longest one's extent is thin (cut less)
 
 __all__ = ["ClosestPoints", "Projector", "closest_point", "CLOSEST_TOL"]
 
@@ -657,7 +661,8 @@ class Projector:
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
             near = np.tile(dy[open_], 2)                 # per half, how near Newton came in the box
-            pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_])
+            pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_],
+                                           self.L[cell[open_]])
             if len(pid) > budget:       # bounded work: per point an equal share of the budget, the
                 if work > BRANCH_WORK * budget:          # boxes where Newton came nearest first
                     break
@@ -1110,7 +1115,10 @@ def _cell_counts(pieces: BezierPieces, target: int):
     geometric extent (the first-derivative bound times the parameter width, the largest
     over the row or column of pieces): at least the uniform count per = (target / m)^(1/k)
     (>= 2, or >= 1 when there are at least ``target`` pieces: memory and time O(pieces),
-    not 4 or 8 times that), at most 8 per, and at most twice the uniform total."""
+    not 4 or 8 times that), at most 8 per, and at most twice the uniform total. A thin
+    direction (issue 16: a sliver face), whose total extent is under THIN_SHARE of the
+    longest direction's, gets at least per times that ratio (>= 1) instead of per, and
+    the cells it does not take go to the long direction (up to twice the uniform total)."""
     k, shape, m = pieces.k, pieces.shape, len(pieces)
     per = max(1 if m >= target else 2, int(np.ceil((target / m) ** (1.0 / k))))
     B = pieces.partial_bounds(1)
@@ -1125,9 +1133,16 @@ def _cell_counts(pieces: BezierPieces, target: int):
     if not np.isfinite(ref) or ref <= 0:
         return per
     ext = [np.where(np.isfinite(e), e, ref) for e in ext]
+    # a thin direction (its total extent under THIN_SHARE of the longest's) needs no
+    # more than its own extent's share of cells: a sliver is cut along its length
+    total = [float(e.sum()) for e in ext]
+    longest = max(total)
+    low = [per if t >= THIN_SHARE * longest else max(1, int(np.ceil(per * t / longest - COUNT_SLACK))) for t in total]
     step = 1.2 * ref / per                       # cells up to 20% above the median extent / per
+    if min(low) < per:                           # the cells the thin direction does not take go along
+        step /= 8.0
     while True:
-        counts = [np.clip(np.ceil(e / step - COUNT_SLACK), per, 8 * per).astype(np.intp) for e in ext]
+        counts = [np.clip(np.ceil(e / step - COUNT_SLACK), lw, 8 * per).astype(np.intp) for e, lw in zip(ext, low)]
         if np.prod([float(c.sum()) for c in counts]) <= 2.0 * m * per ** k:
             return counts
         step *= 1.25

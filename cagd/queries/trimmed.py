@@ -465,7 +465,7 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
             break
         s_ = np.flatnonzero(shrunk)
         g_ = np.flatnonzero(~shrunk)
-        pid2, cell2, lo2, hi2, lb2 = split_boxes(pid[g_], cell[g_], lo[g_], hi[g_], lb[g_])
+        pid2, cell2, lo2, hi2, lb2 = split_boxes(pid[g_], cell[g_], lo[g_], hi[g_], lb[g_], p.L[cell[g_]])
         pid = np.concatenate([pid[s_], pid2])
         cell = np.concatenate([cell[s_], cell2])
         lo, hi = np.concatenate([lo[s_], lo2]), np.concatenate([hi[s_], hi2])

@@ -78,3 +78,14 @@ def test_many_objects_benchmark_runs(capsys):
     assert many_objects.main(["--layout", "apart", "--points", "1", "5", "--repeat", "1"]) == 0
     out = capsys.readouterr().out
     assert out.count("True") == 2
+
+
+def test_sliver_benchmark_runs(capsys):
+    """benchmarks/closest_sliver.py at a tiny size: it runs and every certificate is within
+    1e-6 of the distance (the strips of issue 16, points 1e-7..1e-3 of the size off: the
+    nearest 1e-6 mm away, certified to 1e-13 of the size plus 1e-10 of the distance)."""
+    from benchmarks import closest_sliver
+    assert closest_sliver.main(["--points", "50", "--repeat", "1"]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("strip")]
+    assert len(lines) == 6
+    assert all(float(line.rsplit(" ", 1)[1]) <= 1e-6 for line in lines), lines
