@@ -78,7 +78,9 @@ def run_plot(args: argparse.Namespace) -> int:
     """The command: checks the output first, computes every map, writes the PNG atomically."""
     from . import _checks
     from ._atomic import check_target, write_file
+    from ._optional import require
     out = check_target(args.output, "--output")
+    require("matplotlib", "--output")
     n = _checks.integer(args.samples, "--samples", 2, MAX_PICTURE_SAMPLES)
     try:
         items = _surfaces(args.model, args.object)

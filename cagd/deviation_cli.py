@@ -250,6 +250,8 @@ def run_deviation(args: argparse.Namespace) -> int:
         table: Optional[Path] = None if args.no_csv else (args.csv or args.output.with_suffix(".points.csv"))
         if table is not None:
             check_target(table, "--csv")
+        from ._optional import require
+        require("matplotlib", "--png")
         formats = _picture_formats()
         if png.suffix.lower().lstrip(".") not in formats:
             raise CagdError(f"--png {png}: unknown picture type {png.suffix!r} (one of: {', '.join(formats)})")

@@ -105,6 +105,9 @@ def run_fit(args: argparse.Namespace) -> int:
             check_target(path, option)
     if args.png is not None and args.png.suffix.lower() != ".png":
         raise CagdError(f"--png {args.png}: the picture is a .png file")
+    if args.png is not None:
+        from ._optional import require
+        require("matplotlib", "--png")
     if args.surface and args.periodic:
         raise CagdError("--periodic: a periodic fit is a curve's; leave it out with --surface")
     if not args.surface and args.degree == AUTO:
