@@ -11,7 +11,8 @@ import numpy as np
 
 from ._surface_system import System, cofactors, velocity
 from ._newton import newton
-from ._numerics import AT_END_RTOL, RESIDUAL_FLOOR, RESIDUAL_SHARE, SIZE_ROUNDING, SLACK_RTOL, TINY, residual_tol
+from ._numerics import AT_END_RTOL, RESIDUAL_FLOOR, RESIDUAL_SHARE, SIZE_ROUNDING, SLACK_RTOL, TINY, residual_tol, \
+    smallest_per_group
 from ._surface_system import INSIDE_SLACK
 
 MIN_STEP_RTOL = 1e-9        # the smallest marching step, share of the model size
@@ -427,8 +428,7 @@ def _segments_within(Q, P, within: float):
         L2 = np.maximum(np.einsum("kd,kd->k", ab[k], ab[k]), TINY)
         t = np.clip(np.einsum("kd,kd->k", w, ab[k]) / L2, 0.0, 1.0)
         d = np.linalg.norm(w - t[:, None] * ab[k], axis=1)
-        order = np.lexsort((d, pt))
-        first = order[np.r_[True, pt[order][1:] != pt[order][:-1]]]
+        first = smallest_per_group(pt, d)
         best[s0 + pt[first]], L[s0 + pt[first]] = d[first], np.sqrt(L2[first])
     far = best > within
     best[far], L[far] = np.inf, 0.0

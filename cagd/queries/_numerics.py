@@ -50,3 +50,13 @@ def column_extremes(P: np.ndarray) -> "tuple[np.ndarray, np.ndarray]":
 def unit(v: np.ndarray) -> np.ndarray:
     """v / |v| along the last axis (0 where v = 0)."""
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), TINY)
+
+
+def smallest_per_group(group: np.ndarray, key: np.ndarray) -> np.ndarray:
+    """The index of the row of smallest ``key`` in each group of equal ``group`` (the
+    groups in increasing order; the first such row on a tie)."""
+    order = np.lexsort((key, group))
+    if not len(order):
+        return order
+    g = group[order]
+    return order[np.r_[True, g[1:] != g[:-1]]]

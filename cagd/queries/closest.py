@@ -82,7 +82,7 @@ from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, bezier_piec
 from ._cells import PowerTable, pair_distances as _distances, split_boxes as _split
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
-    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
+    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, smallest_per_group, squared_norms
 
 MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
 WIN_GAP_RTOL = 1e-10         # a cell wins only by more than this share of the distance ...
@@ -652,8 +652,7 @@ class Projector:
                                           self._cell_piece[cell], max_iterations, tol, param_tol)
             dy = np.sqrt(g2)
             work += len(pid)
-            order = np.lexsort((dy, pid))                # best local result per point
-            first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
+            first = smallest_per_group(pid, dy)           # best local result per point
             win = first[dy[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
             x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], dy[win], ok[win]
             gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 from ..errors import CagdError
 from ._cells import split_boxes
 from .bounds import box_lower_bound, robust_distance
-from ._numerics import BOUND_SHRINK_RTOL, SIZE_ROUNDING, SLACK_RTOL, TINY
+from ._numerics import BOUND_SHRINK_RTOL, SIZE_ROUNDING, SLACK_RTOL, TINY, smallest_per_group
 
 if TYPE_CHECKING:
     from ..curves.bspline import BSplineCurve
@@ -443,8 +443,7 @@ def _interior(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, U: np.ndarray
         admit = (box == 1) | ts.contains(yuv[:, 0], yuv[:, 1])
         cand = np.flatnonzero(admit & (dy < U[pid]))
         if cand.size:
-            order = cand[np.lexsort((dy[cand], pid[cand]))]
-            first = order[np.r_[True, pid[order][1:] != pid[order][:-1]]]
+            first = cand[smallest_per_group(pid[cand], dy[cand])]
             U[pid[first]], x_best[pid[first]] = dy[first], y[first]
             best_ok[pid[first]] = ok[first]
         lb, reach = _convex_bound(p, X, pid, cell, lo, hi, y)
