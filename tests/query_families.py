@@ -1,4 +1,5 @@
-"""Curves of every family for the OCCT family tests of the geometric queries."""
+"""Shared by the tests of the geometric queries: curves of every family (the OCCT
+family tests) and the check that a converged closest point is certified."""
 import numpy as np
 
 from cagd import BezierCurve, BSplineCurve, natural_cubic_spline
@@ -15,3 +16,12 @@ def curve_of(kind, rng, dim=3, shift=0.0):
     if kind == "periodic":
         return BSplineCurve(P, 3, np.linspace(0, 1, 7), periodic=True)
     return natural_cubic_spline(P[:5])
+
+
+def assert_converged_means_certified(r, size):
+    """A point of the closest_point result ``r`` reported converged has its foot proven
+    global: its lower bound meets its distance (to the search's win gap, 1e-10 relative,
+    and rounding of the object's ``size``); ``converged`` is all of them."""
+    ok = r.point_converged
+    assert np.all(r.lower_bounds[ok] >= r.distances[ok] * (1 - 1e-9) - 1e-12 * size)
+    assert r.converged == bool(ok.all())

@@ -47,7 +47,9 @@ cell's hull meets thousands of others). When more than B boxes are open after a 
 every point keeps an equal share of B, its boxes where Newton came nearest first (the
 rest into ``lower_bounds``), and the search goes on until BRANCH_WORK B (point, box) rows
 have been refined in all; the boxes still open then enter ``lower_bounds`` and their
-points keep the nearest foot found. (The search used to stop at the first overflow: the
+points keep the nearest foot found, reported not converged (``point_converged`` False:
+the distance is an upper bound, ``lower_bounds`` the certified lower one; ``message``
+says so). (The search used to stop at the first overflow: the
 points still open kept their local foot, reported converged with lower bound 0; a grid
 point on a folded fit got 0.68 for 2.5e-10 among 120 points.) Newton in a box starts at
 the nearer, in space, of the foot found (clamped to the box) and the box's midpoint.
@@ -678,6 +680,12 @@ class Projector:
         lb_s = lb
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
+        # the work bound stopped the search with the certificate open: the foot is the
+        # nearest found, not proven global (the points deferred to the caller excepted)
+        open_ = LB < d - gap
+        if defer is not None:
+            open_[np.setdiff1d(np.arange(N), sure)] = False
+        conv = conv & ~open_
         LB = np.minimum(LB * (1.0 - BOUND_SHRINK_RTOL), d)
         res = self._result(x, d, conv, LB, model, far)
         # the few points whose candidate list was cut and whose certificate is open (a
@@ -931,11 +939,12 @@ def _query_points(points: ArrayLike, dim: int) -> np.ndarray:
 
 
 def _unconverged(conv: np.ndarray) -> str:
-    """The message naming the points where Newton did not converge ("" when it did everywhere)."""
+    """The message naming the points not converged ("" when every point converged)."""
     bad = np.flatnonzero(~conv)
     return "" if not bad.size else (
-        f"Newton did not converge at {bad.size} of {len(conv)} points (first: index {int(bad[0])}); "
-        f"their distances are the best found, lower_bounds still hold")
+        f"not converged at {bad.size} of {len(conv)} points (first: index {int(bad[0])}): Newton did not meet "
+        f"tol, or the search stopped at its work bound before proving the foot global; their distances are "
+        f"the nearest found (upper bounds) and lower_bounds still hold: the true distance lies between")
 
 
 def _merge(res: ClosestPoints, rows: np.ndarray, sub: ClosestPoints) -> ClosestPoints:

@@ -33,7 +33,10 @@ class ClosestPoints(ReadOnlyArrays):
     params: (N,) curve parameters or (N, 2) surface parameters; feet: (N, dim) closest
     points (the feet of the perpendiculars); distances: (N,); point_converged: (N,)
     the local Newton refinement met ``tol`` (or ``param_tol``) within
-    ``max_iterations`` at that point; converged: at every point, and ``message`` names
+    ``max_iterations`` at that point and the search proved the foot global (its lower
+    bound meets the distance; False where the search stopped at its work bound with
+    the certificate open: the distance is then the nearest found, an upper bound);
+    converged: at every point, and ``message`` names
     the points where it did not; lower_bounds: (N,) certified lower bounds on the true
     distance from the point to the whole object (``lower_bounds <= distances``, whether
     or not Newton converged); isolated (``all_minima`` only, else None): (N,) False

@@ -13,6 +13,7 @@ import pytest
 from cagd import closest_point
 from cagd.fitting import fit_surface
 from cagd.queries.closest import CLOSEST_TOL
+from query_families import assert_converged_means_certified
 
 
 @pytest.fixture(scope="module")
@@ -60,3 +61,23 @@ def test_copies_of_a_point_get_its_global_foot(folded, copies):
     assert alone <= upper + slack
     assert np.all(np.abs(r.distances - alone) <= slack)
     assert np.all(r.lower_bounds <= r.distances)
+
+
+def test_open_certificates_are_reported_not_converged(folded):
+    """Where the work bound stops the search before the lower bound meets the distance,
+    the point is reported not converged and the message says why: a converged point's
+    lower bound meets its distance (the old code reported all 120 converged, 32 with
+    lower bounds far below). The same points queried one at a time (the budget not
+    shared) obey the same rule and get the same distances (most stay open: the fold
+    makes every box's bound vacuous near them)."""
+    fit, Q, slack = folded
+    S = fit.surface
+    size = float(np.ptp(np.asarray(S.control_points).reshape(-1, 3), axis=0).max())
+    r = closest_point(S, Q)
+    assert_converged_means_certified(r, size)
+    assert not r.converged and "work bound" in r.message
+    for i in np.flatnonzero(~r.point_converged)[:8]:
+        alone = closest_point(S, Q[i])
+        assert_converged_means_certified(alone, size)
+        assert abs(alone.distances[0] - r.distances[i]) <= slack
+        assert alone.converged == (alone.message == "")
