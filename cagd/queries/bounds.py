@@ -553,7 +553,9 @@ BLOCK = 2             # cells within this many grid steps of x*'s cell are bound
 
 
 def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
-                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False
+                    H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False,
+                    hessian: Optional[Callable[[np.ndarray], Tuple[np.ndarray, np.ndarray]]] = None,
+                    target: Optional[np.ndarray] = None
                     ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray, Tuple[np.ndarray, np.ndarray]]]:
     """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
     expansion at c: g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2 with m a lower bound
@@ -573,6 +575,18 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     the largest), so that a large second derivative along one direction is weighed
     against the first derivative along that direction: m bounds the smallest eigenvalue of
     diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2.
+
+    ``hessian``: given row indices, (lo, hi) (len, k, k) bounds of the half Hessian
+    J^T J + r.d2S over those rows' boxes (:class:`cagd.queries._hessian_hull.HessianHull`:
+    per entry, the extreme Bezier coefficients over the box's cell; (-inf, inf) for a row
+    it declines); asked for the rows
+    where it can help (the half Hessian at c positive definite, m above not positive),
+    m there is also at least twice the smallest eigenvalue of any symmetric matrix within
+    them (for k = 2, (A + C)/2 - sqrt(((A - C)/2)^2 + B^2) at the lower ends of A and C
+    and the largest |B|: that eigenvalue grows with A and C and falls with |B|);
+    ``target`` (n,): asked only where the bound would reach it with m at its best (twice
+    the half Hessian's smallest eigenvalue at c: no bound over a box containing c
+    exceeds it), i.e. where the hull can close the box.
 
     ``convexity``: also return m and, for c in the box, the box (tlo, thi) (n, k) of offsets
     from c that holds g's minimiser x^ over the box where m > 0 (g strongly convex there:
@@ -668,18 +682,17 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         lmin_h = 0.5 * (A + C) - np.sqrt(0.25 * (A - C) ** 2 + B * B)
     m2 = 2.0 * (lmin_h - np.sqrt(E2) - SLACK_RTOL * scale)
     m = np.maximum(m1, m2)
-    q = 0.0
-    parts = []
-    for a in range(k):
-        ma = m * (sc[a] * sc[a])
-        g = grad[a]
-        tlo, thi = lo[:, a] - c[:, a], hi[:, a] - c[:, a]
-        qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
-        qa = np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
-        q = q + qa
-        parts.append((g, ma, tlo, thi, qa))
+    if hessian is not None:
+        ask = (lmin_h > 0) & (m <= 0)
+        if target is not None:          # ... and only where the best m it could give closes the box
+            ask[ask] = f2[ask] + _quadratic_minimum(2.0 * lmin_h[ask], [g[ask] for g in grad], [x[ask] for x in sc],
+                                                    lo[ask], hi[ask], c[ask])[0] >= target[ask]
+        i = np.flatnonzero(ask)
+        if i.size:                      # (rows it declines: -inf, inf, nothing gained)
+            m = m.copy()
+            with np.errstate(invalid="ignore"):
+                m[i] = np.fmax(m[i], _interval_eigenvalue(*hessian(i), [x[i] for x in si]))
+    q, parts = _quadratic_minimum(m, grad, sc, lo, hi, c)
     bound = f2 + q - ULP_RTOL * f2
     if not convexity:
         return bound
@@ -696,6 +709,40 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         lo_t.append(np.maximum(a0, tlo))
         hi_t.append(np.minimum(a1, thi))
     return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
+
+
+def _quadratic_minimum(m: np.ndarray, grad: List[np.ndarray], sc: List[np.ndarray], lo: np.ndarray, hi: np.ndarray,
+                       c: np.ndarray) -> Tuple[np.ndarray, list]:
+    """The minimum over the box [lo, hi] of sum_a grad_a t_a + m s_a^2 t_a^2 / 2, t = x - c
+    (separable: per direction, the ends and the clipped vertex), and per direction
+    (grad_a, m s_a^2, t's range, that direction's minimum)."""
+    q: np.ndarray = np.zeros(len(m))
+    parts = []
+    for a in range(len(grad)):
+        ma = m * (sc[a] * sc[a])
+        g = grad[a]
+        tlo, thi = lo[:, a] - c[:, a], hi[:, a] - c[:, a]
+        qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
+        qa = np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
+        q = q + qa
+        parts.append((g, ma, tlo, thi, qa))
+    return q, parts
+
+
+def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: List[np.ndarray]) -> np.ndarray:
+    """Twice a lower bound of the smallest eigenvalue of every symmetric matrix between
+    hl and hh (n, k, k), in the variables scaled by 1 / si (see :func:`box_lower_bound`),
+    lowered by SLACK_RTOL of its entries for rounding."""
+    A = hl[:, 0, 0] * (si[0] * si[0])
+    big = np.maximum(np.abs(A), np.abs(hh[:, 0, 0]) * (si[0] * si[0]))
+    if len(si) == 1:
+        return 2.0 * (A - SLACK_RTOL * big)
+    C = hl[:, 1, 1] * (si[1] * si[1])
+    B = np.maximum(np.abs(hl[:, 0, 1]), np.abs(hh[:, 0, 1])) * (si[0] * si[1])
+    big = big + np.maximum(np.abs(C), np.abs(hh[:, 1, 1]) * (si[1] * si[1])) + 2.0 * B
+    return 2.0 * (0.5 * (A + C) - np.sqrt(0.25 * (A - C) ** 2 + B * B) - SLACK_RTOL * big)
 
 
 def block_max(B: np.ndarray, shape: Sequence[int], reach: int = BLOCK) -> np.ndarray:

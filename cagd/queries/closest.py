@@ -82,6 +82,7 @@ from .results import ClosestPoints
 from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, bezier_pieces, block_max as _block_max, \
     box_lower_bound, closed_directions, robust_distance
 from ._cells import PowerTable, pair_distances as _distances, split_boxes as _split
+from ._hessian_hull import HessianHull
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
     SLACK_RTOL, TINY, ULP_RTOL, column_extremes, smallest_per_group, squared_norms
@@ -98,6 +99,7 @@ SAME_FOOT_RTOL = 1e-6        # feet closer than this share of the size (at equal
 INWARD_RTOL = 1e-4           # a foot on a domain edge is tested this share of the width inside
 SECOND_ORDER_RTOL = 1e-3     # the second-order start is used where it moves under this share of a cell
 C2_RTOL = 1e-10              # the derivatives at a break agree to this share: the object is C2 there
+HULL_BOX_SHARE = 0.25       # a box takes its cell's half-Hessian hull from this share of the cell per direction
 COUNT_SLACK = 1e-9           # rounding slack of the cell counts ceil(extent / step)
 THIN_SHARE = 0.25            # a direction of less than this share of the longest one's extent is thin (cut less)
 
@@ -193,6 +195,8 @@ class Projector:
         self.centers, self.radii = self.cells.hull_spheres()
         self.T3 = self.cells.third_derivative_bounds()       # (keeps the lower orders: no second pass)
         self.L, self.M = self.cells.derivative_bounds()
+        # polynomial cells: the half Hessian's Bernstein coefficients (tight bounds over a cell)
+        self._hessian = HessianHull(self.cells) if self.cells.weights is None else None
         shape = self.cells.shape
         # per level l = 0..BLOCK: the bounds over the cells within l grid steps
         self.block = [np.stack([_block_max(B, shape, lv) for lv in range(_BLOCK + 1)])
@@ -641,7 +645,8 @@ class Projector:
                                                   _rows(Jx, pi), _rows(Hx, pi), self.block[0][lv, h],
                                                   self.block[1][lv, h], self.block[2][lv, h]))
         i = np.flatnonzero(np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid])
-        lb[i] = np.maximum(lb[i], self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i])))
+        lb[i] = np.maximum(lb[i], self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i]),
+                                              d[pid[i]] - gap[pid[i]]))
         lb = np.sqrt(np.maximum(lb, 0.0))
         work = 0                                         # (point, box) rows refined
         for _ in range(max_rounds):
@@ -658,7 +663,7 @@ class Projector:
             win = first[dy[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
             x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], dy[win], ok[win]
             gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
-            lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y), 0.0))
+            lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y, d[pid] - gap[pid]), 0.0))
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
             near = np.tile(dy[open_], 2)                 # per half, how near Newton came in the box
@@ -676,7 +681,7 @@ class Projector:
             keep = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~keep], lb[~keep])
             pid, cell, lo, hi = pid[keep], cell[keep], lo[keep], hi[keep]
-            lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, np.clip(x[pid], lo, hi)), 0.0))
+            lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, np.clip(x[pid], lo, hi), d[pid] - gap[pid]), 0.0))
         lb_s = lb
         if len(pid) and len(pid) == len(lb_s):
             np.minimum.at(LB, pid, lb_s)                 # boxes left open after max_rounds
@@ -863,16 +868,41 @@ class Projector:
             return out[0]
         return tuple(np.concatenate([o[i] for o in out]) for i in range(3))
 
-    def _bound(self, X, pid, cell, lo, hi, c) -> np.ndarray:
+    def _bound(self, X, pid, cell, lo, hi, c, target: np.ndarray) -> np.ndarray:
         """Second-order lower bound of g over boxes inside their cells, expanded at c (in
-        chunks of EVAL_CHUNK boxes: the partials of millions of pairs would not fit)."""
+        chunks of EVAL_CHUNK boxes: the partials of millions of pairs would not fit); on
+        polynomial cells with the half Hessian's Bezier hull where it can lift the bound
+        to ``target`` (distances: a box around a foot closes at once, :class:`HessianHull`)."""
         out = np.empty(len(pid))
         for c0 in range(0, len(pid), EVAL_CHUNK):
             sl = slice(c0, c0 + EVAL_CHUNK)
-            ce = cell[sl]
+            ce, Xp = cell[sl], X[pid[sl]]
             S, J, H = self.evaluate(c[sl], 2, self._cell_piece[ce])     # the cell's own piece
-            out[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], c[sl], S, J, H, self.L[ce], self.M[ce], self.T3[ce])
+            out[sl] = box_lower_bound(Xp, lo[sl], hi[sl], c[sl], S, J, H, self.L[ce], self.M[ce], self.T3[ce],
+                                      hessian=self.hull(Xp, ce, lo[sl], hi[sl]),
+                                      target=np.maximum(target[sl], 0.0) ** 2)
         return out
+
+    def hull(self, Xp: np.ndarray, cell: np.ndarray, lo: np.ndarray, hi: np.ndarray
+             ) -> Optional[Callable[[np.ndarray], Tuple[np.ndarray, np.ndarray]]]:
+        """The ``hessian`` argument of :func:`box_lower_bound` for rows of points Xp in
+        boxes [lo, hi] of the cells ``cell``: the half Hessian's Bezier hull over each
+        cell (:class:`HessianHull`) for boxes at least HULL_BOX_SHARE of their cell per
+        direction (a smaller box's own second-order bound is the tighter one); None on
+        rational cells."""
+        hh = self._hessian
+        if hh is None:
+            return None
+
+        def intervals(i: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+            ce = cell[i]
+            big = np.all(hi[i] - lo[i] >= HULL_BOX_SHARE * (self.hi[ce] - self.lo[ce]), axis=1)
+            out = np.full((len(i), self.k, self.k), -np.inf), np.full((len(i), self.k, self.k), np.inf)
+            j = np.flatnonzero(big)
+            if j.size:
+                out[0][j], out[1][j] = hh.intervals(Xp[i[j]], ce[j])
+            return out
+        return intervals
 
     def _mid_bound(self, X, pid, cell, lo, hi) -> np.ndarray:
         """:meth:`_bound` of whole cells expanded at their midpoints, from the stored S, J,

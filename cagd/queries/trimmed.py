@@ -616,7 +616,7 @@ def _hull_settled(p: "Projector", X: np.ndarray, pid: np.ndarray, lo: np.ndarray
             else:                                 # the cell's midpoint (stored: no evaluation)
                 c, S, J, H = p.mids[ce], p.mid_points[ce], p.mid_jacobians[ce], p.mid_hessians[ce]
             _, m, _ = box_lower_bound(X[point[sl]], tlo[sl], thi[sl], c, S, J, H, p.L[ce], p.M[ce], p.T3[ce],
-                                      convexity=True)
+                                      convexity=True, hessian=p.hull(X[point[sl]], ce, tlo[sl], thi[sl]))
             convex[sl] = m > 0
         bad = ~convex & out[point]
         if level == HULL_SPLITS or not bad.any():
@@ -658,9 +658,10 @@ def _convex_settled(ts: "TrimmedSurface", p: "Projector", X: np.ndarray, pid: np
             flat = _no_critical_point(p, X, pid, cells, lo, hi)
             pid, cells, lo, hi = pid[~flat], cells[~flat], lo[~flat], hi[~flat]
             c = 0.5 * (lo + hi)
-            lb = np.sqrt(np.maximum(p._bound(X, pid, cells, lo, hi, c), 0.0))
             gap = CELL_GAP * U[pid] + SIZE_ROUNDING * p.size
-            closed = lb >= np.minimum(U[pid] - gap, edge[pid])
+            need = np.minimum(U[pid] - gap, edge[pid])
+            lb = np.sqrt(np.maximum(p._bound(X, pid, cells, lo, hi, c, need), 0.0))
+            closed = lb >= need
             np.minimum.at(LB, pid[closed], lb[closed])
             pid, cells, lo, hi = pid[~closed], cells[~closed], lo[~closed], hi[~closed]
             if len(pid):
@@ -688,7 +689,8 @@ def _convex_bound(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarr
         ce = cell[sl]
         S, J, H = p.evaluate(y[sl], 2, p._cell_piece[ce])
         out[sl], _, (t0[sl], t1[sl]) = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], y[sl], S, J, H, p.L[ce],
-                                                       p.M[ce], p.T3[ce], convexity=True)
+                                                       p.M[ce], p.T3[ce], convexity=True,
+                                                       hessian=p.hull(X[pid[sl]], ce, lo[sl], hi[sl]))
     return out, (t0, t1)
 
 
