@@ -471,3 +471,80 @@ def test_auto_degree_on_a_grid_too_small_for_cubics():
     assert r.surface.degree_u == 2 and f"degree 2 x {r.surface.degree_v}" in r.message
     small = fit_surface(Q[:, :3], 1e-3, degree="auto")
     assert small.converged and (small.surface.degree_u, small.surface.degree_v) == (2, 2)
+
+
+# --- tol below the noise: the growth stops early ---------------------------------------------
+def noise_cloud(n=1341, seed=0):
+    """Pure noise: n points uniform over [0, 100]^2, heights N(0, 1)."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(0.0, 100.0, (n, 2)), rng.normal(size=n)])
+
+
+def brute_distances(surface, X, n=401, steps=8):
+    """Oracle: each point's distance to the surface by brute force: the nearest of an
+    n x n sampling of it (scipy KD-tree), then Gauss-Newton steps on |S(u, v) - X|^2 from
+    that sample (clamped to the domain, a step kept only where it lowers the distance).
+    Every value is a distance to a point of the surface: an upper bound of the true one."""
+    t = np.linspace(0.0, 1.0, n)
+    d, k = cKDTree(surface.grid(t, t).reshape(-1, 3)).query(X)
+    uv = np.stack([t[k // n], t[k % n]], axis=1)
+    for _ in range(steps):
+        D = surface.derivatives(uv[:, 0], uv[:, 1], 1, 1)
+        r, Su, Sv = X - D[0, 0], D[1, 0], D[0, 1]
+        J = np.stack([Su, Sv], axis=2)                                   # (N, 3, 2)
+        JtJ = np.einsum("nki,nkj->nij", J, J) + 1e-14 * np.eye(2)
+        new = np.clip(uv + np.linalg.solve(JtJ, np.einsum("nki,nk->ni", J, r)[..., None])[..., 0], 0.0, 1.0)
+        d_new = np.sqrt(((surface(new[:, 0], new[:, 1]) - X) ** 2).sum(-1))
+        better = d_new < d
+        uv[better], d[better] = new[better], d_new[better]
+    return d
+
+
+def test_noise_cloud_stops_early_and_says_why():
+    """A 1,341-point cloud of pure noise (sigma 1) at tol 0.01: the growth used to run to
+    the 36 x 36 cap (11 s, most of it certifying distances from a surface chasing the
+    noise). Now the growth stops when the largest miss stalls while the poles grow
+    (cagd.fitting.fit.stalled): converged False, the message says why, far fewer poles
+    than the cap; max_error is the largest distance (oracle: brute force, dense sampling
+    plus Gauss-Newton refinement: an upper bound per point, its largest within 1e-9 of
+    max_error; and every point's certified closest point). The fit is wild away from the
+    points (the plane base of a square cloud is turned, the corners of [0, 1]^2 hold no
+    point), so the sampling is dense."""
+    Q = noise_cloud()
+    r = fit_surface(Q, 0.01)
+    nu, nv = r.surface.control_points.shape[:2]
+    assert nu * nv <= 2 * 19 * 19 < 36 * 36 and r.rounds <= 6      # the old fit: the 36 x 36 cap
+    assert not r.converged and "not met" in r.message and "stopped early" in r.message
+    assert f"largest distance {r.max_error:.3g}" in r.message
+    certified = np.asarray(closest_distances(r.surface, Q))            # every point certified
+    assert r.max_error == pytest.approx(float(certified.max()), abs=1e-12)
+    d = brute_distances(r.surface, Q, 801)
+    assert np.all(d >= certified - 1e-9)
+    assert abs(float(d.max()) - r.max_error) <= 1e-9 * 100.0
+    assert r.max_error > 1.0                               # honestly far from tol
+    assert r.rms_error <= r.max_error
+
+
+def closest_distances(surface, X):
+    from cagd import closest_point
+    return closest_point(surface, X).distances
+
+
+def test_noise_cloud_auto_degree_stops_early_too():
+    """degree='auto' on the noise cloud: every degree's growth stops early (the old fit
+    took each to the 36 x 36 cap), the least max_error kept, not converged."""
+    r = fit_surface(noise_cloud(), 0.01, degree="auto")
+    assert not r.converged and "stopped early" in r.message
+    nu, nv = r.surface.control_points.shape[:2]
+    assert nu < 36 and nv < 36 and r.rounds <= 3 * 6
+
+
+def test_friendly_scattered_still_converges_with_the_stall_rule():
+    """1,600 scattered points of the anchor height field at tol 0.01: the stall rule never
+    fires (the largest miss falls by 16x per halved span once the bumps are resolved);
+    every point within tol by brute force."""
+    from benchmarks.fitting import anchor_scattered
+    Q = anchor_scattered(1600)
+    r = fit_surface(Q, 0.01)
+    assert r.converged and r.max_error <= 0.01 and "stopped" not in r.message, r.message
+    assert float(brute_distances(r.surface, Q).max()) <= 0.01 + 1e-9
