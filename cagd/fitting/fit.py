@@ -20,9 +20,11 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
 - knot placement by equidistributing the error (de Boor, A Practical Guide to Splines,
   XII: a degree-p fit misses by about c h^(p+1) on a span of width h): a span whose
   points miss by E_i is worth (E_i / tol)^(1/(p+1)) spans, the new breakpoints divide
-  that density into equal parts; rounds grow the count until every point is within tol,
-  then shrink it while they stay, then Tiller's knot removal (:mod:`cagd.knots.removal`)
-  takes out what its bound allows and the curve is fitted once more on those knots;
+  that density into equal parts; rounds grow the count until every point is within tol
+  (a growth whose largest miss stalls while the count grows stops: tol is below the
+  points' noise, :func:`stalled`), then shrink it while they stay, then Tiller's knot
+  removal (:mod:`cagd.knots.removal`) takes out what its bound allows and the curve is
+  fitted once more on those knots;
 - knot recovery (:mod:`cagd.fitting.free_knots`; no smoothing, no held tangents, not
   periodic): fewer control points with the interior knots as unknowns (free-knot least
   squares, Jupp 1978; de Boor & Rice 1968), started at the jumps of the fit's p-th
@@ -565,7 +567,8 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
 
     Returns:
         CurveFit; ``converged`` False (with the achieved error) when the cap or
-        MAX_FIT_ROUNDS is reached before tol is met.
+        MAX_FIT_ROUNDS is reached before tol is met, or the growth stalls (:func:`stalled`:
+        tol below the points' noise; the grown fit with the smallest largest miss then).
 
     Raises:
         CagdError: bad points, tol, degree, parameters, tangents, weights or smoothing.

@@ -257,7 +257,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
-        MAX_FIT_ROUNDS is reached first.
+        MAX_FIT_ROUNDS is reached first, or (scattered points) the growth stalls
+        (:func:`cagd.fitting.fit.stalled`: tol below the points' noise).
 
     Raises:
         CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters;
@@ -813,7 +814,9 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     (as :func:`fit_surface`), grown until every point is within tol at its parameters;
     after every solve the parameters are corrected by re-projection onto the fit
     (Piegl & Tiller 9.4.1; :func:`_corrected`); errors reported by certified closest
-    points.
+    points. A growth whose largest miss stalls while the poles grow stops there
+    (:func:`cagd.fitting.fit.stalled`: tol below the points' noise), the grown fit with
+    the smallest largest miss returned, converged False, the message saying why.
 
     Raises:
         CagdError: not (N >= 4, 3) finite points, collinear points, bad tol, degree or base."""

@@ -7,7 +7,7 @@ from hypothesis import given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from cagd import BSplineSurface, CagdError, fit_surface
-from benchmarks.fitting import anchor_grid
+from benchmarks.fitting import anchor_grid, noise_cloud
 
 
 def sampled(surface, Q, n=700):
@@ -474,12 +474,6 @@ def test_auto_degree_on_a_grid_too_small_for_cubics():
 
 
 # --- tol below the noise: the growth stops early ---------------------------------------------
-def noise_cloud(n=1341, seed=0):
-    """Pure noise: n points uniform over [0, 100]^2, heights N(0, 1)."""
-    rng = np.random.default_rng(seed)
-    return np.column_stack([rng.uniform(0.0, 100.0, (n, 2)), rng.normal(size=n)])
-
-
 def brute_distances(surface, X, n=401, steps=8):
     """Oracle: each point's distance to the surface by brute force: the nearest of an
     n x n sampling of it (scipy KD-tree), then Gauss-Newton steps on |S(u, v) - X|^2 from
