@@ -899,11 +899,6 @@ CERTIFY_FLOOR = 1e-3
 #: parameters (the closest-point query's own tolerance, CLOSEST_TOL: an exact fit's
 #: rounding; 160,000 such points took 1.9 s to certify)
 CERTIFY_ROUNDING = 1e-12
-#: a fit whose largest distance at the fitting parameters is above this many tol (it misses
-#: tol far: its points lie away from a wavy fit, where the light tier descends into many
-#: cells) is certified by the default tier (voxel grid): the 1,341-point noise cloud's
-#: 20 x 20 fit, 3 points, light 6.4 s, default 1.0 s; 12 x 12, 10 points, 2.1 s and 0.7 s
-CERTIFY_FAR = 2.0
 
 
 def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray, tol: float,
@@ -914,8 +909,8 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     (:func:`_certified`) of the points where ``at`` is at least s times the largest,
     s = CERTIFY_SHARE (lowered by CERTIFY_LOWER while the largest certified distance is
     below s times the largest ``at``, every point below CERTIFY_FLOOR; none with ``at``
-    within CERTIFY_ROUNDING of the points' extent; by the default tier where max(at) is
-    above CERTIFY_FAR tol). The other points
+    within CERTIFY_ROUNDING of the points' extent; by the default tier after a stalled
+    growth). The other points
     are closer than s max(at), at most that largest certified distance, so ``max_error``
     is the certified largest distance of all points; ``rms_error`` and ``params`` take
     the certified distance and foot where computed and the local foot from ``uv``
@@ -926,7 +921,12 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     top = float(at.max())
     dist, params = at.copy(), uv.copy()
     done = np.zeros(len(X), dtype=bool)
-    light = Projector(out, light=top <= CERTIFY_FAR * tol)
+    # a stalled growth's fit (tol below the noise) lies away from its points, wavy, where the
+    # light tier descends into many cells: the default tier (voxel grid) then (the 1,341-point
+    # noise cloud's 20 x 20 fit, 3 points: light 6.4 s, default 1.0 s; 12 x 12, 10 points:
+    # 2.1 s and 0.7 s); elsewhere its set-up does not pay (a 100-point 10 x 10 fit missing
+    # tol: 0.1 s light, 1.5 s default)
+    light = Projector(out, light=why is None)
     share = CERTIFY_SHARE
     rounding = CERTIFY_ROUNDING * max(float(np.ptp(X, axis=0).max()), 1e-300)
     while top > rounding:
