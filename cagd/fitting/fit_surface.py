@@ -50,7 +50,7 @@ from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_
                   _span_errors, _worth, stalled)
 from .interpolation import _frame
 from .rebuild import _pair
-from .separable import SeparableGrid, ends_held_operator
+from .separable import SeparableGrid, ends_held_operator, interlaced
 
 
 #: the share of tol each direction's own residual is grown to (the two add up to at most
@@ -97,7 +97,8 @@ def _boundary_rows(Q: np.ndarray, u: np.ndarray, v: np.ndarray, U: np.ndarray, V
     return Fv @ Q[0], Fv @ Q[-1], Fu @ Q[:, 0], Fu @ Q[:, -1]
 
 
-def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, most: int) -> np.ndarray:
+def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, most: int,
+           interlace: str = "") -> np.ndarray:
     """The next breakpoints of one direction from its residuals e (per parameter t): the
     same breakpoints where every span is within GROW_TARGET * tol, else more."""
     E = _span_errors(breaks, t, e)
@@ -106,7 +107,21 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
     s = len(breaks) - 1
     c = _worth(E, GROW_TARGET * tol, p)
     count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol)), s + 1, min(most, MAX_GROWTH * s + 1)))
-    return _redistributed(breaks, c, count) if count > s else breaks
+    if count <= s:
+        return breaks
+    new = _redistributed(breaks, c, count)
+    return interlaced(new, t, p, interlace == "periodic") if interlace else new
+
+
+def _placed(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, count: int,
+            interlace: str = "") -> np.ndarray:
+    """``count`` spans equidistributing the misses e (per parameter t) of the spans of
+    ``breaks`` (de Boor; :func:`cagd.fitting.fit._worth`); with ``interlace`` ("clamped":
+    a grid's separable fit, which has no regulariser; "periodic": a grid's periodic
+    direction) kept determined and conditioned by the sites t
+    (:func:`cagd.fitting.separable.interlaced`)."""
+    new = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, p), count)
+    return interlaced(new, t, p, interlace == "periodic") if interlace else new
 
 
 #: the boundary conditions of a grid fit: free, or the boundary curves held (G0)
@@ -119,7 +134,8 @@ MAX_TRIM_STEPS = 24
 POLISH_PASSES = 6
 
 
-def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: int):
+def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: int,
+            interlace: Tuple[str, str] = ("", "")):
     """Shrinking: both directions to MAX_SHRINK of their spans at once, the breakpoints
     redistributed by the first error source (as :func:`_trimmed`), while the fit stays
     within tol, at most ``most`` steps. Returns (best, steps)."""
@@ -130,8 +146,8 @@ def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: in
         for axis, pairs in enumerate(sources(best)):
             breaks, (t, e) = best[1 + axis], pairs[0]
             s = len(breaks) - 1
-            new.append(_redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
-                                      max(1, int(MAX_SHRINK * s))) if s > 1 else breaks)
+            new.append(_placed(breaks, t, e, tol, degrees[axis], max(1, int(MAX_SHRINK * s)), interlace[axis])
+                       if s > 1 else breaks)
         S2, miss2, *extra = solve(*new)
         if miss2.max() > tol:
             break
@@ -140,7 +156,7 @@ def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: in
 
 
 def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
-             polish=None):
+             polish=None, interlace: Tuple[str, str] = ("", "")):
     """Greedy knot trimming (knot placement that follows the residual): while the fit
     ``best`` = (surface, breaks_u, breaks_v, largest miss, misses) is within tol, try one
     span fewer along u and along v, the breakpoints redistributed by each error source
@@ -159,8 +175,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
             if len(breaks) <= 2:
                 continue
             for t, e in pairs:
-                fewer = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
-                                       len(breaks) - 2)
+                fewer = _placed(breaks, t, e, tol, degrees[axis], len(breaks) - 2, interlace[axis])
                 bu, bv = (fewer, best[2]) if axis == 0 else (best[1], fewer)
                 S2, miss2, *extra = solve(bu, bv)
                 cands.append((axis, (S2, bu, bv, float(miss2.max()), miss2, *extra)))
@@ -169,7 +184,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
         top = min((c for _, c in cands), key=lambda c: c[3])
         if top[3] > tol and polish:
             firsts = [min((c for a, c in cands if a == axis), key=lambda c: c[3], default=None) for axis in (0, 1)]
-            found = [_polished(c, solve, polish, tol, degrees) for c in firsts if c is not None]
+            found = [_polished(c, solve, polish, tol, degrees, interlace) for c in firsts if c is not None]
             top = min((c for c in found if c is not None), key=lambda c: c[3], default=top)
         if top[3] > tol:
             break
@@ -177,7 +192,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
     return best, steps
 
 
-def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int]):
+def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int], interlace: Tuple[str, str] = ("", "")):
     """The knots of a fit that misses tol moved at the same span counts: both directions'
     breakpoints redistributed by the fit's own misses (``polish`` = (passes, misses):
     ``misses(fit)`` per direction a pair (parameters, misses), e.g. a grid's largest per
@@ -186,8 +201,7 @@ def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int]):
     tol, or None."""
     passes, misses = polish
     for _ in range(passes):
-        new = [_redistributed(fit[1 + axis], _worth(_span_errors(fit[1 + axis], t, e), tol, degrees[axis]),
-                              len(fit[1 + axis]) - 1)
+        new = [_placed(fit[1 + axis], t, e, tol, degrees[axis], len(fit[1 + axis]) - 1, interlace[axis])
                for axis, (t, e) in enumerate(misses(fit))]
         S2, miss2, *extra = solve(*new)
         if float(miss2.max()) > fit[3]:
@@ -470,6 +484,8 @@ def _net_fit(Q: np.ndarray, tol: float, degrees: Tuple[int, int], caps: Tuple[in
         raise CagdError("boundary: 'G0' holds the four boundary curves; a periodic direction has no boundary there")
     edges = _tangent_edges(tangent_edges, Q, closed, degrees)
     Qf, dropped = _closed_grid(Q, tol, closed)
+    # a periodic direction: no more poles than distinct rows (a dropped seam row is the first)
+    caps = (min(caps[0], Qf.shape[0]) if closed[0] else caps[0], min(caps[1], Qf.shape[1]) if closed[1] else caps[1])
     u, v = _net_parameters(Qf, parameters, closed)
     for e in edges:                  # the parameters along a neighbour's edge: the feet on it
         if e.kind == "surface":
@@ -713,14 +729,14 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
         ru, rv = grid.residuals(bu, bv)
-        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
-        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
+        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u, "clamped")
+        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v, "clamped")
         if len(nu) == len(bu) and len(nv) == len(bv):
             # each direction alone is within its share: refine the one with the larger residual
             if ru.max() >= rv.max() and len(bu) - 1 < most_u:
-                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
+                nu = _placed(bu, u, ru.max(axis=1), tol_n, pu, len(bu), "clamped")
             elif len(bv) - 1 < most_v:
-                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
+                nv = _placed(bv, v, rv.max(axis=0), tol_n, pv, len(bv), "clamped")
             else:
                 break
         bu, bv = nu, nv
@@ -730,10 +746,11 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
         ru, rv = grid.residuals(fit[1], fit[2])
         return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
 
+    sites = ("clamped", "clamped")           # no regulariser here: knots the sites determine
     best, shrunk = _shrunk((P, bu, bv, float(miss.max()), miss), grid.fit, grid_sources, tol_n, (pu, pv),
-                           MAX_FIT_ROUNDS - rounds)
+                           MAX_FIT_ROUNDS - rounds, sites)
     best, trimmed = _trimmed(best, grid.fit, grid_sources, tol_n, (pu, pv),
-                             (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))))
+                             (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))), sites)
     rounds += shrunk + trimmed
     S = BSplineSurface(best[0], pu, pv, _knots(best[1], pu), _knots(best[2], pv))
     return (S,) + tuple(best[1:]), rounds

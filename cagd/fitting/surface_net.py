@@ -388,6 +388,9 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
             raise CagdError(f"max_control_points: at least {least[axis]} control points along {what[0]} "
                             f"({'periodic' if periodic[axis] else 'tangent edges held'}), got a cap of {cap}")
     most = tuple(c if per else c - p for c, per, p in zip(caps, periodic, degrees))
+    # a periodic direction's knots kept conditioned by its sites (fit_surface._placed); the
+    # clamped ones rely on the regulariser as before
+    modes = ("periodic" if periodic[0] else "", "periodic" if periodic[1] else "")
     last_alphas = [np.zeros(0)]
 
     def directions(bu, bv):
@@ -441,8 +444,8 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     rounds = 0
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
-        nu_ = _grown(bu, u, miss.max(axis=1), tol_n, pu, most[0])
-        nv_ = _grown(bv, v, miss.max(axis=0), tol_n, pv, most[1])
+        nu_ = _grown(bu, u, miss.max(axis=1), tol_n, pu, most[0], modes[0])
+        nv_ = _grown(bv, v, miss.max(axis=0), tol_n, pv, most[1], modes[1])
         if len(nu_) == len(bu) and len(nv_) == len(bv):
             break
         S2, miss2 = solve(nu_, nv_)
@@ -450,8 +453,8 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
             break
         bu, bv, S, miss = nu_, nv_, S2, miss2
     best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), solve, sources, tol_n, degrees,
-                           MAX_FIT_ROUNDS - rounds)
-    best, trimmed = _trimmed(best, solve, sources, tol_n, degrees)
+                           MAX_FIT_ROUNDS - rounds, modes)
+    best, trimmed = _trimmed(best, solve, sources, tol_n, degrees, interlace=modes)
     P, du, dv, alphas = best[0]
     P = P * scale + center
     # the held rows exactly, in model units: the boundary curves' 1-D fits, the corner

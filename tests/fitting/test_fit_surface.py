@@ -3,7 +3,7 @@ dense sampling of the result), a bicubic patch sampled at its own parameters com
 as itself, noise does not multiply the control points, bad input names the argument."""
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from cagd import BSplineSurface, CagdError, fit_surface
@@ -348,9 +348,14 @@ def test_scattered_growth_at_most_doubles_per_round(monkeypatch):
 @settings(max_examples=10, deadline=None)
 @given(seed=st.integers(0, 10_000), m=st.integers(8, 30), n=st.integers(8, 30),
        tol=st.sampled_from([0.05, 0.01, 0.002]), degree=st.sampled_from([2, 3, 4]))
+@example(seed=1, m=8, n=30, tol=0.002, degree=2)
 def test_measured_max_is_certified_property(seed, m, n, tol, degree):
     """On random bumpy grids the reported max_error is the largest certified distance of
-    all points (cagd.closest_point of every point, the oracle), within tol when converged."""
+    all points (cagd.closest_point of every point, the oracle), within tol when converged;
+    the control net within a few times the grid's extent. The example: at its cap (8 x 30
+    poles) the v knots left poles without a site, the QR did not show it, the net spanned
+    1.3e14, max_error 1.38 against the oracle's 7.09 (rounding at that size); now the
+    sites' own knots there (separable.interlaced): it interpolates."""
     from cagd import closest_point
     rng = np.random.default_rng(seed)
     x, y = np.linspace(0, 10, m), np.linspace(0, 10, n)
@@ -358,6 +363,8 @@ def test_measured_max_is_certified_property(seed, m, n, tol, degree):
     a, b, c = rng.uniform(0.2, 1.0, 3)
     Q = np.stack([X, Y, np.sin(a * X) * np.cos(b * Y) + c * rng.normal(0, 0.01, X.shape)], -1)
     r = fit_surface(Q, tol, degree=min(degree, m - 1, n - 1))
+    net = np.asarray(r.surface.control_points).reshape(-1, 3)
+    assert float(np.ptp(net, axis=0).max()) <= 3.0 * float(np.ptp(Q.reshape(-1, 3), axis=0).max())
     d = np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances)
     assert abs(r.max_error - float(d.max())) <= 1e-12 * 10
     assert not r.converged or float(d.max()) <= tol
@@ -436,16 +443,17 @@ def test_random_grids_fit_or_say_why_property(case):
 def test_boundary_g0_at_the_grid_size_is_the_minimum_norm_fit():
     """A 15 x 18 random-parameter grid of random heights at degree 1, boundary 'G0': the
     counts reach the grid's size with knots that leave some pole without a site, so the
-    boundary curves' least squares is rank deficient ('rank deficient' raised). Now the
-    fit returns (here converged=False, the cap reached), its boundary rows the
-    minimum-norm least squares with the ends held (oracle: numpy's lstsq on scipy's
+    boundary curves' least squares is rank deficient ('rank deficient' raised; then
+    converged=False at the cap, the minimum-norm fit). Now the knots at the grid's size
+    are the sites' own (separable.interlaced): the fit interpolates, converged, its
+    boundary rows the least squares with the ends held (oracle: numpy's lstsq on scipy's
     design matrix)."""
     rng = np.random.default_rng(0)
     x, y = np.sort(rng.random(15)), np.sort(rng.random(18))
     X, Y = np.meshgrid(x, y, indexing="ij")
     Q = np.stack([X, Y, 0.3 * rng.normal(size=(15, 18))], -1)
     r = fit_surface(Q, 0.01, degree=1, boundary="G0")
-    assert not r.converged and r.max_error > 0.01 and "not met" in r.message
+    assert r.converged and r.max_error <= 1e-12
     S = r.surface
     assert S.control_points.shape[:2] == (15, 18)
     from cagd.surfaces.fitting import surface_parameters
