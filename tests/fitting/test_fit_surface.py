@@ -370,6 +370,26 @@ def test_measured_max_is_certified_property(seed, m, n, tol, degree):
     assert not r.converged or float(d.max()) <= tol
 
 
+@pytest.mark.parametrize("cap", [None, (30, 30)])
+def test_pure_noise_grid_at_its_cap_is_sane(cap):
+    """A 37 x 37 grid of pure noise (xy in [0, 100]^2, z ~ N(0, 1)) at tol 0.01, degree 3:
+    the growth reaches the cap. The error-equidistributed knots there left poles without
+    a site (default cap: a net of 2.9e10, 1.79 reported, 35 s of certifying a wild fit);
+    now the sites' own knots: the default cap interpolates (converged), a 30 x 30 cap is a
+    least squares with a net within the grid's extent; max_error is the certified
+    largest distance (oracle: cagd.closest_point of every point)."""
+    from cagd import closest_point
+    rng = np.random.default_rng(0)
+    X, Y = np.meshgrid(np.linspace(0, 100, 37), np.linspace(0, 100, 37), indexing="ij")
+    Q = np.stack([X, Y, rng.normal(0, 1, X.shape)], -1)
+    r = fit_surface(Q, 0.01, degree=3, max_control_points=cap)
+    net = np.asarray(r.surface.control_points).reshape(-1, 3)
+    assert float(np.ptp(net, axis=0).max()) <= 100.0 * (1 + 1e-12)
+    assert r.converged == (cap is None)
+    d = np.asarray(closest_point(r.surface, Q.reshape(-1, 3)).distances)
+    assert abs(r.max_error - float(d.max())) <= 1e-12 * 100
+
+
 def test_exact_fit_certifies_nothing(monkeypatch):
     """A grid sampled from a bicubic patch comes back to rounding: its points' distances at
     their parameters are within CERTIFY_ROUNDING of its extent, so no point goes to the
