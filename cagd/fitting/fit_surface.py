@@ -13,7 +13,10 @@ v knots' part). Rounds grow the span counts until every grid point is within tol
 parameters (an upper bound of its distance), then shrink both counts while they stay
 within (:func:`_shrunk`), then trim one span at a time, the direction and error source
 whose candidate misses least (:func:`_trimmed`; a candidate that misses gets its knots
-re-equidistributed by its own misses at the same counts, :func:`_polished`). The
+re-equidistributed by its own misses at the same counts, :func:`_polished`). Near the
+grid's size the equidistributed knots are moved towards the sites' own where the sites
+would not determine the poles or the least squares would amplify the data
+(:func:`cagd.fitting.separable.interlaced`; at the cap: interpolation). The
 reported largest error is the certified closest-point distance (the closest-point
 machinery's light tier, :func:`_certified`), certified for the points that can decide it
 (:func:`_measured`); the others get their local feet. The separable fit holds the
@@ -231,7 +234,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             n - 1) with the fewest control points (the lower degree on a tie; the
             smallest error when none is within tol).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
-        max_control_points: a cap (count_u, count_v) (default: the grid's size).
+        max_control_points: a cap (count_u, count_v) (default: the grid's size; a
+            periodic direction at most its distinct rows).
         base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
             project them onto for their first parameters.
         boundary: grids only: None or "G0". The separable fit already makes the four

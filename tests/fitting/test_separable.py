@@ -106,6 +106,33 @@ def test_interlaced_at_the_cap():
     assert np.abs(home[1:-1] - 0.5 * (CAP_SITES[1:-2] + CAP_SITES[2:-1])).max() <= 1e-15
 
 
+def periodic_lebesgue(t, breaks, p):
+    """Oracle: the periodic least squares' Lebesgue constant (max row sum of |pinv(N)|), N
+    scipy's design matrix on the breakpoints extended by p spans either side (a period
+    shifted), its columns wrapped modulo the count."""
+    count = len(breaks) - 1
+    T = np.concatenate([breaks[count - p:count] - 1.0, breaks, breaks[1:p + 1] + 1.0])
+    A = BSpline.design_matrix(t, T, p).toarray()
+    N = np.zeros((len(t), count))
+    for j in range(A.shape[1]):
+        N[:, j % count] += A[:, j]
+    return float(np.abs(np.linalg.pinv(N)).sum(axis=1).max())
+
+
+def test_interlaced_periodic_tube_rows():
+    """The periodic tube's 20 rows (uniform sites in [0, 1)) and the 19 breakpoints the
+    growth chased the misses to (test_fit_surface_conditions' periodic example): moved
+    to a Lebesgue constant within LEBESGUE_MAX (oracle: periodic_lebesgue; the given
+    breakpoints' is above it)."""
+    t = np.arange(20) / 20.0
+    chased = np.array([0.0, 0.05, 0.101, 0.155, 0.222, 0.318, 0.382, 0.424, 0.459, 0.49, 0.519, 0.546, 0.577,
+                       0.612, 0.657, 0.722, 0.819, 0.889, 0.947, 1.0])
+    assert periodic_lebesgue(t, chased, 2) > LEBESGUE_MAX
+    b = interlaced(chased, t, 2, periodic=True)
+    assert len(b) == len(chased) and b[0] == 0.0 and b[-1] == 1.0 and np.all(np.diff(b) > 0)
+    assert periodic_lebesgue(t, b, 2) <= LEBESGUE_MAX
+
+
 @settings(max_examples=60, deadline=None)
 @given(m=st.integers(3, 40), p=st.integers(1, 4), share=st.floats(0.05, 1.0), power=st.floats(0.3, 3.0),
        seed=st.integers(0, 10**6), uniform=st.booleans())
