@@ -14,7 +14,9 @@ The surface anchor: a 100 x 100 grid of a 100 mm bumpy height field, fitted by
 tol 0.01 and 0.001, and with noise (sigma 0.005) at tol 0.02 beside the noise-free fit
 at the same tol, plain, with ``minimax=True`` and with the thin-plate smoothing
 (``smoothing=1e-9``), the ratios of the poles printed (the issue's target: 1.2); then
-10,000 scattered points of the same field (base plane and quadric).
+10,000 scattered points of the same field (base plane and quadric); last, tol below the
+noise (a 1,341-point cloud of pure noise, the anchor curve with noise 10 tol), where the
+fits stop early and say so.
 
 Every engine row is timed once after a warm-up fit; OCCT's rows print the ratios engine /
 OCCT of poles and time (wall clock, and process CPU time: less sensitive to a shared
@@ -194,6 +196,32 @@ def scattered_surfaces(quick: bool = False) -> bool:
     return ok
 
 
+def noise_cloud(n: int = 1341, seed: int = 0) -> np.ndarray:
+    """Pure noise: n points uniform over [0, 100]^2 with heights N(0, 1)."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(0.0, 100.0, (n, 2)), rng.normal(size=n)])
+
+
+def unattainable() -> None:
+    """tol below the noise: the fits stop early and say so (converged False; before the
+    stall rule the 1,341-point cloud ran to its 36 x 36 cap in ~11 s per degree)."""
+    from cagd.fitting.fit_surface import fit_surface
+    print("\ntol below the noise (converged False expected)")
+    print(f"{'tol':>7s} {'data':42s} {'poles':>9s} {'max distance':>13s} {'time s':>8s}")
+    Q = noise_cloud()
+    for degree in (3, "auto"):
+        t0 = time.perf_counter()
+        r = fit_surface(Q, 0.01, degree=degree)
+        nu, nv = r.surface.control_points.shape[:2]
+        print(f"{0.01:7g} {f'{len(Q)}-point noise cloud, degree {degree}':42s} {nu:4d}x{nv:<4d} {r.max_error:13.3g} "
+              f"{time.perf_counter() - t0:8.3f}  converged {r.converged}")
+    C = anchor_curve(2000) + np.random.default_rng(0).normal(scale=0.1, size=(2000, 3))
+    t0 = time.perf_counter()
+    c = fit_curve(C, 0.01)
+    print(f"{0.01:7g} {'anchor curve + noise sigma 0.1':42s} {len(c.curve.control_points):9d} {c.max_error:13.3g} "
+          f"{time.perf_counter() - t0:8.3f}  converged {c.converged}")
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--points", type=int, default=2000)
@@ -208,6 +236,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         ok &= curves(args)
     if not args.no_surface:
         ok &= surfaces(args.quick, not args.no_scattered)
+    if not (args.quick or args.no_surface or args.no_scattered):
+        unattainable()
     return 0 if ok else 1
 
 

@@ -13,7 +13,10 @@ v knots' part). Rounds grow the span counts until every grid point is within tol
 parameters (an upper bound of its distance), then shrink both counts while they stay
 within (:func:`_shrunk`), then trim one span at a time, the direction and error source
 whose candidate misses least (:func:`_trimmed`; a candidate that misses gets its knots
-re-equidistributed by its own misses at the same counts, :func:`_polished`). The
+re-equidistributed by its own misses at the same counts, :func:`_polished`). Near the
+grid's size the equidistributed knots are moved towards the sites' own where the sites
+would not determine the poles or the least squares would amplify the data
+(:func:`cagd.fitting.separable.interlaced`; at the cap: interpolation). The
 reported largest error is the certified closest-point distance (the closest-point
 machinery's light tier, :func:`_certified`), certified for the points that can decide it
 (:func:`_measured`); the others get their local feet. The separable fit holds the
@@ -47,10 +50,10 @@ from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
-                  _span_errors, _worth)
+                  _span_errors, _worth, stalled)
 from .interpolation import _frame
 from .rebuild import _pair
-from .separable import SeparableGrid, ends_held_operator
+from .separable import SeparableGrid, ends_held_operator, interlaced
 
 
 #: the share of tol each direction's own residual is grown to (the two add up to at most
@@ -97,7 +100,8 @@ def _boundary_rows(Q: np.ndarray, u: np.ndarray, v: np.ndarray, U: np.ndarray, V
     return Fv @ Q[0], Fv @ Q[-1], Fu @ Q[:, 0], Fu @ Q[:, -1]
 
 
-def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, most: int) -> np.ndarray:
+def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, most: int,
+           interlace: str = "") -> np.ndarray:
     """The next breakpoints of one direction from its residuals e (per parameter t): the
     same breakpoints where every span is within GROW_TARGET * tol, else more."""
     E = _span_errors(breaks, t, e)
@@ -106,7 +110,21 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
     s = len(breaks) - 1
     c = _worth(E, GROW_TARGET * tol, p)
     count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol)), s + 1, min(most, MAX_GROWTH * s + 1)))
-    return _redistributed(breaks, c, count) if count > s else breaks
+    if count <= s:
+        return breaks
+    new = _redistributed(breaks, c, count)
+    return interlaced(new, t, p, interlace == "periodic") if interlace else new
+
+
+def _placed(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, count: int,
+            interlace: str = "") -> np.ndarray:
+    """``count`` spans equidistributing the misses e (per parameter t) of the spans of
+    ``breaks`` (de Boor; :func:`cagd.fitting.fit._worth`); with ``interlace`` ("clamped":
+    a grid's separable fit, which has no regulariser; "periodic": a grid's periodic
+    direction) kept determined and conditioned by the sites t
+    (:func:`cagd.fitting.separable.interlaced`)."""
+    new = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, p), count)
+    return interlaced(new, t, p, interlace == "periodic") if interlace else new
 
 
 #: the boundary conditions of a grid fit: free, or the boundary curves held (G0)
@@ -119,7 +137,8 @@ MAX_TRIM_STEPS = 24
 POLISH_PASSES = 6
 
 
-def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: int):
+def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: int,
+            interlace: Tuple[str, str] = ("", "")):
     """Shrinking: both directions to MAX_SHRINK of their spans at once, the breakpoints
     redistributed by the first error source (as :func:`_trimmed`), while the fit stays
     within tol, at most ``most`` steps. Returns (best, steps)."""
@@ -130,8 +149,8 @@ def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: in
         for axis, pairs in enumerate(sources(best)):
             breaks, (t, e) = best[1 + axis], pairs[0]
             s = len(breaks) - 1
-            new.append(_redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
-                                      max(1, int(MAX_SHRINK * s))) if s > 1 else breaks)
+            new.append(_placed(breaks, t, e, tol, degrees[axis], max(1, int(MAX_SHRINK * s)), interlace[axis])
+                       if s > 1 else breaks)
         S2, miss2, *extra = solve(*new)
         if miss2.max() > tol:
             break
@@ -140,7 +159,7 @@ def _shrunk(best, solve, sources, tol: float, degrees: Tuple[int, int], most: in
 
 
 def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
-             polish=None):
+             polish=None, interlace: Tuple[str, str] = ("", "")):
     """Greedy knot trimming (knot placement that follows the residual): while the fit
     ``best`` = (surface, breaks_u, breaks_v, largest miss, misses) is within tol, try one
     span fewer along u and along v, the breakpoints redistributed by each error source
@@ -159,8 +178,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
             if len(breaks) <= 2:
                 continue
             for t, e in pairs:
-                fewer = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, degrees[axis]),
-                                       len(breaks) - 2)
+                fewer = _placed(breaks, t, e, tol, degrees[axis], len(breaks) - 2, interlace[axis])
                 bu, bv = (fewer, best[2]) if axis == 0 else (best[1], fewer)
                 S2, miss2, *extra = solve(bu, bv)
                 cands.append((axis, (S2, bu, bv, float(miss2.max()), miss2, *extra)))
@@ -169,7 +187,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
         top = min((c for _, c in cands), key=lambda c: c[3])
         if top[3] > tol and polish:
             firsts = [min((c for a, c in cands if a == axis), key=lambda c: c[3], default=None) for axis in (0, 1)]
-            found = [_polished(c, solve, polish, tol, degrees) for c in firsts if c is not None]
+            found = [_polished(c, solve, polish, tol, degrees, interlace) for c in firsts if c is not None]
             top = min((c for c in found if c is not None), key=lambda c: c[3], default=top)
         if top[3] > tol:
             break
@@ -177,7 +195,7 @@ def _trimmed(best, solve, sources, tol: float, degrees: Tuple[int, int],
     return best, steps
 
 
-def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int]):
+def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int], interlace: Tuple[str, str] = ("", "")):
     """The knots of a fit that misses tol moved at the same span counts: both directions'
     breakpoints redistributed by the fit's own misses (``polish`` = (passes, misses):
     ``misses(fit)`` per direction a pair (parameters, misses), e.g. a grid's largest per
@@ -186,8 +204,7 @@ def _polished(fit, solve, polish, tol: float, degrees: Tuple[int, int]):
     tol, or None."""
     passes, misses = polish
     for _ in range(passes):
-        new = [_redistributed(fit[1 + axis], _worth(_span_errors(fit[1 + axis], t, e), tol, degrees[axis]),
-                              len(fit[1 + axis]) - 1)
+        new = [_placed(fit[1 + axis], t, e, tol, degrees[axis], len(fit[1 + axis]) - 1, interlace[axis])
                for axis, (t, e) in enumerate(misses(fit))]
         S2, miss2, *extra = solve(*new)
         if float(miss2.max()) > fit[3]:
@@ -217,7 +234,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             n - 1) with the fewest control points (the lower degree on a tie; the
             smallest error when none is within tol).
         parameters: a rule of :data:`cagd.fitting.PARAMETERS` (averaged over the grid lines).
-        max_control_points: a cap (count_u, count_v) (default: the grid's size).
+        max_control_points: a cap (count_u, count_v) (default: the grid's size; a
+            periodic direction at most its distinct rows).
         base: scattered points only: "plane" (default), "quadric" or a cagd Surface to
             project them onto for their first parameters.
         boundary: grids only: None or "G0". The separable fit already makes the four
@@ -257,7 +275,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
-        MAX_FIT_ROUNDS is reached first.
+        MAX_FIT_ROUNDS is reached first, or (scattered points) the growth stalls
+        (:func:`cagd.fitting.fit.stalled`: tol below the points' noise).
 
     Raises:
         CagdError: not a finite (m >= 2, n >= 2, d) grid, bad tol, degree or parameters;
@@ -469,6 +488,8 @@ def _net_fit(Q: np.ndarray, tol: float, degrees: Tuple[int, int], caps: Tuple[in
         raise CagdError("boundary: 'G0' holds the four boundary curves; a periodic direction has no boundary there")
     edges = _tangent_edges(tangent_edges, Q, closed, degrees)
     Qf, dropped = _closed_grid(Q, tol, closed)
+    # a periodic direction: no more poles than distinct rows (a dropped seam row is the first)
+    caps = (min(caps[0], Qf.shape[0]) if closed[0] else caps[0], min(caps[1], Qf.shape[1]) if closed[1] else caps[1])
     u, v = _net_parameters(Qf, parameters, closed)
     for e in edges:                  # the parameters along a neighbour's edge: the feet on it
         if e.kind == "surface":
@@ -712,14 +733,14 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
         ru, rv = grid.residuals(bu, bv)
-        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u)
-        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v)
+        nu = _grown(bu, u, ru.max(axis=1), DIRECTION_SHARE * tol_n, pu, most_u, "clamped")
+        nv = _grown(bv, v, rv.max(axis=0), DIRECTION_SHARE * tol_n, pv, most_v, "clamped")
         if len(nu) == len(bu) and len(nv) == len(bv):
             # each direction alone is within its share: refine the one with the larger residual
             if ru.max() >= rv.max() and len(bu) - 1 < most_u:
-                nu = _redistributed(bu, _worth(_span_errors(bu, u, ru.max(axis=1)), tol_n, pu), len(bu))
+                nu = _placed(bu, u, ru.max(axis=1), tol_n, pu, len(bu), "clamped")
             elif len(bv) - 1 < most_v:
-                nv = _redistributed(bv, _worth(_span_errors(bv, v, rv.max(axis=0)), tol_n, pv), len(bv))
+                nv = _placed(bv, v, rv.max(axis=0), tol_n, pv, len(bv), "clamped")
             else:
                 break
         bu, bv = nu, nv
@@ -729,10 +750,11 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
         ru, rv = grid.residuals(fit[1], fit[2])
         return ([(u, fit[4].max(axis=1)), (u, ru.max(axis=1))], [(v, fit[4].max(axis=0)), (v, rv.max(axis=0))])
 
+    sites = ("clamped", "clamped")           # no regulariser here: knots the sites determine
     best, shrunk = _shrunk((P, bu, bv, float(miss.max()), miss), grid.fit, grid_sources, tol_n, (pu, pv),
-                           MAX_FIT_ROUNDS - rounds)
+                           MAX_FIT_ROUNDS - rounds, sites)
     best, trimmed = _trimmed(best, grid.fit, grid_sources, tol_n, (pu, pv),
-                             (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))))
+                             (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))), sites)
     rounds += shrunk + trimmed
     S = BSplineSurface(best[0], pu, pv, _knots(best[1], pu), _knots(best[2], pv))
     return (S,) + tuple(best[1:]), rounds
@@ -813,7 +835,9 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     (as :func:`fit_surface`), grown until every point is within tol at its parameters;
     after every solve the parameters are corrected by re-projection onto the fit
     (Piegl & Tiller 9.4.1; :func:`_corrected`); errors reported by certified closest
-    points.
+    points. A growth whose largest miss stalls while the poles grow stops there
+    (:func:`cagd.fitting.fit.stalled`: tol below the points' noise), the grown fit with
+    the smallest largest miss returned, converged False, the message saying why.
 
     Raises:
         CagdError: not (N >= 4, 3) finite points, collinear points, bad tol, degree or base."""
@@ -831,6 +855,9 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
     S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
     rounds = 0
+    history = [((pu + 1) * (pv + 1), float(miss.max()) * scale)]
+    least = (S, miss, bu, bv)                  # the grown fit with the smallest largest miss
+    why = None
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
         nu = _grown(bu, uv[:, 0], miss, tol_n, pu, min(most_u, SCATTER_GROWTH * (len(bu) - 1)))
@@ -839,6 +866,13 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
             break
         bu, bv = nu, nv
         S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
+        history.append(((len(bu) - 1 + pu) * (len(bv) - 1 + pv), float(miss.max()) * scale))
+        if miss.max() < least[1].max():
+            least = (S, miss, bu, bv)
+        why = stalled(history, len(Q))
+        if why:                                # tol below the noise: the least miss grown
+            S, miss, bu, bv = least
+            break
     if miss.max() > tol_n:
         uv, S, miss = _corrected(Qn, uv, S, miss, bu, bv, pu, pv)
 
@@ -860,7 +894,7 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     S, uv = best[0], best[5]
     out = BSplineSurface(S.control_points * scale + center, pu, pv, S.knots_u, S.knots_v)
     at = np.sqrt(((out(uv[:, 0], uv[:, 1]) - Q) ** 2).sum(-1))
-    return _measured(out, Q, at, uv, tol, rounds)
+    return _measured(out, Q, at, uv, tol, rounds, why=why)
 
 
 def _certified(S: Surface, X: np.ndarray, light=None):
@@ -889,23 +923,31 @@ CERTIFY_ROUNDING = 1e-12
 
 
 def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray, tol: float,
-              rounds: int, jet: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None) -> SurfaceFit:
+              rounds: int, jet: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None,
+              why: Optional[str] = None) -> SurfaceFit:
     """The result measured: every point's distance is at most ``at``, its distance from
     the fit at its fitting parameters ``uv``, and the certified closest-point distance
     (:func:`_certified`) of the points where ``at`` is at least s times the largest,
     s = CERTIFY_SHARE (lowered by CERTIFY_LOWER while the largest certified distance is
     below s times the largest ``at``, every point below CERTIFY_FLOOR; none with ``at``
-    within CERTIFY_ROUNDING of the points' extent). The other points
+    within CERTIFY_ROUNDING of the points' extent; by the default tier after a stalled
+    growth). The other points
     are closer than s max(at), at most that largest certified distance, so ``max_error``
     is the certified largest distance of all points; ``rms_error`` and ``params`` take
     the certified distance and foot where computed and the local foot from ``uv``
     elsewhere (:func:`_local_feet`: the closest point of a point near the fit; ``jet``:
-    S, S_u, S_v (N, d) at uv when known)."""
+    S, S_u, S_v (N, d) at uv when known); ``why`` the growth stopped short of tol
+    (:func:`cagd.fitting.fit.stalled`), for the message."""
     from ..queries.closest import Projector
     top = float(at.max())
     dist, params = at.copy(), uv.copy()
     done = np.zeros(len(X), dtype=bool)
-    light = Projector(out, light=True)
+    # a stalled growth's fit (tol below the noise) lies away from its points, wavy, where the
+    # light tier descends into many cells: the default tier (voxel grid) then (the 1,341-point
+    # noise cloud's 20 x 20 fit, 3 points: light 6.4 s, default 1.0 s; 12 x 12, 10 points:
+    # 2.1 s and 0.7 s); elsewhere its set-up does not pay (a 100-point 10 x 10 fit missing
+    # tol: 0.1 s light, 1.5 s default)
+    light = Projector(out, light=why is None)
     share = CERTIFY_SHARE
     rounding = CERTIFY_ROUNDING * max(float(np.ptp(X, axis=0).max()), 1e-300)
     while top > rounding:
@@ -929,6 +971,6 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     shape = out.control_points.shape[:2]
     ok = worst <= tol
     msg = (f"{shape[0]} x {shape[1]} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
-           f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points (the cap or {MAX_FIT_ROUNDS} rounds "
-           f"reached), largest distance {worst:.3g}")
+           f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points, largest distance {worst:.3g} "
+           f"({why or f'the cap or {MAX_FIT_ROUNDS} rounds reached'})")
     return SurfaceFit(out, worst, rms, params, rounds, ok, msg)

@@ -28,7 +28,8 @@ from ..errors import CagdError
 from ..knots import vectors as kv
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
-from .interpolation import _frame, _least_squares
+from .interpolation import LSQ_DENSE_MAX, _frame, _least_squares
+from .separable import ends_held_operator
 
 #: fitting samples per knot span of the result (and of the original B-spline)
 REBUILD_SAMPLES = 12
@@ -79,14 +80,26 @@ def _knots(obj, direction: int, count: int, degree: int, a: float, b: float) -> 
     return kv.clamped_uniform(count, degree, a, b)
 
 
-def _fit_rows(U: np.ndarray, p: int, t: np.ndarray, count: int, Q: np.ndarray) -> np.ndarray:
-    """Least squares along axis 0 of Q (m, F) at the parameters t with the ends held:
-    the (count, F) control points, in Q's normalised frame."""
+def _fit_rows(U: np.ndarray, p: int, t: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Least squares along axis 0 of Q (m, F) at the parameters t on the clamped knots U
+    with the ends held (Piegl & Tiller 9.4.1, eq. 9.63-9.67): the (len(U) - p - 1, F)
+    control points, solved in Q's normalised frame, the ends Q[0] and Q[-1] bit for bit.
+    Up to LSQ_DENSE_MAX matrix entries by the separable fit's operator
+    (:func:`cagd.fitting.separable.ends_held_operator`: the minimum-norm least squares
+    where a pole has no site, so it never raises); larger systems (rebuild's, whose
+    samples fill every span) by the banded normal equations of
+    :func:`cagd.fitting.interpolation._least_squares` (O(m p) memory).
+
+    Raises:
+        CagdError: a system above LSQ_DENSE_MAX entries with a span without a site."""
+    count = len(U) - p - 1
     center, scale = _frame(Q)
     Qn = (Q - center) / scale
-    P = np.empty((count, Q.shape[1]))
-    P[0], P[-1] = Qn[0], Qn[-1]
-    if count > 2:
+    if len(t) * count <= LSQ_DENSE_MAX:
+        P = ends_held_operator(U, p, t)[1] @ Qn
+    else:
+        P = np.empty((count, Q.shape[1]))
+        P[0], P[-1] = Qn[0], Qn[-1]
         try:
             P[1:-1] = _least_squares(U, p, t[1:-1], count, Qn)
         except CagdError as exc:
@@ -114,7 +127,7 @@ def rebuild(obj: Union[Curve, Surface], count: Union[int, Tuple[int, int]],
         a, b = obj.domain
         U = _knots(obj, 0, n, p, a, b)
         t = _samples([np.unique(U[p:len(U) - p]), _breaks(obj)], max(REBUILD_SAMPLES, p + 2))
-        out = BSplineCurve(_fit_rows(U, p, t, n, obj(t)), p, U)
+        out = BSplineCurve(_fit_rows(U, p, t, obj(t)), p, U)
         check = _samples([np.unique(U[p:len(U) - p]), _breaks(obj)], DEVIATION_PER_SPAN)
         dev = float(closest_point(out, obj(check)).distances.max())
         return Rebuild(out, dev, True, f"{n} control points of degree {p}, within {dev:.3g} of the original")
@@ -130,8 +143,8 @@ def rebuild(obj: Union[Curve, Surface], count: Union[int, Tuple[int, int]],
         sv = _samples([np.unique(V[pv:len(V) - pv]), _breaks(obj, 1)], max(REBUILD_SAMPLES, pv + 2))
         G = obj.grid(su, sv)                                         # (mu, mv, dim)
         dim = G.shape[2]
-        rows = _fit_rows(U, pu, su, nu, G.reshape(len(su), -1)).reshape(nu, len(sv), dim)
-        P = _fit_rows(V, pv, sv, nv, rows.transpose(1, 0, 2).reshape(len(sv), -1)).reshape(nv, nu, dim)
+        rows = _fit_rows(U, pu, su, G.reshape(len(su), -1)).reshape(nu, len(sv), dim)
+        P = _fit_rows(V, pv, sv, rows.transpose(1, 0, 2).reshape(len(sv), -1)).reshape(nv, nu, dim)
         out = BSplineSurface(P.transpose(1, 0, 2), pu, pv, U, V)
         cu = _samples([np.unique(U[pu:len(U) - pu]), _breaks(obj, 0)], DEVIATION_PER_SPAN // 2)
         cv = _samples([np.unique(V[pv:len(V) - pv]), _breaks(obj, 1)], DEVIATION_PER_SPAN // 2)

@@ -17,8 +17,12 @@ no n x n matrix over the net. The operators of a knot vector are cached per dire
 (the grow / shrink / trim rounds of :mod:`cagd.fitting.fit_surface` try many knot
 vectors of one direction against the same one of the other).
 
-A rank-deficient system (a knot span without an interior site) gets the minimum-norm
-least squares (numpy's SVD pseudo-inverse): a fit still, measured like any other.
+A rank-deficient system (no Schoenberg-Whitney matching of the interior poles to the
+interior sites, :func:`cagd.fitting.fit._determined`: e.g. a knot span without a site)
+gets the minimum-norm least squares (the SVD pseudo-inverse, singular values below
+RANK_RTOL of the largest dropped): a fit still, measured like any other. The QR of such a
+system need not show it (an 8 x 30 grid's v direction at 30 poles: its smallest singular
+value 2.5e-17, the smallest |R_ii| 6.6e-7 of the largest; its inverse made poles of 1e14).
 """
 from __future__ import annotations
 
@@ -27,10 +31,11 @@ from typing import Dict, Tuple
 import numpy as np
 
 from ..basis.bspline import basis_matrix
-from .fit import _knots
+from .fit import _determined, _knots
 
 #: |R_ii| below this share of the largest: the reduced QR is not trusted (rank deficient or
-#: nearly), the pseudo-inverse is used instead
+#: nearly), the pseudo-inverse is used instead, its singular values below this share of
+#: the largest dropped
 RANK_RTOL = 1e-10
 #: operators (m x count entries of one direction) kept per grid, the most recent
 CACHE_OPERATORS = 64
@@ -49,17 +54,106 @@ def ends_held_operator(U: np.ndarray, p: int, t: np.ndarray) -> Tuple[np.ndarray
     if c > 2:
         A = N[1:-1, 1:-1]
         pinv = None
-        if A.shape[0] >= A.shape[1]:
+        if A.shape[0] >= A.shape[1] and _determined(U, p, t, c):
             Qr, R = np.linalg.qr(A)
             diag = np.abs(np.diag(R))
             if diag.size and diag.min() > RANK_RTOL * diag.max():
                 pinv = np.linalg.solve(R, Qr.T)
         if pinv is None:
-            pinv = np.linalg.pinv(A)
+            pinv = np.linalg.pinv(A, RANK_RTOL)
         F[1:-1, 1:-1] = pinv
         F[1:-1, 0] = -pinv @ N[1:-1, 0]
         F[1:-1, -1] = -pinv @ N[1:-1, -1]
     return N, F
+
+
+#: the blend weights towards the sites' own breakpoints tried by :func:`interlaced`
+INTERLACE_STEPS = (0.25, 0.5, 0.75, 1.0)
+#: poles above this share of the sites: :func:`interlaced` checks the conditioning too
+INTERLACE_SHARE = 0.5
+#: the largest Lebesgue constant (max row sum of |F|, the ends-held operator: how much the
+#: fit can amplify the data) :func:`interlaced` accepts (the sites' own knots: 1.7 - 2.6
+#: on the 8 x 30 grids of the tests; 1e13 made a net of 1e14)
+LEBESGUE_MAX = 10.0
+
+
+def site_breaks(t: np.ndarray, p: int, count: int) -> np.ndarray:
+    """``count`` spans on [0, 1] placed by the m sites t (sorted, distinct, t_0 = 0,
+    t_(m-1) = 1) alone, for n = count + p <= m poles: the averaging knots (Piegl & Tiller,
+    The NURBS Book, eq. 9.8: knot j = the mean of s_j .. s_(j+p-1)) of n sites s taken
+    evenly by index from t (all of them at n = m: interpolation), which satisfy the
+    Schoenberg-Whitney condition with s (de Boor, A Practical Guide to Splines, XIII). On
+    400 random cases with m/2 <= n <= m their ends-held Lebesgue constant had the median
+    8.0 (90 %: 108), Piegl & Tiller's knots for least squares (eq. 9.69) 40 (90 %: 1e7)."""
+    n = count + p
+    sub = t[np.round(np.linspace(0.0, len(t) - 1.0, n)).astype(int)]
+    c = np.concatenate([[0.0], np.cumsum(sub)])
+    j = np.arange(1, count)
+    return np.concatenate([[0.0], (c[j + p] - c[j]) / p, [1.0]])
+
+
+def periodic_site_breaks(t: np.ndarray, count: int) -> np.ndarray:
+    """``count`` periodic spans on [0, 1] placed by the m sites t (sorted, distinct, in
+    [0, 1), t_0 = 0) alone: the cyclic analogue of :func:`site_breaks`, breakpoint j at
+    the position j m / count along the sites (linear between them, t_m = 1)."""
+    m = len(t)
+    return np.interp(np.arange(count + 1) * (m / count), np.arange(m + 1.0), np.append(t, 1.0))
+
+
+def lebesgue(breaks: np.ndarray, p: int, s: np.ndarray, periodic: bool = False) -> float:
+    """The Lebesgue constant of the least squares of the sites s on the breakpoints (max
+    row sum of |F|, F the operator from the sites' values to the poles: how much the fit
+    can amplify the data; clamped: ends held, :func:`ends_held_operator`, after the
+    Schoenberg-Whitney check :func:`cagd.fitting.fit._determined`; periodic: the wrapped
+    basis), inf where the sites do not determine the poles."""
+    if periodic:
+        from .surface_net import direction
+        N = direction(breaks, p, s, True).N
+        w = np.linalg.svd(N, compute_uv=False)
+        if w.size == 0 or w[-1] <= RANK_RTOL * w[0]:
+            return np.inf
+        F = np.linalg.pinv(N)
+    else:
+        U = _knots(breaks, p)
+        if not _determined(U, p, s, len(breaks) - 1 + p):
+            return np.inf
+        F = ends_held_operator(U, p, s)[1]
+    return float(np.abs(F).sum(axis=1).max())
+
+
+def interlaced(breaks: np.ndarray, t: np.ndarray, p: int, periodic: bool = False) -> np.ndarray:
+    """The breakpoints, or, where the sites t leave the least squares on them (clamped:
+    ends held) undetermined (no Schoenberg-Whitney matching of the poles to the sites,
+    :func:`cagd.fitting.fit._determined`) or, with more poles than INTERLACE_SHARE of the
+    sites, ill-conditioned (a Lebesgue constant above LEBESGUE_MAX), moved towards the
+    sites' own breakpoints (:func:`site_breaks`, :func:`periodic_site_breaks`) by the
+    first weight of INTERLACE_STEPS that passes (none: the one with the smallest
+    Lebesgue constant, :func:`lebesgue`). Error
+    equidistribution (de Boor) puts knots where the miss is; near the number of sites it
+    puts more of them into a stretch than it has sites (an 8 x 30 grid at its cap: poles
+    of 1e14), or so many that a site barely holds its pole (a Schoenberg-Whitney matching,
+    a Lebesgue constant of 1e13), or, with about one site per span, chases one round's
+    misses from one stretch to another (a periodic tube of 20 rows: 18 -> 19 -> 20 poles,
+    the largest miss 0.023 -> 0.065 -> 0.21)."""
+    s = np.unique(t)
+    count = len(breaks) - 1
+    n = count if periodic else count + p
+    if periodic:
+        if n > len(s) or n <= INTERLACE_SHARE * len(s) or len(s) < 2 or s[0] != 0.0 or s[-1] >= 1.0:
+            return breaks                        # the regulariser of the net's fit holds it
+    elif n > len(s) or len(s) < 2 or s[0] != 0.0 or s[-1] != 1.0:
+        return breaks                            # more poles than sites, or not a grid's sites
+    elif n <= INTERLACE_SHARE * len(s):
+        if _determined(_knots(breaks, p), p, s, n):
+            return breaks
+    home = periodic_site_breaks(s, count) if periodic else site_breaks(s, p, count)
+    tried = []
+    for w in (0.0,) + INTERLACE_STEPS:
+        trial = (1.0 - w) * breaks + w * home
+        tried.append((lebesgue(trial, p, s, periodic), w, trial))
+        if tried[-1][0] <= LEBESGUE_MAX:
+            return trial
+    return min(tried, key=lambda x: x[:2])[2]
 
 
 class SeparableGrid:

@@ -334,10 +334,9 @@ def _edge_rows(edge: Edge, Q: np.ndarray, u: np.ndarray, v: np.ndarray, du: Dire
     from .rebuild import _fit_rows
     G = {"u0": Q, "u1": Q[::-1], "v0": Q.transpose(1, 0, 2), "v1": Q.transpose(1, 0, 2)[::-1]}[edge.name]
     across = {"u0": u, "u1": 1.0 - u[::-1], "v0": v, "v1": 1.0 - v[::-1]}[edge.name]
-    k = d_along.n
-    E = _fit_rows(d_along.U, d_along.p, t, k, G[0])
+    E = _fit_rows(d_along.U, d_along.p, t, G[0])
     # the derivative into the fit per unit parameter across the edge (as a neighbour's D)
-    D = _fit_rows(d_along.U, d_along.p, t, k, _cross_derivatives(G, across))
+    D = _fit_rows(d_along.U, d_along.p, t, _cross_derivatives(G, across))
     return E, D / max(float(np.abs(D).max()), 1e-300)
 
 
@@ -389,6 +388,9 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
             raise CagdError(f"max_control_points: at least {least[axis]} control points along {what[0]} "
                             f"({'periodic' if periodic[axis] else 'tangent edges held'}), got a cap of {cap}")
     most = tuple(c if per else c - p for c, per, p in zip(caps, periodic, degrees))
+    # a periodic direction's knots kept conditioned by its sites (fit_surface._placed); the
+    # clamped ones rely on the regulariser as before
+    modes = ("periodic" if periodic[0] else "", "periodic" if periodic[1] else "")
     last_alphas = [np.zeros(0)]
 
     def directions(bu, bv):
@@ -403,12 +405,11 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
         held = HeldRows()
         if g0:
             for name in EDGE_NAMES:
-                k = dv.n if name[0] == "u" else du.n
                 row = {"u0": Qn[0], "u1": Qn[-1], "v0": Qn[:, 0], "v1": Qn[:, -1]}[name]
                 d_along, t = (dv, v) if name[0] == "u" else (du, u)
                 try:
-                    values = _fit_rows(d_along.U, d_along.p, t, k, row)
-                except CagdError:
+                    values = _fit_rows(d_along.U, d_along.p, t, row)
+                except CagdError:      # a system above LSQ_DENSE_MAX with a span without a site
                     return None, np.full((m, n), np.inf)
                 for ij, x in zip(Edge(name, "grid").rows(du.n, dv.n)[0], values):
                     held.fixed[tuple(ij)] = x
@@ -422,7 +423,7 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
                 held.fixed.pop(tuple(ij), None)
             try:
                 E, D = _edge_rows(e, Qn, u, v, du, dv, center, scale)
-            except CagdError:          # a 1-D fit along the edge without a parameter in a span
+            except CagdError:          # a 1-D fit above LSQ_DENSE_MAX with a span without a parameter
                 return None, np.full((m, n), np.inf)
             held.tangents.append((r1, E, D))
             for ij, x in zip(r0, E):
@@ -443,8 +444,8 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
     rounds = 0
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
         rounds += 1
-        nu_ = _grown(bu, u, miss.max(axis=1), tol_n, pu, most[0])
-        nv_ = _grown(bv, v, miss.max(axis=0), tol_n, pv, most[1])
+        nu_ = _grown(bu, u, miss.max(axis=1), tol_n, pu, most[0], modes[0])
+        nv_ = _grown(bv, v, miss.max(axis=0), tol_n, pv, most[1], modes[1])
         if len(nu_) == len(bu) and len(nv_) == len(bv):
             break
         S2, miss2 = solve(nu_, nv_)
@@ -452,8 +453,8 @@ def fit_net(Q: np.ndarray, u: np.ndarray, v: np.ndarray, tol: float, degrees: Tu
             break
         bu, bv, S, miss = nu_, nv_, S2, miss2
     best, shrunk = _shrunk((S, bu, bv, float(miss.max()), miss), solve, sources, tol_n, degrees,
-                           MAX_FIT_ROUNDS - rounds)
-    best, trimmed = _trimmed(best, solve, sources, tol_n, degrees)
+                           MAX_FIT_ROUNDS - rounds, modes)
+    best, trimmed = _trimmed(best, solve, sources, tol_n, degrees, interlace=modes)
     P, du, dv, alphas = best[0]
     P = P * scale + center
     # the held rows exactly, in model units: the boundary curves' 1-D fits, the corner

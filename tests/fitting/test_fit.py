@@ -395,3 +395,36 @@ def test_determined_is_the_schoenberg_whitney_matching(p, data):
     U = np.r_[np.zeros(p + 1), inner[keep] / 16.0, np.ones(p + 1)]
     t = np.array(data.draw(st.lists(st.integers(0, 32), min_size=2, max_size=12)), float) / 32.0
     assert _determined(U, p, t, len(U) - p - 1) == schoenberg_whitney_matched(U, p, t)
+
+
+def test_noisy_curve_stops_early_and_says_why():
+    """The 2,000-point anchor curve with noise sigma = 10 tol (tol 0.01): the growth used to
+    run to 2,000 control points (the cap: one per point) chasing the noise. Now it stops
+    when the largest miss stalls while the poles grow (cagd.fitting.fit.stalled): not
+    converged, the message says why, far fewer poles; max_error is the largest distance
+    (oracle: brute force on 200,001 samples of the fit, an upper bound of each distance by
+    at most half a chord)."""
+    Q = anchor_curve(2000) + np.random.default_rng(0).normal(scale=0.1, size=(2000, 3))
+    r = fit_curve(Q, 0.01)
+    assert not r.converged and "stopped early" in r.message and f"largest distance {r.max_error:.3g}" in r.message
+    assert len(r.curve.control_points) < 1000 and r.rounds <= 8               # the old fit: 2,000
+    sampled, slack = sampled_distances(r.curve, Q)
+    assert np.all(sampled >= np.asarray(cagd.closest_point(r.curve, Q).distances) - 1e-12)
+    assert abs(float(sampled.max()) - r.max_error) <= slack + 1e-12
+    assert r.max_error > 0.1                                                  # honestly far from tol
+
+
+def test_stalled_rule():
+    """stalled: None while the largest miss falls by STALL_GAIN over STALL_ROUNDS rounds or
+    the poles are below STALL_FILL per point; the reason once it stays flat."""
+    from cagd.fitting.fit import STALL_FILL, STALL_GAIN, STALL_ROUNDS, stalled
+    flat = [(16, 1.0), (49, 1.0), (121, 0.99), (361, 0.98)]
+    assert STALL_ROUNDS == 2
+    why = stalled(flat, 1000)
+    assert why is not None and "49 to 361" in why and "0.98" in why
+    assert stalled(flat, int(361 / STALL_FILL) + 1) is None                   # too few poles per point
+    assert stalled(flat[:STALL_ROUNDS], 10) is None                           # too few rounds
+    falling = flat[:2] + [(121, 0.7), (361, STALL_GAIN * 1.0)]
+    assert stalled(falling, 1000) is None                                      # halved: a shape resolved
+    assert stalled(falling[:3] + [(361, STALL_GAIN * 1.0 + 1e-6)], 1000) is not None
+    assert stalled([(49, 1.0)] * 4, 10) is None                                # no new poles

@@ -9,7 +9,7 @@ of the surface's own second derivatives (not the fit's band); bad input names th
 """
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from cagd import BSplineSurface, CagdError, closest_point, edge_continuity, fit_surface
@@ -179,7 +179,14 @@ def test_g1_property(seed, at, degree):
 
 @settings(max_examples=6, deadline=None)
 @given(wobble=st.floats(0.0, 3.0), twist=st.floats(-0.1, 0.1), m=st.integers(20, 50), degree=st.sampled_from([2, 3]))
+@example(wobble=1.0, twist=0.0, m=20, degree=2)
 def test_periodic_property(wobble, twist, m, degree):
+    """Periodic in u: within tol (certified), the seam C^(p-1). The example: 20 distinct
+    rows, degree 2; the u knots equidistributed by one round's misses with about one row
+    per span chased the misses round the tube (18 -> 19 -> 21 poles, 21 for 20 rows: the
+    cap counted the dropped seam row; 0.132 reported) while 17 uniform ones reach 0.006;
+    now at most the distinct rows, and above half of them knots the rows condition
+    (separable.interlaced, periodic): 18 x 3 poles, 0.0048."""
     Q = tube(m=m, n=12, wobble=wobble, twist=twist)
     r = fit_surface(Q, 0.02, degree=degree, periodic="u")
     assert r.converged and float(certified(r.surface, Q).max()) <= 0.02

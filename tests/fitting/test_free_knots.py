@@ -124,5 +124,5 @@ def test_sampled_bicubic_surface_comes_back(monkeypatch):
     assert surface_both_ways(r.surface, S) <= EXACT
     import cagd.fitting.surface_knots as surface_knots
     monkeypatch.setattr(surface_knots, "recovered_surface", lambda *a, **k: None)
-    alone = fit_surface(Q, 1e-9)          # the adaptive fit alone: the cap, not converged (it raised before)
-    assert alone.surface.control_points.shape != (6, 7, 3) and not alone.converged
+    alone = fit_surface(Q, 1e-9)          # the adaptive fit alone: the cap (it raised, then missed tol there;
+    assert alone.surface.control_points.shape == (60, 60, 3)     # now it interpolates on the sites' own knots)
