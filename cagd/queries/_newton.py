@@ -283,7 +283,9 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
     gradient points outwards are held fixed (projected Newton); negative curvature
     is flipped (|lambda|); steps are halved until f decreases (at most 30 times).
     Returns (x, y, distance, converged): converged when a step changed no parameter
-    by more than 1e-15 of its domain, f reached 0, or no decrease was possible with
+    by more than 1e-15 of its domain or moved no foot by more than 1e-15 of the larger
+    object's size (to first order, |dA/dx_i| |dx_i|: a parameter along a collapsed edge
+    moves nothing), f reached 0, or no decrease was possible with
     a Newton step below 1e-10 of the domain (rounding level).
     """
     ka, n = A.k, A.k + B.k
@@ -292,6 +294,7 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
     hi = np.concatenate([A.hi, B.hi])
     per = np.concatenate([A.periodic, B.periodic])
     span = hi - lo
+    scale = max(getattr(A, "size", 0.0), B.size)
 
     def clamp(w):
         return np.where(per, wrap(w, lo, span), np.clip(w, lo, hi))
@@ -359,7 +362,12 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
             t, left = t * 0.5 ** m, left - m
             m = 1 if left == BACKTRACK_TRIES - 1 else min(2 * m, BACKTRACK_BLOCK)
         moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
-        ok = (accepted & np.all(moved <= ULP_RTOL * span, axis=1)) | (fnew == 0) | (~accepted & small)
+        # a coordinate is settled when it moved by rounding in the parameter or in space
+        # (|dP/dz| |dz|): along a collapsed edge (a pole) the parameter is arbitrary, and the
+        # steps along it, which leave f unchanged, went on to the last iteration
+        speed = np.sqrt(np.einsum("nkd,nkd->nk", J, J))
+        settled = (moved <= ULP_RTOL * span) | (moved * speed <= ULP_RTOL * scale)
+        ok = (accepted & np.all(settled, axis=1)) | (fnew == 0) | (~accepted & small)
         z[idx], f[idx] = znew, fnew
         converged[idx[ok]] = True
         active[idx[ok | ~accepted]] = False

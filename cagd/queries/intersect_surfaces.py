@@ -532,17 +532,20 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
             messages.append(f"a branch was fitted within {max(worst, worst_p):.2e} > tol")
     points: List[IntersectionPoint] = []
     seen: List[np.ndarray] = []
-    for x in isolated:
-        F, J, P, na, nb, _ = S.eval(x[None])
-        if items and _absorbed(P, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol)[0]:
-            continue          # a degenerate point (a pole) where a march could not start, on a branch
-        if seen and np.linalg.norm(np.array(seen) - P[0], axis=1).min() <= SEEN_RTOL * S.size:
+    X = np.array(isolated).reshape(-1, S.n)
+    Fs, _, Ps, nas, nbs, _ = S.eval(X) if len(X) else (None,) * 6
+    # (a degenerate point (a pole) where a march could not start, on a branch: not a point)
+    off = ~_absorbed(Ps, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol) if items and len(X) \
+        else np.ones(len(X), bool)
+    for i in np.flatnonzero(off):
+        x, F, P = X[i], Fs[i], Ps[i]
+        if seen and np.linalg.norm(np.array(seen) - P, axis=1).min() <= SEEN_RTOL * S.size:
             continue          # the same contact reached from several seeds
-        seen.append(P[0])
-        sine = float(np.linalg.norm(np.cross(na[0], nb[0])))
+        seen.append(P)
+        sine = float(np.linalg.norm(np.cross(nas[i], nbs[i])))
         pb_ = S.B.user_params(S.wrap(x)[None, 2:])[0] if S.B is not None else None
         residual = float(np.linalg.norm(F))
-        points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P[0],
+        points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P,
                                         sine <= sine_of(max(angle_tol, DEFAULT_ANGLE_TOL)), residual, residual <= tol,
                                         "" if residual <= tol else f"residual {residual:.3g} above tol"))
     if len(points) >= 5:
