@@ -110,6 +110,19 @@ def _directions(ctrl: np.ndarray) -> np.ndarray:
     return unit(d)
 
 
+def _slab_apart(pa: sd.Pieces, pb: sd.Pieces, rows: np.ndarray, tol: float) -> np.ndarray:
+    """Pairs (among ``rows``) of a curve piece and a surface patch proven apart by more
+    than tol by their control hulls projected on the patch's normal: a curve running
+    close to a surface and nearly parallel to it (a fillet's edge 1e-5 off its nearly
+    tangent neighbour, occ22470.igs SOLID[2] x [3], issue 16) keeps its boxes
+    overlapping down to pieces 1e-5 long, and the pairs ran into max_pairs."""
+    out = np.zeros(len(rows), bool)
+    idx = np.flatnonzero(rows)
+    if idx.size:
+        out[idx] = sd.slab_gap(pa.ctrl[idx], pb.ctrl[idx], _directions(pb.ctrl[idx])) > tol
+    return out
+
+
 def _sine(da: np.ndarray, db: np.ndarray, curve_surface: bool) -> np.ndarray:
     """Sine of the angle between two directions, or between a direction and a plane
     with unit normal db (curve_surface)."""
@@ -130,6 +143,7 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
     seeds: List[Tuple[np.ndarray, np.ndarray]] = []
     frags: List[np.ndarray] = []
     known: List[Overlap] = []
+    grown: list = []                  # the overlaps grown so far (merge_overlaps)
     open_pairs = 0
     for depth in range(max_depth + 1):
         if len(kind) == 0:
@@ -137,6 +151,8 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
         lo_a, hi_a = sd.boxes(pa.ctrl)
         lo_b, hi_b = sd.boxes(pb.ctrl)
         live = (sd.box_gap(lo_a, hi_a, lo_b, hi_b) <= tol) | (kind != 0)
+        if curve_surface:     # the slab along the patch's normal (convex hull property)
+            live &= ~_slab_apart(pa, pb, live & (kind == 0), tol)
         if self_mode:
             live &= ~((kind == 1) & sd.monotone(pa.ctrl))
             live &= ~((kind == 2) & sd.monotone(np.concatenate([pa.ctrl, pb.ctrl[:, 1:]], axis=1)))
@@ -162,7 +178,7 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
             if len(rows):
                 frags.append(rows)
                 if curve_surface:     # grow the overlap now: pieces inside it are settled
-                    known = merge_overlaps(A, Bg, frags, tol, self_mode)
+                    known = merge_overlaps(A, Bg, frags, tol, self_mode, grown)
             done[np.flatnonzero(test)[hit]] = False
             live[np.flatnonzero(test)[hit]] = False
         if known:
@@ -193,7 +209,7 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
             kind = _self_kinds(pa, pb, kind, same[parent])
             keep = np.flatnonzero(kind != 3)
             pa, pb, kind = pa.take(keep), pb.take(keep), kind[keep]
-    return _solve(A, Bg, seeds, frags, tol, angle_tol, self_mode, open_pairs, size)
+    return _solve(A, Bg, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grown)
 
 
 def _self_kinds(pa: sd.Pieces, pb: sd.Pieces, kind: np.ndarray, from_same: np.ndarray) -> np.ndarray:
@@ -293,8 +309,8 @@ def _split_near_contacts(A, B, x, y, dist, idx, size):
     return np.concatenate([x, x2[two]]), np.concatenate([y, y2[two]]), np.concatenate([dist, d2[two]])
 
 
-def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size) -> IntersectionResult:
-    overlaps = merge_overlaps(A, B, frags, tol, self_mode)
+def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grown=None) -> IntersectionResult:
+    overlaps = merge_overlaps(A, B, frags, tol, self_mode, grown)
     message = f"{open_pairs} pairs still open at the depth/pair limit" if open_pairs else ""
     if not seeds:
         return IntersectionResult((), tuple(overlaps), (), tol, not open_pairs, message)
