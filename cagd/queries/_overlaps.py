@@ -20,6 +20,7 @@ UNSETTLED = "an end was not located: the overlap may extend further"
 #: points) read 1.0000014e-9 at tol 1e-9, rounding, and the fillet edge of occ22470.igs
 #: SOLID[2] x [3] was reported 'fitted within 1.00e-09 > tol' (issue 16)
 END_TOL_SHARE = 1e-3
+SECTIONS = 8                  # overlap ends: a bracket is cut into this many parts a round
 
 
 
@@ -155,17 +156,19 @@ def _grown(grown: Optional[list], s0: float, s1: float, t0: np.ndarray, t1: np.n
 def _edge(A, B, s_in: float, t_in: np.ndarray, sign: float, h: float, tol: float, self_mode: bool
           ) -> Tuple[float, np.ndarray, bool]:
     """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
-    still lies within (1 - END_TOL_SHARE) tol of B: march by steps h, 2h, 4h, ..., then 60
-    bisections.
+    still lies within (1 - END_TOL_SHARE) tol of B: march by steps h, 2h, 4h, ..., then
+    section the last step until its ends are neighbouring doubles, SECTIONS - 1 points a
+    round projected at once (the first one off B closes the bracket; a bisection took
+    3 x the projections, one at a time: 37 per end on occ22470.igs, issue 16).
     Returns (s, t, found): found is False when 16 steps neither left B nor reached the
     domain's end (the overlap may go on)."""
     lim = A.hi[0] if sign > 0 else A.lo[0]
 
     def on(s, t):
-        y, d = project_onto(B, A.points(np.array([[s]])), np.asarray(t, float).reshape(1, -1))
-        itself = self_mode and abs(y[0, 0] - s) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0])
-        good = d[0] <= (1.0 - END_TOL_SHARE) * tol and not itself
-        return good, y[0]
+        s = np.atleast_1d(np.asarray(s, float))
+        y, d = project_onto(B, A.points(s[:, None]), np.repeat(np.asarray(t, float).reshape(1, -1), len(s), axis=0))
+        itself = self_mode & (np.abs(y[:, 0] - s) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0]))
+        return (d <= (1.0 - END_TOL_SHARE) * tol) & ~itself, y
 
     s_out = None
     t_in = np.asarray(t_in, float)
@@ -174,22 +177,27 @@ def _edge(A, B, s_in: float, t_in: np.ndarray, sign: float, h: float, tol: float
             return s_in, t_in, True
         s_try = min(s_in + h, lim) if sign > 0 else max(s_in - h, lim)
         good, t_try = on(s_try, t_in)
-        if not good:
+        if not good[0]:
             s_out = s_try
             break
-        s_in, t_in = s_try, t_try
+        s_in, t_in = s_try, t_try[0]
         h *= 2.0                      # a small fragment may grow to the whole curve
     if s_out is None:
         return s_in, t_in, s_in == lim
+    frac = np.arange(1, SECTIONS) / SECTIONS
     for _ in range(60):
-        s_mid = 0.5 * (s_in + s_out)
-        if s_mid in (s_in, s_out):
+        if 0.5 * (s_in + s_out) in (s_in, s_out):
             break
-        good, t_mid = on(s_mid, t_in)
-        if good:
-            s_in, t_in = s_mid, t_mid
-        else:
-            s_out = s_mid
+        s_k = np.unique(s_in + frac * (s_out - s_in))            # (sign > 0: increasing; else decreasing)
+        s_k = s_k[::-1] if sign < 0 else s_k
+        s_k = s_k[(s_k != s_in) & (s_k != s_out)]
+        good, t_k = on(s_k, t_in)
+        bad = np.flatnonzero(~good)
+        last = (bad[0] if bad.size else len(s_k)) - 1          # the last good point before the first bad one
+        if last >= 0:
+            s_in, t_in = float(s_k[last]), t_k[last]
+        if bad.size:
+            s_out = float(s_k[bad[0]])
     return s_in, t_in, True
 
 
