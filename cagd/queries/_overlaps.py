@@ -52,14 +52,24 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
     for P, Q, G, H, swap in ((pa, pb, A, B, False), (pb, pa, B, A, True)):
         if G.k != 1:
             continue
-        x = (P.lo[:, None, :] + fr[None, :, None] * (P.hi - P.lo)[:, None, :]).reshape(-1, 1)
-        seed = np.repeat(0.5 * (Q.lo + Q.hi), 5, axis=0)
-        y, dist = project_onto(H, G.points(x), seed)
-        if self_mode:                 # the sample itself is no evidence of an overlap
-            dist[np.abs(y[:, 0] - x[:, 0]) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0])] = np.inf
-        ok = np.all(dist.reshape(M, 5) <= tol, axis=1) & ~hits
+        x = P.lo[:, None, :] + fr[None, :, None] * (P.hi - P.lo)[:, None, :]          # (M, 5, 1)
+        seed = 0.5 * (Q.lo + Q.hi)
+        y = np.zeros((M, 5, H.k))
+        dist = np.full((M, 5), np.inf)
+        # the middle samples first: the others only where it lies on H (each projection
+        # depends on its own sample only, so the same answer with fewer projections)
+        for at, cols in ((np.arange(M), [2]), (None, [0, 1, 3, 4])):
+            at = np.flatnonzero(dist[:, 2] <= tol) if at is None else at
+            if not at.size:
+                continue
+            xs = x[at][:, cols].reshape(-1, 1)
+            ys, ds = project_onto(H, G.points(xs), np.repeat(seed[at], len(cols), axis=0))
+            if self_mode:             # the sample itself is no evidence of an overlap
+                ds[np.abs(ys[:, 0] - xs[:, 0]) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0])] = np.inf
+            y[at[:, None], cols] = ys.reshape(len(at), len(cols), -1)
+            dist[at[:, None], cols] = ds.reshape(len(at), len(cols))
+        ok = np.all(dist <= tol, axis=1) & ~hits
         if ok.any():
-            y = y.reshape(M, 5, -1)
             s0, s1 = P.lo[ok, 0], P.hi[ok, 0]
             if H.k == 1:
                 t0, t1 = y[ok, 0, 0], y[ok, -1, 0]
