@@ -533,7 +533,7 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     points: List[IntersectionPoint] = []
     seen: List[np.ndarray] = []
     X = np.array(isolated).reshape(-1, S.n)
-    Fs, _, Ps, nas, nbs, _ = S.eval(X) if len(X) else (None,) * 6
+    Fs, _, Ps, nas, nbs, _ = S.eval(X)
     # (a degenerate point (a pole) where a march could not start, on a branch: not a point)
     off = ~_absorbed(Ps, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol) if items and len(X) \
         else np.ones(len(X), bool)
