@@ -46,3 +46,42 @@ def test_projections_onto_a_pole_settle(evaluations):
     assert conv.all()
     assert dist == pytest.approx([9.0 - R, 9.5 - R], abs=1e-13)
     assert evaluations[0] <= 20
+
+
+@pytest.mark.parametrize("angle", [1e-2, 1e-5, 1e-6])
+def test_the_corrector_stops_at_rounding_near_a_tangency(angle, monkeypatch):
+    """A bumpy bicubic and its copy turned by ``angle`` about a line on it meet in a
+    curve at that angle; the marching's corrector (a plane constraint row) from a
+    predictor 1e-3 along the tangent converges to |F| ~ 1e-16 in 3-4 evaluations. At
+    angle 1e-5 its steps stall at the rounding of J's condition number (~1e-11 of the
+    width, above STEP_RTOL) and it ran all 12 iterations."""
+    from cagd.queries._surface_system import System, cofactors
+    from cagd.queries._newton import newton
+    rng = np.random.default_rng(7)
+    net = np.stack(np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 4), indexing="ij"), -1)
+    net = np.concatenate([net, 0.1 * rng.standard_normal((4, 4, 1))], -1)
+    c, s = np.cos(angle), np.sin(angle)
+    turn = np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    p0 = net[1, 2]
+    turned = cagd.BezierSurface((net - p0) @ turn.T + p0)
+    S = System(sd.Geometry(cagd.BezierSurface(net), "a"), sd.Geometry(turned, "b"))
+    x0 = np.array([[0.3 + 0.1 * k, 0.66, 0.3 + 0.1 * k, 0.66] for k in range(5)])
+    x, ok = newton(S, x0, None, None, 1e-12, iters=30)
+    assert ok.all()
+    F, J, P, na, nb, _ = S.eval(x)
+    assert np.linalg.norm(np.cross(na, nb), axis=1) == pytest.approx(angle, rel=1e-2)
+    t = cofactors(J)
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    xp = x + 1e-3 * t + 1e-6 * rng.standard_normal(x.shape)
+    calls = [0]
+    real = S.eval
+
+    def spy(z):
+        calls[0] += 1
+        return real(z)
+
+    monkeypatch.setattr(S, "eval", spy)
+    y, ok, ev = newton(S, xp, t, np.einsum("nk,nk->n", t, xp), 1e-12, full=True)
+    assert ok.all() and np.linalg.norm(ev[0], axis=1).max() <= 1e-14
+    assert np.einsum("nk,nk->n", t, y - xp) == pytest.approx(0.0, abs=1e-15)
+    assert calls[0] <= 5
