@@ -264,15 +264,15 @@ def _polish(A, B, x, y, size: float, iters: int = 8):
         r = A.points(w[:, :ka]) - B.points(w[:, ka:])
         return np.concatenate([r, size * _contact(A, B, w[:, :ka], w[:, ka:])], axis=1)
 
+    n = z.shape[1]
+    E, ar = np.eye(n) * h, np.arange(n)                              # the difference steps
     for _ in range(iters):
-        r0 = R(z)
-        cols = []
-        for j in range(z.shape[1]):
-            e = np.zeros(z.shape[1])
-            e[j] = h[j]
-            zp, zm = np.clip(z + e, lo, hi), np.clip(z - e, lo, hi)
-            cols.append((R(zp) - R(zm)) / np.maximum(zp[:, j] - zm[:, j], TINY)[:, None])
-        J = np.stack(cols, axis=2)                                   # (N, m, n)
+        # R at z and at z +- h e_j for every j in one evaluation: (2n + 1, N, m)
+        zs = np.concatenate([z[None], np.clip(z + E[:, None], lo, hi), np.clip(z - E[:, None], lo, hi)])
+        Rs = R(zs.reshape(-1, n)).reshape(2 * n + 1, len(z), -1)
+        r0 = Rs[0]
+        width = np.maximum(zs[1 + ar, :, ar] - zs[1 + n + ar, :, ar], TINY)                # (n, N)
+        J = np.stack([(Rs[1 + j] - Rs[1 + n + j]) / width[j][:, None] for j in range(n)], axis=2)     # (N, m, n)
         H = np.einsum("nmk,nml->nkl", J, J)
         g = np.einsum("nmk,nm->nk", J, r0)
         lam, V = np.linalg.eigh(H)
