@@ -1,7 +1,7 @@
 """Overlaps of curves: pieces of one curve lying on the other (within tol) found by
 projecting samples, merged into maximal parameter intervals whose ends are moved
-out by bisection to where the distance exceeds tol, and snapped to the domain ends
-(see :mod:`cagd.queries.intersect`)."""
+out (by steps, then sectioning the last one) to where the distance exceeds tol, and
+snapped to the domain ends (see :mod:`cagd.queries.intersect`)."""
 from __future__ import annotations
 
 from typing import List, Optional, Tuple
@@ -20,7 +20,7 @@ UNSETTLED = "an end was not located: the overlap may extend further"
 #: points) read 1.0000014e-9 at tol 1e-9, rounding, and the fillet edge of occ22470.igs
 #: SOLID[2] x [3] was reported 'fitted within 1.00e-09 > tol' (issue 16)
 END_TOL_SHARE = 1e-3
-SECTIONS = 8                  # overlap ends: a bracket is cut into this many parts a round
+SECTIONS = 32                 # overlap ends: a bracket is cut into this many parts a round
 
 
 
@@ -91,7 +91,7 @@ def inside_overlap(A, B, overlaps, x, y) -> bool:
 
 def merge_overlaps(A, B, frags, tol: float, self_mode: bool, grown: Optional[list] = None) -> List[Overlap]:
     """Merge coincident fragments (s0, s1, y0, y1) into maximal intervals and move each
-    end out to where the distance to the other object exceeds tol (bisection).
+    end out to where the distance to the other object exceeds tol (:func:`_edge`).
     ``grown``: the overlaps grown by earlier calls on the same objects (appended to): a
     group of fragments inside one of them is that overlap, its ends are not searched
     again (the subdivision merges its growing list of fragments at every level that
@@ -168,8 +168,8 @@ def _edge(A, B, s_in: float, t_in: np.ndarray, sign: float, h: float, tol: float
     """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
     still lies within (1 - END_TOL_SHARE) tol of B: march by steps h, 2h, 4h, ..., then
     section the last step until its ends are neighbouring doubles, SECTIONS - 1 points a
-    round projected at once (the first one off B closes the bracket; a bisection took
-    3 x the projections, one at a time: 37 per end on occ22470.igs, issue 16).
+    round projected at once (the first one off B closes the bracket: 5 bits a round; a
+    bisection, one projection at a time, took 37 per end on occ22470.igs, issue 16).
     Returns (s, t, found): found is False when 16 steps neither left B nor reached the
     domain's end (the overlap may go on)."""
     lim = A.hi[0] if sign > 0 else A.lo[0]
