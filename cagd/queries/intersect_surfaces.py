@@ -67,7 +67,7 @@ from .results import IntersectionCurve, IntersectionPoint, IntersectionResult, S
 from ._overlaps import overlap_cap as _overlap_cap
 from ._surface_system import System
 from ._newton import newton, project_onto, refine
-from ._numerics import AT_END_RTOL, DEFAULT_ANGLE_TOL, END_MARGIN_RTOL, SLACK_RTOL, TINY, unit
+from ._numerics import AT_END_RTOL, DEFAULT_ANGLE_TOL, END_MARGIN_RTOL, SLACK_RTOL, TINY, residual_tol, unit
 from ._newton import STEP_RTOL
 
 SAME_POINT_RTOL = 1e-6   # points closer than this share of the size are one isolated point
@@ -224,7 +224,10 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
     converged)."""
     out, edges, complete = [], [], True
     sides = [(A, B, 0)] + ([(B, A, 1)] if B is not None else [])
+    found: List[tuple] = []                   # the edge branches of a's boundaries, as branches
     for G, H, k in sides:
+        if k == 1 and edges:
+            found = [(None, None, A.points(xs[:, :2])) for xs in edges]
         for d in range(2):                      # d: the fixed parameter of the boundary
             if G.closed[d]:
                 continue                        # a seam is no boundary: branches cross it
@@ -238,6 +241,8 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                 for t0, t1 in _outside(regions, k, d, val, G.lo[1 - d], G.hi[1 - d], G.closed[1 - d]):
                     piece = C if (t0, t1) == (G.lo[1 - d], G.hi[1 - d]) else C.segment(t0, t1)
                     Cg = sd.Geometry(piece, "a")
+                    if found and _on_edges(G, d, val, t0, t1, len(Cg.pieces.ctrl), found, tol):
+                        continue        # the other surface's edge already found: the same branch
                     other = H if H is not None else plane_geometry(Plane(*pl), Cg)
                     res = run(Cg, other, tol, DEFAULT_ANGLE_TOL, 64, max_pairs)
                     complete &= res.converged
@@ -246,6 +251,17 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                         edges.append(_edge_rows(G, H, k, d, val, ov.param_a, len(Cg.pieces.ctrl)))
     n = 4 if B is not None else 2
     return np.array(out).reshape(-1, n), edges, complete
+
+
+def _on_edges(G: sd.Geometry, d: int, val: float, t0: float, t1: float, pieces: int, found, tol: float) -> bool:
+    """The boundary piece of G (parameter d = val, the other from t0 to t1; 16 samples a
+    Bezier span) lies on the edge branches ``found`` (:func:`_absorbed`): two faces
+    sharing an edge, whose other boundary run would find it again (as an overlap, the
+    same branch, dropped in :func:`_trace`) at the cost of a second near-tangent
+    subdivision (boxed_sphere.step Document[190] x [191], issue 16)."""
+    x = np.empty((16 * max(pieces, 1) + 1, 2))
+    x[:, d], x[:, 1 - d] = val, np.linspace(t0, t1, len(x))
+    return bool(np.all(_absorbed(G.points(x), found, residual_tol(tol, G.size))))
 
 
 def _edge_rows(G: sd.Geometry, H, k: int, d: int, val: float, span, pieces: int) -> np.ndarray:
