@@ -49,3 +49,26 @@ def test_an_overlap_ends_within_tol():
     d = closest_point(S, C(np.array([s1, s1 + 1e-4]))).distances
     assert d[0] == pytest.approx((1 - ov.END_TOL_SHARE) * tol, rel=1e-6)
     assert d[1] > tol
+
+
+@pytest.mark.parametrize("bump", [5, 12, 27, 33])
+def test_an_overlap_does_not_step_over_a_gap(bump):
+    """A quadratic B-spline lying in the plane but for a bump of 1e-3 (one control point
+    lifted: the curve is off the plane on two spans): two overlaps, each within tol by
+    closest_point. Growing an overlap by steps h, 2h, 4h, ... tested the step ends only,
+    stepped over the bump and gave one overlap [0, 1], 7.5e-4 off in the middle (the edge
+    of trj3_s1-al-214.stp face 8 touching face 12 at 7 places, issue 16)."""
+    _, S = _case()
+    x = np.linspace(0, 1, 40)
+    z = np.zeros(40)
+    z[bump] = 1e-3
+    C = cagd.BSplineCurve(np.stack([x, 0.1 * np.sin(3 * x), z], 1) @ ROT.T, 2)
+    res = intersect(C, S, tol=1e-9)
+    assert res.converged and len(res.overlaps) == 2
+    knots = np.unique(C.knots)
+    off = (knots[bump - 2], knots[bump + 1])            # the support of the lifted point
+    (a0, a1), (b0, b1) = (o.param_a for o in res.overlaps)
+    assert a0 == 0.0 and b1 == 1.0 and off[0] <= a1 < b0 <= off[1]
+    for o in res.overlaps:
+        s = np.linspace(*o.param_a, 2001)
+        assert closest_point(S, C(s)).distances.max() <= 1e-9
