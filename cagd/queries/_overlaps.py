@@ -80,13 +80,15 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
     return hits, (np.concatenate(rows) if rows else np.empty((0, 2 + 2 * B.k)))
 
 
-def inside_overlap(A, B, overlaps, x, y) -> bool:
+def inside_overlaps(A, overlaps, x: np.ndarray) -> np.ndarray:
+    """Rows of a's parameters x (N, 1) inside one of the overlaps' intervals on a (margin
+    END_MARGIN_RTOL of the width)."""
+    m = END_MARGIN_RTOL * (A.hi[0] - A.lo[0])
+    out = np.zeros(len(x), bool)
     for ov in overlaps:
         s0, s1 = ov.param_a
-        m = END_MARGIN_RTOL * (A.hi[0] - A.lo[0])
-        if s0 - m <= x[0] <= s1 + m:
-            return True
-    return False
+        out |= (x[:, 0] >= s0 - m) & (x[:, 0] <= s1 + m)
+    return out
 
 
 def merge_overlaps(A, B, frags, tol: float, self_mode: bool, grown: Optional[list] = None) -> List[Overlap]:

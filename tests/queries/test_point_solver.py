@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import cagd
-from cagd.queries import _subdivision as sd, intersect
+from cagd.queries import _subdivision as sd, closest_point, intersect
 
 # a quarter-turned frame: the pieces' axis-aligned boxes are not tight
 ROT = np.linalg.qr(np.array([[0.8, 0.3, 0.5], [-0.4, 0.9, 0.2], [0.1, -0.2, 0.97]]))[0]
@@ -56,3 +56,29 @@ def test_a_line_crossing_a_surface_at_a_shallow_angle_keeps_its_point():
     assert res.converged and len(res.points) == 1
     expected = np.array([0.5, 0.5, 0.025]) @ ROT.T
     assert np.linalg.norm(res.points[0].point - expected) <= 1e-9
+
+
+def test_no_seed_inside_an_overlap_is_solved(monkeypatch):
+    """A curve lying in a plane on [0, 0.5]: seeds made there before the overlap was
+    grown would only give roots dropped as inside it; none reaches the solver (issue 16:
+    the curve runs within tol of the other object there, the slowest Newton solves)."""
+    from cagd.queries import _point_solver as ps
+    starts = []
+    real = ps.refine
+
+    def spy(A, B, x, y, *a, **kw):
+        starts.append(np.array(x, float))
+        return real(A, B, x, y, *a, **kw)
+
+    monkeypatch.setattr(ps, "refine", spy)
+    S = cagd.BezierSurface(np.array([[[-0.5, -0.5, 0], [-0.5, 0.5, 0]], [[1.5, -0.5, 0], [1.5, 0.5, 0]]]) @ ROT.T)
+    x = np.linspace(0, 1, 8)
+    C = cagd.BSplineCurve(np.stack([x, 0.1 * np.sin(3 * x), [0, 0, 0, 0, 0, 0.01, -0.05, 0.1]], 1) @ ROT.T, 2)
+    res = intersect(C, S, tol=1e-9)
+    assert res.converged and len(res.overlaps) == 1 and len(res.points) == 2       # down through it and up
+    s0, s1 = res.overlaps[0].param_a
+    assert s0 == 0.0 and 0.5 < s1 < 0.6 < min(p.param_a for p in res.points)
+    at = C(np.array([p.param_a for p in res.points]))
+    assert closest_point(S, at).distances.max() <= 1e-9
+    solved = np.concatenate(starts)[:, 0]
+    assert len(solved) and not np.any((solved > s0) & (solved < s1))
