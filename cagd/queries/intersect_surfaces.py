@@ -222,7 +222,9 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
     parameter rows along the piece (64 per Bezier span, the other object's parameters
     by projection). Returns (seeds (N, n), edge branches [(M, n)], all boundary runs
     converged)."""
-    out, edges, complete = [], [], True
+    out: list = []
+    edges: List[np.ndarray] = []
+    complete = True
     sides = [(A, B, 0)] + ([(B, A, 1)] if B is not None else [])
     found: List[tuple] = []                   # the edge branches of a's boundaries, as branches
     for G, H, k in sides:
