@@ -67,7 +67,7 @@ from .results import IntersectionCurve, IntersectionPoint, IntersectionResult, S
 from ._overlaps import overlap_cap as _overlap_cap
 from ._surface_system import System
 from ._newton import newton, project_onto, refine
-from ._numerics import AT_END_RTOL, DEFAULT_ANGLE_TOL, END_MARGIN_RTOL, SLACK_RTOL, TINY, unit
+from ._numerics import AT_END_RTOL, DEFAULT_ANGLE_TOL, END_MARGIN_RTOL, SLACK_RTOL, TINY, residual_tol, unit
 from ._newton import STEP_RTOL
 
 SAME_POINT_RTOL = 1e-6   # points closer than this share of the size are one isolated point
@@ -222,9 +222,14 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
     parameter rows along the piece (64 per Bezier span, the other object's parameters
     by projection). Returns (seeds (N, n), edge branches [(M, n)], all boundary runs
     converged)."""
-    out, edges, complete = [], [], True
+    out: list = []
+    edges: List[np.ndarray] = []
+    complete = True
     sides = [(A, B, 0)] + ([(B, A, 1)] if B is not None else [])
+    found: List[tuple] = []                   # the edge branches of a's boundaries, as branches
     for G, H, k in sides:
+        if k == 1 and edges:
+            found = [(None, None, A.points(xs[:, :2])) for xs in edges]
         for d in range(2):                      # d: the fixed parameter of the boundary
             if G.closed[d]:
                 continue                        # a seam is no boundary: branches cross it
@@ -238,6 +243,8 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                 for t0, t1 in _outside(regions, k, d, val, G.lo[1 - d], G.hi[1 - d], G.closed[1 - d]):
                     piece = C if (t0, t1) == (G.lo[1 - d], G.hi[1 - d]) else C.segment(t0, t1)
                     Cg = sd.Geometry(piece, "a")
+                    if found and _on_edges(G, d, val, t0, t1, len(Cg.pieces.ctrl), found, tol):
+                        continue        # the other surface's edge already found: the same branch
                     other = H if H is not None else plane_geometry(Plane(*pl), Cg)
                     res = run(Cg, other, tol, DEFAULT_ANGLE_TOL, 64, max_pairs)
                     complete &= res.converged
@@ -246,6 +253,17 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                         edges.append(_edge_rows(G, H, k, d, val, ov.param_a, len(Cg.pieces.ctrl)))
     n = 4 if B is not None else 2
     return np.array(out).reshape(-1, n), edges, complete
+
+
+def _on_edges(G: sd.Geometry, d: int, val: float, t0: float, t1: float, pieces: int, found, tol: float) -> bool:
+    """The boundary piece of G (parameter d = val, the other from t0 to t1; 16 samples a
+    Bezier span) lies on the edge branches ``found`` (:func:`_absorbed`): two faces
+    sharing an edge, whose other boundary run would find it again (as an overlap, the
+    same branch, dropped in :func:`_trace`) at the cost of a second near-tangent
+    subdivision (boxed_sphere.step Document[190] x [191], issue 16)."""
+    x = np.empty((16 * max(pieces, 1) + 1, 2))
+    x[:, d], x[:, 1 - d] = val, np.linspace(t0, t1, len(x))
+    return bool(np.all(_absorbed(G.points(x), found, residual_tol(tol, G.size))))
 
 
 def _edge_rows(G: sd.Geometry, H, k: int, d: int, val: float, span, pieces: int) -> np.ndarray:
@@ -532,17 +550,20 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
             messages.append(f"a branch was fitted within {max(worst, worst_p):.2e} > tol")
     points: List[IntersectionPoint] = []
     seen: List[np.ndarray] = []
-    for x in isolated:
-        F, J, P, na, nb, _ = S.eval(x[None])
-        if items and _absorbed(P, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol)[0]:
-            continue          # a degenerate point (a pole) where a march could not start, on a branch
-        if seen and np.linalg.norm(np.array(seen) - P[0], axis=1).min() <= SEEN_RTOL * S.size:
+    X = np.array(isolated).reshape(-1, S.n)
+    Fs, _, Ps, nas, nbs, _ = S.eval(X)
+    # (a degenerate point (a pole) where a march could not start, on a branch: not a point)
+    off = ~_absorbed(Ps, [(None, None, it[2]) for it in items], Marcher(S, tol).ftol) if items and len(X) \
+        else np.ones(len(X), bool)
+    for i in np.flatnonzero(off):
+        x, F, P = X[i], Fs[i], Ps[i]
+        if seen and np.linalg.norm(np.array(seen) - P, axis=1).min() <= SEEN_RTOL * S.size:
             continue          # the same contact reached from several seeds
-        seen.append(P[0])
-        sine = float(np.linalg.norm(np.cross(na[0], nb[0])))
+        seen.append(P)
+        sine = float(np.linalg.norm(np.cross(nas[i], nbs[i])))
         pb_ = S.B.user_params(S.wrap(x)[None, 2:])[0] if S.B is not None else None
         residual = float(np.linalg.norm(F))
-        points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P[0],
+        points.append(IntersectionPoint(S.A.user_params(S.wrap(x)[None, :2])[0], pb_, P,
                                         sine <= sine_of(max(angle_tol, DEFAULT_ANGLE_TOL)), residual, residual <= tol,
                                         "" if residual <= tol else f"residual {residual:.3g} above tol"))
     if len(points) >= 5:

@@ -571,3 +571,32 @@ def test_two_halves_of_a_surface_meet_in_their_exact_edge():
     assert c.max_distance <= 1e-12 * S.size and c.params_max_distance <= 1e-12 * S.size
     uv_a, uv_b = c.surface_params(t)
     assert np.all(uv_a[:, 0] == 0.5) or np.all(uv_b[:, 0] == 0.5)
+
+
+def test_a_shared_edge_is_run_from_one_side(monkeypatch):
+    """The halves above share one edge: a's boundary run finds it lying on b, and b's own
+    copy of it (all its samples on that branch) is not subdivided again (issue 16: the
+    second run was the same near-tangent subdivision, dropped as a duplicate after). 7
+    boundary runs of 8; the same single exact branch as with all 8."""
+    from cagd.queries import intersect_surfaces as isf
+    rng = np.random.default_rng(1)
+    X, Y = np.meshgrid(np.linspace(0, 10, 7), np.linspace(0, 10, 5), indexing="ij")
+    S = cagd.BSplineSurface(np.stack([X, Y, rng.normal(size=X.shape)], -1), 3, 3)
+    a, b = S.split("u", 0.5)
+    runs = []
+    real = isf.run
+
+    def spy(*args, **kw):
+        runs.append(args[0])
+        return real(*args, **kw)
+
+    monkeypatch.setattr(isf, "run", spy)
+    res = cagd.intersect(a, b, tol=1e-9)
+    assert len(runs) == 7
+    monkeypatch.setattr(isf, "_on_edges", lambda *args: False)
+    runs.clear()
+    every = cagd.intersect(a, b, tol=1e-9)
+    assert len(runs) == 8
+    assert res.converged and every.converged and len(res.curves) == len(every.curves) == 1
+    t = np.linspace(0, 1, 41)
+    assert np.array_equal(res.curves[0].curve(t), every.curves[0].curve(t))

@@ -1,0 +1,84 @@
+"""The curve–surface subdivision of cagd.queries._point_solver on a curve running close
+to a surface and nearly parallel to it (issue 16: a fillet's edge 1e-5 off its nearly
+tangent neighbour, occ22470.igs SOLID[2] x [3], kept the boxes of its pairs overlapping
+down to pieces 1e-5 long and ran into max_pairs)."""
+import numpy as np
+import pytest
+
+import cagd
+from cagd.queries import _subdivision as sd, closest_point, intersect
+
+# a quarter-turned frame: the pieces' axis-aligned boxes are not tight
+ROT = np.linalg.qr(np.array([[0.8, 0.3, 0.5], [-0.4, 0.9, 0.2], [0.1, -0.2, 0.97]]))[0]
+
+
+def _surface():
+    """z = 0.1 x^2 on [0, 1]^2 (quadratic in x, linear in y), turned by ROT."""
+    net = np.array([[[x, y, z] for y in (0.0, 1.0)] for x, z in ((0.0, 0.0), (0.5, 0.0), (1.0, 0.1))])
+    return cagd.BezierSurface(net @ ROT.T)
+
+
+def _line(z0, z1):
+    """The line x = 0.5 from y = -0.2 (height z0) to y = 1.2 (height z1), turned by ROT;
+    the surface is at height 0.025 under it."""
+    return cagd.BezierCurve(np.array([[0.5, -0.2, z0], [0.5, 1.2, z1]]) @ ROT.T)
+
+
+@pytest.fixture
+def pairs_split(monkeypatch):
+    """The number of pairs made by every split_pairs call from now on."""
+    made = []
+    real = sd.split_pairs
+
+    def spy(*a, **kw):
+        out = real(*a, **kw)
+        made.append(len(out[2]))
+        return out
+
+    monkeypatch.setattr(sd, "split_pairs", spy)
+    return made
+
+
+@pytest.mark.parametrize("gap", [1e-5, 1e-7])
+def test_a_line_along_a_surface_is_parted_by_the_slab(gap, pairs_split):
+    """A line parallel to the rulings, gap above the surface (closed form: no common
+    point for gap > tol): converged with no point, after a few hundred pairs; the boxes
+    alone kept 3,363 pairs open at max_pairs."""
+    res = intersect(_line(0.025 + gap, 0.025 + gap), _surface(), tol=1e-9)
+    assert res.converged and res.points == () and res.overlaps == ()
+    assert sum(pairs_split) <= 2000
+
+
+def test_a_line_crossing_a_surface_at_a_shallow_angle_keeps_its_point():
+    """The line rises from 1e-3 under to 1e-3 over the surface: the slab parts no pair
+    holding the crossing, found at its middle (y = 0.5, closed form), converged."""
+    res = intersect(_line(0.025 - 1e-3, 0.025 + 1e-3), _surface(), tol=1e-9)
+    assert res.converged and len(res.points) == 1
+    expected = np.array([0.5, 0.5, 0.025]) @ ROT.T
+    assert np.linalg.norm(res.points[0].point - expected) <= 1e-9
+
+
+def test_no_seed_inside_an_overlap_is_solved(monkeypatch):
+    """A curve lying in a plane on [0, 0.5]: seeds made there before the overlap was
+    grown would only give roots dropped as inside it; none reaches the solver (issue 16:
+    the curve runs within tol of the other object there, the slowest Newton solves)."""
+    from cagd.queries import _point_solver as ps
+    starts = []
+    real = ps.refine
+
+    def spy(A, B, x, y, *a, **kw):
+        starts.append(np.array(x, float))
+        return real(A, B, x, y, *a, **kw)
+
+    monkeypatch.setattr(ps, "refine", spy)
+    S = cagd.BezierSurface(np.array([[[-0.5, -0.5, 0], [-0.5, 0.5, 0]], [[1.5, -0.5, 0], [1.5, 0.5, 0]]]) @ ROT.T)
+    x = np.linspace(0, 1, 8)
+    C = cagd.BSplineCurve(np.stack([x, 0.1 * np.sin(3 * x), [0, 0, 0, 0, 0, 0.01, -0.05, 0.1]], 1) @ ROT.T, 2)
+    res = intersect(C, S, tol=1e-9)
+    assert res.converged and len(res.overlaps) == 1 and len(res.points) == 2       # down through it and up
+    s0, s1 = res.overlaps[0].param_a
+    assert s0 == 0.0 and 0.5 < s1 < 0.6 < min(p.param_a for p in res.points)
+    at = C(np.array([p.param_a for p in res.points]))
+    assert closest_point(S, at).distances.max() <= 1e-9
+    solved = np.concatenate(starts)[:, 0]
+    assert len(solved) and not np.any((solved > s0) & (solved < s1))
