@@ -155,7 +155,8 @@ def deviation(obj: Objects, points: ArrayLike, signed: Optional[bool] = None,
     d, params, feet, lower, owner, conv = out
     bad = np.flatnonzero(~conv)
     message = "" if not bad.size else (f"the closest point did not converge at {bad.size} of {len(d)} points "
-                                       f"(first: index {int(bad[0])})")
+                                       f"(first: index {int(bad[0])}): their distances are the nearest found, "
+                                       f"the true ones lie between them and lower_bounds")
     # mean and RMS in units of max |d|: d * d overflowed for distances beyond 1e154 (RMS inf)
     max_abs = float(np.abs(d).max())
     unit = max_abs if max_abs > 0 else 1.0

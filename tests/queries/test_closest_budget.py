@@ -1,32 +1,37 @@
 """closest_point when the branch-and-bound budget runs out (cagd.queries.closest,
 "Bounded work"): a point whose boxes are still open when the budget is spent must not
-keep its local foot. The case: the fit of tests/fitting's
-test_measured_max_is_certified_property at seed 1 (m 8, n 15, tol 0.002, degree 2), whose
-control net swings out to 6e5 between the grid lines (a folded surface, every hull
-sphere huge); its grid points queried together used to get local feet up to 0.68 away
-with the global foot within 1e-9 (converged, lower bound 0)."""
+keep its local foot. The case: the fit tests/fitting's
+test_measured_max_is_certified_property made at seed 1 (m 8, n 15, tol 0.002, degree 2)
+before issue 17's knot fixes, frozen in data/folded_fit.npz: its control net swings out
+to 2.7e7 between the grid lines (a folded surface, every hull sphere huge); its grid
+points queried together used to get local feet up to 0.68 away with the global foot
+within 1e-9 (converged, lower bound 0)."""
 from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from cagd import closest_point
-from cagd.fitting import fit_surface
+from cagd import BSplineSurface, closest_point
 from cagd.queries.closest import CLOSEST_TOL
 from query_families import assert_converged_means_certified
 
 
 @pytest.fixture(scope="module")
 def folded():
-    rng = np.random.default_rng(1)
-    X, Y = np.meshgrid(np.linspace(0, 10, 8), np.linspace(0, 10, 15), indexing="ij")
-    a, b, c = rng.uniform(0.2, 1.0, 3)
-    Q = np.stack([X, Y, np.sin(a * X) * np.cos(b * Y) + c * rng.normal(0, 0.01, X.shape)], -1)
-    fit = fit_surface(Q, 0.002, degree=2)
-    P = np.asarray(fit.surface.control_points).reshape(-1, 3)
+    """The folded fit, frozen (data/folded_fit.npz: fit_surface's result on that grid
+    before issue 17's knot fixes; the fit is sane now, the surface stays a test case):
+    degree 2 x 2, 8 x 15 control points swinging out to 2.7e7; the 120 grid points and
+    their fitting parameters."""
+    z = np.load(Path(__file__).parent / "data" / "folded_fit.npz")
+    S = BSplineSurface(z["control_points"], 2, 2, z["knots_u"], z["knots_v"])
+    fit = SimpleNamespace(surface=S, params=z["params"])
+    P = np.asarray(S.control_points).reshape(-1, 3)
     # Newton's default stop, a distance: CLOSEST_TOL times the control net's extent
     slack = CLOSEST_TOL * float(np.ptp(P, axis=0).max())
-    return fit, Q.reshape(-1, 3), slack
+    return fit, z["points"].reshape(-1, 3), slack
 
 
 def test_points_queried_together_get_their_global_foot(folded):
