@@ -1263,11 +1263,14 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
 
 
 def _footprint(p: Projector) -> int:
-    """Bytes held by a projector's arrays (also inside its lists and tuples), computed once."""
+    """Bytes held by a projector's arrays (also inside its lists and tuples; its half-Hessian
+    hull counted full, as it may grow), computed once."""
     if getattr(p, "_bytes", None) is None:
         def size(x: object, depth: int = 0) -> int:
             if isinstance(x, np.ndarray):
                 return int(x.nbytes)
+            if isinstance(x, HessianHull):
+                return int(x._C.nbytes)
             if isinstance(x, (list, tuple)) and depth < 3:
                 return sum(size(y, depth + 1) for y in x)
             if isinstance(x, BezierPieces) and depth < 3:

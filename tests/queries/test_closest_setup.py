@@ -167,3 +167,13 @@ def test_content_cache_is_bounded_by_bytes(monkeypatch):
         cl.projector(c, 1)
     assert len(cl._BY_CONTENT) == 2
     assert cl.content_key(curves[-1]) in cl._BY_CONTENT
+
+
+def test_footprint_counts_the_half_hessian_hull_full():
+    """The hull's coefficients fill lazily, up to one row per cell: the cache's byte count
+    takes them full (else projectors held by content could outgrow CACHE_BYTES)."""
+    s = cagd.BSplineSurface(np.random.default_rng(3).uniform(-1, 1, (12, 9, 3)), 3, 3)
+    with_hull, without = cl.Projector(s, light=True), cl.Projector(s, light=True)
+    without._hessian = None
+    assert with_hull._hessian is not None
+    assert cl._footprint(with_hull) - cl._footprint(without) == with_hull._hessian._C.nbytes > 0
