@@ -34,8 +34,9 @@ class ClosestPoints(ReadOnlyArrays):
     points (the feet of the perpendiculars); distances: (N,); point_converged: (N,)
     the local Newton refinement met ``tol`` (or ``param_tol``) within
     ``max_iterations`` at that point and the search proved the foot global (its lower
-    bound meets the distance; False where the search stopped at its work bound with
-    the certificate open: the distance is then the nearest found, an upper bound);
+    bound within 1e-9 of the distance below it, ``closest.WIN_GAP_RTOL``, or rounding
+    of the object's size; False where the search stopped at its work bound with the
+    certificate open: the distance is then the nearest found, an upper bound);
     converged: at every point, and ``message`` names
     the points where it did not; lower_bounds: (N,) certified lower bounds on the true
     distance from the point to the whole object (``lower_bounds <= distances``, whether

@@ -256,7 +256,7 @@ def test_random_curves_against_brute_force(data):
     size = float(np.ptp(P, axis=0).max())
     assert np.all(r.distances <= brute + 1e-9 * size)
     assert np.all(r.lower_bounds <= r.distances)
-    assert_converged_means_certified(r, size)
+    assert_converged_means_certified(r, c)
     np.testing.assert_allclose(np.linalg.norm(r.feet - X, axis=1), r.distances, rtol=1e-12, atol=1e-14 * size)
 
 
@@ -273,7 +273,7 @@ def test_random_surfaces_against_brute_force(data):
     size = float(np.ptp(G, axis=0).max())
     assert np.all(r.distances <= brute + 1e-9 * size)
     assert np.all(r.lower_bounds <= r.distances)
-    assert_converged_means_certified(r, size)
+    assert_converged_means_certified(r, s)
 
 
 # --- OCCT oracle -----------------------------------------------------------------------------
