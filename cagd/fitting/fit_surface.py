@@ -110,21 +110,21 @@ def _grown(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int,
     s = len(breaks) - 1
     c = _worth(E, GROW_TARGET * tol, p)
     count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol)), s + 1, min(most, MAX_GROWTH * s + 1)))
-    if count <= s:
-        return breaks
-    new = _redistributed(breaks, c, count)
-    return interlaced(new, t, p, interlace == "periodic") if interlace else new
+    return _sited(_redistributed(breaks, c, count), t, p, interlace) if count > s else breaks
 
 
 def _placed(breaks: np.ndarray, t: np.ndarray, e: np.ndarray, tol: float, p: int, count: int,
             interlace: str = "") -> np.ndarray:
     """``count`` spans equidistributing the misses e (per parameter t) of the spans of
-    ``breaks`` (de Boor; :func:`cagd.fitting.fit._worth`); with ``interlace`` ("clamped":
-    a grid's separable fit, which has no regulariser; "periodic": a grid's periodic
-    direction) kept determined and conditioned by the sites t
-    (:func:`cagd.fitting.separable.interlaced`)."""
-    new = _redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, p), count)
-    return interlaced(new, t, p, interlace == "periodic") if interlace else new
+    ``breaks`` (de Boor; :func:`cagd.fitting.fit._worth`), through :func:`_sited`."""
+    return _sited(_redistributed(breaks, _worth(_span_errors(breaks, t, e), tol, p), count), t, p, interlace)
+
+
+def _sited(breaks: np.ndarray, t: np.ndarray, p: int, interlace: str) -> np.ndarray:
+    """The breakpoints as they are, or with ``interlace`` ("clamped": a grid's separable
+    fit, which has no regulariser; "periodic": a grid's periodic direction) kept
+    determined and conditioned by the sites t (:func:`cagd.fitting.separable.interlaced`)."""
+    return interlaced(breaks, t, p, interlace == "periodic") if interlace else breaks
 
 
 #: the boundary conditions of a grid fit: free, or the boundary curves held (G0)
@@ -855,7 +855,11 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
     bu, bv = np.array([0.0, 1.0]), np.array([0.0, 1.0])
     S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
     rounds = 0
-    history = [((pu + 1) * (pv + 1), float(miss.max()) * scale)]
+
+    def poles(bu: np.ndarray, bv: np.ndarray) -> int:
+        return (len(bu) - 1 + pu) * (len(bv) - 1 + pv)
+
+    history = [(poles(bu, bv), float(miss.max()) * scale)]
     least = (S, miss, bu, bv)                  # the grown fit with the smallest largest miss
     why = None
     while miss.max() > tol_n and rounds < MAX_FIT_ROUNDS:
@@ -866,7 +870,7 @@ def fit_scattered(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, i
             break
         bu, bv = nu, nv
         S, miss = _scattered_solve(Qn, uv, bu, bv, pu, pv)
-        history.append(((len(bu) - 1 + pu) * (len(bv) - 1 + pv), float(miss.max()) * scale))
+        history.append((poles(bu, bv), float(miss.max()) * scale))
         if miss.max() < least[1].max():
             least = (S, miss, bu, bv)
         why = stalled(history, len(Q))

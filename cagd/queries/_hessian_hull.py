@@ -66,6 +66,11 @@ def _hodograph_matrix(sizes: Tuple[int, ...], alpha: Tuple[int, ...]) -> Optiona
     return E.reshape(shape[0], -1).T, shape[1:]
 
 
+def _pairs(k: int) -> List[Tuple[int, int]]:
+    """The entries (a, b), a <= b, of a symmetric k x k matrix."""
+    return [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
+
+
 @lru_cache(maxsize=None)
 def _operators(sizes: Tuple[int, ...]) -> List[Optional[tuple]]:
     """Per pair (a, b), a <= b, for cells of coefficient shape ``sizes``: (Da, Db, Dab,
@@ -73,7 +78,7 @@ def _operators(sizes: Tuple[int, ...]) -> List[Optional[tuple]]:
     box (Dab, T2, W None where S_ab = 0)."""
     k = len(sizes)
     ops: List[Optional[tuple]] = []
-    for a, b in [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]:
+    for a, b in _pairs(k):
         ea = tuple(int(i == a) for i in range(k))
         eb = tuple(int(i == b) for i in range(k))
         ha, hb = _hodograph_matrix(sizes, ea), _hodograph_matrix(sizes, eb)
@@ -102,7 +107,7 @@ class HessianHull:
         self.sizes = tuple(self.P.shape[1:1 + self.k])
         self.h = cells.upper - cells.lower
         self.ops = _operators(self.sizes)
-        self.pairs = [(0, 0)] if self.k == 1 else [(0, 0), (0, 1), (1, 1)]
+        self.pairs = _pairs(self.k)
         m = len(cells)
         self._have = np.zeros(m, dtype=bool)
         # one column block per pair; np.empty: only the cells filled take memory

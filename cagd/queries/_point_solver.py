@@ -358,6 +358,7 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grow
     x, y, dist = x[keep], y[keep], dist[keep]
     pts = []
     P = A.points(x)
+    inside = inside_overlaps(A, overlaps, x)
     kept: List[int] = []
     for i in np.argsort(dist, kind="stable"):
         if kept:
@@ -366,7 +367,7 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grow
             close = np.linalg.norm(P[kept] - P[i], axis=1) <= 100 * tol
             if np.any(same_x & same_y) or np.any((same_x | same_y) & close):
                 continue    # the same root (or one root at a degenerate point, e.g. a pole)
-        if not inside_overlaps(A, overlaps, x[i][None])[0]:
+        if not inside[i]:
             kept.append(i)
     kept_x, kept_y = x[kept], y[kept]
     if len(kept_x):

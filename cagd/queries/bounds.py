@@ -579,11 +579,11 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     ``hessian``: given row indices, (lo, hi) (len, k, k) bounds of the half Hessian
     J^T J + r.d2S over those rows' boxes (:class:`cagd.queries._hessian_hull.HessianHull`:
     per entry, the extreme Bezier coefficients over the box's cell; (-inf, inf) for a row
-    it declines); asked for the rows
-    where it can help (the half Hessian at c positive definite, m above not positive),
-    m there is also at least twice the smallest eigenvalue of any symmetric matrix within
-    them (for k = 2, (A + C)/2 - sqrt(((A - C)/2)^2 + B^2) at the lower ends of A and C
-    and the largest |B|: that eigenvalue grows with A and C and falls with |B|);
+    it declines); asked for the rows where it can help (the half Hessian at c positive
+    definite, m above not positive), m there is also at least twice the smallest
+    eigenvalue of any symmetric matrix within them (for k = 2, (A + C)/2 -
+    sqrt(((A - C)/2)^2 + B^2) at the lower ends of A and C and the largest |B|: that
+    eigenvalue grows with A and C and falls with |B|);
     ``target`` (n,): asked only where the bound would reach it with m at its best (twice
     the half Hessian's smallest eigenvalue at c: no bound over a box containing c
     exceeds it), i.e. where the hull can close the box.
