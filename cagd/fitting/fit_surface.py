@@ -51,6 +51,7 @@ from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
                   _span_errors, _worth, stalled)
+from .grid_knots import fewer_spans
 from .interpolation import _frame
 from .rebuild import _pair
 from .separable import SeparableGrid, ends_held_operator, interlaced
@@ -756,6 +757,12 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
     best, trimmed = _trimmed(best, grid.fit, grid_sources, tol_n, (pu, pv),
                              (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))), sites)
     rounds += shrunk + trimmed
+
+    def fewer(fit, axis: int) -> np.ndarray:          # one span fewer, equidistributing the fit's misses
+        t, e = (u, fit[4].max(axis=1)) if axis == 0 else (v, fit[4].max(axis=0))
+        return _placed(fit[1 + axis], t, e, tol_n, degrees[axis], len(fit[1 + axis]) - 2, "clamped")
+    best, tuned = fewer_spans(grid, best, tol_n, fewer)
+    rounds += tuned
     S = BSplineSurface(best[0], pu, pv, _knots(best[1], pu), _knots(best[2], pv))
     return (S,) + tuple(best[1:]), rounds
 
@@ -976,5 +983,7 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     ok = worst <= tol
     msg = (f"{shape[0]} x {shape[1]} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
            f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points, largest distance {worst:.3g} "
-           f"({why or f'the cap or {MAX_FIT_ROUNDS} rounds reached'})")
+           f"({why or f'the cap or {MAX_FIT_ROUNDS} rounds reached'})" if why is None else
+           f"tol {tol:g} not met: returned the grown fit with the smallest largest miss, {shape[0]} x {shape[1]} "
+           f"= {shape[0] * shape[1]} control points, largest distance {worst:.3g} ({why})")
     return SurfaceFit(out, worst, rms, params, rounds, ok, msg)

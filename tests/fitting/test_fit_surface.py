@@ -538,6 +538,10 @@ def test_noise_cloud_stops_early_and_says_why():
     assert nu * nv <= 2 * 19 * 19 < 36 * 36 and r.rounds <= 6      # the old fit: the 36 x 36 cap
     assert not r.converged and "not met" in r.message and "stopped early" in r.message
     assert f"largest distance {r.max_error:.3g}" in r.message
+    # the message names the returned fit and its counts (before: the growth's 49 -> 361
+    # beside an 11 x 11 fit, with nothing saying which was returned)
+    assert f"returned the grown fit with the smallest largest miss, {nu} x {nv} = {nu * nv} control points" \
+        in r.message
     certified = np.asarray(closest_distances(r.surface, Q))            # every point certified
     assert r.max_error == pytest.approx(float(certified.max()), abs=1e-12)
     d = brute_distances(r.surface, Q, 801)

@@ -1,0 +1,225 @@
+"""Fewer control points for the separable grid fit of :func:`cagd.fit_surface` (issue 17)
+by moving its interior knots: free-knot least squares on a grid.
+
+After the grow / shrink / trim rounds (:mod:`cagd.fitting.fit_surface`), whose knots
+equidistribute the error by de Boor's model (A Practical Guide to Splines, XII), a count
+with one span fewer in a direction usually misses tol only because its knots sit where
+the model, not the data, puts them. This stage tries such counts with the interior
+breakpoints of both directions as unknowns (free-knot least squares: de Boor & Rice,
+"Least squares cubic spline approximation II: variable knots", Purdue CSD TR 21, 1968;
+Jupp, SIAM J. Numer. Anal. 15(2), 1978; the curve stage :mod:`cagd.fitting.free_knots`):
+
+- the control points stay the separable least squares of the grid on the knots
+  (variable projection: the grid's values of the fit are S_u Q S_v^T per coordinate, S_u =
+  N_u F_u the ends-held smoothing operator of one direction,
+  :func:`cagd.fitting.separable.ends_held_operator`), so the unknowns are the knots only;
+- the objective is the L_p norm of the grid points' misses, p = TUNE_POWER (towards the
+  largest miss, which tol bounds, yet smooth), minimised by Levenberg-Marquardt with
+  Marquardt's diagonal scaling on the Gauss-Newton system of the reweighted least
+  squares (weights e_k^(p-2): the gradient of sum e_k^p), the Jacobian by forward
+  differences of the residuals in each knot (one operator of one direction and one
+  matrix product per knot); no knot moves by more than
+  :data:`cagd.fitting.free_knots.MAX_KNOT_MOVE` of the smaller gap beside it;
+- a count is accepted as soon as every grid point is within tol at its parameters (an
+  upper bound of its certified distance, which the caller measures), the next count
+  starts from those knots with one span fewer (:func:`cagd.fitting.fit_surface._placed`).
+
+On the 100 x 100 anchor of ``benchmarks/fitting.py`` (degree 3) the equidistributed knots
+of 12 x 11 poles miss by 0.017 at tol 0.01; the moved knots of 11 x 10 by 0.0096. The
+stage's solves are bounded by TUNE_EVALS and TUNE_PASSES. The combination (variable
+projection through the separable operators, the L_p reweighting) is this project's own.
+"""
+from __future__ import annotations
+
+from typing import Callable, List, Optional, Tuple
+
+import numpy as np
+
+from .fit import _knots
+from .free_knots import KNOT_DAMPING_DOWN, KNOT_DAMPING_MAX, KNOT_DAMPING_MIN, KNOT_DAMPING_START, \
+    KNOT_DAMPING_UP, _ordered_step
+from .separable import LEBESGUE_MAX, SeparableGrid, ends_held_operator, lebesgue
+
+#: the power p of the L_p norm of the misses the knots minimise
+TUNE_POWER = 8
+#: Levenberg-Marquardt passes per count at most (each: a forward-difference Jacobian and
+#: at least one trial solve)
+TUNE_PASSES = 20
+#: separable evaluations (one direction's operator and one grid product each) of the
+#: whole stage at most, each counted as its work over that of a 100 x 100 grid's,
+#: (m + n) m n / TUNE_UNIT (a 1,000 x 1,000 grid gets three: no pass)
+TUNE_EVALS = 3000
+TUNE_UNIT = 200 * 100 * 100
+#: grids with more sites than this along a direction skip the stage (its smoothing
+#: operators are m x m)
+TUNE_MAX_SITES = 2000
+#: a breakpoint moves by at most this fraction of the smaller gap beside it per pass (the
+#: curve stage's MAX_KNOT_MOVE is 0.3; the grid's knots start far from their places, and
+#: each pass costs a Jacobian)
+TUNE_MOVE = 0.45
+#: the forward-difference step of a breakpoint (the parameters are on [0, 1])
+TUNE_STEP = 1e-7
+#: a pass that lowers the largest miss by less than this fraction counts as slow; the
+#: count is given up after TUNE_SLOW slow passes in a row
+TUNE_GAIN = 0.01
+TUNE_SLOW = 3
+
+
+def _smoother(breaks: np.ndarray, p: int, t: np.ndarray) -> np.ndarray:
+    """S = N F (len(t), len(t)): the values at the sites t of the ends-held least squares
+    on the breakpoints (:func:`cagd.fitting.separable.ends_held_operator`)."""
+    N, F = ends_held_operator(_knots(breaks, p), p, t)
+    return N @ F
+
+
+class _Tuner:
+    """The residuals S_u Q S_v^T - Q of the grid (m, n, d) for breakpoints per direction,
+    and their forward-difference Jacobian in the interior breakpoints; ``evals`` counts
+    the operators built."""
+
+    def __init__(self, grid: SeparableGrid):
+        self.grid = grid
+        self.evals = 0.0
+        self.unit = (grid.m + grid.n) * grid.m * grid.n / TUNE_UNIT      # one evaluation's work
+
+    def _apply(self, Su: np.ndarray, Sv: np.ndarray) -> np.ndarray:
+        Q = self.grid.Q
+        Y = np.matmul(Sv[None], Q)                           # along v: (m, n, d)
+        return np.tensordot(Su, Y, axes=(1, 0)) - Q
+
+    def residuals(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        g = self.grid
+        self.evals += self.unit
+        Su, Sv = _smoother(bu, g.pu, g.u), _smoother(bv, g.pv, g.v)
+        return self._apply(Su, Sv), Su, Sv
+
+    def jacobian(self, bu: np.ndarray, bv: np.ndarray, R: np.ndarray, Su: np.ndarray, Sv: np.ndarray
+                 ) -> np.ndarray:
+        """(m n d, interior breakpoints of u then of v): dR / d breakpoint, forward
+        differences (one direction's operator per column, the other's kept)."""
+        g = self.grid
+        Q = g.Q
+        Yv = np.matmul(Sv[None], Q)                           # Q S_v^T, for the u columns
+        Yu = np.tensordot(Su, Q, axes=(1, 0))                # S_u Q, for the v columns
+        cols: List[np.ndarray] = []
+        for j in range(1, len(bu) - 1):
+            b = bu.copy()
+            b[j] += TUNE_STEP
+            cols.append((np.tensordot(_smoother(b, g.pu, g.u), Yv, axes=(1, 0)) - Q - R).ravel())
+        for j in range(1, len(bv) - 1):
+            b = bv.copy()
+            b[j] += TUNE_STEP
+            cols.append((np.matmul(_smoother(b, g.pv, g.v)[None], Yu) - Q - R).ravel())
+        self.evals += len(cols) * self.unit
+        return np.stack(cols, axis=1) / TUNE_STEP
+
+
+def _norms(R: np.ndarray) -> np.ndarray:
+    return np.sqrt(np.einsum("...i,...i->...", R, R))
+
+
+def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
+               ) -> Tuple[np.ndarray, np.ndarray, float]:
+    """The breakpoints (bu, bv) moved by Levenberg-Marquardt on the L_p norm of the
+    grid's misses (module docstring) until every miss is within tol, the passes run out
+    (TUNE_PASSES, TUNE_SLOW slow ones in a row, the damping beyond KNOT_DAMPING_MAX) or
+    the evaluations (TUNE_EVALS). Returns the breakpoints with the smallest largest miss
+    and that miss."""
+    R, Su, Sv = tuner.residuals(bu, bv)
+    e = _norms(R)
+    best = (bu, bv, float(e.max()))
+    lam, slow = KNOT_DAMPING_START, 0
+    ku = len(bu) - 2
+    for _ in range(TUNE_PASSES):
+        if best[2] <= tol or tuner.evals >= TUNE_EVALS or ku + len(bv) - 2 == 0:
+            break
+        top = float(e.max())
+        w = np.repeat(((e / top) ** (TUNE_POWER - 2)).ravel(), R.shape[-1])
+        J = tuner.jacobian(bu, bv, R, Su, Sv)
+        r = R.ravel()
+        A = (J * w[:, None]).T @ J
+        g = (J * w[:, None]).T @ r
+        f0 = float(((e / top) ** TUNE_POWER).sum())
+        while True:
+            try:
+                dk = -np.linalg.solve((TUNE_POWER - 1) * (A + lam * np.diag(np.diag(A) + 1e-300)), g)
+            except np.linalg.LinAlgError:
+                dk = np.zeros_like(g)
+            nu = np.concatenate([[0.0], _ordered_step(bu[1:-1], dk[:ku], TUNE_MOVE), [1.0]])
+            nv = np.concatenate([[0.0], _ordered_step(bv[1:-1], dk[ku:], TUNE_MOVE), [1.0]])
+            R2, Su2, Sv2 = tuner.residuals(nu, nv)
+            e2 = _norms(R2)
+            f2 = float(((e2 / top) ** TUNE_POWER).sum())
+            if f2 < f0:
+                bu, bv, R, Su, Sv, e = nu, nv, R2, Su2, Sv2, e2
+                lam = max(lam / KNOT_DAMPING_DOWN, KNOT_DAMPING_MIN)
+                break
+            lam *= KNOT_DAMPING_UP
+            if lam > KNOT_DAMPING_MAX or tuner.evals >= TUNE_EVALS:
+                return best
+        slow = slow + 1 if float(e.max()) > (1.0 - TUNE_GAIN) * best[2] else 0
+        if float(e.max()) < best[2]:
+            best = (bu, bv, float(e.max()))
+        if slow >= TUNE_SLOW:
+            break
+    return best
+
+
+def _starts(tuner: _Tuner, best: tuple, axis: int, placed: np.ndarray) -> List[Tuple[np.ndarray, np.ndarray]]:
+    """The starts of a count with one span fewer along ``axis``: ``placed`` (the
+    equidistributed breakpoints), then the fit's own breakpoints with one interior one
+    removed (the knots tuned for the count before keep their places), the one whose grid
+    fit has the smallest largest miss."""
+    own = best[1 + axis]
+
+    def pair(b: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        return (b, best[2]) if axis == 0 else (best[1], b)
+    scored = [(float(_norms(tuner.residuals(*pair(np.delete(own, j)))[0]).max()), j) for j in range(1, len(own) - 1)]
+    out = [pair(placed)]
+    if scored:
+        out.append(pair(np.delete(own, min(scored)[1])))
+    return out
+
+
+def _conditioned(grid: SeparableGrid, bu: np.ndarray, bv: np.ndarray) -> bool:
+    """Whether the least squares on the tuned breakpoints amplifies the data by at most
+    LEBESGUE_MAX per direction (:func:`cagd.fitting.separable.lebesgue`: the sites
+    determine the poles and no pole hangs on a site or two; knots moved close together
+    could leave a span with few sites)."""
+    return (lebesgue(bu, grid.pu, np.unique(grid.u)) <= LEBESGUE_MAX
+            and lebesgue(bv, grid.pv, np.unique(grid.v)) <= LEBESGUE_MAX)
+
+
+def fewer_spans(grid: SeparableGrid, best: tuple, tol: float,
+                fewer: Callable[[tuple, int], np.ndarray]) -> Tuple[tuple, int]:
+    """From the grid fit ``best`` = (poles, breaks_u, breaks_v, largest miss, misses (m, n))
+    within tol: one span fewer along the direction with more spans (then the other),
+    ``fewer(fit, axis)`` its breakpoints, the knots of both directions tuned
+    (:func:`tune_knots`), kept while every point stays within tol and the least squares
+    stays conditioned (:func:`_conditioned`); until both directions fail or TUNE_EVALS
+    (no pass on grids with more than TUNE_MAX_SITES sites a direction). Returns (best,
+    counts tried)."""
+    tuner = _Tuner(grid)
+    tries = 0
+    if max(grid.m, grid.n) > TUNE_MAX_SITES:
+        return best, tries
+    while best[3] <= tol and tuner.evals < TUNE_EVALS:
+        spans = (len(best[1]) - 1, len(best[2]) - 1)
+        order = (0, 1) if spans[0] >= spans[1] else (1, 0)
+        found: Optional[tuple] = None
+        for axis in order:
+            if spans[axis] <= 1 or tuner.evals >= TUNE_EVALS:
+                continue
+            for bu, bv in _starts(tuner, best, axis, fewer(best, axis)):
+                tries += 1
+                bu, bv, _ = tune_knots(tuner, bu, bv, tol)
+                P, miss = grid.fit(bu, bv)
+                if float(miss.max()) <= tol and _conditioned(grid, bu, bv):
+                    found = (P, bu, bv, float(miss.max()), miss)
+                    break
+            if found is not None:
+                break
+        if found is None:
+            break
+        best = found
+    return best, tries
