@@ -82,36 +82,45 @@ class _Tuner:
         self.evals = 0.0
         self.unit = (grid.m + grid.n) * grid.m * grid.n / TUNE_UNIT      # one evaluation's work
 
-    def _apply(self, Su: np.ndarray, Sv: np.ndarray) -> np.ndarray:
-        Q = self.grid.Q
-        Y = np.matmul(Sv[None], Q)                           # along v: (m, n, d)
-        return np.tensordot(Su, Y, axes=(1, 0)) - Q
+    def _along_v(self, Sv: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """X (m, n, d) with S_v applied along v (every row), as one matrix product."""
+        m, n, d = X.shape
+        Y = Sv @ X.transpose(1, 0, 2).reshape(n, m * d)
+        return Y.reshape(n, m, d).transpose(1, 0, 2)
+
+    def _along_u(self, Su: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """X (m, n, d) with S_u applied along u (every column), as one matrix product."""
+        return (Su @ X.reshape(X.shape[0], -1)).reshape(X.shape)
 
     def residuals(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
         g = self.grid
         self.evals += self.unit
         Su, Sv = _smoother(bu, g.pu, g.u), _smoother(bv, g.pv, g.v)
-        return self._apply(Su, Sv), Su, Sv
+        return self._along_u(Su, self._along_v(Sv, g.Q)) - g.Q, Su, Sv
 
     def jacobian(self, bu: np.ndarray, bv: np.ndarray, R: np.ndarray, Su: np.ndarray, Sv: np.ndarray
                  ) -> np.ndarray:
-        """(m n d, interior breakpoints of u then of v): dR / d breakpoint, forward
-        differences (one direction's operator per column, the other's kept)."""
+        """(interior breakpoints of u then of v, m n d): dR / d breakpoint (transposed),
+        forward differences (one direction's operator per row, the other's kept)."""
         g = self.grid
         Q = g.Q
-        Yv = np.matmul(Sv[None], Q)                           # Q S_v^T, for the u columns
-        Yu = np.tensordot(Su, Q, axes=(1, 0))                # S_u Q, for the v columns
-        cols: List[np.ndarray] = []
+        m, n, d = Q.shape
+        Yv = self._along_v(Sv, Q).reshape(m, n * d)               # Q S_v^T, for the u knots
+        Yu = self._along_u(Su, Q).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q, for the v knots
+        base = (R + Q)
+        Jt = np.empty((len(bu) + len(bv) - 4, m * n * d))
         for j in range(1, len(bu) - 1):
             b = bu.copy()
             b[j] += TUNE_STEP
-            cols.append((np.tensordot(_smoother(b, g.pu, g.u), Yv, axes=(1, 0)) - Q - R).ravel())
+            Jt[j - 1] = (_smoother(b, g.pu, g.u) @ Yv).ravel()
         for j in range(1, len(bv) - 1):
             b = bv.copy()
             b[j] += TUNE_STEP
-            cols.append((np.matmul(_smoother(b, g.pv, g.v)[None], Yu) - Q - R).ravel())
-        self.evals += len(cols) * self.unit
-        return np.stack(cols, axis=1) / TUNE_STEP
+            Jt[len(bu) - 3 + j] = (_smoother(b, g.pv, g.v) @ Yu).reshape(n, m, d).transpose(1, 0, 2).ravel()
+        self.evals += len(Jt) * self.unit
+        Jt -= base.ravel()
+        Jt /= TUNE_STEP
+        return Jt
 
 
 def _norms(R: np.ndarray) -> np.ndarray:
@@ -135,10 +144,10 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
             break
         top = float(e.max())
         w = np.repeat(((e / top) ** (TUNE_POWER - 2)).ravel(), R.shape[-1])
-        J = tuner.jacobian(bu, bv, R, Su, Sv)
-        r = R.ravel()
-        A = (J * w[:, None]).T @ J
-        g = (J * w[:, None]).T @ r
+        Jt = tuner.jacobian(bu, bv, R, Su, Sv)
+        Jw = Jt * w
+        A = Jw @ Jt.T
+        g = Jw @ R.ravel()
         f0 = float(((e / top) ** TUNE_POWER).sum())
         while True:
             try:
