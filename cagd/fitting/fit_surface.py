@@ -13,7 +13,10 @@ v knots' part). Rounds grow the span counts until every grid point is within tol
 parameters (an upper bound of its distance), then shrink both counts while they stay
 within (:func:`_shrunk`), then trim one span at a time, the direction and error source
 whose candidate misses least (:func:`_trimmed`; a candidate that misses gets its knots
-re-equidistributed by its own misses at the same counts, :func:`_polished`). Near the
+re-equidistributed by its own misses at the same counts, :func:`_polished`), then one
+span fewer at a time with the knots of both directions moved by free-knot least squares
+(:mod:`cagd.fitting.grid_knots`; on the 100 x 100 anchor of ``benchmarks/fitting.py``,
+degree 3: 12 x 12 -> 11 x 11 poles at tol 0.01, 18 x 17 -> 17 x 15 at 0.001). Near the
 grid's size the equidistributed knots are moved towards the sites' own where the sites
 would not determine the poles or the least squares would amplify the data
 (:func:`cagd.fitting.separable.interlaced`; at the cap: interpolation). The
@@ -720,10 +723,12 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
 
 
 def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],
-               most: Tuple[int, int]):
+               most: Tuple[int, int], tune: bool = True):
     """The separable fit's grow / shrink / trim (module docstring) of the normalised grid
     Qn at the parameters u, v, at most ``most`` spans per direction, by the per-direction
-    operators of :class:`cagd.fitting.separable.SeparableGrid`. Returns (best, rounds),
+    operators of :class:`cagd.fitting.separable.SeparableGrid`, then (``tune``) fewer
+    spans with the knots moved (:func:`cagd.fitting.grid_knots.fewer_spans`; not for the
+    minimax stage's shape fit, whose knots only start its growth). Returns (best, rounds),
     best = (surface, breaks_u, breaks_v, largest miss, misses (m, n))."""
     pu, pv = degrees
     most_u, most_v = most
@@ -761,8 +766,9 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
     def fewer(fit, axis: int) -> np.ndarray:          # one span fewer, equidistributing the fit's misses
         t, e = (u, fit[4].max(axis=1)) if axis == 0 else (v, fit[4].max(axis=0))
         return _placed(fit[1 + axis], t, e, tol_n, degrees[axis], len(fit[1 + axis]) - 2, "clamped")
-    best, tuned = fewer_spans(grid, best, tol_n, fewer)
-    rounds += tuned
+    if tune:
+        best, tuned = fewer_spans(grid, best, tol_n, fewer)
+        rounds += tuned
     S = BSplineSurface(best[0], pu, pv, _knots(best[1], pu), _knots(best[2], pv))
     return (S,) + tuple(best[1:]), rounds
 
@@ -807,7 +813,7 @@ def _minimax_stage(best, Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: fl
     pu, pv = degrees
     flat = Qn.reshape(-1, d)
     uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
-    shape, rounds = _separable(best[0].grid(u, v), u, v, tol_n, degrees, most)
+    shape, rounds = _separable(best[0].grid(u, v), u, v, tol_n, degrees, most, tune=False)
     bu, bv = shape[1], shape[2]
 
     def count(bu: np.ndarray, bv: np.ndarray) -> int:
