@@ -16,18 +16,24 @@ Jupp, SIAM J. Numer. Anal. 15(2), 1978; the curve stage :mod:`cagd.fitting.free_
 - the objective is the L_p norm of the grid points' misses, p = TUNE_POWER (towards the
   largest miss, which tol bounds, yet smooth), minimised by Levenberg-Marquardt with
   Marquardt's diagonal scaling on the Gauss-Newton system of the reweighted least
-  squares (weights e_k^(p-2): the gradient of sum e_k^p), the Jacobian by forward
-  differences of the residuals in each knot (one operator of one direction and one
-  matrix product per knot); no knot moves by more than
-  :data:`cagd.fitting.free_knots.MAX_KNOT_MOVE` of the smaller gap beside it;
+  squares (weights e_k^(p-2): the gradient of sum e_k^p; the system times p - 1, the
+  Newton step of sum e_k^p where the misses are linear in the knots), the Jacobian by
+  forward differences of the residuals in each knot (one operator of one direction and
+  one matrix product per knot); no knot moves by more than TUNE_MOVE of the smaller gap
+  beside it (:func:`cagd.fitting.free_knots._ordered_step`);
 - a count is accepted as soon as every grid point is within tol at its parameters (an
-  upper bound of its certified distance, which the caller measures), the next count
-  starts from those knots with one span fewer (:func:`cagd.fitting.fit_surface._placed`).
+  upper bound of its certified distance, which the caller measures) and the least
+  squares on its knots stays conditioned; a count with one span fewer starts from the
+  equidistributed knots (:func:`cagd.fitting.fit_surface._placed`), then from the
+  accepted knots with the interior knot removed whose removal misses least (Tiller's
+  idea of knot removal, Piegl & Tiller 5.4, scored by the refit instead of a bound).
 
-On the 100 x 100 anchor of ``benchmarks/fitting.py`` (degree 3) the equidistributed knots
-of 12 x 11 poles miss by 0.017 at tol 0.01; the moved knots of 11 x 10 by 0.0096. The
-stage's solves are bounded by TUNE_EVALS and TUNE_PASSES. The combination (variable
-projection through the separable operators, the L_p reweighting) is this project's own.
+On the 100 x 100 anchor of ``benchmarks/fitting.py`` (degree 3) the rounds' knots took
+12 x 12 poles at tol 0.01 and 18 x 17 at 0.001; the moved knots 11 x 11 and 17 x 15 (the
+next counts, 16 x 15 and 17 x 14, stayed at 1.2 and 1.13 tol: a local minimum or the
+count's limit). The stage's work is bounded by TUNE_EVALS, TUNE_PASSES, TUNE_MAX_ENTRIES.
+The combination (variable projection through the separable operators, the L_p
+reweighting) is this project's own.
 """
 from __future__ import annotations
 
@@ -50,9 +56,9 @@ TUNE_PASSES = 20
 #: (m + n) m n / TUNE_UNIT (a 1,000 x 1,000 grid gets three: no pass)
 TUNE_EVALS = 3000
 TUNE_UNIT = 200 * 100 * 100
-#: grids with more sites than this along a direction skip the stage (its smoothing
-#: operators are m x m)
-TUNE_MAX_SITES = 2000
+#: the stage is skipped where its Jacobian (m n d values per interior knot) or a
+#: direction's smoothing operator (m x m) would hold more values than this (80 MB)
+TUNE_MAX_ENTRIES = 10 ** 7
 #: a breakpoint moves by at most this fraction of the smaller gap beside it per pass (the
 #: curve stage's MAX_KNOT_MOVE is 0.3; the grid's knots start far from their places, and
 #: each pass costs a Jacobian)
@@ -206,11 +212,12 @@ def fewer_spans(grid: SeparableGrid, best: tuple, tol: float,
     ``fewer(fit, axis)`` its breakpoints, the knots of both directions tuned
     (:func:`tune_knots`), kept while every point stays within tol and the least squares
     stays conditioned (:func:`_conditioned`); until both directions fail or TUNE_EVALS
-    (no pass on grids with more than TUNE_MAX_SITES sites a direction). Returns (best,
-    counts tried)."""
+    (none where the Jacobian would exceed TUNE_MAX_ENTRIES). Returns (best, counts
+    tried)."""
     tuner = _Tuner(grid)
     tries = 0
-    if max(grid.m, grid.n) > TUNE_MAX_SITES:
+    knots = len(best[1]) + len(best[2]) - 4
+    if max(grid.m * grid.n * grid.d * knots, grid.m ** 2, grid.n ** 2) > TUNE_MAX_ENTRIES:
         return best, tries
     while best[3] <= tol and tuner.evals < TUNE_EVALS:
         spans = (len(best[1]) - 1, len(best[2]) - 1)

@@ -87,3 +87,16 @@ def test_tuned_knots_never_worse_and_stay_ordered(seed, su, sv):
     P = grid.poles(tu, tv)
     S = BSplineSurface(P, 3, 3, np.r_[[0.0] * 3, tu, [1.0] * 3], np.r_[[0.0] * 3, tv, [1.0] * 3])
     assert float(np.sqrt(((S.grid(u, v) - Q) ** 2).sum(-1)).max()) == pytest.approx(miss, rel=1e-9, abs=1e-14)
+
+
+def test_stage_skipped_beyond_its_memory_bound(monkeypatch):
+    """Where the Jacobian would hold more than TUNE_MAX_ENTRIES values the stage returns
+    the fit it was given, untried (the fit of the rounds alone)."""
+    import cagd.fitting.grid_knots as gk
+    S, Q = sampled_spline(0, [0.3, 0.38], [0.55])
+    monkeypatch.setattr(gk, "TUNE_MAX_ENTRIES", 50 * 50 * 3 * 3)
+    r = fit_surface(Q, 1e-3, parameters="uniform")
+    monkeypatch.setattr(FS, "fewer_spans", lambda grid, best, tol, fewer: (best, 0))
+    old = fit_surface(Q, 1e-3, parameters="uniform")
+    assert r.surface.control_points.shape == old.surface.control_points.shape
+    assert poles(r.surface) > poles(S)
