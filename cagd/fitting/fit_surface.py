@@ -275,7 +275,9 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             knots placed by the shape of the least-squares fit (Lawson's reweighted least
             squares, :func:`_minimax_solve`): a noisy grid's largest miss is set by a few
             noise peaks, which a minimax fit meets with fewer poles on knots that follow
-            the shape (:func:`_minimax_stage`). The corner points are not held then.
+            the shape (:func:`_minimax_stage`); the least-squares fit with its knots tuned
+            (:mod:`cagd.fitting.grid_knots`) where that needs no more control points. The
+            corner points are not held then.
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -335,10 +337,13 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     if recovered is not None:              # a sampled B-spline surface: its knots and parameters
         best, rounds, u, v = (recovered[0],), 0, recovered[1], recovered[2]
     else:
-        best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
-    if minimax:
+        best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv), tune=not minimax)
+    if minimax:         # the minimax stage from the rounds' fit, beside that fit's knots tuned
         best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
-        rounds += more
+        tuned, again = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+        rounds += more + again
+        if _poles(tuned[0]) <= _poles(best[0]) and tuned[3] <= tol_n:
+            best = tuned
     S = best[0]
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
@@ -352,6 +357,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     fit = _measured(out, Q.reshape(-1, d), at, grid_uv, tol, rounds, jet)
     return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
                       fit.converged, fit.message)
+
+
+def _poles(S: BSplineSurface) -> int:
+    return int(np.prod(S.control_points.shape[:2]))
 
 
 def _recovered(Qn: np.ndarray, tol_n: float, degrees: Tuple[int, int], poles: int):
@@ -403,7 +412,7 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
 
 
 def _count(fit: SurfaceFit) -> int:
-    return int(np.prod(fit.surface.control_points.shape[:2]))
+    return _poles(fit.surface)
 
 
 def _rank(fit: SurfaceFit) -> Tuple[int, float]:
