@@ -100,3 +100,28 @@ def test_stage_skipped_beyond_its_memory_bound(monkeypatch):
     old = fit_surface(Q, 1e-3, parameters="uniform")
     assert r.surface.control_points.shape == old.surface.control_points.shape
     assert poles(r.surface) > poles(S)
+
+
+@settings(max_examples=8, deadline=None)
+@given(st.integers(0, 10 ** 6), st.sampled_from([3e-3, 1e-2, 3e-2]))
+def test_tuning_never_adds_poles_and_keeps_tol(seed, tol):
+    """Random smooth height fields (two Gaussian bumps and a wave over [0, 10]^2, 30 x 30
+    grids): the tuned fit has at most the control points of the rounds' fit (the stage
+    switched off) and every point within tol by the brute-force oracle."""
+    rng = np.random.default_rng(seed)
+    x = np.linspace(0, 10, 30)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    c, s = rng.uniform(2, 8, (2, 2)), rng.uniform(1, 3, 2)
+    Z = (np.exp(-((X - c[0, 0]) ** 2 + (Y - c[0, 1]) ** 2) / s[0] ** 2)
+         - 0.7 * np.exp(-((X - c[1, 0]) ** 2 + (Y - c[1, 1]) ** 2) / s[1] ** 2) + 0.3 * np.sin(X / 2 + Y / 3))
+    Q = np.stack([X, Y, Z], axis=-1)
+    r = fit_surface(Q, tol)
+    assert r.converged and r.max_error <= tol
+    assert float(brute_distances(r.surface, Q.reshape(-1, 3)).max()) <= tol
+    original = FS.fewer_spans
+    try:
+        FS.fewer_spans = lambda grid, best, tol, fewer: (best, 0)
+        old = fit_surface(Q, tol)
+    finally:
+        FS.fewer_spans = original
+    assert poles(r.surface) <= poles(old.surface)
