@@ -16,7 +16,7 @@ whose candidate misses least (:func:`_trimmed`; a candidate that misses gets its
 re-equidistributed by its own misses at the same counts, :func:`_polished`), then one
 span fewer at a time with the knots of both directions moved by free-knot least squares
 (:mod:`cagd.fitting.grid_knots`; on the 100 x 100 anchor of ``benchmarks/fitting.py``,
-degree 3: 12 x 12 -> 11 x 11 poles at tol 0.01, 18 x 17 -> 17 x 15 at 0.001). Near the
+degree 3: 12 x 12 -> 11 x 10 poles at tol 0.01, 18 x 17 -> 17 x 15 at 0.001). Near the
 grid's size the equidistributed knots are moved towards the sites' own where the sites
 would not determine the poles or the least squares would amplify the data
 (:func:`cagd.fitting.separable.interlaced`; at the cap: interpolation). The

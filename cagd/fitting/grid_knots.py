@@ -29,7 +29,7 @@ Jupp, SIAM J. Numer. Anal. 15(2), 1978; the curve stage :mod:`cagd.fitting.free_
   idea of knot removal, Piegl & Tiller 5.4, scored by the refit instead of a bound).
 
 On the 100 x 100 anchor of ``benchmarks/fitting.py`` (degree 3) the rounds' knots took
-12 x 12 poles at tol 0.01 and 18 x 17 at 0.001; the moved knots 11 x 11 and 17 x 15 (the
+12 x 12 poles at tol 0.01 and 18 x 17 at 0.001; the moved knots 11 x 10 and 17 x 15 (the
 next counts, 16 x 15 and 17 x 14, stayed at 1.2 and 1.13 tol: a local minimum or the
 count's limit). The stage's work is bounded by TUNE_EVALS, TUNE_PASSES, TUNE_MAX_ENTRIES.
 The combination (variable projection through the separable operators, the L_p
