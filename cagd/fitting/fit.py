@@ -507,8 +507,8 @@ def stalled(history: Sequence[Tuple[int, float]], points: int) -> Optional[str]:
     recent = min(e for _, e in history[-STALL_ROUNDS:])
     if n1 <= n0 or n1 < STALL_FILL * points or recent <= STALL_GAIN * e0:
         return None
-    return (f"stopped early: the largest miss at the fitting parameters stayed at {recent:.3g} (from {e0:.3g}) "
-            f"while the control points grew from {n0} to {n1}: tol is below the points' noise")
+    return (f"the growth stopped early: its largest miss at the fitting parameters stayed at {recent:.3g} "
+            f"(from {e0:.3g}) while its control points grew from {n0} to {n1}: tol is below the points' noise")
 
 
 def _knots(breaks: np.ndarray, p: int) -> np.ndarray:
@@ -772,5 +772,7 @@ def _measured(curve: BSplineCurve, Q: np.ndarray, t: np.ndarray, counted: np.nda
     n = curve.control_points.shape[0]
     message = (f"{n} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
                f"tol {tol:g} not met: {n} control points, largest distance {worst:.3g} "
-               f"({why or f'the cap or {MAX_FIT_ROUNDS} rounds reached'})")
+               f"(the cap or {MAX_FIT_ROUNDS} rounds reached)" if why is None else
+               f"tol {tol:g} not met: returned the grown fit with the smallest largest miss, {n} control points, "
+               f"largest distance {worst:.3g} ({why})")
     return CurveFit(curve, worst, rms, params, rounds, ok, message)

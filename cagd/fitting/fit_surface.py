@@ -13,7 +13,10 @@ v knots' part). Rounds grow the span counts until every grid point is within tol
 parameters (an upper bound of its distance), then shrink both counts while they stay
 within (:func:`_shrunk`), then trim one span at a time, the direction and error source
 whose candidate misses least (:func:`_trimmed`; a candidate that misses gets its knots
-re-equidistributed by its own misses at the same counts, :func:`_polished`). Near the
+re-equidistributed by its own misses at the same counts, :func:`_polished`), then one
+span fewer at a time with the knots of both directions moved by free-knot least squares
+(:mod:`cagd.fitting.grid_knots`; on the 100 x 100 anchor of ``benchmarks/fitting.py``,
+degree 3: 12 x 12 -> 11 x 10 poles at tol 0.01, 18 x 17 -> 17 x 15 at 0.001). Near the
 grid's size the equidistributed knots are moved towards the sites' own where the sites
 would not determine the poles or the least squares would amplify the data
 (:func:`cagd.fitting.separable.interlaced`; at the cap: interpolation). The
@@ -51,6 +54,7 @@ from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
 from .fit import (CORRECTION_GAIN, GROW_TARGET, MAX_FIT_ROUNDS, MAX_GROWTH, MAX_SHRINK, _knots, _redistributed,
                   _span_errors, _worth, stalled)
+from .grid_knots import fewer_spans
 from .interpolation import _frame
 from .rebuild import _pair
 from .separable import SeparableGrid, ends_held_operator, interlaced
@@ -271,7 +275,9 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             knots placed by the shape of the least-squares fit (Lawson's reweighted least
             squares, :func:`_minimax_solve`): a noisy grid's largest miss is set by a few
             noise peaks, which a minimax fit meets with fewer poles on knots that follow
-            the shape (:func:`_minimax_stage`). The corner points are not held then.
+            the shape (:func:`_minimax_stage`); the least-squares fit with its knots tuned
+            (:mod:`cagd.fitting.grid_knots`) where that needs no more control points. The
+            corner points are not held then.
 
     Returns:
         SurfaceFit; ``converged`` False (with the achieved error) when the cap or
@@ -331,10 +337,13 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     if recovered is not None:              # a sampled B-spline surface: its knots and parameters
         best, rounds, u, v = (recovered[0],), 0, recovered[1], recovered[2]
     else:
-        best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
-    if minimax:
+        best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv), tune=not minimax)
+    if minimax:         # the minimax stage from the rounds' fit, beside that fit's knots tuned
         best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
-        rounds += more
+        tuned, again = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
+        rounds += more + again
+        if _poles(tuned[0]) <= _poles(best[0]) and tuned[3] <= tol_n:
+            best = tuned
     S = best[0]
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
@@ -348,6 +357,10 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
     fit = _measured(out, Q.reshape(-1, d), at, grid_uv, tol, rounds, jet)
     return SurfaceFit(fit.surface, fit.max_error, fit.rms_error, fit.params.reshape(m, n, 2), rounds,
                       fit.converged, fit.message)
+
+
+def _poles(S: BSplineSurface) -> int:
+    return int(np.prod(S.control_points.shape[:2]))
 
 
 def _recovered(Qn: np.ndarray, tol_n: float, degrees: Tuple[int, int], poles: int):
@@ -399,7 +412,7 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
 
 
 def _count(fit: SurfaceFit) -> int:
-    return int(np.prod(fit.surface.control_points.shape[:2]))
+    return _poles(fit.surface)
 
 
 def _rank(fit: SurfaceFit) -> Tuple[int, float]:
@@ -719,10 +732,12 @@ def _scattered_solve(Q: np.ndarray, uv: np.ndarray, bu: np.ndarray, bv: np.ndarr
 
 
 def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degrees: Tuple[int, int],
-               most: Tuple[int, int]):
+               most: Tuple[int, int], tune: bool = True):
     """The separable fit's grow / shrink / trim (module docstring) of the normalised grid
     Qn at the parameters u, v, at most ``most`` spans per direction, by the per-direction
-    operators of :class:`cagd.fitting.separable.SeparableGrid`. Returns (best, rounds),
+    operators of :class:`cagd.fitting.separable.SeparableGrid`, then (``tune``) fewer
+    spans with the knots moved (:func:`cagd.fitting.grid_knots.fewer_spans`; not for the
+    minimax stage's shape fit, whose knots only start its growth). Returns (best, rounds),
     best = (surface, breaks_u, breaks_v, largest miss, misses (m, n))."""
     pu, pv = degrees
     most_u, most_v = most
@@ -756,6 +771,13 @@ def _separable(Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: float, degre
     best, trimmed = _trimmed(best, grid.fit, grid_sources, tol_n, (pu, pv),
                              (POLISH_PASSES, lambda fit: ((u, fit[4].max(axis=1)), (v, fit[4].max(axis=0)))), sites)
     rounds += shrunk + trimmed
+
+    def fewer(fit, axis: int) -> np.ndarray:          # one span fewer, equidistributing the fit's misses
+        t, e = (u, fit[4].max(axis=1)) if axis == 0 else (v, fit[4].max(axis=0))
+        return _placed(fit[1 + axis], t, e, tol_n, degrees[axis], len(fit[1 + axis]) - 2, "clamped")
+    if tune:
+        best, tuned = fewer_spans(grid, best, tol_n, fewer)
+        rounds += tuned
     S = BSplineSurface(best[0], pu, pv, _knots(best[1], pu), _knots(best[2], pv))
     return (S,) + tuple(best[1:]), rounds
 
@@ -800,7 +822,7 @@ def _minimax_stage(best, Qn: np.ndarray, u: np.ndarray, v: np.ndarray, tol_n: fl
     pu, pv = degrees
     flat = Qn.reshape(-1, d)
     uv = np.stack(np.meshgrid(u, v, indexing="ij"), axis=-1).reshape(-1, 2)
-    shape, rounds = _separable(best[0].grid(u, v), u, v, tol_n, degrees, most)
+    shape, rounds = _separable(best[0].grid(u, v), u, v, tol_n, degrees, most, tune=False)
     bu, bv = shape[1], shape[2]
 
     def count(bu: np.ndarray, bv: np.ndarray) -> int:
@@ -976,5 +998,7 @@ def _measured(out: BSplineSurface, X: np.ndarray, at: np.ndarray, uv: np.ndarray
     ok = worst <= tol
     msg = (f"{shape[0]} x {shape[1]} control points, every point within {worst:.3g} (tol {tol:g})" if ok else
            f"tol {tol:g} not met: {shape[0]} x {shape[1]} control points, largest distance {worst:.3g} "
-           f"({why or f'the cap or {MAX_FIT_ROUNDS} rounds reached'})")
+           f"({why or f'the cap or {MAX_FIT_ROUNDS} rounds reached'})" if why is None else
+           f"tol {tol:g} not met: returned the grown fit with the smallest largest miss, {shape[0]} x {shape[1]} "
+           f"= {shape[0] * shape[1]} control points, largest distance {worst:.3g} ({why})")
     return SurfaceFit(out, worst, rms, params, rounds, ok, msg)

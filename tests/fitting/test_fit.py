@@ -408,6 +408,8 @@ def test_noisy_curve_stops_early_and_says_why():
     r = fit_curve(Q, 0.01)
     assert not r.converged and "stopped early" in r.message and f"largest distance {r.max_error:.3g}" in r.message
     assert len(r.curve.control_points) < 1000 and r.rounds <= 8               # the old fit: 2,000
+    assert f"returned the grown fit with the smallest largest miss, {len(r.curve.control_points)} control " \
+           f"points" in r.message                       # the returned fit's count, not only the growth's
     sampled, slack = sampled_distances(r.curve, Q)
     assert np.all(sampled >= np.asarray(cagd.closest_point(r.curve, Q).distances) - 1e-12)
     assert abs(float(sampled.max()) - r.max_error) <= slack + 1e-12
