@@ -336,7 +336,7 @@ def test_lawson_lowers_the_largest_miss_on_fixed_knots():
 
 
 @pytest.mark.parametrize("kwargs, word", [
-    (dict(minimax="yes"), "minimax"),
+    (dict(minimax="yes"), "minimax"), (dict(tune_knots=1), "tune_knots"),
     (dict(minimax=True, periodic="u"), "minimax"),
     (dict(minimax=True, smoothing=1e-9), "minimax"),
     (dict(minimax=True, boundary="G0"), "minimax"),
