@@ -11,7 +11,8 @@ Where each step lives:
   ``plane``), :mod:`.deviation` (``deviation``, ``deviation_map``); their result types
   all in :mod:`.results`.
 - decomposition and bounds: :mod:`.bounds` (Bezier pieces, the normalised ``Frame``,
-  hull, derivative and second-order box bounds), :mod:`._subdivision` (homogeneous
+  hull, derivative and second-order box bounds), :mod:`._hessian_hull` (the half
+  Hessian's Bezier hull over a cell, polynomial and rational), :mod:`._subdivision` (homogeneous
   pieces, boxes, halving, for intersections and distances), :mod:`._symmetry` (bounds
   from a centre or axis of a continuum of minima), :mod:`._cells` (the closest-point
   cells in power form).

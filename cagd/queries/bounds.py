@@ -548,13 +548,16 @@ def robust_distance(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
 
 
 # --- second-order bounds of the closest-point search -------------------------------------
+#: (lo, hi, div) of a half-Hessian hull: see ``hessian`` in :func:`box_lower_bound`
+HullIntervals = Tuple[np.ndarray, np.ndarray, Optional[Tuple[np.ndarray, np.ndarray]]]
+
 # g(x) = |S(x) - X|^2, grad g = 2 J^T r, Hess g = 2 (J^T J + sum_d r_d d2S_d), r = S - X
 BLOCK = 2             # cells within this many grid steps of x*'s cell are bounded from x*
 
 
 def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarray, S: np.ndarray, J: np.ndarray,
                     H2: np.ndarray, L: np.ndarray, M: np.ndarray, T: np.ndarray, convexity: bool = False,
-                    hessian: Optional[Callable[[np.ndarray], Tuple[np.ndarray, np.ndarray]]] = None,
+                    hessian: Optional[Callable[[np.ndarray], HullIntervals]] = None,
                     target: Optional[np.ndarray] = None
                     ) -> Union[np.ndarray, Tuple[np.ndarray, np.ndarray, Tuple[np.ndarray, np.ndarray]]]:
     """A certified lower bound of g over each box [lo, hi] (inside cell ``cell``), from the
@@ -576,14 +579,16 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     against the first derivative along that direction: m bounds the smallest eigenvalue of
     diag(s)^-1 H diag(s)^-1, i.e. H >= m diag(s)^2.
 
-    ``hessian``: given row indices, (lo, hi) (len, k, k) bounds of the half Hessian
-    J^T J + r.d2S over those rows' boxes (:class:`cagd.queries._hessian_hull.HessianHull`:
-    per entry, the extreme Bezier coefficients over the box's cell; (-inf, inf) for a row
-    it declines); asked for the rows where it can help (the half Hessian at c positive
-    definite, m above not positive), m there is also at least twice the smallest
-    eigenvalue of any symmetric matrix within them (for k = 2, (A + C)/2 -
+    ``hessian``: given row indices, (lo, hi, div): (lo, hi) (len, k, k) bounds of G =
+    d (J^T J + r.d2S) over those rows' boxes, d a positive function, and div None (d = 1)
+    or the bounds (dlo, dhi) (len,) of d there (:mod:`cagd.queries._hessian_hull`: per
+    entry, the extreme Bezier coefficients over the box's cell; d = w^4 on rational cells;
+    (-inf, inf) for a row it declines); asked for the rows where it can help (the half
+    Hessian at c positive definite, m above not positive), m there is also at least twice
+    the smallest eigenvalue mu of any symmetric matrix within them (for k = 2, (A + C)/2 -
     sqrt(((A - C)/2)^2 + B^2) at the lower ends of A and C and the largest |B|: that
-    eigenvalue grows with A and C and falls with |B|);
+    eigenvalue grows with A and C and falls with |B|), divided by dhi where mu > 0 and
+    by dlo where not (lambda_min(G / d) = lambda_min(G) / d);
     ``target`` (n,): asked only where the bound would reach it with m at its best (twice
     the half Hessian's smallest eigenvalue at c: no bound over a box containing c
     exceeds it), i.e. where the hull can close the box.
@@ -691,7 +696,11 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         if i.size:                      # (rows it declines: -inf, inf, nothing gained)
             m = m.copy()
             with np.errstate(invalid="ignore"):
-                m[i] = np.fmax(m[i], _interval_eigenvalue(*hessian(i), [x[i] for x in si]))
+                hl, hh, div = hessian(i)
+                mu = _interval_eigenvalue(hl, hh, [x[i] for x in si])
+                if div is not None:
+                    mu = mu / np.where(mu > 0, div[1], div[0])
+                m[i] = np.fmax(m[i], mu)
     q, parts = _quadratic_minimum(m, grad, sc, lo, hi, c)
     bound = f2 + q - ULP_RTOL * f2
     if not convexity:

@@ -23,7 +23,10 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
    (expanded at x* itself, no evaluation; only cells not across a break where the object
    is less than C2, found numerically); only points it does not settle go cell by cell,
    with each cell's own bounds and partials from the cell's own piece (one-sided on a
-   crease).
+   crease). The Hessian's bound over a whole cell comes from its Bezier coefficients
+   where that can close the box (:mod:`._hessian_hull`; on rational cells those of
+   w^4 times it); on a cell with a collapsed edge (a pole), where the Hessian is
+   indefinite, a first-order bound from the pole's point (:mod:`._pole_bound`).
 
 The minimum of all bounds is ``lower_bounds``: no point of the object is closer than
 it, so ``distances - lower_bounds`` tells how sure the answer is.
@@ -79,10 +82,11 @@ from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from .results import ClosestPoints
-from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, bezier_pieces, block_max as _block_max, \
-    box_lower_bound, closed_directions, robust_distance
+from .bounds import BLOCK as _BLOCK, FAR_POINT, BezierPieces, Frame, HullIntervals, bezier_pieces, \
+    block_max as _block_max, box_lower_bound, closed_directions, robust_distance
 from ._cells import PowerTable, pair_distances as _distances, split_boxes as _split
-from ._hessian_hull import HessianHull
+from ._hessian_hull import HessianHull, RationalHessianHull
+from ._pole_bound import PoleCells
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
     SLACK_RTOL, TINY, ULP_RTOL, column_extremes, smallest_per_group, squared_norms
@@ -197,8 +201,8 @@ class Projector:
         self.centers, self.radii = self.cells.hull_spheres()
         self.T3 = self.cells.third_derivative_bounds()       # (keeps the lower orders: no second pass)
         self.L, self.M = self.cells.derivative_bounds()
-        # polynomial cells: the half Hessian's Bernstein coefficients (tight bounds over a cell)
-        self._hessian = HessianHull(self.cells) if self.cells.weights is None else None
+        # the half Hessian's Bernstein coefficients (tight bounds over a cell)
+        self._hessian = HessianHull(self.cells) if self.cells.weights is None else RationalHessianHull(self.cells)
         shape = self.cells.shape
         # per level l = 0..BLOCK: the bounds over the cells within l grid steps
         self.block = [np.stack([_block_max(B, shape, lv) for lv in range(_BLOCK + 1)])
@@ -234,6 +238,7 @@ class Projector:
         P = self.pieces.control_points.reshape(-1, self.dim)
         lo, hi = column_extremes(P)
         self.size = max(float((hi - lo).max()), TINY)
+        self._poles = PoleCells.of(self.cells, self.size)      # cells with a collapsed edge (first-order bound)
         self.hull_radius = float(np.sqrt(squared_norms(P)).max())      # about the frame's origin
         if light:
             self.T, self._origin = 0.0, None
@@ -690,6 +695,11 @@ class Projector:
         # the work bound stopped the search with the certificate open: the foot is the
         # nearest found, not proven global (the points deferred to the caller excepted)
         open_ = LB < d - gap
+        if self._poles is not None:     # a certified foot on a pole's cell: its parameters are ill-determined
+            at = np.flatnonzero(~conv & ~open_)
+            iu, iv = (np.clip(np.searchsorted(b, x[at, a], side="right") - 1, 0, len(b) - 2)
+                      for a, b in enumerate(self.cells.breaks))
+            conv[at[self._poles.side[iu * self.cells.shape[1] + iv] >= 0]] = True
         if defer is not None:
             open_[np.setdiff1d(np.arange(N), sure)] = False
         conv = conv & ~open_
@@ -872,9 +882,9 @@ class Projector:
 
     def _bound(self, X, pid, cell, lo, hi, c, target: np.ndarray) -> np.ndarray:
         """Second-order lower bound of g over boxes inside their cells, expanded at c (in
-        chunks of EVAL_CHUNK boxes: the partials of millions of pairs would not fit); on
-        polynomial cells with the half Hessian's Bezier hull where it can lift the bound
-        to ``target`` (distances: a box around a foot closes at once, :class:`HessianHull`)."""
+        chunks of EVAL_CHUNK boxes: the partials of millions of pairs would not fit); with
+        the half Hessian's Bezier hull where it can lift the bound to ``target`` (distances:
+        a box around a foot closes at once, :meth:`hull`)."""
         out = np.empty(len(pid))
         for c0 in range(0, len(pid), EVAL_CHUNK):
             sl = slice(c0, c0 + EVAL_CHUNK)
@@ -883,27 +893,36 @@ class Projector:
             out[sl] = box_lower_bound(Xp, lo[sl], hi[sl], c[sl], S, J, H, self.L[ce], self.M[ce], self.T3[ce],
                                       hessian=self.hull(Xp, ce, lo[sl], hi[sl]),
                                       target=np.maximum(target[sl], 0.0) ** 2)
+            out[sl] = self.pole_bound(Xp, ce, lo[sl], hi[sl], out[sl])
         return out
 
+    def pole_bound(self, Xp: np.ndarray, cell: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                   g: np.ndarray) -> np.ndarray:
+        """The lower bounds g of |S - X|^2 over boxes [lo, hi] of ``cell``, raised on cells
+        with a collapsed edge to the first-order bound there (:mod:`._pole_bound`)."""
+        if self._poles is None:
+            return g
+        return np.maximum(g, self._poles.squared_bound(Xp, cell, lo, hi))
+
     def hull(self, Xp: np.ndarray, cell: np.ndarray, lo: np.ndarray, hi: np.ndarray
-             ) -> Optional[Callable[[np.ndarray], Tuple[np.ndarray, np.ndarray]]]:
+             ) -> Optional[Callable[[np.ndarray], HullIntervals]]:
         """The ``hessian`` argument of :func:`box_lower_bound` for rows of points Xp in
         boxes [lo, hi] of the cells ``cell``: the half Hessian's Bezier hull over each
-        cell (:class:`HessianHull`) for boxes at least HULL_BOX_SHARE of their cell per
-        direction (a smaller box's own second-order bound is the tighter one); None on
-        rational cells."""
+        cell (:class:`HessianHull`; on rational cells that of w^4 H and the range of w^4,
+        :class:`RationalHessianHull`) for boxes at least HULL_BOX_SHARE of their cell per
+        direction (a smaller box's own second-order bound is the tighter one)."""
         hh = self._hessian
         if hh is None:
             return None
 
-        def intervals(i: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        def intervals(i: np.ndarray) -> HullIntervals:
             ce = cell[i]
             big = np.all(hi[i] - lo[i] >= HULL_BOX_SHARE * (self.hi[ce] - self.lo[ce]), axis=1)
             out = np.full((len(i), self.k, self.k), -np.inf), np.full((len(i), self.k, self.k), np.inf)
             j = np.flatnonzero(big)
             if j.size:
                 out[0][j], out[1][j] = hh.intervals(Xp[i[j]], ce[j])
-            return out
+            return out[0], out[1], hh.divisors(ce)
         return intervals
 
     def _mid_bound(self, X, pid, cell, lo, hi) -> np.ndarray:
@@ -916,6 +935,7 @@ class Projector:
             out[sl] = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], self.mids[ce], self.mid_points[ce],
                                       self.mid_jacobians[ce], self.mid_hessians[ce], self.L[ce], self.M[ce],
                                       self.T3[ce])
+            out[sl] = self.pole_bound(X[pid[sl]], ce, lo[sl], hi[sl], out[sl])
         return out
 
     def _points(self, points: ArrayLike) -> np.ndarray:
@@ -1262,21 +1282,20 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
 
 
 def _footprint(p: Projector) -> int:
-    """Bytes held by a projector's arrays (also inside its lists and tuples; its half-Hessian
-    hull counted full, as it may grow), computed once."""
+    """Bytes held by a projector's arrays (also inside its lists and tuples), computed once,
+    plus those its half-Hessian hull holds now (it grows as cells are used)."""
     if getattr(p, "_bytes", None) is None:
         def size(x: object, depth: int = 0) -> int:
             if isinstance(x, np.ndarray):
                 return int(x.nbytes)
-            if isinstance(x, HessianHull):
-                return int(x._C.nbytes)
             if isinstance(x, (list, tuple)) and depth < 3:
                 return sum(size(y, depth + 1) for y in x)
             if isinstance(x, BezierPieces) and depth < 3:
                 return sum(size(y, depth + 1) for y in vars(x).values())
             return 0
         setattr(p, "_bytes", sum(size(v) for k, v in vars(p).items() if k != "_bytes"))
-    return int(getattr(p, "_bytes"))
+    hull = p._hessian
+    return int(getattr(p, "_bytes")) + (hull.nbytes if hull is not None else 0)
 
 
 def content_key(obj: object) -> Optional[Tuple]:

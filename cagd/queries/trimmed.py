@@ -691,6 +691,7 @@ def _convex_bound(p: "Projector", X: np.ndarray, pid: np.ndarray, cell: np.ndarr
         out[sl], _, (t0[sl], t1[sl]) = box_lower_bound(X[pid[sl]], lo[sl], hi[sl], y[sl], S, J, H, p.L[ce],
                                                        p.M[ce], p.T3[ce], convexity=True,
                                                        hessian=p.hull(X[pid[sl]], ce, lo[sl], hi[sl]))
+        out[sl] = p.pole_bound(X[pid[sl]], ce, lo[sl], hi[sl], out[sl])
     return out, (t0, t1)
 
 

@@ -468,19 +468,23 @@ def test_box_lower_bound_is_below_the_sampled_minimum(which):
         gmin[i] = ((p.value(uv) - X[i]) ** 2).sum(1).min()
     assert np.all(lb <= gmin * (1 + 1e-12) + 1e-15)
     assert np.mean(lb > 0.25 * gmin) > 0.4
-    # with the half Hessian's Bezier hull (polynomial cells; whole cells asked too): still
-    # below the sampled minimum, never looser than without it
+    # with the half Hessian's Bezier hull (on rational cells that of w^4 H; whole cells
+    # asked too): still below the sampled minimum, never looser than without it, and
+    # tighter on some rows
+    tighter = 0
     for box_lo, box_hi in ((lo, hi), (lo_c, hi_c)):
         lb0 = box_lower_bound(X, box_lo, box_hi, c, S, J, H, p.L[cell], p.M[cell], p.T3[cell])
         lbh = box_lower_bound(X, box_lo, box_hi, c, S, J, H, p.L[cell], p.M[cell], p.T3[cell],
                               hessian=p.hull(X, cell, box_lo, box_hi))
-        assert (p.hull(X, cell, box_lo, box_hi) is None) == (which in ("rational", "sphere"))
         for i in range(n):
             uv = np.stack([box_lo[i, 0] + gu.ravel() * (box_hi[i, 0] - box_lo[i, 0]),
                            box_lo[i, 1] + gv.ravel() * (box_hi[i, 1] - box_lo[i, 1])], 1)
             gmin[i] = ((p.value(uv) - X[i]) ** 2).sum(1).min()
         assert np.all(lbh <= gmin * (1 + 1e-12) + 1e-15)
         assert np.all(lbh >= lb0)
+        tighter += int(np.sum(lbh > lb0 * (1 + 1e-9) + 1e-15))
+    print(which, tighter)
+    assert tighter >= 10
 
 
 def test_creases_c0_joints_do_not_break_the_certificate():

@@ -169,11 +169,22 @@ def test_content_cache_is_bounded_by_bytes(monkeypatch):
     assert cl.content_key(curves[-1]) in cl._BY_CONTENT
 
 
-def test_footprint_counts_the_half_hessian_hull_full():
-    """The hull's coefficients fill lazily, up to one row per cell: the cache's byte count
-    takes them full (else projectors held by content could outgrow CACHE_BYTES)."""
-    s = cagd.BSplineSurface(np.random.default_rng(3).uniform(-1, 1, (12, 9, 3)), 3, 3)
-    with_hull, without = cl.Projector(s, light=True), cl.Projector(s, light=True)
-    without._hessian = None
-    assert with_hull._hessian is not None
-    assert cl._footprint(with_hull) - cl._footprint(without) == with_hull._hessian._C.nbytes > 0
+def test_footprint_counts_the_half_hessian_hull_as_it_grows():
+    """The hull's coefficients fill lazily, one row per cell asked for: the cache's byte
+    count takes the rows held at the time (else projectors held by content could outgrow
+    CACHE_BYTES), and a few points touch a small share of a large net's cells."""
+    rng = np.random.default_rng(3)
+    g = np.linspace(0.0, 100.0, 40)
+    U, V = np.meshgrid(g, g, indexing="ij")
+    P = np.stack([U, V, 10 * np.sin(0.07 * U) * np.cos(0.05 * V)], -1)
+    for W in (None, rng.uniform(0.8, 1.25, (40, 40))):
+        s = cagd.BSplineSurface(P, 3, 3, weights=W)
+        with_hull, without = cl.Projector(s, light=True), cl.Projector(s, light=True)
+        without._hessian = None
+        assert cl._footprint(with_hull) == cl._footprint(without)
+        uv = rng.uniform(0, 1, (5, 2))
+        with_hull.closest(s(uv[:, 0], uv[:, 1]) + [0, 0, 1.0])
+        held = with_hull._hessian.nbytes
+        assert cl._footprint(with_hull) - cl._footprint(without) == held > 0
+        rows = (with_hull._hessian._rows._slot >= 0).sum()
+        assert 0 < rows <= 10 * len(uv), rows
