@@ -388,7 +388,6 @@ class BSplineSurface(Surface):
         ov, v_sorted, sv, Nv = _sorted_basis(self._v, q, vs, nv, dv)
         vrows, lv = _local_rows(sv, q)
         inv_v = None if v_sorted else np.argsort(ov)
-        hom_t = self._hom.transpose(1, 0, 2)                          # (nv, nu, D): v rows first
         width = Mv * D
         direct = u_sorted and not rational                            # products written into out itself
         cap = max(1, min(_GRID_BLOCK // width, _GRID_VALUES // _rows_cap(p), Mu))
@@ -401,10 +400,9 @@ class BSplineSurface(Surface):
         while a0 < Mu:
             b0 = min(max(int(np.searchsorted(added, added[a0] + max_rows - (p + 1), side="right")), a0 + 1), Mu)
             rows, lu = _local_rows(su[a0:b0], p)
-            X = hom_t[np.ix_(vrows, rows)].reshape(len(vrows), -1)    # (rows in v, rows in u x D)
-            C = _band_sums(Nv, lv, q, X)                              # (dv+1, Mv, r D), vs sorted
-            C = C.reshape(dv + 1, Mv, len(rows), D).transpose(0, 2, 1, 3)
-            C = np.ascontiguousarray(C if inv_v is None else C[:, :, inv_v]).reshape(dv + 1, len(rows), width)
+            C = _v_sums(Nv, lv, q, _subnet(self._hom, rows, vrows))  # (dv+1, r, Mv D), vs sorted
+            if inv_v is not None:
+                C = C.reshape(dv + 1, len(rows), Mv, D).take(inv_v, axis=2).reshape(dv + 1, len(rows), width)
             for a, b, gemm in _band_blocks(lu, p, width, cap):
                 m = slice(a0 + a, a0 + b)
                 for k in range(du + 1):
@@ -649,11 +647,35 @@ def _sorted_basis(knots: np.ndarray, degree: int, t: np.ndarray, count: int,
 
 
 def _local_rows(spans: np.ndarray, degree: int) -> Tuple[np.ndarray, np.ndarray]:
-    """(rows, local): the pole rows spans - degree .. spans use (sorted, distinct) and the
-    index in rows of each span - degree; for nondecreasing spans local is nondecreasing
-    and the rows of spans[a:b] are rows[local[a]:local[b - 1] + degree + 1]."""
-    rows = np.unique(spans[:, None] - degree + np.arange(degree + 1))
+    """(rows, local) of nondecreasing spans: the pole rows span - degree .. span they use,
+    sorted and distinct (or the whole range between the first and the last when that is
+    at most twice as many: then the net's rows are a view), and the index in rows of each
+    span - degree (nondecreasing); the rows of spans[a:b] are
+    rows[local[a]:local[b - 1] + degree + 1]."""
+    distinct = spans[np.concatenate([[True], spans[1:] != spans[:-1]])]
+    rows = np.unique(distinct[:, None] - degree + np.arange(degree + 1))
+    if rows[-1] - rows[0] + 1 <= 2 * len(rows):
+        return np.arange(rows[0], rows[-1] + 1), spans - degree - rows[0]
     return rows, np.searchsorted(rows, spans - degree)
+
+
+def _subnet(hom: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """hom[rows][:, cols] for sorted distinct indices, a view where they are ranges."""
+    def index(ix: np.ndarray):
+        return slice(int(ix[0]), int(ix[-1]) + 1) if ix[-1] - ix[0] + 1 == len(ix) else ix
+    r, c = index(rows), index(cols)
+    if isinstance(r, slice):
+        return hom[r][:, c]
+    return hom[:, c][r] if isinstance(c, slice) else hom[np.ix_(r, c)]
+
+
+def _local_basis(N: np.ndarray, local: np.ndarray, degree: int) -> Tuple[np.ndarray, int]:
+    """(B, lo): the dense local basis of a block of parameters with nondecreasing local
+    first rows, B[m, local[m] - lo + i] = N[m, i], shape (len(local), rows touched)."""
+    lo = int(local[0])
+    B = np.zeros((len(local), int(local[-1]) - lo + degree + 1))
+    B[np.arange(len(local))[:, None], (local - lo)[:, None] + np.arange(degree + 1)] = N
+    return B, lo
 
 
 def _rows_cap(degree: int) -> int:
@@ -684,11 +706,8 @@ def _band_block(N: np.ndarray, local: np.ndarray, degree: int, X: np.ndarray, de
     rows of X, or (gemm False) degree + 1 gathers and multiply-adds of whole rows;
     ``scratch`` holds the latter's buffer (made on first use, at least as big as dest)."""
     if gemm:
-        lo = int(local[0])
-        r = int(local[-1]) - lo + degree + 1
-        B = np.zeros((len(local), r))
-        B[np.arange(len(local))[:, None], (local - lo)[:, None] + np.arange(degree + 1)] = N
-        np.matmul(B, X[lo:lo + r], out=dest)
+        B, lo = _local_basis(N, local, degree)
+        np.matmul(B, X[lo:lo + B.shape[1]], out=dest)
         return
     if not scratch or scratch[0].size < dest.size:
         scratch[:] = [np.empty(dest.size)]
@@ -701,17 +720,35 @@ def _band_block(N: np.ndarray, local: np.ndarray, degree: int, X: np.ndarray, de
         dest += tmp
 
 
-def _band_sums(N: np.ndarray, local: np.ndarray, degree: int, X: np.ndarray) -> np.ndarray:
-    """out[k, m] = sum_i N[k, m, i] X[local[m] + i] for sorted parameters (nondecreasing
-    local), shape (len(N), len(local), X.shape[1]), by the blocks of :func:`_band_blocks`."""
-    M, width = len(local), X.shape[1]
-    out = np.empty((N.shape[0], M, width))
-    cap = max(1, min(_GRID_BLOCK // max(width, 1), _GRID_VALUES // _rows_cap(degree), M))
-    scratch: List[np.ndarray] = []
-    for a, b, gemm in _band_blocks(local, degree, width, cap):
-        for k in range(N.shape[0]):
-            _band_block(N[k, a:b], local[a:b], degree, X, out[k, a:b], gemm, scratch)
-    return out
+def _v_sums(N: np.ndarray, local: np.ndarray, degree: int, net: np.ndarray) -> np.ndarray:
+    """C[k, i, (m, d)] = sum_j N[k, m, j] net[i, local[m] + j, d] for sorted v parameters
+    (nondecreasing local), shape (len(N), r, len(local) D), the layout the u direction
+    multiplies: per block of :func:`_band_blocks` one product of the pole rows
+    (r, rows touched x D) with the Kronecker product of the dense local basis and the
+    D x D identity (D-fold flops, no transposed copies), or degree + 1 gathered
+    multiply-adds where the parameters are sparse."""
+    K, M = N.shape[:2]
+    r, _, D = net.shape
+    C = np.empty((K, r, M * D))
+    cap = max(1, min(_GRID_BLOCK // (r * D), _GRID_VALUES // (_rows_cap(degree) * D * D), M))
+    eye = np.eye(D)
+    for a, b, gemm in _band_blocks(local, degree, r * D, cap):
+        cols = slice(a * D, b * D)
+        for k in range(K):
+            if gemm:
+                B, lo = _local_basis(N[k, a:b], local[a:b], degree)
+                kron = np.einsum("nj,de->jdne", B, eye).reshape(B.shape[1] * D, (b - a) * D)
+                np.matmul(net[:, lo:lo + B.shape[1]].reshape(r, -1), kron, out=C[k, :, cols])
+                continue
+            dest = C[k, :, cols]
+            for j in range(degree + 1):
+                g = net.take(local[a:b] + j, axis=1).reshape(r, -1)
+                g *= np.repeat(N[k, a:b, j], D)                  # contiguous: no broadcast over D
+                if j == 0:
+                    dest[...] = g
+                else:
+                    dest += g
+    return C
 
 
 def _weights(weights: ArrayLike, shape: Tuple[int, ...]) -> np.ndarray:
