@@ -132,6 +132,11 @@ class Surface(Value):
         if len(us) * len(vs) > MAX_SAMPLES:
             raise CagdError(f"us, vs: a grid of {len(us)} x {len(vs)} points exceeds MAX_SAMPLES = {MAX_SAMPLES}; "
                             f"evaluate it in blocks")
+        return self._grid_last(us, vs, du, dv)
+
+    def _grid_last(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+        """The (du, dv) partial alone on the grid (a surface that can skip the lower
+        partials overrides this)."""
         return self._grid(us, vs, du, dv)[-1, -1]
 
     # --- differential geometry -------------------------------------------------------------

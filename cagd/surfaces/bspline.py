@@ -363,7 +363,12 @@ class BSplineSurface(Surface):
             out[:, :, s:s + step] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
         return out
 
-    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+    def _grid_last(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+        if self.is_rational:                          # the quotient rule needs the lower partials
+            return self._grid(us, vs, du, dv)[-1, -1]
+        return self._grid(us, vs, du, dv, last_only=True)[0, 0]
+
+    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int, last_only: bool = False) -> np.ndarray:
         """Partials on the grid us x vs through the local bases (Piegl & Tiller A2.3 per
         parameter: (p + 1) and (q + 1) values each; A3.6 summed over the grid), one
         direction at a time: C_l[n, i] = sum_j N^(l)_{sv_n - q + j, q}(v_n) P_{i, sv_n - q + j},
@@ -376,24 +381,27 @@ class BSplineSurface(Surface):
         block is in cache. O(Mu Mv D (p + q)) work, memory O((Mu + Mv)(p + q + 2)) for
         the bases plus the output and bounded blocks, never a (parameters x poles) basis
         matrix (a 2000 x 2000 grid of a 2000 x 2001-pole net took 30 s through the dense
-        ones)."""
+        ones). ``last_only`` (polynomial): the (du, dv) partial alone, shape (1, 1, ...)."""
         p, q = self.degree_u, self.degree_v
         nu, nv, D = self._hom.shape
         Mu, Mv = len(us), len(vs)
         rational = self.is_rational
-        out = np.empty((du + 1, dv + 1, Mu, Mv, D - 1 if rational else D))
+        last_only = last_only and not rational
+        K, L = (1, 1) if last_only else (du + 1, dv + 1)
+        out = np.empty((K, L, Mu, Mv, D - 1 if rational else D))
         if Mu == 0 or Mv == 0:
             return out
         ou, u_sorted, su, Nu = _sorted_basis(self._u, p, us, nu, du)
         ov, v_sorted, sv, Nv = _sorted_basis(self._v, q, vs, nv, dv)
+        Nu, Nv = Nu[-K:], Nv[-L:]
         vrows, lv = _local_rows(sv, q)
         inv_v = None if v_sorted else np.argsort(ov)
         width = Mv * D
         direct = u_sorted and not rational                            # products written into out itself
         cap = max(1, min(_GRID_BLOCK // width, _GRID_VALUES // _rows_cap(p), Mu))
-        buf = None if direct else np.empty((du + 1, dv + 1, cap, width))
+        buf = None if direct else np.empty((K, L, cap, width))
         tmp: List[np.ndarray] = []                                     # the banded passes' scratch, made once
-        max_rows = max(p + 1, _GRID_VALUES // (width * (dv + 1)))    # v-sums of one chunk of us
+        max_rows = max(p + 1, _GRID_VALUES // (width * L))    # v-sums of one chunk of us
         # new pole rows a parameter adds to its chunk (sorted spans): min(p + 1, span step)
         added = np.concatenate([[0], np.cumsum(np.minimum(p + 1, np.diff(su)))])
         a0 = 0
@@ -402,16 +410,16 @@ class BSplineSurface(Surface):
             rows, lu = _local_rows(su[a0:b0], p)
             C = _v_sums(Nv, lv, q, _subnet(self._hom, rows, vrows))  # (dv+1, r, Mv D), vs sorted
             if inv_v is not None:
-                C = C.reshape(dv + 1, len(rows), Mv, D).take(inv_v, axis=2).reshape(dv + 1, len(rows), width)
+                C = C.reshape(L, len(rows), Mv, D).take(inv_v, axis=2).reshape(L, len(rows), width)
             for a, b, gemm in _band_blocks(lu, p, width, cap):
                 m = slice(a0 + a, a0 + b)
-                for k in range(du + 1):
-                    for l in range(dv + 1):
+                for k in range(K):
+                    for l in range(L):
                         dest = out[k, l, m].reshape(b - a, width) if direct else buf[k, l, :b - a]
                         _band_block(Nu[k, m], lu[a:b], p, C[l], dest, gemm, tmp)
                 if direct:
                     continue
-                block = buf[:, :, :b - a].reshape(du + 1, dv + 1, b - a, Mv, D)
+                block = buf[:, :, :b - a].reshape(K, L, b - a, Mv, D)
                 where = m if u_sorted else ou[m]
                 if not rational:
                     out[:, :, where] = block

@@ -86,7 +86,8 @@ def test_grid_blocks_vs_scipy_per_direction(surface, data):
     of dense local bases, banded passes where sparse; the block sizes drawn down to one
     parameter) against scipy.interpolate.BSpline applied to the rows and then to the
     columns, all partials up to (2, 2): homogeneous values divided (rational points) or
-    put through rational_partials (rational derivatives)."""
+    put through rational_partials (rational derivatives); ``grid``'s (du, dv) partial
+    alone the same."""
     from unittest import mock
 
     from cagd.surfaces import bspline as sb
@@ -98,6 +99,7 @@ def test_grid_blocks_vs_scipy_per_direction(surface, data):
         ("_GRID_ROWS", [1, 6, 32]), ("_GRID_GEMM_MIN", [0, 50, 1 << 40]))}
     with mock.patch.multiple(sb, **sizes):
         got = surface._grid(us, vs, du, dv)
+        last = surface.grid(us, vs, du, dv)          # the (du, dv) partial alone when polynomial
     hom = scipy_homogeneous_grid(surface, us, vs, du, dv)
     if not surface.is_rational:
         ref = hom
@@ -110,6 +112,7 @@ def test_grid_blocks_vs_scipy_per_direction(surface, data):
     for k, l in itertools.product(range(du + 1), range(dv + 1)):
         err = np.abs(got[k, l] - ref[k, l]).max()
         assert err <= derivative_bound(surface, k, l, ref[k, l]) * ratio, (k, l, err)
+    assert np.abs(last - ref[du, dv]).max() <= derivative_bound(surface, du, dv, ref[du, dv]) * ratio
 
 
 @pytest.mark.parametrize("rational", [False, True])
