@@ -273,7 +273,7 @@ def rational_partials(hom: np.ndarray) -> np.ndarray:
     S = np.empty_like(A)
     for k in range(du + 1):
         for l in range(dv + 1):
-            v = A[k, l].copy()
+            v = A[k, l].copy(order="K")           # the layout of hom (long inner loops)
             for j in range(1, l + 1):
                 v -= comb(l, j) * w[0, j] * S[k, l - j]
             for i in range(1, k + 1):

@@ -364,8 +364,6 @@ class BSplineSurface(Surface):
         return out
 
     def _grid_last(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
-        if self.is_rational:                          # the quotient rule needs the lower partials
-            return self._grid(us, vs, du, dv)[-1, -1]
         return self._grid(us, vs, du, dv, last_only=True)[0, 0]
 
     def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int, last_only: bool = False) -> np.ndarray:
@@ -381,14 +379,14 @@ class BSplineSurface(Surface):
         block is in cache. O(Mu Mv D (p + q)) work, memory O((Mu + Mv)(p + q + 2)) for
         the bases plus the output and bounded blocks, never a (parameters x poles) basis
         matrix (a 2000 x 2000 grid of a 2000 x 2001-pole net took 30 s through the dense
-        ones). ``last_only`` (polynomial): the (du, dv) partial alone, shape (1, 1, ...)."""
+        ones). ``last_only``: the (du, dv) partial alone, shape (1, 1, ...) (a rational
+        surface still computes the lower ones per block: the quotient rule needs them)."""
         p, q = self.degree_u, self.degree_v
         nu, nv, D = self._hom.shape
         Mu, Mv = len(us), len(vs)
         rational = self.is_rational
-        last_only = last_only and not rational
-        K, L = (1, 1) if last_only else (du + 1, dv + 1)
-        out = np.empty((K, L, Mu, Mv, D - 1 if rational else D))
+        K, L = (1, 1) if last_only and not rational else (du + 1, dv + 1)      # partials computed
+        out = np.empty(((1, 1) if last_only else (du + 1, dv + 1)) + (Mu, Mv, D - 1 if rational else D))
         if Mu == 0 or Mv == 0:
             return out
         ou, u_sorted, su, Nu = _sorted_basis(self._u, p, us, nu, du)
@@ -398,6 +396,7 @@ class BSplineSurface(Surface):
         inv_v = None if v_sorted else np.argsort(ov)
         width = Mv * D
         direct = u_sorted and not rational                            # products written into out itself
+        planar = rational and (du > 0 or dv > 0)   # the quotient rule on coordinate planes: long inner loops
         cap = max(1, min(_GRID_BLOCK // width, _GRID_VALUES // _rows_cap(p), Mu))
         buf = None if direct else np.empty((K, L, cap, width))
         tmp: List[np.ndarray] = []                                     # the banded passes' scratch, made once
@@ -409,8 +408,10 @@ class BSplineSurface(Surface):
             b0 = min(max(int(np.searchsorted(added, added[a0] + max_rows - (p + 1), side="right")), a0 + 1), Mu)
             rows, lu = _local_rows(su[a0:b0], p)
             C = _v_sums(Nv, lv, q, _subnet(self._hom, rows, vrows))  # (dv+1, r, Mv D), vs sorted
-            if inv_v is not None:
-                C = C.reshape(L, len(rows), Mv, D).take(inv_v, axis=2).reshape(L, len(rows), width)
+            if inv_v is not None or planar:
+                C = C.reshape(L, len(rows), Mv, D)
+                C = C if inv_v is None else C.take(inv_v, axis=2)
+                C = (np.ascontiguousarray(C.transpose(0, 1, 3, 2)) if planar else C).reshape(L, len(rows), width)
             for a, b, gemm in _band_blocks(lu, p, width, cap):
                 m = slice(a0 + a, a0 + b)
                 for k in range(K):
@@ -419,7 +420,7 @@ class BSplineSurface(Surface):
                         _band_block(Nu[k, m], lu[a:b], p, C[l], dest, gemm, tmp)
                 if direct:
                     continue
-                block = buf[:, :, :b - a].reshape(K, L, b - a, Mv, D)
+                block = buf[:, :, :b - a].reshape((K, L, b - a) + ((D, Mv) if planar else (Mv, D)))
                 where = m if u_sorted else ou[m]
                 if not rational:
                     out[:, :, where] = block
@@ -432,7 +433,9 @@ class BSplineSurface(Surface):
                     if not u_sorted:
                         out[0, 0, where] = dest
                 else:
-                    out[:, :, where] = rational_partials(block)
+                    S = rational_partials(block.transpose(0, 1, 2, 4, 3))[-out.shape[0]:, -out.shape[1]:]
+                    for d in range(D - 1):
+                        out[..., d][:, :, where] = S[..., d]
             a0 = b0
         return out
 
