@@ -124,7 +124,7 @@ class Surface(Value):
 
     def grid(self, us: ArrayLike, vs: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
-        through basis matrices and matrix products (the fast path); at most MAX_SAMPLES
+        through local basis blocks and matrix products (the fast path); at most MAX_SAMPLES
         = 10^7 points and orders du, dv at most MAX_ORDER."""
         du, dv = order(du, "du"), order(dv, "dv")
         us = self._wrap(finite_array(us, "us", ndim=1), 0, self.periodic_u, "us")
