@@ -398,7 +398,7 @@ class BSplineSurface(Surface):
         direct = u_sorted and not rational                            # products written into out itself
         planar = rational and (du > 0 or dv > 0)   # the quotient rule on coordinate planes: long inner loops
         cap = max(1, min(_GRID_BLOCK // width, _GRID_VALUES // _rows_cap(p), Mu))
-        buf = None if direct else np.empty((K, L, cap, width))
+        buf = np.empty((K, L, 0 if direct else cap, width))                 # products copied on
         tmp: List[np.ndarray] = []                                     # the banded passes' scratch, made once
         max_rows = max(p + 1, _GRID_VALUES // (width * L))    # v-sums of one chunk of us
         # new pole rows a parameter adds to its chunk (sorted spans): min(p + 1, span step)
@@ -407,7 +407,7 @@ class BSplineSurface(Surface):
         while a0 < Mu:
             b0 = min(max(int(np.searchsorted(added, added[a0] + max_rows - (p + 1), side="right")), a0 + 1), Mu)
             rows, lu = _local_rows(su[a0:b0], p)
-            C = _v_sums(Nv, lv, q, _subnet(self._hom, rows, vrows))  # (dv+1, r, Mv D), vs sorted
+            C = _v_sums(Nv, lv, q, _subnet(self._hom, rows, vrows))  # (L, r, Mv D), vs sorted
             if inv_v is not None or planar:
                 C = C.reshape(L, len(rows), Mv, D)
                 C = C if inv_v is None else C.take(inv_v, axis=2)
