@@ -648,10 +648,11 @@ class BSplineSurface(Surface):
 
 def _sorted_basis(knots: np.ndarray, degree: int, t: np.ndarray, count: int,
                   order: int) -> Tuple[np.ndarray, bool, np.ndarray, np.ndarray]:
-    """(sorting permutation, whether t is sorted already, spans, basis derivatives
-    (order + 1, len(t), degree + 1)) of the parameters t in sorted order."""
-    perm = np.argsort(t, kind="stable")
+    """(sorting permutation (identity when t is sorted already), whether it is, spans,
+    basis derivatives (order + 1, len(t), degree + 1)) of the parameters t in sorted
+    order (equal parameters give equal rows: any order among them will do)."""
     in_order = bool(np.all(t[1:] >= t[:-1]))
+    perm = np.arange(len(t)) if in_order else np.argsort(t)
     ts = t if in_order else t[perm]
     spans = kv.find_span(knots, degree, ts, count)
     return perm, in_order, spans, basis_derivatives(knots, degree, ts, spans, order)
