@@ -124,7 +124,7 @@ class Surface(Value):
 
     def grid(self, us: ArrayLike, vs: ArrayLike, du: int = 0, dv: int = 0) -> np.ndarray:
         """Points (or the partial (du, dv)) on the grid us x vs: shape (len(us), len(vs), dim),
-        through basis matrices and matrix products (the fast path); at most MAX_SAMPLES
+        through local basis blocks and matrix products (the fast path); at most MAX_SAMPLES
         = 10^7 points and orders du, dv at most MAX_ORDER."""
         du, dv = order(du, "du"), order(dv, "dv")
         us = self._wrap(finite_array(us, "us", ndim=1), 0, self.periodic_u, "us")
@@ -132,6 +132,11 @@ class Surface(Value):
         if len(us) * len(vs) > MAX_SAMPLES:
             raise CagdError(f"us, vs: a grid of {len(us)} x {len(vs)} points exceeds MAX_SAMPLES = {MAX_SAMPLES}; "
                             f"evaluate it in blocks")
+        return self._grid_last(us, vs, du, dv)
+
+    def _grid_last(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+        """The (du, dv) partial alone on the grid (a surface that can skip the lower
+        partials overrides this)."""
         return self._grid(us, vs, du, dv)[-1, -1]
 
     # --- differential geometry -------------------------------------------------------------
@@ -268,7 +273,7 @@ def rational_partials(hom: np.ndarray) -> np.ndarray:
     S = np.empty_like(A)
     for k in range(du + 1):
         for l in range(dv + 1):
-            v = A[k, l].copy()
+            v = A[k, l].copy(order="K")           # the layout of hom (long inner loops)
             for j in range(1, l + 1):
                 v -= comb(l, j) * w[0, j] * S[k, l - j]
             for i in range(1, k + 1):

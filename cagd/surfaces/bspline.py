@@ -29,7 +29,10 @@ if TYPE_CHECKING:
 
 _CHUNK = 1 << 14
 _GATHER_VALUES = 1 << 22    # local net values gathered per chunk of the basis path (32 MiB)
-_GRID_VALUES = 1 << 20      # partial sums of one block of a grid evaluation (8 MiB)
+_GRID_VALUES = 1 << 20      # v-sums of one chunk of a grid evaluation, values of any of its blocks (8 MiB)
+_GRID_BLOCK = 1 << 16       # values of a product block that is copied on (512 KiB: in cache for the division)
+_GRID_ROWS = 32             # pole rows of a dense local basis block: a product of ~2 x 32 flops per value
+_GRID_GEMM_MIN = 1 << 12    # values below which a matrix-product block takes the banded passes instead
 
 
 class SurfaceOccForm(NamedTuple):
@@ -360,63 +363,81 @@ class BSplineSurface(Surface):
             out[:, :, s:s + step] = np.einsum("kmi,lmj,mijd->klmd", Nu, Nv, local, optimize=True)
         return out
 
-    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+    def _grid_last(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int) -> np.ndarray:
+        return self._grid(us, vs, du, dv, last_only=True)[0, 0]
+
+    def _grid(self, us: np.ndarray, vs: np.ndarray, du: int, dv: int, last_only: bool = False) -> np.ndarray:
         """Partials on the grid us x vs through the local bases (Piegl & Tiller A2.3 per
-        parameter: (p + 1) and (q + 1) values each; A3.6 summed over the grid):
-        C_l[n, i] = sum_j N^(l)_{sv_n - q + j, q}(v_n) P_{i, sv_n - q + j} and
-        S^(k,l)[m, n] = sum_i N^(k)_{su_m - p + i, p}(u_m) C_l[n, su_m - p + i], each sum
-        p + 1 (q + 1) gathers of whole rows and multiply-adds: O(Mu Mv D (p + q)) work,
-        memory O((Mu + Mv)(p + q + 2)) for the bases plus the output and one block of
-        us (its pole rows and partial sums bounded by _GATHER_VALUES), never a
-        (parameters x poles) basis matrix (a 2000 x 2000 grid of a 2000 x 2001-pole net
-        took 30 s through the dense ones)."""
+        parameter: (p + 1) and (q + 1) values each; A3.6 summed over the grid), one
+        direction at a time: C_l[n, i] = sum_j N^(l)_{sv_n - q + j, q}(v_n) P_{i, sv_n - q + j},
+        then S^(k,l)[m, n] = sum_i N^(k)_{su_m - p + i, p}(u_m) C_l[n, su_m - p + i].
+        Each sum runs over blocks of sorted parameters (:func:`_band_blocks`), a block as
+        one matrix product of its small dense local basis (parameters x the few pole rows
+        they touch) with those rows (BLAS), or as p + 1 gathered multiply-adds where the
+        parameters are too sparse for that. Rows of us are summed in v chunk by chunk (at
+        most _GRID_VALUES v-sums); rational points are divided block by block while the
+        block is in cache. O(Mu Mv D (p + q)) work, memory O((Mu + Mv)(p + q + 2)) for
+        the bases plus the output and bounded blocks, never a (parameters x poles) basis
+        matrix (a 2000 x 2000 grid of a 2000 x 2001-pole net took 30 s through the dense
+        ones). ``last_only``: the (du, dv) partial alone, shape (1, 1, ...) (a rational
+        surface still computes the lower ones per block: the quotient rule needs them)."""
         p, q = self.degree_u, self.degree_v
         nu, nv, D = self._hom.shape
         Mu, Mv = len(us), len(vs)
-        order = np.argsort(us, kind="stable")                         # monotone spans: few rows per block
-        in_order = bool(np.all(order == np.arange(Mu)))
-        su = kv.find_span(self._u, p, us[order], nu)
-        sv = kv.find_span(self._v, q, vs, nv)
-        Nu = basis_derivatives(self._u, p, us[order], su, du)        # (du+1, Mu, p+1)
-        Nv = basis_derivatives(self._v, q, vs, sv, dv)               # (dv+1, Mv, q+1)
-        out = np.empty((du + 1, dv + 1, Mu, Mv, D))
-        width = Mv * D
-        max_params = max(1, _GRID_VALUES // width)                   # partial sums per block
-        max_rows = max(p + 1, _GRID_VALUES // (width * (dv + 1)))   # gathered v sums per block
-        # new pole rows a parameter adds to its block (sorted spans): min(p + 1, span step)
-        added = np.concatenate([[0], np.cumsum(np.minimum(p + 1, np.diff(su)))])
-        hom_t = self._hom.transpose(1, 0, 2)                          # (nv, nu, D): v rows first
-        buffers = np.empty((2, min(max_params, Mu), Mv * D))          # partial sums, reused per block
-        a = 0
-        while a < Mu:
-            b = int(np.searchsorted(added, added[a] + max_rows - (p + 1), side="right"))
-            b = min(max(b, a + 1), a + max_params, Mu)
-            rows = np.unique(su[a:b, None] - p + np.arange(p + 1))    # the pole rows of this block
-            local = np.searchsorted(rows, su[a:b] - p)                # rows[local + i] = su - p + i
-            sub = np.ascontiguousarray(hom_t[:, rows]).reshape(nv, -1)  # (nv, r D)
-            cols = []
-            for l in range(dv + 1):
-                c = np.zeros((Mv, sub.shape[1]))
-                for j in range(q + 1):
-                    c += Nv[l, :, j, None] * sub[sv - q + j]
-                cols.append(np.ascontiguousarray(c.reshape(Mv, len(rows), D).transpose(1, 0, 2)).reshape(len(rows), -1))
-            where = slice(a, b) if in_order else order[a:b]
-            acc, tmp = buffers[0, :b - a], buffers[1, :b - a]
-            for k in range(du + 1):
-                for l in range(dv + 1):
-                    np.take(cols[l], local, axis=0, out=acc, mode="clip")     # indices are in range
-                    acc *= Nu[k, a:b, 0, None]
-                    for i in range(1, p + 1):
-                        np.take(cols[l], local + i, axis=0, out=tmp, mode="clip")
-                        tmp *= Nu[k, a:b, i, None]
-                        acc += tmp
-                    out[k, l, where] = acc.reshape(b - a, Mv, D)
-            a = b
-        if not self.is_rational:
+        rational = self.is_rational
+        K, L = (1, 1) if last_only and not rational else (du + 1, dv + 1)      # partials computed
+        out = np.empty(((1, 1) if last_only else (du + 1, dv + 1)) + (Mu, Mv, D - 1 if rational else D))
+        if Mu == 0 or Mv == 0:
             return out
-        if du == 0 and dv == 0:
-            return out[..., :-1] / out[..., -1:]
-        return rational_partials(out)
+        ou, u_sorted, su, Nu = _sorted_basis(self._u, p, us, nu, du)
+        ov, v_sorted, sv, Nv = _sorted_basis(self._v, q, vs, nv, dv)
+        Nu, Nv = Nu[-K:], Nv[-L:]
+        vrows, lv = _local_rows(sv, q)
+        inv_v = None if v_sorted else np.argsort(ov)
+        width = Mv * D
+        direct = u_sorted and not rational                            # products written into out itself
+        planar = rational and (du > 0 or dv > 0)   # the quotient rule on coordinate planes: long inner loops
+        cap = max(1, min(_GRID_BLOCK // width, _GRID_VALUES // _rows_cap(p), Mu))
+        buf = np.empty((K, L, 0 if direct else cap, width))                 # products copied on
+        tmp: List[np.ndarray] = []                                     # the banded passes' scratch, made once
+        max_rows = max(p + 1, _GRID_VALUES // (width * L))    # v-sums of one chunk of us
+        # new pole rows a parameter adds to its chunk (sorted spans): min(p + 1, span step)
+        added = np.concatenate([[0], np.cumsum(np.minimum(p + 1, np.diff(su)))])
+        a0 = 0
+        while a0 < Mu:
+            b0 = min(max(int(np.searchsorted(added, added[a0] + max_rows - (p + 1), side="right")), a0 + 1), Mu)
+            rows, lu = _local_rows(su[a0:b0], p)
+            C = _v_sums(Nv, lv, q, _subnet(self._hom, rows, vrows))  # (L, r, Mv D), vs sorted
+            if inv_v is not None or planar:
+                C = C.reshape(L, len(rows), Mv, D)
+                C = C if inv_v is None else C.take(inv_v, axis=2)
+                C = (np.ascontiguousarray(C.transpose(0, 1, 3, 2)) if planar else C).reshape(L, len(rows), width)
+            for a, b, gemm in _band_blocks(lu, p, width, cap):
+                m = slice(a0 + a, a0 + b)
+                for k in range(K):
+                    for l in range(L):
+                        dest = out[k, l, m].reshape(b - a, width) if direct else buf[k, l, :b - a]
+                        _band_block(Nu[k, m], lu[a:b], p, C[l], dest, gemm, tmp)
+                if direct:
+                    continue
+                block = buf[:, :, :b - a].reshape((K, L, b - a) + ((D, Mv) if planar else (Mv, D)))
+                where = m if u_sorted else ou[m]
+                if not rational:
+                    out[:, :, where] = block
+                elif du == 0 and dv == 0:
+                    # one strided division per coordinate (a broadcast over the last axis of
+                    # length dim runs numpy's inner loop per point: 3-5x slower)
+                    dest = out[0, 0, m] if u_sorted else np.empty((b - a, Mv, D - 1))
+                    for d in range(D - 1):
+                        np.divide(block[0, 0, ..., d], block[0, 0, ..., -1], out=dest[..., d])
+                    if not u_sorted:
+                        out[0, 0, where] = dest
+                else:
+                    S = rational_partials(block.transpose(0, 1, 2, 4, 3))[-out.shape[0]:, -out.shape[1]:]
+                    for d in range(D - 1):
+                        out[..., d][:, :, where] = S[..., d]
+            a0 = b0
+        return out
 
     # --- one direction at a time: reuse the curve algorithms ---------------------------------
     def _row_curve(self, direction: str) -> BSplineCurve:
@@ -623,6 +644,123 @@ class BSplineSurface(Surface):
         if self.is_rational:
             return BSplineCurve(hom[:, :-1] / hom[:, -1:], deg, knots, hom[:, -1], periodic)
         return BSplineCurve(hom, deg, knots, None, periodic)
+
+
+def _sorted_basis(knots: np.ndarray, degree: int, t: np.ndarray, count: int,
+                  order: int) -> Tuple[np.ndarray, bool, np.ndarray, np.ndarray]:
+    """(sorting permutation (identity when t is sorted already), whether it is, spans,
+    basis derivatives (order + 1, len(t), degree + 1)) of the parameters t in sorted
+    order (equal parameters give equal rows: any order among them will do)."""
+    in_order = bool(np.all(t[1:] >= t[:-1]))
+    perm = np.arange(len(t)) if in_order else np.argsort(t)
+    ts = t if in_order else t[perm]
+    spans = kv.find_span(knots, degree, ts, count)
+    return perm, in_order, spans, basis_derivatives(knots, degree, ts, spans, order)
+
+
+def _local_rows(spans: np.ndarray, degree: int) -> Tuple[np.ndarray, np.ndarray]:
+    """(rows, local) of nondecreasing spans: the pole rows span - degree .. span they use,
+    sorted and distinct (or the whole range between the first and the last when that is
+    at most twice as many: then the net's rows are a view), and the index in rows of each
+    span - degree (nondecreasing); the rows of spans[a:b] are
+    rows[local[a]:local[b - 1] + degree + 1]."""
+    distinct = spans[np.concatenate([[True], spans[1:] != spans[:-1]])]
+    rows = np.unique(distinct[:, None] - degree + np.arange(degree + 1))
+    if rows[-1] - rows[0] + 1 <= 2 * len(rows):
+        return np.arange(rows[0], rows[-1] + 1), spans - degree - rows[0]
+    return rows, np.searchsorted(rows, spans - degree)
+
+
+def _subnet(hom: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """hom[rows][:, cols] for sorted distinct indices, a view where they are ranges."""
+    def index(ix: np.ndarray):
+        return slice(int(ix[0]), int(ix[-1]) + 1) if ix[-1] - ix[0] + 1 == len(ix) else ix
+    r, c = index(rows), index(cols)
+    if isinstance(r, slice):
+        return hom[r][:, c]
+    return hom[:, c][r] if isinstance(c, slice) else hom[np.ix_(r, c)]
+
+
+def _local_basis(N: np.ndarray, local: np.ndarray, degree: int) -> Tuple[np.ndarray, int]:
+    """(B, lo): the dense local basis of a block of parameters with nondecreasing local
+    first rows, B[m, local[m] - lo + i] = N[m, i], shape (len(local), rows touched)."""
+    lo = int(local[0])
+    B = np.zeros((len(local), int(local[-1]) - lo + degree + 1))
+    B[np.arange(len(local))[:, None], (local - lo)[:, None] + np.arange(degree + 1)] = N
+    return B, lo
+
+
+def _rows_cap(degree: int) -> int:
+    return max(_GRID_ROWS, 2 * (degree + 1))
+
+
+def _band_blocks(local: np.ndarray, degree: int, width: int, cap: int):
+    """Blocks (a, b, gemm) of sorted parameters with nondecreasing local first rows, at
+    most ``cap`` parameters each: a matrix-product block (gemm) touches at most
+    _rows_cap(degree) rows; where such a block would hold fewer than _GRID_GEMM_MIN values
+    of ``width`` per parameter (sparse parameters: a BLAS call per few values) the block
+    takes ``cap`` parameters and the banded passes."""
+    M, rows_cap = len(local), _rows_cap(degree)
+    a = 0
+    while a < M:
+        b = min(int(np.searchsorted(local, local[a] + rows_cap - degree - 1, side="right")), a + cap, M)
+        gemm = b == M or (b - a) * width >= _GRID_GEMM_MIN
+        if not gemm:
+            b = min(a + cap, M)
+        yield a, b, gemm
+        a = b
+
+
+def _band_block(N: np.ndarray, local: np.ndarray, degree: int, X: np.ndarray, dest: np.ndarray, gemm: bool,
+                scratch: List[np.ndarray]) -> None:
+    """dest[m] = sum_i N[m, i] X[local[m] + i] for one block (nondecreasing local): one
+    matrix product of the dense local basis (len(local) x the rows touched) with those
+    rows of X, or (gemm False) degree + 1 gathers and multiply-adds of whole rows;
+    ``scratch`` holds the latter's buffer (made on first use, at least as big as dest)."""
+    if gemm:
+        B, lo = _local_basis(N, local, degree)
+        np.matmul(B, X[lo:lo + B.shape[1]], out=dest)
+        return
+    if not scratch or scratch[0].size < dest.size:
+        scratch[:] = [np.empty(dest.size)]
+    tmp = scratch[0][:dest.size].reshape(dest.shape)
+    np.take(X, local, axis=0, out=dest, mode="clip")          # indices are in range
+    dest *= N[:, 0, None]
+    for i in range(1, degree + 1):
+        np.take(X, local + i, axis=0, out=tmp, mode="clip")
+        tmp *= N[:, i, None]
+        dest += tmp
+
+
+def _v_sums(N: np.ndarray, local: np.ndarray, degree: int, net: np.ndarray) -> np.ndarray:
+    """C[k, i, (m, d)] = sum_j N[k, m, j] net[i, local[m] + j, d] for sorted v parameters
+    (nondecreasing local), shape (len(N), r, len(local) D), the layout the u direction
+    multiplies: per block of :func:`_band_blocks` one product of the pole rows
+    (r, rows touched x D) with the Kronecker product of the dense local basis and the
+    D x D identity (D-fold flops, no transposed copies), or degree + 1 gathered
+    multiply-adds where the parameters are sparse."""
+    K, M = N.shape[:2]
+    r, _, D = net.shape
+    C = np.empty((K, r, M * D))
+    cap = max(1, min(_GRID_BLOCK // (r * D), _GRID_VALUES // (_rows_cap(degree) * D * D), M))
+    eye = np.eye(D)
+    for a, b, gemm in _band_blocks(local, degree, r * D, cap):
+        cols = slice(a * D, b * D)
+        for k in range(K):
+            if gemm:
+                B, lo = _local_basis(N[k, a:b], local[a:b], degree)
+                kron = np.einsum("nj,de->jdne", B, eye).reshape(B.shape[1] * D, (b - a) * D)
+                np.matmul(net[:, lo:lo + B.shape[1]].reshape(r, -1), kron, out=C[k, :, cols])
+                continue
+            dest = C[k, :, cols]
+            for j in range(degree + 1):
+                g = net.take(local[a:b] + j, axis=1).reshape(r, -1)
+                g *= np.repeat(N[k, a:b, j], D)                  # contiguous: no broadcast over D
+                if j == 0:
+                    dest[...] = g
+                else:
+                    dest += g
+    return C
 
 
 def _weights(weights: ArrayLike, shape: Tuple[int, ...]) -> np.ndarray:

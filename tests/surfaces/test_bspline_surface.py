@@ -62,6 +62,93 @@ def test_partials_vs_scipy_per_direction(surface):
         assert err <= derivative_bound(surface, k, l, ref[k, l]), (k, l, err)
 
 
+@st.composite
+def grid_parameters(draw, surface, which: int) -> np.ndarray:
+    """Up to 40 parameters of one direction: uniform draws, knots of the domain, repeats,
+    sorted or in a drawn order (the grid sorts them and splits them into blocks)."""
+    a, b = surface.domain[which]
+    periodic = surface.periodic_u if which == 0 else surface.periodic_v
+    knots = np.unique(full_knots(surface, "uv"[which]))
+    knots = knots[(knots >= a) & (knots < b if periodic else knots <= b)]
+    fractions = draw(st.lists(st.floats(0.0, 1.0, exclude_max=periodic), min_size=1, max_size=30))
+    t = np.concatenate([a + (b - a) * np.array(fractions), draw(st.lists(st.sampled_from(list(knots)), max_size=6))])
+    t = np.minimum(t, np.nextafter(b, a)) if periodic else np.clip(t, a, b)
+    t = np.concatenate([t, t[:draw(st.integers(0, 3))]])                    # repeated parameters
+    if draw(st.booleans()):
+        return np.sort(t)
+    return t[np.array(draw(st.permutations(range(len(t)))))]
+
+
+@settings(max_examples=60, deadline=None)
+@given(surface=bspline_surfaces(), data=st.data())
+def test_grid_blocks_vs_scipy_per_direction(surface, data):
+    """The grid's blocks (sorted parameters cut into chunks of pole rows and products
+    of dense local bases, banded passes where sparse; the block sizes drawn down to one
+    parameter) against scipy.interpolate.BSpline applied to the rows and then to the
+    columns, all partials up to (2, 2): homogeneous values divided (rational points) or
+    put through rational_partials (rational derivatives); ``grid``'s (du, dv) partial
+    alone the same."""
+    from unittest import mock
+
+    from cagd.surfaces import bspline as sb
+    from cagd.surfaces.base import rational_partials
+    us, vs = data.draw(grid_parameters(surface, 0)), data.draw(grid_parameters(surface, 1))
+    du, dv = data.draw(st.integers(0, 2)), data.draw(st.integers(0, 2))
+    sizes = {name: data.draw(st.sampled_from(choices), label=name) for name, choices in (
+        ("_GRID_VALUES", [1, 40, 300, 1 << 20]), ("_GRID_BLOCK", [1, 13, 200, 1 << 16]),
+        ("_GRID_ROWS", [1, 6, 32]), ("_GRID_GEMM_MIN", [0, 50, 1 << 40]))}
+    with mock.patch.multiple(sb, **sizes):
+        got = surface._grid(us, vs, du, dv)
+        last = surface.grid(us, vs, du, dv)          # the (du, dv) partial alone when polynomial
+    hom = scipy_homogeneous_grid(surface, us, vs, du, dv)
+    if not surface.is_rational:
+        ref = hom
+    elif du == dv == 0:
+        ref = hom[..., :-1] / hom[..., -1:]
+    else:
+        ref = rational_partials(hom)
+    assert got.shape == ref.shape
+    ratio = weight_ratio(surface) ** (du + dv + 1)
+    for k, l in itertools.product(range(du + 1), range(dv + 1)):
+        err = np.abs(got[k, l] - ref[k, l]).max()
+        assert err <= derivative_bound(surface, k, l, ref[k, l]) * ratio, (k, l, err)
+    assert np.abs(last - ref[du, dv]).max() <= derivative_bound(surface, du, dv, ref[du, dv]) * ratio
+
+
+@pytest.mark.parametrize("rational", [False, True])
+@pytest.mark.parametrize("sizes", [{"_GRID_VALUES": 1 << 20}, {"_GRID_VALUES": 500, "_GRID_BLOCK": 40, "_GRID_ROWS": 1},
+                                   {"_GRID_VALUES": 5000, "_GRID_BLOCK": 700, "_GRID_GEMM_MIN": 1 << 40}])
+def test_grid_of_sparse_parameters_on_a_large_net(rational, sizes):
+    """A 70 x 60-pole net with knots of multiplicity up to the degree, parameters in
+    clusters far apart (the pole rows of a chunk are then gathered, not a range) and in
+    a drawn order, against scipy per direction (points and first partials)."""
+    from unittest import mock
+
+    from cagd.surfaces import bspline as sb
+    from cagd.surfaces.base import rational_partials
+    rng = np.random.default_rng(16)
+    p, q, nu, nv = 3, 2, 70, 60
+
+    def knots(n, deg):
+        inner = np.sort(rng.random(n - deg - 1))
+        inner[5:5 + deg] = inner[5]                      # multiplicity deg
+        inner[20:22] = inner[20]
+        return np.concatenate([np.zeros(deg + 1), inner, np.ones(deg + 1)])
+    ku, kv = knots(nu, p), knots(nv, q)
+    W = rng.uniform(0.5, 2.0, (nu, nv)) if rational else None
+    s = BSplineSurface(rng.uniform(-1, 1, (nu, nv, 3)), p, q, ku, kv, W)
+    us = rng.permutation(np.concatenate([rng.uniform(0.0, 0.05, 7), rng.uniform(0.5, 0.52, 9), [0.9, 1.0, ku[9]]]))
+    vs = rng.permutation(np.concatenate([rng.uniform(0.1, 0.12, 5), rng.uniform(0.7, 1.0, 40), [0.0, kv[30]]]))
+    with mock.patch.multiple(sb, **sizes):
+        got = s._grid(us, vs, 1, 1)
+        points = s.grid(us, vs)
+    hom = scipy_homogeneous_grid(s, us, vs, 1, 1)
+    ref = rational_partials(hom) if rational else hom
+    scale = np.abs(ref).max(axis=(2, 3, 4))
+    assert (np.abs(got - ref).max(axis=(2, 3, 4)) <= 1e-12 * scale).all()
+    assert relative(points, hom[0, 0, ..., :-1] / hom[0, 0, ..., -1:] if rational else hom[0, 0]) <= 1e-14
+
+
 @SETTINGS
 @given(surface=bspline_surfaces(), data=st.data())
 def test_points_vs_direct_cox_de_boor_double_sum(surface, data):
