@@ -1,13 +1,13 @@
 """Benchmark: bicubic B-spline surface with 20 x 20 control points on a 1000 x 1000 grid.
 
 The engine's ``grid`` (per block of parameters, one matrix product of the small
-dense local basis with the pole rows it touches) against, in the same run: the engine's element-wise ``__call__`` on the same 10^6 (u, v) pairs, the
-NURBS grid, scipy's BSpline applied per direction, splipy's Surface (if
-installed), geomdl (a subsample, rate extrapolated) and OCCT's
-Geom_BSplineSurface through OCP (per-point Value calls, a subsample). Prints
-throughput in million points per second, ratios against the engine grid, and
-the maximum deviation from the engine relative to the surface size (must be
-<= 1e-12).
+dense local basis with the pole rows it touches) against, in the same run: the
+engine's element-wise ``__call__`` on the same 10^6 (u, v) pairs, the NURBS grid,
+scipy's BSpline applied per direction, splipy's Surface (if installed), geomdl (a
+subsample, rate extrapolated) and OCCT's Geom_BSplineSurface through OCP (per-point
+Value calls, a subsample). Prints throughput in million points per second, ratios
+against the engine grid, and the maximum deviation from the engine relative to the
+surface size (must be <= 1e-12).
 
 Run: python -m benchmarks.surface_grid [--grid N] [--repeat R]
 """
