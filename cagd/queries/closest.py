@@ -226,7 +226,9 @@ class Projector:
         else:
             cu, cv = self._cell_piece_dir
             self._cell_piece = (cu[:, None] * self.pieces.shape[1] + cv[None, :]).ravel()
-        self._run = [np.r_[0, np.cumsum(~ok)] for ok in _c2_breaks(self.pieces, _c2_by_knots(obj, raw))]
+        c2 = _c2_breaks(self.pieces, _c2_by_knots(obj, raw))
+        self._run = [np.r_[0, np.cumsum(~ok)] for ok in c2]
+        self._creases = [b[1:-1][~ok] for b, ok in zip(self.pieces.breaks, c2)]     # the breaks not C2
         self._cell_run = [run[cp] for run, cp in zip(self._run, self._cell_piece_dir)]
         # component rows (contiguous per coordinate and partial) for 1-D gathers
         self._mid_rows = (np.ascontiguousarray(self.mid_points.T), np.ascontiguousarray(self.mid_jacobians.T),
@@ -695,11 +697,7 @@ class Projector:
         # the work bound stopped the search with the certificate open: the foot is the
         # nearest found, not proven global (the points deferred to the caller excepted)
         open_ = LB < d - gap
-        if self._poles is not None:     # a certified foot on a pole's cell: its parameters are ill-determined
-            at = np.flatnonzero(~conv & ~open_)
-            iu, iv = (np.clip(np.searchsorted(b, x[at, a], side="right") - 1, 0, len(b) - 2)
-                      for a, b in enumerate(self.cells.breaks))
-            conv[at[self._poles.side[iu * self.cells.shape[1] + iv] >= 0]] = True
+        conv[self._kinked(x, ~conv & ~open_)] = True
         if defer is not None:
             open_[np.setdiff1d(np.arange(N), sure)] = False
         conv = conv & ~open_
@@ -868,6 +866,24 @@ class Projector:
             db = squared_norms(self.evaluate_in(b[sl], 0, piece) - Xp)
             out[sl] = np.where((db < da)[:, None], b[sl], a[sl])
         return out
+
+    def _kinked(self, x: np.ndarray, certified: np.ndarray) -> np.ndarray:
+        """The points among ``certified`` (their distance proven) whose foot x lies where
+        Newton's test of a smooth minimum cannot hold: on a break where the object is not
+        C2 (a crease: g has a kink there), or on a cell with a pole (the parameters are not
+        determined there)."""
+        at = np.flatnonzero(certified)
+        hit = np.zeros(len(at), dtype=bool)
+        for a, cr in enumerate(self._creases):
+            if len(cr) and len(at):
+                j = np.clip(np.searchsorted(cr, x[at, a]), 1, len(cr)) - 1
+                near = np.minimum(np.abs(x[at, a] - cr[j]), np.abs(x[at, a] - cr[np.minimum(j + 1, len(cr) - 1)]))
+                hit |= near <= AT_END_RTOL * self.width[a]
+        if self._poles is not None and self.k == 2 and len(at):
+            iu, iv = (np.clip(np.searchsorted(b, x[at, a], side="right") - 1, 0, len(b) - 2)
+                      for a, b in enumerate(self.cells.breaks))
+            hit |= self._poles.side[iu * self.cells.shape[1] + iv] >= 0
+        return at[hit]
 
     def _newton_rows(self, X, pid, x0, lo, hi, piece, max_iterations, tol, param_tol):
         """Box-constrained Newton (no wrapping) for (point, box) rows, each box in the

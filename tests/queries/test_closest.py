@@ -487,6 +487,23 @@ def test_box_lower_bound_is_below_the_sampled_minimum(which):
     assert tighter >= 10
 
 
+def test_a_foot_on_a_ridge_is_converged():
+    """A roof z = 1 - |x| (degree 2 x 1, a C0 ridge at the double knot u = 0.5): points
+    above the ridge within its normal cone (|x| <= z - 1) have their foot on the ridge,
+    at distance sqrt(x^2 + (z - 1)^2) (closed form), where g has a kink and Newton's test
+    of a smooth minimum cannot hold: the certified feet count as converged (all 500 were
+    flagged not converged before)."""
+    P = np.array([[[x, y, 1 - abs(x)] for y in (0.0, 1.0)] for x in (-1, -0.5, 0, 0.5, 1)], float)
+    s = cagd.BSplineSurface(P, 2, 1, np.array([0, 0, 0, 0.5, 0.5, 1, 1, 1.0]), np.array([0, 0, 1, 1.0]))
+    rng = np.random.default_rng(0)
+    X = np.c_[rng.uniform(-0.05, 0.05, 500), rng.uniform(0.1, 0.9, 500), rng.uniform(1.05, 2, 500)]
+    r = closest_point(s, X)
+    assert r.converged and np.all(r.point_converged), r.message
+    np.testing.assert_allclose(r.distances, np.hypot(X[:, 0], X[:, 2] - 1), rtol=1e-12)
+    np.testing.assert_allclose(r.params[:, 0], 0.5, atol=1e-12)
+    assert np.all(r.lower_bounds >= r.distances * (1 - 1.01e-9))
+
+
 def test_creases_c0_joints_do_not_break_the_certificate():
     """A degree-2 surface with double inner knots (C0 creases): an expansion at a point on
     one side of a crease says nothing about the other side. Found by the OCCT test: the

@@ -168,8 +168,11 @@ def test_revolve_any_profile(C, a, d, angle, start):
     h, r = axial_frame(Q, a, dn)
     assert np.abs(h - h0[:, None]).max() <= 1e-12 * scale
     assert np.abs(r - r0[:, None]).max() <= 1e-12 * scale
-    # the angle of each point about the axis, measured from the profile point
+    # the angle of each point about the axis, measured from the profile point (none to
+    # measure where the whole profile lies on the axis)
     far = r0 > 1e-3 * scale
+    if not far.any():
+        return
     x0 = P[far] - a - h0[far, None] * dn
     e1 = x0 / np.linalg.norm(x0, axis=1, keepdims=True)
     e2 = np.cross(dn, e1)
