@@ -89,3 +89,21 @@ def test_sliver_benchmark_runs(capsys):
     lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("strip")]
     assert len(lines) == 6
     assert all(float(line.rsplit(" ", 1)[1]) <= 1e-6 for line in lines), lines
+
+
+def test_real_faces_benchmark_runs(capsys):
+    """benchmarks/real_faces.py on two faces of occ22470.igs (the corpus, skipped without
+    it or OCCT), a few points: every engine distance is at most OCCT's + 1e-9 (the exit
+    code) and no point is left unconverged."""
+    pytest.importorskip("OCP")
+    from pathlib import Path
+    from benchmarks import real_faces
+    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
+    if not folder.is_dir():              # a clone elsewhere: the corpus beside the main checkout
+        folder = Path("/work/shared/data/cad")
+    if not (folder / "iges" / "occ22470.igs").exists():
+        pytest.skip("the CAD corpus is not here")
+    assert real_faces.main(["--cad", str(folder), "--files", "iges/occ22470.igs", "--faces", "2", "--points", "60",
+                            "--subsample", "10", "--spread", "0.01", "0.1"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().endswith("yes")]
+    assert len(rows) == 2 and all(r[1] == "2" and r[7] == "0" for r in rows), rows
