@@ -35,6 +35,7 @@ SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by thi
 BOUND_MARGIN_RTOL = 1e-13     # the convexity intervals' rounding margin, share of g
 SCALE_FLOOR_RTOL = 1e-6       # box bounds: a direction's scale (its first-derivative bound), at least this share of
                               # the largest
+SPLIT_RATIOS = (1 / 16, 1 / 4, 1.0, 4.0, 16.0)   # box bounds: Gershgorin splits of the mixed term tried
 
 __all__ = ["BezierPieces", "bezier_pieces", "bernstein_derivatives", "restriction_matrix", "Frame", "net_box",
            "robust_distance"]
@@ -664,7 +665,7 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     m1 = 2.0 * (np.maximum(sig - dJ, 0.0) ** 2 - (f + Ld) * lam)
     # half Hessian J^T J + r.d2S at c and the bound E of its change over the box
     pairs = [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
-    half, E2, scale = {}, 0.0, 0.0
+    half, change, E2, scale = {}, {}, 0.0, 0.0
     for a, b in pairs:
         jj = Jh[a][0] * Jh[b][0]
         rh = r[0] * H2[:, 0, a, b]
@@ -677,6 +678,7 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         for e in range(1, k):
             tt = tt + T[:, a, b, e] * (si[e] * delta[e])
         e_ab = D[a] * Sn[b] + Sn[a] * D[b] + D[a] * D[b] + Ld * Mh[a][b] + f * tt * (si[a] * si[b])
+        change[a, b] = e_ab
         w = 1.0 if a == b else 2.0
         E2 = E2 + w * e_ab * e_ab
         scale = scale + w * np.abs(h)
@@ -702,6 +704,8 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
                     mu = mu / np.where(mu > 0, div[1], div[0])
                 m[i] = np.fmax(m[i], mu)
     q, parts = _quadratic_minimum(m, grad, sc, lo, hi, c)
+    if k == 2:          # ... or a curvature per direction (where one direction is concave)
+        q = np.maximum(q, _split_curvature(half, change, SLACK_RTOL * scale, grad, sc, lo, hi, c))
     bound = f2 + q - ULP_RTOL * f2
     if not convexity:
         return bound
@@ -720,15 +724,17 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
 
 
-def _quadratic_minimum(m: np.ndarray, grad: List[np.ndarray], sc: List[np.ndarray], lo: np.ndarray, hi: np.ndarray,
-                       c: np.ndarray) -> Tuple[np.ndarray, list]:
-    """The minimum over the box [lo, hi] of sum_a grad_a t_a + m s_a^2 t_a^2 / 2, t = x - c
-    (separable: per direction, the ends and the clipped vertex), and per direction
-    (grad_a, m s_a^2, t's range, that direction's minimum)."""
-    q: np.ndarray = np.zeros(len(m))
+def _quadratic_minimum(m: Union[np.ndarray, List[np.ndarray]], grad: List[np.ndarray], sc: List[np.ndarray],
+                       lo: np.ndarray, hi: np.ndarray, c: np.ndarray) -> Tuple[np.ndarray, list]:
+    """The minimum over the box [lo, hi] of sum_a grad_a t_a + m_a s_a^2 t_a^2 / 2, t = x - c
+    (separable: per direction, the ends and the clipped vertex; m one array for every
+    direction or one per direction), and per direction (grad_a, m_a s_a^2, t's range, that
+    direction's minimum)."""
+    ms = m if isinstance(m, list) else [m] * len(grad)
+    q: np.ndarray = np.zeros(len(c))
     parts = []
     for a in range(len(grad)):
-        ma = m * (sc[a] * sc[a])
+        ma = ms[a] * (sc[a] * sc[a])
         g = grad[a]
         tlo, thi = lo[:, a] - c[:, a], hi[:, a] - c[:, a]
         qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
@@ -738,6 +744,25 @@ def _quadratic_minimum(m: np.ndarray, grad: List[np.ndarray], sc: List[np.ndarra
         q = q + qa
         parts.append((g, ma, tlo, thi, qa))
     return q, parts
+
+
+def _split_curvature(half: dict, change: dict, slack: Union[float, np.ndarray], grad: List[np.ndarray],
+                     sc: List[np.ndarray], lo: np.ndarray, hi: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """The best over rho in SPLIT_RATIOS of the minimum over the box of the separable
+    quadratic with a curvature per direction: with the half Hessian's entries within
+    h_ab +- e_ab over the box (scaled variables) and 2 |t_u t_v| <= rho t_u^2 + t_v^2 / rho,
+    t^T H t >= (A - B rho) t_u^2 + (C - B / rho) t_v^2, A = h_uu - e_uu, C = h_vv - e_vv,
+    B = |h_uv| + e_uv (Gershgorin's split). Where the isotropic bound m is negative because
+    one direction is concave (a foot on the domain's edge: g's curvature across it may be
+    negative, its slope there positive), the other direction keeps its own curvature."""
+    A = half[0, 0] - change[0, 0] - slack
+    C = half[1, 1] - change[1, 1] - slack
+    B = np.abs(half[0, 1]) + change[0, 1]
+    best = np.full(len(c), -np.inf)
+    for rho in SPLIT_RATIOS:
+        best = np.maximum(best, _quadratic_minimum([2.0 * (A - B * rho), 2.0 * (C - B / rho)], grad, sc, lo, hi,
+                                                   c)[0])
+    return best
 
 
 def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: List[np.ndarray]) -> np.ndarray:

@@ -504,6 +504,73 @@ def test_a_foot_on_a_ridge_is_converged():
     assert np.all(r.lower_bounds >= r.distances * (1 - 1.01e-9))
 
 
+def test_split_curvature_bound_at_the_domain_edge(monkeypatch):
+    """Boxes along the edge v = 0 of a bowl z = u^2 + v^2 and points beyond that edge and
+    above the bowl, where g's curvature across the edge can be negative while its slope
+    there is positive: the bound with a curvature per direction (Gershgorin splits of the
+    mixed term) never exceeds g sampled on the box, and it is tighter than the isotropic
+    bound alone (SPLIT_RATIOS emptied) on some boxes."""
+    from cagd.queries import bounds
+    from cagd.queries.bounds import box_lower_bound
+    g = np.linspace(-1.0, 1.0, 8)
+    U, V = np.meshgrid(g, g, indexing="ij")
+    s = cagd.BSplineSurface(np.stack([U, V, U ** 2 + V ** 2], -1), 3, 3)
+    p = Projector(s)
+    rng = np.random.default_rng(31)
+    n = 200
+    edge = np.flatnonzero(p.lo[:, 1] == p.domain[1, 0])
+    cell = rng.choice(edge, n)
+    lo_c, hi_c = p.lo[cell], p.hi[cell]
+    t = np.sort(rng.uniform(0, 1, (n, 2, 2)), axis=1)
+    t[:, 0, 1] = 0.0                                                   # the box at the edge
+    t[:, 1, 1] = rng.choice([0.01, 0.05, 0.2], n)
+    lo, hi = lo_c + t[:, 0] * (hi_c - lo_c), lo_c + t[:, 1] * (hi_c - lo_c)
+    c = lo + rng.uniform(0, 1, (n, 2)) * (hi - lo)
+    X = p.value(c) + np.c_[np.zeros(n), -rng.uniform(0.01, 0.3, n), rng.uniform(0.2, 3.0, n)]
+    S, J, H = p.evaluate(c, 2)
+    args = (X, lo, hi, c, S, J, H, p.L[cell], p.M[cell], p.T3[cell])
+    new = box_lower_bound(*args)
+    monkeypatch.setattr(bounds, "SPLIT_RATIOS", ())
+    old = box_lower_bound(*args)
+    gu, gv = (a.ravel() for a in np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41), indexing="ij"))
+    for i in range(n):
+        uv = np.stack([lo[i, 0] + gu * (hi[i, 0] - lo[i, 0]), lo[i, 1] + gv * (hi[i, 1] - lo[i, 1])], 1)
+        assert new[i] <= ((p.value(uv) - X[i]) ** 2).sum(1).min() * (1 + 1e-12) + 1e-15
+    assert np.all(new >= old)
+    assert np.sum(new > old * (1 + 1e-9) + 1e-12) >= 20
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@given(seed=st.integers(0, 10_000))
+def test_split_curvature_is_below_the_quadratic_on_the_box(seed):
+    """The split bound (bounds._split_curvature) against its definition: for the extreme
+    matrices of the intervals (h_aa - e_aa on the diagonal, +-(|h_uv| + e_uv) off it) the
+    quadratic grad . t + y^T H y (y = s t, the scaled variables) sampled densely over the
+    box never falls below the bound."""
+    from cagd.queries.bounds import _split_curvature
+    rng = np.random.default_rng(seed)
+    n = 8
+    half = {(0, 0): rng.uniform(-1, 2, n), (1, 1): rng.uniform(-1, 2, n), (0, 1): rng.uniform(-1, 1, n)}
+    change = {key: rng.uniform(0, 0.3, n) for key in half}
+    grad = [rng.normal(size=n), rng.normal(size=n)]
+    sc = [2.0 ** rng.integers(-3, 4, n), 2.0 ** rng.integers(-3, 4, n)]
+    c = rng.uniform(-1, 1, (n, 2))
+    lo, hi = c - rng.uniform(0, 1, (n, 2)), c + rng.uniform(0, 1, (n, 2))
+    q = _split_curvature(half, change, 0.0, grad, sc, lo, hi, c)
+    g = np.linspace(0.0, 1.0, 201)
+    tu, tv = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
+    for i in range(n):
+        t0 = lo[i, 0] - c[i, 0] + tu * (hi[i, 0] - lo[i, 0])
+        t1 = lo[i, 1] - c[i, 1] + tv * (hi[i, 1] - lo[i, 1])
+        y0, y1 = sc[0][i] * t0, sc[1][i] * t1
+        A = half[0, 0][i] - change[0, 0][i]
+        C = half[1, 1][i] - change[1, 1][i]
+        B = abs(half[0, 1][i]) + change[0, 1][i]
+        for sign in (1.0, -1.0):
+            quad = grad[0][i] * t0 + grad[1][i] * t1 + A * y0 ** 2 + C * y1 ** 2 + 2 * sign * B * y0 * y1
+            assert q[i] <= quad.min() + 1e-12 * (1 + abs(quad).max())
+
+
 def test_creases_c0_joints_do_not_break_the_certificate():
     """A degree-2 surface with double inner knots (C0 creases): an expansion at a point on
     one side of a crease says nothing about the other side. Found by the OCCT test: the
