@@ -86,21 +86,22 @@ def test_fit_surface_auto_degree_is_the_engines_choice(caplog):
     """fitSurface(degree="auto"): the face read back through OCCT is fit_surface(...,
     degree="auto")'s surface (degree and poles), which is the degree of AUTO_DEGREES with
     the fewest control points (each fitted here), every grid point within tol of the face
-    (certified closest points); the summary with the degree is logged."""
+    (certified closest points); the summary with the degree is logged. At tol 3e-4 (4 here:
+    10 x 9 poles against 11 x 10 at degree 3; at 0.01 the tuned knots make 3 the fewest)."""
     import logging
     from cagd.fitting.fit_surface import AUTO_DEGREES
     Q = _grid()
     with caplog.at_level(logging.INFO, logger="cq_ext.workplane"):
-        wp = cq.Workplane("XY").fitSurface(Q, tol=0.01, degree="auto")
+        wp = cq.Workplane("XY").fitSurface(Q, tol=3e-4, degree="auto")
     face = wp.val()
     assert isinstance(face, cq.Face)
     back = from_shape(face)
-    each = {p: cagd.fit_surface(Q, 0.01, degree=p) for p in AUTO_DEGREES}
+    each = {p: cagd.fit_surface(Q, 3e-4, degree=p) for p in AUTO_DEGREES}
     fewest = min((f.surface.control_points[..., 0].size, p) for p, f in each.items() if f.converged)[1]
     assert fewest != 3                                 # the default degree would not pass
     assert (back.degree_u, back.degree_v) == (fewest, fewest)
     assert np.abs(np.asarray(back.control_points) - each[fewest].surface.control_points).max() <= 1e-9
-    assert float(cagd.closest_point(back, Q.reshape(-1, 3)).distances.max()) <= 0.01 + 1e-9
+    assert float(cagd.closest_point(back, Q.reshape(-1, 3)).distances.max()) <= 3e-4 + 1e-9
     assert f"degree {fewest} x {fewest}" in caplog.text
 
 
