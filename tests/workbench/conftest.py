@@ -23,9 +23,11 @@ def freecad_env(tmp_path):
     env = dict(os.environ)
     env["HOME"] = str(tmp_path / "home")
     env["FREECAD_USER_HOME"] = str(tmp_path / "freecad")
+    env["TMPDIR"] = str(tmp_path / "tmp")      # FreeCAD's temporary files (Start's thumbnails) stay in here
     env["CAGD_WB_EXPECT_INSTALLED"] = "1"
     env.pop("CAGD_PATH", None)
     os.makedirs(env["HOME"])
+    os.makedirs(env["TMPDIR"])
     done = subprocess.run([sys.executable, str(ADDON / "install.py")], env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert (Path(env["FREECAD_USER_HOME"]) / "Mod" / "CagdWorkbench" / "Init.py").is_file()
