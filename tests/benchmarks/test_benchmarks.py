@@ -51,19 +51,26 @@ def test_gordon_benchmark_runs(capsys):
     assert "build123d make_gordon" in out
 
 
+def _corpus():
+    """The CAD corpus (../shared/data/cad beside the checkout, or beside the main one for a
+    clone elsewhere) holding occ22470.igs; skips without it or without OCCT."""
+    from pathlib import Path
+    pytest.importorskip("OCP")
+    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
+    if not folder.is_dir():
+        folder = Path("/work/shared/data/cad")
+    if not (folder / "iges" / "occ22470.igs").exists():
+        pytest.skip("the CAD corpus is not here")
+    return folder
+
+
 def test_trimmed_benchmark_on_real_faces(capsys, monkeypatch):
     """benchmarks/trimmed.py's real faces (the corpus in ../shared/data/cad, skipped
     without it or OCCT): two faces of occ22470.igs, a few points; every query converges
     (the thin face whose loop starts 4.3e-8 from the domain's corner reached the work
     bound after 30 s)."""
-    pytest.importorskip("OCP")
-    from pathlib import Path
     from benchmarks import trimmed
-    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
-    if not folder.is_dir():              # a clone elsewhere: the corpus beside the main checkout
-        folder = Path("/work/shared/data/cad")
-    if not (folder / "iges" / "occ22470.igs").exists():
-        pytest.skip("the CAD corpus is not here")
+    folder = _corpus()
     monkeypatch.setattr(trimmed, "REAL_FACES", (("occ22470.igs", 2),))
     trimmed.bench_real_faces(folder, 200, [0.1])
     out = capsys.readouterr().out
@@ -95,14 +102,8 @@ def test_real_faces_benchmark_runs(capsys):
     """benchmarks/real_faces.py on two faces of occ22470.igs (the corpus, skipped without
     it or OCCT), a few points: every engine distance is at most OCCT's + 1e-9 (the exit
     code) and no point is left unconverged."""
-    pytest.importorskip("OCP")
-    from pathlib import Path
     from benchmarks import real_faces
-    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
-    if not folder.is_dir():              # a clone elsewhere: the corpus beside the main checkout
-        folder = Path("/work/shared/data/cad")
-    if not (folder / "iges" / "occ22470.igs").exists():
-        pytest.skip("the CAD corpus is not here")
+    folder = _corpus()
     assert real_faces.main(["--cad", str(folder), "--files", "iges/occ22470.igs", "--faces", "2", "--points", "60",
                             "--subsample", "10", "--spread", "0.01", "0.1"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().endswith("yes")]
