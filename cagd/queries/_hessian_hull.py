@@ -27,7 +27,7 @@ from typing import Callable, List, Optional, Tuple
 
 import numpy as np
 
-from .bounds import BezierPieces
+from .bounds import BezierPieces, symmetric_pairs as _pairs
 
 ROWS_MIN = 64        # cells' rows stored at least this many at a time
 ROWS_CHUNK = 256     # rational intervals: (point, cell) rows per pass (the coefficients in cache)
@@ -68,11 +68,6 @@ def _hodograph_matrix(sizes: Tuple[int, ...], alpha: Tuple[int, ...]) -> Optiona
             E = np.diff(E, n=r, axis=1 + a) * float(np.prod(np.arange(p - r + 1, p + 1)))
     shape: Tuple[int, ...] = tuple(E.shape)
     return E.reshape(shape[0], -1).T, shape[1:]
-
-
-def _pairs(k: int) -> List[Tuple[int, int]]:
-    """The entries (a, b), a <= b, of a symmetric k x k matrix."""
-    return [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
 
 
 @lru_cache(maxsize=None)

@@ -664,7 +664,7 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         sig = np.sqrt(lmin) * (1.0 - SHRINK_RTOL)
     m1 = 2.0 * (np.maximum(sig - dJ, 0.0) ** 2 - (f + Ld) * lam)
     # half Hessian J^T J + r.d2S at c and the bound E of its change over the box
-    pairs = [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
+    pairs = symmetric_pairs(k)
     half, change, E2, scale = {}, {}, 0.0, 0.0
     for a, b in pairs:
         jj = Jh[a][0] * Jh[b][0]
@@ -722,6 +722,11 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         lo_t.append(np.maximum(a0, tlo))
         hi_t.append(np.minimum(a1, thi))
     return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
+
+
+def symmetric_pairs(k: int) -> List[Tuple[int, int]]:
+    """The entries (a, b), a <= b, of a symmetric k x k matrix (k = 1, 2)."""
+    return [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
 
 
 def _quadratic_minimum(m: Union[np.ndarray, List[np.ndarray]], grad: List[np.ndarray], sc: List[np.ndarray],

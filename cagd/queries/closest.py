@@ -879,10 +879,8 @@ class Projector:
                 j = np.clip(np.searchsorted(cr, x[at, a]), 1, len(cr)) - 1
                 near = np.minimum(np.abs(x[at, a] - cr[j]), np.abs(x[at, a] - cr[np.minimum(j + 1, len(cr) - 1)]))
                 hit |= near <= AT_END_RTOL * self.width[a]
-        if self._poles is not None and self.k == 2 and len(at):
-            iu, iv = (np.clip(np.searchsorted(b, x[at, a], side="right") - 1, 0, len(b) - 2)
-                      for a, b in enumerate(self.cells.breaks))
-            hit |= self._poles.side[iu * self.cells.shape[1] + iv] >= 0
+        if self._poles is not None and len(at):
+            hit |= self._poles.side[self.cells.locate(x[at])] >= 0
         return at[hit]
 
     def _newton_rows(self, X, pid, x0, lo, hi, piece, max_iterations, tol, param_tol):
