@@ -41,6 +41,8 @@ from typing import Callable, List, Optional, Tuple
 
 import numpy as np
 
+from ..basis.bspline import basis_knot_derivatives
+from ..knots.vectors import find_span
 from .fit import _knots
 from .free_knots import KNOT_DAMPING_DOWN, KNOT_DAMPING_MAX, KNOT_DAMPING_MIN, KNOT_DAMPING_START, \
     KNOT_DAMPING_UP, _ordered_step
@@ -65,25 +67,72 @@ TUNE_MAX_ENTRIES = 10 ** 7
 #: curve stage's MAX_KNOT_MOVE is 0.3; the grid's knots start far from their places, and
 #: each pass costs a Jacobian)
 TUNE_MOVE = 0.45
-#: the forward-difference step of a breakpoint (the parameters are on [0, 1])
-TUNE_STEP = 1e-7
 #: a pass that lowers the largest miss by less than this fraction counts as slow; the
 #: count is given up after TUNE_SLOW slow passes in a row
 TUNE_GAIN = 0.01
 TUNE_SLOW = 3
 
 
-def _smoother(breaks: np.ndarray, p: int, t: np.ndarray) -> np.ndarray:
-    """S = N F (len(t), len(t)): the values at the sites t of the ends-held least squares
-    on the breakpoints (:func:`cagd.fitting.separable.ends_held_operator`)."""
-    N, F = ends_held_operator(_knots(breaks, p), p, t)
-    return N @ F
+class _Direction:
+    """One direction's ends-held least squares on the breakpoints at the sites t (t_0 = 0,
+    t_(m-1) = 1): N (m, c), F (c, m) (:func:`cagd.fitting.separable.ends_held_operator`),
+    S = N F, and (built on first use) dN (K, m, c), the derivative of N in each of the K
+    interior breakpoints (:func:`cagd.basis.bspline.basis_knot_derivatives`)."""
+
+    def __init__(self, breaks: np.ndarray, p: int, t: np.ndarray):
+        self.breaks, self.p, self.t = breaks, p, t
+        self.U = _knots(breaks, p)
+        self.N, self.F = ends_held_operator(self.U, p, t)
+        self.S = self.N @ self.F
+        self._dN: Optional[np.ndarray] = None
+
+    @property
+    def dN(self) -> np.ndarray:
+        if self._dN is None:
+            p, t, U = self.p, self.t, self.U
+            m, c = self.N.shape
+            K = len(self.breaks) - 2
+            span = find_span(U, p, t, c)
+            dB = basis_knot_derivatives(U, p, t, span)[1]              # (m, p + 1, 2p)
+            j = span[:, None, None] - 2 * p + 1 + np.arange(2 * p)    # breakpoint of knot span - p + 1 + q
+            col = np.broadcast_to((span[:, None] - p + np.arange(p + 1))[:, :, None], dB.shape)
+            row = np.broadcast_to(np.arange(m)[:, None, None], dB.shape)
+            j = np.broadcast_to(j, dB.shape)
+            inner = (j >= 1) & (j <= K)
+            dN = np.zeros((K, m, c))
+            dN[j[inner] - 1, row[inner], col[inner]] = dB[inner]
+            self._dN = dN
+        return self._dN
+
+    def derivative(self, Y: np.ndarray, SY: np.ndarray) -> np.ndarray:
+        """(K, m, k): d(S Y) / d b_j for the data Y (m, k) (SY = S Y given). With the ends
+        held, S Y = E + P (Y_int - E) on the interior rows (P = A A^+ the projector on the
+        columns of A = N[1:-1, 1:-1], E the end poles' share), the end rows fixed; by the
+        derivative of the projector (Golub & Pereyra, SIAM J. Numer. Anal. 10(2), 1973,
+        Lemma 4.1: dP = (I - P) dA A^+ + (A^+)^T dA^T (I - P)):
+
+            d(S Y)_int = (I - P) dN_int (F Y) - (A^+)^T dA^T (S Y - Y)_int."""
+        N, F, dN = self.N, self.F, self.dN
+        K, m, c = dN.shape
+        k = Y.shape[1]
+        out = np.zeros((K, m, k))
+        if K == 0 or c <= 2:
+            return out
+        A, Ainv = N[1:-1, 1:-1], F[1:-1, 1:-1]
+        dNi = dN[:, 1:-1, :]                                               # (K, m - 2, c)
+        FY = F @ Y
+        X = np.empty((2, c - 2, K, k))
+        X[0] = ((Ainv @ dNi) @ FY).transpose(1, 0, 2)                       # A^+ dN_int F Y
+        X[1] = (dNi[:, :, 1:-1].transpose(0, 2, 1) @ (SY - Y)[1:-1]).transpose(1, 0, 2)   # dA^T (S Y - Y)_int
+        B = np.concatenate([A, Ainv.T], axis=1)          # (m - 2, 2 (c - 2)): d(S Y)_int = dN_int F Y - B X
+        out[:, 1:-1] = (dNi.reshape(-1, c) @ FY).reshape(K, m - 2, k)
+        out[:, 1:-1] -= (B @ X.reshape(2 * (c - 2), K * k)).reshape(m - 2, K, k).transpose(1, 0, 2)
+        return out
 
 
 class _Tuner:
     """The residuals S_u Q S_v^T - Q of the grid (m, n, d) for breakpoints per direction,
-    and their forward-difference Jacobian in the interior breakpoints; ``evals`` counts
-    the operators built."""
+    and their Jacobian in the interior breakpoints; ``evals`` counts the work done."""
 
     def __init__(self, grid: SeparableGrid):
         self.grid = grid
@@ -100,34 +149,27 @@ class _Tuner:
         """X (m, n, d) with S_u applied along u (every column), as one matrix product."""
         return (Su @ X.reshape(X.shape[0], -1)).reshape(X.shape)
 
-    def residuals(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def residuals(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, _Direction, _Direction]:
         g = self.grid
         self.evals += self.unit
-        Su, Sv = _smoother(bu, g.pu, g.u), _smoother(bv, g.pv, g.v)
-        return self._along_u(Su, self._along_v(Sv, g.Q)) - g.Q, Su, Sv
+        du, dv = _Direction(bu, g.pu, g.u), _Direction(bv, g.pv, g.v)
+        return self._along_u(du.S, self._along_v(dv.S, g.Q)) - g.Q, du, dv
 
-    def jacobian(self, bu: np.ndarray, bv: np.ndarray, R: np.ndarray, Su: np.ndarray, Sv: np.ndarray
-                 ) -> np.ndarray:
+    def jacobian(self, R: np.ndarray, du: _Direction, dv: _Direction) -> np.ndarray:
         """(interior breakpoints of u then of v, m n d): dR / d breakpoint (transposed),
-        forward differences (one direction's operator per row, the other's kept)."""
-        g = self.grid
-        Q = g.Q
+        analytic (:meth:`_Direction.derivative`: R = S_u (Q S_v^T) - Q, one direction's
+        operator moving, the other's product kept); counted as one evaluation per
+        breakpoint (the forward differences it replaced: one operator each)."""
+        Q = self.grid.Q
         m, n, d = Q.shape
-        Yv = self._along_v(Sv, Q).reshape(m, n * d)               # Q S_v^T, for the u knots
-        Yu = self._along_u(Su, Q).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q, for the v knots
-        base = (R + Q)
-        Jt = np.empty((len(bu) + len(bv) - 4, m * n * d))
-        for j in range(1, len(bu) - 1):
-            b = bu.copy()
-            b[j] += TUNE_STEP
-            Jt[j - 1] = (_smoother(b, g.pu, g.u) @ Yv).ravel()
-        for j in range(1, len(bv) - 1):
-            b = bv.copy()
-            b[j] += TUNE_STEP
-            Jt[len(bu) - 3 + j] = (_smoother(b, g.pv, g.v) @ Yu).reshape(n, m, d).transpose(1, 0, 2).ravel()
+        F = R + Q                                                          # S_u Q S_v^T
+        Yv = self._along_v(dv.S, Q).reshape(m, n * d)                      # Q S_v^T
+        Ju = du.derivative(Yv, F.reshape(m, n * d))                        # (ku, m, n d)
+        Yu = self._along_u(du.S, Q).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q, per v row
+        Jv = dv.derivative(Yu, F.transpose(1, 0, 2).reshape(n, m * d))     # (kv, n, m d)
+        Jv = Jv.reshape(len(Jv), n, m, d).transpose(0, 2, 1, 3)
+        Jt = np.concatenate([Ju.reshape(len(Ju), m * n * d), Jv.reshape(len(Jv), m * n * d)])
         self.evals += len(Jt) * self.unit
-        Jt -= base.ravel()
-        Jt /= TUNE_STEP
         return Jt
 
 
@@ -142,7 +184,7 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
     (TUNE_PASSES, TUNE_SLOW slow ones in a row, the damping beyond KNOT_DAMPING_MAX) or
     the evaluations (TUNE_EVALS). Returns the breakpoints with the smallest largest miss
     and that miss."""
-    R, Su, Sv = tuner.residuals(bu, bv)
+    R, du, dv = tuner.residuals(bu, bv)
     e = _norms(R)
     best = (bu, bv, float(e.max()))
     lam, slow = KNOT_DAMPING_START, 0
@@ -152,7 +194,7 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
             break
         top = float(e.max())
         w = np.repeat(((e / top) ** (TUNE_POWER - 2)).ravel(), R.shape[-1])
-        Jt = tuner.jacobian(bu, bv, R, Su, Sv)
+        Jt = tuner.jacobian(R, du, dv)
         Jw = Jt * w
         A = Jw @ Jt.T
         g = Jw @ R.ravel()
@@ -164,11 +206,11 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
                 dk = np.zeros_like(g)
             nu = np.concatenate([[0.0], _ordered_step(bu[1:-1], dk[:ku], TUNE_MOVE), [1.0]])
             nv = np.concatenate([[0.0], _ordered_step(bv[1:-1], dk[ku:], TUNE_MOVE), [1.0]])
-            R2, Su2, Sv2 = tuner.residuals(nu, nv)
+            R2, du2, dv2 = tuner.residuals(nu, nv)
             e2 = _norms(R2)
             f2 = float(((e2 / top) ** TUNE_POWER).sum())
             if f2 < f0:
-                bu, bv, R, Su, Sv, e = nu, nv, R2, Su2, Sv2, e2
+                bu, bv, R, du, dv, e = nu, nv, R2, du2, dv2, e2
                 lam = max(lam / KNOT_DAMPING_DOWN, KNOT_DAMPING_MIN)
                 break
             lam *= KNOT_DAMPING_UP
