@@ -76,8 +76,10 @@ TUNE_SLOW = 3
 class _Direction:
     """One direction's ends-held least squares on the breakpoints at the sites t (t_0 = 0,
     t_(m-1) = 1): N (m, c), F (c, m) (:func:`cagd.fitting.separable.ends_held_operator`),
-    S = N F, and (built on first use) dN (K, m, c), the derivative of N in each of the K
-    interior breakpoints (:func:`cagd.basis.bspline.basis_knot_derivatives`)."""
+    S = N F, and (built on first use) dN (K, m, p + 2): the derivative of N in each of the
+    K interior breakpoints b_j (:func:`cagd.basis.bspline.basis_knot_derivatives`), on
+    the only columns it touches, j - 1 .. j + p (the basis functions whose support holds
+    b_j)."""
 
     def __init__(self, breaks: np.ndarray, p: int, t: np.ndarray):
         self.breaks, self.p, self.t = breaks, p, t
@@ -93,41 +95,52 @@ class _Direction:
             m, c = self.N.shape
             K = len(self.breaks) - 2
             span = find_span(U, p, t, c)
-            dB = basis_knot_derivatives(U, p, t, span)[1]              # (m, p + 1, 2p)
-            j = span[:, None, None] - 2 * p + 1 + np.arange(2 * p)    # breakpoint of knot span - p + 1 + q
-            col = np.broadcast_to((span[:, None] - p + np.arange(p + 1))[:, :, None], dB.shape)
-            row = np.broadcast_to(np.arange(m)[:, None, None], dB.shape)
-            j = np.broadcast_to(j, dB.shape)
-            inner = (j >= 1) & (j <= K)
-            dN = np.zeros((K, m, c))
-            dN[j[inner] - 1, row[inner], col[inner]] = dB[inner]
+            dB = basis_knot_derivatives(U, p, t, span)[1]                   # (m, p + 1, 2p)
+            shape = dB.shape
+            j = np.broadcast_to(span[:, None, None] - 2 * p + 1 + np.arange(2 * p), shape)   # knot span - p + 1 + q
+            col = np.broadcast_to((span[:, None] - p + np.arange(p + 1))[:, :, None], shape)
+            row = np.broadcast_to(np.arange(m)[:, None, None], shape)
+            local = col - j + 1                      # N_i depends on the knots u_i .. u_(i+p+1) only
+            inner = (j >= 1) & (j <= K) & (local >= 0) & (local <= p + 1)
+            dN = np.zeros((K, m, p + 2))
+            dN[j[inner] - 1, row[inner], local[inner]] = dB[inner]
             self._dN = dN
         return self._dN
 
-    def derivative(self, Y: np.ndarray, SY: np.ndarray) -> np.ndarray:
-        """(K, m, k): d(S Y) / d b_j for the data Y (m, k) (SY = S Y given). With the ends
-        held, S Y = E + P (Y_int - E) on the interior rows (P = A A^+ the projector on the
-        columns of A = N[1:-1, 1:-1], E the end poles' share), the end rows fixed; by the
-        derivative of the projector (Golub & Pereyra, SIAM J. Numer. Anal. 10(2), 1973,
-        Lemma 4.1: dP = (I - P) dA A^+ + (A^+)^T dA^T (I - P)):
+    def derivative(self, Y: np.ndarray, SY: np.ndarray, out: np.ndarray) -> None:
+        """out (K, m, k) <- d(S Y) / d b_j for the data Y (m, k) (SY = S Y given). With the
+        ends held, S Y = E + P (Y_int - E) on the interior rows (P = A A^+ the projector on
+        the columns of A = N[1:-1, 1:-1], E the end poles' share), the end rows fixed; by
+        the derivative of the projector (Golub & Pereyra, SIAM J. Numer. Anal. 10(2), 1973,
+        Lemma 4.1: dP = (I - P) dA A^+ + (A^+)^T dA^T (I - P)) and (A^+)^T = A A^+ (A^+)^T:
 
-            d(S Y)_int = (I - P) dN_int (F Y) - (A^+)^T dA^T (S Y - Y)_int."""
+            d(S Y)_int = G - A (A^+ G + A^+ (A^+)^T dA^T (S Y - Y)_int),  G = dN_int (F Y),
+
+        with dN on its p + 2 columns (G: a product of that width per breakpoint); one
+        batched product [dN_int, -A] [F Y; Z] per breakpoint writes ``out``."""
         N, F, dN = self.N, self.F, self.dN
-        K, m, c = dN.shape
-        k = Y.shape[1]
-        out = np.zeros((K, m, k))
-        if K == 0 or c <= 2:
-            return out
+        K, m, w = dN.shape
+        c, k = N.shape[1], Y.shape[1]
+        out[:, 0] = 0.0
+        out[:, -1] = 0.0
+        if K == 0:
+            return
         A, Ainv = N[1:-1, 1:-1], F[1:-1, 1:-1]
-        dNi = dN[:, 1:-1, :]                                               # (K, m - 2, c)
-        FY = F @ Y
-        X = np.empty((2, c - 2, K, k))
-        X[0] = ((Ainv @ dNi) @ FY).transpose(1, 0, 2)                       # A^+ dN_int F Y
-        X[1] = (dNi[:, :, 1:-1].transpose(0, 2, 1) @ (SY - Y)[1:-1]).transpose(1, 0, 2)   # dA^T (S Y - Y)_int
-        B = np.concatenate([A, Ainv.T], axis=1)          # (m - 2, 2 (c - 2)): d(S Y)_int = dN_int F Y - B X
-        out[:, 1:-1] = (dNi.reshape(-1, c) @ FY).reshape(K, m - 2, k)
-        out[:, 1:-1] -= (B @ X.reshape(2 * (c - 2), K * k)).reshape(m - 2, K, k).transpose(1, 0, 2)
-        return out
+        cols = np.arange(K)[:, None] + np.arange(w)                        # b_j's columns j - 1 .. j + p
+        dNi = dN[:, 1:-1]                                                  # (K, m - 2, p + 2)
+        YZ = np.empty((K, 2 * w, k))
+        YZ[:, :w] = (F @ Y)[cols]                                          # F Y on those columns
+        YZ[:, w:] = dNi.transpose(0, 2, 1) @ (SY - Y)[1:-1]                # dA^T (S Y - Y)_int (ends: 0 below)
+        inner = (cols >= 1) & (cols <= c - 2)
+        C = Ainv @ Ainv.T
+        L = np.empty((K, c - 2, 2 * w))
+        L[:, :, :w] = Ainv @ dNi                                           # A^+ dN_int
+        L[:, :, w:] = np.where(inner[:, None, :], C[:, np.clip(cols - 1, 0, c - 3)].transpose(1, 0, 2), 0.0)
+        M = np.empty((K, m - 2, w + c - 2))
+        M[:, :, :w] = dNi
+        M[:, :, w:] = -A
+        rhs = np.concatenate([YZ[:, :w], L @ YZ], axis=1)                  # [F Y; Z]
+        np.matmul(M, rhs, out=out[:, 1:-1])
 
 
 class _Tuner:
@@ -138,6 +151,7 @@ class _Tuner:
         self.grid = grid
         self.evals = 0.0
         self.unit = max(1.0, (grid.m + grid.n) * grid.m * grid.n / TUNE_UNIT)    # one evaluation's work
+        self._scratch: Optional[np.ndarray] = None
 
     def _along_v(self, Sv: np.ndarray, X: np.ndarray) -> np.ndarray:
         """X (m, n, d) with S_v applied along v (every row), as one matrix product."""
@@ -155,22 +169,25 @@ class _Tuner:
         du, dv = _Direction(bu, g.pu, g.u), _Direction(bv, g.pv, g.v)
         return self._along_u(du.S, self._along_v(dv.S, g.Q)) - g.Q, du, dv
 
-    def jacobian(self, R: np.ndarray, du: _Direction, dv: _Direction) -> np.ndarray:
-        """(interior breakpoints of u then of v, m n d): dR / d breakpoint (transposed),
-        analytic (:meth:`_Direction.derivative`: R = S_u (Q S_v^T) - Q, one direction's
-        operator moving, the other's product kept); counted as one evaluation per
-        breakpoint (the forward differences it replaced: one operator each)."""
+    def jacobian(self, R: np.ndarray, du: _Direction, dv: _Direction, out: np.ndarray) -> np.ndarray:
+        """out (interior breakpoints of u then of v, m n d) <- dR / d breakpoint
+        (transposed), analytic (:meth:`_Direction.derivative`: R = S_u (Q S_v^T) - Q, one
+        direction's operator moving, the other's product kept); counted as one evaluation
+        per breakpoint (the forward differences it replaced: one operator each)."""
         Q = self.grid.Q
         m, n, d = Q.shape
+        ku, kv = len(du.breaks) - 2, len(dv.breaks) - 2
         F = R + Q                                                          # S_u Q S_v^T
         Yv = self._along_v(dv.S, Q).reshape(m, n * d)                      # Q S_v^T
-        Ju = du.derivative(Yv, F.reshape(m, n * d))                        # (ku, m, n d)
-        Yu = self._along_u(du.S, Q).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q, per v row
-        Jv = dv.derivative(Yu, F.transpose(1, 0, 2).reshape(n, m * d))     # (kv, n, m d)
-        Jv = Jv.reshape(len(Jv), n, m, d).transpose(0, 2, 1, 3)
-        Jt = np.concatenate([Ju.reshape(len(Ju), m * n * d), Jv.reshape(len(Jv), m * n * d)])
-        self.evals += len(Jt) * self.unit
-        return Jt
+        du.derivative(Yv, F.reshape(m, n * d), out[:ku].reshape(ku, m, n * d))
+        if kv:
+            Yu = self._along_u(du.S, Q).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q, per v row
+            if self._scratch is None or self._scratch.shape != (kv, n, m * d):
+                self._scratch = np.empty((kv, n, m * d))
+            dv.derivative(Yu, F.transpose(1, 0, 2).reshape(n, m * d), self._scratch)
+            out[ku:].reshape(kv, m, n, d)[...] = self._scratch.reshape(kv, n, m, d).transpose(0, 2, 1, 3)
+        self.evals += (ku + kv) * self.unit
+        return out
 
 
 def _norms(R: np.ndarray) -> np.ndarray:
@@ -189,15 +206,16 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
     best = (bu, bv, float(e.max()))
     lam, slow = KNOT_DAMPING_START, 0
     ku = len(bu) - 2
+    Jt = np.empty((ku + len(bv) - 2, R.size))                 # the Jacobian's rows, reused by the passes
     for _ in range(TUNE_PASSES):
         if best[2] <= tol or tuner.evals >= TUNE_EVALS or ku + len(bv) - 2 == 0:
             break
         top = float(e.max())
-        w = np.repeat(((e / top) ** (TUNE_POWER - 2)).ravel(), R.shape[-1])
-        Jt = tuner.jacobian(R, du, dv)
-        Jw = Jt * w
-        A = Jw @ Jt.T
-        g = Jw @ R.ravel()
+        w = np.repeat(((e / top) ** (TUNE_POWER / 2 - 1)).ravel(), R.shape[-1])     # square roots of the weights
+        tuner.jacobian(R, du, dv, Jt)
+        Jt *= w
+        A = Jt @ Jt.T
+        g = Jt @ (w * R.ravel())
         f0 = float(((e / top) ** TUNE_POWER).sum())
         while True:
             try:
