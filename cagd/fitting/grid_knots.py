@@ -37,7 +37,7 @@ reweighting) is this project's own.
 """
 from __future__ import annotations
 
-from typing import Callable, List, Optional, Tuple
+from typing import Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -71,6 +71,9 @@ TUNE_MOVE = 0.45
 #: count is given up after TUNE_SLOW slow passes in a row
 TUNE_GAIN = 0.01
 TUNE_SLOW = 3
+#: the operators of this many breakpoint vectors per direction are kept by a tuner
+TUNE_CACHE = 8
+Q_NONE = np.empty((0, 0, 0))
 
 
 class _Direction:
@@ -145,13 +148,37 @@ class _Direction:
 
 class _Tuner:
     """The residuals S_u Q S_v^T - Q of the grid (m, n, d) for breakpoints per direction,
-    and their Jacobian in the interior breakpoints; ``evals`` counts the work done."""
+    and their Jacobian in the interior breakpoints; ``evals`` counts the work done. The
+    directions' operators of the last TUNE_CACHE breakpoint vectors and the products
+    Q S_v^T, S_u Q of the last ones are kept (a start's scoring moves one direction)."""
 
     def __init__(self, grid: SeparableGrid):
         self.grid = grid
         self.evals = 0.0
         self.unit = max(1.0, (grid.m + grid.n) * grid.m * grid.n / TUNE_UNIT)    # one evaluation's work
         self._scratch: Optional[np.ndarray] = None
+        self._dirs: Tuple[Dict[bytes, _Direction], ...] = ({}, {})
+        self._held: List[Tuple[bytes, np.ndarray]] = [(b"", Q_NONE), (b"", Q_NONE)]   # (key, S_u Q), (key, Q S_v^T)
+        self._last = (b"", b"")
+
+    def _direction(self, axis: int, breaks: np.ndarray) -> Tuple[bytes, _Direction]:
+        key = breaks.tobytes()
+        cache = self._dirs[axis]
+        hit = cache.get(key)
+        if hit is None:
+            g = self.grid
+            hit = _Direction(breaks, g.pu, g.u) if axis == 0 else _Direction(breaks, g.pv, g.v)
+            if len(cache) >= TUNE_CACHE:
+                cache.pop(next(iter(cache)))
+            cache[key] = hit
+        return key, hit
+
+    def _product(self, axis: int, key: bytes, S: np.ndarray) -> np.ndarray:
+        """S_u Q (axis 0) or Q S_v^T (axis 1), (m, n, d), kept for the last key."""
+        if self._held[axis][0] != key:
+            Q = self.grid.Q
+            self._held[axis] = (key, self._along_u(S, Q) if axis == 0 else self._along_v(S, Q))
+        return self._held[axis][1]
 
     def _along_v(self, Sv: np.ndarray, X: np.ndarray) -> np.ndarray:
         """X (m, n, d) with S_v applied along v (every row), as one matrix product."""
@@ -164,10 +191,14 @@ class _Tuner:
         return (Su @ X.reshape(X.shape[0], -1)).reshape(X.shape)
 
     def residuals(self, bu: np.ndarray, bv: np.ndarray) -> Tuple[np.ndarray, _Direction, _Direction]:
-        g = self.grid
         self.evals += self.unit
-        du, dv = _Direction(bu, g.pu, g.u), _Direction(bv, g.pv, g.v)
-        return self._along_u(du.S, self._along_v(dv.S, g.Q)) - g.Q, du, dv
+        (ku, du), (kv, dv) = self._direction(0, bu), self._direction(1, bv)
+        if ku == self._last[0] and kv != self._last[1]:                 # only v moved: S_u Q kept
+            F = self._along_v(dv.S, self._product(0, ku, du.S))
+        else:
+            F = self._along_u(du.S, self._product(1, kv, dv.S))
+        self._last = (ku, kv)
+        return F - self.grid.Q, du, dv
 
     def jacobian(self, R: np.ndarray, du: _Direction, dv: _Direction, out: np.ndarray) -> np.ndarray:
         """out (interior breakpoints of u then of v, m n d) <- dR / d breakpoint
@@ -178,10 +209,10 @@ class _Tuner:
         m, n, d = Q.shape
         ku, kv = len(du.breaks) - 2, len(dv.breaks) - 2
         F = R + Q                                                          # S_u Q S_v^T
-        Yv = self._along_v(dv.S, Q).reshape(m, n * d)                      # Q S_v^T
+        Yv = self._product(1, dv.breaks.tobytes(), dv.S).reshape(m, n * d)     # Q S_v^T
         du.derivative(Yv, F.reshape(m, n * d), out[:ku].reshape(ku, m, n * d))
         if kv:
-            Yu = self._along_u(du.S, Q).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q, per v row
+            Yu = self._product(0, du.breaks.tobytes(), du.S).transpose(1, 0, 2).reshape(n, m * d)   # S_u Q
             if self._scratch is None or self._scratch.shape != (kv, n, m * d):
                 self._scratch = np.empty((kv, n, m * d))
             dv.derivative(Yu, F.transpose(1, 0, 2).reshape(n, m * d), self._scratch)
@@ -207,26 +238,29 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
     lam, slow = KNOT_DAMPING_START, 0
     ku = len(bu) - 2
     Jt = np.empty((ku + len(bv) - 2, R.size))                 # the Jacobian's rows, reused by the passes
+    Js = np.empty_like(Jt)                                    # ... times the square roots of the weights
     for _ in range(TUNE_PASSES):
         if best[2] <= tol or tuner.evals >= TUNE_EVALS or ku + len(bv) - 2 == 0:
             break
         top = float(e.max())
-        w = np.repeat(((e / top) ** (TUNE_POWER / 2 - 1)).ravel(), R.shape[-1])     # square roots of the weights
+        w = np.repeat(((e / top) ** (TUNE_POWER / 2 - 1)).ravel(), R.shape[-1])
         tuner.jacobian(R, du, dv, Jt)
-        Jt *= w
-        A = Jt @ Jt.T
-        g = Jt @ (w * R.ravel())
+        np.multiply(Jt, w, out=Js)
+        A = Js @ Js.T
+        g = Js @ (w * R.ravel())
         f0 = float(((e / top) ** TUNE_POWER).sum())
         while True:
             try:
                 dk = -np.linalg.solve((TUNE_POWER - 1) * (A + lam * np.diag(np.diag(A) + 1e-300)), g)
             except np.linalg.LinAlgError:
                 dk = np.zeros_like(g)
-            nu = np.concatenate([[0.0], _ordered_step(bu[1:-1], dk[:ku], TUNE_MOVE), [1.0]])
-            nv = np.concatenate([[0.0], _ordered_step(bv[1:-1], dk[ku:], TUNE_MOVE), [1.0]])
-            R2, du2, dv2 = tuner.residuals(nu, nv)
-            e2 = _norms(R2)
-            f2 = float(((e2 / top) ** TUNE_POWER).sum())
+            for step in _stretched(Jt, R, e, top, dk, bu, bv):
+                nu, nv = step
+                R2, du2, dv2 = tuner.residuals(nu, nv)
+                e2 = _norms(R2)
+                f2 = float(((e2 / top) ** TUNE_POWER).sum())
+                if f2 < f0:
+                    break
             if f2 < f0:
                 bu, bv, R, du, dv, e = nu, nv, R2, du2, dv2, e2
                 lam = max(lam / KNOT_DAMPING_DOWN, KNOT_DAMPING_MIN)
@@ -240,6 +274,39 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float
         if slow >= TUNE_SLOW:
             break
     return best
+
+
+#: the multiples of the Newton step of the L_p norm tried along its direction (the misses
+#: predicted by the linearisation): far from the minimum the largest miss dominates the
+#: sum, where Newton's method on e^p gains only 1/(p - 1) of the way per pass (the largest
+#: miss fell by 6/7 a pass at p = 8); p - 1 is the step of the weighted least squares
+TUNE_STRETCH = (1.0, 2.0, 3.0, 5.0, TUNE_POWER - 1.0)
+
+
+def _stretched(Jt: np.ndarray, R: np.ndarray, e: np.ndarray, top: float, dk: np.ndarray, bu: np.ndarray,
+               bv: np.ndarray) -> List[Tuple[np.ndarray, np.ndarray]]:
+    """The breakpoints to try for the Newton step dk: the multiple of TUNE_STRETCH whose
+    misses, linearised (R + J^T (a dk), each direction's step kept ordered by
+    :func:`cagd.fitting.free_knots._ordered_step`), have the smallest L_p norm, then (if
+    that is not a) the step itself."""
+    ku = len(bu) - 2
+    steps, fractions = [], []
+    for a in TUNE_STRETCH:
+        su = _ordered_step(bu[1:-1], a * dk[:ku], TUNE_MOVE)
+        sv = _ordered_step(bv[1:-1], a * dk[ku:], TUNE_MOVE)
+        steps.append((np.concatenate([[0.0], su, [1.0]]), np.concatenate([[0.0], sv, [1.0]])))
+        fractions.append((_fraction(bu[1:-1], su, dk[:ku]), _fraction(bv[1:-1], sv, dk[ku:])))
+    D = np.stack([dk[:ku] @ Jt[:ku], dk[ku:] @ Jt[ku:]]).reshape((2,) + R.shape)    # J^T dk per direction
+    X = R + np.tensordot(np.array(fractions), D, axes=1)                              # linearised misses per a
+    f = ((np.einsum("a...i,a...i->a...", X, X) / top ** 2) ** (TUNE_POWER // 2)).reshape(len(steps), -1).sum(axis=1)
+    best = int(np.argmin(f))                                 # the first on a tie: the smaller step
+    return [steps[best]] if best == 0 else [steps[best], steps[0]]
+
+
+def _fraction(inner: np.ndarray, moved: np.ndarray, dk: np.ndarray) -> float:
+    """a with moved = inner + a dk (0 where dk is 0)."""
+    k = int(np.argmax(np.abs(dk))) if dk.size else 0
+    return float((moved[k] - inner[k]) / dk[k]) if dk.size and dk[k] != 0.0 else 0.0
 
 
 def _starts(tuner: _Tuner, best: tuple, axis: int, placed: np.ndarray) -> List[Tuple[np.ndarray, np.ndarray]]:
@@ -272,7 +339,7 @@ def _conditioned(grid: SeparableGrid, bu: np.ndarray, bv: np.ndarray) -> bool:
 #: where that came within COARSE_REACH * tol
 COARSE_SITES = 40
 COARSE_TARGET = 0.9
-COARSE_REACH = 1.1
+COARSE_REACH = 1.0
 
 
 def _coarse(grid: SeparableGrid) -> Optional[_Tuner]:
@@ -294,10 +361,13 @@ def fewer_spans(grid: SeparableGrid, best: tuple, tol: float,
     ``fewer(fit, axis)`` its breakpoints, the knots of both directions tuned
     (:func:`tune_knots`), kept while every point stays within tol and the least squares
     stays conditioned (:func:`_conditioned`); until both directions fail or TUNE_EVALS
-    (none where the Jacobian would exceed TUNE_MAX_ENTRIES). Returns (best, counts
-    tried)."""
+    (none where the Jacobian would exceed TUNE_MAX_ENTRIES). A count with no more spans
+    per direction than one that failed is not tried (more spans hold the fewer: a knot
+    inserted keeps the spline, Piegl & Tiller 5.2; the tuner is local, so this is the
+    likely outcome, not a bound). Returns (best, counts tried)."""
     tuner, coarse = _Tuner(grid), _coarse(grid)
     tries = 0
+    failed: List[Tuple[int, int]] = []
     knots = len(best[1]) + len(best[2]) - 4
     if max(grid.m * grid.n * grid.d * knots, grid.m ** 2, grid.n ** 2) > TUNE_MAX_ENTRIES:
         return best, tries
@@ -306,7 +376,9 @@ def fewer_spans(grid: SeparableGrid, best: tuple, tol: float,
         order = (0, 1) if spans[0] >= spans[1] else (1, 0)
         found: Optional[tuple] = None
         for axis in order:
-            if spans[axis] <= 1 or tuner.evals >= TUNE_EVALS:
+            count = (spans[0] - (axis == 0), spans[1] - (axis == 1))
+            if spans[axis] <= 1 or tuner.evals >= TUNE_EVALS or any(f[0] >= count[0] and f[1] >= count[1]
+                                                                     for f in failed):
                 continue
             for bu, bv in _starts(tuner, best, axis, fewer(best, axis)):
                 tries += 1
@@ -323,6 +395,7 @@ def fewer_spans(grid: SeparableGrid, best: tuple, tol: float,
                     break
             if found is not None:
                 break
+            failed.append(count)
         if found is None:
             break
         best = found
