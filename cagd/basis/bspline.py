@@ -4,8 +4,6 @@ All functions are vectorized over the parameters; the loops run over the degree.
 """
 from __future__ import annotations
 
-from typing import Tuple
-
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -103,50 +101,6 @@ def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.n
             ders[k:] /= h[:, None]               # back from units of h: derivative k divided k times
             fac *= p - k
     return ders
-
-
-def basis_knot_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndarray
-                           ) -> Tuple[np.ndarray, np.ndarray]:
-    """The p+1 non-zero basis functions N_{span-p+r, p}(t) and their derivatives in the 2p
-    knots u_{span-p+1+q} (q = 0..2p-1) they depend on: shapes (len(t), p+1) and
-    (len(t), p+1, 2p). Forward-mode differentiation of Piegl & Tiller A2.2 (the
-    Cox-de Boor triangle): left_j = t - u_(span+1-j), right_j = u_(span+j) - t, each
-    d(left_j) = -e_(p-j), d(right_j) = e_(p-1+j), and every step N_r <- saved +
-    right_(r+1) N_r / (right_(r+1) + left_(j-r)) differentiated by the quotient rule. Valid
-    where t is not a knot (the derivative in a knot at t itself is one-sided: right
-    limits). Mathematically: the divided-difference form of the B-spline (de Boor, A
-    Practical Guide to Splines, IX (2)) differentiated in a knot repeats that knot."""
-    degree = _checks.degree(degree, "degree", 0)
-    knots = _checks.finite_array(knots, "knots", ndim=1)
-    t = _checks.finite_array(t, "t").ravel()
-    span = np.broadcast_to(np.asarray(span), t.shape)
-    if span.size and (not np.issubdtype(span.dtype, np.integer) or span.min() < degree
-                      or span.max() + degree + 1 >= len(knots)):
-        raise CagdError(f"span: indices must be integers in [degree, len(knots) - degree - 2] = "
-                        f"[{degree}, {len(knots) - degree - 2}]")
-    p, m = degree, t.shape[0]
-    N = np.zeros((p + 1, m))
-    N[0] = 1.0
-    dN = np.zeros((p + 1, m, 2 * p))
-    for j in range(1, p + 1):
-        left = [None] + [t - knots[span + 1 - i] for i in range(1, j + 1)]
-        right = [None] + [knots[span + i] - t for i in range(1, j + 1)]
-        saved, dsaved = np.zeros(m), np.zeros((m, 2 * p))
-        for r in range(j):
-            den = right[r + 1] + left[j - r]
-            temp = N[r] / den
-            dtemp = dN[r] / den[:, None]                  # (dN_r - temp d(den)) / den
-            dtemp[:, p + r] -= temp / den
-            dtemp[:, p - j + r] += temp / den
-            N[r] = saved + right[r + 1] * temp
-            dN[r] = dsaved + right[r + 1][:, None] * dtemp
-            dN[r][:, p + r] += temp
-            saved = left[j - r] * temp
-            dsaved = left[j - r][:, None] * dtemp
-            dsaved[:, p - j + r] -= temp
-        N[j] = saved
-        dN[j] = dsaved
-    return N.T, dN.transpose(1, 0, 2)
 
 
 def basis_matrix(knots: np.ndarray, degree: int, t: ArrayLike, count: int, derivative: int = 0) -> np.ndarray:

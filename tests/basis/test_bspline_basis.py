@@ -6,9 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import BSpline as SciBSpline
 
-from cagd import BSplineCurve, CagdError
+from cagd import BSplineCurve
 from cagd.basis import basis_derivatives, basis_functions, basis_matrix, cox_de_boor
-from cagd.basis.bspline import basis_knot_derivatives
 from cagd.knots import find_span
 
 from strategies import clamped_knots, floating_knots
@@ -126,79 +125,6 @@ def test_random_knots_vs_scipy(data, degree, clamped):
     hmin = np.diff(np.unique(knots)).min()
     np.testing.assert_allclose(basis_matrix(knots, degree, t, n, derivative=k), scipy_basis(knots, degree, t, k),
                                rtol=0, atol=1e-11 * (degree / hmin) ** k)
-
-
-@st.composite
-def simple_knots_and_sites(draw):
-    """(knots, degree, sites): 2p + 2..2p + 8 distinct knots with gaps of at least 0.05,
-    31 sites in the domain [u_p, u_(n)] at least 1e-3 from every knot."""
-    p = draw(st.integers(1, 6))
-    gaps_ = np.array(draw(st.lists(st.floats(0.05, 1.0), min_size=2 * p + 1, max_size=2 * p + 7)))
-    knots = draw(st.floats(-3.0, 3.0)) + np.concatenate([[0.0], np.cumsum(gaps_)])
-    n = len(knots) - p - 1
-    seed = draw(st.integers(0, 2 ** 32 - 1))
-    t = np.random.default_rng(seed).uniform(knots[p], knots[n], 31)
-    near = np.abs(t[:, None] - knots[None, :]).min(axis=1) < 1e-3
-    return knots, p, t[~near]
-
-
-def scipy_knot_derivative(knots, p, t, index, h=1e-4):
-    """d N_{i,p}(t) / d knots[index] for all i by scipy's basis (:func:`scipy_basis`),
-    central differences with one Richardson step (error O(h^4))."""
-    def central(step):
-        plus, minus = knots.copy(), knots.copy()
-        plus[index] += step
-        minus[index] -= step
-        return (scipy_basis(plus, p, t) - scipy_basis(minus, p, t)) / (2 * step)
-    return (4 * central(h / 2) - central(h)) / 3
-
-
-@settings(max_examples=40, deadline=None)
-@given(simple_knots_and_sites())
-def test_knot_derivatives_vs_scipy_finite_differences(case):
-    """basis_knot_derivatives against central differences (Richardson) of scipy's basis
-    in every knot the local basis depends on; the values equal basis_functions."""
-    knots, p, t = case
-    n = len(knots) - p - 1
-    span = find_span(knots, p, t, n)
-    N, D = basis_knot_derivatives(knots, p, t, span)
-    np.testing.assert_allclose(N, basis_functions(knots, p, t, span), atol=1e-14)
-    scale = 1.0 / np.diff(knots).min()
-    for q in range(2 * p):
-        index = span - p + 1 + q
-        for k in np.unique(index):
-            rows = index == k
-            full = scipy_knot_derivative(knots, p, t[rows], k)
-            local = np.take_along_axis(full, span[rows, None] - p + np.arange(p + 1), axis=1)
-            np.testing.assert_allclose(D[rows, :, q], local, rtol=0, atol=1e-8 * scale)
-
-
-@settings(max_examples=40, deadline=None)
-@given(simple_knots_and_sites())
-def test_knot_derivatives_translation_and_scaling(case):
-    """Exact identities of the basis: moving all knots by delta moves the basis by delta,
-    so sum_k dN/du_k = -N'(t); scaling knots and t by lambda keeps it, so
-    sum_k u_k dN/du_k = -t N'(t) (N' by scipy)."""
-    knots, p, t = case
-    n = len(knots) - p - 1
-    span = find_span(knots, p, t, n)
-    D = basis_knot_derivatives(knots, p, t, span)[1]
-    cols = span[:, None] - p + np.arange(p + 1)
-    dt = np.take_along_axis(scipy_basis(knots, p, t, 1), cols, axis=1)
-    used = knots[span[:, None] - p + 1 + np.arange(2 * p)]                 # (len(t), 2p)
-    scale = (1.0 + np.abs(knots).max()) * p / np.diff(knots).min()
-    np.testing.assert_allclose(D.sum(axis=2), -dt, rtol=0, atol=1e-12 * scale)
-    np.testing.assert_allclose(np.einsum("mrq,mq->mr", D, used), -t[:, None] * dt, rtol=0, atol=1e-12 * scale)
-
-
-def test_knot_derivatives_degree_zero_and_bad_span():
-    """Degree 0: no knot derivative (2p = 0 columns), the values the indicator; a span
-    outside the knot vector is refused."""
-    N, D = basis_knot_derivatives(np.array([0.0, 1, 2]), 0, np.array([0.5, 1.5]), np.array([0, 1]))
-    np.testing.assert_array_equal(N, 1.0)
-    assert D.shape == (2, 1, 0)
-    with pytest.raises(CagdError, match="span"):
-        basis_knot_derivatives(np.array([0.0, 0, 1, 1]), 1, np.array([0.5]), np.array([2]))
 
 
 # --- seed 000, 5.3.2: uniform periodic quadratic and cubic B-splines ----------------------
