@@ -44,7 +44,7 @@ import numpy as np
 from .fit import _knots
 from .free_knots import KNOT_DAMPING_DOWN, KNOT_DAMPING_MAX, KNOT_DAMPING_MIN, KNOT_DAMPING_START, \
     KNOT_DAMPING_UP, _ordered_step, knot_jacobian
-from .separable import LEBESGUE_MAX, SeparableGrid, ends_held_operator, lebesgue
+from .separable import INTERLACE_SHARE, LEBESGUE_MAX, SeparableGrid, ends_held_operator, lebesgue
 
 #: the power p of the L_p norm of the misses the knots minimise
 TUNE_POWER = 8
@@ -377,6 +377,10 @@ def fewer_spans(grid: SeparableGrid, best: tuple, tol: float,
     knots = len(best[1]) + len(best[2]) - 4
     if max(grid.m * grid.n * grid.d * knots, grid.m ** 2, grid.n ** 2) > TUNE_MAX_ENTRIES:
         return best, tries
+    sparse = all(len(b) - 1 + p <= INTERLACE_SHARE * len(np.unique(t))
+                 for b, p, t in ((best[1], grid.pu, grid.u), (best[2], grid.pv, grid.v)))
+    if sparse and not _conditioned(grid, best[1], best[2]):
+        return best, tries               # the degree's own constant, not the sites': fewer spans keep it
     while best[3] <= tol and tuner.evals < TUNE_EVALS:
         spans = (len(best[1]) - 1, len(best[2]) - 1)
         order = (0, 1) if spans[0] >= spans[1] else (1, 0)
