@@ -37,7 +37,7 @@ reweighting) is this project's own.
 """
 from __future__ import annotations
 
-from typing import Callable, Dict, List, Optional, Tuple
+from typing import Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -68,7 +68,7 @@ TUNE_MOVE = 0.45
 #: a pass that lowers the largest miss by less than this fraction counts as slow; the
 #: count is given up after TUNE_SLOW slow passes in a row
 TUNE_GAIN = 0.01
-TUNE_SLOW = 3
+TUNE_SLOW = 2
 #: a run that ends within TUNE_NEAR tol (above tol) goes on with the L_p norm of this power
 #: (nearer the largest miss; on a 30 x 25 grid at tol 3e-4 a start ended at 1.002 tol)
 TUNE_NEAR = 1.05
@@ -315,20 +315,19 @@ def _fraction(inner: np.ndarray, moved: np.ndarray, dk: np.ndarray) -> float:
     return float((moved[k] - inner[k]) / dk[k]) if dk.size and dk[k] != 0.0 else 0.0
 
 
-def _starts(tuner: _Tuner, best: tuple, axis: int, placed: np.ndarray) -> List[Tuple[np.ndarray, np.ndarray]]:
+def _starts(tuner: _Tuner, best: tuple, axis: int, placed: np.ndarray) -> Iterator[Tuple[np.ndarray, np.ndarray]]:
     """The starts of a count with one span fewer along ``axis``: ``placed`` (the
-    equidistributed breakpoints), then the fit's own breakpoints with one interior one
-    removed (the knots tuned for the count before keep their places), the one whose grid
-    fit has the smallest largest miss."""
+    equidistributed breakpoints), then (scored only when asked for) the fit's own
+    breakpoints with one interior one removed (the knots tuned for the count before keep
+    their places), the one whose grid fit has the smallest largest miss."""
     own = best[1 + axis]
 
     def pair(b: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         return (b, best[2]) if axis == 0 else (best[1], b)
+    yield pair(placed)
     scored = [(float(_norms(tuner.residuals(*pair(np.delete(own, j)))[0]).max()), j) for j in range(1, len(own) - 1)]
-    out = [pair(placed)]
     if scored:
-        out.append(pair(np.delete(own, min(scored)[1])))
-    return out
+        yield pair(np.delete(own, min(scored)[1]))
 
 
 def _conditioned(grid: SeparableGrid, bu: np.ndarray, bv: np.ndarray) -> bool:
