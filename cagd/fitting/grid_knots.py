@@ -17,23 +17,38 @@ Jupp, SIAM J. Numer. Anal. 15(2), 1978; the curve stage :mod:`cagd.fitting.free_
   largest miss, which tol bounds, yet smooth), minimised by Levenberg-Marquardt with
   Marquardt's diagonal scaling on the Gauss-Newton system of the reweighted least
   squares (weights e_k^(p-2): the gradient of sum e_k^p; the system times p - 1, the
-  Newton step of sum e_k^p where the misses are linear in the knots), the Jacobian by
-  forward differences of the residuals in each knot (one operator of one direction and
-  one matrix product per knot); no knot moves by more than TUNE_MOVE of the smaller gap
-  beside it (:func:`cagd.fitting.free_knots._ordered_step`);
+  Newton step of sum e_k^p where the misses are linear in the knots); the step is
+  stretched along its direction to the multiple of TUNE_STRETCH or p - 1 whose
+  linearised misses have the smallest norm (far from the minimum Newton's method on e^p
+  gains only 1/(p - 1) a pass), and no knot moves by more than TUNE_MOVE of the gap it
+  moves into (:func:`cagd.fitting.free_knots._ordered_step`); a run that ends within
+  TUNE_NEAR tol goes on with the norm of power TUNE_POLISH_POWER;
+- the Jacobian is analytic (:meth:`_Direction.derivative`): the derivative of the
+  ends-held projector (Golub & Pereyra, SIAM J. Numer. Anal. 10(2), 1973) with the knot
+  derivative of the basis on the p + 2 columns a breakpoint touches
+  (:func:`cagd.fitting.free_knots.knot_jacobian`), a few batched products per direction
+  instead of one operator and one grid product per knot (the forward differences it
+  replaced);
 - a count is accepted as soon as every grid point is within tol at its parameters (an
   upper bound of its certified distance, which the caller measures) and the least
   squares on its knots stays conditioned; a count with one span fewer starts from the
   equidistributed knots (:func:`cagd.fitting.fit_surface._placed`), then from the
   accepted knots with the interior knot removed whose removal misses least (Tiller's
-  idea of knot removal, Piegl & Tiller 5.4, scored by the refit instead of a bound).
+  idea of knot removal, Piegl & Tiller 5.4, scored by the refit instead of a bound);
+  grids of COARSE_SITES a direction are tuned on every other site first. A count with
+  no more spans per direction than one that failed is not tried, a run is ended when
+  its rate of gain cannot reach its target in the passes left (:func:`_hopeless`), and
+  the stage is skipped where the rounds' own fit is not conditioned with few poles per
+  site (the degree's constant: degree 5's ends-held least squares is 15 on even sites).
 
 On the 100 x 100 anchor of ``benchmarks/fitting.py`` (degree 3) the rounds' knots took
 12 x 12 poles at tol 0.01 and 18 x 17 at 0.001; the moved knots 11 x 10 and 17 x 15 (the
-next counts, 16 x 15 and 17 x 14, stayed at 1.2 and 1.13 tol: a local minimum or the
-count's limit). The stage's work is bounded by TUNE_EVALS, TUNE_PASSES, TUNE_MAX_ENTRIES.
-The combination (variable projection through the separable operators, the L_p
-reweighting) is this project's own.
+next counts, 16 x 15 and 17 x 14, stayed at 1.1-1.25 tol: a local minimum or the count's
+limit), in 0.25 s and 0.45 s CPU with the rounds (0.88 s and 1.56 s with forward
+differences and plain Newton steps; degree="auto" 0.5 s and 0.75 s against 1.5 s and
+2.3 s; OPENBLAS_NUM_THREADS=1, a shared machine). The stage's work is bounded by
+TUNE_EVALS, TUNE_PASSES, TUNE_MAX_ENTRIES. The combination (variable projection through
+the separable operators, the L_p reweighting) is this project's own.
 """
 from __future__ import annotations
 
@@ -48,22 +63,23 @@ from .separable import INTERLACE_SHARE, LEBESGUE_MAX, SeparableGrid, ends_held_o
 
 #: the power p of the L_p norm of the misses the knots minimise
 TUNE_POWER = 8
-#: Levenberg-Marquardt passes per count at most (each: a forward-difference Jacobian and
-#: at least one trial solve)
+#: Levenberg-Marquardt passes per count at most (each: a Jacobian and at least one trial
+#: solve)
 TUNE_PASSES = 20
-#: separable evaluations (one direction's operator and one grid product each) of the
-#: whole stage at most, each counted as its work over that of a 100 x 100 grid's,
-#: (m + n) m n / TUNE_UNIT, at least one (smaller grids: the calls' overhead; a 120 x 40
-#: grid at degree 1, 92 knots: 81 x 28 -> 72 x 28 poles in 3.3 s, 0.17 s without the
-#: stage; the 100 x 100 anchor at tol 0.001 needs about 3,000 for 17 x 15)
+#: separable evaluations (one direction's operator and one grid product each; a Jacobian
+#: counts one per breakpoint, the forward differences it replaced) of the whole stage at
+#: most, each counted as its work over that of a 100 x 100 grid's, (m + n) m n /
+#: TUNE_UNIT, at least one (smaller grids: the calls' overhead; a 120 x 40 grid at degree
+#: 1, 92 knots: 81 x 28 -> 72 x 28 poles in 3.3 s with forward differences, 0.17 s
+#: without the stage; the 100 x 100 anchor now takes 630 at tol 0.01, 1,430 at 0.001)
 TUNE_EVALS = 3000
 TUNE_UNIT = 200 * 100 * 100
 #: the stage is skipped where its Jacobian (m n d values per interior knot) or a
 #: direction's smoothing operator (m x m) would hold more values than this (80 MB)
 TUNE_MAX_ENTRIES = 10 ** 7
-#: a breakpoint moves by at most this fraction of the smaller gap beside it per pass (the
-#: curve stage's MAX_KNOT_MOVE is 0.3; the grid's knots start far from their places, and
-#: each pass costs a Jacobian)
+#: a breakpoint moves by at most this fraction of the gap it moves into per pass (the
+#: curve stage's MAX_KNOT_MOVE is 0.3, of the smaller gap; the grid's knots start far
+#: from their places, and each pass costs a Jacobian)
 TUNE_MOVE = 0.45
 #: a pass that lowers the largest miss by less than this fraction counts as slow; the
 #: count is given up after TUNE_SLOW slow passes in a row
@@ -219,11 +235,12 @@ def _norms(R: np.ndarray) -> np.ndarray:
 
 def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float, reach: Optional[float] = None,
                power: int = TUNE_POWER) -> Tuple[np.ndarray, np.ndarray, float]:
-    """The breakpoints (bu, bv) moved by Levenberg-Marquardt on the L_p norm of the
-    grid's misses (module docstring) until every miss is within tol, the passes run out
-    (TUNE_PASSES, TUNE_SLOW slow ones in a row, the damping beyond KNOT_DAMPING_MAX) or
-    the evaluations (TUNE_EVALS). Returns the breakpoints with the smallest largest miss
-    and that miss."""
+    """The breakpoints (bu, bv) moved by Levenberg-Marquardt on the L_p norm (p = power)
+    of the grid's misses (module docstring) until every miss is within tol, the passes
+    run out (TUNE_PASSES, TUNE_SLOW slow ones in a row, the damping beyond
+    KNOT_DAMPING_MAX, :func:`_hopeless` towards ``reach``, default tol) or the
+    evaluations (TUNE_EVALS). Returns the breakpoints with the smallest largest miss and
+    that miss."""
     R, du, dv = tuner.residuals(bu, bv)
     e = _norms(R)
     best = (bu, bv, float(e.max()))
@@ -283,9 +300,10 @@ def _hopeless(history: List[float], reach: float) -> bool:
 
 
 #: the multiples of the Newton step of the L_p norm tried along its direction (the misses
-#: predicted by the linearisation): far from the minimum the largest miss dominates the
-#: sum, where Newton's method on e^p gains only 1/(p - 1) of the way per pass (the largest
-#: miss fell by 6/7 a pass at p = 8); p - 1 is the step of the weighted least squares
+#: predicted by the linearisation), and p - 1 (the step of the weighted least squares):
+#: far from the minimum the largest miss dominates the sum, where Newton's method on e^p
+#: gains only 1/(p - 1) of the way per pass (the starts' largest miss fell by 6/7 a pass
+#: at p = 8)
 TUNE_STRETCH = (1.0, 2.0, 3.0, 5.0)
 
 
