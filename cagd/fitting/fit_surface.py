@@ -282,8 +282,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             smoothing) ends with fewer spans, both directions' knots moved by free-knot
             least squares (:mod:`cagd.fitting.grid_knots`); False skips that stage: on the
             100 x 100 anchor of ``benchmarks/fitting.py`` at tol 0.01, 12 x 12 control
-            points instead of 11 x 10 in 0.06 s instead of 0.8 s (CPU; at tol 0.001 18 x 17
-            instead of 17 x 15 in 0.07 s instead of 1.8 s). The other fits do not tune
+            points instead of 11 x 10 in 0.09 s instead of 0.26 s (CPU; at tol 0.001 18 x 17
+            instead of 17 x 15 in 0.08 s instead of 0.40 s). The other fits do not tune
             their knots.
 
     Returns:

@@ -264,14 +264,13 @@ def tune_knots(tuner: _Tuner, bu: np.ndarray, bv: np.ndarray, tol: float, reach:
                 dk = -np.linalg.solve((power - 1) * (A + lam * np.diag(np.diag(A) + 1e-300)), g)
             except np.linalg.LinAlgError:
                 dk = np.zeros_like(g)
-            for step in _stretched(Jt, R, top, dk, bu, bv, power):
-                nu, nv = step
+            for (nu, nv), needed in _stretched(Jt, R, top, dk, bu, bv, power, f0):
                 R2, du2, dv2 = tuner.residuals(nu, nv)
                 e2 = _norms(R2)
                 f2 = float(((e2 / top) ** power).sum())
-                if f2 < f0:
+                if f2 < needed:
                     break
-            if f2 < f0:
+            if f2 < needed:
                 bu, bv, R, du, dv, e = nu, nv, R2, du2, dv2, e2
                 lam = max(lam / KNOT_DAMPING_DOWN, KNOT_DAMPING_MIN)
                 break
@@ -305,14 +304,18 @@ def _hopeless(history: List[float], reach: float) -> bool:
 #: gains only 1/(p - 1) of the way per pass (the starts' largest miss fell by 6/7 a pass
 #: at p = 8)
 TUNE_STRETCH = (1.0, 2.0, 3.0, 5.0)
+#: a stretched step is taken if it gains at least this share of its predicted gain
+TUNE_RATIO = 0.25
 
 
 def _stretched(Jt: np.ndarray, R: np.ndarray, top: float, dk: np.ndarray, bu: np.ndarray, bv: np.ndarray,
-               power: int) -> List[Tuple[np.ndarray, np.ndarray]]:
-    """The breakpoints to try for the Newton step dk: the multiple of TUNE_STRETCH whose
-    misses, linearised (R + J^T (a dk), each direction's step kept ordered by
-    :func:`cagd.fitting.free_knots._ordered_step`), have the smallest L_p norm, then (if
-    that is not a) the step itself."""
+               power: int, f0: float) -> List[Tuple[Tuple[np.ndarray, np.ndarray], float]]:
+    """The breakpoints to try for the Newton step dk, each with the value of the L_p
+    objective (f0 now) it must go below to be taken: the multiple of TUNE_STRETCH or
+    p - 1 whose misses, linearised (R + J^T (a dk), each direction's step kept ordered by
+    :func:`cagd.fitting.free_knots._ordered_step`), have the smallest L_p norm, taken if
+    it gains at least TUNE_RATIO of the predicted gain (the trust-region ratio test,
+    Nocedal & Wright 4.1), then (if that is not a) the step itself, taken if it gains."""
     ku = len(bu) - 2
     steps, fractions = [], []
     for a in TUNE_STRETCH + (power - 1.0,):
@@ -324,7 +327,9 @@ def _stretched(Jt: np.ndarray, R: np.ndarray, top: float, dk: np.ndarray, bu: np
     X = R + np.tensordot(np.array(fractions), D, axes=1)                              # linearised misses per a
     f = ((np.einsum("a...i,a...i->a...", X, X) / top ** 2) ** (power // 2)).reshape(len(steps), -1).sum(axis=1)
     best = int(np.argmin(f))                                 # the first on a tie: the smaller step
-    return [steps[best]] if best == 0 else [steps[best], steps[0]]
+    if best == 0:
+        return [(steps[0], f0)]
+    return [(steps[best], f0 - TUNE_RATIO * (f0 - f[best])), (steps[0], f0)]
 
 
 def _fraction(inner: np.ndarray, moved: np.ndarray, dk: np.ndarray) -> float:
