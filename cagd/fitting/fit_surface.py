@@ -298,6 +298,23 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             boundary row, of a higher degree than the fit), smoothing or minimax, or one
             of them given with scattered points or an option it cannot go with.
     """
+    fit = _fit_surface(points, tol, degree, parameters, max_control_points, base, boundary, periodic=periodic,
+                       tangent_edges=tangent_edges, smoothing=smoothing, minimax=minimax, tune_knots=tune_knots)
+    assert fit is not None                      # no beat: always a fit
+    return fit
+
+
+def _fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int], str] = 3,
+                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
+                 base: Union[str, Surface, None] = None, boundary: Optional[str] = None, *,
+                 periodic: Union[bool, str, Tuple[bool, bool], None] = None,
+                 tangent_edges: Optional[Mapping[str, object]] = None, smoothing: float = 0.0,
+                 minimax: bool = False, tune_knots: bool = True, beat: Optional[int] = None
+                 ) -> Optional[SurfaceFit]:
+    """:func:`fit_surface`; with ``beat``, None instead of a separable grid fit of at least
+    that many control points, unmeasured (degree="auto" keeps the first converged fit with
+    the fewest: such a fit cannot win, and its measure is most of its time after the
+    knots' tuning)."""
     from ..surfaces.fitting import surface_parameters
     if isinstance(degree, str):
         return _auto_degree(degree, dict(points=points, tol=tol, parameters=parameters,
@@ -357,6 +374,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             if _poles(tuned[0]) <= _poles(best[0]) and tuned[3] <= tol_n:
                 best = tuned
     S = best[0]
+    if beat is not None and _poles(S) >= beat:
+        return None
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
         P[0], P[-1], P[:, 0], P[:, -1] = _boundary_rows(Q, u, v, S.knots_u, S.knots_v, pu, pv)
@@ -409,10 +428,13 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
             continue
         tried.append(degrees)
         try:
-            fit = fit_surface(degree=degrees, **args)
+            fit = _fit_surface(degree=degrees, beat=_count(best) if best is not None and best.converged else None,
+                               **args)
         except CagdError:
             if len(tried) == 1:
                 raise
+            continue
+        if fit is None:                 # more poles than a converged fit of an earlier degree
             continue
         rounds += fit.rounds
         if best is None or _rank(fit) > _rank(best):
