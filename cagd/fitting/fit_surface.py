@@ -25,7 +25,7 @@ machinery's light tier, :func:`_certified`), certified for the points that can d
 (:func:`_measured`); the others get their local feet. The separable fit holds the
 boundary curves: its boundary rows of control points are the 1-D fits of the grid's
 boundary rows (``boundary="G0"``). ``degree="auto"`` keeps the degree of AUTO_DEGREES with
-the fewest control points.
+the fewest control points (a grid fit of a later degree with no fewer is not measured).
 
 Scattered points (:func:`fit_scattered`) get their parameters by projection onto a base
 (plane, least-squares quadric, or a given surface), one least-squares solve over all
@@ -414,7 +414,9 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
     converged one with the fewest control points kept (the first on a tie), else the one
     with the smallest max_error. A grid of m x n points caps the degrees at m - 1 and
     n - 1 (a 3 x 20 grid tries 2 x 3, 2 x 4, 2 x 5); a degree that cannot be fitted
-    otherwise is skipped (the first tried: bad input raises there)."""
+    otherwise is skipped (the first tried: bad input raises there), and a separable grid
+    fit with at least the poles of an earlier converged one is not measured (it cannot
+    win; ``rounds`` counts the degrees measured)."""
     if name != "auto":
         raise CagdError(f"degree: expected a degree, a pair (degree_u, degree_v) or 'auto', got {name!r}")
     best: Optional[SurfaceFit] = None

@@ -44,9 +44,10 @@ Jupp, SIAM J. Numer. Anal. 15(2), 1978; the curve stage :mod:`cagd.fitting.free_
 On the 100 x 100 anchor of ``benchmarks/fitting.py`` (degree 3) the rounds' knots took
 12 x 12 poles at tol 0.01 and 18 x 17 at 0.001; the moved knots 11 x 10 and 17 x 15 (the
 next counts, 16 x 15 and 17 x 14, stayed at 1.1-1.25 tol: a local minimum or the count's
-limit), in 0.25 s and 0.45 s CPU with the rounds (0.88 s and 1.56 s with forward
-differences and plain Newton steps; degree="auto" 0.5 s and 0.75 s against 1.5 s and
-2.3 s; OPENBLAS_NUM_THREADS=1, a shared machine). The stage's work is bounded by
+limit), in 0.23 s and 0.41 s CPU with the rounds (0.84 s and 1.8 s with forward
+differences and plain Newton steps, the same session; degree="auto", whose later degrees
+are not measured where they cannot win, 0.30 s and 0.64 s against 1.3 s and 2.3 s;
+OPENBLAS_NUM_THREADS=1, min of 3 on a shared machine). The stage's work is bounded by
 TUNE_EVALS, TUNE_PASSES, TUNE_MAX_ENTRIES. The combination (variable projection through
 the separable operators, the L_p reweighting) is this project's own.
 """
