@@ -57,6 +57,7 @@ from typing import Callable, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
+from ..knots.vectors import find_span
 from .fit import _knots
 from .free_knots import KNOT_DAMPING_DOWN, KNOT_DAMPING_MAX, KNOT_DAMPING_MIN, KNOT_DAMPING_START, \
     KNOT_DAMPING_UP, _ordered_step, knot_jacobian
@@ -76,7 +77,9 @@ TUNE_PASSES = 20
 TUNE_EVALS = 3000
 TUNE_UNIT = 200 * 100 * 100
 #: the stage is skipped where its Jacobian (m n d values per interior knot) or a
-#: direction's smoothing operator (m x m) would hold more values than this (80 MB)
+#: direction's smoothing operator (m x m) would hold more values than this (80 MB; the
+#: passes hold up to four arrays of the Jacobian's size: it, its weighted rows, a
+#: direction's block and a product's temporary)
 TUNE_MAX_ENTRIES = 10 ** 7
 #: a breakpoint moves by at most this fraction of the gap it moves into per pass (the
 #: curve stage's MAX_KNOT_MOVE is 0.3, of the smaller gap; the grid's knots start far
@@ -90,18 +93,21 @@ TUNE_SLOW = 2
 #: (nearer the largest miss; on a 30 x 25 grid at tol 3e-4 a start ended at 1.002 tol)
 TUNE_NEAR = 1.05
 TUNE_POLISH_POWER = 16
-#: the operators of this many breakpoint vectors per direction are kept by a tuner
+#: the operators of this many breakpoint vectors per direction are kept by a tuner (fewer
+#: where their m x m smoothing operators would hold more than TUNE_MAX_ENTRIES values, two
+#: at least: the operators of a pass and of its trial step)
 TUNE_CACHE = 8
-Q_NONE = np.empty((0, 0, 0))
+_NOTHING = np.empty((0, 0, 0))
 
 
 class _Direction:
     """One direction's ends-held least squares on the breakpoints at the sites t (t_0 = 0,
     t_(m-1) = 1): N (m, c), F (c, m) (:func:`cagd.fitting.separable.ends_held_operator`),
     S = N F, and (built on first use) dN (K, m, p + 2): the derivative of N in each of the
-    K interior breakpoints b_j (:func:`cagd.fitting.free_knots.knot_jacobian` of the
-    identity's poles: de Boor's triangle differentiated in the knots), on the only columns
-    it touches, j - 1 .. j + p (the basis functions whose support holds b_j)."""
+    K interior breakpoints b_j (:func:`cagd.fitting.free_knots.knot_jacobian`: de Boor's
+    triangle differentiated in the knots, of p + 1 curves whose poles pick the basis
+    functions by their index mod p + 1; m (p + 1) K values, not m c K), on the only
+    columns it touches, j - 1 .. j + p (the basis functions whose support holds b_j)."""
 
     def __init__(self, breaks: np.ndarray, p: int, t: np.ndarray):
         self.breaks, self.p, self.t = breaks, p, t
@@ -113,10 +119,15 @@ class _Direction:
     @property
     def dN(self) -> np.ndarray:
         if self._dN is None:
-            K = len(self.breaks) - 2
-            G = knot_jacobian(self.U, self.p, np.eye(self.N.shape[1]), self.t)    # (m, c, K): dN_i / db_j
-            j = np.arange(K)[:, None]
-            self._dN = G[:, j + np.arange(self.p + 2), j].transpose(1, 0, 2)   # columns j - 1 .. j + p of b_j
+            p, c, K = self.p, self.N.shape[1], len(self.breaks) - 2
+            # poles e_(i mod (p + 1)): on a span the p + 1 basis functions have distinct
+            # residues, so coordinate r of the curve is the one of them with residue r
+            residue = (np.arange(c)[:, None] % (p + 1) == np.arange(p + 1)).astype(float)
+            G = knot_jacobian(self.U, p, residue, self.t)                       # (m, p + 1, K)
+            cols = np.arange(K)[:, None] + np.arange(p + 2)                      # columns j - 1 .. j + p of b_j
+            span = find_span(self.U, p, self.t, c)[None, :, None]
+            live = (cols[:, None, :] >= span - p) & (cols[:, None, :] <= span)  # N_col non-zero at the site
+            self._dN = np.where(live, G[:, cols % (p + 1), np.arange(K)[:, None]].transpose(1, 0, 2), 0.0)
         return self._dN
 
     def derivative(self, Y: np.ndarray, SY: np.ndarray, out: np.ndarray) -> None:
@@ -128,8 +139,8 @@ class _Direction:
 
             d(S Y)_int = G - A (A^+ G + A^+ (A^+)^T dA^T (S Y - Y)_int),  G = dN_int (F Y),
 
-        with dN on its p + 2 columns (G: a product of that width per breakpoint); one
-        batched product [dN_int, -A] [F Y; Z] per breakpoint writes ``out``."""
+        with dN on its p + 2 columns (G: a product of that width per breakpoint), Z by
+        products of c - 2 rows, A Z written into ``out``."""
         N, F, dN = self.N, self.F, self.dN
         K, m, w = dN.shape
         c, k = N.shape[1], Y.shape[1]
@@ -148,11 +159,9 @@ class _Direction:
         L = np.empty((K, c - 2, 2 * w))
         L[:, :, :w] = Ainv @ dNi                                           # A^+ dN_int
         L[:, :, w:] = np.where(inner[:, None, :], C[:, np.clip(cols - 1, 0, c - 3)].transpose(1, 0, 2), 0.0)
-        M = np.empty((K, m - 2, w + c - 2))
-        M[:, :, :w] = dNi
-        M[:, :, w:] = -A
-        rhs = np.concatenate([YZ[:, :w], L @ YZ], axis=1)                  # [F Y; Z]
-        np.matmul(M, rhs, out=out[:, 1:-1])
+        inside = out[:, 1:-1]
+        np.matmul(A, L @ YZ, out=inside)                                   # A Z
+        np.subtract(dNi @ YZ[:, :w], inside, out=inside)                   # G - A Z
 
 
 class _Tuner:
@@ -167,7 +176,7 @@ class _Tuner:
         self.unit = max(1.0, (grid.m + grid.n) * grid.m * grid.n / TUNE_UNIT)    # one evaluation's work
         self._scratch: Optional[np.ndarray] = None
         self._dirs: Tuple[Dict[bytes, _Direction], ...] = ({}, {})
-        self._held: List[Tuple[bytes, np.ndarray]] = [(b"", Q_NONE), (b"", Q_NONE)]   # (key, S_u Q), (key, Q S_v^T)
+        self._held: List[Tuple[bytes, np.ndarray]] = [(b"", _NOTHING), (b"", _NOTHING)]   # (key, S_u Q), (key, Q S_v^T)
         self._last = (b"", b"")
 
     def _direction(self, axis: int, breaks: np.ndarray) -> Tuple[bytes, _Direction]:
@@ -177,7 +186,8 @@ class _Tuner:
         if hit is None:
             g = self.grid
             hit = _Direction(breaks, g.pu, g.u) if axis == 0 else _Direction(breaks, g.pv, g.v)
-            if len(cache) >= TUNE_CACHE:
+            sites = g.m if axis == 0 else g.n
+            if len(cache) >= max(2, min(TUNE_CACHE, TUNE_MAX_ENTRIES // sites ** 2)):
                 cache.pop(next(iter(cache)))
             cache[key] = hit
         return key, hit
