@@ -298,29 +298,25 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             boundary row, of a higher degree than the fit), smoothing or minimax, or one
             of them given with scattered points or an option it cannot go with.
     """
-    fit = _fit_surface(points, tol, degree, parameters, max_control_points, base, boundary, periodic=periodic,
-                       tangent_edges=tangent_edges, smoothing=smoothing, minimax=minimax, tune_knots=tune_knots)
+    args = dict(points=points, tol=tol, parameters=parameters, max_control_points=max_control_points, base=base,
+                boundary=boundary, periodic=periodic, tangent_edges=tangent_edges, smoothing=smoothing,
+                minimax=minimax, tune_knots=tune_knots)
+    if isinstance(degree, str):
+        return _auto_degree(degree, args)
+    fit = _fit_surface(degree, args)
     assert fit is not None                      # no beat: always a fit
     return fit
 
 
-def _fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int], str] = 3,
-                 parameters: str = "centripetal", max_control_points: Optional[Tuple[int, int]] = None,
-                 base: Union[str, Surface, None] = None, boundary: Optional[str] = None, *,
-                 periodic: Union[bool, str, Tuple[bool, bool], None] = None,
-                 tangent_edges: Optional[Mapping[str, object]] = None, smoothing: float = 0.0,
-                 minimax: bool = False, tune_knots: bool = True, beat: Optional[int] = None
-                 ) -> Optional[SurfaceFit]:
-    """:func:`fit_surface`; with ``beat``, None instead of a separable grid fit of at least
-    that many control points, unmeasured (degree="auto" keeps the first converged fit with
-    the fewest: such a fit cannot win, and its measure is most of its time after the
-    knots' tuning)."""
+def _fit_surface(degree, args: dict, beat: Optional[int] = None) -> Optional[SurfaceFit]:
+    """:func:`fit_surface` of the degree (a degree or a pair) with the other arguments
+    ``args``; with ``beat``, None instead of a separable grid fit of at least that many
+    control points, unmeasured (degree="auto" keeps the first converged fit with the
+    fewest: such a fit cannot win, and its measure is most of its time after the knots'
+    tuning)."""
+    points, tol, parameters, max_control_points, base, boundary, periodic, tangent_edges, smoothing, minimax, \
+        tune_knots = (args[k] for k in ARGUMENTS)
     from ..surfaces.fitting import surface_parameters
-    if isinstance(degree, str):
-        return _auto_degree(degree, dict(points=points, tol=tol, parameters=parameters,
-                                         max_control_points=max_control_points, base=base, boundary=boundary,
-                                         periodic=periodic, tangent_edges=tangent_edges, smoothing=smoothing,
-                                         minimax=minimax, tune_knots=tune_knots))
     if np.ndim(points) == 2:
         if boundary is not None:
             raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
@@ -364,7 +360,7 @@ def _fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, in
         best, rounds, u, v = (recovered[0],), 0, recovered[1], recovered[2]
     else:
         best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv),
-                                  tune=tune_knots and not minimax)
+                                  tune=bool(tune_knots) and not minimax)
     if minimax:         # the minimax stage from the rounds' fit, beside that fit's knots tuned
         best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
         rounds += more
@@ -409,6 +405,11 @@ def _recovered(Qn: np.ndarray, tol_n: float, degrees: Tuple[int, int], poles: in
 AUTO_DEGREES = (3, 4, 5)
 
 
+#: the arguments of :func:`fit_surface` after the degree, as :func:`_fit_surface` takes them
+ARGUMENTS = ("points", "tol", "parameters", "max_control_points", "base", "boundary", "periodic", "tangent_edges",
+             "smoothing", "minimax", "tune_knots")
+
+
 def _auto_degree(name: str, args: dict) -> SurfaceFit:
     """:func:`fit_surface` with ``degree="auto"``: a fit per degree of AUTO_DEGREES, the
     converged one with the fewest control points kept (the first on a tie), else the one
@@ -430,8 +431,7 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
             continue
         tried.append(degrees)
         try:
-            fit = _fit_surface(degree=degrees, beat=_count(best) if best is not None and best.converged else None,
-                               **args)
+            fit = _fit_surface(degrees, args, _count(best) if best is not None and best.converged else None)
         except CagdError:
             if len(tried) == 1:
                 raise
