@@ -25,7 +25,7 @@ machinery's light tier, :func:`_certified`), certified for the points that can d
 (:func:`_measured`); the others get their local feet. The separable fit holds the
 boundary curves: its boundary rows of control points are the 1-D fits of the grid's
 boundary rows (``boundary="G0"``). ``degree="auto"`` keeps the degree of AUTO_DEGREES with
-the fewest control points.
+the fewest control points (a grid fit of a later degree with no fewer is not measured).
 
 Scattered points (:func:`fit_scattered`) get their parameters by projection onto a base
 (plane, least-squares quadric, or a given surface), one least-squares solve over all
@@ -282,8 +282,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             smoothing) ends with fewer spans, both directions' knots moved by free-knot
             least squares (:mod:`cagd.fitting.grid_knots`); False skips that stage: on the
             100 x 100 anchor of ``benchmarks/fitting.py`` at tol 0.01, 12 x 12 control
-            points instead of 11 x 10 in 0.06 s instead of 0.8 s (CPU; at tol 0.001 18 x 17
-            instead of 17 x 15 in 0.07 s instead of 1.8 s). The other fits do not tune
+            points instead of 11 x 10 in 0.09 s instead of 0.26 s (CPU; at tol 0.001 18 x 17
+            instead of 17 x 15 in 0.08 s instead of 0.40 s). The other fits do not tune
             their knots.
 
     Returns:
@@ -298,12 +298,25 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             boundary row, of a higher degree than the fit), smoothing or minimax, or one
             of them given with scattered points or an option it cannot go with.
     """
-    from ..surfaces.fitting import surface_parameters
+    args = dict(points=points, tol=tol, parameters=parameters, max_control_points=max_control_points, base=base,
+                boundary=boundary, periodic=periodic, tangent_edges=tangent_edges, smoothing=smoothing,
+                minimax=minimax, tune_knots=tune_knots)
     if isinstance(degree, str):
-        return _auto_degree(degree, dict(points=points, tol=tol, parameters=parameters,
-                                         max_control_points=max_control_points, base=base, boundary=boundary,
-                                         periodic=periodic, tangent_edges=tangent_edges, smoothing=smoothing,
-                                         minimax=minimax, tune_knots=tune_knots))
+        return _auto_degree(degree, args)
+    fit = _fit_surface(degree, args)
+    assert fit is not None                      # no beat: always a fit
+    return fit
+
+
+def _fit_surface(degree, args: dict, beat: Optional[int] = None) -> Optional[SurfaceFit]:
+    """:func:`fit_surface` of the degree (a degree or a pair) with the other arguments
+    ``args``; with ``beat``, None instead of a separable grid fit of at least that many
+    control points, unmeasured (degree="auto" keeps the first converged fit with the
+    fewest: such a fit cannot win, and its measure is most of its time after the knots'
+    tuning)."""
+    points, tol, parameters, max_control_points, base, boundary, periodic, tangent_edges, smoothing, minimax, \
+        tune_knots = (args[k] for k in ARGUMENTS)
+    from ..surfaces.fitting import surface_parameters
     if np.ndim(points) == 2:
         if boundary is not None:
             raise CagdError("boundary: held boundary curves need a grid (m, n, d); scattered points have none")
@@ -347,7 +360,7 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
         best, rounds, u, v = (recovered[0],), 0, recovered[1], recovered[2]
     else:
         best, rounds = _separable(Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv),
-                                  tune=tune_knots and not minimax)
+                                  tune=bool(tune_knots) and not minimax)
     if minimax:         # the minimax stage from the rounds' fit, beside that fit's knots tuned
         best, more = _minimax_stage(best, Qn, u, v, tol_n, (pu, pv), (cap_u - pu, cap_v - pv))
         rounds += more
@@ -357,6 +370,8 @@ def fit_surface(points: ArrayLike, tol: float, degree: Union[int, Tuple[int, int
             if _poles(tuned[0]) <= _poles(best[0]) and tuned[3] <= tol_n:
                 best = tuned
     S = best[0]
+    if beat is not None and _poles(S) >= beat:
+        return None
     P = S.control_points * scale + center
     if held:        # the boundary curves exactly the 1-D fits of the boundary points
         P[0], P[-1], P[:, 0], P[:, -1] = _boundary_rows(Q, u, v, S.knots_u, S.knots_v, pu, pv)
@@ -390,12 +405,19 @@ def _recovered(Qn: np.ndarray, tol_n: float, degrees: Tuple[int, int], poles: in
 AUTO_DEGREES = (3, 4, 5)
 
 
+#: the arguments of :func:`fit_surface` after the degree, as :func:`_fit_surface` takes them
+ARGUMENTS = ("points", "tol", "parameters", "max_control_points", "base", "boundary", "periodic", "tangent_edges",
+             "smoothing", "minimax", "tune_knots")
+
+
 def _auto_degree(name: str, args: dict) -> SurfaceFit:
     """:func:`fit_surface` with ``degree="auto"``: a fit per degree of AUTO_DEGREES, the
     converged one with the fewest control points kept (the first on a tie), else the one
     with the smallest max_error. A grid of m x n points caps the degrees at m - 1 and
     n - 1 (a 3 x 20 grid tries 2 x 3, 2 x 4, 2 x 5); a degree that cannot be fitted
-    otherwise is skipped (the first tried: bad input raises there)."""
+    otherwise is skipped (the first tried: bad input raises there), and a separable grid
+    fit with at least the poles of an earlier converged one is not measured (it cannot
+    win; ``rounds`` counts the degrees measured)."""
     if name != "auto":
         raise CagdError(f"degree: expected a degree, a pair (degree_u, degree_v) or 'auto', got {name!r}")
     best: Optional[SurfaceFit] = None
@@ -409,10 +431,12 @@ def _auto_degree(name: str, args: dict) -> SurfaceFit:
             continue
         tried.append(degrees)
         try:
-            fit = fit_surface(degree=degrees, **args)
+            fit = _fit_surface(degrees, args, _count(best) if best is not None and best.converged else None)
         except CagdError:
             if len(tried) == 1:
                 raise
+            continue
+        if fit is None:                 # more poles than a converged fit of an earlier degree
             continue
         rounds += fit.rounds
         if best is None or _rank(fit) > _rank(best):

@@ -171,12 +171,14 @@ def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarra
     return P, dk
 
 
-def _ordered_step(inner: np.ndarray, dk: np.ndarray, move: float = MAX_KNOT_MOVE) -> np.ndarray:
+def _ordered_step(inner: np.ndarray, dk: np.ndarray, move: float = MAX_KNOT_MOVE, directed: bool = False
+                  ) -> np.ndarray:
     """inner + a dk with the largest a <= 1 that moves no knot by more than ``move`` (< 0.5)
-    of the smaller gap beside it (0 and 1 the outer neighbours): the knots stay strictly
-    increasing inside (0, 1) and a step stays where the linearisation holds."""
+    of the smaller gap beside it (``directed``: of the gap it moves into; two knots then
+    close a gap by at most 2 move of it) (0 and 1 the outer neighbours): the knots stay
+    strictly increasing inside (0, 1) and a step stays where the linearisation holds."""
     gaps = np.diff(np.concatenate([[0.0], inner, [1.0]]))
-    room = move * np.minimum(gaps[:-1], gaps[1:])
+    room = move * (np.where(dk > 0, gaps[1:], gaps[:-1]) if directed else np.minimum(gaps[:-1], gaps[1:]))
     big = float(np.max(np.abs(dk) / room, initial=0.0))
     return inner + dk / max(1.0, big)
 

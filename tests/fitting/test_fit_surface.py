@@ -262,17 +262,28 @@ def test_measured_certifies_more_when_the_share_misses():
 
 
 # --- degree="auto" and the trimming polish ----------------------------------------------------
-def test_auto_degree_keeps_the_fewest_poles():
-    from cagd.fitting.fit_surface import AUTO_DEGREES
+@pytest.mark.parametrize("tol", [0.001, 0.01])
+def test_auto_degree_keeps_the_fewest_poles(tol):
+    """degree="auto" is the first converged fit of AUTO_DEGREES with the fewest poles (each
+    degree fitted and measured on its own); a later degree's fit with at least the count
+    of a converged one is not measured (_fit_surface(..., beat=count): None exactly then)."""
+    from cagd.fitting.fit_surface import AUTO_DEGREES, _fit_surface
     Q = anchor_grid(60)
-    fits = {p: fit_surface(Q, 0.001, degree=p) for p in AUTO_DEGREES}
-    r = fit_surface(Q, 0.001, degree="auto")
+    fits = {p: fit_surface(Q, tol, degree=p) for p in AUTO_DEGREES}
+    r = fit_surface(Q, tol, degree="auto")
     count = lambda f: int(np.prod(f.surface.control_points.shape[:2]))   # noqa: E731
     fewest = min(count(f) for f in fits.values() if f.converged)
     assert r.converged and count(r) == fewest
     first = min(p for p, f in fits.items() if f.converged and count(f) == fewest)
     assert r.surface.degree_u == r.surface.degree_v == first
     assert abs(r.max_error - fits[first].max_error) <= 1e-15 and "degree" in r.message
+    args = dict(points=Q, tol=tol, parameters="centripetal", max_control_points=None, base=None, boundary=None,
+                periodic=None, tangent_edges=None, smoothing=0.0, minimax=False, tune_knots=True)
+    for p, f in fits.items():
+        for beat in (count(f), count(f) + 1):
+            skipped = _fit_surface((p, p), args, beat)
+            assert (skipped is None) == (count(f) >= beat)
+            assert skipped is None or skipped.surface.control_points.shape == f.surface.control_points.shape
     with pytest.raises(CagdError, match="degree"):
         fit_surface(Q, 0.01, degree="best")
 

@@ -41,6 +41,30 @@ def test_knot_jacobian_is_the_derivative(p, q, seed):
         assert np.abs(G[:, :, j] - fd).max() <= 1e-7 * (1.0 + np.abs(fd).max())
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 8), st.floats(0.05, 0.49), st.booleans(), st.integers(0, 2 ** 31))
+def test_ordered_step_keeps_the_order(q, move, directed, seed):
+    """_ordered_step: inner + a dk with 0 < a <= 1, the knots strictly increasing inside
+    (0, 1); each knot moved by at most ``move`` of the smaller gap beside it (directed:
+    of the gap it moves into), and a is the largest such (a = 1, or some knot at its
+    bound). Oracle: the gaps measured before and after."""
+    rng = np.random.default_rng(seed)
+    inner = np.sort(rng.uniform(0.01, 0.99, q))
+    if np.diff(np.r_[0.0, inner, 1.0]).min() < 1e-3:
+        return
+    dk = rng.normal(scale=rng.choice([0.01, 0.3, 3.0]), size=q)
+    out = free_knots._ordered_step(inner, dk, move, directed=directed)
+    gaps = np.diff(np.r_[0.0, inner, 1.0])
+    room = move * (np.where(dk > 0, gaps[1:], gaps[:-1]) if directed else np.minimum(gaps[:-1], gaps[1:]))
+    k = int(np.argmax(np.abs(dk)))
+    a = (out[k] - inner[k]) / dk[k]
+    np.testing.assert_allclose(out, inner + a * dk, rtol=0, atol=1e-15)
+    assert 0.0 < a <= 1.0 + 1e-12
+    assert np.all(np.abs(a * dk) <= room * (1 + 1e-12))
+    assert a == pytest.approx(1.0) or np.isclose(np.abs(a * dk) / room, 1.0, rtol=1e-12).any()
+    assert np.all(np.diff(np.r_[0.0, out, 1.0]) > 0)
+
+
 def test_sampled_cubic_comes_back(monkeypatch):
     """500 points of a 7-pole cubic on knots (0.2, 0.5, 0.7), the parameters not given:
     7 poles, its knots and within 1e-10 both ways at tol 1e-9 (the adaptive fit alone
