@@ -733,7 +733,8 @@ def _quadratic_minimum(m: Union[np.ndarray, List[np.ndarray]], grad: List[np.nda
                        lo: np.ndarray, hi: np.ndarray, c: np.ndarray) -> Tuple[np.ndarray, list]:
     """The minimum over the box [lo, hi] of sum_a grad_a t_a + m_a s_a^2 t_a^2 / 2, t = x - c
     (separable: per direction, the ends and the clipped vertex; m one array for every
-    direction or one per direction), and per direction (grad_a, m_a s_a^2, t's range, that
+    direction or one per direction, either with leading axes for several at once), and
+    per direction (grad_a, m_a s_a^2, t's range, that
     direction's minimum)."""
     ms = m if isinstance(m, list) else [m] * len(grad)
     q: np.ndarray = np.zeros(len(c))
@@ -763,11 +764,8 @@ def _split_curvature(half: dict, change: dict, slack: Union[float, np.ndarray], 
     A = half[0, 0] - change[0, 0] - slack
     C = half[1, 1] - change[1, 1] - slack
     B = np.abs(half[0, 1]) + change[0, 1]
-    best = np.full(len(c), -np.inf)
-    for rho in SPLIT_RATIOS:
-        best = np.maximum(best, _quadratic_minimum([2.0 * (A - B * rho), 2.0 * (C - B / rho)], grad, sc, lo, hi,
-                                                   c)[0])
-    return best
+    rho = np.array(SPLIT_RATIOS)[:, None]                 # every ratio at once: (ratios, n)
+    return _quadratic_minimum([2.0 * (A - B * rho), 2.0 * (C - B / rho)], grad, sc, lo, hi, c)[0].max(axis=0)
 
 
 def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: List[np.ndarray]) -> np.ndarray:

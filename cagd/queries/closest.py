@@ -16,8 +16,9 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
    distance d found (a prefix of the voxel's list) get a second-order bound
    g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2, with m a lower bound of the
    Hessian 2 (J^T J + (S - X).d2S) over the cell from the hodograph bounds; cells that
-   may still hold a closer point are refined by box-constrained Newton and halved
-   along the longer side of their image (the parameter width times the cell's
+   may still hold a closer point are halved round by round (refined by box-constrained
+   Newton every NEWTON_EVERY rounds: Newton rarely finds a nearer foot there, the
+   bounds of the halves close most boxes) along the longer side of their image (the parameter width times the cell's
    first-derivative bound: a sliver's boxes along its length). The
    first round bounds, per point, the parameter box spanned by its nearby cells at once
    (expanded at x* itself, no evaluation; only cells not across a break where the object
@@ -137,6 +138,12 @@ BRANCH_WORK = 6         # (point, box) rows refined by Newton in all, at most th
                         # two at a local foot, 0.1 and 0.4 away for 1e-10; 5 none)
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
+NEWTON_EVERY = 4        # branch and bound: Newton in the open boxes every this many rounds; between, they
+                        # are only halved and bounded (issue 16: on the 68 real faces of benchmarks.real_faces,
+                        # 6 of 38,857 round Newton rows found a nearer foot at 1%; total time -22%)
+FEW_ROWS = 512          # ... open boxes are halved again in the same round while there are fewer than this
+SPLIT_LEVELS = 6        # ... up to this many times (the rounds' fixed cost: a point on a bumpy 50 x 50 net
+                        # took 20 rounds of a few dozen boxes, 50 ms; 6 rounds, 23 ms)
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
                "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
                "is param_tol= now")
@@ -658,26 +665,31 @@ class Projector:
                                               d[pid[i]] - gap[pid[i]]))
         lb = np.sqrt(np.maximum(lb, 0.0))
         work = 0                                         # (point, box) rows refined
-        for _ in range(max_rounds):
+        near = np.zeros(len(pid))                        # how near Newton came in each box (or its parent)
+        for r in range(max_rounds):
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
-            pid, cell, lo, hi = pid[open_], cell[open_], lo[open_], hi[open_]
+            pid, cell, lo, hi, lb, near = pid[open_], cell[open_], lo[open_], hi[open_], lb[open_], near[open_]
             if not len(pid):
                 break
-            y, g2, ok = self._newton_rows(X, pid, self._box_starts(X, pid, cell, lo, hi, x), lo, hi,
-                                          self._cell_piece[cell], max_iterations, tol, param_tol)
-            dy = np.sqrt(g2)
             work += len(pid)
-            first = smallest_per_group(pid, dy)           # best local result per point
-            win = first[dy[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
-            x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], dy[win], ok[win]
-            gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
-            lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y, d[pid] - gap[pid]), 0.0))
-            open_ = lb < d[pid] - gap[pid]
-            np.minimum.at(LB, pid[~open_], lb[~open_])
-            near = np.tile(dy[open_], 2)                 # per half, how near Newton came in the box
-            pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_],
-                                           self.L[cell[open_]])
+            if r % NEWTON_EVERY == 0:
+                y, g2, ok = self._newton_rows(X, pid, self._box_starts(X, pid, cell, lo, hi, x), lo, hi,
+                                              self._cell_piece[cell], max_iterations, tol, param_tol)
+                near = np.sqrt(g2)
+                first = smallest_per_group(pid, near)         # best local result per point
+                win = first[near[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
+                x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], near[win], ok[win]
+                gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
+                lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y, d[pid] - gap[pid]), 0.0))
+                open_ = lb < d[pid] - gap[pid]
+                np.minimum.at(LB, pid[~open_], lb[~open_])
+                pid, cell, lo, hi, lb, near = pid[open_], cell[open_], lo[open_], hi[open_], lb[open_], near[open_]
+            for _ in range(SPLIT_LEVELS):             # halved, and again while the boxes are few
+                pid, cell, lo, hi, lb = _split(pid, cell, lo, hi, lb, self.L[cell])
+                near = np.tile(near, 2)                  # per half, how near Newton came in the box
+                if 2 * len(pid) > FEW_ROWS:
+                    break
             if len(pid) > budget:       # bounded work: per point an equal share of the budget, the
                 if work > BRANCH_WORK * budget:          # boxes where Newton came nearest first
                     break
@@ -686,10 +698,10 @@ class Projector:
                 out = order[rank >= share]
                 np.minimum.at(LB, pid[out], lb[out])     # the boxes left out bound their points
                 i = order[rank < share]
-                pid, cell, lo, hi, lb = pid[i], cell[i], lo[i], hi[i], lb[i]
+                pid, cell, lo, hi, lb, near = pid[i], cell[i], lo[i], hi[i], lb[i], near[i]
             keep = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~keep], lb[~keep])
-            pid, cell, lo, hi = pid[keep], cell[keep], lo[keep], hi[keep]
+            pid, cell, lo, hi, near = pid[keep], cell[keep], lo[keep], hi[keep], near[keep]
             lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, np.clip(x[pid], lo, hi), d[pid] - gap[pid]), 0.0))
         lb_s = lb
         if len(pid) and len(pid) == len(lb_s):
