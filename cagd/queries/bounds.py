@@ -734,8 +734,7 @@ def _quadratic_minimum(m: Union[np.ndarray, List[np.ndarray]], grad: List[np.nda
     """The minimum over the box [lo, hi] of sum_a grad_a t_a + m_a s_a^2 t_a^2 / 2, t = x - c
     (separable: per direction, the ends and the clipped vertex; m one array for every
     direction or one per direction, either with leading axes for several at once), and
-    per direction (grad_a, m_a s_a^2, t's range, that
-    direction's minimum)."""
+    per direction (grad_a, m_a s_a^2, t's range, that direction's minimum)."""
     ms = m if isinstance(m, list) else [m] * len(grad)
     q: np.ndarray = np.zeros(len(c))
     parts = []

@@ -16,10 +16,11 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
    distance d found (a prefix of the voxel's list) get a second-order bound
    g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2, with m a lower bound of the
    Hessian 2 (J^T J + (S - X).d2S) over the cell from the hodograph bounds; cells that
-   may still hold a closer point are halved round by round (refined by box-constrained
-   Newton every NEWTON_EVERY rounds: Newton rarely finds a nearer foot there, the
-   bounds of the halves close most boxes) along the longer side of their image (the parameter width times the cell's
-   first-derivative bound: a sliver's boxes along its length). The
+   may still hold a closer point are halved round by round along the longer side of
+   their image (the parameter width times the cell's first-derivative bound: a
+   sliver's boxes along its length), few boxes several times a round, and refined by
+   box-constrained Newton every NEWTON_EVERY rounds (Newton rarely finds a nearer foot
+   there; the bounds of the halves close most boxes). The
    first round bounds, per point, the parameter box spanned by its nearby cells at once
    (expanded at x* itself, no evaluation; only cells not across a break where the object
    is less than C2, found numerically); only points it does not settle go cell by cell,
@@ -139,11 +140,11 @@ BRANCH_WORK = 6         # (point, box) rows refined by Newton in all, at most th
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
 NEWTON_EVERY = 4        # branch and bound: Newton in the open boxes every this many rounds; between, they
-                        # are only halved and bounded (issue 16: on the 68 real faces of benchmarks.real_faces,
-                        # 6 of 38,857 round Newton rows found a nearer foot at 1%; total time -22%)
-FEW_ROWS = 512          # ... open boxes are halved again in the same round while there are fewer than this
-SPLIT_LEVELS = 6        # ... up to this many times (the rounds' fixed cost: a point on a bumpy 50 x 50 net
-                        # took 20 rounds of a few dozen boxes, 50 ms; 6 rounds, 23 ms)
+                        # are only halved and bounded (issue 16: on the 68 real faces of benchmarks.real_faces
+                        # 6 of 38,857 round Newton rows found a nearer foot at 1%; their rounds took 36% less)
+FEW_ROWS = 512          # ... open boxes are halved again in the same round while fewer than this half as many
+SPLIT_LEVELS = 6        # ... up to this many halvings a round (the rounds' fixed cost: a point on a bumpy
+                        # 50 x 50 net took 20 rounds of a few dozen boxes; now 6, in half the time)
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
                "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
                "is param_tol= now")
