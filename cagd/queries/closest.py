@@ -142,7 +142,7 @@ NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
 NEWTON_EVERY = 4        # branch and bound: Newton in the open boxes every this many rounds; between, they
                         # are only halved and bounded (issue 16: on the 68 real faces of benchmarks.real_faces
                         # 6 of 38,857 round Newton rows found a nearer foot at 1%; their rounds took 36% less)
-FEW_ROWS = 512          # ... open boxes are halved again in the same round while fewer than this half as many
+FEW_ROWS = 512          # ... and halved again in the same round while that makes at most this many boxes
 SPLIT_LEVELS = 6        # ... up to this many halvings a round (the rounds' fixed cost: a point on a bumpy
                         # 50 x 50 net took 20 rounds of a few dozen boxes; now 6, in half the time)
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
