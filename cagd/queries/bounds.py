@@ -28,7 +28,7 @@ from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
-from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
+from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, row_max, row_min, squared_norms
 
 CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
@@ -238,7 +238,7 @@ class BezierPieces:
             lo, hi = self.hull_boxes()
             c = 0.5 * (lo + hi)
             P = self.control_points.reshape(len(self), -1, self.dim)
-            r = np.sqrt(squared_norms(P - c[:, None]).max(axis=1))
+            r = np.sqrt(row_max(squared_norms(P - c[:, None])))
             object.__setattr__(self, "_spheres", (frozen(c), frozen(r)))
         return self.__dict__["_spheres"]
 
@@ -265,7 +265,7 @@ class BezierPieces:
         if self.weights is not None:            # (times w = 1 changes nothing)
             A = w[..., None] * A
         h = self.upper - self.lower
-        wmin = w.reshape(m, -1).min(axis=1)
+        wmin = row_min(w)
         nets = {"A": A, "w": w[..., None]}
         diffs: Dict[Tuple[str, Tuple[int, ...]], np.ndarray] = {}
 
@@ -281,15 +281,17 @@ class BezierPieces:
                 diffs[(net, alpha)] = np.diff(differenced(net, prev), axis=1 + last)
             return diffs[(net, alpha)]
 
+        bounds: Dict[Tuple[str, Tuple[int, ...]], np.ndarray] = {}
+
         def hodograph_bound(net, alpha):
-            scale = np.ones(m)
-            for a, n in enumerate(alpha):
-                for j in range(n):
-                    scale = scale * (deg[a] - j) / h[:, a]
-            out = differenced(net, alpha)
-            if out.size == 0:
-                return np.zeros(m)
-            return scale * np.sqrt(squared_norms(out)).reshape(m, -1).max(axis=1)
+            if (net, alpha) not in bounds:           # (the weights' ones recur in every Leibniz sum)
+                scale = np.ones(m)
+                for a, n in enumerate(alpha):
+                    for j in range(n):
+                        scale = scale * (deg[a] - j) / h[:, a]
+                out = differenced(net, alpha)
+                bounds[(net, alpha)] = np.zeros(m) if out.size == 0 else scale * np.sqrt(row_max(squared_norms(out)))
+            return bounds[(net, alpha)]
 
         alphas = sorted((al for al in itertools.product(range(order + 1), repeat=k) if sum(al) <= order), key=sum)
         B: Dict[Tuple[int, ...], np.ndarray] = {(0,) * k: R}

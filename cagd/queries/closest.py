@@ -91,7 +91,7 @@ from ._hessian_hull import HessianHull, RationalHessianHull
 from ._pole_bound import PoleCells
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
-    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, smallest_per_group, squared_norms
+    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, row_max, smallest_per_group, squared_norms
 
 MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
 WIN_GAP_RTOL = 1e-9          # a cell wins only by more than this share of the distance ... (the foot is proven
@@ -244,7 +244,7 @@ class Projector:
         # spheres centred at the cell midpoints' images (convex hull inside): the distance
         # to the midpoint gives both the seed and the sphere bound
         Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
-        self.mid_radii = np.sqrt(squared_norms(Pc - self.mid_points[:, None]).max(axis=1)) * (1.0 + SLACK_RTOL)
+        self.mid_radii = np.sqrt(row_max(squared_norms(Pc - self.mid_points[:, None]))) * (1.0 + SLACK_RTOL)
         P = self.pieces.control_points.reshape(-1, self.dim)
         lo, hi = column_extremes(P)
         self.size = max(float((hi - lo).max()), TINY)
