@@ -27,6 +27,7 @@ from typing import Callable, List, Optional, Tuple
 
 import numpy as np
 
+from ._numerics import row_max, row_min
 from .bounds import BezierPieces, symmetric_pairs as _pairs
 
 ROWS_MIN = 64        # cells' rows stored at least this many at a time
@@ -270,7 +271,7 @@ class RationalHessianHull:
     def __init__(self, cells: BezierPieces):
         self.k = k = cells.k
         w = np.asarray(cells.weights, dtype=np.float64)
-        self.w = w / w.reshape(len(w), -1).max(axis=1).reshape((-1,) + (1,) * k)
+        self.w = w / row_max(w).reshape((-1,) + (1,) * k)
         self.A = np.asarray(cells.control_points, dtype=np.float64) * self.w[..., None]
         self.h = cells.upper - cells.lower
         self.pairs = _pairs(k)
@@ -279,7 +280,7 @@ class RationalHessianHull:
         m, D, width = len(cells), self.A.shape[-1], len(self.pairs) * self._n
         self._rows = _CellRows(m, [(width,)] * (1 + D), self._fill)
         flat = self.w.reshape(m, -1)
-        self._div = (flat.min(axis=1) ** 4, flat.max(axis=1) ** 4)
+        self._div = (row_min(flat) ** 4, row_max(flat) ** 4)
 
     def _fill(self, idx: np.ndarray) -> List[np.ndarray]:
         """[C, V_1 .. V_D] of the cells ``idx``: G_ab = C_ab - X . V_ab, pairs side by side."""

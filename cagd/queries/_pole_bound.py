@@ -22,7 +22,7 @@ from typing import Optional
 
 import numpy as np
 
-from ._numerics import SIZE_ROUNDING
+from ._numerics import SIZE_ROUNDING, row_max, squared_norms
 from .bounds import BezierPieces
 
 
@@ -82,8 +82,8 @@ class PoleCells:
             return None
         P = np.asarray(cells.control_points, dtype=np.float64)
         rows = [P[:, 0], P[:, -1], P[:, :, 0], P[:, :, -1]]
-        spread = np.stack([np.sqrt(((r - r[:, :1]) ** 2).sum(-1)).max(axis=1) for r in rows], axis=1)
-        hit = spread <= SIZE_ROUNDING * size
+        spread2 = np.stack([row_max(squared_norms(r - r[:, :1])) for r in rows], axis=1)
+        hit = spread2 <= (SIZE_ROUNDING * size) ** 2
         if not hit.any():
             return None
         cell, side = np.nonzero(hit)

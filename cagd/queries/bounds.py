@@ -28,7 +28,7 @@ from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
-from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, squared_norms
+from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, row_max, row_min, squared_norms
 
 CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
@@ -238,7 +238,7 @@ class BezierPieces:
             lo, hi = self.hull_boxes()
             c = 0.5 * (lo + hi)
             P = self.control_points.reshape(len(self), -1, self.dim)
-            r = np.sqrt(squared_norms(P - c[:, None]).max(axis=1))
+            r = np.sqrt(row_max(squared_norms(P - c[:, None])))
             object.__setattr__(self, "_spheres", (frozen(c), frozen(r)))
         return self.__dict__["_spheres"]
 
@@ -265,7 +265,7 @@ class BezierPieces:
         if self.weights is not None:            # (times w = 1 changes nothing)
             A = w[..., None] * A
         h = self.upper - self.lower
-        wmin = w.reshape(m, -1).min(axis=1)
+        wmin = row_min(w)
         nets = {"A": A, "w": w[..., None]}
         diffs: Dict[Tuple[str, Tuple[int, ...]], np.ndarray] = {}
 
@@ -281,15 +281,17 @@ class BezierPieces:
                 diffs[(net, alpha)] = np.diff(differenced(net, prev), axis=1 + last)
             return diffs[(net, alpha)]
 
+        bounds: Dict[Tuple[str, Tuple[int, ...]], np.ndarray] = {}
+
         def hodograph_bound(net, alpha):
-            scale = np.ones(m)
-            for a, n in enumerate(alpha):
-                for j in range(n):
-                    scale = scale * (deg[a] - j) / h[:, a]
-            out = differenced(net, alpha)
-            if out.size == 0:
-                return np.zeros(m)
-            return scale * np.sqrt(squared_norms(out)).reshape(m, -1).max(axis=1)
+            if (net, alpha) not in bounds:           # (the weights' ones recur in every Leibniz sum)
+                scale = np.ones(m)
+                for a, n in enumerate(alpha):
+                    for j in range(n):
+                        scale = scale * (deg[a] - j) / h[:, a]
+                out = differenced(net, alpha)
+                bounds[(net, alpha)] = np.zeros(m) if out.size == 0 else scale * np.sqrt(row_max(squared_norms(out)))
+            return bounds[(net, alpha)]
 
         alphas = sorted((al for al in itertools.product(range(order + 1), repeat=k) if sum(al) <= order), key=sum)
         B: Dict[Tuple[int, ...], np.ndarray] = {(0,) * k: R}
@@ -733,8 +735,8 @@ def _quadratic_minimum(m: Union[np.ndarray, List[np.ndarray]], grad: List[np.nda
                        lo: np.ndarray, hi: np.ndarray, c: np.ndarray) -> Tuple[np.ndarray, list]:
     """The minimum over the box [lo, hi] of sum_a grad_a t_a + m_a s_a^2 t_a^2 / 2, t = x - c
     (separable: per direction, the ends and the clipped vertex; m one array for every
-    direction or one per direction), and per direction (grad_a, m_a s_a^2, t's range, that
-    direction's minimum)."""
+    direction or one per direction, either with leading axes for several at once), and
+    per direction (grad_a, m_a s_a^2, t's range, that direction's minimum)."""
     ms = m if isinstance(m, list) else [m] * len(grad)
     q: np.ndarray = np.zeros(len(c))
     parts = []
@@ -763,11 +765,8 @@ def _split_curvature(half: dict, change: dict, slack: Union[float, np.ndarray], 
     A = half[0, 0] - change[0, 0] - slack
     C = half[1, 1] - change[1, 1] - slack
     B = np.abs(half[0, 1]) + change[0, 1]
-    best = np.full(len(c), -np.inf)
-    for rho in SPLIT_RATIOS:
-        best = np.maximum(best, _quadratic_minimum([2.0 * (A - B * rho), 2.0 * (C - B / rho)], grad, sc, lo, hi,
-                                                   c)[0])
-    return best
+    rho = np.array(SPLIT_RATIOS)[:, None]                 # every ratio at once: (ratios, n)
+    return _quadratic_minimum([2.0 * (A - B * rho), 2.0 * (C - B / rho)], grad, sc, lo, hi, c)[0].max(axis=0)
 
 
 def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: List[np.ndarray]) -> np.ndarray:

@@ -16,9 +16,11 @@ domain (point inversion, Piegl & Tiller 6.1; seed 004, ch. 1 §4 minimum distanc
    distance d found (a prefix of the voxel's list) get a second-order bound
    g(x) >= g(c) + grad g(c).(x - c) + m/2 |x - c|^2, with m a lower bound of the
    Hessian 2 (J^T J + (S - X).d2S) over the cell from the hodograph bounds; cells that
-   may still hold a closer point are refined by box-constrained Newton and halved
-   along the longer side of their image (the parameter width times the cell's
-   first-derivative bound: a sliver's boxes along its length). The
+   may still hold a closer point are halved round by round along the longer side of
+   their image (the parameter width times the cell's first-derivative bound: a
+   sliver's boxes along its length), few boxes several times a round, and refined by
+   box-constrained Newton every NEWTON_EVERY rounds (Newton rarely finds a nearer foot
+   there; the bounds of the halves close most boxes). The
    first round bounds, per point, the parameter box spanned by its nearby cells at once
    (expanded at x* itself, no evaluation; only cells not across a break where the object
    is less than C2, found numerically); only points it does not settle go cell by cell,
@@ -70,6 +72,7 @@ from __future__ import annotations
 from collections import OrderedDict
 from dataclasses import replace
 import hashlib
+import itertools
 from typing import Callable, List, Optional, Sequence, Tuple, Union, cast
 import weakref
 
@@ -89,7 +92,7 @@ from ._hessian_hull import HessianHull, RationalHessianHull
 from ._pole_bound import PoleCells
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
-    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, smallest_per_group, squared_norms
+    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, row_max, smallest_per_group, squared_norms
 
 MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
 WIN_GAP_RTOL = 1e-9          # a cell wins only by more than this share of the distance ... (the foot is proven
@@ -114,6 +117,7 @@ __all__ = ["ClosestPoints", "Projector", "closest_point", "CLOSEST_TOL"]
 CLOSEST_TOL = 1e-12     # default tol of closest_point, relative to the object's size
 GRID_VOXELS = 2e6       # voxels of a Projector's grid, at most
 GRID_ENTRIES = 4e6      # (voxel, cell) entries of the grid, at most (a random 300 x 300 net made 84e6)
+GRID_CHUNK = 1 << 18    # candidate entries tested at once while the grid is built
 POINT_CHUNK = 16384     # query points handled at once, at most (memory O(chunk), not O(N))
 MIN_CHUNK = 32          # ... at least
 PAIR_BUDGET = 4e6       # (point, cell) pairs formed at once, at most
@@ -137,6 +141,12 @@ BRANCH_WORK = 6         # (point, box) rows refined by Newton in all, at most th
                         # two at a local foot, 0.1 and 0.4 away for 1e-10; 5 none)
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
 NEWTON_CHUNK = 262144   # (point, box) rows refined by Newton at once
+NEWTON_EVERY = 4        # branch and bound: Newton in the open boxes every this many rounds; between, they
+                        # are only halved and bounded (issue 16: on the 68 real faces of benchmarks.real_faces
+                        # 6 of 38,857 round Newton rows found a nearer foot at 1%; their rounds took 36% less)
+FEW_ROWS = 512          # ... and halved again in the same round while that makes at most this many boxes
+SPLIT_LEVELS = 6        # ... up to this many halvings a round (the rounds' fixed cost: a point on a bumpy
+                        # 50 x 50 net took 20 rounds of a few dozen boxes; now 6, in half the time)
 TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step moves the foot by less than tol "
                "(default CLOSEST_TOL * the object's size); it was a step relative to the parameter range, which "
                "is param_tol= now")
@@ -236,7 +246,7 @@ class Projector:
         # spheres centred at the cell midpoints' images (convex hull inside): the distance
         # to the midpoint gives both the seed and the sphere bound
         Pc = self.cells.control_points.reshape(len(self.cells), -1, self.dim)
-        self.mid_radii = np.sqrt(squared_norms(Pc - self.mid_points[:, None]).max(axis=1)) * (1.0 + SLACK_RTOL)
+        self.mid_radii = np.sqrt(row_max(squared_norms(Pc - self.mid_points[:, None]))) * (1.0 + SLACK_RTOL)
         P = self.pieces.control_points.reshape(-1, self.dim)
         lo, hi = column_extremes(P)
         self.size = max(float((hi - lo).max()), TINY)
@@ -307,24 +317,36 @@ class Projector:
             if float(count.sum()) <= GRID_ENTRIES:
                 break
             V *= 1.5
-        cell = np.repeat(np.arange(len(r)), count)
-        local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        vox = np.zeros(len(cell), dtype=np.intp)
-        rem = local
-        for a in range(self.dim - 1, -1, -1):          # local index -> voxel coordinates
-            s = span[cell, a]
-            coord = lo[cell, a] + rem % s
-            rem = rem // s
-            vox = vox + coord * int(np.prod(dims[a + 1:]))
-            # exact test: distance from the voxel box to the centre below T + r
-            zlo = origin[a] + coord * V
-            gap = np.maximum(0.0, np.maximum(zlo - self.centers[cell, a], self.centers[cell, a] - zlo - V))
-            if a == self.dim - 1:
-                acc = gap ** 2
-            else:
-                acc = acc + gap ** 2
-        keep = acc < reach[cell] ** 2
-        vox, cell, acc = vox[keep], cell[keep], acc[keep]
+        # the entries by groups of cells whose voxel boxes have the same shape (1 to 22 on
+        # the 68 real faces of benchmarks.real_faces): the box's offsets broadcast over
+        # the group's cells, GRID_CHUNK entries at a time (the entries' voxel coordinates
+        # came from integer division of their index in their cell's box: 2/3 of the
+        # set-up of a 50 x 50 net)
+        strides = np.array([int(np.prod(dims[a + 1:])) for a in range(self.dim)], dtype=np.intp)
+        shapes, group = np.unique(span, axis=0, return_inverse=True)
+        group = group.reshape(-1)
+        parts = []
+        for g, shape in enumerate(shapes):
+            members = np.flatnonzero(group == g)
+            box = np.indices(tuple(shape)).reshape(self.dim, -1)              # (dim, S)
+            width = min(box.shape[1], GRID_CHUNK)
+            step = max(1, GRID_CHUNK // width)
+            for c0, o0 in itertools.product(range(0, len(members), step), range(0, box.shape[1], width)):
+                cells, offs = members[c0:c0 + step], box[:, o0:o0 + width]
+                shape2 = (len(cells), offs.shape[1])
+                vox, acc, mid = np.zeros(shape2, dtype=np.intp), np.zeros(shape2), np.zeros(shape2)
+                for a in range(self.dim - 1, -1, -1):
+                    coord = lo[cells, a][:, None] + offs[a]
+                    vox += coord * strides[a]
+                    # exact test: distance from the voxel box to the centre below T + r
+                    zlo = origin[a] + coord * V
+                    c = self.centers[cells, a][:, None]
+                    acc += np.maximum(0.0, np.maximum(zlo - c, c - zlo - V)) ** 2
+                    # ... and the distance of the voxel's centre from the cell's midpoint
+                    mid += (zlo + 0.5 * V - self.mid_points[cells, a][:, None]) ** 2
+                keep = acc < reach[cells][:, None] ** 2
+                parts.append((vox[keep], np.broadcast_to(cells[:, None], shape2)[keep], acc[keep], mid[keep]))
+        vox, cell, acc, mid = (np.concatenate([q[i] for q in parts]) for i in range(4))
         # per voxel, the cells by their sphere bound over the voxel (key), ties (spheres
         # meeting the voxel) by the distance of their midpoint from the voxel centre
         # keys rounded down to T / 2^16 (a rounded-down key is still a lower bound); one
@@ -332,19 +354,13 @@ class Projector:
         with np.errstate(divide="ignore", invalid="ignore"):
             kq = np.nan_to_num(np.floor(np.clip(np.sqrt(acc) - r[cell], 0.0, self.T) / self.T * 65536.0))
         kq = np.clip(kq, 0, 65535).astype(np.int64)
-        mid = np.zeros(len(cell))
-        rem = vox.copy()
-        for a in range(self.dim - 1, -1, -1):
-            za = rem % dims[a]
-            rem //= dims[a]
-            mid += (origin[a] + (za + 0.5) * V - self.mid_points[cell, a]) ** 2
         with np.errstate(divide="ignore", invalid="ignore"):
             mq = np.nan_to_num(np.sqrt(mid) / (4.0 * (self.T + V)) * 2.0 ** 25)
         mq = np.clip(mq, 0, 2 ** 25 - 1).astype(np.int64)
         order = np.argsort((vox.astype(np.int64) << 41) | (kq << 25) | mq)
         vox, cell, kq = vox[order], cell[order], kq[order]
         self._grid_cells = cell
-        self._grid_start = np.searchsorted(vox, np.arange(int(np.prod(dims)) + 1))
+        self._grid_start = np.r_[0, np.cumsum(np.bincount(vox, minlength=int(np.prod(dims))))]
         self._grid_key = kq * (self.T / 65536.0)    # non-decreasing within each voxel
         self._origin, self._V, self._dims = origin, V, dims
 
@@ -658,26 +674,31 @@ class Projector:
                                               d[pid[i]] - gap[pid[i]]))
         lb = np.sqrt(np.maximum(lb, 0.0))
         work = 0                                         # (point, box) rows refined
-        for _ in range(max_rounds):
+        near = np.zeros(len(pid))                        # how near Newton came in each box (or its parent)
+        for r in range(max_rounds):
             open_ = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~open_], lb[~open_])
-            pid, cell, lo, hi = pid[open_], cell[open_], lo[open_], hi[open_]
+            pid, cell, lo, hi, lb, near = pid[open_], cell[open_], lo[open_], hi[open_], lb[open_], near[open_]
             if not len(pid):
                 break
-            y, g2, ok = self._newton_rows(X, pid, self._box_starts(X, pid, cell, lo, hi, x), lo, hi,
-                                          self._cell_piece[cell], max_iterations, tol, param_tol)
-            dy = np.sqrt(g2)
             work += len(pid)
-            first = smallest_per_group(pid, dy)           # best local result per point
-            win = first[dy[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
-            x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], dy[win], ok[win]
-            gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
-            lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y, d[pid] - gap[pid]), 0.0))
-            open_ = lb < d[pid] - gap[pid]
-            np.minimum.at(LB, pid[~open_], lb[~open_])
-            near = np.tile(dy[open_], 2)                 # per half, how near Newton came in the box
-            pid, cell, lo, hi, lb = _split(pid[open_], cell[open_], lo[open_], hi[open_], lb[open_],
-                                           self.L[cell[open_]])
+            if r % NEWTON_EVERY == 0:
+                y, g2, ok = self._newton_rows(X, pid, self._box_starts(X, pid, cell, lo, hi, x), lo, hi,
+                                              self._cell_piece[cell], max_iterations, tol, param_tol)
+                near = np.sqrt(g2)
+                first = smallest_per_group(pid, near)         # best local result per point
+                win = first[near[first] < d[pid[first]] * (1.0 - BETTER_RTOL) - BETTER_SIZE_RTOL * self.size]
+                x[pid[win]], d[pid[win]], conv[pid[win]] = y[win], near[win], ok[win]
+                gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
+                lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, y, d[pid] - gap[pid]), 0.0))
+                open_ = lb < d[pid] - gap[pid]
+                np.minimum.at(LB, pid[~open_], lb[~open_])
+                pid, cell, lo, hi, lb, near = pid[open_], cell[open_], lo[open_], hi[open_], lb[open_], near[open_]
+            for _ in range(SPLIT_LEVELS):             # halved, and again while the boxes are few
+                pid, cell, lo, hi, lb = _split(pid, cell, lo, hi, lb, self.L[cell])
+                near = np.tile(near, 2)                  # per half, how near Newton came in the box
+                if 2 * len(pid) > FEW_ROWS:
+                    break
             if len(pid) > budget:       # bounded work: per point an equal share of the budget, the
                 if work > BRANCH_WORK * budget:          # boxes where Newton came nearest first
                     break
@@ -686,10 +707,10 @@ class Projector:
                 out = order[rank >= share]
                 np.minimum.at(LB, pid[out], lb[out])     # the boxes left out bound their points
                 i = order[rank < share]
-                pid, cell, lo, hi, lb = pid[i], cell[i], lo[i], hi[i], lb[i]
+                pid, cell, lo, hi, lb, near = pid[i], cell[i], lo[i], hi[i], lb[i], near[i]
             keep = lb < d[pid] - gap[pid]
             np.minimum.at(LB, pid[~keep], lb[~keep])
-            pid, cell, lo, hi = pid[keep], cell[keep], lo[keep], hi[keep]
+            pid, cell, lo, hi, near = pid[keep], cell[keep], lo[keep], hi[keep], near[keep]
             lb = np.sqrt(np.maximum(self._bound(X, pid, cell, lo, hi, np.clip(x[pid], lo, hi), d[pid] - gap[pid]), 0.0))
         lb_s = lb
         if len(pid) and len(pid) == len(lb_s):

@@ -509,7 +509,7 @@ def test_split_curvature_bound_at_the_domain_edge(monkeypatch):
     above the bowl, where g's curvature across the edge can be negative while its slope
     there is positive: the bound with a curvature per direction (Gershgorin splits of the
     mixed term) never exceeds g sampled on the box, and it is tighter than the isotropic
-    bound alone (SPLIT_RATIOS emptied) on some boxes."""
+    bound alone (without the splits) on some boxes."""
     from cagd.queries import bounds
     from cagd.queries.bounds import box_lower_bound
     g = np.linspace(-1.0, 1.0, 8)
@@ -530,7 +530,7 @@ def test_split_curvature_bound_at_the_domain_edge(monkeypatch):
     S, J, H = p.evaluate(c, 2)
     args = (X, lo, hi, c, S, J, H, p.L[cell], p.M[cell], p.T3[cell])
     new = box_lower_bound(*args)
-    monkeypatch.setattr(bounds, "SPLIT_RATIOS", ())
+    monkeypatch.setattr(bounds, "_split_curvature", lambda *a: -np.inf)
     old = box_lower_bound(*args)
     gu, gv = (a.ravel() for a in np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41), indexing="ij"))
     for i in range(n):
@@ -708,6 +708,43 @@ def test_chunks_give_the_same_answer(monkeypatch):
     assert np.allclose(parts.distances, np.abs(np.linalg.norm(X, axis=1) - 1.0), atol=1e-12)
 
 
+def test_the_search_schedule_does_not_change_the_answer(monkeypatch):
+    """Newton in the open boxes every NEWTON_EVERY rounds and the further halvings of few
+    boxes (SPLIT_LEVELS, FEW_ROWS) only schedule the branch and bound: on a bumpy net with
+    points inside its curvature radius (many rounds), Newton every round with one halving
+    per round gives the same distances (1e-12 of the size), both certified and no farther
+    than a dense sample of the surface; the default schedule takes fewer rounds."""
+    import cagd.queries.closest as cl
+    rng = np.random.default_rng(5)
+    g = np.linspace(0.0, 1.0, 14)
+    P = np.stack(list(np.meshgrid(g, g, indexing="ij")) + [0.06 * rng.standard_normal((14, 14))], -1)
+    S = cagd.BSplineSurface(P, 3, 3)
+    X = np.c_[rng.uniform(0, 1, (40, 2)), 0.02 * rng.standard_normal(40)]
+    rounds = []
+    bound = cl.Projector._bound
+
+    def counted(self, *args):
+        rounds[-1] += 1
+        return bound(self, *args)
+
+    monkeypatch.setattr(cl.Projector, "_bound", counted)
+    results = []
+    for every, levels in ((cl.NEWTON_EVERY, cl.SPLIT_LEVELS), (1, 1)):
+        monkeypatch.setattr(cl, "NEWTON_EVERY", every)
+        monkeypatch.setattr(cl, "SPLIT_LEVELS", levels)
+        rounds.append(0)
+        results.append(Projector(S).closest(X))
+    default, plain = results
+    assert default.converged and plain.converged
+    assert np.allclose(default.distances, plain.distances, rtol=0, atol=1e-12 * S.size)
+    assert np.all(default.lower_bounds <= default.distances)
+    assert rounds[0] < rounds[1]
+    u = np.linspace(0, 1, 301)
+    dense = S.grid(u, u).reshape(-1, 3)
+    sampled = np.sqrt(((X[:, None, :] - dense[None]) ** 2).sum(-1)).min(1)
+    assert np.all(default.distances <= sampled + 1e-12)
+
+
 _PEAK = """
 import sys, tracemalloc, numpy as np, cagd
 import cagd.queries.closest as cl
@@ -755,6 +792,36 @@ def test_grid_entries_are_bounded():
     Q = S(U.ravel(), V.ravel())
     sampled = np.sqrt(((X[:, None, :] - Q[None]) ** 2).sum(-1)).min(axis=1)
     assert np.all(r.distances <= sampled + 1e-12) and np.all(r.lower_bounds <= r.distances)
+
+
+@pytest.mark.parametrize("chunk", [1 << 18, 16])
+def test_grid_lists_exactly_the_cells_whose_spheres_reach_each_voxel(monkeypatch, chunk):
+    """The voxel grid against brute force over every (voxel, cell) pair: voxel Z lists
+    exactly the cells whose hull sphere comes within T of Z's box (squared box distance
+    below (T + r)^2), each once, by non-decreasing key, and every key is at most the
+    sphere's true distance from the box (a lower bound); also when the candidate entries
+    are tested a few at a time (GRID_CHUNK 16: chunks of cells and of a box's offsets)."""
+    import cagd.queries.closest as cl
+    monkeypatch.setattr(cl, "GRID_CHUNK", chunk)
+    rng = np.random.default_rng(3)
+    g = np.linspace(0.0, 1.0, 5)
+    P = np.stack(list(np.meshgrid(g, g, indexing="ij")) + [0.2 * rng.standard_normal((5, 5))], -1)
+    p = Projector(cagd.BSplineSurface(P, 3, 3))
+    assert len(p.cells) >= 256 and len(np.unique(np.diff(p._grid_start))) > 3
+    dims, V, origin = p._dims, p._V, p._origin
+    Z = np.indices(tuple(dims)).reshape(3, -1).T                       # every voxel, in index order
+    zlo = origin + Z * V
+    gap = np.maximum(0.0, np.maximum(zlo[:, None] - p.centers[None], p.centers[None] - zlo[:, None] - V))
+    d2 = (gap ** 2).sum(-1)                                            # (voxels, cells)
+    expected = d2 < (p.T + p.radii[None]) ** 2
+    listed = np.zeros_like(expected)
+    vox = np.repeat(np.arange(len(Z)), np.diff(p._grid_start))
+    np.add.at(listed, (vox, p._grid_cells), True)
+    assert np.array_equal(listed, expected)
+    assert len(p._grid_cells) == expected.sum()                        # each pair once
+    key = p._grid_key
+    assert np.all(np.diff(key)[np.diff(vox) == 0] >= 0)
+    assert np.all(key <= np.maximum(np.sqrt(d2[vox, p._grid_cells]) - p.radii[p._grid_cells], 0.0) + 1e-15)
 
 
 def test_c2_by_knots_agrees_with_the_numerical_test():
