@@ -17,16 +17,21 @@ SPAN = SIZE / (N - 3)                                          # a knot span's g
 PRECISION = 8 * np.spacing(SHIFT) / (SCALE / (N - 3)) * SPAN   # what the shifted parameters resolve
 
 
-def test_scaled_and_shifted_knots_give_the_same_answers():
-    rng = np.random.default_rng(7)
-    g = np.linspace(0.0, SIZE, N)
-    P = np.zeros((N, N, 3))
+def _pair(n: int, scale: float, shift: float, rng: np.random.Generator):
+    """A bumpy n x n bicubic over [0, SIZE]^2 on uniform clamped knots, the same net on
+    its knots times ``scale`` plus ``shift``, and 800 points at 0.1 to 50 mm from it."""
+    g = np.linspace(0.0, SIZE, n)
+    P = np.zeros((n, n, 3))
     P[..., 0], P[..., 1] = np.meshgrid(g, g, indexing="ij")
-    P[..., 2] = 8 * rng.standard_normal((N, N))
+    P[..., 2] = 8 * rng.standard_normal((n, n))
     S = cagd.BSplineSurface(P, 3, 3)
-    T = cagd.BSplineSurface(P, 3, 3, S.knots_u * SCALE + SHIFT, S.knots_v * SCALE + SHIFT)
+    T = cagd.BSplineSurface(P, 3, 3, S.knots_u * scale + shift, S.knots_v * scale + shift)
     near = S(rng.random(200), rng.random(200))
-    pts = np.concatenate([near + rng.normal(size=near.shape) * s for s in (0.1, 1.0, 10.0, 50.0)])
+    return S, T, np.concatenate([near + rng.normal(size=near.shape) * s for s in (0.1, 1.0, 10.0, 50.0)])
+
+
+def test_scaled_and_shifted_knots_give_the_same_answers():
+    S, T, pts = _pair(N, SCALE, SHIFT, np.random.default_rng(7))
     a, b = cagd.closest_point(S, pts), cagd.closest_point(T, pts)
     assert a.converged and b.converged
     assert np.abs(a.feet - b.feet).max() <= PRECISION
@@ -45,17 +50,10 @@ def test_exactly_representable_reparametrisation_gives_the_same_answers_to_1e12(
     foot's distance is insensitive to that to first order)."""
     shift, scale, n = 2.0 ** 13, 2.0 ** -10, 11                  # 8 spans of 1/8
     rng = np.random.default_rng(11)
-    g = np.linspace(0.0, SIZE, n)
-    P = np.zeros((n, n, 3))
-    P[..., 0], P[..., 1] = np.meshgrid(g, g, indexing="ij")
-    P[..., 2] = 8 * rng.standard_normal((n, n))
-    S = cagd.BSplineSurface(P, 3, 3)
+    S, T, pts = _pair(n, scale, shift, rng)
     assert np.array_equal((S.knots_u * scale + shift - shift) / scale, S.knots_u)    # exact
-    T = cagd.BSplineSurface(P, 3, 3, S.knots_u * scale + shift, S.knots_v * scale + shift)
     uv = rng.integers(0, 2 ** 20, (200, 2)) / 2.0 ** 20                 # exact after the map
     assert np.abs(S(uv[:, 0], uv[:, 1]) - T(uv[:, 0] * scale + shift, uv[:, 1] * scale + shift)).max() <= 1e-12 * SIZE
-    near = S(rng.random(200), rng.random(200))
-    pts = np.concatenate([near + rng.normal(size=near.shape) * s for s in (0.1, 1.0, 10.0, 50.0)])
     a, b = cagd.closest_point(S, pts), cagd.closest_point(T, pts)
     assert a.converged and b.converged
     for f in ("distances", "lower_bounds"):
