@@ -268,6 +268,15 @@ def _sum(terms: List[Tuple[float, np.ndarray]], k: int) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=None)
+def _restriction(degree: int, j: int, c: int) -> np.ndarray:
+    """The restriction matrix of a degree to [j / c, (j + 1) / c] (the parts of a piece's
+    cells recur across pieces and objects: built once)."""
+    R = restriction_matrix(degree, j / c, (j + 1) / c)
+    R.setflags(write=False)
+    return R
+
+
 class RationalHessianHull:
     """Bounds of the half Hessian over rational cells (see the comment above): per (point,
     cell) row, intervals of the entries of G = w^4 H (:meth:`intervals`) and of w^4
@@ -308,7 +317,6 @@ class RationalHessianHull:
             # G is homogeneous of degree 4 in the weights: the piece's scaling to the cell's
             top_piece = row_max(np.asarray(pieces.weights, dtype=np.float64))
             self._rescale = (top_piece[self._piece] / top) ** 4
-            self._restrictions: dict = {}
 
     def _fill(self, idx: np.ndarray) -> List[np.ndarray]:
         """[C, V_1 .. V_D] of the cells ``idx``: G_ab = C_ab - X . V_ab, pairs side by side."""
@@ -348,7 +356,7 @@ class RationalHessianHull:
         Rs = []
         for a, ((j, c), i) in enumerate(zip(self._parts, along)):
             pairs, inv = np.unique(np.stack([j[i], c[i]], axis=1), axis=0, return_inverse=True)
-            mats = np.stack([self._restriction(a, int(jj), int(cc)) for jj, cc in pairs])
+            mats = np.stack([_restriction(self._final[a] - 1, int(jj), int(cc)) for jj, cc in pairs])
             Rs.append(mats[inv.reshape(-1)])
         out, err = [], []
         D = len(parent._rows.arrays) // 2 - 1
@@ -358,19 +366,11 @@ class RationalHessianHull:
             # the piece's largest coefficient (the matrices' own entries likewise)
             err.append(RESTRICT_ULPS * sum(self._final) * np.finfo(float).eps * self._rescale[idx, None]
                        * np.abs(rows).reshape(len(idx), nk, -1).max(axis=2))
-            if self.k == 1:
-                rows = np.einsum("nij,npj->npi", Rs[0], rows)
-            else:
-                rows = np.einsum("nij,npjk,nlk->npil", Rs[0], rows, Rs[1])
+            rows = np.matmul(Rs[0][:, None], rows if self.k == 2 else rows[..., None])    # (batched products)
+            if self.k == 2:
+                rows = np.matmul(rows, Rs[1].transpose(0, 2, 1)[:, None])
             out.append(rows.reshape(len(idx), -1) * self._rescale[idx, None])
         return out + err
-
-    def _restriction(self, a: int, j: int, c: int) -> np.ndarray:
-        """The restriction matrix of G's degree along direction a to [j / c, (j + 1) / c]."""
-        key = (a, j, c)
-        if key not in self._restrictions:
-            self._restrictions[key] = restriction_matrix(self._final[a] - 1, j / c, (j + 1) / c)
-        return self._restrictions[key]
 
     def intervals(self, X: np.ndarray, cell: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(lo, hi) (n, k, k): G_ab = w^4 H_ab over the whole cell ``cell[i]`` lies in
