@@ -211,8 +211,6 @@ class Projector:
         self.centers, self.radii = self.cells.hull_spheres()
         self.T3 = self.cells.third_derivative_bounds()       # (keeps the lower orders: no second pass)
         self.L, self.M = self.cells.derivative_bounds()
-        # the half Hessian's Bernstein coefficients (tight bounds over a cell)
-        self._hessian = HessianHull(self.cells) if self.cells.weights is None else RationalHessianHull(self.cells)
         shape = self.cells.shape
         # per level l = 0..BLOCK: the bounds over the cells within l grid steps
         self.block = [np.stack([_block_max(B, shape, lv) for lv in range(_BLOCK + 1)])
@@ -236,6 +234,11 @@ class Projector:
         else:
             cu, cv = self._cell_piece_dir
             self._cell_piece = (cu[:, None] * self.pieces.shape[1] + cv[None, :]).ravel()
+        # the half Hessian's Bernstein coefficients (tight bounds over a cell; rational: per
+        # piece, restricted to its cells)
+        self._hessian = HessianHull(self.cells) if self.cells.weights is None else \
+            RationalHessianHull(self.cells) if self.cells is self.pieces else \
+            RationalHessianHull(self.cells, self.pieces, self._cell_piece_dir)
         c2 = _c2_breaks(self.pieces, _c2_by_knots(obj, raw))
         self._run = [np.r_[0, np.cumsum(~ok)] for ok in c2]
         self._creases = [b[1:-1][~ok] for b, ok in zip(self.pieces.breaks, c2)]     # the breaks not C2

@@ -6,6 +6,7 @@ interval is attained there from the inside (lo <= value <= hi, both reached by t
 hull of a constant entry). The bound it feeds (box_lower_bound) is checked against
 sampled minima in test_closest.test_box_lower_bound_is_below_the_sampled_minimum."""
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -161,3 +162,55 @@ def test_the_cell_of_a_foot_closes_without_splitting(monkeypatch):
         assert ri.converged
         brute = np.sqrt(((G - x) ** 2).sum(-1)).min()
         assert ri.distances[0] <= brute + 1e-12 and ri.lower_bounds[0] >= ri.distances[0] * (1 - 1e-9)
+
+
+@pytest.mark.skipif(np.finfo(np.longdouble).eps > 1e-18, reason="long double is not wider than double here")
+def test_cells_restricted_from_their_pieces_within_the_stated_rounding():
+    """A projector's rational cells take their rows from their pieces' by restriction (de
+    Casteljau): against G computed cell by cell in long double (the cells' nets
+    subdivided in long double), every restricted row lies within its stored rounding
+    bound (which the intervals add), and it is closer than the float64 products on the
+    cell itself."""
+    from cagd.queries.bounds import restriction_matrix
+    from cagd.queries.closest import Projector
+    rng = np.random.default_rng(2)
+    s = cagd.BSplineSurface(rng.normal(size=(6, 3, 3)), 3, 2, weights=rng.uniform(0.5, 3.0, (6, 3)))
+    P = Projector(s)
+    assert P.cells is not P.pieces and len(P.pieces) < len(P.cells)
+    idx = np.unique(rng.integers(0, len(P.cells), 60))
+    cu, cv = P._cell_piece_dir
+    iu, iv = np.divmod(idx, len(cv))
+
+    def part(of, i):
+        return (i - np.searchsorted(of, of[i])), np.bincount(of)[of[i]]
+
+    def restriction(deg, j, c):              # restriction_matrix in long double
+        R = np.empty((deg + 1, deg + 1), dtype=np.longdouble)
+        for r in range(deg + 1):
+            pts = np.eye(deg + 1, dtype=np.longdouble)
+            for u in [np.longdouble(j + 1) / c] * r + [np.longdouble(j) / c] * (deg - r):
+                pts = (1 - u) * pts[:-1] + u * pts[1:]
+            R[r] = pts[0]
+        return R
+
+    assert np.allclose(restriction(3, 1, 3).astype(float), restriction_matrix(3, 1 / 3, 2 / 3), atol=1e-15)
+    hom = P.pieces.homogeneous.astype(np.longdouble)
+    (ju, nu), (jv, nv) = part(cu, iu), part(cv, iv)
+    nets = np.array([np.einsum("ij,jkd,lk->ild", restriction(3, a, c), hom[cu[x] * P.pieces.shape[1] + cv[y]],
+                               restriction(2, b, e)) for x, y, a, c, b, e in zip(iu, iv, ju, nu, jv, nv)])
+    ref = RationalHessianHull(P.cells)
+    w = nets[..., -1]
+    wn = w / w.reshape(len(idx), -1).max(axis=1)[:, None, None]
+    ref.w = np.ones(P.cells.weights.shape, dtype=np.longdouble)
+    ref.A = np.zeros(P.cells.control_points.shape, dtype=np.longdouble)
+    ref.w[idx], ref.A[idx] = wn, nets[..., :-1] / w[..., None] * wn[..., None]
+    ref.h = ref.h.astype(np.longdouble)
+    exact = ref._fill(idx)
+    restricted = P._hessian._restrict(idx)
+    direct = RationalHessianHull(P.cells)._fill(idx)
+    D, pairs, n = 3, len(ref.pairs), ref._n
+    for a in range(1 + D):
+        miss = np.abs(restricted[a] - exact[a]).reshape(len(idx), pairs, n).max(axis=2)
+        assert np.all(miss <= restricted[1 + D + a]), a
+        assert np.all(restricted[1 + D + a] > 0)
+        assert np.abs(restricted[a] - exact[a]).max() <= np.abs(direct[a] - exact[a]).max()
