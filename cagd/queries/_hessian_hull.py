@@ -305,6 +305,7 @@ class RationalHessianHull:
         self._rows = _CellRows(m, [row] * (1 + D) + [bound] * (1 + D), self._fill if pieces is None else self._restrict)
         flat = self.w.reshape(m, -1)
         self._div = (row_min(flat) ** 4, row_max(flat) ** 4)
+        self._parent: Optional[RationalHessianHull] = None       # the pieces' hull the rows come from
         if pieces is not None:
             assert piece_of is not None
             self._parent = RationalHessianHull(pieces)
@@ -350,6 +351,7 @@ class RationalHessianHull:
         per direction, :func:`cagd.queries.bounds.restriction_matrix`; Farin 4.2), in
         the object's parameters already, times the weights' rescaling to the cell."""
         parent = self._parent
+        assert parent is not None
         slots = parent._rows(self._piece[idx])
         nk = len(self.pairs)
         along = [idx] if self.k == 1 else list(np.divmod(idx, len(self._parts[1][0])))    # per direction
@@ -403,4 +405,4 @@ class RationalHessianHull:
     @property
     def nbytes(self) -> int:
         """Bytes of the coefficients stored so far (with the pieces' the cells come from)."""
-        return self._rows.nbytes + (self._parent.nbytes if hasattr(self, "_parent") else 0)
+        return self._rows.nbytes + (0 if self._parent is None else self._parent.nbytes)

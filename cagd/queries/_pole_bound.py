@@ -38,7 +38,7 @@ class _Side:
         w = np.ones(net.shape[:3]) if cells.weights is None else \
             _edge_first(np.asarray(cells.weights, dtype=np.float64)[which][..., None], side)[..., 0]
         self.C = net[:, 0, 0]
-        self.eps = np.sqrt(((net[:, 0] - self.C[:, None]) ** 2).sum(-1)).max(axis=1) * w[:, 0].max(axis=1)
+        self.eps = np.sqrt(row_max(squared_norms(net[:, 0] - self.C[:, None]))) * row_max(w[:, 0])
         p = net.shape[1] - 1
         scale = (p / np.arange(1, p + 1))[None, :, None, None]
         self.E = ((net[:, 1:] - self.C[:, None, None]) * w[:, 1:, :, None] * scale).reshape(len(which), -1,

@@ -136,7 +136,8 @@ TREE_TOP = 64           # nodes of the hierarchy's top level, at most
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
 BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
 BRANCH_MAX = 2_000_000  # ... and at most this many in all
-BRANCH_WORK = 6         # (point, box) rows refined by Newton in all, at most this many times that budget
+BRANCH_WORK = 6         # (point, box) rows refined (bounded; by Newton every NEWTON_EVERY rounds) in all, at
+                        # most this many times that budget
                         # (the 120 grid points on a folded fit, tests/queries/test_closest_budget.py: 4 left
                         # two at a local foot, 0.1 and 0.4 away for 1e-10; 5 none)
 EVAL_CHUNK = 65536      # evaluations at once (the C2 test at the breaks, the box bounds)
