@@ -98,9 +98,10 @@ class Geometry:
 
     def clamp(self, x: np.ndarray) -> np.ndarray:
         """Parameters (N, k) wrapped (periodic directions) or clamped into the domain."""
-        span = self.hi - self.lo
-        wrapped = wrap(x, self.lo, span)
-        return np.where(self.periodic, wrapped, np.clip(x, self.lo, self.hi))
+        inside = np.minimum(np.maximum(x, self.lo), self.hi)        # (np.clip costs 6 us a call)
+        if not self.periodic.any():
+            return inside
+        return np.where(self.periodic, wrap(x, self.lo, self.hi - self.lo), inside)
 
     def derivatives(self, x: np.ndarray, order: int, rows: Optional[np.ndarray] = None
                     ) -> Tuple[np.ndarray, Optional[np.ndarray], Optional[np.ndarray]]:
