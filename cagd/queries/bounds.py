@@ -167,10 +167,10 @@ class BezierPieces:
     def locate(self, params: np.ndarray) -> np.ndarray:
         """Flat index of the piece holding each parameter row (N, k) (clamped to the domain)."""
         params = np.asarray(params, dtype=np.float64).reshape(-1, self.k)
-        index = None
+        index = np.zeros(params.shape[0], dtype=np.intp)
         for a, b in enumerate(self.breaks):          # (minimum/maximum: np.clip costs 6 us a call)
             i = np.minimum(np.maximum(np.searchsorted(b, params[:, a], side="right") - 1, 0), len(b) - 2)
-            index = i if index is None else index * (len(b) - 1) + i
+            index = i if a == 0 else index * (len(b) - 1) + i
         return index
 
     # --- refinement --------------------------------------------------------------------
