@@ -90,7 +90,8 @@ def lying_on(G: sd.Geometry, H, pl, lo, hi, lo_h, hi_h, tol: float, ctrl_h: Opti
     ok = np.zeros(len(x), bool)
     mid = np.full((len(x), 2), np.nan)
     if near.size:
-        ok[near], got = _samples_on(G, H, pl, x[near, centre], lo_h[near], hi_h[near], tol)
+        lo_n, hi_n = (None, None) if lo_h is None else (lo_h[near], hi_h[near])      # (a plane has none)
+        ok[near], got = _samples_on(G, H, pl, x[near, centre], lo_n, hi_n, tol)
         if got is not None:
             mid[near] = got
     rest = np.flatnonzero(ok)
