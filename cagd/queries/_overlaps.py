@@ -21,6 +21,8 @@ UNSETTLED = "an end was not located: the overlap may extend further"
 #: SOLID[2] x [3] was reported 'fitted within 1.00e-09 > tol' (issue 16)
 END_TOL_SHARE = 1e-3
 SECTIONS = 32                 # overlap ends: a bracket is cut into this many parts a round
+END_STEPS = 16                # ... after at most this many steps out (h, 2h, 4h, ...) ...
+END_ROUNDS = 60               # ... and this many rounds of sectioning
 
 
 
@@ -57,8 +59,12 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
         y = np.zeros((M, 5, H.k))
         dist = np.full((M, 5), np.inf)
         # the middle samples first: the others only where it lies on H (each projection
-        # depends on its own sample only, so the same answer with fewer projections)
-        for at, cols in ((np.arange(M), [2]), (None, [0, 1, 3, 4])):
+        # depends on its own sample only, so the same answer with fewer projections);
+        # a middle sample farther than tol from Q's control hull is off Q without one (a
+        # foot on another piece of H is found by the pair with that piece: the sample and
+        # the foot lie within tol, so neither their boxes nor slabs part the two pieces)
+        near = np.flatnonzero(sd.hull_gap(G.points(x[:, 2]), Q.ctrl) <= tol)
+        for at, cols in ((near, [2]), (None, [0, 1, 3, 4])):
             at = np.flatnonzero(dist[:, 2] <= tol) if at is None else at
             if not at.size:
                 continue
@@ -122,15 +128,22 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool, grown: Optional[lis
         else:
             groups.append(list(f))
     out: List[Overlap] = []
-    for g in groups:
-        s0, s1 = g[0], g[1]
-        t0, t1 = np.array(g[2:2 + kb]), np.array(g[2 + kb:])
-        h = 0.25 * (s1 - s0)
-        ends = _grown(grown, s0, s1, t0, t1, ea, eb, kb)
-        if ends is None:
-            ends = (*_edge(A, B, s0, t0, -1.0, h, tol, self_mode), *_edge(A, B, s1, t1, 1.0, h, tol, self_mode))
-            if grown is not None:
-                grown.append(ends)
+    # the ends of the groups not inside an overlap grown earlier, searched together
+    spans = [(g[0], g[1], np.array(g[2:2 + kb]), np.array(g[2 + kb:])) for g in groups]
+    search = [i for i, (s0, s1, t0, t1) in enumerate(spans) if _grown(grown, s0, s1, t0, t1, ea, eb, kb) is None]
+    starts = []
+    for i in search:
+        s0, s1, t0, t1 = spans[i]
+        starts += [(s0, t0, -1.0, 0.25 * (s1 - s0)), (s1, t1, 1.0, 0.25 * (s1 - s0))]
+    found = _edges(A, B, starts, tol, self_mode)
+    searched = {i: (*found[2 * k], *found[2 * k + 1]) for k, i in enumerate(search)}
+    mine: list = []                             # the overlaps grown by this call
+    for i, g in enumerate(groups):
+        s0, s1, t0, t1 = spans[i]
+        ends = _grown(grown, s0, s1, t0, t1, ea, eb, kb) or _grown(mine, s0, s1, t0, t1, ea, eb, kb)
+        if ends is None:                  # (a group inside an overlap grown before it in this call is that one)
+            ends = searched[i]
+            mine.append(ends)
         s0, t0, found0, s1, t1, found1 = ends
         settled = bool(found0 and found1)
         message = "" if settled else UNSETTLED
@@ -148,6 +161,8 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool, grown: Optional[lis
         if self_mode and t0[0] < s0:
             continue                  # the same overlap seen from its other side
         out.append(Overlap((float(s0), float(s1)), (float(t0[0]), float(t1[0])), settled, message))
+    if grown is not None:
+        grown += mine
     return out
 
 
@@ -165,60 +180,79 @@ def _grown(grown: Optional[list], s0: float, s1: float, t0: np.ndarray, t1: np.n
     return None
 
 
-def _edge(A, B, s_in: float, t_in: np.ndarray, sign: float, h: float, tol: float, self_mode: bool
-          ) -> Tuple[float, np.ndarray, bool]:
-    """Last parameter (and its partner on B) past s_in, in direction ``sign``, where A
-    still lies within (1 - END_TOL_SHARE) tol of B: march by steps h, 2h, 4h, ..., then
-    section the last step until its ends are neighbouring doubles, SECTIONS - 1 points a
-    round projected at once (the first one off B closes the bracket: 5 bits a round; a
-    bisection, one projection at a time, took 37 per end on occ22470.igs, issue 16).
-    Returns (s, t, found): found is False when 16 steps neither left B nor reached the
-    domain's end (the overlap may go on)."""
-    lim = A.hi[0] if sign > 0 else A.lo[0]
-
-    def on(s, t):
-        s = np.atleast_1d(np.asarray(s, float))
-        y, d = project_onto(B, A.points(s[:, None]), np.repeat(np.asarray(t, float).reshape(1, -1), len(s), axis=0))
-        itself = self_mode & (np.abs(y[:, 0] - s) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0]))
-        return (d <= (1.0 - END_TOL_SHARE) * tol) & ~itself, y
-
-    def section(s_in, t_in, s_out, end):
-        """Project the points cutting [s_in, s_out] in SECTIONS (s_out too if ``end``):
-        (s_in, t_in) moved to the last good point before the first bad one, s_out to
-        that bad one (None when all are good)."""
-        s_k = s_in + np.arange(1, SECTIONS + end) / SECTIONS * (s_out - s_in)
-        s_k[-1] = s_out if end else s_k[-1]
-        s_k = s_k[(s_k != s_in) & ((s_k != s_out) | bool(end))]
-        if not s_k.size:
-            return s_in, t_in, s_out
-        good, t_k = on(s_k, t_in)
-        bad = np.flatnonzero(~good)
-        last = (bad[0] if bad.size else len(s_k)) - 1          # the last good point before the first bad one
-        if last >= 0:
-            s_in, t_in = float(s_k[last]), t_k[last]
-        return s_in, t_in, (float(s_k[bad[0]]) if bad.size else None)
-
-    s_out = None
-    t_in = np.asarray(t_in, float)
-    for _ in range(16):
-        if s_in == lim:
-            return s_in, t_in, True
-        s_try = min(s_in + h, lim) if sign > 0 else max(s_in - h, lim)
-        # the whole step is sampled: the curve may leave B and come back within it
-        # (trj3_s1-al-214.stp faces 8 x 12: an edge touching its neighbour at 7 places
-        # grew into one overlap 1.3e-3 off, issue 16)
-        s_in, t_in, s_out = section(s_in, t_in, s_try, 1)
-        if s_out is not None:
+def _edges(A, B, starts: List[Tuple[float, np.ndarray, float, float]], tol: float, self_mode: bool
+           ) -> List[Tuple[float, np.ndarray, bool]]:
+    """For each start (s_in, t_in, sign, h): the last parameter (and its partner on B)
+    past s_in, in direction ``sign``, where A still lies within (1 - END_TOL_SHARE) tol
+    of B: march by steps h, 2h, 4h, ..., then section the last step until its ends are
+    neighbouring doubles, SECTIONS - 1 points a round projected at once (the first one
+    off B closes the bracket: 5 bits a round; a bisection, one projection at a time,
+    took 37 per end on occ22470.igs, issue 16). All ends go together, one projection a
+    round (trj3_s1-al-214.stp faces 4 x 6: 14 ends of 7 overlaps, 127 projections one
+    end at a time). Returns (s, t, found) per start: found is False when END_STEPS steps
+    neither left B nor reached the domain's end (the overlap may go on)."""
+    E = len(starts)
+    s_in = [float(st[0]) for st in starts]
+    t_in = [np.asarray(st[1], float) for st in starts]
+    sign = [st[2] for st in starts]
+    h = [float(st[3]) for st in starts]
+    lim = [A.hi[0] if sg > 0 else A.lo[0] for sg in sign]
+    s_out: List[Optional[float]] = [None] * E
+    result: List[Optional[Tuple[float, np.ndarray, bool]]] = [None] * E
+    steps, sections = [0] * E, [0] * E
+    width = A.hi[0] - A.lo[0]
+    while True:
+        samples, owner, pending = [], [], []
+        for e in range(E):
+            if result[e] is not None:
+                continue
+            so = s_out[e]
+            if so is None:                      # marching out: the whole step is sampled
+                # (the curve may leave B and come back within it: trj3_s1-al-214.stp faces
+                # 8 x 12, an edge touching its neighbour at 7 places grew into one overlap
+                # 1.3e-3 off, issue 16)
+                if s_in[e] == lim[e] or steps[e] == END_STEPS:
+                    result[e] = (s_in[e], t_in[e], s_in[e] == lim[e])
+                    continue
+                s_try = min(s_in[e] + h[e], lim[e]) if sign[e] > 0 else max(s_in[e] - h[e], lim[e])
+                s_k = s_in[e] + np.arange(1, SECTIONS + 1) / SECTIONS * (s_try - s_in[e])
+                s_k[-1] = s_try
+                s_k = s_k[s_k != s_in[e]]
+            else:                               # sectioning [s_in, s_out]
+                if sections[e] == END_ROUNDS or 0.5 * (s_in[e] + so) in (s_in[e], so):
+                    result[e] = (s_in[e], t_in[e], True)
+                    continue
+                s_k = s_in[e] + np.arange(1, SECTIONS) / SECTIONS * (so - s_in[e])
+                s_k = s_k[(s_k != s_in[e]) & (s_k != so)]
+            samples.append(s_k)
+            owner.append(np.full(len(s_k), e))
+            pending.append(e)
+        if not pending:
             break
-        h *= 2.0                      # a small fragment may grow to the whole curve
-    if s_out is None:
-        return s_in, t_in, s_in == lim
-    for _ in range(60):
-        if 0.5 * (s_in + s_out) in (s_in, s_out):
-            break
-        s_in, t_in, bad = section(s_in, t_in, s_out, 0)
-        s_out = s_out if bad is None else bad
-    return s_in, t_in, True
+        s_all, who = np.concatenate(samples), np.concatenate(owner)
+        good_all, y = np.zeros(0, bool), np.zeros((0, B.k))
+        if len(who):
+            y, d = project_onto(B, A.points(s_all[:, None]), np.stack([t_in[e] for e in who]))
+            itself = self_mode & (np.abs(y[:, 0] - s_all) <= SAME_PARAM_RTOL * width)
+            good_all = (d <= (1.0 - END_TOL_SHARE) * tol) & ~itself
+        for e in pending:
+            rows = np.flatnonzero(who == e)
+            good, s_k, t_k = good_all[rows], s_all[rows], y[rows]
+            bad = np.flatnonzero(~good)
+            last = (bad[0] if bad.size else len(s_k)) - 1    # the last good point before the first bad one
+            if last >= 0:
+                s_in[e], t_in[e] = float(s_k[last]), t_k[last]
+            if s_out[e] is None:
+                steps[e] += 1
+                if bad.size:
+                    s_out[e] = float(s_k[bad[0]])
+                else:
+                    h[e] *= 2.0                 # a small fragment may grow to the whole curve
+            else:
+                sections[e] += 1
+                if bad.size:
+                    s_out[e] = float(s_k[bad[0]])
+    return [r for r in result if r is not None]
 
 
 def _snap(A, B, s: float, t: np.ndarray) -> Tuple[float, np.ndarray]:

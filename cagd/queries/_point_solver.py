@@ -26,7 +26,7 @@ from . import _subdivision as sd
 from ._overlaps import coincident, inside_overlaps, merge_overlaps, overlap_cap
 from .results import IntersectionPoint, IntersectionResult, Overlap
 from ._newton import refine
-from ._numerics import AT_END_RTOL, SAME_PARAM_RTOL, SIZE_ROUNDING, SLACK_RTOL, TINY, unit
+from ._numerics import AT_END_RTOL, SAME_PARAM_RTOL, SIZE_ROUNDING, SLACK_RTOL, TINY, smallest_per_group, unit
 
 NEAR_PARALLEL_SINE = 1e-2   # flat pieces nearer parallel than this are tested for coincidence
 TANGENTIAL_SINE = 1e-3      # roots with tangents nearer parallel than this are solved as contacts
@@ -34,6 +34,7 @@ DIFF_STEP_RTOL = 1e-6       # central-difference step of the contact polish, sha
 POLISH_EIGEN_RTOL = 1e-14   # its Gauss-Newton eigenvalues floored at this share of the largest
 POLISH_MOVE_RTOL = 1e-5     # a polished contact moved further than this share of the width is refused
 TWO_ROOTS_SHARE = 1e-3      # two roots replace a contact where both gaps are below this share of its
+SAME_CELL_SHARE = 0.1       # refined starts within one cell of this share of SAME_PARAM_RTOL are one root
 CUSP_RTOL = 1e-7            # an arc between s and t within this share of the size is a cusp, not a loop
 
 _REL_FLAT = 1e-3          # a piece is flat when its deviation <= _REL_FLAT * its extent
@@ -324,6 +325,7 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grow
     if not len(x0):
         return IntersectionResult((), tuple(overlaps), (), tol, not open_pairs, message)
     x, y, dist, _ = refine(A, B, x0, y0, False, 40)
+    x, y, dist = _one_per_cell(A, B, x, y, dist)
     sine = np.linalg.norm(_contact(A, B, x, y), axis=1)
     redo = (dist > tol) | (sine < TANGENTIAL_SINE)
     if redo.any():
@@ -378,6 +380,23 @@ def _solve(A, B, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grow
             pts.append(IntersectionPoint(_param(A, kept_x[i]), _param(B, kept_y[i]), 0.5 * (pa[i] + pb[i]),
                                          bool(sine[i] <= sine_of(angle_tol)), float(np.linalg.norm(pa[i] - pb[i]))))
     return IntersectionResult(tuple(pts), tuple(overlaps), (), tol, not open_pairs, message)
+
+
+def _one_per_cell(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray, dist: np.ndarray):
+    """The nearest of the refined starts (x, y) in each parameter cell of SAME_CELL_SHARE
+    SAME_PARAM_RTOL of the domains' widths: starts that reached one root (the hundreds of
+    leaf pairs around a tangential contact or along a near-coincident band, issue 16)
+    go through the slower tangential refinement and polish once. Roots closer than
+    SAME_PARAM_RTOL are one root at the end as well; here, starts that close after the
+    first refinement are taken as one before the polish, which moves a tangential
+    contact by up to POLISH_MOVE_RTOL."""
+    if len(x) < 2:
+        return x, y, dist
+    z = np.concatenate([(x - A.lo) / (A.hi - A.lo), (y - B.lo) / (B.hi - B.lo)], axis=1)
+    cells = np.floor(z / (SAME_CELL_SHARE * SAME_PARAM_RTOL)).astype(np.int64)
+    _, group = np.unique(cells, axis=0, return_inverse=True)
+    keep = smallest_per_group(group.reshape(-1), dist)
+    return x[keep], y[keep], dist[keep]
 
 
 def _param(G: sd.Geometry, x: np.ndarray) -> Union[float, np.ndarray]:

@@ -63,10 +63,18 @@ def grid_seeds(H: sd.Geometry, P: np.ndarray, lo: np.ndarray, hi: np.ndarray, n:
     return x[which, k]
 
 
-def lying_on(G: sd.Geometry, H, pl, lo, hi, lo_h, hi_h, tol: float):
+def lying_on(G: sd.Geometry, H, pl, lo, hi, lo_h, hi_h, tol: float, ctrl_h: Optional[np.ndarray] = None):
     """Which pieces (boxes lo, hi of G) lie on H (or the plane): all _N x _N samples
     within tol, each projected from the nearest sample of H's piece (lo_h, hi_h).
-    Returns the mask and the parameters on H of the piece centres.
+    Returns the mask and the parameters on H of the piece centres (of the pieces that
+    lie on H; the others' rows are undefined).
+
+    With H's pieces' control nets ``ctrl_h`` (M, ..., D + 1), a centre farther than tol
+    from its H piece's control hull (its box, or its slab along the piece's corner
+    normal: convex hull property) is off that piece without a projection. A foot on
+    another piece of H is found by the pair with that piece, which the subdivision
+    keeps (the centre and the foot lie within tol, so neither the pieces' boxes nor
+    their slabs part them).
 
     The centres go first: a piece whose centre is off H fails whatever its other
     samples do, and each sample's projection depends on that sample only, so only the
@@ -76,7 +84,16 @@ def lying_on(G: sd.Geometry, H, pl, lo, hi, lo_h, hi_h, tol: float):
     trj3_s1-al-214.stp space_ship[82] x [85], issue 16)."""
     centre = (_N * _N) // 2
     x = _grid(lo, hi)                                                            # (M, _N^2, 2)
-    ok, mid = _samples_on(G, H, pl, x[:, centre], lo_h, hi_h, tol)
+    near = np.arange(len(x))
+    if ctrl_h is not None and H is not None and len(x):
+        near = np.flatnonzero(sd.hull_gap(G.points(x[:, centre]), ctrl_h) <= tol)
+    ok = np.zeros(len(x), bool)
+    mid = np.full((len(x), 2), np.nan)
+    if near.size:
+        lo_n, hi_n = (None, None) if lo_h is None else (lo_h[near], hi_h[near])      # (a plane has none)
+        ok[near], got = _samples_on(G, H, pl, x[near, centre], lo_n, hi_n, tol)
+        if got is not None:
+            mid[near] = got
     rest = np.flatnonzero(ok)
     if rest.size:
         x = np.delete(x[rest], centre, axis=1)                                  # (R, _N^2 - 1, 2)

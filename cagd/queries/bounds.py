@@ -168,9 +168,9 @@ class BezierPieces:
         """Flat index of the piece holding each parameter row (N, k) (clamped to the domain)."""
         params = np.asarray(params, dtype=np.float64).reshape(-1, self.k)
         index = np.zeros(params.shape[0], dtype=np.intp)
-        for a, b in enumerate(self.breaks):
-            i = np.clip(np.searchsorted(b, params[:, a], side="right") - 1, 0, len(b) - 2)
-            index = index * (len(b) - 1) + i
+        for a, b in enumerate(self.breaks):          # (minimum/maximum: np.clip costs 6 us a call)
+            i = np.minimum(np.maximum(np.searchsorted(b, params[:, a], side="right") - 1, 0), len(b) - 2)
+            index = i if a == 0 else index * (len(b) - 1) + i
         return index
 
     # --- refinement --------------------------------------------------------------------
@@ -336,7 +336,8 @@ class BezierPieces:
         if self.k == 1:
             B = bernstein_derivatives(self.degrees[0], x[:, 0], order)          # (r, n, p+1)
             out = np.matmul(B.transpose(1, 0, 2), hom).transpose(1, 0, 2)     # (r, n, D)
-            out /= (h[:, 0][None, :] ** r[:, None])[..., None]
+            if order:
+                out /= (h[:, 0][None, :] ** r[:, None])[..., None]
             return out if self.weights is None else rational_derivatives(out)
         p, q = self.degrees
         n, D = len(index), hom.shape[-1]
@@ -344,8 +345,9 @@ class BezierPieces:
         Bv = bernstein_derivatives(q, x[:, 1], order).transpose(1, 0, 2)       # (n, r, q+1)
         T = np.matmul(Bu, hom.reshape(n, p + 1, (q + 1) * D)).reshape(n, order + 1, q + 1, D)
         out = np.matmul(Bv[:, None], T).transpose(1, 2, 0, 3)                 # (r, r, n, D)
-        scale = (h[:, 0][None, None, :] ** r[:, None, None]) * (h[:, 1][None, None, :] ** r[None, :, None])
-        out = out / scale[..., None]
+        if order:
+            scale = (h[:, 0][None, None, :] ** r[:, None, None]) * (h[:, 1][None, None, :] ** r[None, :, None])
+            out = out / scale[..., None]
         return out if self.weights is None else rational_partials(out)
 
     def _hom_cache(self) -> np.ndarray:

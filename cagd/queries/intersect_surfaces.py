@@ -135,7 +135,8 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
         test = np.flatnonzero(live & (sine < 0.05) & (np.minimum(ext_a, ext_b) >= _overlap_cap(tol, size)))
         if test.size:
             for P, Q, G, H, k in ((pa, pb, A, B, 0), (pb, pa, B, A, 2)):
-                hit, mid = so.lying_on(G, H, None, P.lo[test], P.hi[test], Q.lo[test], Q.hi[test], tol)
+                hit, mid = so.lying_on(G, H, None, P.lo[test], P.hi[test], Q.lo[test], Q.hi[test], tol,
+                                        Q.ctrl[test])
                 if hit.any():
                     cov[k].append(np.concatenate([P.lo[test][hit], P.hi[test][hit]], axis=1))
                     cov[k + 1].append(mid[hit])

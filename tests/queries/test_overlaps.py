@@ -24,13 +24,13 @@ def test_an_overlap_is_grown_once(monkeypatch):
     (4 searches before, and the subdivision ran into max_pairs where the curve leaves
     the plane tangentially)."""
     searched = []
-    real = ov._edge
+    real = ov._edges
 
-    def spy(*a, **kw):
-        searched.append(a[4])                   # the direction
-        return real(*a, **kw)
+    def spy(A, B, starts, *a, **kw):
+        searched.extend(st[2] for st in starts)         # the directions
+        return real(A, B, starts, *a, **kw)
 
-    monkeypatch.setattr(ov, "_edge", spy)
+    monkeypatch.setattr(ov, "_edges", spy)
     C, S = _case()
     res = intersect(C, S, tol=1e-9)
     assert res.converged and res.points == () and len(res.overlaps) == 1
@@ -72,3 +72,42 @@ def test_an_overlap_does_not_step_over_a_gap(bump):
     for o in res.overlaps:
         s = np.linspace(*o.param_a, 2001)
         assert closest_point(S, C(s)).distances.max() <= 1e-9
+
+
+def test_the_ends_of_several_overlaps_are_searched_together(monkeypatch):
+    """A curve lying in the plane on three stretches: the six ends are searched in one
+    batch, one projection call a round for all of them (issue 16: trj3_s1-al-214.stp
+    faces 4 x 6, 14 ends, 127 calls one end at a time; here 16 calls, 56 before, the
+    same overlaps bit for bit), and each end lies within tol of the plane by
+    closest_point while the curve beyond it leaves tol."""
+    _, S = _case()
+    x = np.linspace(0, 1, 40)
+    z = np.zeros(40)
+    z[[12, 26]] = 1e-3
+    C = cagd.BSplineCurve(np.stack([x, 0.2 + 0.1 * x, z], 1) @ ROT.T, 2)
+    batches = []
+    real = ov._edges
+
+    def spy(A, B, starts, *a, **kw):
+        batches.append(len(starts))
+        return real(A, B, starts, *a, **kw)
+
+    monkeypatch.setattr(ov, "_edges", spy)
+    calls = []
+    real_project = ov.project_onto
+
+    def count(*a, **kw):
+        calls.append(1)
+        return real_project(*a, **kw)
+
+    monkeypatch.setattr(ov, "project_onto", count)
+    res = intersect(C, S, tol=1e-9)
+    assert res.converged and len(res.overlaps) == 3
+    assert max(batches) == 6 and len(calls) <= 20              # 56 calls one end at a time
+    for o in res.overlaps:
+        s = np.array(o.param_a)
+        inside = closest_point(S, C(s)).distances
+        assert inside.max() <= 1e-9
+        beyond = s + np.array([-1e-4, 1e-4])
+        beyond = beyond[(beyond > 0) & (beyond < 1)]
+        assert np.all(closest_point(S, C(beyond)).distances > 1e-9)

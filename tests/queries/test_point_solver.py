@@ -82,3 +82,20 @@ def test_no_seed_inside_an_overlap_is_solved(monkeypatch):
     assert closest_point(S, at).distances.max() <= 1e-9
     solved = np.concatenate(starts)[:, 0]
     assert len(solved) and not np.any((solved > s0) & (solved < s1))
+
+
+def test_refined_starts_at_one_root_go_on_once():
+    """After the first refinement the starts that share a parameter cell (a tenth of
+    SAME_PARAM_RTOL of each width) are one root: the nearest goes on to the tangential
+    refinement and polish (issue 16: bug33398.step's faces 247 x 359, 1,054 starts at
+    228 roots); starts one cell apart in any parameter are kept."""
+    from cagd.queries import _point_solver as ps
+    A, B = sd.Geometry(_line(0.0, 0.05), "a"), sd.Geometry(_surface(), "b")
+    c = 0.3 + 0.5e-8                                        # the middle of a cell
+    x = np.array([[c], [c + 1e-10], [c], [c], [0.6]])
+    y = np.array([[0.2, 0.4], [0.2, 0.4], [0.2, 0.4 + 1e-8], [0.2 + 1e-8, 0.4], [0.2, 0.4]])
+    d = np.array([3e-10, 1e-10, 2e-10, 4e-10, 5e-10])
+    xs, ys, ds = ps._one_per_cell(A, B, x, y, d)
+    assert sorted(ds) == [1e-10, 2e-10, 4e-10, 5e-10]
+    i = int(np.argmin(ds))
+    assert xs[i, 0] == c + 1e-10 and np.array_equal(ys[i], [0.2, 0.4])
