@@ -63,13 +63,15 @@ def coincident(A, B, pa: sd.Pieces, pb: sd.Pieces, tol: float, self_mode: bool):
         # a middle sample farther than tol from Q's control hull is off Q without one (a
         # foot on another piece of H is found by the pair with that piece: the sample and
         # the foot lie within tol, so neither their boxes nor slabs part the two pieces)
-        near = np.flatnonzero(sd.hull_gap(G.points(x[:, 2]), Q.ctrl) <= tol)
+        middle = G.points(x[:, 2])
+        near = np.flatnonzero(sd.hull_gap(middle, Q.ctrl) <= tol)
         for at, cols in ((near, [2]), (None, [0, 1, 3, 4])):
             at = np.flatnonzero(dist[:, 2] <= tol) if at is None else at
             if not at.size:
                 continue
             xs = x[at][:, cols].reshape(-1, 1)
-            ys, ds = project_onto(H, G.points(xs), np.repeat(seed[at], len(cols), axis=0))
+            pts = middle[at] if cols == [2] else G.points(xs)
+            ys, ds = project_onto(H, pts, np.repeat(seed[at], len(cols), axis=0))
             if self_mode:             # the sample itself is no evidence of an overlap
                 ds[np.abs(ys[:, 0] - xs[:, 0]) <= SAME_PARAM_RTOL * (A.hi[0] - A.lo[0])] = np.inf
             y[at[:, None], cols] = ys.reshape(len(at), len(cols), -1)
@@ -130,7 +132,8 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool, grown: Optional[lis
     out: List[Overlap] = []
     # the ends of the groups not inside an overlap grown earlier, searched together
     spans = [(g[0], g[1], np.array(g[2:2 + kb]), np.array(g[2 + kb:])) for g in groups]
-    search = [i for i, (s0, s1, t0, t1) in enumerate(spans) if _grown(grown, s0, s1, t0, t1, ea, eb, kb) is None]
+    earlier = [_grown(grown, s0, s1, t0, t1, ea, eb, kb) for s0, s1, t0, t1 in spans]
+    search = [i for i, ends in enumerate(earlier) if ends is None]
     starts = []
     for i in search:
         s0, s1, t0, t1 = spans[i]
@@ -140,7 +143,7 @@ def merge_overlaps(A, B, frags, tol: float, self_mode: bool, grown: Optional[lis
     mine: list = []                             # the overlaps grown by this call
     for i, g in enumerate(groups):
         s0, s1, t0, t1 = spans[i]
-        ends = _grown(grown, s0, s1, t0, t1, ea, eb, kb) or _grown(mine, s0, s1, t0, t1, ea, eb, kb)
+        ends = earlier[i] or _grown(mine, s0, s1, t0, t1, ea, eb, kb)
         if ends is None:                  # (a group inside an overlap grown before it in this call is that one)
             ends = searched[i]
             mine.append(ends)

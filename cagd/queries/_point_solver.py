@@ -103,12 +103,10 @@ def _initial_pairs(A: sd.Geometry, B: Optional[sd.Geometry], tol: float):
 
 def _directions(ctrl: np.ndarray) -> np.ndarray:
     """Unit chord of curve pieces (k = 1) or unit normal of patches (k = 2)."""
+    if ctrl.ndim == 4:
+        return sd.corner_normal(ctrl)
     P = sd.project(ctrl)
-    if ctrl.ndim == 3:
-        d = P[:, -1] - P[:, 0]
-    else:
-        d = np.cross(P[:, -1, -1] - P[:, 0, 0], P[:, 0, -1] - P[:, -1, 0])
-    return unit(d)
+    return unit(P[:, -1] - P[:, 0])
 
 
 def _slab_apart(pa: sd.Pieces, pb: sd.Pieces, rows: np.ndarray, tol: float) -> np.ndarray:

@@ -216,20 +216,23 @@ def slab_gap(ctrl_a: np.ndarray, ctrl_b: np.ndarray, direction: np.ndarray) -> n
     return np.maximum(0.0, np.maximum(pb.min(1) - pa.max(1), pa.min(1) - pb.max(1)))
 
 
+def corner_normal(ctrl: np.ndarray) -> np.ndarray:
+    """Unit normals (M, 3) of patches (M, n+1, m+1, 4) from their corner control points
+    (the cross product of the diagonals; 0 where they are parallel)."""
+    P = project(ctrl)
+    return unit(np.cross(P[:, -1, -1] - P[:, 0, 0], P[:, 0, -1] - P[:, -1, 0]))
+
+
 def hull_gap(P: np.ndarray, ctrl: np.ndarray) -> np.ndarray:
     """Lower bound (N,) of the distance from points P (N, D) to pieces with control
     points ctrl (N, n, D + 1) (curves) or (N, n, m, D + 1) (patches), one per point,
-    by the convex hull property: the gap to the control points' box and, for a patch,
-    to their slab along its corner normal (0 inside both)."""
-    Q = project(ctrl)
-    flat = Q.reshape(len(Q), -1, P.shape[1])
-    gap = np.maximum(0.0, np.maximum(flat.min(axis=1) - P, P - flat.max(axis=1)))
-    out = np.sqrt(np.einsum("nd,nd->n", gap, gap))
+    by the convex hull property: the gap to the control points' box and, for a 3-D
+    patch, to their slab along its corner normal (0 inside both)."""
+    lo, hi = boxes(ctrl)
+    out = box_gap(P, P, lo, hi)
     if ctrl.ndim == 4 and P.shape[1] == 3:
-        nrm = unit(np.cross(Q[:, -1, -1] - Q[:, 0, 0], Q[:, 0, -1] - Q[:, -1, 0]))
-        h = np.einsum("nsd,nd->ns", flat, nrm)
-        p = np.einsum("nd,nd->n", P, nrm)
-        out = np.maximum(out, np.maximum(0.0, np.maximum(h.min(axis=1) - p, p - h.max(axis=1))))
+        point = np.concatenate([P, np.ones((len(P), 1))], axis=1)[:, None]       # one homogeneous point
+        out = np.maximum(out, slab_gap(point, ctrl, corner_normal(ctrl)))
     return out
 
 

@@ -170,7 +170,7 @@ class BezierPieces:
         index = np.zeros(params.shape[0], dtype=np.intp)
         for a, b in enumerate(self.breaks):          # (minimum/maximum: np.clip costs 6 us a call)
             i = np.minimum(np.maximum(np.searchsorted(b, params[:, a], side="right") - 1, 0), len(b) - 2)
-            index = i if a == 0 else index * (len(b) - 1) + i
+            index = index * (len(b) - 1) + i
         return index
 
     # --- refinement --------------------------------------------------------------------

@@ -93,7 +93,7 @@ def _separated(pa: sd.Pieces, pb: sd.Pieces, tol: float) -> np.ndarray:
     for P in (pa, pb):
         keep = np.flatnonzero(~out)
         if keep.size:
-            out[keep] = sd.slab_gap(pa.ctrl[keep], pb.ctrl[keep], _normal(P.ctrl[keep])) > tol
+            out[keep] = sd.slab_gap(pa.ctrl[keep], pb.ctrl[keep], sd.corner_normal(P.ctrl[keep])) > tol
     return out
 
 
@@ -131,7 +131,7 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
         # well): with "flat-ish" (dev <= 0.15 ext) the first flat pieces of a unit sphere
         # were 0.54 across, below the cap 2 sqrt(2 tol size) from tol = 1.8e-2 on, and
         # intersect(sphere, sphere, tol=2e-2) gave 8,914 contact points in 50 s
-        sine = np.linalg.norm(np.cross(_normal(pa.ctrl), _normal(pb.ctrl)), axis=1)
+        sine = np.linalg.norm(np.cross(sd.corner_normal(pa.ctrl), sd.corner_normal(pb.ctrl)), axis=1)
         test = np.flatnonzero(live & (sine < 0.05) & (np.minimum(ext_a, ext_b) >= _overlap_cap(tol, size)))
         if test.size:
             for P, Q, G, H, k in ((pa, pb, A, B, 0), (pb, pa, B, A, 2)):
@@ -167,12 +167,6 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
 
 def _midpoints(pa: sd.Pieces, pb: sd.Pieces, sel) -> np.ndarray:
     return np.concatenate([0.5 * (pa.lo[sel] + pa.hi[sel]), 0.5 * (pb.lo[sel] + pb.hi[sel])], 1)
-
-
-def _normal(ctrl):
-    """Unit normal of patches from their corner control points."""
-    P = sd.project(ctrl)
-    return unit(np.cross(P[:, -1, -1] - P[:, 0, 0], P[:, 0, -1] - P[:, -1, 0]))
 
 
 def _seeds_plane(A: sd.Geometry, pl, tol: float, max_pairs: int):

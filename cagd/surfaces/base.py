@@ -271,16 +271,6 @@ def rational_partials(hom: np.ndarray) -> np.ndarray:
     A, w = hom[..., :-1], hom[..., -1:]
     du, dv = hom.shape[0] - 1, hom.shape[1] - 1
     S = np.empty_like(A)
-    if du <= 1 and dv <= 1:       # the loop below written out, in its order (the same roundings):
-        w00 = w[0, 0]             # a quarter of its time for the few points of a Newton step
-        S[0, 0] = A[0, 0] / w00
-        if dv:
-            S[0, 1] = (A[0, 1] - w[0, 1] * S[0, 0]) / w00
-        if du:
-            S[1, 0] = (A[1, 0] - w[1, 0] * S[0, 0]) / w00
-        if du and dv:
-            S[1, 1] = (A[1, 1] - w[0, 1] * S[1, 0] - w[1, 0] * S[0, 1] - w[1, 1] * S[0, 0]) / w00
-        return S
     for k in range(du + 1):
         for l in range(dv + 1):
             v = A[k, l].copy(order="K")           # the layout of hom (long inner loops)
