@@ -37,7 +37,7 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -166,11 +166,10 @@ class _Problem:
             self._cached = (key, band)
         return self._cached[1]
 
-    def solve(self, U: np.ndarray, t: np.ndarray, T: Optional[np.ndarray] = None, mu: float = 0.0
-              ) -> Tuple[np.ndarray, np.ndarray]:
+    def solve(self, U: np.ndarray, jet: "_Jet", T: Optional[np.ndarray] = None, mu: float = 0.0) -> np.ndarray:
         """Control points (n, d) minimising sum_k w_k |M_k (C(t_k) - Q_k)|^2 + lam E_r
         + REGULARISATION E_2 with P_0 = Q_0, P_n = Q_m and the tangent directions held,
-        and the misses |C(t_k) - Q_k| of that curve. M_k = I (point distance), or with the
+        the basis at the parameters t on U from ``jet`` (:func:`_jet`). M_k = I (point distance), or with the
         unit tangents T (m, d) of the current curve at t_k, M_k^T M_k = mu I
         + (I - T_k T_k^T): the tangent distance, i.e. Gauss-Newton on the distances with
         the feet eliminated (Wang, Pottmann & Liu, ACM TOG 25(2), 2006), which converges
@@ -179,8 +178,7 @@ class _Problem:
         d = Q.shape[1]
         full = len(U) - p - 1
         n = full - p if self.periodic else full
-        span = kv.find_span(U, p, t, full)
-        N = basis_derivatives(U, p, t, span, 0)[0]
+        t, span, N = jet.t, jet.span, jet.basis[0]
         cols = self.layout(span[:, None] - p + np.arange(p + 1), n)
         M = None if T is None else (1.0 + mu) * np.eye(d) - T[:, :, None] * T[:, None, :]
         start, A = _blocks(n, d, p, self.periodic)
@@ -194,8 +192,7 @@ class _Problem:
             X = self.normal_solve(U, t, A, start, lambda band: solve_banded_rows(
                 start, band, rhs[:, None], "points"))[1][:, 0].reshape(n, d)
             P = X[_fold(np.arange(n), n)]
-            P_full = P[np.arange(full) % n]
-            return P_full, self._misses(N, span, P_full)
+            return P[np.arange(full) % n]
         # fixed poles: P_0, P_n, and P_1 = P_0 + a T0, P_(n-1) = P_n - b T1
         fixed = {0: [Q[0]], n - 1: [Q[-1]]}
         free_dirs = []
@@ -234,7 +231,7 @@ class _Problem:
         for row, f in enumerate(idx):
             if len(fixed[f]) == 1:
                 P[f] = values[row, :, 0]
-        return P, self._misses(N, span, P)
+        return P
 
     def normal_solve(self, U: np.ndarray, t: np.ndarray, A: np.ndarray, start: np.ndarray,
                      solve: Callable[[np.ndarray], np.ndarray]) -> Tuple[np.ndarray, np.ndarray]:
@@ -252,9 +249,6 @@ class _Problem:
                 if force:
                     raise
         raise AssertionError("unreachable")
-
-    def _misses(self, N: np.ndarray, span: np.ndarray, P: np.ndarray) -> np.ndarray:
-        return np.sqrt(((_combine(N[None], P, span - self.p)[0] - self.Q) ** 2).sum(-1))
 
 
 def solve_fixed(start: np.ndarray, A: np.ndarray, B: np.ndarray, scalars: np.ndarray, values: np.ndarray
@@ -432,15 +426,35 @@ def _combine(D: np.ndarray, P: np.ndarray, first: np.ndarray) -> np.ndarray:
     return out
 
 
-def _feet(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray, periodic: bool = False
-          ) -> np.ndarray:
-    """Parameters moved towards the points' feet: FOOT_NEWTON_STEPS of Newton on
-    f(t) = (C(t) - Q) . C'(t), Gauss-Newton where f' is small; the ends stay at 0 and 1
-    (periodic: every parameter moves, modulo the period 1)."""
-    t = t.copy()
+class _Jet(NamedTuple):
+    """The basis functions and their first two derivatives (3, len(t), p + 1) at t on one
+    knot vector, and the spans: what the curve, its feet and the next solve all need at t
+    (a control-point change leaves it valid)."""
+    t: np.ndarray
+    span: np.ndarray
+    basis: np.ndarray
+
+    def values(self, P: np.ndarray, order: int, rows: slice = slice(None)) -> np.ndarray:
+        """C and its derivatives up to ``order`` (<= 2) at t[rows]: (order + 1, len, d)."""
+        return _combine(self.basis[:order + 1, rows], P, self.span[rows] - (self.basis.shape[-1] - 1))
+
+
+def _jet(U: np.ndarray, p: int, t: np.ndarray) -> _Jet:
+    span = kv.find_span(U, p, t, len(U) - p - 1)
+    return _Jet(t, span, basis_derivatives(U, p, t, span, 2))
+
+
+def _feet(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, jet: _Jet, periodic: bool = False) -> _Jet:
+    """Parameters moved towards the points' feet from the jet at the first parameters (the
+    jet at the last returned): FOOT_NEWTON_STEPS of Newton on f(t) = (C(t) - Q) . C'(t),
+    Gauss-Newton where f' is small; the ends stay at 0 and 1 (periodic: every parameter
+    moves, modulo the period 1)."""
+    t = jet.t.copy()
     inner = slice(None) if periodic else slice(1, -1)
-    for _ in range(FOOT_NEWTON_STEPS):
-        D = _values(U, p, P, t[inner], 2)
+    for newton in range(FOOT_NEWTON_STEPS):
+        if newton:
+            jet = _jet(U, p, t)
+        D = jet.values(P, 2, inner)
         r = D[0] - Q[inner]
         f = (r * D[1]).sum(-1)
         g2 = (D[1] * D[1]).sum(-1)
@@ -450,7 +464,7 @@ def _feet(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray, pe
             step = np.where(df > 0.0, f / df, 0.0)
         moved = t[inner] - step
         t[inner] = np.mod(moved, 1.0) if periodic else np.clip(moved, 0.0, 1.0)
-    return t
+    return _jet(U, p, t)
 
 
 def _misses(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -469,19 +483,20 @@ def _fit_on(problem: _Problem, U: np.ndarray, t: np.ndarray, tol: float
     FAR_FROM_TOL * tol after four and converging slowly (more knots are needed anyway)."""
     p, Q = problem.p, problem.Q
 
-    def feet(P: np.ndarray, start: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        tt = _feet(U, p, P, Q, start, problem.periodic)
-        D = _values(U, p, P, tt, 1)
-        return P, tt, np.sqrt(((D[0] - Q) ** 2).sum(-1)), D[1]
+    def feet(P: np.ndarray, start: _Jet) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, _Jet]:
+        jet = _feet(U, p, P, Q, start, problem.periodic)
+        D = jet.values(P, 1)
+        return P, jet.t, np.sqrt(((D[0] - Q) ** 2).sum(-1)), D[1], jet
 
-    best = feet(problem.solve(U, t)[0], t)
+    first = _jet(U, p, t)
+    best = feet(problem.solve(U, first), first)
     mu = TDM_WEIGHT_START
     slow = 0
     for passes in range(MAX_CORRECTIONS):
         length = np.sqrt((best[3] ** 2).sum(-1))
         with np.errstate(divide="ignore", invalid="ignore"):
             T = np.where(length[:, None] > 0.0, best[3] / length[:, None], 0.0)
-        trial = feet(problem.solve(U, best[1], T, mu)[0], best[1])
+        trial = feet(problem.solve(U, best[4], T, mu), best[4])
         if not trial[2].max() < best[2].max():
             mu *= TDM_WEIGHT_STEP
             if mu > TDM_WEIGHT_MAX:

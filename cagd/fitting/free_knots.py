@@ -197,15 +197,15 @@ def free_knot_fit(problem: "_Problem", inner: np.ndarray, t: np.ndarray, tol_n: 
     :func:`cagd.fitting.fit._fit_on`, its passes until they gain little: moving knots
     against poor parameters leads them astray). Each free-knot pass takes one from
     ``budget[0]``; none left, the run ends."""
-    from .fit import _feet, _fit_on, _values
+    from .fit import _feet, _fit_on, _jet
     p, Q, w = problem.p, problem.Q, problem.w
 
     def state(knots_in: np.ndarray, P: np.ndarray, tt: np.ndarray):
         U = _knots(knots_in, p)
-        tt = _feet(U, p, P, Q, tt)
-        D = _values(U, p, P, tt, 1)
+        jet = _feet(U, p, P, Q, _jet(U, p, tt))
+        D = jet.values(P, 1)
         miss = np.sqrt(((D[0] - Q) ** 2).sum(-1))
-        return knots_in, P, tt, miss, float((w * miss ** 2).sum()), D[1]
+        return knots_in, P, jet.t, miss, float((w * miss ** 2).sum()), D[1]
 
     settled, t, _ = _fit_on(problem, _knots(inner, p), t, np.inf)
     best = state(inner, settled.control_points, t)

@@ -108,3 +108,14 @@ def test_real_faces_benchmark_runs(capsys):
                             "--subsample", "10", "--spread", "0.01", "0.1"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.strip().endswith("yes")]
     assert len(rows) == 2 and all(r[1] == "2" and r[7] == "0" for r in rows), rows
+
+
+def test_fitting_benchmark_curve_rows_run(capsys):
+    """benchmarks/fitting.py, the curve rows at one tol: the engine's fit meets it (the
+    exit status), and beside OCCT (where installed) its time and CPU ratios are printed."""
+    from benchmarks import fitting
+    assert fitting.main(["--tols", "0.001", "--no-surface"]) == 0
+    out = capsys.readouterr().out
+    assert "cagd.fit_curve" in out
+    if "OCCT PointsToBSpline" in out:
+        assert "engine/OCCT: poles" in out and "(CPU " in out
