@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Callable, Optional, Tuple, Union
 import numpy as np
 
 from .. import _periodic as periodic
-from .._periodic import wrap, wrapped_difference
+from .._periodic import clamped, step_across
 from ._numerics import LEVENBERG_RTOL, SLACK_RTOL, TINY, ULP_RTOL
 
 QUADRATIC_CONTRACTION = 1e-2  # a step below this share of the previous one contracts quadratically ...
@@ -299,7 +299,7 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
     scale = max(getattr(A, "size", 0.0), B.size)
 
     def clamp(w):
-        return np.where(per, wrap(w, lo, span), np.clip(w, lo, hi))
+        return clamped(w, lo, hi, per)
 
     def residual(w, order, rows):
         pa, da, ha = A.derivatives(w[:, :ka], order, rows)
@@ -363,7 +363,7 @@ def refine(A: Union[Geometry, FixedPoints], B: Geometry, x: np.ndarray, y: np.nd
                 rows = rows[~small[rows]]
             t, left = t * 0.5 ** m, left - m
             m = 1 if left == BACKTRACK_TRIES - 1 else min(2 * m, BACKTRACK_BLOCK)
-        moved = np.abs(np.where(per, wrapped_difference(znew, zi, span), znew - zi))
+        moved = np.abs(step_across(znew, zi, span, per))
         # a coordinate is settled when it moved by rounding in the parameter or in space
         # (|dP/dz| |dz|): along a collapsed edge (a pole) the parameter is arbitrary, and the
         # steps along it, which leave f unchanged, went on to the last iteration

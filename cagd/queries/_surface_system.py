@@ -47,7 +47,7 @@ class System:
     def _partials(self, k, x):
         """Point and first partials (N, 2, 3) of surface k at parameters x (N, 2)."""
         g, bp = (self.A, self.B)[k], self.pieces[k]
-        x = g.clamp(x) if g.periodic.any() else np.minimum(np.maximum(x, g.lo), g.hi)
+        x = g.clamp(x)
         d = bp.derivatives(bp.locate(x), x, 1)
         return d[0, 0], np.stack([d[1, 0], d[0, 1]], axis=1)
 

@@ -50,7 +50,7 @@ reduce them modulo the period to evaluate the surface
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import List, Optional, Tuple, Union
+from typing import List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -83,32 +83,60 @@ _REL_FLAT = 2e-2
 
 
 # --- seeds -------------------------------------------------------------------------------
-def _separated(pa: sd.Pieces, pb: sd.Pieces, tol: float) -> np.ndarray:
+class _Hulls(NamedTuple):
+    """Per pair of pieces: the boxes of both control hulls and the pieces' corner normals
+    (:func:`cagd.queries._subdivision.corner_normal`)."""
+    lo_a: np.ndarray
+    hi_a: np.ndarray
+    lo_b: np.ndarray
+    hi_b: np.ndarray
+    n_a: np.ndarray
+    n_b: np.ndarray
+
+    def take(self, index: np.ndarray) -> "_Hulls":
+        return _Hulls(*(f[index] for f in self))
+
+    @staticmethod
+    def concat(parts: Sequence["_Hulls"]) -> "_Hulls":
+        return _Hulls(*(np.concatenate(f) for f in zip(*parts)))
+
+
+def _separated(pa: sd.Pieces, pb: sd.Pieces, tol: float) -> Tuple[np.ndarray, _Hulls]:
     """Pairs proven apart by more than tol: their control-hull boxes, or their hulls
     projected on the normal of either piece (convex hull property; the slab along a
-    normal separates nearly parallel sheets long before their boxes do)."""
+    normal separates nearly parallel sheets long before their boxes do). Returns them
+    and the hulls (the normals are set on the pairs not proven apart)."""
     lo_a, hi_a = sd.boxes(pa.ctrl)
     lo_b, hi_b = sd.boxes(pb.ctrl)
     out = sd.box_gap(lo_a, hi_a, lo_b, hi_b) > tol
+    normals = []
     for P in (pa, pb):
         keep = np.flatnonzero(~out)
+        n = np.zeros((len(out), 3))
         if keep.size:
-            out[keep] = sd.slab_gap(pa.ctrl[keep], pb.ctrl[keep], sd.corner_normal(P.ctrl[keep])) > tol
-    return out
+            n[keep] = sd.corner_normal(P.ctrl[keep])
+            out[keep] = sd.slab_gap(pa.ctrl[keep], pb.ctrl[keep], n[keep]) > tol
+        normals.append(n)
+    return out, _Hulls(lo_a, hi_a, lo_b, hi_b, normals[0], normals[1])
 
 
-def _children(pa: sd.Pieces, pb: sd.Pieces, split_a, split_b, tol: float, chunk: int = 2048):
-    """Child pairs of the pairs (pa, pb) that are not proven apart, made a chunk of
-    parents at a time so that the dead children of a large level never coexist."""
+def _children(pa: sd.Pieces, pb: sd.Pieces, split_a, split_b, tol: float, chunk: int = 2048
+              ) -> Tuple[sd.Pieces, sd.Pieces, _Hulls]:
+    """Child pairs of the pairs (pa, pb) that are not proven apart, and their hulls, made
+    a chunk of parents at a time so that the dead children of a large level never
+    coexist."""
     out_a: List[sd.Pieces] = []
     out_b: List[sd.Pieces] = []
+    hulls: List[_Hulls] = []
     for k in range(0, len(pa.ctrl), chunk):
         sl = slice(k, k + chunk)
         ca, cb, _ = sd.split_pairs(pa.take(sl), pb.take(sl), split_a[sl], split_b[sl])
-        keep = ~_separated(ca, cb, tol)
+        apart, h = _separated(ca, cb, tol)
+        keep = np.flatnonzero(~apart)
         out_a.append(ca.take(keep))
         out_b.append(cb.take(keep))
-    return sd.Pieces.concat(out_a), sd.Pieces.concat(out_b)
+        hulls.append(h.take(keep))
+    return sd.Pieces.concat(out_a), sd.Pieces.concat(out_b), _Hulls.concat(hulls)
 
 
 def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
@@ -118,11 +146,16 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
     leaf = _SEED_FRACTION * size
     seeds, complete = [], True
     cov: Tuple[List[np.ndarray], ...] = ([], [], [], [])  # covered boxes of a, their params on b; the same for b
+    hulls: Optional[_Hulls] = None
     for level in range(40):
         if len(pa.ctrl) == 0:
             break
         # (children come from _children, which kept only the pairs _separated does not part)
-        live = ~_separated(pa, pb, tol) if level == 0 else np.ones(len(pa.ctrl), bool)
+        if hulls is None:
+            apart, hulls = _separated(pa, pb, tol)
+            live = ~apart
+        else:
+            live = np.ones(len(pa.ctrl), bool)
         live &= ~so.covered(pa.lo, pa.hi, cov[0]) & ~so.covered(pb.lo, pb.hi, cov[2])
         dev_a, ext_a = sd.flatness(pa.ctrl)
         dev_b, ext_b = sd.flatness(pb.ctrl)
@@ -131,7 +164,7 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
         # well): with "flat-ish" (dev <= 0.15 ext) the first flat pieces of a unit sphere
         # were 0.54 across, below the cap 2 sqrt(2 tol size) from tol = 1.8e-2 on, and
         # intersect(sphere, sphere, tol=2e-2) gave 8,914 contact points in 50 s
-        sine = np.linalg.norm(np.cross(sd.corner_normal(pa.ctrl), sd.corner_normal(pb.ctrl)), axis=1)
+        sine = np.linalg.norm(np.cross(hulls.n_a, hulls.n_b), axis=1)
         test = np.flatnonzero(live & (sine < 0.05) & (np.minimum(ext_a, ext_b) >= _overlap_cap(tol, size)))
         if test.size:
             for P, Q, G, H, k in ((pa, pb, A, B, 0), (pb, pa, B, A, 2)):
@@ -141,10 +174,8 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
                     cov[k].append(np.concatenate([P.lo[test][hit], P.hi[test][hit]], axis=1))
                     cov[k + 1].append(mid[hit])
             live &= ~so.covered(pa.lo, pa.hi, cov[0]) & ~so.covered(pb.lo, pb.hi, cov[2])
-        lo_a, hi_a = sd.boxes(pa.ctrl)
-        lo_b, hi_b = sd.boxes(pb.ctrl)
-        da = np.linalg.norm(hi_a - lo_a, axis=1)
-        db = np.linalg.norm(hi_b - lo_b, axis=1)
+        da = np.linalg.norm(hulls.hi_a - hulls.lo_a, axis=1)
+        db = np.linalg.norm(hulls.hi_b - hulls.lo_b, axis=1)
         done = live & (dev_a <= _REL_FLAT * ext_a + tol) & (dev_b <= _REL_FLAT * ext_b + tol) \
             & (da <= leaf) & (db <= leaf)
         go = np.flatnonzero(live & ~done)
@@ -152,7 +183,7 @@ def _seeds_pair(A: sd.Geometry, B: sd.Geometry, tol: float, max_pairs: int):
             seeds.append(_midpoints(pa, pb, done))
         if go.size == 0:
             break
-        ca, cb = _children(pa.take(go), pb.take(go), da[go] >= 0.5 * db[go], db[go] >= 0.5 * da[go], tol)
+        ca, cb, hulls = _children(pa.take(go), pb.take(go), da[go] >= 0.5 * db[go], db[go] >= 0.5 * da[go], tol)
         if len(ca.ctrl) > max_pairs:          # too many: the open pairs' midpoints become seeds
             complete = False
             seeds.append(_midpoints(pa, pb, go))
