@@ -31,6 +31,11 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
   derivative, and below SEARCH_TOL a search over the counts, so that points sampled from
   a B-spline come back as it; a smaller count is kept only when every point stays within
   tol;
+- many points (this project's): above FIT_SAMPLE_POINTS (not periodic) the rounds above
+  run on an evenly spaced sample of the points, the knots they end with are fitted to
+  every point (from its foot on the sample's curve) and kept when every point is within
+  tol, else the rounds go on with every point from those knots; the knot recovery runs
+  on at most RECOVERY_POINTS of them the same way: every pass costs O(points);
 - the error reported is the certified closest-point distance of every point from the
   result (:func:`cagd.closest_point`), not the distance at the fitting parameters.
 """
@@ -133,6 +138,12 @@ class _Problem:
         self.tangents, self.periodic = tangents, periodic
         self.least = p + 1                                  # the fewest control points allowed
         self._cached: Tuple[bytes, np.ndarray] = (b"", np.zeros((0, 0)))
+
+    def subset(self, rows: np.ndarray) -> "_Problem":
+        """The same problem on the points ``rows`` only (their weights relative as here)."""
+        out = _Problem(self.Q[rows], self.w[rows], self.p, self.lam, self.r, self.tangents, self.periodic)
+        out.least = self.least
+        return out
 
     def layout(self, cols: np.ndarray, n: int) -> np.ndarray:
         """The unknowns' positions of the unwrapped pole indices ``cols``."""
@@ -636,7 +647,97 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     most_spans = most if periodic else most - p          # a periodic curve has one pole per span
     # one Bezier span (two for p < 3 with tangents); periodic: p + 1 spans, the fewest
     breaks = np.linspace(0.0, 1.0, (p + 2) if periodic else (least - p + 1))
-    knots = (lambda b: kv.periodic_extend(b, p)) if periodic else (lambda b: _knots(b, p))
+    floor = (p + 1 if periodic else least - p) - 1
+    recover = smoothing == 0.0 and not any(T is not None for T in tangents)
+    plan = _Plan(p, periodic, most, most_spans, tol_n, scale, recover)
+    fits, done = 0, None
+    if not periodic and m > FIT_SAMPLE_POINTS:
+        # the knots searched on a sample of the points, then fitted to all of them
+        rows = _sample_rows(m, FIT_SAMPLE_POINTS)
+        if problem.w[rows].max() > 0.0:
+            cap = max(least, min(most, len(rows) + held))     # the sample's own cap, as the points'
+            c_s, t_s, ok_s, fits, why, breaks = _fit_all(problem.subset(rows), u[rows], u[rows], breaks, floor,
+                                                         counted[rows], plan._replace(most=cap, most_spans=cap - p))
+            if ok_s:
+                U = np.asarray(c_s.knots)
+                start = _feet_on(U, p, c_s.control_points, problem.Q, np.interp(np.arange(m), rows, t_s))
+                fitted, tt, ee = _fit_on(problem, U, start, tol_n)
+                fits += 1
+                if float(ee[counted].max()) <= tol_n:
+                    done = (fitted, tt, None)
+                else:                                    # a miss between the sampled points:
+                    floor = len(breaks) - 1              # on with every point from these knots
+    if done is None:
+        curve, t, _, more, why, breaks = _fit_all(problem, u, u, breaks, floor, counted, plan)
+        fits += more
+    else:
+        curve, t, why = done
+    if periodic:
+        n = len(breaks) - 1
+        result = BSplineCurve(curve.control_points[:n] * scale + center, p, breaks, periodic=True)
+        return _measured(result, Q, t, counted, tol, fits, why)
+    P = curve.control_points * scale + center
+    P[0], P[-1] = Q[0], Q[-1]                      # the end points, bit for bit
+    if tangents[0] is not None:                    # the tangent lines, in the model's frame
+        P[1] = Q[0] + tangents[0] * max(float((P[1] - Q[0]) @ tangents[0]), MIN_TANGENT * scale)
+    if tangents[1] is not None:
+        P[-2] = Q[-1] - tangents[1] * max(float((Q[-1] - P[-2]) @ tangents[1]), MIN_TANGENT * scale)
+    result = BSplineCurve(P, p, curve.knots)
+    return _measured(result, Q, t, counted, tol, fits, why)
+
+
+class _Plan(NamedTuple):
+    """What a fit's search needs besides its points: the degree, periodic, the control-point
+    cap ``most`` and its span count, tol_n and the frame's scale (the stall messages are
+    in model units), and whether the knot-recovery stage runs."""
+    p: int
+    periodic: bool
+    most: int
+    most_spans: int
+    tol_n: float
+    scale: float
+    recover: bool
+
+
+#: above this many points the knots are searched on FIT_SAMPLE_POINTS of them (evenly
+#: spaced in their order, both ends among them), then fitted to all of them and checked
+#: there; where a point between the sampled ones misses, the search goes on with every
+#: point from those knots. Each correction pass costs O(points): 100,000 points of the
+#: anchor curve took 11 s, 20,000 took 18 s (the knot-recovery stage, see RECOVERY_POINTS)
+FIT_SAMPLE_POINTS = 4000
+
+
+#: Newton rounds (:func:`_feet`, FOOT_NEWTON_STEPS steps each) that take every point to its
+#: foot on a curve fitted to a sample of them, before the fit to all of them
+SAMPLE_FEET_ROUNDS = 3
+
+
+def _feet_on(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The points' Q parameters moved to their feet on the clamped curve (U, P) from t:
+    SAMPLE_FEET_ROUNDS rounds of :func:`_feet` (the ends stay at 0 and 1)."""
+    jet = _jet(U, p, t)
+    for _ in range(SAMPLE_FEET_ROUNDS):
+        jet = _feet(U, p, P, Q, jet)
+    return jet.t
+
+
+def _sample_rows(m: int, count: int) -> np.ndarray:
+    """``count`` row indices evenly spaced over 0 .. m - 1, both ends among them."""
+    return np.unique(np.round(np.linspace(0.0, m - 1.0, count)).astype(np.intp))
+
+
+def _fit_all(problem: _Problem, u: np.ndarray, t0: np.ndarray, breaks: np.ndarray, floor: int, counted: np.ndarray,
+             plan: _Plan) -> Tuple[BSplineCurve, np.ndarray, bool, int, Optional[str], np.ndarray]:
+    """The fit's search (:func:`fit_curve`; the module docstring) from the breakpoints
+    ``breaks`` with the points' initial parameters u (``t0`` those of the first attempt):
+    grow until every point is within tol (or the cap, or a stall: tol below the noise),
+    shrink by bisection down to ``floor`` + 1 spans (a count known or taken to miss),
+    then (not periodic) Tiller's knot removal and the knot-recovery stage. Returns
+    (curve, parameters, within tol, fits run, why the growth stalled or None, its
+    breakpoints); a periodic curve comes back unwrapped (its knots
+    :func:`cagd.knots.periodic_extend` of the breakpoints)."""
+    p, tol_n, most_spans = plan.p, plan.tol_n, plan.most_spans
+    knots = (lambda b: kv.periodic_extend(b, p)) if plan.periodic else (lambda b: _knots(b, p))
     fits = 0
 
     def attempt(b: np.ndarray, start: np.ndarray) -> Tuple[BSplineCurve, np.ndarray, np.ndarray, float]:
@@ -646,9 +747,9 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         return c, tt, ee * counted, float(ee[counted].max())
 
     # grow: until every point is within tol (or the cap, or a stall: tol below the noise)
-    curve, t, e, worst = attempt(breaks, u)
+    curve, t, e, worst = attempt(breaks, t0)
     best = (curve, t, e, breaks, worst)                  # the grown fit with the smallest largest miss
-    history = [(len(curve.control_points), worst * scale)]
+    history = [(len(curve.control_points), worst * plan.scale)]
     why = None
     while worst > tol_n and fits < MAX_FIT_ROUNDS:
         s = len(breaks) - 1
@@ -662,17 +763,16 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         curve, t, e, worst = attempt(breaks, u)
         if worst < best[4]:
             best = (curve, t, e, breaks, worst)
-        history.append((len(curve.control_points), worst * scale))
+        history.append((len(curve.control_points), worst * plan.scale))
         why = stalled(history, int(np.count_nonzero(counted)))
         if why:
             break
     if why is None:
         best = (curve, t, e, breaks, worst)
-    # the growth's misses had other knots: no lower bound for the search but the fewest
-    # spans allowed (p + 1 periodic; one, or two with both tangents at degree < 3)
-    failed = (p + 1 if periodic else least - p) - 1
     # shrink: bisect the span count between the last miss and the best fit, the knots
-    # equidistributing the best fit's error
+    # equidistributing the best fit's error (the growth's misses had other knots: no
+    # lower bound for the search but ``floor``)
+    failed = floor
     while best[4] <= tol_n and fits < MAX_FIT_ROUNDS:
         hi = len(best[3]) - 1
         c = _worth(_span_errors(best[3], best[1], best[2]), tol_n, p)
@@ -687,23 +787,15 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
             best = (curve, t, e, trial, worst)
         else:
             failed = count
-    curve, t = best[0], best[1]
-    if periodic:
-        n = len(best[3]) - 1
-        result = BSplineCurve(curve.control_points[:n] * scale + center, p, best[3], periodic=True)
-        return _measured(result, Q, t, counted, tol, fits, why)
-    if best[4] <= tol_n:
+    curve, t, ok = best[0], best[1], best[4] <= tol_n
+    if plan.periodic:
+        return curve, t, ok, fits, why, best[3]
+    if ok:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
-    if smoothing == 0.0 and not any(T is not None for T in tangents):
-        curve, t, fits = _recovered(problem, curve, t, u, best[4] <= tol_n, most, tol_n, counted, fits)
-    P = curve.control_points * scale + center
-    P[0], P[-1] = Q[0], Q[-1]                      # the end points, bit for bit
-    if tangents[0] is not None:                    # the tangent lines, in the model's frame
-        P[1] = Q[0] + tangents[0] * max(float((P[1] - Q[0]) @ tangents[0]), MIN_TANGENT * scale)
-    if tangents[1] is not None:
-        P[-2] = Q[-1] - tangents[1] * max(float((Q[-1] - P[-2]) @ tangents[1]), MIN_TANGENT * scale)
-    result = BSplineCurve(P, p, curve.knots)
-    return _measured(result, Q, t, counted, tol, fits, why)
+    if plan.recover:
+        curve, t, fits = _recovered(problem, curve, t, u, ok, plan.most, tol_n, counted, fits)
+        ok = float(_misses(np.asarray(curve.knots), p, curve.control_points, problem.Q, t)[counted].max()) <= tol_n
+    return curve, t, ok, fits, why, np.unique(np.asarray(curve.knots))
 
 
 def _closed_parameters(Q: np.ndarray, parameters: ParameterSpec) -> np.ndarray:
@@ -759,11 +851,30 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
     if n <= problem.least:
         return curve, t, fits
     search = bool(tol_n <= SEARCH_TOL and (not ok or n >= SEARCH_FILL * np.count_nonzero(counted)))
-    found = recover_knots(problem, (np.asarray(curve.knots), curve.control_points, t), initial, tol_n, counted,
-                          n - p - 2, search)
+    m = len(problem.Q)
+    rows = _sample_rows(m, RECOVERY_POINTS) if m > RECOVERY_POINTS else np.arange(m)
+    sub = problem if len(rows) == m or not problem.w[rows].max() > 0.0 else problem.subset(rows)
+    rows = rows if sub is not problem else np.arange(m)
+    found = recover_knots(sub, (np.asarray(curve.knots), curve.control_points, t[rows]), initial[rows], tol_n,
+                          counted[rows], n - p - 2, search)
     if found is None:
         return curve, t, fits
-    return BSplineCurve(found[1], p, found[0]), found[2], fits + 1
+    if sub is problem:
+        return BSplineCurve(found[1], p, found[0]), found[2], fits + 1
+    # the knots found on the sample, fitted to every point (from their feet on its curve,
+    # started between the sampled points' own)
+    start = _feet_on(found[0], p, found[1], problem.Q, np.interp(np.arange(m), rows, found[2]))
+    fitted, t2, e2 = _fit_on(problem, found[0], start, tol_n)
+    if float(e2[counted].max()) > tol_n:
+        return curve, t, fits + 1
+    return fitted, t2, fits + 2
+
+
+#: the knot-recovery stage runs on at most this many of the points (evenly spaced in their
+#: order, both ends among them: its passes cost O(points) each, and 20,000 points of the
+#: anchor curve spent 15 of their 18 s there, in vain); the knots it finds are then fitted
+#: to every point and kept only when every point is within tol
+RECOVERY_POINTS = 2000
 
 
 #: the knot-recovery stage searches the counts below this tol (in the unit-ball frame),

@@ -97,15 +97,28 @@ JUMP_GAP = 8.0
 
 def knot_jacobian(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray) -> np.ndarray:
     """dC(t)/dk for each interior knot k of the clamped U at fixed control points P:
-    (len(t), d, q), exact: de Boor's algorithm (Piegl & Tiller A5.1's triangle; The NURBS
-    Book 3.2) differentiated forward through its ratios alpha = (t - a) / (b - a) with
-    respect to each of the 2p knots U_(s-p+1) .. U_(s+p) of the point's span s, at once
-    for all points (d alpha / da = (t - b) / (b - a)^2, d alpha / db = -(t - a) / (b - a)^2)."""
+    (len(t), d, q), exact (:func:`local_knot_jacobian`, scattered into the q columns)."""
     n, d = P.shape
     q = len(U) - 2 * (p + 1)
     G = np.zeros((len(t), d, max(q, 0)))
     if q <= 0 or p == 0:
         return G
+    L, k = local_knot_jacobian(U, p, P, t)
+    rows, js = np.nonzero(k >= 0)
+    G[rows, :, k[rows, js]] = L[rows, :, js]
+    return G
+
+
+def local_knot_jacobian(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """dC(t)/dK_j for the 2p knots K_j = U_(s-p+1+j) of each point's span s at fixed control
+    points P, the only knots C(t) depends on: (values (len(t), d, 2p), the interior index
+    of each K_j (len(t), 2p), -1 for an end knot), p >= 1; exact: de Boor's algorithm
+    (Piegl & Tiller A5.1's triangle; The NURBS Book 3.2) differentiated forward through
+    its ratios alpha = (t - a) / (b - a), at once for all points (d alpha / da =
+    (t - b) / (b - a)^2, d alpha / db = -(t - a) / (b - a)^2). O(len(t) p^2) work and
+    memory, whatever the number of knots."""
+    n, d = P.shape
+    q = len(U) - 2 * (p + 1)
     s = kv.find_span(U, p, t, n)
     K = U[s[:, None] - p + 1 + np.arange(2 * p)]                        # (m, 2p): U_(s-p+1+j)
     D = np.moveaxis(P[s[:, None] - p + np.arange(p + 1)], 1, 0)          # (p + 1, m, d)
@@ -122,9 +135,7 @@ def knot_jacobian(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray) -> np.nda
             dD[i, p + i - r] -= ((t - a) / h ** 2)[:, None] * diff
             D[i] = D[i - 1] + alpha * diff
     k = s[:, None] - p + 1 + np.arange(2 * p) - (p + 1)                 # interior index of K_j
-    rows, js = np.nonzero((k >= 0) & (k < q))
-    G[rows, :, k[rows, js]] = dD[p, js, rows]
-    return G
+    return np.moveaxis(dD[p], 0, 2), np.where((k >= 0) & (k < q), k, -1)
 
 
 def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarray, mu: float, lam: float,
@@ -139,22 +150,27 @@ def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarra
     N = basis_derivatives(U, p, t, span, 0)[0]
     cols = span[:, None] - p + np.arange(p + 1)
     M = (1.0 + mu) * np.eye(d) - T[:, :, None] * T[:, None, :]
-    G = knot_jacobian(U, p, P0, t)                                        # (m, d, q)
-    q = G.shape[2]
+    q = max(len(U) - 2 * (p + 1), 0)
+    G, k = local_knot_jacobian(U, p, P0, t) if q else (np.zeros((m, d, 0)), np.zeros((m, 0), np.intp))
+    G = np.where(k[:, None, :] >= 0, G, 0.0)                              # (m, d, 2p): end knots held
+    k = np.maximum(k, 0)
     start, A = _blocks(n, d, p)
     _accumulate(A, start, cols, N, w, d, M)
     MQ = np.einsum("kab,kb->ka", M, Q)
-    MG = np.einsum("kab,kbq->kaq", M, G)                                  # (m, d, q)
+    MG = np.einsum("kab,kbj->kaj", M, G)                                  # (m, d, 2p)
     rhs = np.zeros((n * d, 1 + q))
     wN = N * w[:, None]
+    row = cols[:, :, None] * d + np.arange(d)                             # (m, p + 1, d)
     for a in range(d):
-        idx = (cols * d + a).ravel()
-        rhs[:, 0] += np.bincount(idx, (wN * MQ[:, a, None]).ravel(), minlength=n * d)
-        for j in range(q):
-            rhs[:, 1 + j] += np.bincount(idx, (wN * MG[:, a, j, None]).ravel(), minlength=n * d)
-    Cm = rhs[:, 1:].copy()
-    Dm = np.einsum("k,kaq,kar->qr", w, G, MG)
-    e = np.einsum("k,kaq,ka->q", w, G, MQ)
+        rhs[:, 0] += np.bincount(row[:, :, a].ravel(), (wN * MQ[:, a, None]).ravel(), minlength=n * d)
+    # C = B^T M G and D = G^T M G: each point touches its p + 1 poles and 2p knots only
+    cell = (row[:, :, :, None] * q + k[:, None, None, :]).ravel()        # (m, p + 1, d, 2p)
+    Cm = np.bincount(cell, (wN[:, :, None, None] * MG[:, None]).ravel(), minlength=n * d * q).reshape(n * d, q)
+    rhs[:, 1:] = Cm
+    pair = (k[:, :, None] * q + k[:, None, :]).ravel()                    # (m, 2p, 2p)
+    Dm = np.bincount(pair, (w[:, None, None] * np.einsum("kaj,kal->kjl", G, MG)).ravel(),
+                     minlength=q * q).reshape(q, q)
+    e = np.bincount(k.ravel(), (w[:, None] * np.einsum("kaj,ka->kj", G, MQ)).ravel(), minlength=q)
     scalars = np.array([a for a in range(d)] + [(n - 1) * d + a for a in range(d)])
     values = np.zeros((2 * d, 1 + q))
     values[:d, 0], values[d:, 0] = Q[0], Q[-1]

@@ -430,3 +430,64 @@ def test_stalled_rule():
     assert stalled(falling, 1000) is None                                      # halved: a shape resolved
     assert stalled(falling[:3] + [(361, STALL_GAIN * 1.0 + 1e-6)], 1000) is not None
     assert stalled([(49, 1.0)] * 4, 10) is None                                # no new poles
+
+
+# --- many points: the knots searched on a sample (fit.FIT_SAMPLE_POINTS), fitted to all ------------
+def _searched_sizes(monkeypatch):
+    """The point counts of every search (fit._fit_all) a fit_curve call runs."""
+    from cagd.fitting import fit as fit_module
+    sizes = []
+    original = fit_module._fit_all
+
+    def spy(problem, *args, **kwargs):
+        sizes.append(len(problem.Q))
+        return original(problem, *args, **kwargs)
+    monkeypatch.setattr(fit_module, "_fit_all", spy)
+    return sizes
+
+
+def test_many_points_are_searched_on_a_sample_and_fitted_to_all(monkeypatch):
+    """20,000 points of the anchor curve: the knots come from a search on
+    FIT_SAMPLE_POINTS of them, every point is within tol by the certified closest point
+    (brute force beside it), and the count is that of the 2,000-point fit within two."""
+    from cagd.fitting.fit import FIT_SAMPLE_POINTS
+    sizes = _searched_sizes(monkeypatch)
+    Q = anchor_curve(20000)
+    r = fit_curve(Q, 0.01)
+    assert sizes == [FIT_SAMPLE_POINTS]
+    assert r.converged and r.max_error <= 0.01
+    assert r.max_error == pytest.approx(float(cagd.closest_point(r.curve, Q).distances.max()), abs=1e-12)
+    dense = r.curve(np.linspace(0.0, 1.0, 200001))
+    from scipy.spatial import cKDTree
+    assert float(cKDTree(dense).query(Q)[0].max()) <= 0.01 + 1e-6
+    assert abs(len(r.curve.control_points) - len(fit_curve(anchor_curve(2000), 0.01).curve.control_points)) <= 2
+
+
+def test_a_point_between_the_sampled_ones_still_counts(monkeypatch):
+    """One point 50 tol off the curve, not among the sampled rows: the fit on the sample's
+    knots misses it, the search goes on with every point, and it ends within tol."""
+    from cagd.fitting.fit import FIT_SAMPLE_POINTS, _sample_rows
+    m = 8000
+    Q = anchor_curve(m)
+    off = int(np.setdiff1d(np.arange(m // 2, m), _sample_rows(m, FIT_SAMPLE_POINTS))[0])
+    Q[off, 2] += 0.05
+    sizes = _searched_sizes(monkeypatch)
+    r = fit_curve(Q, 0.001)
+    assert sizes == [FIT_SAMPLE_POINTS, m]
+    assert r.converged and r.max_error <= 0.001
+    assert float(cagd.closest_point(r.curve, Q[off]).distances[0]) <= 0.001
+
+
+def test_a_b_spline_sampled_at_many_points_comes_back():
+    """5,000 points of a 7-pole cubic (above FIT_SAMPLE_POINTS, and the knot recovery on
+    RECOVERY_POINTS of them): the same curve, knots and poles to 1e-10."""
+    rng = np.random.default_rng(5)
+    P = rng.random((7, 3)) * 10
+    U = np.array([0, 0, 0, 0, 0.3, 0.45, 0.7, 1, 1, 1, 1.0])
+    C = BSplineCurve(P, 3, U)
+    s = np.sort(rng.random(5000)) ** 1.1
+    s[0], s[-1] = 0.0, 1.0
+    r = fit_curve(C(s), 1e-9)
+    assert r.converged and r.curve.control_points.shape == (7, 3)
+    assert np.abs(np.asarray(r.curve.knots) - U).max() <= 1e-10
+    assert np.abs(r.curve.control_points - P).max() <= 1e-10 * np.abs(P).max()
