@@ -54,11 +54,8 @@ def test_gordon_benchmark_runs(capsys):
 def _corpus():
     """The CAD corpus (../shared/data/cad beside the checkout, or beside the main one for a
     clone elsewhere) holding occ22470.igs; skips without it or without OCCT."""
-    from pathlib import Path
     pytest.importorskip("OCP")
-    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
-    if not folder.is_dir():
-        folder = Path("/work/shared/data/cad")
+    from corpus import CAD as folder
     if not (folder / "iges" / "occ22470.igs").exists():
         pytest.skip("the CAD corpus is not here")
     return folder

@@ -5,7 +5,6 @@ near-duplicate vertices, holes bridged across each other); now every one covers 
 exactly once in (u, v) and its 3-D mesh area is within 2e-3 of area() at count 32
 (measured 0.9990-1.0006), the mesh's deviation falling as the count doubles."""
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,9 +13,7 @@ import cagd
 from trim_shapes import check_triangulation, mesh_area
 
 pytest.importorskip("OCP")
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 FILE = CAD / "step" / "trj1_t4m-pe.stp"
 needs_file = pytest.mark.skipif(not FILE.is_file(), reason=f"{FILE} is not there")
 

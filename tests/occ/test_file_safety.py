@@ -21,8 +21,7 @@ from cagd.occ import read_iges, read_step, write_iges, write_step  # noqa: E402
 from cagd.occ.files import MIN_EXTENT  # noqa: E402
 
 CHILD_TIMEOUT = 240.0      # seconds; a hang guard for the child process only
-REAL = next((p for p in (Path(__file__).parents[2] / ".." / "shared" / "data" / "cad", Path("/work/shared/data/cad"))
-             if p.is_dir()), Path("/nonexistent"))
+from corpus import CAD as REAL  # noqa: E402
 SURFACE = BSplineSurface(np.random.default_rng(0).random((4, 4, 3)) * 10.0, 3, 3)
 CURVE = BezierCurve(np.random.default_rng(1).random((4, 3)) * 10.0)
 

@@ -20,7 +20,6 @@ import re
 import subprocess
 import sys
 import textwrap
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -39,8 +38,7 @@ from cagd.occ.files import _shapes  # noqa: E402
 from cagd.occ.shapes import subshapes  # noqa: E402
 from cagd.surfaces import trimmed as tr  # noqa: E402
 
-REAL = next((p for p in (Path(__file__).parents[2] / ".." / "shared" / "data" / "cad", Path("/work/shared/data/cad"))
-             if p.is_dir()), Path("/nonexistent"))
+from corpus import CAD as REAL  # noqa: E402
 W = np.sqrt(0.5)
 
 

@@ -2,7 +2,6 @@
 README): what OCCT reads (counts, degrees, weights) and that every engine object
 evaluates as OCCT's evaluation of the face's surface; a write_step/read_step round
 trip of what was read is exact. Skipped when the folder is absent."""
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,9 +19,7 @@ from OCP.BRepAdaptor import BRepAdaptor_Surface  # noqa: E402
 from cagd import BSplineCurve, BSplineSurface, TrimmedSurface, closest_point  # noqa: E402
 from cagd.occ import Imported, read_iges, read_step, write_step  # noqa: E402
 
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():                     # a worktree of the checkout: the corpus beside the main one
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 pytestmark = pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")
 
 STEP_FILES = ["bug28366_fuselage.stp", "trj7_c2-al-214.stp", "xr1-tu-rod.stp", "bug29478.stp",

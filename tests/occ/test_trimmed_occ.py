@@ -209,9 +209,7 @@ def test_make_face_refuses_other_input():
 
 
 # --- edge curves (issue 15: boundary() as the file's own 3-D edges) ---------------------------------------
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 real = pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")
 EDGE_FILES = ["step/xr1-tu-rod.stp", "step/trj12_gd1-id-214.stp", "step/xr1-db-214_7.stp", "step/trj1_t4m-pe.stp",
               "iges/OCC8842_cylinder_Ideas.igs"]

@@ -133,9 +133,7 @@ def test_far_from_the_boundary_against_brute_force_distances():
 
 
 # --- real files (../shared/data/cad; skipped when absent) ---------------------------------------------
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 real = pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")
 SMALL = ["xr1-tu-rod.stp", "trj12_gd1-id-214.stp", "xr1-db-214_7.stp", "trj2_io1-ca-214.stp", "trj1_t4m-pe.stp"]
 

@@ -2,7 +2,6 @@
 it (issue 16): repeated points and two parameter jumps in a row at a pole, and
 collocations too ill-conditioned for interpolate's residual check, are fitted or
 reported, never raised."""
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -69,9 +68,7 @@ def test_well_conditioned_collocation_is_the_interpolant():
     assert np.abs(c(s) - ref(s)).max() <= 1e-12
 
 
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 
 
 @pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")

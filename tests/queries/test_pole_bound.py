@@ -4,7 +4,6 @@ its minimum); closest points near a cone's apex against a dense-sampling brute f
 (KD-tree), with lower bounds equal to the distances to 1e-9; the nose of a real fuselage
 (bug28366_fuselage.stp, skipped when the corpus is absent)."""
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +14,7 @@ import cagd
 from cagd.queries._pole_bound import PoleCells
 from cagd.queries.closest import Projector
 
-CAD = Path(__file__).resolve().parents[3] / "shared" / "data" / "cad"
+from corpus import CAD  # noqa: E402
 
 
 def _cone(side: int, weights: bool, rng: np.random.Generator, n: int = 6) -> cagd.BSplineSurface:

@@ -4,7 +4,6 @@
 samples only where the centre is on the surface (issue 16: nearly parallel neighbours
 are tested at every level and almost never lie on each other)."""
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,9 +109,7 @@ def test_the_hull_gap_is_a_lower_bound_of_the_distance(seed, p, q, reach):
     assert sd.hull_gap(up, flat[:1])[0] == pytest.approx(reach, rel=1e-12)
 
 
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 
 
 @pytest.mark.skipif(not CAD.is_dir(), reason="../shared/data/cad is not there")

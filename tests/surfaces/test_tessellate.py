@@ -10,7 +10,6 @@ path), which a chord spanning a quarter circle of the surface (a trim edge strai
 trj1_t4m-pe faces 1 and 8: mesh area / area() = 1.66 and 1.47, now 0.999)."""
 import math
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -173,9 +172,7 @@ def test_a_loop_box_over_the_lines_at_both_ends_makes_no_sliver():
 
 
 # --- loops leaving a bounded direction; seams of periodic faces ------------------------------------
-CAD = Path(__file__).parents[2] / ".." / "shared" / "data" / "cad"
-if not CAD.is_dir():
-    CAD = Path("/work/shared/data/cad")
+from corpus import CAD  # noqa: E402
 
 
 def _real_face(name, index):
