@@ -31,7 +31,7 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
   derivative, and below SEARCH_TOL a search over the counts, so that points sampled from
   a B-spline come back as it; a smaller count is kept only when every point stays within
   tol;
-- many points (this project's): above FIT_SAMPLE_POINTS (not periodic) the rounds above
+- many points (this project's): above FIT_SAMPLE_POINTS the rounds above
   run on an evenly spaced sample of the points, the knots they end with are fitted to
   every point (from its foot on the sample's curve) and kept when every point is within
   tol, else the rounds go on with every point from those knots; the knot recovery runs
@@ -48,6 +48,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _checks
+from .._periodic import wrapped_difference
 from .._results import ReadOnlyArrays
 from ..basis.banded import banded_product, solve_banded_rows
 from ..basis.bspline import basis_derivatives
@@ -651,16 +652,22 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     recover = smoothing == 0.0 and not any(T is not None for T in tangents)
     plan = _Plan(p, periodic, most, most_spans, tol_n, scale, recover)
     fits, done = 0, None
-    if not periodic and m > FIT_SAMPLE_POINTS:
+    if m > FIT_SAMPLE_POINTS:
         # the knots searched on a sample of the points, then fitted to all of them
         rows = _sample_rows(m, FIT_SAMPLE_POINTS)
         if problem.w[rows].max() > 0.0:
             cap = max(least, min(most, len(rows) + held))     # the sample's own cap, as the points'
+            sample = plan._replace(most=cap, most_spans=cap if periodic else cap - p)
             c_s, t_s, ok_s, fits, why, breaks = _fit_all(problem.subset(rows), u[rows], u[rows], breaks, floor,
-                                                         counted[rows], plan._replace(most=cap, most_spans=cap - p))
+                                                         counted[rows], sample)
             if ok_s:
                 U = np.asarray(c_s.knots)
-                start = _feet_on(U, p, c_s.control_points, problem.Q, np.interp(np.arange(m), rows, t_s))
+                if periodic:              # the feet unwrapped along the initial parameters, in between
+                    ts = u[rows] + wrapped_difference(t_s, u[rows], 1.0)
+                    start = np.mod(np.interp(np.arange(m), rows, ts), 1.0)
+                else:
+                    start = np.interp(np.arange(m), rows, t_s)
+                start = _feet_on(U, p, c_s.control_points, problem.Q, start, periodic)
                 fitted, tt, ee = _fit_on(problem, U, start, tol_n)
                 fits += 1
                 if float(ee[counted].max()) <= tol_n:
@@ -700,7 +707,7 @@ class _Plan(NamedTuple):
 
 
 #: above this many points the knots are searched on FIT_SAMPLE_POINTS of them (evenly
-#: spaced in their order, both ends among them), then fitted to all of them and checked
+#: spaced in their order, the first and the last among them), then fitted to all of them and checked
 #: there; where a point between the sampled ones misses, the search goes on with every
 #: point from those knots. Each correction pass costs O(points): 100,000 points of the
 #: anchor curve took 11 s, 20,000 took 18 s (the knot-recovery stage, see RECOVERY_POINTS)
@@ -712,12 +719,14 @@ FIT_SAMPLE_POINTS = 4000
 SAMPLE_FEET_ROUNDS = 3
 
 
-def _feet_on(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """The points' Q parameters moved to their feet on the clamped curve (U, P) from t:
-    SAMPLE_FEET_ROUNDS rounds of :func:`_feet` (the ends stay at 0 and 1)."""
+def _feet_on(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray, periodic: bool = False
+             ) -> np.ndarray:
+    """The points' Q parameters moved to their feet on the curve (U, P) from t:
+    SAMPLE_FEET_ROUNDS rounds of :func:`_feet` (clamped: the ends stay at 0 and 1;
+    ``periodic``: U unwrapped, every parameter moves modulo 1)."""
     jet = _jet(U, p, t)
     for _ in range(SAMPLE_FEET_ROUNDS):
-        jet = _feet(U, p, P, Q, jet)
+        jet = _feet(U, p, P, Q, jet, periodic)
     return jet.t
 
 

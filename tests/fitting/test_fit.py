@@ -491,3 +491,23 @@ def test_a_b_spline_sampled_at_many_points_comes_back():
     assert r.converged and r.curve.control_points.shape == (7, 3)
     assert np.abs(np.asarray(r.curve.knots) - U).max() <= 1e-10
     assert np.abs(r.curve.control_points - P).max() <= 1e-10 * np.abs(P).max()
+
+
+def test_a_closed_curve_of_many_points_is_searched_on_a_sample(monkeypatch):
+    """12,000 points round a closed curve, periodic: the knots from FIT_SAMPLE_POINTS of
+    them (the sample's feet unwrapped across the seam), a periodic fit within tol of every
+    point with the count of the 3,000-point fit within two."""
+    from cagd.fitting.fit import FIT_SAMPLE_POINTS
+
+    def loop(m):
+        s = np.linspace(0.0, 1.0, m, endpoint=False)
+        return np.stack([30 * np.cos(2 * np.pi * s) + 5 * np.cos(10 * np.pi * s),
+                         30 * np.sin(2 * np.pi * s) - 5 * np.sin(10 * np.pi * s), 4 * np.sin(6 * np.pi * s)], 1)
+    fewer = fit_curve(loop(3000), 0.001, periodic=True)
+    sizes = _searched_sizes(monkeypatch)
+    Q = loop(12000)
+    r = fit_curve(Q, 0.001, periodic=True)
+    assert sizes == [FIT_SAMPLE_POINTS]
+    assert r.converged and r.curve.periodic and r.max_error <= 0.001
+    assert float(cagd.closest_point(r.curve, Q).distances.max()) <= 0.001
+    assert abs(len(r.curve.control_points) - len(fewer.curve.control_points)) <= 2
