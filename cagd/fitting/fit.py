@@ -354,8 +354,9 @@ def _magnitudes(G: np.ndarray, g: np.ndarray) -> np.ndarray:
     return best
 
 
-#: points per chunk when the normal matrix is accumulated (bounded working memory)
-ACCUMULATE_CHUNK = 8192
+#: points per chunk when the normal matrix is accumulated (bounded working memory: the
+#: products of one point are (p + 1)^2 d^2 numbers, 144 for a cubic in 3-D)
+ACCUMULATE_POINTS = 16384
 
 
 def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.ndarray, w: np.ndarray,
@@ -363,23 +364,22 @@ def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.nda
     """band += sum_k w_k (V_k V_k^T) (x) M_k at the poles cols[k] (the normal matrix
     N^T W N, coordinates coupled by M_k (m, d, d), or M_k = I when None). The products
     are summed per knot span first (np.add.reduceat over the points sorted by span), then
-    added to the band once per span: the scatter is O(spans), not O(points)."""
+    added to the band once per span: the scatter is O(spans), not O(points); at most
+    ACCUMULATE_POINTS points at a time (a span cut by a chunk's end is added in two parts)."""
     width = band.shape[1]
     flat = band.ravel()
     a = np.arange(d)
     order = np.argsort(cols[:, 0], kind="stable")
-    first = cols[order, 0]
-    cut = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
-    for c0 in range(0, len(cut), ACCUMULATE_CHUNK):
-        lo = cut[c0]
-        hi = cut[c0 + ACCUMULATE_CHUNK] if c0 + ACCUMULATE_CHUNK < len(cut) else len(order)
-        rows = order[lo:hi]
+    for c0 in range(0, len(order), ACCUMULATE_POINTS):
+        rows = order[c0:c0 + ACCUMULATE_POINTS]
+        first = cols[rows, 0]
+        cut = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
         VV = V[rows]
         vv = VV[:, :, None] * VV[:, None, :] * w[rows, None, None]               # (m, q, q)
         if M is not None:
             vv = vv[..., None, None] * M[rows, None, None]                      # (m, q, q, d, d)
-        S = np.add.reduceat(vv, cut[c0:c0 + ACCUMULATE_CHUNK] - lo, axis=0)
-        cc = cols[rows[cut[c0:c0 + ACCUMULATE_CHUNK] - lo]]                     # (spans, q)
+        S = np.add.reduceat(vv, cut, axis=0)
+        cc = cols[rows[cut]]                                                    # (spans, q)
         if M is None:
             I = cc[:, :, None, None] * d + a
             J = cc[:, None, :, None] * d + a

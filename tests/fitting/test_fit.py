@@ -511,3 +511,37 @@ def test_a_closed_curve_of_many_points_is_searched_on_a_sample(monkeypatch):
     assert r.converged and r.curve.periodic and r.max_error <= 0.001
     assert float(cagd.closest_point(r.curve, Q).distances.max()) <= 0.001
     assert abs(len(r.curve.control_points) - len(fewer.curve.control_points)) <= 2
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 64])
+@pytest.mark.parametrize("coupled", [False, True])
+def test_the_normal_matrix_is_the_same_in_chunks_of_points(monkeypatch, chunk, coupled):
+    """fit._accumulate in chunks of ACCUMULATE_POINTS points (a span cut by a chunk's end
+    added in two parts) equals the dense sum of w_k (N_k N_k^T) (x) M_k over the points."""
+    from cagd.fitting import fit as fit_module
+    from cagd.knots import vectors as kv
+    rng = np.random.default_rng(chunk)
+    p, d, m = 3, 3, 300
+    U = np.concatenate([np.zeros(p), np.linspace(0, 1, 9), np.ones(p)])
+    n = len(U) - p - 1
+    t = rng.random(m)
+    span = kv.find_span(U, p, t, n)
+    from cagd.basis.bspline import basis_derivatives
+    N = basis_derivatives(U, p, t, span, 0)[0]
+    cols = span[:, None] - p + np.arange(p + 1)
+    w = rng.random(m)
+    T = rng.normal(size=(m, d))
+    T /= np.linalg.norm(T, axis=1, keepdims=True)
+    M = 1.01 * np.eye(d) - T[:, :, None] * T[:, None, :] if coupled else None
+    dense = np.zeros((n * d, n * d))
+    for k in range(m):
+        B = np.zeros(n)
+        B[cols[k]] = N[k]
+        dense += w[k] * np.kron(np.outer(B, B), np.eye(d) if M is None else M[k])
+    monkeypatch.setattr(fit_module, "ACCUMULATE_POINTS", chunk)
+    start, band = fit_module._blocks(n, d, p)
+    fit_module._accumulate(band, start, cols, N, w, d, M)
+    rows = np.repeat(np.arange(n * d), band.shape[1])
+    got = np.zeros_like(dense)
+    got[rows, (start[:, None] + np.arange(band.shape[1])).ravel()] = band.ravel()
+    assert np.abs(got - dense).max() <= 1e-12 * np.abs(dense).max()
