@@ -668,11 +668,9 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
                 else:
                     start = np.interp(np.arange(m), rows, t_s)
                 start = _feet_on(U, p, c_s.control_points, problem.Q, start, periodic)
-                fitted, tt, ee = _fit_on(problem, U, start, tol_n)
+                done = _settled(problem, U, start, tol_n, counted)
                 fits += 1
-                if float(ee[counted].max()) <= tol_n:
-                    done = (fitted, tt, None)
-                else:                                    # a miss between the sampled points:
+                if done is None:                         # a miss between the sampled points:
                     floor = len(breaks) - 1              # on with every point from these knots
     if done is None:
         curve, t, _, more, why, breaks = _fit_all(problem, u, u, breaks, floor, counted, plan)
@@ -728,6 +726,21 @@ def _feet_on(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray,
     for _ in range(SAMPLE_FEET_ROUNDS):
         jet = _feet(U, p, P, Q, jet, periodic)
     return jet.t
+
+
+def _settled(problem: _Problem, U: np.ndarray, t: np.ndarray, tol_n: float, counted: np.ndarray
+             ) -> Optional[Tuple[BSplineCurve, np.ndarray, None]]:
+    """The fit of every point on the knots U (a sample's) from their feet t on the
+    sample's curve: one least-squares solve and new feet, kept when every counted point
+    is within tol_n there; else the corrected fit (:func:`_fit_on`) when that is; else None."""
+    p = problem.p
+    jet = _jet(U, p, t)
+    P = problem.solve(U, jet)
+    jet = _feet(U, p, P, problem.Q, jet, problem.periodic)
+    if float(np.sqrt(((jet.values(P, 0)[0] - problem.Q) ** 2).sum(-1))[counted].max()) <= tol_n:
+        return BSplineCurve(P, p, U), jet.t, None
+    fitted, tt, ee = _fit_on(problem, U, t, tol_n)
+    return (fitted, tt, None) if float(ee[counted].max()) <= tol_n else None
 
 
 def _sample_rows(m: int, count: int) -> np.ndarray:
