@@ -658,7 +658,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
         if problem.w[rows].max() > 0.0:
             cap = max(least, min(most, len(rows) + held))     # the sample's own cap, as the points'
             sample = plan._replace(most=cap, most_spans=cap if periodic else cap - p)
-            c_s, t_s, ok_s, fits, why, breaks = _fit_all(problem.subset(rows), u[rows], u[rows], breaks, floor,
+            c_s, t_s, ok_s, fits, why, breaks = _fit_all(problem.subset(rows), u[rows], breaks, floor,
                                                          counted[rows], sample)
             if ok_s:
                 U = np.asarray(c_s.knots)
@@ -673,7 +673,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
                 if done is None:                         # a miss between the sampled points:
                     floor = len(breaks) - 1              # on with every point from these knots
     if done is None:
-        curve, t, _, more, why, breaks = _fit_all(problem, u, u, breaks, floor, counted, plan)
+        curve, t, _, more, why, breaks = _fit_all(problem, u, breaks, floor, counted, plan)
         fits += more
     else:
         curve, t, why = done
@@ -748,10 +748,10 @@ def _sample_rows(m: int, count: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0.0, m - 1.0, count)).astype(np.intp))
 
 
-def _fit_all(problem: _Problem, u: np.ndarray, t0: np.ndarray, breaks: np.ndarray, floor: int, counted: np.ndarray,
-             plan: _Plan) -> Tuple[BSplineCurve, np.ndarray, bool, int, Optional[str], np.ndarray]:
+def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, counted: np.ndarray, plan: _Plan
+             ) -> Tuple[BSplineCurve, np.ndarray, bool, int, Optional[str], np.ndarray]:
     """The fit's search (:func:`fit_curve`; the module docstring) from the breakpoints
-    ``breaks`` with the points' initial parameters u (``t0`` those of the first attempt):
+    ``breaks`` with the points' initial parameters u:
     grow until every point is within tol (or the cap, or a stall: tol below the noise),
     shrink by bisection down to ``floor`` + 1 spans (a count known or taken to miss),
     then (not periodic) Tiller's knot removal and the knot-recovery stage. Returns
@@ -769,7 +769,7 @@ def _fit_all(problem: _Problem, u: np.ndarray, t0: np.ndarray, breaks: np.ndarra
         return c, tt, ee * counted, float(ee[counted].max())
 
     # grow: until every point is within tol (or the cap, or a stall: tol below the noise)
-    curve, t, e, worst = attempt(breaks, t0)
+    curve, t, e, worst = attempt(breaks, u)
     best = (curve, t, e, breaks, worst)                  # the grown fit with the smallest largest miss
     history = [(len(curve.control_points), worst * plan.scale)]
     why = None
