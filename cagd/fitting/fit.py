@@ -651,7 +651,8 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     floor = (p + 1 if periodic else least - p) - 1
     recover = smoothing == 0.0 and not any(T is not None for T in tangents)
     plan = _Plan(p, periodic, most, most_spans, tol_n, scale, recover)
-    fits, done = 0, None
+    fits = 0
+    done: Optional[Tuple[BSplineCurve, np.ndarray, Optional[str]]] = None
     if m > FIT_SAMPLE_POINTS:
         # the knots searched on a sample of the points, then fitted to all of them
         rows = _sample_rows(m, FIT_SAMPLE_POINTS)
@@ -660,7 +661,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
             sample = plan._replace(most=cap, most_spans=cap if periodic else cap - p)
             c_s, t_s, ok_s, fits, why, breaks = _fit_all(problem.subset(rows), u[rows], breaks, floor,
                                                          counted[rows], sample)
-            if ok_s:
+            if ok_s or why is not None:
                 U = np.asarray(c_s.knots)
                 if periodic:              # the feet unwrapped along the initial parameters, in between
                     ts = u[rows] + wrapped_difference(t_s, u[rows], 1.0)
@@ -668,10 +669,14 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
                 else:
                     start = np.interp(np.arange(m), rows, t_s)
                 start = _feet_on(U, p, c_s.control_points, problem.Q, start, periodic)
-                done = _settled(problem, U, start, tol_n, counted)
                 fits += 1
-                if done is None:                         # a miss between the sampled points:
-                    floor = len(breaks) - 1              # on with every point from these knots
+                if why is not None:       # the sample's growth stalled: tol is below the points'
+                    fitted, tt, _ = _fit_on(problem, U, start, tol_n)      # noise; its knots on all
+                    done = (fitted, tt, why)
+                else:
+                    done = _settled(problem, U, start, tol_n, counted)
+                    if done is None:                     # a miss between the sampled points:
+                        floor = len(breaks) - 1          # on with every point from these knots
     if done is None:
         curve, t, _, more, why, breaks = _fit_all(problem, u, breaks, floor, counted, plan)
         fits += more
@@ -705,10 +710,12 @@ class _Plan(NamedTuple):
 
 
 #: above this many points the knots are searched on FIT_SAMPLE_POINTS of them (evenly
-#: spaced in their order, the first and the last among them), then fitted to all of them and checked
-#: there; where a point between the sampled ones misses, the search goes on with every
-#: point from those knots. Each correction pass costs O(points): 100,000 points of the
-#: anchor curve took 11 s, 20,000 took 18 s (the knot-recovery stage, see RECOVERY_POINTS)
+#: spaced in their order, the first and the last among them), then fitted to all of them
+#: and checked there; where a point between the sampled ones misses, the search goes on
+#: with every point from those knots; where the sample's growth stalled (tol below the
+#: noise), its knots fitted to every point are the result (converged False, the message
+#: says why). Each correction pass costs O(points): 100,000 points of the anchor curve
+#: took 11 s, 20,000 took 18 s (the knot-recovery stage, see RECOVERY_POINTS)
 FIT_SAMPLE_POINTS = 4000
 
 
@@ -729,7 +736,7 @@ def _feet_on(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray,
 
 
 def _settled(problem: _Problem, U: np.ndarray, t: np.ndarray, tol_n: float, counted: np.ndarray
-             ) -> Optional[Tuple[BSplineCurve, np.ndarray, None]]:
+             ) -> Optional[Tuple[BSplineCurve, np.ndarray, Optional[str]]]:
     """The fit of every point on the knots U (a sample's) from their feet t on the
     sample's curve: one least-squares solve and new feet, kept when every counted point
     is within tol_n there; else the corrected fit (:func:`_fit_on`) when that is; else None."""

@@ -545,3 +545,15 @@ def test_the_normal_matrix_is_the_same_in_chunks_of_points(monkeypatch, chunk, c
     got = np.zeros_like(dense)
     got[rows, (start[:, None] + np.arange(band.shape[1])).ravel()] = band.ravel()
     assert np.abs(got - dense).max() <= 1e-12 * np.abs(dense).max()
+
+
+def test_many_noisy_points_stop_on_the_sample(monkeypatch):
+    """5,000 points of noise at a tol far below it: the sample's growth stalls, and its knots
+    fitted to every point are the result (converged False, the message says so), without a
+    second search over all the points (before: a search to the cap of 5,000 poles, 8 s)."""
+    sizes = _searched_sizes(monkeypatch)
+    Q = np.random.default_rng(0).random((5000, 3))
+    r = fit_curve(Q, 1e-3)
+    assert len(sizes) == 1 and not r.converged
+    assert "noise" in r.message and len(r.curve.control_points) < 1000
+    assert r.max_error == pytest.approx(float(cagd.closest_point(r.curve, Q).distances.max()), abs=1e-12)
