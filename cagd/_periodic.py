@@ -32,7 +32,7 @@ def wrapped_difference(t1: ArrayLike, t0: ArrayLike, period: ArrayLike) -> np.nd
     return np.mod(np.subtract(t1, t0) + half, period) - half
 
 
-def clamped(t: np.ndarray, lo: np.ndarray, hi: np.ndarray, periodic: np.ndarray) -> np.ndarray:
+def clamped(t: ArrayLike, lo: ArrayLike, hi: ArrayLike, periodic: ArrayLike) -> np.ndarray:
     """Parameters t (..., k) clamped into [lo, hi], or wrapped into [lo, hi) in the
     directions flagged ``periodic`` (k,); the wrap is computed only when one is."""
     inside = np.minimum(np.maximum(t, lo), hi)           # (np.clip costs 6 us a call)
@@ -41,7 +41,7 @@ def clamped(t: np.ndarray, lo: np.ndarray, hi: np.ndarray, periodic: np.ndarray)
     return np.where(periodic, wrap(t, lo, np.subtract(hi, lo)), inside)
 
 
-def step_across(t1: np.ndarray, t0: np.ndarray, period: np.ndarray, periodic: np.ndarray) -> np.ndarray:
+def step_across(t1: ArrayLike, t0: ArrayLike, period: ArrayLike, periodic: ArrayLike) -> np.ndarray:
     """t1 - t0, across the seam (:func:`wrapped_difference`) in the directions flagged
     ``periodic``; computed plainly when none is."""
     if not np.any(periodic):

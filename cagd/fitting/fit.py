@@ -663,18 +663,13 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
                                                          counted[rows], sample)
             if ok_s or why is not None:
                 U = np.asarray(c_s.knots)
-                if periodic:              # the feet unwrapped along the initial parameters, in between
-                    ts = u[rows] + wrapped_difference(t_s, u[rows], 1.0)
-                    start = np.mod(np.interp(np.arange(m), rows, ts), 1.0)
-                else:
-                    start = np.interp(np.arange(m), rows, t_s)
-                start = _feet_on(U, p, c_s.control_points, problem.Q, start, periodic)
+                jet = _feet_from(U, p, c_s.control_points, problem.Q, rows, t_s, u if periodic else None)
                 fits += 1
                 if why is not None:       # the sample's growth stalled: tol is below the points'
-                    fitted, tt, _ = _fit_on(problem, U, start, tol_n)      # noise; its knots on all
+                    fitted, tt, _ = _fit_on(problem, U, jet.t, tol_n)      # noise; its knots on all
                     done = (fitted, tt, why)
                 else:
-                    done = _settled(problem, U, start, tol_n, counted)
+                    done = _settled(problem, U, jet, tol_n, counted)
                     if done is None:                     # a miss between the sampled points:
                         floor = len(breaks) - 1          # on with every point from these knots
     if done is None:
@@ -724,29 +719,35 @@ FIT_SAMPLE_POINTS = 4000
 SAMPLE_FEET_ROUNDS = 3
 
 
-def _feet_on(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, t: np.ndarray, periodic: bool = False
-             ) -> np.ndarray:
-    """The points' Q parameters moved to their feet on the curve (U, P) from t:
-    SAMPLE_FEET_ROUNDS rounds of :func:`_feet` (clamped: the ends stay at 0 and 1;
-    ``periodic``: U unwrapped, every parameter moves modulo 1)."""
+def _feet_from(U: np.ndarray, p: int, P: np.ndarray, Q: np.ndarray, rows: np.ndarray, t_rows: np.ndarray,
+               u: Optional[np.ndarray] = None) -> _Jet:
+    """The jet at the feet of every point Q on the curve (U, P) fitted to the sampled points
+    ``rows``, whose feet are ``t_rows``: the others' parameters interpolated between them
+    (``u``: a periodic curve's, the points' initial parameters, along which the sampled
+    feet are unwrapped across the seam), then SAMPLE_FEET_ROUNDS rounds of :func:`_feet`
+    (clamped: the ends stay at 0 and 1; periodic: every parameter moves modulo 1)."""
+    index = np.arange(len(Q))
+    if u is None:
+        t = np.interp(index, rows, t_rows)
+    else:
+        t = np.mod(np.interp(index, rows, u[rows] + wrapped_difference(t_rows, u[rows], 1.0)), 1.0)
     jet = _jet(U, p, t)
     for _ in range(SAMPLE_FEET_ROUNDS):
-        jet = _feet(U, p, P, Q, jet, periodic)
-    return jet.t
+        jet = _feet(U, p, P, Q, jet, u is not None)
+    return jet
 
 
-def _settled(problem: _Problem, U: np.ndarray, t: np.ndarray, tol_n: float, counted: np.ndarray
+def _settled(problem: _Problem, U: np.ndarray, jet: _Jet, tol_n: float, counted: np.ndarray
              ) -> Optional[Tuple[BSplineCurve, np.ndarray, Optional[str]]]:
-    """The fit of every point on the knots U (a sample's) from their feet t on the
-    sample's curve: one least-squares solve and new feet, kept when every counted point
-    is within tol_n there; else the corrected fit (:func:`_fit_on`) when that is; else None."""
+    """The fit of every point on the knots U (a sample's) from the jet at their feet on the
+    sample's curve: one least-squares solve and new feet, kept when every counted point is
+    within tol_n there; else the corrected fit (:func:`_fit_on`) when that is; else None."""
     p = problem.p
-    jet = _jet(U, p, t)
     P = problem.solve(U, jet)
-    jet = _feet(U, p, P, problem.Q, jet, problem.periodic)
-    if float(np.sqrt(((jet.values(P, 0)[0] - problem.Q) ** 2).sum(-1))[counted].max()) <= tol_n:
-        return BSplineCurve(P, p, U), jet.t, None
-    fitted, tt, ee = _fit_on(problem, U, t, tol_n)
+    after = _feet(U, p, P, problem.Q, jet, problem.periodic)
+    if float(np.sqrt(((after.values(P, 0)[0] - problem.Q) ** 2).sum(-1))[counted].max()) <= tol_n:
+        return BSplineCurve(P, p, U), after.t, None
+    fitted, tt, ee = _fit_on(problem, U, jet.t, tol_n)
     return (fitted, tt, None) if float(ee[counted].max()) <= tol_n else None
 
 
@@ -892,7 +893,7 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
         return BSplineCurve(found[1], p, found[0]), found[2], fits + 1
     # the knots found on the sample, fitted to every point (from their feet on its curve,
     # started between the sampled points' own)
-    start = _feet_on(found[0], p, found[1], problem.Q, np.interp(np.arange(m), rows, found[2]))
+    start = _feet_from(found[0], p, found[1], problem.Q, rows, found[2]).t
     fitted, t2, e2 = _fit_on(problem, found[0], start, tol_n)
     if float(e2[counted].max()) > tol_n:
         return curve, t, fits + 1

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _checks
-from .._periodic import wrapped_difference
+from .._periodic import step_across
 from ..errors import CagdError
 from . import _subdivision as sd
 from ._overlaps import coincident, inside_overlaps, merge_overlaps, overlap_cap
@@ -109,16 +109,17 @@ def _directions(ctrl: np.ndarray) -> np.ndarray:
     return unit(P[:, -1] - P[:, 0])
 
 
-def _slab_apart(pa: sd.Pieces, pb: sd.Pieces, rows: np.ndarray, tol: float) -> np.ndarray:
+def _slab_apart(pa: sd.Pieces, pb: sd.Pieces, normals: np.ndarray, rows: np.ndarray, tol: float) -> np.ndarray:
     """Pairs (among ``rows``) of a curve piece and a surface patch proven apart by more
     than tol by their control hulls projected on the patch's normal: a curve running
     close to a surface and nearly parallel to it (a fillet's edge 1e-5 off its nearly
     tangent neighbour, occ22470.igs SOLID[2] x [3], issue 16) keeps its boxes
-    overlapping down to pieces 1e-5 long, and the pairs ran into max_pairs."""
+    overlapping down to pieces 1e-5 long, and the pairs ran into max_pairs. ``normals``:
+    the patches' corner normals (:func:`_directions`), one per pair."""
     out = np.zeros(len(rows), bool)
     idx = np.flatnonzero(rows)
     if idx.size:
-        out[idx] = sd.slab_gap(pa.ctrl[idx], pb.ctrl[idx], _directions(pb.ctrl[idx])) > tol
+        out[idx] = sd.slab_gap(pa.ctrl[idx], pb.ctrl[idx], normals[idx]) > tol
     return out
 
 
@@ -150,8 +151,9 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
         lo_a, hi_a = sd.boxes(pa.ctrl)
         lo_b, hi_b = sd.boxes(pb.ctrl)
         live = (sd.box_gap(lo_a, hi_a, lo_b, hi_b) <= tol) | (kind != 0)
+        dir_a, dir_b = _directions(pa.ctrl), _directions(pb.ctrl)
         if curve_surface:     # the slab along the patch's normal (convex hull property)
-            live &= ~_slab_apart(pa, pb, live & (kind == 0), tol)
+            live &= ~_slab_apart(pa, pb, dir_b, live & (kind == 0), tol)
         if self_mode:
             live &= ~((kind == 1) & sd.monotone(pa.ctrl))
             live &= ~((kind == 2) & sd.monotone(np.concatenate([pa.ctrl, pb.ctrl[:, 1:]], axis=1)))
@@ -160,7 +162,7 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
         diag_a = np.linalg.norm(hi_a - lo_a, axis=1)
         diag_b = np.linalg.norm(hi_b - lo_b, axis=1)
         flat = (dev_a <= _REL_FLAT * ext_a) & (dev_b <= _REL_FLAT * ext_b)
-        sine = _sine(_directions(pa.ctrl), _directions(pb.ctrl), curve_surface)
+        sine = _sine(dir_a, dir_b, curve_surface)
         small = (diag_a <= tiny) & (diag_b <= tiny)
         live &= ~(small & (kind != 0))                          # only the trivial diagonal is left
         done = live & (kind == 0) & ((flat & (sine >= _MIN_SIN)) | small)
@@ -230,7 +232,7 @@ def _wrapped_delta(G: sd.Geometry, d: np.ndarray) -> np.ndarray:
     """|d| relative to the domain, across the seam in closed directions (periodic, or
     a clamped closed curve whose t = 0 and t = 1 are one point)."""
     span = G.hi - G.lo
-    return np.abs(np.where(G.closed, wrapped_difference(d, 0.0, span), d)) / span
+    return np.abs(step_across(d, 0.0, span, G.closed)) / span
 
 
 def _contact(A: sd.Geometry, B: sd.Geometry, x: np.ndarray, y: np.ndarray) -> np.ndarray:

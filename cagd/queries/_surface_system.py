@@ -9,7 +9,7 @@ from typing import Optional
 
 import numpy as np
 
-from .._periodic import wrap, wrapped_difference
+from .._periodic import step_across, wrap
 from . import _subdivision as sd
 from ._numerics import SLACK_RTOL, TINY, unit
 
@@ -57,9 +57,7 @@ class System:
         return np.where(self.per, wrap(x, self.lo, self.span), x)
 
     def wrapdiff(self, d):
-        if not self.per.any():
-            return d
-        return np.where(self.per, wrapped_difference(d, 0.0, self.span), d)
+        return step_across(d, 0.0, self.span, self.per)
 
     def inside(self, x, slack=INSIDE_SLACK):
         s = slack * self.span
