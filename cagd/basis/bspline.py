@@ -47,60 +47,49 @@ def basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.nd
 
 def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndarray,
                        order: int) -> np.ndarray:
+    """A2.2 and A2.3 with every level of the triangle as one array operation (the
+    functions of one degree at once, not one by one): N_j[r] = N_(span-j+r, j)(t) from
+    N_(j-1) by the Cox-de Boor recurrence with the knot differences D_j[r] = u_(span+r+1)
+    - u_(span-j+r+1) (A2.2's ``right[r+1] + left[j-r]``); the k-th derivative of the
+    degree-p functions from N_(p-k) by k steps of N'_(i,q) = q (N_(i,q-1) / D_q[.] -
+    N_(i+1,q-1) / D_q[.]) (Piegl & Tiller (2.9); the same quotients as A2.3's a_(k,j))."""
     p = degree
     m = t.shape[0]
-    ndu = np.empty((p + 1, p + 1, m))
-    ndu[0, 0] = 1.0
-    left = np.empty((p + 1, m))
-    right = np.empty((p + 1, m))
     # knot differences in units of the span's own width h (the basis is invariant under
-    # affine maps of knots and t): every ndu[j, r] contains the span, so it is >= 1 and
+    # affine maps of knots and t): every D_j[r] contains the span, so it is >= 1 and
     # spans of subnormal width (1e-310) no longer overflow 1/(u_{i+1} - u_i)
     h = knots[np.minimum(span + 1, len(knots) - 1)] - knots[span] if p else np.ones(m)
     h = np.where(h > 0, h, 1.0)
+    steps = np.arange(1, p + 1)[:, None]
+    left = (t - knots[span + 1 - steps]) / h                  # left[j - 1] = (t - u_(span+1-j)) / h
+    right = (knots[span + steps] - t) / h                     # right[j - 1] = (u_(span+j) - t) / h
+    levels = [np.ones((1, m))]                                # N_j, (j + 1, m)
+    diffs = [np.ones((0, m))]                                 # D_j, (j, m)
     for j in range(1, p + 1):
-        left[j] = (t - knots[span + 1 - j]) / h
-        right[j] = (knots[span + j] - t) / h
-        saved = np.zeros(m)
-        for r in range(j):
-            ndu[j, r] = right[r + 1] + left[j - r]          # lower triangle: knot differences
-            temp = ndu[r, j - 1] / ndu[j, r]
-            ndu[r, j] = saved + right[r + 1] * temp          # upper triangle: basis values
-            saved = left[j - r] * temp
-        ndu[j, j] = saved
-    ders = np.zeros((order + 1, m, p + 1))
-    ders[0] = ndu[:, p].T
-    if order == 0:
-        return ders
-    a = np.zeros((2, p + 1, m))
-    for r in range(p + 1):
-        s1, s2 = 0, 1
-        a[0, 0] = 1.0
-        for k in range(1, order + 1):
-            if k > p:
-                break
-            d = np.zeros(m)
-            rk, pk = r - k, p - k
-            if r >= k:
-                a[s2, 0] = a[s1, 0] / ndu[pk + 1, rk]
-                d = a[s2, 0] * ndu[rk, pk]
-            j1 = 1 if rk >= -1 else -rk
-            j2 = k - 1 if r - 1 <= pk else p - r
-            for j in range(j1, j2 + 1):
-                a[s2, j] = (a[s1, j] - a[s1, j - 1]) / ndu[pk + 1, rk + j]
-                d = d + a[s2, j] * ndu[rk + j, pk]
-            if r <= pk:
-                a[s2, k] = -a[s1, k - 1] / ndu[pk + 1, r]
-                d = d + a[s2, k] * ndu[r, pk]
-            ders[k, :, r] = d
-            s1, s2 = s2, s1
-    fac = float(p)
+        D = right[:j] + left[j - 1::-1]
+        temp = levels[-1] / D
+        N = np.empty((j + 1, m))
+        N[:j] = right[:j] * temp
+        N[j] = 0.0
+        N[1:] += left[j - 1::-1] * temp
+        levels.append(N)
+        diffs.append(D)
+    ders = np.zeros((order + 1, p + 1, m))
+    ders[0] = levels[p]
+    scale = np.ones(m)
     with np.errstate(over="ignore"):
         for k in range(1, min(order, p) + 1):
-            ders[k] *= fac
-            ders[k:] /= h[:, None]               # back from units of h: derivative k divided k times
-            fac *= p - k
-    return ders
+            out = levels[p - k]
+            for q in range(p - k + 1, p + 1):
+                x = out / diffs[q]
+                out = np.empty((q + 1, m))
+                out[:q] = -x
+                out[q] = 0.0
+                out[1:] += x
+                out *= q
+            scale = scale / h                                 # back from units of h: derivative k divided k times
+            ders[k] = out * scale
+    return ders.transpose(0, 2, 1)
 
 
 def basis_matrix(knots: np.ndarray, degree: int, t: ArrayLike, count: int, derivative: int = 0) -> np.ndarray:

@@ -196,10 +196,8 @@ class _Problem:
         start, A = _blocks(n, d, p, self.periodic)
         _accumulate(A, start, cols, N, self.w, d, M)
         MQ = Q if M is None else np.einsum("kab,kb->ka", M, Q)
-        rhs = np.zeros(n * d)
-        for a in range(d):
-            rhs += np.bincount(cols.ravel() * d + a, (N * self.w[:, None] * MQ[:, a, None]).ravel(),
-                               minlength=n * d)
+        rhs = np.bincount((cols[:, :, None] * d + np.arange(d)).ravel(),
+                          ((N * self.w[:, None])[:, :, None] * MQ[:, None, :]).ravel(), minlength=n * d)
         if self.periodic:                                  # nothing held; back to pole order
             X = self.normal_solve(U, t, A, start, lambda band: solve_banded_rows(
                 start, band, rhs[:, None], "points"))[1][:, 0].reshape(n, d)
@@ -357,34 +355,60 @@ def _magnitudes(G: np.ndarray, g: np.ndarray) -> np.ndarray:
 #: points per chunk when the normal matrix is accumulated (bounded working memory: the
 #: products of one point are (p + 1)^2 d^2 numbers, 144 for a cubic in 3-D)
 ACCUMULATE_POINTS = 16384
+#: rows of one product block when the coupled sums are formed by matrix products: at most
+#: this many, at most about the mean number of points per knot span (the blocks of a
+#: span are padded with zero rows)
+GRAM_ROWS = 32
+
+
+def _span_blocks(cut: np.ndarray, m: int) -> Tuple[np.ndarray, np.ndarray]:
+    """Rows of the points sorted by span cut into blocks of at most R rows that never
+    straddle two spans (R a power of two near the mean span's count, <= GRAM_ROWS):
+    (index (blocks, R) into the rows, m where a block is padded; the first block of every
+    span)."""
+    sizes = np.diff(np.append(cut, m))
+    R = int(min(GRAM_ROWS, 1 << max(0, int(np.log2(max(1.0, m / len(cut)))))))
+    count = -(-sizes // R)                                         # blocks per span
+    first = np.concatenate([[0], np.cumsum(count)[:-1]])
+    span = np.repeat(np.arange(len(cut)), count)
+    top = cut[span] + (np.arange(count.sum()) - first[span]) * R      # each block's first row
+    index = top[:, None] + np.arange(R)
+    end = (cut + sizes)[span]
+    return np.where(index < end[:, None], index, m), first
 
 
 def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.ndarray, w: np.ndarray,
                 d: int, M: Optional[np.ndarray] = None) -> None:
     """band += sum_k w_k (V_k V_k^T) (x) M_k at the poles cols[k] (the normal matrix
     N^T W N, coordinates coupled by M_k (m, d, d), or M_k = I when None). The products
-    are summed per knot span first (np.add.reduceat over the points sorted by span), then
-    added to the band once per span: the scatter is O(spans), not O(points); at most
-    ACCUMULATE_POINTS points at a time (a span cut by a chunk's end is added in two parts)."""
+    are summed per knot span first (over the points sorted by span: np.add.reduceat, or,
+    coupled, sum_k vec(w_k V_k V_k^T) vec(M_k)^T as matrix products of blocks of a span's
+    points, :func:`_span_blocks`: no (m, q^2 d^2) array), then added to the band once per
+    span: the scatter is O(spans), not O(points); at most ACCUMULATE_POINTS points at a
+    time (a span cut by a chunk's end is added in two parts)."""
     width = band.shape[1]
     flat = band.ravel()
     a = np.arange(d)
+    q = V.shape[1]
     order = np.argsort(cols[:, 0], kind="stable")
     for c0 in range(0, len(order), ACCUMULATE_POINTS):
         rows = order[c0:c0 + ACCUMULATE_POINTS]
         first = cols[rows, 0]
         cut = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
-        VV = V[rows]
-        vv = VV[:, :, None] * VV[:, None, :] * w[rows, None, None]               # (m, q, q)
-        if M is not None:
-            vv = vv[..., None, None] * M[rows, None, None]                      # (m, q, q, d, d)
-        S = np.add.reduceat(vv, cut, axis=0)
+        VV = V.take(rows, axis=0)
+        vv = VV[:, :, None] * VV[:, None, :] * w.take(rows)[:, None, None]          # (m, q, q)
         cc = cols[rows[cut]]                                                    # (spans, q)
         if M is None:
+            S = np.add.reduceat(vv, cut, axis=0)
             I = cc[:, :, None, None] * d + a
             J = cc[:, None, :, None] * d + a
             S = np.broadcast_to(S[..., None], S.shape + (d,))
         else:
+            block, head = _span_blocks(cut, len(rows))
+            A = np.concatenate([vv.reshape(-1, q * q), np.zeros((1, q * q))]).take(block, axis=0)   # (blocks, R, q q)
+            B = np.concatenate([M.take(rows, axis=0).reshape(-1, d * d), np.zeros((1, d * d))]).take(block, axis=0)
+            S = np.add.reduceat(np.matmul(A.transpose(0, 2, 1), B), head, axis=0)
+            S = S.reshape(-1, q, q, d, d)
             I = cc[:, :, None, None, None] * d + a[:, None]
             J = cc[:, None, :, None, None] * d + a
         index = np.broadcast_to(I * width + J - start[I], S.shape)
@@ -432,9 +456,9 @@ def _values(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray, order: int) -> 
 
 def _combine(D: np.ndarray, P: np.ndarray, first: np.ndarray) -> np.ndarray:
     """sum_j D[..., j] P[first + j]: (k, len(t), d) from the local basis values (k, len(t), q)."""
-    out = D[..., 0, None] * P[first]
+    out = D[..., 0, None] * P.take(first, axis=0)
     for j in range(1, D.shape[-1]):
-        out += D[..., j, None] * P[first + j]
+        out += D[..., j, None] * P.take(first + j, axis=0)
     return out
 
 

@@ -69,6 +69,15 @@ INITIAL_INTERVALS = 8
 PATH_DEGREE = 3
 #: a path derivative below this times (path size / domain length) counts as vanishing
 TANGENT_ZERO_TOL = 1e-12
+#: a double-reflection step shorter than this share of its points' magnitude is a
+#: coincident point (no reflection: the frame is carried over); a step at rounding level
+#: has a direction of noise, and a reflection across its plane is no small change (at a
+#: station 3e-17 past a grid point the frame turned by 0.3 rad)
+RMF_STEP_RTOL = 1e-8
+#: at a coincident point, a tangent change of less than this (unit tangents) is rounding
+#: (the frame is carried over, projected normal to the new tangent); a larger one (a kink
+#: of the path) is reflected once, tangent onto tangent
+RMF_TURN_TOL = 1e-8
 #: a curvature below this divided by the path size counts as zero (no Frenet normal)
 CURVATURE_ZERO_TOL = 1e-9
 #: an up vector whose component normal to the tangent is below this (relative) is parallel
@@ -159,16 +168,19 @@ def _unit(a: np.ndarray) -> np.ndarray:
 
 def _reflect_step(x0: np.ndarray, t0: np.ndarray, r0: np.ndarray, x1: np.ndarray, t1: np.ndarray) -> np.ndarray:
     """One double-reflection step (Wang et al. 2008, Algorithm 1): the normal at x1 from
-    (x0, t0, r0); vectorized over leading axes. Coincident points skip the first reflection."""
+    (x0, t0, r0); vectorized over leading axes. Points coincident to RMF_STEP_RTOL skip
+    the first reflection, and the second one too where the tangents agree to RMF_TURN_TOL."""
     v1 = x1 - x0
     c1 = _dot(v1, v1)[..., None]
-    safe1 = np.where(c1 > 0.0, c1, 1.0)
-    rL = np.where(c1 > 0.0, r0 - (2.0 / safe1) * _dot(v1, r0)[..., None] * v1, r0)
-    tL = np.where(c1 > 0.0, t0 - (2.0 / safe1) * _dot(v1, t0)[..., None] * v1, t0)
+    step = c1 > RMF_STEP_RTOL ** 2 * (_dot(x0, x0) + _dot(x1, x1))[..., None]
+    safe1 = np.where(step, c1, 1.0)
+    rL = np.where(step, r0 - (2.0 / safe1) * _dot(v1, r0)[..., None] * v1, r0)
+    tL = np.where(step, t0 - (2.0 / safe1) * _dot(v1, t0)[..., None] * v1, t0)
     v2 = t1 - tL
     c2 = _dot(v2, v2)[..., None]
-    safe2 = np.where(c2 > 0.0, c2, 1.0)
-    r1 = np.where(c2 > 0.0, rL - (2.0 / safe2) * _dot(v2, rL)[..., None] * v2, rL)
+    turn = step | (c2 > RMF_TURN_TOL ** 2)
+    safe2 = np.where(turn & (c2 > 0.0), c2, 1.0)
+    r1 = np.where(turn & (c2 > 0.0), rL - (2.0 / safe2) * _dot(v2, rL)[..., None] * v2, rL)
     r1 = r1 - _dot(r1, t1)[..., None] * t1                  # re-orthogonalise (rounding only)
     return _unit(r1)
 

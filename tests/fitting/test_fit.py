@@ -513,18 +513,21 @@ def test_a_closed_curve_of_many_points_is_searched_on_a_sample(monkeypatch):
     assert abs(len(r.curve.control_points) - len(fewer.curve.control_points)) <= 2
 
 
-@pytest.mark.parametrize("chunk", [1, 7, 64])
+@pytest.mark.parametrize("chunk", [1, 7, 64, 16384])
 @pytest.mark.parametrize("coupled", [False, True])
-def test_the_normal_matrix_is_the_same_in_chunks_of_points(monkeypatch, chunk, coupled):
+@pytest.mark.parametrize("p", [1, 3])
+def test_the_normal_matrix_is_the_same_in_chunks_of_points(monkeypatch, chunk, coupled, p):
     """fit._accumulate in chunks of ACCUMULATE_POINTS points (a span cut by a chunk's end
-    added in two parts) equals the dense sum of w_k (N_k N_k^T) (x) M_k over the points."""
+    added in two parts; coupled: the products of blocks of GRAM_ROWS points padded per
+    span, spans of 1 to ~200 points here) equals the dense sum of w_k (N_k N_k^T) (x) M_k
+    over the points."""
     from cagd.fitting import fit as fit_module
     from cagd.knots import vectors as kv
     rng = np.random.default_rng(chunk)
-    p, d, m = 3, 3, 300
+    d, m = 3, 300
     U = np.concatenate([np.zeros(p), np.linspace(0, 1, 9), np.ones(p)])
     n = len(U) - p - 1
-    t = rng.random(m)
+    t = rng.random(m) ** 4                       # crowded near 0: spans of very unequal counts
     span = kv.find_span(U, p, t, n)
     from cagd.basis.bspline import basis_derivatives
     N = basis_derivatives(U, p, t, span, 0)[0]

@@ -242,6 +242,27 @@ def test_max_error_is_honest(name, frame, laws):
     np.testing.assert_allclose(r.surface(u, np.zeros_like(u)), prof(u), atol=EXACT)
 
 
+def test_rmf_frame_is_continuous_across_its_grid_points():
+    """The rotation-minimising frame at a parameter a rounding step past one of its grid
+    points equals the frame there (a step of 3e-17 had a direction of rounding noise, and
+    the reflection across its plane turned the frame by 0.3 rad at t = 11/64 of the space
+    cubic: its sweep at tol 1e-5 passed only where no station fell there)."""
+    from cagd.operations.sweep import RMF_SAMPLES, _Path
+    path = PATHS["space cubic"]
+    P = _Path(path, "rmf")
+    k = np.array([1, 704, 1472, 2048, RMF_SAMPLES - 1])
+    t = k / RMF_SAMPLES
+    _, at = P.frames(t)
+    for nudge in (np.nextafter(t, 2.0), np.nextafter(np.nextafter(t, 2.0), 2.0), t + 1e-15):
+        _, near = P.frames(nudge)
+        assert np.abs(near - at).max() <= 1e-12
+    # and densely: no jump larger than the frame's own turning between samples
+    tt = np.linspace(0.0, 1.0, 200_001)
+    _, F = P.frames(tt)
+    jumps = np.linalg.norm(np.diff(F[:, :, 1], axis=0), axis=1)
+    assert jumps.max() <= 4.0 * np.median(jumps) + 1e-9
+
+
 def test_not_converged_is_reported():
     r = sweep(circle(0.3).transformed(np.eye(3), HELIX(HELIX.domain[0])), HELIX, tol=1e-14)
     assert not r.converged and r.max_error > r.tol
