@@ -466,11 +466,15 @@ def _values(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray, order: int) -> 
 
 
 def _combine(D: np.ndarray, P: np.ndarray, first: np.ndarray) -> np.ndarray:
-    """sum_j D[..., j] P[first + j]: (k, len(t), d) from the local basis values (k, len(t), q)."""
-    out = D[..., 0, None] * P.take(first, axis=0)
+    """sum_j D[..., j] P[first + j]: (k, len(t), d) from the local basis values (k, len(t), q),
+    computed coordinate-first (every inner loop along the points, not along d) and
+    returned as a (k, len(t), d) view."""
+    PT = np.ascontiguousarray(P.T)
+    Dj = D.transpose(0, 2, 1)                                              # (k, q, len(t))
+    out = Dj[:, 0, None, :] * PT.take(first, axis=1)                       # (k, d, len(t))
     for j in range(1, D.shape[-1]):
-        out += D[..., j, None] * P.take(first + j, axis=0)
-    return out
+        out += Dj[:, j, None, :] * PT.take(first + j, axis=1)
+    return out.transpose(0, 2, 1)
 
 
 class _Jet(NamedTuple):
