@@ -29,10 +29,12 @@ MAX_SAMPLES = 10_000_000
 OCC_MAX_DEGREE = 25
 
 
-def finite_array(value: ArrayLike, name: str, ndim: Optional[int] = None) -> np.ndarray:
-    """``value`` as a float64 array, rejecting NaN/inf and a wrong number of dimensions."""
+def finite_array(value: ArrayLike, name: str, ndim: Optional[int] = None, copy: bool = True) -> np.ndarray:
+    """``value`` as a float64 array, rejecting NaN/inf and a wrong number of dimensions;
+    ``copy`` False: ``value`` itself where it already is a float64 array (read by the
+    caller only)."""
     try:
-        arr = np.array(value, dtype=np.float64)
+        arr = np.array(value, dtype=np.float64) if copy else np.asarray(value, dtype=np.float64)
     except OverflowError:
         raise CagdError(f"{name}: a value is beyond the floating-point range (|x| > 1.8e308)") from None
     except (TypeError, ValueError) as exc:
@@ -153,8 +155,11 @@ def angle(value: Any, name: str = "angle_tol") -> float:
 
 
 def parameters(t: ArrayLike, name: str = "t") -> np.ndarray:
-    """Finite float64 parameters of any shape."""
-    return finite_array(t, name)
+    """Finite float64 parameters of any shape, a read-only view (no copy of a float64
+    array: 10^6 parameters took 1.6 ms of a 13 ms evaluation)."""
+    view = finite_array(t, name, copy=False).view()
+    view.flags.writeable = False
+    return view
 
 
 def affine_map(matrix: ArrayLike, offset: Optional[ArrayLike], dim: int, what: str) -> Tuple[np.ndarray, np.ndarray]:

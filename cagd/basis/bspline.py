@@ -24,12 +24,13 @@ _CHUNK_VALUES = 1 << 22     # working values (p+1)^2 per parameter: chunks of at
 def basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndarray,
                       order: int) -> np.ndarray:
     """Derivatives 0..order of the p+1 non-zero basis functions at t, shape
-    (order+1, len(t), p+1); right limits at knots. Piegl & Tiller A2.3, vectorized,
-    in chunks of parameters so that the (p+1, p+1) table per parameter stays bounded."""
+    (order+1, len(t), p+1) (a view of a (order+1, p+1, len(t)) array: each function's
+    values contiguous); right limits at knots. Piegl & Tiller A2.3, vectorized, in chunks
+    of parameters so that the (p+1, p+1) table per parameter stays bounded."""
     degree = _checks.degree(degree, "degree", 0)
     order = _checks.order(order)
     knots = _checks.finite_array(knots, "knots", ndim=1)
-    t = _checks.finite_array(t, "t").ravel()
+    t = _checks.finite_array(t, "t", copy=False).ravel()
     try:
         span = np.broadcast_to(np.asarray(span), t.shape)
     except ValueError:
@@ -39,14 +40,14 @@ def basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.nd
         raise CagdError(f"span: indices must be integers in [degree, len(knots) - degree - 2] = "
                         f"[{degree}, {len(knots) - degree - 2}]")
     step = max(1, _CHUNK_VALUES // (degree + 1) ** 2)
-    if t.shape[0] <= step:
-        return _basis_derivatives(knots, degree, t, span, order)
-    return np.concatenate([_basis_derivatives(knots, degree, t[s:s + step], span[s:s + step], order)
-                           for s in range(0, t.shape[0], step)], axis=1)
+    out = np.empty((order + 1, degree + 1, t.shape[0]))
+    for s in range(0, t.shape[0], step):
+        _basis_derivatives(knots, degree, t[s:s + step], span[s:s + step], order, out[:, :, s:s + step])
+    return out.transpose(0, 2, 1)
 
 
 def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.ndarray,
-                       order: int) -> np.ndarray:
+                       order: int, ders: np.ndarray) -> None:
     """A2.2 and A2.3 with every level of the triangle as one array operation (the
     functions of one degree at once, not one by one): N_j[r] = N_(span-j+r, j)(t) from
     N_(j-1) by the Cox-de Boor recurrence with the knot differences D_j[r] = u_(span+r+1)
@@ -58,11 +59,11 @@ def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.n
     # knot differences in units of the span's own width h (the basis is invariant under
     # affine maps of knots and t): every D_j[r] contains the span, so it is >= 1 and
     # spans of subnormal width (1e-310) no longer overflow 1/(u_{i+1} - u_i)
-    h = knots[np.minimum(span + 1, len(knots) - 1)] - knots[span] if p else np.ones(m)
+    h = knots.take(np.minimum(span + 1, len(knots) - 1)) - knots.take(span) if p else np.ones(m)
     h = np.where(h > 0, h, 1.0)
     steps = np.arange(1, p + 1)[:, None]
-    left = (t - knots[span + 1 - steps]) / h                  # left[j - 1] = (t - u_(span+1-j)) / h
-    right = (knots[span + steps] - t) / h                     # right[j - 1] = (u_(span+j) - t) / h
+    left = (t - knots.take(span + 1 - steps)) / h             # left[j - 1] = (t - u_(span+1-j)) / h
+    right = (knots.take(span + steps) - t) / h                # right[j - 1] = (u_(span+j) - t) / h
     levels = [np.ones((1, m))]                                # N_j, (j + 1, m)
     diffs = [np.ones((0, m))]                                 # D_j, (j, m)
     for j in range(1, p + 1):
@@ -74,8 +75,8 @@ def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.n
         N[1:] += left[j - 1::-1] * temp
         levels.append(N)
         diffs.append(D)
-    ders = np.zeros((order + 1, p + 1, m))
     ders[0] = levels[p]
+    ders[min(order, p) + 1:] = 0.0                            # beyond the degree
     scale = np.ones(m)
     with np.errstate(over="ignore"):
         for k in range(1, min(order, p) + 1):
@@ -88,8 +89,7 @@ def _basis_derivatives(knots: np.ndarray, degree: int, t: np.ndarray, span: np.n
                 out[1:] += x
                 out *= q
             scale = scale / h                                 # back from units of h: derivative k divided k times
-            ders[k] = out * scale
-    return ders.transpose(0, 2, 1)
+            np.multiply(out, scale, out=ders[k])
 
 
 def basis_matrix(knots: np.ndarray, degree: int, t: ArrayLike, count: int, derivative: int = 0) -> np.ndarray:

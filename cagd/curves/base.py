@@ -86,10 +86,12 @@ class Curve(Value):
             flat = wrap(flat, a, b - a)
         else:
             tol = 1e-12 * max(b - a, abs(a), abs(b), 1.0)
-            if flat.size and (flat.min() < a - tol or flat.max() > b + tol):
+            lo, hi = (flat.min(), flat.max()) if flat.size else (a, b)
+            if lo < a - tol or hi > b + tol:
                 bad = flat[(flat < a - tol) | (flat > b + tol)][0]
                 raise CagdError(f"t: parameter {float(bad)!r} is outside the domain [{a}, {b}]")
-            flat = np.minimum(np.maximum(flat, a), b)       # np.clip, without its dispatch cost
+            if lo < a or hi > b:                            # within tol outside: onto the ends
+                flat = np.minimum(np.maximum(flat, a), b)   # np.clip, without its dispatch cost
         return flat, shape
 
     def derivatives(self, t: ArrayLike, order: int) -> np.ndarray:

@@ -377,15 +377,29 @@ def _span_blocks(cut: np.ndarray, m: int) -> Tuple[np.ndarray, np.ndarray]:
     return np.where(index < end[:, None], index, m), first
 
 
+def span_sums(cut: np.ndarray, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """Per knot span, sum_k left_k^T right_k over its points (sorted by span, span i's
+    first at cut[i]): (spans, a, b) from left (m, r, a) and right (m, r, b) (r rows per
+    point), as matrix products of blocks of a span's points (:func:`_span_blocks`), no
+    (m, a, b) array of the products."""
+    m, r = left.shape[:2]
+    block, head = _span_blocks(cut, m)
+    R = block.shape[1]
+
+    def rows(x: np.ndarray) -> np.ndarray:
+        padded = np.concatenate([x.reshape(m, -1), np.zeros((1, x[0].size))])
+        return padded.take(block, axis=0).reshape(len(block), R * r, x.shape[2])
+    return np.add.reduceat(np.matmul(rows(left).transpose(0, 2, 1), rows(right)), head, axis=0)
+
+
 def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.ndarray, w: np.ndarray,
                 d: int, M: Optional[np.ndarray] = None) -> None:
     """band += sum_k w_k (V_k V_k^T) (x) M_k at the poles cols[k] (the normal matrix
     N^T W N, coordinates coupled by M_k (m, d, d), or M_k = I when None). The products
     are summed per knot span first (over the points sorted by span: np.add.reduceat, or,
-    coupled, sum_k vec(w_k V_k V_k^T) vec(M_k)^T as matrix products of blocks of a span's
-    points, :func:`_span_blocks`: no (m, q^2 d^2) array), then added to the band once per
-    span: the scatter is O(spans), not O(points); at most ACCUMULATE_POINTS points at a
-    time (a span cut by a chunk's end is added in two parts)."""
+    coupled, sum_k vec(w_k V_k V_k^T) vec(M_k)^T by :func:`span_sums`), then added to the
+    band once per span: the scatter is O(spans), not O(points); at most ACCUMULATE_POINTS
+    points at a time (a span cut by a chunk's end is added in two parts)."""
     width = band.shape[1]
     flat = band.ravel()
     a = np.arange(d)
@@ -404,10 +418,7 @@ def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.nda
             J = cc[:, None, :, None] * d + a
             S = np.broadcast_to(S[..., None], S.shape + (d,))
         else:
-            block, head = _span_blocks(cut, len(rows))
-            A = np.concatenate([vv.reshape(-1, q * q), np.zeros((1, q * q))]).take(block, axis=0)   # (blocks, R, q q)
-            B = np.concatenate([M.take(rows, axis=0).reshape(-1, d * d), np.zeros((1, d * d))]).take(block, axis=0)
-            S = np.add.reduceat(np.matmul(A.transpose(0, 2, 1), B), head, axis=0)
+            S = span_sums(cut, vv.reshape(-1, 1, q * q), M.take(rows, axis=0).reshape(-1, 1, d * d))
             S = S.reshape(-1, q, q, d, d)
             I = cc[:, :, None, None, None] * d + a[:, None]
             J = cc[:, None, :, None, None] * d + a
@@ -455,11 +466,15 @@ def _values(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray, order: int) -> 
 
 
 def _combine(D: np.ndarray, P: np.ndarray, first: np.ndarray) -> np.ndarray:
-    """sum_j D[..., j] P[first + j]: (k, len(t), d) from the local basis values (k, len(t), q)."""
-    out = D[..., 0, None] * P.take(first, axis=0)
+    """sum_j D[..., j] P[first + j]: (k, len(t), d) from the local basis values (k, len(t), q),
+    computed coordinate-first (every inner loop along the points, not along d) and
+    returned as a (k, len(t), d) view."""
+    PT = np.ascontiguousarray(P.T)
+    Dj = D.transpose(0, 2, 1)                                              # (k, q, len(t))
+    out = Dj[:, 0, None, :] * PT.take(first, axis=1)                       # (k, d, len(t))
     for j in range(1, D.shape[-1]):
-        out += D[..., j, None] * P.take(first + j, axis=0)
-    return out
+        out += Dj[:, j, None, :] * PT.take(first + j, axis=1)
+    return out.transpose(0, 2, 1)
 
 
 class _Jet(NamedTuple):

@@ -120,29 +120,30 @@ def local_knot_jacobian(U: np.ndarray, p: int, P: np.ndarray, t: np.ndarray) -> 
     n, d = P.shape
     q = len(U) - 2 * (p + 1)
     s = kv.find_span(U, p, t, n)
-    K = U[s[:, None] - p + 1 + np.arange(2 * p)]                        # (m, 2p): U_(s-p+1+j)
-    D = np.moveaxis(P[s[:, None] - p + np.arange(p + 1)], 1, 0)          # (p + 1, m, d)
-    dD = np.zeros((p + 1, 2 * p, len(t), d))                            # d/dK_j of each D_i
+    K = U.take(s - p + 1 + np.arange(2 * p)[:, None])                   # (2p, m): U_(s-p+1+j)
+    # the points last (every operation's inner loop runs along them, not along d)
+    D = np.ascontiguousarray(P.T).take(s - p + np.arange(p + 1)[:, None], axis=1).transpose(1, 0, 2).copy()
+    dD = np.zeros((p + 1, 2 * p, d, len(t)))                            # d/dK_j of each D_i, (p + 1, m, d) above
     for r in range(1, p + 1):
         for i in range(p, r - 1, -1):
-            a, b = K[:, i - 1], K[:, p + i - r]                          # U_(s-p+i), U_(s+i+1-r)
+            a, b = K[i - 1], K[p + i - r]                                # U_(s-p+i), U_(s+i+1-r)
             h = b - a
-            alpha = ((t - a) / h)[:, None]
-            diff = D[i] - D[i - 1]                                      # (m, d)
+            alpha = (t - a) / h
+            diff = D[i] - D[i - 1]                                      # (d, m)
             dD[i] *= alpha
             dD[i] += (1.0 - alpha) * dD[i - 1]
-            dD[i, i - 1] += ((t - b) / h ** 2)[:, None] * diff
-            dD[i, p + i - r] -= ((t - a) / h ** 2)[:, None] * diff
+            dD[i, i - 1] += (t - b) / h ** 2 * diff
+            dD[i, p + i - r] -= (t - a) / h ** 2 * diff
             D[i] = D[i - 1] + alpha * diff
     k = s[:, None] - p + 1 + np.arange(2 * p) - (p + 1)                 # interior index of K_j
-    return np.moveaxis(dD[p], 0, 2), np.where((k >= 0) & (k < q), k, -1)
+    return dD[p].transpose(2, 1, 0), np.where((k >= 0) & (k < q), k, -1)
 
 
 def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarray, mu: float, lam: float,
                  P0: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """One damped Gauss-Newton step of the module docstring's system: the new control
     points (n, d) and the knot changes dk (q,)."""
-    from .fit import _accumulate, _blocks, solve_fixed
+    from .fit import _accumulate, _blocks, solve_fixed, span_sums
     p, Q, w = problem.p, problem.Q, problem.w
     m, d = Q.shape
     n = len(U) - p - 1
@@ -158,19 +159,29 @@ def _joint_solve(problem: "_Problem", U: np.ndarray, t: np.ndarray, T: np.ndarra
     _accumulate(A, start, cols, N, w, d, M)
     MQ = np.einsum("kab,kb->ka", M, Q)
     MG = np.einsum("kab,kbj->kaj", M, G)                                  # (m, d, 2p)
+    # per span (its points share their p + 1 poles and 2p knots): B^T M [Q G] and
+    # G^T M [G Q], summed over the span's points by matrix products, scattered once per span
+    order = np.argsort(span, kind="stable")
+    s_sorted = span.take(order)
+    cut = np.flatnonzero(np.r_[True, s_sorted[1:] != s_sorted[:-1]])
+    first = order[cut]
+    wN = (N * w[:, None]).take(order, axis=0)
+    QG = np.concatenate([MQ[:, :, None], MG], axis=2)                     # (m, d, 1 + 2p)
+    B = span_sums(cut, wN[:, None, :], QG.reshape(m, 1, -1).take(order, axis=0))
+    B = B.reshape(len(cut), p + 1, d, QG.shape[2])                       # (spans, pole, coordinate, [Q, knots])
+    wG = np.concatenate([MG, MQ[:, :, None]], axis=2) * w[:, None, None]
+    E = span_sums(cut, G.take(order, axis=0), wG.take(order, axis=0))   # (spans, 2p, 2p + 1)
+    row = cols[first][:, :, None] * d + np.arange(d)                      # (spans, p + 1, d)
+    kk = k[first]                                                         # (spans, 2p)
     rhs = np.zeros((n * d, 1 + q))
-    wN = N * w[:, None]
-    row = cols[:, :, None] * d + np.arange(d)                             # (m, p + 1, d)
-    for a in range(d):
-        rhs[:, 0] += np.bincount(row[:, :, a].ravel(), (wN * MQ[:, a, None]).ravel(), minlength=n * d)
+    rhs[:, 0] = np.bincount(row.ravel(), B[..., 0].ravel(), minlength=n * d)
     # C = B^T M G and D = G^T M G: each point touches its p + 1 poles and 2p knots only
-    cell = (row[:, :, :, None] * q + k[:, None, None, :]).ravel()        # (m, p + 1, d, 2p)
-    Cm = np.bincount(cell, (wN[:, :, None, None] * MG[:, None]).ravel(), minlength=n * d * q).reshape(n * d, q)
-    rhs[:, 1:] = Cm
-    pair = (k[:, :, None] * q + k[:, None, :]).ravel()                    # (m, 2p, 2p)
-    Dm = np.bincount(pair, (w[:, None, None] * np.einsum("kaj,kal->kjl", G, MG)).ravel(),
-                     minlength=q * q).reshape(q, q)
-    e = np.bincount(k.ravel(), (w[:, None] * np.einsum("kaj,ka->kj", G, MQ)).ravel(), minlength=q)
+    cell = (row[:, :, :, None] * q + kk[:, None, None, :]).ravel()
+    rhs[:, 1:] = np.bincount(cell, B[..., 1:].ravel(), minlength=n * d * q).reshape(n * d, q)
+    Cm = rhs[:, 1:]
+    pair = (kk[:, :, None] * q + kk[:, None, :]).ravel()
+    Dm = np.bincount(pair, E[:, :, :-1].ravel(), minlength=q * q).reshape(q, q)
+    e = np.bincount(kk.ravel(), E[:, :, -1].ravel(), minlength=q)
     scalars = np.array([a for a in range(d)] + [(n - 1) * d + a for a in range(d)])
     values = np.zeros((2 * d, 1 + q))
     values[:d, 0], values[d:, 0] = Q[0], Q[-1]

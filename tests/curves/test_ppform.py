@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import BSpline as SciBSpline
 
+from cagd.curves import ppform as ppform_module
 from cagd.curves.ppform import PPForm, _CHUNK
 
 from strategies import clamped_knots
@@ -150,6 +151,56 @@ def test_chunk_boundaries_are_seamless(uniform):
     full = hom(t)
     np.testing.assert_allclose(proj, full[:, :2] / full[:, 2:], rtol=1e-15, atol=0)
     np.testing.assert_array_equal(proj[_CHUNK - 5:_CHUNK + 5], hom.projected(t[_CHUNK - 5:_CHUNK + 5]))
+
+
+def _by_chunks(pp, t, order=0, project=False):
+    """The chunked (gathering) path alone, for the comparison with the runs path."""
+    pp = pp.derived(order)
+    ndim = pp.dim - 1 if project else pp.dim
+    out = np.empty((len(t), ndim))
+    for s in range(0, len(t), _CHUNK):
+        pp._horner(t[s:s + _CHUNK], out[s:s + _CHUNK], ndim, project)
+    return out
+
+
+@SETTINGS
+@given(degree=st.integers(0, 8), nspan=st.integers(1, 9), seed=st.integers(0, 2 ** 32 - 1),
+       uniform=st.booleans(), narrow=st.booleans())
+def test_sorted_runs_are_bit_identical_to_the_chunks(degree, nspan, seed, uniform, narrow):
+    """Sorted parameters evaluated span by span (RUN_POINTS lowered so that every case
+    takes that path) give the same bits as the gathering path: every break and its ulp
+    neighbours, repeated values, parameters beyond both ends (the end spans extrapolate),
+    derivatives and the rational projection; an unsorted array is left to the chunks."""
+    rng = np.random.default_rng(seed)
+    breaks = np.linspace(-1.0, 2.0, nspan + 1) if uniform else \
+        np.concatenate([[0.0], np.cumsum(rng.uniform(0.1, 1, nspan))])
+    if narrow and nspan > 2:                          # a span of subnormal width
+        breaks = np.concatenate([breaks[:1], breaks[:1] + 5e-324, breaks[2:]])
+    coef = rng.normal(size=(degree + 1, len(breaks) - 1, 3))
+    pp = PPForm.from_unit_power(breaks, coef)
+    assert pp._subnormal == (narrow and nspan > 2)
+    t = np.sort(np.concatenate([probe_parameters(breaks), rng.uniform(breaks[0], breaks[-1], 50),
+                                [breaks[0] - 0.5, breaks[-1] + 0.5], np.repeat(breaks[len(breaks) // 2], 3)]))
+    with pytest.MonkeyPatch.context() as mp, np.errstate(all="ignore"):
+        mp.setattr(ppform_module, "RUN_POINTS", 1)
+        for order in range(degree + 2):
+            np.testing.assert_array_equal(pp(t, order), _by_chunks(pp, t, order))
+        np.testing.assert_array_equal(pp.projected(t), _by_chunks(pp, t, project=True))
+        shuffled = rng.permutation(t)
+        if not np.all(shuffled[1:] >= shuffled[:-1]):
+            assert not pp._by_runs(shuffled, np.empty((len(t), 3)), 3, False)
+        np.testing.assert_array_equal(pp(shuffled), _by_chunks(pp, shuffled))
+
+
+def test_sorted_runs_take_over_only_where_they_pay():
+    """The runs path serves sorted arrays of RUN_POINTS or more parameters per span (the
+    benchmark's 10^6 sorted parameters on 97 spans) and nothing shorter."""
+    pp = random_pp(np.random.default_rng(3), np.linspace(0.0, 1.0, 98), 3, dim=3)
+    big = np.linspace(0.0, 1.0, 97 * ppform_module.RUN_POINTS)
+    assert pp._by_runs(big, np.empty((len(big), 3)), 3, False)
+    small = big[::2]
+    assert not pp._by_runs(small, np.empty((len(small), 3)), 3, False)
+    np.testing.assert_array_equal(pp(big), _by_chunks(pp, big))
 
 
 def test_domain_and_shapes():
