@@ -331,6 +331,37 @@ def test_random_bspline_samples_fit_or_say_why_property(case):
         assert r.max_error > tol and "not met" in r.message
 
 
+@pytest.mark.parametrize("m, tol, periodic, degree", [(50, 1e-6, False, 3), (200, 1e-9, False, 3),
+                                                     (12, 1e-12, False, 3), (50, 1e-6, True, 3),
+                                                     (200, 1e-9, True, 3), (50, 1e-6, True, 2)])
+def test_a_random_walk_below_its_turns_is_interpolated(m, tol, periodic, degree):
+    """Points of a random walk (a corner at every point) at a tol that no curve with fewer
+    control points than points meets: the growth reaches the cap of one control point
+    per point, where its least squares on error-placed knots missed by 0.65 (50 points,
+    tol 1e-6; closed: 0.0013, converged False); the curve through every point (averaged
+    knots; closed: a break at every point) is the answer, every point within tol
+    (certified and by brute force)."""
+    Q = np.cumsum(np.random.default_rng(m).normal(size=(m, 3)), axis=0)
+    r = fit_curve(Q, tol, periodic=periodic, degree=degree)
+    assert r.converged and r.max_error <= tol and len(r.curve.control_points) <= m
+    sampled, slack = sampled_distances(r.curve, Q, 200_001)
+    assert float(sampled.max()) <= tol + slack
+    assert r.max_error == pytest.approx(float(cagd.closest_point(r.curve, Q).distances.max()), abs=1e-13)
+
+
+def test_the_interpolant_is_not_taken_against_weights_tangents_or_a_cap():
+    """Where the curve through every point is not the fit asked for (points weighted 0,
+    held tangents, smoothing, a cap below one control point per point) a growth to the
+    cap stays not converged and says so."""
+    Q = np.cumsum(np.random.default_rng(7).normal(size=(40, 3)), axis=0)
+    w = np.ones(40)
+    w[5] = 0.0
+    for kwargs in ({"weights": w}, {"start_tangent": Q[1] - Q[0]}, {"smoothing": 1e-6},
+                   {"max_control_points": 39}):
+        r = fit_curve(Q, 1e-9, **kwargs)
+        assert not r.converged and "not met" in r.message, kwargs
+
+
 def test_quartic_with_one_point_per_end_span_fits():
     """A random quartic whose last interior knots crowd towards the end (0.958, 0.965,
     0.973), 842 random samples, tol 1.7e-4: a round's knots left the last span with the
