@@ -695,8 +695,14 @@ def _local_feet(S: BSplineSurface, Q: np.ndarray, uv: np.ndarray,
     r = Q - F
     d = np.einsum("ij,ij->i", r, r)
     for k in range(steps):
-        a, b, c = (np.einsum("ij,ij->i", A, B) for A, B in ((Su, Su), (Su, Sv), (Sv, Sv)))
-        gu, gv = np.einsum("ij,ij->i", Su, r), np.einsum("ij,ij->i", Sv, r)
+        # J and r divided by a power of two near |J| per point (exact: the same step bit
+        # for bit), so that the products of the normal equations stay in range at any
+        # coordinate scale (points at 1e150 overflowed a c to inf, det to nan)
+        top = np.maximum(np.abs(Su).max(axis=1), np.abs(Sv).max(axis=1))
+        sig = np.exp2(np.floor(np.log2(np.where(top > 0, top, 1.0))))[:, None]
+        su, sv, rs = Su / sig, Sv / sig, r / sig
+        a, b, c = (np.einsum("ij,ij->i", A, B) for A, B in ((su, su), (su, sv), (sv, sv)))
+        gu, gv = np.einsum("ij,ij->i", su, rs), np.einsum("ij,ij->i", sv, rs)
         det = a * c - b * b
         ok = det > 1e-12 * np.maximum(a * c, 1e-300)
         safe = np.where(ok, det, 1.0)

@@ -1,6 +1,8 @@
 """fit_surface (issue 17) on grids: every point within tol (brute force: a KD-tree on a
 dense sampling of the result), a bicubic patch sampled at its own parameters comes back
 as itself, noise does not multiply the control points, bad input names the argument."""
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import example, given, settings, strategies as st
@@ -97,6 +99,24 @@ def test_scattered_points_within_tol():
     assert r.params.shape == (len(Q), 2)
     nu, nv = r.surface.control_points.shape[:2]
     assert nu * nv < len(Q) / 4
+
+
+@pytest.mark.parametrize("scale", [1e150, 1e-150])
+def test_scattered_points_at_any_scale_fit_without_overflow(scale):
+    """3,000 scattered points of a wave scaled by 1e150 (or 1e-150): the parameter
+    correction's normal equations are formed from J and r divided by a power of two near
+    |J| per point (a c overflowed to inf and det to nan at 1e150, with RuntimeWarnings);
+    no warning, the fit of the unscaled points scaled: the same control-point counts and
+    the same error relative to tol."""
+    rng = np.random.default_rng(0)
+    xy = rng.random((3000, 2)) * 10
+    Q = np.c_[xy, np.sin(xy[:, 0])]
+    plain = fit_surface(Q, 0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        far = fit_surface(Q * scale, 0.1 * scale)
+    assert far.converged and far.surface.control_points.shape == plain.surface.control_points.shape
+    assert far.max_error / scale == pytest.approx(plain.max_error, rel=1e-6)
 
 
 def test_scattered_graph_of_a_bicubic_comes_back_close():
