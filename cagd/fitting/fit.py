@@ -662,11 +662,12 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
             m -= 1
         if start_tangent is not None or end_tangent is not None:
             raise CagdError("start_tangent: a periodic curve has no ends; leave the tangents out")
-        if m < p + 1:
-            raise CagdError(f"points: a closed degree-{p} fit needs at least {p + 1} distinct points, got {m}")
-        u = _closed_parameters(Q, parameters)
+        distinct = 1 + int(np.count_nonzero(np.any(Q[1:] != Q[:-1], axis=1)))
+        if distinct < p + 1:
+            raise CagdError(f"points: a closed degree-{p} fit needs at least {p + 1} distinct points, got {distinct}")
+        u = _with_repeats(Q, parameters, _closed_parameters)
     else:
-        u = parametrize(Q, parameters)
+        u = _with_repeats(Q, parameters, parametrize)
         u = (u - u[0]) / (u[-1] - u[0])
     tangents: List[Optional[np.ndarray]] = []
     for name, T in (("start_tangent", start_tangent), ("end_tangent", end_tangent)):
@@ -852,8 +853,9 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
         best = (curve, t, e, breaks, worst)
     if best[4] > tol_n and len(best[3]) - 1 >= most_spans and plan.interpolable:
         if plan.periodic:           # one span per point: the points at the breaks (odd degree)
-            b = np.append(u, 1.0) if p % 2 else np.concatenate([[0.0], 0.5 * (u[1:] + u[:-1]), [1.0]])
-            curve, t, e, worst = attempt(b, u)                      # or between them (even)
+            d = np.unique(u)        # or between them (even); repeated points once
+            b = np.append(d, 1.0) if p % 2 else np.concatenate([[0.0], 0.5 * (d[1:] + d[:-1]), [1.0]])
+            curve, t, e, worst = attempt(b, u)
             best = (curve, t, e, b, worst) if worst < best[4] else best
         else:
             best = _interpolant(problem, u, counted) or best
@@ -892,17 +894,38 @@ def _interpolant(problem: _Problem, u: np.ndarray, counted: np.ndarray
     Tiller 9.2.1: averaged knots, eq. 9.8, which meet the Schoenberg-Whitney condition):
     one control point per point, the count a growth reaches when the least squares on its
     error-placed knots keep missing (50 points of a random walk, tol 1e-6: 50 control
-    points 0.65 off). Returns (curve, u, misses, breakpoints, largest miss) as the
-    growth's fits, or None where the points admit no interpolant (repeated points:
-    parameters not increasing)."""
+    points 0.65 off; a repeated point's copies share one parameter and one control
+    point). Returns (curve, u, misses, breakpoints, largest miss) as the growth's fits,
+    or None where the points admit no interpolant (fewer distinct points than degree + 1)."""
     p = problem.p
+    once = np.r_[True, np.diff(u) > 0]                  # repeated points: through one of them
     try:
-        U = kv.averaged(u, p)
-        curve = collocate(problem.Q, p, u, U)
+        U = kv.averaged(u[once], p)
+        curve = collocate(problem.Q[once], p, u[once], U)
     except CagdError:
         return None
     e = _misses(U, p, curve.control_points, problem.Q, u) * counted
     return curve, u, e, np.unique(U), float(e.max())
+
+
+def _with_repeats(Q: np.ndarray, parameters: ParameterSpec,
+                  rule: Callable[[np.ndarray, ParameterSpec], np.ndarray]) -> np.ndarray:
+    """The points' parameters by ``rule`` (``parametrize`` or :func:`_closed_parameters`)
+    with consecutive repeats of a point (a scan's duplicates) allowed: the rule runs on the
+    distinct points (the chord rules need non-zero chords), each repeat takes its
+    predecessor's parameter (the least squares weighs it twice). Explicit parameters go
+    to the rule as given.
+
+    Raises:
+        CagdError: every point the same."""
+    if not isinstance(parameters, str):
+        return rule(Q, parameters)
+    keep = np.r_[True, np.any(Q[1:] != Q[:-1], axis=1)]
+    if keep.all():
+        return rule(Q, parameters)
+    if np.count_nonzero(keep) < 2:
+        raise CagdError("points: all points coincide; a fit needs at least two distinct points")
+    return rule(Q[keep], parameters)[np.cumsum(keep) - 1]
 
 
 def _closed_parameters(Q: np.ndarray, parameters: ParameterSpec) -> np.ndarray:

@@ -184,7 +184,7 @@ def test_every_point_within_tol_property(data):
     (dict(points=[[0, 0], [1, 1]], tol=0.1, end_tangent=[1, 0, 0]), "end_tangent"),
     (dict(points=[[0, 0], [1, 1]], tol=0.1, degree=1, start_tangent=[1, 0]), "tangent"),
     (dict(points=[[0, 0], [1, 1]], tol=0.1, max_control_points=1), "max_control_points"),
-    (dict(points=[[0, 0], [0, 0], [1, 1]], tol=0.1), "points"),
+    (dict(points=[[0, 0], [0, 0], [0, 0]], tol=0.1), "points"),        # all the same (repeats alone: fitted)
 ])
 def test_bad_input_names_the_argument(kwargs, word):
     with pytest.raises(CagdError, match=word):
@@ -360,6 +360,43 @@ def test_the_interpolant_is_not_taken_against_weights_tangents_or_a_cap():
                    {"max_control_points": 39}):
         r = fit_curve(Q, 1e-9, **kwargs)
         assert not r.converged and "not met" in r.message, kwargs
+
+
+@pytest.mark.parametrize("tol", [0.1, 0.001])
+def test_a_scans_repeated_points_are_fitted(tol):
+    """A scan repeats points (here every 50th point twice, the first three times, the last
+    twice): the chord rules' parameters come from the distinct points and every repeat
+    takes its predecessor's (it raised 'points[7] and points[8] coincide', where OCCT's
+    PointsToBSpline and scipy's make_splprep fit such data); every point within tol
+    (certified and by brute force), one parameter per input point, the count within 2
+    of the fit without the repeats."""
+    Q = anchor_curve(2000)
+    rep = np.where(np.arange(2000) % 50 == 7, 2, 1)
+    rep[0], rep[-1] = 3, 2
+    Qd = np.repeat(Q, rep, axis=0)
+    r = fit_curve(Qd, tol)
+    assert r.converged and r.max_error <= tol and r.params.shape == (len(Qd),)
+    sampled, slack = sampled_distances(r.curve, Qd)
+    assert float(sampled.max()) <= tol + slack
+    assert abs(len(r.curve.control_points) - len(fit_curve(Q, tol).curve.control_points)) <= 2
+    np.testing.assert_array_equal(r.curve(0.0), Qd[0])
+
+
+def test_repeated_points_closed_and_below_their_turns():
+    """Repeats in a closed loop (periodic) and a random walk with every point twice at a
+    tol only the curve through the points meets (its repeats share one control point);
+    all points the same still raise, naming the points."""
+    s = np.linspace(0.0, 1.0, 400, endpoint=False)
+    loop = np.stack([np.cos(2 * np.pi * s), np.sin(2 * np.pi * s), 0.2 * np.sin(6 * np.pi * s)], axis=1)
+    loop = np.repeat(loop, np.where(np.arange(400) % 13 == 0, 3, 1), axis=0)
+    r = fit_curve(loop, 1e-4, periodic=True)
+    assert r.converged and r.max_error <= 1e-4 and r.curve.periodic
+    walk = np.repeat(np.cumsum(np.random.default_rng(4).normal(size=(30, 3)), axis=0), 2, axis=0)
+    for periodic in (False, True):
+        r = fit_curve(walk, 1e-6, periodic=periodic)
+        assert r.converged and r.max_error <= 1e-6
+    with pytest.raises(CagdError, match="points: all points coincide"):
+        fit_curve(np.ones((10, 3)), 0.1)
 
 
 def test_quartic_with_one_point_per_end_span_fits():
