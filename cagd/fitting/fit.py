@@ -365,13 +365,14 @@ ACCUMULATE_POINTS = 16384
 GRAM_ROWS = 32
 
 
-def _span_blocks(cut: np.ndarray, m: int) -> Tuple[np.ndarray, np.ndarray]:
+def _span_blocks(cut: np.ndarray, m: int, R: Optional[int] = None) -> Tuple[np.ndarray, np.ndarray]:
     """Rows of the points sorted by span cut into blocks of at most R rows that never
-    straddle two spans (R a power of two near the mean span's count, <= GRAM_ROWS):
-    (index (blocks, R) into the rows, m where a block is padded; the first block of every
-    span)."""
+    straddle two spans (by default a power of two near the mean span's count, <=
+    GRAM_ROWS): (index (blocks, R) into the rows, m where a block is padded; the first
+    block of every span)."""
     sizes = np.diff(np.append(cut, m))
-    R = int(min(GRAM_ROWS, 1 << max(0, int(np.log2(max(1.0, m / len(cut)))))))
+    if R is None:
+        R = int(min(GRAM_ROWS, 1 << max(0, int(np.log2(max(1.0, m / len(cut)))))))
     count = -(-sizes // R)                                         # blocks per span
     first = np.concatenate([[0], np.cumsum(count)[:-1]])
     span = np.repeat(np.arange(len(cut)), count)
@@ -381,19 +382,19 @@ def _span_blocks(cut: np.ndarray, m: int) -> Tuple[np.ndarray, np.ndarray]:
     return np.where(index < end[:, None], index, m), first
 
 
-def span_sums(cut: np.ndarray, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+def span_sums(cut: np.ndarray, left: np.ndarray, right: np.ndarray, rows: Optional[int] = None) -> np.ndarray:
     """Per knot span, sum_k left_k^T right_k over its points (sorted by span, span i's
     first at cut[i]): (spans, a, b) from left (m, r, a) and right (m, r, b) (r rows per
-    point), as matrix products of blocks of a span's points (:func:`_span_blocks`), no
-    (m, a, b) array of the products."""
+    point), as matrix products of blocks of a span's points (:func:`_span_blocks`, of at
+    most ``rows`` points), no (m, a, b) array of the products."""
     m, r = left.shape[:2]
-    block, head = _span_blocks(cut, m)
+    block, head = _span_blocks(cut, m, rows)
     R = block.shape[1]
 
-    def rows(x: np.ndarray) -> np.ndarray:
+    def stacked(x: np.ndarray) -> np.ndarray:
         padded = np.concatenate([x.reshape(m, -1), np.zeros((1, x[0].size))])
         return padded.take(block, axis=0).reshape(len(block), R * r, x.shape[2])
-    return np.add.reduceat(np.matmul(rows(left).transpose(0, 2, 1), rows(right)), head, axis=0)
+    return np.add.reduceat(np.matmul(stacked(left).transpose(0, 2, 1), stacked(right)), head, axis=0)
 
 
 def _accumulate(band: np.ndarray, start: np.ndarray, cols: np.ndarray, V: np.ndarray, w: np.ndarray,
@@ -662,7 +663,7 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
             m -= 1
         if start_tangent is not None or end_tangent is not None:
             raise CagdError("start_tangent: a periodic curve has no ends; leave the tangents out")
-        distinct = 1 + int(np.count_nonzero(np.any(Q[1:] != Q[:-1], axis=1)))
+        distinct = int(np.count_nonzero(_first_of_repeats(Q)))
         if distinct < p + 1:
             raise CagdError(f"points: a closed degree-{p} fit needs at least {p + 1} distinct points, got {distinct}")
         u = _with_repeats(Q, parameters, _closed_parameters)
@@ -920,12 +921,17 @@ def _with_repeats(Q: np.ndarray, parameters: ParameterSpec,
         CagdError: every point the same."""
     if not isinstance(parameters, str):
         return rule(Q, parameters)
-    keep = np.r_[True, np.any(Q[1:] != Q[:-1], axis=1)]
+    keep = _first_of_repeats(Q)
     if keep.all():
         return rule(Q, parameters)
     if np.count_nonzero(keep) < 2:
         raise CagdError("points: all points coincide; a fit needs at least two distinct points")
     return rule(Q[keep], parameters)[np.cumsum(keep) - 1]
+
+
+def _first_of_repeats(Q: np.ndarray) -> np.ndarray:
+    """True for the points that differ from their predecessor (the first point: True)."""
+    return np.r_[True, np.any(Q[1:] != Q[:-1], axis=1)]
 
 
 def _closed_parameters(Q: np.ndarray, parameters: ParameterSpec) -> np.ndarray:

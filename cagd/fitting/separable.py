@@ -31,7 +31,7 @@ from typing import Dict, Tuple
 import numpy as np
 
 from ..basis.bspline import basis_matrix
-from .fit import _determined, _knots
+from .fit import _determined, _knots, span_sums
 
 #: |R_ii| below this share of the largest: the reduced QR is not trusted (rank deficient or
 #: nearly), the pseudo-inverse is used instead, its singular values below this share of
@@ -247,26 +247,18 @@ def _norms(D: np.ndarray) -> np.ndarray:
 def cell_normal_band(band: np.ndarray, start: np.ndarray, cols: np.ndarray, B: np.ndarray, w: np.ndarray) -> None:
     """band += sum_k w_k B_k B_k^T at the unknowns cols[k] (k, q) (w >= 0; the rows of
     :func:`cagd.basis.banded.solve_banded_rows`: entry (i, j) at band[i, j - start[i]]):
-    the points grouped by their knot cell (their first unknown) into bins of at most
-    s = ceil(points / cells) rows of one cell each, each bin's q x q sum one product of
-    its zero-padded rows sqrt(w) B (a batched matmul over (bins, s, q), bins <= points / s +
-    cells, so at most twice the points' entries), scattered into the band once per bin.
-    The same sums as :func:`cagd.fitting.fit._accumulate` (d = 1, no coupling), with less
-    memory traffic."""
+    the points grouped by their knot cell (their first unknown), each cell's q x q sum the
+    products of zero-padded blocks of at most ceil(points / cells) of its rows sqrt(w) B
+    (:func:`cagd.fitting.fit.span_sums`: at most twice the points' entries), scattered
+    into the band once per cell. The same sums as :func:`cagd.fitting.fit._accumulate`
+    (d = 1, no coupling), with less memory traffic."""
     n, q = B.shape
     order = np.argsort(cols[:, 0], kind="stable")
     first = cols[order, 0]
     cut = np.flatnonzero(np.r_[True, first[1:] != first[:-1]])
-    counts = np.diff(np.r_[cut, n])
-    size = max(1, -(-n // len(cut)))
-    slot = np.arange(n) - np.repeat(cut, counts)                 # the row's place in its cell
-    per = -(-counts // size)                                     # bins per cell
-    base = np.r_[0, np.cumsum(per)[:-1]]
-    binn = np.repeat(base, counts) + slot // size
-    padded = np.zeros((int(per.sum()), size, q))
-    padded[binn, slot % size] = B[order] * np.sqrt(w[order])[:, None]
-    G = np.matmul(padded.transpose(0, 2, 1), padded)                         # (bins, q, q)
-    cc = np.repeat(cols[order[cut]], per, axis=0)                            # each bin's unknowns
+    X = (B[order] * np.sqrt(w[order])[:, None])[:, None, :]
+    G = span_sums(cut, X, X, max(1, -(-n // len(cut))))                      # (cells, q, q)
+    cc = cols[order[cut]]                                                    # each cell's unknowns
     rows = cc[:, :, None]
     index = np.broadcast_to(rows * band.shape[1] + cc[:, None, :] - start[rows], G.shape)
     band.ravel()[:] += np.bincount(index.ravel(), G.ravel(), minlength=band.size)
