@@ -301,17 +301,18 @@ def _span_maxima(S: System, curve, pa, pb, t, n: int = 8):
     h = np.diff(t)
     ts = t[:-1, None] + q[None] * h[:, None]                         # (K, n + 1)
     vals = [v.reshape(ts.shape) for v in _distances(S, curve, pa, pb, ts.ravel())]
-    out = []
-    for k, f in enumerate(vals):
+    tv = []
+    for f in vals:
         i = np.clip(np.argmax(f, axis=1), 1, n - 1)
         r = np.arange(len(f))
         f0, f1, f2 = f[r, i - 1], f[r, i], f[r, i + 1]
         den = f0 - 2 * f1 + f2
         off = np.where(den < 0, 0.5 * (f0 - f2) / np.where(den < 0, den, -1.0), 0.0)
-        tv = t[:-1] + (i + np.clip(off, -1.0, 1.0)) / n * h
-        fv = _distances(S, curve, pa, pb, tv)[k]
-        out.append(np.maximum(f.max(axis=1), fv))
-    return out[0], out[1]
+        tv.append(t[:-1] + (i + np.clip(off, -1.0, 1.0)) / n * h)
+    # both vertices in one evaluation (the rows are independent: the same values)
+    fv = _distances(S, curve, pa, pb, np.concatenate(tv))
+    K = len(h)
+    return np.maximum(vals[0].max(axis=1), fv[0][:K]), np.maximum(vals[1].max(axis=1), fv[1][K:])
 
 
 def _foot(S: System, k: int, C: np.ndarray, uv: np.ndarray, iters: int = 6):

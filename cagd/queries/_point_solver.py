@@ -14,7 +14,7 @@ tangential roots are polished on the regular system r . B' = 0, A' x B' = 0.
 """
 from __future__ import annotations
 
-from typing import List, NamedTuple, Optional, Tuple, Union
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -133,18 +133,51 @@ def _sine(da: np.ndarray, db: np.ndarray, curve_surface: bool) -> np.ndarray:
 
 
 def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, max_depth: int,
-         max_pairs: int) -> IntersectionResult:
-    self_mode = B is None
-    Bg = A if B is None else B
-    pa, pb, kind = _initial_pairs(A, B, tol)
-    size = max(A.size, Bg.size)
-    tiny = max(_TINY * size, 10 * tol)
-    curve_surface = Bg.k == 2
-    seeds: List[Tuple[np.ndarray, np.ndarray]] = []
-    frags: List[np.ndarray] = []
-    known: List[Overlap] = []
-    grown: list = []                  # the overlaps grown so far (merge_overlaps)
-    open_pairs = 0
+        max_pairs: int) -> IntersectionResult:
+    """Intersections of A with B (None: self-intersections of the curve A)."""
+    return run_many([(A, B)], tol, angle_tol, max_depth, max_pairs)[0]
+
+
+def run_many(jobs: Sequence[Tuple[sd.Geometry, Optional[sd.Geometry]]], tol: float, angle_tol: float,
+             max_depth: int, max_pairs: int) -> List[IntersectionResult]:
+    """:func:`run` of every job (A, B) of two objects, the same answers: the jobs whose
+    Bezier pieces have the same shapes are subdivided in lock step (their pair rows in
+    one set of arrays, tagged by job), so a level costs one round of numpy calls for all
+    of them, not one per job (the boundary curves of a surface against the other one:
+    a tangential corner where two faces meet took 23 levels of one pair each, issue 16).
+    Self-intersection jobs (B None) run alone."""
+    out: List[Optional[IntersectionResult]] = [None] * len(jobs)
+    groups: Dict[tuple, List[int]] = {}
+    for i, (A, B) in enumerate(jobs):
+        key = (i,) if B is None else (A.pieces.ctrl.shape[1:], B.pieces.ctrl.shape[1:])
+        groups.setdefault(key, []).append(i)
+    for idx in groups.values():
+        for i, res in zip(idx, _run_group([jobs[i] for i in idx], tol, angle_tol, max_depth, max_pairs)):
+            out[i] = res
+    return [res for res in out if res is not None]
+
+
+def _run_group(jobs, tol: float, angle_tol: float, max_depth: int, max_pairs: int) -> List[IntersectionResult]:
+    """The subdivision of :func:`run_many` for jobs of equal piece shapes (or one
+    self-intersection job): row arrays of (a piece, b piece, kind, job)."""
+    self_mode = jobs[0][1] is None
+    geo = [(A, A if B is None else B) for A, B in jobs]
+    J = len(jobs)
+    firsts = [_initial_pairs(A, B, tol) for A, B in jobs]
+    pa = sd.Pieces.concat([f[0] for f in firsts])
+    pb = sd.Pieces.concat([f[1] for f in firsts])
+    kind = np.concatenate([f[2] for f in firsts])
+    job = np.repeat(np.arange(J), [len(f[2]) for f in firsts])
+    sizes = [max(A.size, Bg.size) for A, Bg in geo]
+    tiny = np.array([max(_TINY * size, 10 * tol) for size in sizes])
+    cap = np.array([overlap_cap(tol, size) for size in sizes])
+    curve_surface = geo[0][1].k == 2
+    kb = geo[0][1].k
+    seeds: List[List[Tuple[np.ndarray, np.ndarray]]] = [[] for _ in range(J)]
+    frags: List[List[np.ndarray]] = [[] for _ in range(J)]
+    known: List[List[Overlap]] = [[] for _ in range(J)]
+    grown: List[list] = [[] for _ in range(J)]      # the overlaps grown so far per job (merge_overlaps)
+    open_pairs = np.zeros(J, dtype=np.intp)
     for depth in range(max_depth + 1):
         if len(kind) == 0:
             break
@@ -163,7 +196,7 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
         diag_b = np.linalg.norm(hi_b - lo_b, axis=1)
         flat = (dev_a <= _REL_FLAT * ext_a) & (dev_b <= _REL_FLAT * ext_b)
         sine = _sine(dir_a, dir_b, curve_surface)
-        small = (diag_a <= tiny) & (diag_b <= tiny)
+        small = (diag_a <= tiny[job]) & (diag_b <= tiny[job])
         live &= ~(small & (kind != 0))                          # only the trivial diagonal is left
         done = live & (kind == 0) & ((flat & (sine >= _MIN_SIN)) | small)
         # coincidence is only evidence of an overlap where a tangency could not fake it:
@@ -171,46 +204,55 @@ def run(A: sd.Geometry, B: Optional[sd.Geometry], tol: float, angle_tol: float, 
         # (at least the cap a tangency keeps within tol, overlap_cap; it was 1e3 sqrt(tol
         # size): from tol = 1e-6 size on, no straight piece passed, and a segment lying in
         # a plane at scale 1e-3 gave 4,095 points in 6 s instead of one overlap)
-        evident = (np.maximum(dev_a, dev_b) >= 100 * tol) | (np.minimum(ext_a, ext_b) >= overlap_cap(tol, size))
+        evident = (np.maximum(dev_a, dev_b) >= 100 * tol) | (np.minimum(ext_a, ext_b) >= cap[job])
         test = (live & (kind == 0) & ~done & (sine < NEAR_PARALLEL_SINE) & evident
                 & (dev_a <= 0.05 * ext_a) & (dev_b <= 0.05 * ext_b))
-        if test.any():
-            hit, rows = coincident(A, Bg, pa.take(test), pb.take(test), tol, self_mode)
-            if len(rows):
-                frags.append(rows)
+        for j in np.unique(job[test]):
+            rows = np.flatnonzero(test & (job == j))
+            (A, Bg), sel = geo[j], np.zeros(len(test), bool)
+            sel[rows] = True
+            hit, found = coincident(A, Bg, pa.take(sel), pb.take(sel), tol, self_mode)
+            if len(found):
+                frags[j].append(found)
                 if curve_surface:     # grow the overlap now: pieces inside it are settled
-                    known = merge_overlaps(A, Bg, frags, tol, self_mode, grown)
-            done[np.flatnonzero(test)[hit]] = False
-            live[np.flatnonzero(test)[hit]] = False
-        if known:
-            margin = AT_END_RTOL * (A.hi[0] - A.lo[0])
-            inside = np.zeros(len(live), bool)
-            for ov in known:
-                inside |= (pa.lo[:, 0] >= ov.param_a[0] - margin) & (pa.hi[:, 0] <= ov.param_a[1] + margin)
-            done &= ~inside
-            live &= ~inside
-        last = depth == max_depth or np.count_nonzero(live & ~done) * (2 + 2 * Bg.k) > max_pairs
-        if last:
-            open_pairs = int(np.count_nonzero(live & ~done & (kind == 0)))
-            done = live & (kind == 0)
-        if done.any():
-            seeds.append((0.5 * (pa.lo[done] + pa.hi[done]), 0.5 * (pb.lo[done] + pb.hi[done])))
-        if last:
-            break
-        go = np.flatnonzero(live & ~done)
+                    known[j] = merge_overlaps(A, Bg, frags[j], tol, self_mode, grown[j])
+            done[rows[hit]] = False
+            live[rows[hit]] = False
+        for j in range(J):
+            if known[j]:
+                A = geo[j][0]
+                margin = AT_END_RTOL * (A.hi[0] - A.lo[0])
+                inside = np.zeros(len(live), bool)
+                for ov in known[j]:
+                    inside |= (pa.lo[:, 0] >= ov.param_a[0] - margin) & (pa.hi[:, 0] <= ov.param_a[1] + margin)
+                inside &= job == j
+                done &= ~inside
+                live &= ~inside
+        # per job: the last level at max_depth or where its pairs would pass max_pairs
+        count = np.bincount(job[live & ~done], minlength=J)
+        last_job = (count * (2 + 2 * kb) > max_pairs) | (depth == max_depth)
+        last = last_job[job]
+        if last.any():
+            open_pairs[last_job] = np.bincount(job[last & live & ~done & (kind == 0)], minlength=J)[last_job]
+            done = np.where(last, live & (kind == 0), done)
+        for j in np.unique(job[done]):
+            rows = done & (job == j)
+            seeds[j].append((0.5 * (pa.lo[rows] + pa.hi[rows]), 0.5 * (pb.lo[rows] + pb.hi[rows])))
+        go = np.flatnonzero(live & ~done & ~last)
         if go.size == 0:
             break
-        pa, pb, kind = pa.take(go), pb.take(go), kind[go]
+        pa, pb, kind, job = pa.take(go), pb.take(go), kind[go], job[go]
         split_a = (diag_a[go] >= 0.5 * diag_b[go]) | (kind != 0)
         split_b = (diag_b[go] >= 0.5 * diag_a[go]) | (kind != 0)
         same = kind == 1
         pa, pb, parent = sd.split_pairs(pa, pb, split_a, split_b)
-        kind = kind[parent]
+        kind, job = kind[parent], job[parent]
         if self_mode:
             kind = _self_kinds(pa, pb, kind, same[parent])
             keep = np.flatnonzero(kind != 3)
-            pa, pb, kind = pa.take(keep), pb.take(keep), kind[keep]
-    return _solve(A, Bg, seeds, frags, tol, angle_tol, self_mode, open_pairs, size, grown)
+            pa, pb, kind, job = pa.take(keep), pb.take(keep), kind[keep], job[keep]
+    return [_solve(A, Bg, seeds[j], frags[j], tol, angle_tol, self_mode, int(open_pairs[j]), sizes[j], grown[j])
+            for j, (A, Bg) in enumerate(geo)]
 
 
 def _self_kinds(pa: sd.Pieces, pb: sd.Pieces, kind: np.ndarray, from_same: np.ndarray) -> np.ndarray:

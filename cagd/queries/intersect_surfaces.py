@@ -62,7 +62,7 @@ from . import _surface_overlaps as so
 from ._branch_fit import boundary_line as _boundary_line, degenerate as _degenerate, edge_fit as _edge_fit, \
     fit as _fit
 from ._marching import Marcher, segments_distance
-from ._point_solver import Plane, plane_geometry, run, sine_of
+from ._point_solver import Plane, plane_geometry, run_many, sine_of
 from .results import IntersectionCurve, IntersectionPoint, IntersectionResult, SurfaceOverlap
 from ._overlaps import overlap_cap as _overlap_cap
 from ._surface_system import System
@@ -256,6 +256,7 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
     for G, H, k in sides:
         if k == 1 and edges:
             found = [(None, None, A.points(xs[:, :2])) for xs in edges]
+        jobs, where = [], []                    # a side's boundary runs, subdivided in lock step
         for d in range(2):                      # d: the fixed parameter of the boundary
             if G.closed[d]:
                 continue                        # a seam is no boundary: branches cross it
@@ -271,12 +272,13 @@ def _boundary_seeds(A: sd.Geometry, B: Optional[sd.Geometry], pl, tol: float, ma
                     Cg = sd.Geometry(piece, "a")
                     if found and _on_edges(G, d, val, t0, t1, len(Cg.pieces.ctrl), found, tol):
                         continue        # the other surface's edge already found: the same branch
-                    other = H if H is not None else plane_geometry(Plane(*pl), Cg)
-                    res = run(Cg, other, tol, DEFAULT_ANGLE_TOL, 64, max_pairs)
-                    complete &= res.converged
-                    out += _seed_rows(res.points, d, val, H, k)
-                    for ov in res.overlaps:
-                        edges.append(_edge_rows(G, H, k, d, val, ov.param_a, len(Cg.pieces.ctrl)))
+                    jobs.append((Cg, H if H is not None else plane_geometry(Plane(*pl), Cg)))
+                    where.append((d, val))
+        for (Cg, _), (d, val), res in zip(jobs, where, run_many(jobs, tol, DEFAULT_ANGLE_TOL, 64, max_pairs)):
+            complete &= res.converged
+            out += _seed_rows(res.points, d, val, H, k)
+            for ov in res.overlaps:
+                edges.append(_edge_rows(G, H, k, d, val, ov.param_a, len(Cg.pieces.ctrl)))
     n = 4 if B is not None else 2
     return np.array(out).reshape(-1, n), edges, complete
 

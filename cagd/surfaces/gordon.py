@@ -144,7 +144,7 @@ def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol
     :func:`cagd.min_distance` where no point is solved within tol."""
     from ..queries import _subdivision as sd
     from ..queries.distance import min_distance
-    from ..queries._point_solver import run
+    from ..queries._point_solver import run_many
     size = max(float(np.ptp(c.control_points, axis=0).max()) for c in profiles + guides)
     if tol < INTERSECT_MIN_TOL * size:
         raise CagdError(f"tol: {tol:g} is below {INTERSECT_MIN_TOL:g} of the network's size {size:.6g}, beyond "
@@ -154,13 +154,15 @@ def _intersections(profiles: List[BSplineCurve], guides: List[BSplineCurve], tol
     # cagd.intersect does per call)
     A: Dict[int, Any] = {}
     B: Dict[int, Any] = {}
-    for i, j in zip(*np.nonzero(~proven)):
-        f, g = profiles[i], guides[j]
+    rest = list(zip(*np.nonzero(~proven)))
+    for i, j in rest:
         if i not in A:
-            A[i] = sd.Geometry(f, f"profiles[{i}]")
+            A[i] = sd.Geometry(profiles[i], f"profiles[{i}]")
         if j not in B:
-            B[j] = sd.Geometry(g, f"guides[{j}]")
-        res = run(A[i], B[j], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
+            B[j] = sd.Geometry(guides[j], f"guides[{j}]")
+    found = run_many([(A[i], B[j]) for i, j in rest], tol, INTERSECT_ANGLE_TOL, INTERSECT_DEPTH, INTERSECT_PAIRS)
+    for (i, j), res in zip(rest, found):          # (subdivided in lock step)
+        f, g = profiles[i], guides[j]
         if not res.converged:
             raise CagdError(f"profiles[{i}], guides[{j}]: the intersection search did not settle "
                             f"({res.message})")

@@ -584,13 +584,13 @@ def test_a_shared_edge_is_run_from_one_side(monkeypatch):
     S = cagd.BSplineSurface(np.stack([X, Y, rng.normal(size=X.shape)], -1), 3, 3)
     a, b = S.split("u", 0.5)
     runs = []
-    real = isf.run
+    real = isf.run_many
 
-    def spy(*args, **kw):
-        runs.append(args[0])
-        return real(*args, **kw)
+    def spy(jobs, *args, **kw):
+        runs.extend(jobs)
+        return real(jobs, *args, **kw)
 
-    monkeypatch.setattr(isf, "run", spy)
+    monkeypatch.setattr(isf, "run_many", spy)
     res = cagd.intersect(a, b, tol=1e-9)
     assert len(runs) == 7
     monkeypatch.setattr(isf, "_on_edges", lambda *args: False)

@@ -99,3 +99,48 @@ def test_refined_starts_at_one_root_go_on_once():
     assert sorted(ds) == [1e-10, 2e-10, 4e-10, 5e-10]
     i = int(np.argmin(ds))
     assert xs[i, 0] == c + 1e-10 and np.array_equal(ys[i], [0.2, 0.4])
+
+
+def _same(r, s):
+    """Two IntersectionResults equal to the bit: points, overlaps, convergence, message."""
+    assert (r.converged, r.message, len(r.points), len(r.overlaps)) == (s.converged, s.message, len(s.points),
+                                                                        len(s.overlaps))
+    for p, q in zip(r.points, s.points):
+        assert np.array_equal(p.param_a, q.param_a) and np.array_equal(p.param_b, q.param_b)
+        assert np.array_equal(p.point, q.point) and p.tangential == q.tangential
+    for p, q in zip(r.overlaps, s.overlaps):
+        assert np.array_equal(p.param_a, q.param_a) and np.array_equal(p.param_b, q.param_b)
+
+
+def test_jobs_in_lock_step_answer_as_alone():
+    """run_many subdivides jobs of equal piece shapes together (issue 16: the boundary
+    curves of a face against its neighbour): every job's answer is the one it gets
+    alone, to the bit, through crossings, a tangential corner, an overlap, a miss, a
+    job stopped at its own max_pairs while the others go on, and jobs of another shape
+    (another group)."""
+    from cagd.queries._point_solver import run, run_many
+    S = _surface()
+    G = sd.Geometry(S, "b")
+    # along the surface at height 0.025 (an overlap at gap 0), across it, a miss, a cubic
+    # touching it at its start (z = 0.1 x^2 + 0.2 (x - 0.1)^2 from x = 0.1: tangential),
+    # and a wiggle crossing it several times
+    lines = [_line(0.025, 0.025), _line(-0.3, 0.4), _line(0.5, 0.6)]
+    z = [0.001, 0.001 + 0.008, 0.209]               # the quadratic's Bezier ordinates in t = (x - 0.1) / 0.8
+    touch = cagd.BezierCurve(np.array([[0.1 + 0.8 * t, 0.3, zt] for t, zt in
+                                       zip((0, 1 / 3, 2 / 3, 1), (z[0], (z[0] + 2 * z[1]) / 3,
+                                                                  (2 * z[1] + z[2]) / 3, z[2]))]) @ ROT.T)
+    wiggle = cagd.BezierCurve(np.array([[0.1, 0.1, 0.1], [0.4, 0.3, -0.2], [0.6, 0.6, 0.3], [0.9, 0.8, -0.1]])
+                              @ ROT.T)
+    curves = [sd.Geometry(c, "a") for c in lines + [touch, wiggle]]
+    for pairs in (20000, 40):                      # at 40 pairs some jobs stop early
+        jobs = [(c, G) for c in curves]
+        alone = [run(c, G, 1e-9, 1e-6, 64, pairs) for c in curves]
+        together = run_many(jobs, 1e-9, 1e-6, 64, pairs)
+        assert len(together) == len(jobs)
+        for r, s in zip(alone, together):
+            _same(r, s)
+        if pairs == 20000:
+            assert [len(r.points) for r in alone[1:]] == [1, 0, 1, 3] and len(alone[0].overlaps) == 1
+            assert all(r.converged for r in alone) and alone[3].points[0].tangential
+        else:
+            assert not all(r.converged for r in alone) and any(r.converged for r in alone)
