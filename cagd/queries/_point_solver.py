@@ -40,6 +40,7 @@ CUSP_RTOL = 1e-7            # an arc between s and t within this share of the si
 _REL_FLAT = 1e-3          # a piece is flat when its deviation <= _REL_FLAT * its extent
 _MIN_SIN = 0.05           # flat pieces meeting at sin(angle) above this hold one root
 _TINY = 1e-7              # pieces smaller than _TINY * model size stop subdividing
+LOCKSTEP_PAIRS = 200_000  # run_many: live pairs of the jobs subdivided in lock step, at most (max_pairs each)
 
 
 class Plane(NamedTuple):
@@ -144,16 +145,20 @@ def run_many(jobs: Sequence[Tuple[sd.Geometry, Optional[sd.Geometry]]], tol: flo
     Bezier pieces have the same shapes are subdivided in lock step (their pair rows in
     one set of arrays, tagged by job), so a level costs one round of numpy calls for all
     of them, not one per job (the boundary curves of a surface against the other one:
-    a tangential corner where two faces meet took 23 levels of one pair each, issue 16).
-    Self-intersection jobs (B None) run alone."""
+    a tangential corner where two faces meet took 23 levels of one pair each, issue 16),
+    at most LOCKSTEP_PAIRS // max_pairs jobs at a time. Self-intersection jobs (B None)
+    run alone."""
     out: List[Optional[IntersectionResult]] = [None] * len(jobs)
     groups: Dict[tuple, List[int]] = {}
     for i, (A, B) in enumerate(jobs):
         key = (i,) if B is None else (A.pieces.ctrl.shape[1:], B.pieces.ctrl.shape[1:])
         groups.setdefault(key, []).append(i)
+    per = max(1, int(LOCKSTEP_PAIRS // max(max_pairs, 1)))      # jobs in one lock step: memory bounded
     for idx in groups.values():
-        for i, res in zip(idx, _run_group([jobs[i] for i in idx], tol, angle_tol, max_depth, max_pairs)):
-            out[i] = res
+        for c0 in range(0, len(idx), per):
+            chunk = idx[c0:c0 + per]
+            for i, res in zip(chunk, _run_group([jobs[i] for i in chunk], tol, angle_tol, max_depth, max_pairs)):
+                out[i] = res
     return [res for res in out if res is not None]
 
 

@@ -258,7 +258,8 @@ class Projector:
         self.hull_radius = float(np.sqrt(squared_norms(P)).max())      # about the frame's origin
         if light:
             self.T, self._origin = 0.0, None
-            self._grid_cells, self._grid_key = np.zeros(0, dtype=np.intp), np.zeros(0)
+            self._grid_cells = np.zeros(0, dtype=np.intp)
+            self._grid_key: np.ndarray = np.zeros(0)
         else:
             self._build_grid()
         self._build_tree()
@@ -339,7 +340,7 @@ class Projector:
             step = max(1, GRID_CHUNK // (width * rest))
             for c0, o0 in itertools.product(range(0, len(members), step), range(0, int(shape[0]), width)):
                 cells = members[c0:c0 + step]
-                vox, acc, mid = 0, 0.0, 0.0
+                vox, acc, mid = np.zeros((), dtype=np.intp), np.zeros(()), np.zeros(())
                 for a in range(self.dim - 1, -1, -1):
                     offs = np.arange(o0, min(o0 + width, int(shape[0]))) if a == 0 else np.arange(shape[a])
                     coord = lo[cells, a][:, None] + offs

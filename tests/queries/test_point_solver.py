@@ -112,12 +112,13 @@ def _same(r, s):
         assert np.array_equal(p.param_a, q.param_a) and np.array_equal(p.param_b, q.param_b)
 
 
-def test_jobs_in_lock_step_answer_as_alone():
+def test_jobs_in_lock_step_answer_as_alone(monkeypatch):
     """run_many subdivides jobs of equal piece shapes together (issue 16: the boundary
     curves of a face against its neighbour): every job's answer is the one it gets
     alone, to the bit, through crossings, a tangential corner, an overlap, a miss, a
     job stopped at its own max_pairs while the others go on, and jobs of another shape
     (another group)."""
+    from cagd.queries import _point_solver as ps
     from cagd.queries._point_solver import run, run_many
     S = _surface()
     G = sd.Geometry(S, "b")
@@ -136,9 +137,13 @@ def test_jobs_in_lock_step_answer_as_alone():
         jobs = [(c, G) for c in curves]
         alone = [run(c, G, 1e-9, 1e-6, 64, pairs) for c in curves]
         together = run_many(jobs, 1e-9, 1e-6, 64, pairs)
-        assert len(together) == len(jobs)
-        for r, s in zip(alone, together):
+        monkeypatch.setattr(ps, "LOCKSTEP_PAIRS", 2 * pairs)         # lock steps of 2 jobs at most
+        twos = run_many(jobs, 1e-9, 1e-6, 64, pairs)
+        monkeypatch.undo()
+        assert len(together) == len(twos) == len(jobs)
+        for r, s, t in zip(alone, together, twos):
             _same(r, s)
+            _same(r, t)
         if pairs == 20000:
             assert [len(r.points) for r in alone[1:]] == [1, 0, 1, 3] and len(alone[0].overlaps) == 1
             assert all(r.converged for r in alone) and alone[3].points[0].tangential
