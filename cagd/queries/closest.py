@@ -63,7 +63,9 @@ every cell. Surface queries of FINE_POINTS points or more use finer cells (FINE_
 
 Set-up (issue 16): queries of fewer than LIGHT_POINTS points build a light projector
 (about one cell per Bezier piece, no voxel grid: every point descends the hierarchy),
-whose set-up is a few hundredths of the default one's; the projectors of an object are
+whose set-up is a few hundredths of the default one's; the default one makes the voxel
+lists of the voxels a query meets (the whole grid only for a query of several chunks, or
+once the lists made for queries have cost as much as it); the projectors of an object are
 cached by identity and, for the classes naming their defining attributes
 (``_content_fields``), by content, so that an equal object built again finds them.
 """
@@ -73,7 +75,7 @@ from collections import OrderedDict
 from dataclasses import replace
 import hashlib
 import itertools
-from typing import Callable, List, Optional, Sequence, Tuple, Union, cast
+from typing import Callable, List, NamedTuple, Optional, Sequence, Tuple, Union, cast
 import weakref
 
 import numpy as np
@@ -153,6 +155,25 @@ TOL_CHANGED = ("tol is a distance in model units now: Newton stops when a step m
                "is param_tol= now")
 
 
+
+
+class GridLists(NamedTuple):
+    """Voxel lists: voxel i lists cells[start[i]:start[i + 1]], with non-decreasing lower
+    bounds keys[...] of their distance from the voxel."""
+    cells: np.ndarray
+    keys: np.ndarray
+    start: np.ndarray
+
+
+class GridView(NamedTuple):
+    """The voxel lists of query points: point j's cells are cells[start[j]:start[j] + length[j]]."""
+    cells: np.ndarray
+    keys: np.ndarray
+    start: np.ndarray
+    length: np.ndarray
+
+    def rows(self, i: np.ndarray) -> "GridView":
+        return GridView(self.cells, self.keys, self.start[i], self.length[i])
 
 
 #: per object (by identity, and by content: :func:`projector`) its projectors by tier:
@@ -256,12 +277,11 @@ class Projector:
         self.size = max(float((hi - lo).max()), TINY)
         self._poles = PoleCells.of(self.cells, self.size)      # cells with a collapsed edge (first-order bound)
         self.hull_radius = float(np.sqrt(squared_norms(P)).max())      # about the frame's origin
+        self._grid: Optional[GridLists] = None          # every voxel's list, built for large queries
         if light:
             self.T, self._origin = 0.0, None
-            self._grid_cells = np.zeros(0, dtype=np.intp)
-            self._grid_key: np.ndarray = np.zeros(0)
         else:
-            self._build_grid()
+            self._grid_frame()
         self._build_tree()
 
     # --- evaluation --------------------------------------------------------------------
@@ -298,12 +318,14 @@ class Projector:
         return self._lead(self.pieces.derivatives(self.pieces.locate(x), x, 0))
 
     # --- voxel grid of cell centres ----------------------------------------------------------
-    def _build_grid(self) -> None:
+    def _grid_frame(self) -> None:
         """Voxels of side V = median cell radius; voxel Z lists every cell whose sphere
         comes within T = 2 V of Z, ordered by that sphere's distance from Z (the key). A
         point in Z at distance d <= T from the object therefore finds every cell that could
         hold a closer point in the prefix of keys below d: the rest are >= d away (points
-        with d > T take the brute-force path)."""
+        with d > T take the brute-force path). Here the grid's frame and each cell's box of
+        voxels; the lists are made for the voxels a query meets (:meth:`_lists`), or for
+        all of them at once for a query of several chunks (:meth:`_full_grid`)."""
         r = self.radii
         typical = float(np.median(r))
         self.T = 2.0 * typical + SLACK_RTOL * self.size
@@ -317,21 +339,41 @@ class Projector:
             dims = (np.ceil(extent / V) + 1).astype(np.intp)
             lo = np.floor((self.centers - reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
             hi = np.floor((self.centers + reach[:, None] - origin) / V).astype(np.intp).clip(0, dims - 1)
-            span = hi - lo + 1
-            count = np.prod(span, axis=1)
+            count = np.prod(hi - lo + 1, axis=1)
             if float(count.sum()) <= GRID_ENTRIES:
                 break
             V *= 1.5
-        # the entries by groups of cells whose voxel boxes have the same shape (1 to 22 on
-        # the 68 real faces of benchmarks.real_faces): per axis, the voxel coordinates,
-        # the squared gaps to the centres and the squared distances of the voxel centres
-        # from the midpoints are (cells, span along the axis) arrays, summed into the box
-        # by broadcasting (3 additions per entry instead of 3 passes of 12 operations: the
-        # entries were 2/3 of the set-up of a 50 x 50 net), GRID_CHUNK entries at a time
-        # (chunks of cells, and of the first axis's span where one cell's box is larger)
-        strides = np.array([int(np.prod(dims[a + 1:])) for a in range(self.dim)], dtype=np.intp)
-        shapes, group = np.unique(span, axis=0, return_inverse=True)
-        group = group.reshape(-1)
+        # the work of the whole grid (candidate entries), and of the lists made so far: once
+        # these reach it, the whole grid is made (repeated queries pay at most twice)
+        self._grid_work, self._lazy_work = float(count.sum()), 0.0
+        self._origin, self._V, self._dims, self._reach, self._box = origin, V, dims, reach, (lo, hi)
+        self._strides = np.array([int(np.prod(dims[a + 1:])) for a in range(self.dim)], dtype=np.intp)
+        # the cells grouped by the shape of their box (the full grid's broadcasting); both
+        # ways of making lists take the cells in this order, so that equal keys (a
+        # symmetric object) come out in one order (a stable sort)
+        shapes, group = np.unique(hi - lo + 1, axis=0, return_inverse=True)
+        self._groups = (shapes, group.reshape(-1))
+        self._cell_order = np.argsort(self._groups[1], kind="stable")
+
+    def _entry_terms(self, cells: np.ndarray, coord: np.ndarray, a: int) -> Tuple[np.ndarray, np.ndarray]:
+        """Along axis a, for cells and voxel coordinates (broadcast): the squared gap from
+        the voxel slab to the cell's centre and the squared distance of the slab's centre
+        from the cell's midpoint (summed over the axes: the exact test and the tie key)."""
+        zlo = cast(np.ndarray, self._origin)[a] + coord * self._V
+        c = self.centers[cells, a]
+        return (np.maximum(0.0, np.maximum(zlo - c, c - zlo - self._V)) ** 2,
+                (zlo + 0.5 * self._V - self.mid_points[cells, a]) ** 2)
+
+    def _full_grid(self) -> "GridLists":
+        """Every voxel's list (cached): the entries by groups of cells whose voxel boxes
+        have the same shape (1 to 22 on the 68 real faces of benchmarks.real_faces); per
+        axis the voxel coordinates and the two distance terms are (cells, span along the
+        axis) arrays, summed into the box by broadcasting, GRID_CHUNK entries at a time
+        (chunks of cells, and of the first axis's span where one cell's box is larger)."""
+        if self._grid is not None:
+            return self._grid
+        lo, hi = self._box
+        shapes, group = self._groups
         parts = []
         for g, shape in enumerate(shapes):
             members = np.flatnonzero(group == g)
@@ -344,30 +386,81 @@ class Projector:
                 for a in range(self.dim - 1, -1, -1):
                     offs = np.arange(o0, min(o0 + width, int(shape[0]))) if a == 0 else np.arange(shape[a])
                     coord = lo[cells, a][:, None] + offs
-                    # exact test: distance from the voxel box to the centre below T + r
-                    zlo = origin[a] + coord * V
-                    c = self.centers[cells, a][:, None]
+                    gap2, mid2 = self._entry_terms(cells[:, None], coord, a)
                     there = (len(cells),) + (1,) * a + (len(offs),) + (1,) * (self.dim - 1 - a)
-                    vox = vox + (coord * strides[a]).reshape(there)
-                    acc = acc + (np.maximum(0.0, np.maximum(zlo - c, c - zlo - V)) ** 2).reshape(there)
-                    # ... and the distance of the voxel's centre from the cell's midpoint
-                    mid = mid + ((zlo + 0.5 * V - self.mid_points[cells, a][:, None]) ** 2).reshape(there)
-                keep = (acc < (reach[cells] ** 2).reshape((-1,) + (1,) * self.dim)).reshape(len(cells), -1)
+                    vox = vox + (coord * self._strides[a]).reshape(there)
+                    acc = acc + gap2.reshape(there)
+                    mid = mid + mid2.reshape(there)
+                # exact test: distance from the voxel box to the centre below T + r
+                keep = (acc < (self._reach[cells] ** 2).reshape((-1,) + (1,) * self.dim)).reshape(len(cells), -1)
                 full = keep.shape
                 cell = np.broadcast_to(cells[:, None], full)[keep]
                 parts.append((cell, self._grid_keys(np.broadcast_to(vox, acc.shape).reshape(full)[keep], cell,
                                                     acc.reshape(full)[keep],
-                                                    np.broadcast_to(mid, acc.shape).reshape(full)[keep], V)))
-        cell, key = (np.concatenate([q[i] for q in parts]) for i in range(2))
-        order = np.argsort(key)
-        self._grid_cells = cell[order]
-        self._grid_start = np.r_[0, np.cumsum(np.bincount(key >> 41, minlength=int(np.prod(dims))))]
-        # the keys, non-decreasing within each voxel
-        self._grid_key = ((key[order] >> 25) & 65535) * (self.T / 65536.0)
-        self._origin, self._V, self._dims = origin, V, dims
+                                                    np.broadcast_to(mid, acc.shape).reshape(full)[keep])))
+        self._grid = self._sorted_lists(parts, int(np.prod(self._dims)))
+        return self._grid
 
-    def _grid_keys(self, vox: np.ndarray, cell: np.ndarray, acc: np.ndarray, mid: np.ndarray, V: float
-                   ) -> np.ndarray:
+    def _lists(self, U: np.ndarray) -> "GridLists":
+        """The lists of the voxels U (sorted voxel indices) alone, the same entries and keys
+        as :meth:`_full_grid`'s (issue 16, set-up: the whole grid of a bumpy 50 x 50 net is
+        2.5 M entries, a query of a few thousand points meets a few thousand voxels).
+        Every cell's box of voxels is cut into rows along the last axis: a row's voxels
+        are a run of indices, found in U by bisection, GRID_CHUNK rows at a time."""
+        lo, hi = self._box
+        last = self.dim - 1
+        # the cells whose box meets the box of U's voxels (a few points meet few cells)
+        zu = (U[:, None] // self._strides) % self._dims
+        meets = np.all((lo <= zu.max(axis=0)) & (hi >= zu.min(axis=0)), axis=1)
+        order = self._cell_order[meets[self._cell_order]]
+        lo_o, span_o = lo[order], (hi - lo + 1)[order]
+        rows_of = np.prod(span_o[:, :last], axis=1)                      # rows per cell
+        occupied = np.zeros(int(np.prod(self._dims[:last])), dtype=bool)
+        occupied[U // self._dims[last]] = True
+        ends = np.cumsum(rows_of)
+        parts = []
+        c0, m = 0, len(rows_of)
+        while c0 < m:
+            base0 = ends[c0 - 1] if c0 else 0
+            c1 = max(c0 + 1, int(np.searchsorted(ends, base0 + GRID_CHUNK, side="right")))
+            n_rows = rows_of[c0:c1]
+            k = np.arange(int(n_rows.sum())) - np.repeat(np.cumsum(n_rows) - n_rows, n_rows)
+            zs: List[np.ndarray] = [k] * self.dim
+            base = np.zeros(len(k), dtype=np.intp)
+            for a in range(last - 1, -1, -1):            # the row's coordinates (mixed radix)
+                k, r = np.divmod(k, np.repeat(span_o[c0:c1, a], n_rows))
+                zs[a] = np.repeat(lo_o[c0:c1, a], n_rows) + r
+                base += zs[a] * self._strides[a]
+            hit = np.flatnonzero(occupied[base // self._dims[last]])     # rows holding a voxel of U
+            cell = order[np.repeat(np.arange(c0, c1), n_rows)[hit]]
+            base = base[hit]
+            first = np.searchsorted(U, base + lo[cell, last], side="left")
+            n = np.searchsorted(U, base + hi[cell, last], side="right") - first
+            row = np.repeat(np.arange(len(cell)), n)
+            u = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + first[row]
+            cell = cell[row]
+            zs = [zs[a][hit][row] for a in range(last)] + [U[u] - base[row]]
+            acc, mid = np.zeros(()), np.zeros(())
+            for a in range(last, -1, -1):                # the order of _full_grid's sums
+                gap2, mid2 = self._entry_terms(cell, zs[a], a)
+                acc, mid = acc + gap2, mid + mid2
+            keep = acc < self._reach[cell] ** 2
+            parts.append((cell[keep], self._grid_keys(u[keep], cell[keep], acc[keep], mid[keep])))
+            self._lazy_work += len(k) + len(u)
+            c0 = c1
+        return self._sorted_lists(parts, len(U))
+
+    def _sorted_lists(self, parts, voxels: int) -> "GridLists":
+        """:class:`GridLists` of the (cells, keys) parts of ``voxels`` voxels."""
+        cell, key = (np.concatenate([q[i] for q in parts]) if parts else np.zeros(0, dtype=np.int64)
+                     for i in range(2))
+        order = np.argsort(key, kind="stable")
+        start = np.r_[0, np.cumsum(np.bincount(key >> 41, minlength=voxels))]
+        # the keys, non-decreasing within each voxel
+        keys = ((key[order] >> 25) & 65535) * (self.T / 65536.0)
+        return GridLists(cell[order].astype(np.intp, copy=False), keys, start)
+
+    def _grid_keys(self, vox: np.ndarray, cell: np.ndarray, acc: np.ndarray, mid: np.ndarray) -> np.ndarray:
         """One int64 sort key per grid entry (voxel ``vox``, cell ``cell``, squared gap
         ``acc`` from the voxel to the cell's centre, squared distance ``mid`` of the voxel's
         centre from the cell's midpoint): voxel, then the cell's sphere bound over the voxel
@@ -375,20 +468,21 @@ class Projector:
         spheres meeting the voxel) the midpoint distance rounded."""
         with np.errstate(divide="ignore", invalid="ignore"):
             kq = np.floor(np.clip(np.sqrt(acc) - self.radii[cell], 0.0, self.T) / self.T * 65536.0)
-            mq = np.sqrt(mid) / (4.0 * (self.T + V)) * 2.0 ** 25
+            mq = np.sqrt(mid) / (4.0 * (self.T + self._V)) * 2.0 ** 25
         if not self.T > 0.0:             # (0 / 0)
             kq, mq = np.nan_to_num(kq), np.nan_to_num(mq)
         kq = np.clip(kq, 0, 65535).astype(np.int64)
         mq = np.clip(mq, 0, 2 ** 25 - 1).astype(np.int64)
         return (vox.astype(np.int64) << 41) | (kq << 25) | mq
 
-    def _voxels(self, X: np.ndarray):
-        """Voxel index, first grid entry and number of grid entries per point (0 outside,
-        and everywhere on a light projector: it has no grid)."""
+    def _voxels(self, X: np.ndarray) -> "GridView":
+        """The grid lists of the points' voxels: per point its first entry and number of
+        entries (0 outside, and everywhere on a light projector: it has no grid), from
+        the whole grid where it is built, else from lists made for these voxels alone."""
         N = len(X)
         if self._origin is None:
             zero = np.zeros(N, dtype=np.intp)
-            return zero, zero, zero
+            return GridView(np.zeros(0, dtype=np.intp), np.zeros(0), zero, zero)
         with np.errstate(over="ignore", invalid="ignore"):
             zf = np.floor((X - self._origin) / self._V)
         inside = np.all(np.isfinite(zf) & (zf >= 0) & (zf < self._dims), axis=1)
@@ -396,9 +490,16 @@ class Projector:
         vid = np.zeros(N, dtype=np.intp)
         for a in range(self.dim):
             vid = vid * self._dims[a] + np.where(inside, z[:, a], 0)
-        start = self._grid_start[vid]
-        count = np.where(inside, self._grid_start[vid + 1] - start, 0)
-        return vid, start, count
+        if self._grid is None and self._lazy_work >= self._grid_work:
+            self._full_grid()
+        if self._grid is not None:
+            grid = self._grid
+        else:
+            vid, inv = np.unique(vid, return_inverse=True)
+            grid, vid = self._lists(vid), inv.reshape(-1)
+        start = grid.start[vid]
+        count = np.where(inside, grid.start[vid + 1] - start, 0)
+        return GridView(grid.cells, grid.keys, start, count)
 
     # --- hierarchy of cells (far points) ------------------------------------------------------
     def _build_tree(self) -> None:
@@ -497,15 +598,15 @@ class Projector:
 
     SEEDS = 4      # cells per voxel tried for the seed
 
-    def seeds(self, X: np.ndarray, start: np.ndarray, count: np.ndarray) -> np.ndarray:
+    def seeds(self, X: np.ndarray, grid: "GridView") -> np.ndarray:
         """Per point the seed cell: the nearest midpoint among the first SEEDS cells of its
         voxel (those meeting the voxel, nearest its centre), or among all cells when the
         voxel is empty."""
         N, K = len(X), self.SEEDS
-        k = np.minimum(count, K)
+        k = np.minimum(grid.length, K)
         pid = np.repeat(np.arange(N), k)
         offs = np.arange(len(pid)) - np.repeat(np.cumsum(k) - k, k)
-        cell = self._grid_cells[start[pid] + offs]
+        cell = grid.cells[grid.start[pid] + offs]
         dist = np.full((N, K), np.inf)
         cells = np.zeros((N, K), dtype=np.intp)
         dist[pid, offs] = _distances(X, pid, self.mid_points, cell)
@@ -518,7 +619,7 @@ class Projector:
             seed[i] = self._tree_pairs(X[i], np.full(len(i), np.inf), True)[1]
         return seed
 
-    def candidates(self, X: np.ndarray, d: np.ndarray, vid: np.ndarray, start: np.ndarray, count: np.ndarray
+    def candidates(self, X: np.ndarray, d: np.ndarray, grid: "GridView"
                    ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The (point, cell) pairs whose sphere bound is below d (the distance found), with
         those bounds, and per point a lower bound over all cells left out.
@@ -533,14 +634,14 @@ class Projector:
         the hierarchy (:meth:`_tree_pairs`: at most K nodes per point, a node dropped
         bounds its cells), so the certificate stays ``lower_bounds <= distance to every
         cell``. Pairs are formed PAIR_BUDGET at a time."""
-        N = len(X)
+        N, start, count = len(X), grid.start, grid.length
         fast = (count > 0) & (d <= self.T)
         # per voxel segment, the number of keys <= d (vectorized bisection)
         q = d * (1.0 + SLACK_RTOL) + ULP_RTOL * self.size
         ends = start.copy()
         act = np.flatnonzero(fast)
         lo, hi, qa = start[act], start[act] + count[act], q[act]
-        key = self._grid_key
+        key = grid.keys
         while act.size:
             mid = (lo + hi) >> 1
             le = key[mid] <= qa
@@ -568,7 +669,7 @@ class Projector:
             ng = n[g0:g1]
             pid = np.repeat(np.arange(g0, g1), ng)
             offs = np.arange(len(pid)) - np.repeat(np.cumsum(ng) - ng, ng)
-            cell = self._grid_cells[start[pid] + offs]
+            cell = grid.cells[start[pid] + offs]
             lb = self._cell_bounds(X, pid, cell)
             P.append(pid)
             C.append(cell)
@@ -612,12 +713,14 @@ class Projector:
         max_iterations = _checks.integer(max_iterations, "max_iterations", 1)
         chunk = int(np.clip(PAIR_BUDGET // min(len(self.radii), CANDIDATES), MIN_CHUNK, POINT_CHUNK))
         if len(model) > chunk:          # at most CANDIDATES cells per point: pairs bounded
+            if self._origin is not None:
+                self._full_grid()       # (every voxel's list at once: the chunks meet most of them)
             return _concat([self._closest(model[i:i + chunk], tol, param_tol, max_iterations, max_rounds, defer)
                             for i in range(0, len(model), chunk)])
         X, far = self._inward(model)
         N = len(X)
-        vid, vstart, vcount = self._voxels(X)
-        seed = self.seeds(X, vstart, vcount)
+        grid = self._voxels(X)
+        seed = self.seeds(X, grid)
         dom_lo = np.broadcast_to(self.domain[:, 0], (N, self.k))
         dom_hi = np.broadcast_to(self.domain[:, 1], (N, self.k))
         x, d2, conv, (Sx, Jx, Hx, xe) = projected_newton(self, X, np.arange(N), self._start(X, seed), dom_lo, dom_hi,
@@ -628,14 +731,14 @@ class Projector:
         # around x*'s cell
         gap = WIN_GAP_RTOL * d + SIZE_ROUNDING * self.size
         if defer is None:
-            pid, cell, lb_s, LB = self.candidates(X, d, vid, vstart, vcount)
+            pid, cell, lb_s, LB = self.candidates(X, d, grid)
             cut = LB < d                # the candidate list was cut (rest lowered below d)
         else:                           # only the points not deferred
             sure = np.flatnonzero(~np.asarray(defer(self.frame.params(x)), dtype=bool))
             LB = np.zeros(N)
             pid, cell, lb_s = np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0)
             if sure.size:
-                pid, cell, lb_s, LB[sure] = self.candidates(X[sure], d[sure], vid[sure], vstart[sure], vcount[sure])
+                pid, cell, lb_s, LB[sure] = self.candidates(X[sure], d[sure], grid.rows(sure))
                 pid = sure[pid]
             cut = np.zeros(N, dtype=bool)
             cut[sure] = LB[sure] < d[sure]
@@ -1336,7 +1439,8 @@ def projector(obj: Union[Curve, Surface], points: int = 0) -> Projector:
 
 def _footprint(p: Projector) -> int:
     """Bytes held by a projector's arrays (also inside its lists and tuples), computed once,
-    plus those its half-Hessian hull holds now (it grows as cells are used)."""
+    plus those its half-Hessian hull and its whole voxel grid hold now (they are made as
+    queries need them)."""
     if getattr(p, "_bytes", None) is None:
         def size(x: object, depth: int = 0) -> int:
             if isinstance(x, np.ndarray):
@@ -1346,9 +1450,10 @@ def _footprint(p: Projector) -> int:
             if isinstance(x, BezierPieces) and depth < 3:
                 return sum(size(y, depth + 1) for y in vars(x).values())
             return 0
-        setattr(p, "_bytes", sum(size(v) for k, v in vars(p).items() if k != "_bytes"))
-    hull = p._hessian
-    return int(getattr(p, "_bytes")) + (hull.nbytes if hull is not None else 0)
+        setattr(p, "_bytes", sum(size(v) for k, v in vars(p).items() if k not in ("_bytes", "_grid")))
+    hull, grid = p._hessian, p._grid
+    return int(getattr(p, "_bytes")) + (hull.nbytes if hull is not None else 0) + \
+        (sum(int(a.nbytes) for a in grid) if grid is not None else 0)
 
 
 def content_key(obj: object) -> Optional[Tuple]:

@@ -782,7 +782,7 @@ def test_grid_entries_are_bounded():
     rng = np.random.default_rng(0)
     S = cagd.BSplineSurface(rng.uniform(-1, 1, (70, 70, 3)), 3, 3)      # 67^2 = 4489 >= 4096 pieces
     p = Projector(S)
-    assert len(p._grid_cells) <= GRID_ENTRIES
+    assert len(p._full_grid().cells) <= GRID_ENTRIES
     assert len(p.pieces) == 4489 and len(p.cells) <= 2 * len(p.pieces)
     X = rng.uniform(-1, 1, (50, 3))
     r = p.closest(X)
@@ -807,7 +807,8 @@ def test_grid_lists_exactly_the_cells_whose_spheres_reach_each_voxel(monkeypatch
     g = np.linspace(0.0, 1.0, 5)
     P = np.stack(list(np.meshgrid(g, g, indexing="ij")) + [0.2 * rng.standard_normal((5, 5))], -1)
     p = Projector(cagd.BSplineSurface(P, 3, 3))
-    assert len(p.cells) >= 256 and len(np.unique(np.diff(p._grid_start))) > 3
+    grid = p._full_grid()
+    assert len(p.cells) >= 256 and len(np.unique(np.diff(grid.start))) > 3
     dims, V, origin = p._dims, p._V, p._origin
     Z = np.indices(tuple(dims)).reshape(3, -1).T                       # every voxel, in index order
     zlo = origin + Z * V
@@ -815,13 +816,52 @@ def test_grid_lists_exactly_the_cells_whose_spheres_reach_each_voxel(monkeypatch
     d2 = (gap ** 2).sum(-1)                                            # (voxels, cells)
     expected = d2 < (p.T + p.radii[None]) ** 2
     listed = np.zeros_like(expected)
-    vox = np.repeat(np.arange(len(Z)), np.diff(p._grid_start))
-    np.add.at(listed, (vox, p._grid_cells), True)
+    vox = np.repeat(np.arange(len(Z)), np.diff(grid.start))
+    np.add.at(listed, (vox, grid.cells), True)
     assert np.array_equal(listed, expected)
-    assert len(p._grid_cells) == expected.sum()                        # each pair once
-    key = p._grid_key
+    assert len(grid.cells) == expected.sum()                           # each pair once
+    key = grid.keys
     assert np.all(np.diff(key)[np.diff(vox) == 0] >= 0)
-    assert np.all(key <= np.maximum(np.sqrt(d2[vox, p._grid_cells]) - p.radii[p._grid_cells], 0.0) + 1e-15)
+    assert np.all(key <= np.maximum(np.sqrt(d2[vox, grid.cells]) - p.radii[grid.cells], 0.0) + 1e-15)
+
+
+@pytest.mark.parametrize("chunk", [1 << 18, 16])
+@pytest.mark.parametrize("case", ["bumpy", "sphere", "curve"])
+def test_voxel_lists_made_for_a_query_are_the_grid_s(monkeypatch, chunk, case):
+    """A query of one chunk makes the lists of the voxels its points meet alone
+    (issue 16, set-up: the whole grid of a bumpy 50 x 50 net is 2.5 M entries): every
+    point's list is the whole grid's to the bit, cells, keys and the order of equal keys
+    (a sphere's symmetric cells), also made a few rows at a time (GRID_CHUNK 16); the
+    projector builds no whole grid for it, and the answers equal those of the whole
+    grid's."""
+    import cagd.queries.closest as cl
+    monkeypatch.setattr(cl, "GRID_CHUNK", chunk)
+    rng = np.random.default_rng(5)
+    if case == "bumpy":
+        g = np.linspace(0.0, 1.0, 12)
+        obj = cagd.BSplineSurface(np.stack(list(np.meshgrid(g, g, indexing="ij"))
+                                           + [0.1 * rng.standard_normal((12, 12))], -1), 3, 3)
+    elif case == "sphere":
+        obj = cagd.sphere(2.0)
+    else:
+        obj = cagd.BSplineCurve(rng.normal(size=(30, 3)), 3)
+    p = Projector(obj)
+    P = p.mid_points[rng.integers(0, len(p.mid_points), 600)]
+    X = np.concatenate([P + rng.normal(scale=0.01 * p.size, size=P.shape),
+                        P + rng.normal(scale=0.3 * p.size, size=P.shape), rng.normal(scale=5 * p.size, size=(20, 3))])
+    lazy = p._voxels(X)
+    first = p._closest(X, None, None)
+    assert p._grid is None and lazy.length.max() > 0 and (lazy.length == 0).any()
+    p._full_grid()
+    full = p._voxels(X)
+    assert np.array_equal(lazy.length, full.length)
+    for j in range(len(X)):
+        a = slice(lazy.start[j], lazy.start[j] + lazy.length[j])
+        b = slice(full.start[j], full.start[j] + full.length[j])
+        assert np.array_equal(lazy.cells[a], full.cells[b]) and np.array_equal(lazy.keys[a], full.keys[b])
+    again = p._closest(X, None, None)
+    assert np.array_equal(first.distances, again.distances) and np.array_equal(first.params, again.params)
+    assert np.array_equal(first.lower_bounds, again.lower_bounds)
 
 
 def test_c2_by_knots_agrees_with_the_numerical_test():
@@ -955,3 +995,26 @@ def test_list_bad_input():
         closest_point([s, s], np.zeros((2, 2)))
     with pytest.raises(CagdError, match="points"):
         closest_point([s, s], np.full((2, 3), np.nan))
+
+
+def test_repeated_small_queries_make_the_whole_grid_once_it_pays():
+    """Lists made for each query's voxels cost work every time; once their work reaches
+    that of the whole grid (its candidate entries), the projector makes the whole grid
+    and later queries read it: repeated queries pay at most about twice the whole grid,
+    a single one only its own voxels. The answers do not change."""
+    rng = np.random.default_rng(6)
+    g = np.linspace(0.0, 1.0, 12)
+    S = cagd.BSplineSurface(np.stack(list(np.meshgrid(g, g, indexing="ij"))
+                                     + [0.1 * rng.standard_normal((12, 12))], -1), 3, 3)
+    p = Projector(S)
+    X = p.mid_points[rng.integers(0, len(p.mid_points), 50)] + 0.001 * rng.standard_normal((50, 3))
+    first = p._closest(X, None, None)
+    per_query = p._lazy_work
+    assert p._grid is None and 0 < per_query < p._grid_work
+    calls = 1
+    while p._grid is None:
+        again = p._closest(X, None, None)
+        calls += 1
+        assert np.array_equal(again.distances, first.distances) and np.array_equal(again.params, first.params)
+    assert calls == int(np.ceil(p._grid_work / per_query)) + 1
+    assert np.array_equal(p._closest(X, None, None).lower_bounds, first.lower_bounds)

@@ -203,7 +203,7 @@ def test_sphere_far_points_through_the_hierarchy():
     u /= np.linalg.norm(u, axis=1, keepdims=True)
     X = u * rng.uniform(10, 1e4, (200, 1))
     p = Projector(cagd.sphere(1.0))
-    assert not np.any((p._voxels(X)[2] > 0))
+    assert not np.any((p._voxels(X).length > 0))
     r = p.closest(X)
     exact = np.linalg.norm(X, axis=1) - 1.0
     np.testing.assert_allclose(r.distances, exact, rtol=1e-13)
