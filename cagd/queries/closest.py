@@ -490,13 +490,17 @@ class Projector:
         vid = np.zeros(N, dtype=np.intp)
         for a in range(self.dim):
             vid = vid * self._dims[a] + np.where(inside, z[:, a], 0)
+        if not inside.any():
+            zero = np.zeros(N, dtype=np.intp)
+            return GridView(np.zeros(0, dtype=np.intp), np.zeros(0), zero, zero)
         if self._grid is None and self._lazy_work >= self._grid_work:
             self._full_grid()
         if self._grid is not None:
             grid = self._grid
-        else:
-            vid, inv = np.unique(vid, return_inverse=True)
-            grid, vid = self._lists(vid), inv.reshape(-1)
+        else:                           # the lists of the voxels holding points
+            U, inv = np.unique(vid[inside], return_inverse=True)
+            grid, vid = self._lists(U), np.zeros(N, dtype=np.intp)
+            vid[inside] = inv.reshape(-1)
         start = grid.start[vid]
         count = np.where(inside, grid.start[vid + 1] - start, 0)
         return GridView(grid.cells, grid.keys, start, count)
