@@ -351,8 +351,13 @@ class Projector:
         # the cells grouped by the shape of their box (the full grid's broadcasting); both
         # ways of making lists take the cells in this order, so that equal keys (a
         # symmetric object) come out in one order (a stable sort)
-        shapes, group = np.unique(hi - lo + 1, axis=0, return_inverse=True)
-        self._groups = (shapes, group.reshape(-1))
+        span = hi - lo + 1
+        radix = int(dims.max()) + 1                 # one integer per shape, ordered as the rows
+        code = np.zeros(len(span), dtype=np.int64)
+        for a in range(self.dim):
+            code = code * radix + span[:, a]
+        _, first, group = np.unique(code, return_index=True, return_inverse=True)
+        self._groups = (span[first], group.reshape(-1))
         self._cell_order = np.argsort(self._groups[1], kind="stable")
 
     def _entry_terms(self, cells: np.ndarray, coord: np.ndarray, a: int) -> Tuple[np.ndarray, np.ndarray]:
