@@ -37,6 +37,7 @@ def _parser() -> argparse.ArgumentParser:
     dev.add_argument("points", type=Path, help="CSV of points, one x,y[,z] per line (a header line is allowed)")
     dev.add_argument("-o", "--output", type=Path, required=True, help="the report to write (Markdown)")
     dev.add_argument("--png", type=Path, help="the colour map (default: next to the report, .png)")
+    dev.add_argument("--no-png", action="store_true", help="no colour map (then matplotlib is not needed)")
     dev.add_argument("--csv", type=Path, help="per-point results: point, face, distance, lower bound, foot "
                                               "(always written here; default: next to the report, .points.csv, "
                                               "for up to 100,000 points)")

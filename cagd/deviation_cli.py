@@ -243,18 +243,25 @@ def run_deviation(args: argparse.Namespace) -> int:
     try:
         workers = checked_workers(args.workers, "--workers")
         check_target(args.output, "--output")
-        png = args.png or args.output.with_suffix(".png")
-        check_target(png, "--png")
+        if args.png is not None and args.no_png:
+            raise CagdError("--png and --no-png: give one of them")
         if args.csv is not None and args.no_csv:
             raise CagdError("--csv and --no-csv: give one of them")
+        png: Optional[Path] = None if args.no_png else (args.png or args.output.with_suffix(".png"))
+        if png is not None:
+            check_target(png, "--png")
         table: Optional[Path] = None if args.no_csv else (args.csv or args.output.with_suffix(".points.csv"))
         if table is not None:
             check_target(table, "--csv")
-        from ._optional import require
-        require("matplotlib", "--png")
-        formats = _picture_formats()
-        if png.suffix.lower().lstrip(".") not in formats:
-            raise CagdError(f"--png {png}: unknown picture type {png.suffix!r} (one of: {', '.join(formats)})")
+        if png is not None:
+            from ._optional import require
+            try:
+                require("matplotlib", "--png")
+            except CagdError as exc:
+                raise CagdError(f"{exc}; or pass --no-png") from None
+            formats = _picture_formats()
+            if png.suffix.lower().lstrip(".") not in formats:
+                raise CagdError(f"--png {png}: unknown picture type {png.suffix!r} (one of: {', '.join(formats)})")
         where, items = model_objects(args.model, args.object)
         pts = read_points(args.points)
         objects = [o for _, o in items]
@@ -282,10 +289,11 @@ def run_deviation(args: argparse.Namespace) -> int:
              f"- points: {len(pts)}; distances are global closest-point distances "
              f"({'signed along the surface normal' if result.signed else 'unsigned'}), certified to within "
              f"{gap:.2g} (largest distance - certified lower bound)",
-             f"- colour map: `{png}`",
+             f"- colour map: `{png}`" if png is not None else "- colour map: not drawn (--no-png)",
              table_line, "", result.table(), ""]
-    outputs: List[Output] = [(png, lambda temp: deviation_map(objects, pts, temp, result, title=args.model.name),
-                              "--png")]
+    outputs: List[Output] = []
+    if png is not None:
+        outputs.append((png, lambda temp: deviation_map(objects, pts, temp, result, title=args.model.name), "--png"))
     if table is not None:
         outputs.append((table, lambda temp: write_point_table(temp, pts, result, workers), "--csv"))
     outputs.append((args.output, "\n".join(lines), "--output"))

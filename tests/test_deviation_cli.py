@@ -325,6 +325,36 @@ def test_no_csv_writes_no_table(tmp_path, capsys):
     assert "per point: not written (--no-csv)" in (tmp_path / "r.md").read_text()
 
 
+def test_no_png_writes_no_picture_and_needs_no_matplotlib(tmp_path, capsys, monkeypatch):
+    """Without matplotlib the default colour map stops the command before any work and
+    says how to go on; --no-png measures and reports without it (the report says no
+    picture was drawn); --png and --no-png together are refused."""
+    import builtins
+    real_import = builtins.__import__
+
+    def no_matplotlib(name, *args, **kwargs):
+        if name == "matplotlib" or name.startswith("matplotlib."):
+            raise ImportError(f"No module named {name!r}")
+        return real_import(name, *args, **kwargs)
+
+    model, pts = _sphere_scan(tmp_path, 20)
+    monkeypatch.setattr(builtins, "__import__", no_matplotlib)
+    monkeypatch.setattr("importlib.import_module", lambda name, *a: no_matplotlib(name))
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md")]) == 2
+    err = capsys.readouterr().err
+    assert "needs matplotlib" in err and "--no-png" in err
+    assert not (tmp_path / "r.md").exists()
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md"), "--no-png"]) == 0
+    monkeypatch.undo()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.json", "pts.csv", "r.md", "r.points.csv"]
+    report = (tmp_path / "r.md").read_text()
+    assert "colour map: not drawn (--no-png)" in report and "| points | 20 |" in report
+    assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "s.md"), "--no-png", "--png",
+                 str(tmp_path / "s.png")]) == 2
+    assert "--png and --no-png" in capsys.readouterr().err
+    assert not (tmp_path / "s.md").exists() and not (tmp_path / "s.png").exists()
+
+
 def test_csv_and_no_csv_together_exit_2_before_any_work(tmp_path, capsys):
     model, pts = _sphere_scan(tmp_path, 5)
     assert main(["deviation", str(model), str(pts), "-o", str(tmp_path / "r.md"), "--no-csv", "--csv",
