@@ -247,13 +247,12 @@ def run_deviation(args: argparse.Namespace) -> int:
             raise CagdError("--png and --no-png: give one of them")
         if args.csv is not None and args.no_csv:
             raise CagdError("--csv and --no-csv: give one of them")
-        png: Optional[Path] = None if args.no_png else (args.png or args.output.with_suffix(".png"))
-        if png is not None:
-            check_target(png, "--png")
         table: Optional[Path] = None if args.no_csv else (args.csv or args.output.with_suffix(".points.csv"))
         if table is not None:
             check_target(table, "--csv")
+        png: Optional[Path] = None if args.no_png else (args.png or args.output.with_suffix(".png"))
         if png is not None:
+            check_target(png, "--png")
             from ._optional import require
             try:
                 require("matplotlib", "--png")

@@ -14,7 +14,7 @@ tangential roots are polished on the regular system r . B' = 0, A' x B' = 0.
 """
 from __future__ import annotations
 
-from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -159,7 +159,7 @@ def run_many(jobs: Sequence[Tuple[sd.Geometry, Optional[sd.Geometry]]], tol: flo
             chunk = idx[c0:c0 + per]
             for i, res in zip(chunk, _run_group([jobs[i] for i in chunk], tol, angle_tol, max_depth, max_pairs)):
                 out[i] = res
-    return [res for res in out if res is not None]
+    return cast(List[IntersectionResult], out)        # (every job answered)
 
 
 def _run_group(jobs, tol: float, angle_tol: float, max_depth: int, max_pairs: int) -> List[IntersectionResult]:

@@ -175,6 +175,12 @@ class GridView(NamedTuple):
     def rows(self, i: np.ndarray) -> "GridView":
         return GridView(self.cells, self.keys, self.start[i], self.length[i])
 
+    @staticmethod
+    def empty(n: int) -> "GridView":
+        """n points with no lists (no grid, or outside it)."""
+        zero = np.zeros(n, dtype=np.intp)
+        return GridView(np.zeros(0, dtype=np.intp), np.zeros(0), zero, zero)
+
 
 #: per object (by identity, and by content: :func:`projector`) its projectors by tier:
 #: 0 light, 1 default, 2 fine
@@ -352,10 +358,9 @@ class Projector:
         # ways of making lists take the cells in this order, so that equal keys (a
         # symmetric object) come out in one order (a stable sort)
         span = hi - lo + 1
-        radix = int(dims.max()) + 1                 # one integer per shape, ordered as the rows
-        code = np.zeros(len(span), dtype=np.int64)
-        for a in range(self.dim):
-            code = code * radix + span[:, a]
+        code = np.zeros(len(span), dtype=np.int64)  # one integer per shape, ordered as the rows
+        for a in range(self.dim):                   # (digit a below dims[a] + 1: < 2^dim GRID_VOXELS)
+            code = code * (int(dims[a]) + 1) + span[:, a]
         _, first, group = np.unique(code, return_index=True, return_inverse=True)
         self._groups = (span[first], group.reshape(-1))
         self._cell_order = np.argsort(self._groups[1], kind="stable")
@@ -486,18 +491,16 @@ class Projector:
         the whole grid where it is built, else from lists made for these voxels alone."""
         N = len(X)
         if self._origin is None:
-            zero = np.zeros(N, dtype=np.intp)
-            return GridView(np.zeros(0, dtype=np.intp), np.zeros(0), zero, zero)
+            return GridView.empty(N)
         with np.errstate(over="ignore", invalid="ignore"):
             zf = np.floor((X - self._origin) / self._V)
         inside = np.all(np.isfinite(zf) & (zf >= 0) & (zf < self._dims), axis=1)
+        if not inside.any():
+            return GridView.empty(N)
         z = np.where(inside[:, None], zf, 0).astype(np.intp)
         vid = np.zeros(N, dtype=np.intp)
         for a in range(self.dim):
             vid = vid * self._dims[a] + np.where(inside, z[:, a], 0)
-        if not inside.any():
-            zero = np.zeros(N, dtype=np.intp)
-            return GridView(np.zeros(0, dtype=np.intp), np.zeros(0), zero, zero)
         if self._grid is None and self._lazy_work >= self._grid_work:
             self._full_grid()
         if self._grid is not None:
