@@ -5,7 +5,10 @@ points with a bounded turn per step; interior knots at least 0.4 / (q + 1) apart
 start), fitted at tol 1e-9: how many come back with their number of control points and
 within 1e-10 both ways (certified closest points), and the time per fit.
 
-Run: python -m benchmarks.knot_recovery [--curves N] [--seed S] [--tol 1e-9]
+``--uneven``: the interior knots uniformly random instead (two of them may be a
+thousandth apart).
+
+Run: python -m benchmarks.knot_recovery [--curves N] [--seed S] [--tol 1e-9] [--uneven]
 """
 from __future__ import annotations
 
@@ -33,11 +36,15 @@ def sampled(curve: cagd.BSplineCurve, m: int, rng: np.random.Generator) -> np.nd
     return curve(np.sort(np.r_[0.0, 1.0, rng.random(m - 2)]))
 
 
-def random_curve(rng: np.random.Generator, degree: int, count: int) -> cagd.BSplineCurve:
+def random_curve(rng: np.random.Generator, degree: int, count: int, uneven: bool = False) -> cagd.BSplineCurve:
     """A fair random B-spline: ``count`` control points, interior knots at least
-    0.4 / (q + 1) apart (q of them)."""
-    gaps = rng.uniform(1.0, 2.5, count - degree)
-    inner = np.cumsum(gaps)[:-1] / gaps.sum()
+    0.4 / (q + 1) apart (q of them); ``uneven``: the q interior knots uniformly random in
+    (0.02, 0.98), however close."""
+    if uneven:
+        inner = np.sort(rng.uniform(0.02, 0.98, count - degree - 1))
+    else:
+        gaps = rng.uniform(1.0, 2.5, count - degree)
+        inner = np.cumsum(gaps)[:-1] / gaps.sum()
     return cagd.BSplineCurve(fair_poles(rng, count), degree,
                              np.r_[np.zeros(degree + 1), inner, np.ones(degree + 1)])
 
@@ -54,6 +61,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     ap.add_argument("--curves", type=int, default=16)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--tol", type=float, default=1e-9)
+    ap.add_argument("--uneven", action="store_true", help="interior knots uniformly random, however close")
     args = ap.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     print(f"{'degree':>6s} {'poles':>5s} {'points':>6s} {'fit poles':>9s} {'both ways':>10s} {'time s':>7s}")
@@ -62,7 +70,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         p = int(rng.choice([3, 4]))
         n = int(rng.integers(5, 13))
         m = int(rng.integers(300, 1001))
-        c = random_curve(rng, p, n)
+        c = random_curve(rng, p, n, args.uneven)
         t0 = time.perf_counter()
         r = cagd.fit_curve(sampled(c, m, rng), args.tol, degree=p)
         dt = time.perf_counter() - t0

@@ -27,15 +27,21 @@ cannot hit. This stage tries smaller counts with the interior knots as unknowns:
   sampled curve shows as a jump of C^(p); de Boor, A Practical Guide to Splines, XII,
   places knots by the same derivative), smoothed and ranked; when the ranked sizes fall
   by JUMP_GAP the jumps before the fall are the knots tried first; and, for a tol near
-  the data's precision, a search over the counts from a single span upwards, by knot
+  the data's precision, the points' own polynomial pieces (:mod:`cagd.fitting.pieces`:
+  the knots and, above all, the parameters of the sampled curve, joined piece to
+  piece), then a search over the counts from a single span upwards, by knot
   insertion where the misses are (Schwetlick & Schuetze, BIT 35, 1995) and equally
   spaced knots; a count that gains much also tries its closest two knots merged.
 - a count is accepted only when every point is within tol at its foot (an upper bound
   of the certified distance that :func:`cagd.fitting.fit._measured` reports after).
 
-Limits (measured, tol 1e-9, centripetal start, random sample parameters): of 16 random
-fair cubics and quartics with 4-7 control points all 16 come back (1e-12), with 5-12
-control points 12 of 16; the others end in a local minimum of the knots (free-knot least
+Limits (measured, tol 1e-9, centripetal start, random sample parameters,
+``python -m benchmarks.knot_recovery``): of 16 random fair cubics and quartics with 4-7
+control points all 16 come back (1e-12), with 5-12 control points 14 of 16 (seed 0) and
+16 of 16 (seed 1); with their interior knots uniformly random (``--uneven``: two may be a
+thousandth apart) 11 and 10 of 16 (7 and 9 without the polynomial pieces, which segment
+cubics only), the others quartics, or cubics with three knots among a dozen points, whose
+shape the points do not fix; the runs end in a local minimum of the knots (free-knot least
 squares is not convex: Jupp 1978) within the stage's pass budget (seconds). The
 point-distance weight mu may fall to KNOT_DAMPING_MIN: at fit.py's floor of 1e-6 it
 outweighed the tangent distance along the valley where the knots and the parameters
@@ -216,14 +222,17 @@ def _knots(inner: np.ndarray, p: int) -> np.ndarray:
 
 
 def free_knot_fit(problem: "_Problem", inner: np.ndarray, t: np.ndarray, tol_n: float, counted: np.ndarray,
-                  budget: Optional[List[int]] = None) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                  budget: Optional[List[int]] = None, patience: int = KNOT_SLOW_PASSES,
+                  far: float = 0.0) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Interior knots moved from ``inner`` (strictly increasing in (0, 1)) to lower the
     weighted sum of squared distances of the points from the curve (module docstring):
     returns (knots U, control points, parameters, misses at them) of the best pass. The
     knots stay where they are until the parameters have settled (the fixed-knot fit of
     :func:`cagd.fitting.fit._fit_on`, its passes until they gain little: moving knots
     against poor parameters leads them astray). Each free-knot pass takes one from
-    ``budget[0]``; none left, the run ends."""
+    ``budget[0]``; none left, the run ends. The run stops after ``patience`` slow passes
+    in a row, or KNOT_SLOW_PASSES once its largest miss is above ``far`` times tol_n (a
+    run near tol in a flat valley may still get there; one far from it will not)."""
     from .fit import _feet, _fit_on, _jet
     p, Q, w = problem.p, problem.Q, problem.w
 
@@ -260,7 +269,7 @@ def free_knot_fit(problem: "_Problem", inner: np.ndarray, t: np.ndarray, tol_n: 
         best = trial
         lam, mu = max(lam / KNOT_DAMPING_DOWN, KNOT_DAMPING_MIN), max(mu / KNOT_DAMPING_DOWN, KNOT_DAMPING_MIN)
         slow = slow + 1 if gain < KNOT_GAIN else 0
-        if slow >= KNOT_SLOW_PASSES:
+        if slow >= patience or (slow >= KNOT_SLOW_PASSES and float(best[3].max()) > far * tol_n):
             break
     return _knots(best[0], p), best[1], best[2], best[3]
 
@@ -327,13 +336,14 @@ def _within(run: Run, tol_n: float, counted: np.ndarray) -> bool:
 def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n: float, counted: np.ndarray,
                   most_inner: int, search: bool) -> Optional[Run]:
     """At most ``most_inner`` interior knots within tol_n by free-knot runs
-    (:func:`free_knot_fit`), or None. Two ways, the second only with ``search``:
+    (:func:`free_knot_fit`), or None. Three ways, the last two only with ``search``:
 
     - guided: the guide (U, P, t), a fit of the points with t their parameters on it,
       has ranked jumps of the p-th derivative (:func:`jump_clusters`) that fall by
       JUMP_GAP: the jumps before the fall start a run; on success a knot at a time is
       dropped (the smallest jump on the last success) while the runs stay within tol_n,
       on failure the next jump is added; MAX_KNOT_TRIES runs at most;
+    - segmented (:func:`_segmented`): from the points' own polynomial pieces;
     - searched (:func:`_search`): counts from a single span upwards.
 
     Returns (U, P, t, misses) of the fewest knots found whose every counted miss (at
@@ -352,7 +362,7 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
                 found, start = run, run[2]
                 if q == 0:
                     break
-                inner = np.delete(run[0][p + 1:-p - 1], int(np.argmin(knot_jumps(run[0], p, run[1])[1])))
+                inner = _without_least(run, p)
                 q -= 1
             elif found is not None or q + 1 > min(most_inner, len(pos)):
                 break
@@ -360,9 +370,58 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
                 q += 1
                 inner = np.sort(pos[:q])
     if found is None and search:
+        found = _segmented(problem, tol_n, counted, most_inner)
+    if found is None and search:
         budget[0] += MAX_STAGE_PASSES - GUIDED_PASSES
         found = _search(problem, initial, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS), budget)
     return found
+
+
+def _segmented(problem: "_Problem", tol_n: float, counted: np.ndarray, most_inner: int
+               ) -> Optional[Run]:
+    """A run from the points' polynomial pieces (:func:`cagd.fitting.pieces.segmented_start`:
+    knots and parameters near the sampled curve's own), thinned of the knots it does not
+    need, or None (SEGMENT_PASSES for the run, as many for the thinning)."""
+    from .pieces import PIECE_FAR, PIECE_PATIENCE, segmented_start
+    start = segmented_start(problem, tol_n, counted)
+    if start is None or len(start[0]) > most_inner:
+        return None
+    budget = [SEGMENT_PASSES]
+    run = free_knot_fit(problem, start[0], start[1], tol_n, counted, budget, PIECE_PATIENCE, PIECE_FAR)
+    while not _within(run, tol_n, counted) and budget[0] > 0 and len(run[0]) > 2 * (problem.p + 1):
+        # a knot too many (a join of two runs of one polynomial) stalls the run: the one
+        # whose p-th derivative jumps least is dropped while that lowers the largest miss
+        trial = free_knot_fit(problem, _without_least(run, problem.p), run[2], tol_n, counted, budget,
+                              PIECE_PATIENCE, PIECE_FAR)
+        if not float(trial[3][counted].max()) < float(run[3][counted].max()):
+            break
+        run = trial
+    if not _within(run, tol_n, counted):
+        return None
+    return _thinned(problem, run, tol_n, counted, [SEGMENT_PASSES], PIECE_PATIENCE, PIECE_FAR)
+
+
+def _without_least(run: Run, p: int) -> np.ndarray:
+    """The run's interior knots but the one whose p-th derivative jumps least."""
+    return np.delete(run[0][p + 1:-p - 1], int(np.argmin(knot_jumps(run[0], p, run[1])[1])))
+
+
+#: passes of the run from the polynomial pieces, and of its thinning, at most
+SEGMENT_PASSES = 100
+
+
+def _thinned(problem: "_Problem", run: Run, tol_n: float, counted: np.ndarray, budget: List[int],
+             patience: int = KNOT_SLOW_PASSES, far: float = 0.0) -> Run:
+    """``run`` (within tol_n) with a knot at a time dropped, the one whose p-th derivative
+    jumps least, and the rest moved again (:func:`free_knot_fit` with ``patience`` and
+    ``far``), while the runs stay within tol_n and passes are left in ``budget``."""
+    p = problem.p
+    while len(run[0]) > 2 * (p + 1) and budget[0] > 0:
+        trial = free_knot_fit(problem, _without_least(run, p), run[2], tol_n, counted, budget, patience, far)
+        if not _within(trial, tol_n, counted):
+            break
+        run = trial
+    return run
 
 
 #: the searched way tries at most this many interior knots (a 12-pole cubic has 8)

@@ -1,0 +1,379 @@
+"""The polynomial pieces of points sampled from a B-spline (issue 17, exactness): a start
+for the free-knot run of :mod:`cagd.fitting.free_knots` with the knots near the curve's
+own and, above all, the points' parameters near the curve's own.
+
+Measured (16 random cubics and quartics with uneven knots, 300-1000 points at random
+places): the free-knot run converges from knots 1% off when the points' parameters are
+the curve's (15 of 15), but from the curve's exact knots with centripetal parameters in
+only 9 of 15: the parameters of points at random places are no smooth function of the
+curve's own. A B-spline is a polynomial of degree p between its knots, and a polynomial
+curve fitted to its own points with parameter correction takes their parameters up to
+an affine map; so:
+
+- pieces (:func:`segmented_start`): from the first point, runs of consecutive points
+  grow (doubling, then bisecting to PIECE_STRIDE points) while one Bezier curve fits
+  them within tol (a free-knot run with no interior knot, warm-started from the run
+  before); a run of PIECE_POINTS that no Bezier curve fits holds a knot, and the next
+  run starts PIECE_STRIDE points later;
+- joins (:func:`_join`): between two pieces, in the left piece's variable s, the right
+  piece is B_R((s - alpha) / beta) and, with k knots t_i between them (C^(p-1) there,
+  the p-th derivative jumping), B_R((s - alpha) / beta) - B_L(s) = sum_i c_i
+  (s - t_i)^p: (p + 1) d equations in 2 + k + k d unknowns, solved for (alpha, beta, t)
+  by Levenberg-Marquardt with the c_i eliminated (variable projection), k = 1 then 2;
+  this gives the right piece's map and the knots to rounding; knots whose jump is
+  negligible are none (two runs of one polynomial);
+- more knots in a gap (:func:`_local_join`, k = 3, 4): a free-knot run over the rows
+  around it; else the speed |dC/dt| carries on across the gap (continuous for p >= 2)
+  and the gap gets three knots or more, their surplus dropped after;
+- rows no piece holds get chord length over the speed.
+
+Where no p + 1 points lie between two knots the data do not fix the curve there (a
+different curve passes through the same points); such curves do not come back. The
+segmentation by polynomial fits and the join by variable projection are this project's
+own; the runs' least squares are Piegl & Tiller 9.4.1 with parameter correction (Hoschek
+1988), as in :mod:`cagd.fitting.fit`.
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, List, NamedTuple, Optional, Tuple
+
+import numpy as np
+
+from .free_knots import free_knot_fit
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .fit import _Problem
+
+#: degrees segmented (a quartic run of fewer than about 100 points settled in hundreds of
+#: passes, or not: false breaks, 10-17 s a fit, none gained)
+PIECE_DEGREES = (2, 3)
+#: the shortest run tried (points; a run of a few points fits any Bezier curve of its
+#: degree, and the parameters of a short run settle slowly: 8 points took 240 passes)
+PIECE_POINTS = 16
+#: a run of PIECE_POINTS that misses starts again this many points later
+PIECE_STRIDE = 4
+#: runs fitted at most (each a free-knot run with no interior knot)
+MAX_PIECE_FITS = 300
+#: passes of one run's fit at most, its patience (slow passes in a row while within
+#: PIECE_FAR tol) and what counts as far
+PIECE_PASSES = 150
+PIECE_PATIENCE = 10
+PIECE_FAR = 100.0
+#: a join (:func:`_join`): Levenberg-Marquardt steps at most, the relative residual
+#: that accepts it (measured over 28 joins of 5 random cubics: 1e-11 to 4e-6 for a knot
+#: found as one, 2.5e-2 to 1.1e-1 for two knots tried as one, which then left 4e-11 to
+#: 5e-6), its first and largest damping, the difference step (relative) of its
+#: Jacobian, the smallest gap (left piece's variable) it starts from; knots tried per gap
+JOIN_STEPS = 60
+JOIN_RTOL = 1e-4
+JOIN_DAMPING = 1e-3
+JOIN_DIFF = 1e-7
+JOIN_MIN_GAP = 1e-3
+JOIN_DAMPING_MAX = 1e8
+#: ... and the residual at which it stops early (rounding)
+JOIN_ROUNDOFF = 1e-13
+JOIN_KNOTS = 2
+#: a knot of a join whose jump makes less than this share of the pieces' size over them
+#: is none (two pieces of one polynomial, a run that stopped short: 2e-6 against 0.19 to
+#: 170 for the knots of the curves)
+JOIN_JUMP_RTOL = 1e-4
+#: more knots in one gap: a free-knot run on the rows within LOCAL_ROWS of it, with up to
+#: LOCAL_KNOTS knots
+LOCAL_ROWS = 2 * PIECE_POINTS
+LOCAL_KNOTS = 4
+TINY_DIAG = 1e-300           # keeps the damped diagonal positive where a column vanishes
+
+
+class Piece(NamedTuple):
+    """Rows a .. b - 1 fitted by one Bezier curve (poles (p + 1, d)), their parameters s
+    in [0, 1] on it."""
+    a: int
+    b: int
+    poles: np.ndarray
+    s: np.ndarray
+
+
+def _derivatives(P: np.ndarray, s: float, order: int) -> np.ndarray:
+    """B^(k)(s), k = 0 .. order, of the Bezier curve with poles P at one s (outside
+    [0, 1] too: the polynomial): (order + 1, d). Power coefficients c_j = C(p, j)
+    Delta^j P_0 (Farin, Curves and Surfaces for CAGD, 5.3), B^(k)(s) = sum_(j >= k)
+    j! / (j - k)! c_j s^(j - k)."""
+    from math import comb
+    p = len(P) - 1
+    diffs, c = P, [P[0]]
+    for j in range(1, p + 1):
+        diffs = diffs[1:] - diffs[:-1]
+        c.append(comb(p, j) * diffs[0])
+    C = np.stack(c)
+    power = np.arange(p + 1)
+    out = np.empty((order + 1, P.shape[1]))
+    for k in range(order + 1):
+        fall = np.prod(power[:, None] - np.arange(k)[None, :], axis=1) if k else np.ones(p + 1)
+        out[k] = (fall * float(s) ** np.maximum(power - k, 0)) @ C
+    return out
+
+
+def segmented_start(problem: "_Problem", tol_n: float, counted: np.ndarray
+                    ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """(interior knots, parameters of every point) from the points' polynomial pieces
+    (module docstring), or None: a degree not in PIECE_DEGREES, fewer than 2 PIECE_POINTS
+    points, the fits run out (MAX_PIECE_FITS) or a speed vanishes."""
+    p, Q = problem.p, problem.Q
+    m = len(Q)
+    least = PIECE_POINTS
+    if p not in PIECE_DEGREES or m < 2 * least:
+        return None
+    fits = [0]
+
+    def fitted(a: int, b: int, start: Optional[Piece]) -> Optional[Piece]:
+        """The Bezier fit of rows a .. b - 1 within tol_n, or None."""
+        fits[0] += 1
+        rows = np.arange(a, b)
+        if not counted[rows].any():
+            return None
+        s0 = _extended(Q, rows, start) if start is not None else _chord(Q[rows])
+        if s0 is None:
+            return None
+        run = free_knot_fit(problem.subset(rows), np.zeros(0), s0, tol_n, counted[rows], [PIECE_PASSES],
+                            PIECE_PATIENCE, PIECE_FAR)
+        if float(np.max(run[3], where=counted[rows], initial=0.0)) > tol_n:
+            return None
+        return Piece(a, b, run[1], run[2])
+
+    pieces: List[Piece] = []
+    a = 0
+    while a <= m - least:
+        if fits[0] >= MAX_PIECE_FITS:
+            return None
+        good = fitted(a, a + least, None)
+        if good is None:
+            a += PIECE_STRIDE
+            continue
+        hi = None                                          # rows a .. hi - 1 do not fit
+        while good.b < m:
+            trial = fitted(a, min(m, a + 2 * (good.b - a)), good)
+            if trial is None:
+                hi = min(m, a + 2 * (good.b - a))
+                break
+            good = trial
+        while hi is not None and hi - good.b > PIECE_STRIDE and fits[0] < MAX_PIECE_FITS:
+            trial = fitted(a, (good.b + hi) // 2, good)
+            if trial is None:
+                hi = (good.b + hi) // 2
+            else:
+                good = trial
+        pieces.append(good)
+        a = good.b
+    if not pieces:
+        return None
+    if pieces[0].a > 0:                 # the first rows: the first piece grown back to them
+        head = fitted(0, pieces[0].b, pieces[0])
+        if head is not None:
+            pieces[0] = head
+    return _joined(problem, pieces, tol_n, counted)
+
+
+def _arc(Q: np.ndarray) -> np.ndarray:
+    """Cumulative chord length along the rows Q (0 at the first)."""
+    return np.concatenate([[0.0], np.cumsum(np.sqrt((np.diff(Q, axis=0) ** 2).sum(-1)))])
+
+
+def _chord(Q: np.ndarray) -> Optional[np.ndarray]:
+    """Chord-length parameters of the rows Q in [0, 1], or None (coincident ends)."""
+    c = _arc(Q)
+    return c / c[-1] if c[-1] > 0.0 else None
+
+
+def _extended(Q: np.ndarray, rows: np.ndarray, piece: Piece) -> Optional[np.ndarray]:
+    """Parameters for the run ``rows`` (consecutive, ending at or after the piece's first
+    row) from the piece's: its own where it has them, before and beyond it chord length
+    over its speed at that end; scaled to [0, 1]."""
+    p = len(piece.poles) - 1
+    a, b = int(rows[0]), int(rows[-1]) + 1
+    lo, hi = max(a, piece.a), min(b, piece.b)
+    if hi - lo < 2:
+        return None
+    s = np.empty(b - a)
+    s[lo - a:hi - a] = piece.s[lo - piece.a:hi - piece.a]
+    for end, rng in ((0, range(lo, a - 1, -1)), (1, range(hi - 1, b))):
+        if len(rng) < 2:
+            continue
+        P = piece.poles
+        speed = p * float(np.linalg.norm(P[1] - P[0] if end == 0 else P[-1] - P[-2]))
+        if not speed > 0.0:
+            return None
+        idx = np.fromiter(rng, dtype=np.intp)
+        c = _arc(Q[idx]) / speed
+        s[idx - a] = s[idx[0] - a] + (c if end else -c)
+    s = s - s[0]
+    return s / s[-1] if s[-1] > 0.0 else None
+
+
+def _join(left: Piece, right: Piece, p: int, count: int) -> Optional[Tuple[float, float, np.ndarray]]:
+    """``count`` knots between two pieces (module docstring), in the left piece's variable
+    s: the right piece's r = (s - alpha) / beta and the knots t_i with
+    B_R((s - alpha) / beta) - B_L(s) = sum_i c_i (s - t_i)^p (the jump of the p-th
+    derivative at each knot; C^(p-1) elsewhere), solved for (alpha, beta, t) by
+    Gauss-Newton with the c_i eliminated (variable projection: linear least squares at
+    2 (p + 1) + count nodes over both pieces), started from the speed ratio. Returns
+    (alpha, beta, knots) when the relative residual is within JOIN_RTOL, else None."""
+    PL, PR = left.poles, right.poles
+    vL = float(np.linalg.norm(_derivatives(PL, 1.0, 1)[1]))
+    vR = float(np.linalg.norm(_derivatives(PR, 0.0, 1)[1]))
+    if not (vL > 0.0 and vR > 0.0):
+        return None
+    beta0 = vR / vL                                       # the speed carries on: |B_R'| / beta = |B_L'|
+    gap = max(float(np.linalg.norm(PR[0] - PL[-1])) / vL, JOIN_MIN_GAP)
+    alpha0 = 1.0 + gap
+    z = np.concatenate([[alpha0, np.log(beta0)], 1.0 + gap * np.arange(1, count + 1) / (count + 1)])
+    nodes = np.linspace(0.0, alpha0 + beta0, 2 * (p + 1) + count)
+    BL = np.stack([_derivatives(PL, x, 0)[0] for x in nodes])
+    size = float(np.abs(BL - BL.mean(0)).max())
+
+    def residual(z: np.ndarray, jumps: bool = False) -> np.ndarray:
+        """The relative misfit at the nodes (or, ``jumps``, each knot's share |c_i| max
+        |s - t_i|^p / size)."""
+        alpha, beta = z[0], np.exp(z[1])
+        D = np.stack([_derivatives(PR, (x - alpha) / beta, 0)[0] for x in nodes]) - BL
+        E = (nodes[:, None] - z[2:][None, :]) ** p
+        c, *_ = np.linalg.lstsq(E, D, rcond=None)
+        if jumps:
+            return np.linalg.norm(c, axis=1) * np.abs(E).max(axis=0) / size
+        return ((D - E @ c) / size).ravel()
+
+    R = residual(z)
+    lam = JOIN_DAMPING
+    for _ in range(JOIN_STEPS):
+        h = JOIN_DIFF * np.maximum(np.abs(z), 1.0)
+        Jac = np.stack([(residual(z + h[i] * np.eye(len(z))[i]) - R) / h[i] for i in range(len(z))], axis=1)
+        A = Jac.T @ Jac
+        try:
+            step = np.linalg.solve(A + lam * np.diag(np.diag(A) + TINY_DIAG), -Jac.T @ R)
+        except np.linalg.LinAlgError:
+            break
+        R2 = residual(z + step)
+        if np.linalg.norm(R2) < np.linalg.norm(R):
+            z, R, lam = z + step, R2, lam / 3.0
+            if float(np.abs(R).max()) <= JOIN_ROUNDOFF:
+                break
+        else:
+            lam *= 4.0
+            if lam > JOIN_DAMPING_MAX:
+                break
+    if not float(np.abs(R).max()) <= JOIN_RTOL:
+        return None
+    knots = np.sort(z[2:][residual(z, True) > JOIN_JUMP_RTOL])      # (a knot with no jump may be anywhere)
+    if knots.size and not (knots[0] > 0.0 and knots[-1] < z[0] + np.exp(z[1])):
+        return None
+    return float(z[0]), float(np.exp(z[1])), knots
+
+
+def _local_join(problem: "_Problem", left: Piece, right: Piece, count: int, tol_n: float, counted: np.ndarray
+                ) -> Optional[Tuple[float, float, np.ndarray]]:
+    """``count`` knots between two pieces where :func:`_join` has too few equations: a
+    free-knot run on the rows within LOCAL_ROWS of the gap (the left piece's parameters,
+    the rest by chord over the left piece's end speed; knots spread over the gap), kept
+    when every row is within tol_n; the right piece's map from its rows' parameters
+    (least squares). As :func:`_join`: (alpha, beta, knots) in the left piece's s."""
+    p, Q = problem.p, problem.Q
+    e, a = left.b - 1, right.a
+    lo, hi = max(left.a, e - LOCAL_ROWS), min(right.b, a + LOCAL_ROWS)
+    v = float(np.linalg.norm(_derivatives(left.poles, 1.0, 1)[1]))
+    if not v > 0.0:
+        return None
+    s = np.empty(hi - lo)
+    s[:e + 1 - lo] = left.s[lo - left.a:]
+    s[e - lo:] = left.s[-1] + _arc(Q[e:hi]) / v
+    gap_lo, gap_hi = s[e - lo], s[a - lo]
+    s0, span = s[0], s[-1] - s[0]
+    knots = (gap_lo + (gap_hi - gap_lo) * np.arange(1, count + 1) / (count + 1) - s0) / span
+    rows = np.arange(lo, hi)
+    run = free_knot_fit(problem.subset(rows), knots, (s - s0) / span, tol_n, counted[rows], [PIECE_PASSES],
+                        PIECE_PATIENCE, PIECE_FAR)
+    if float(np.max(run[3], where=counted[rows], initial=0.0)) > tol_n:
+        return None
+    found = s0 + span * run[0][p + 1:-p - 1]
+    sr = s0 + span * run[2][a - lo:]                        # the right rows' s
+    beta, alpha = np.polyfit(right.s[:hi - a], sr, 1)
+    return float(alpha), float(beta), found
+
+
+def _joined(problem: "_Problem", pieces: List[Piece], tol_n: float, counted: np.ndarray
+            ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """One parameter for every point and the interior knots from the pieces, scaled to
+    [0, 1] (module docstring); None where a speed vanishes or the knots would not
+    increase."""
+    Q, p = problem.Q, problem.p
+    m = len(Q)
+    t = np.full(m, np.nan)
+    inner: List[float] = []
+
+    def chords(a: int, b: int) -> np.ndarray:
+        """Cumulative chord length along rows a .. b (0 at a)."""
+        return _arc(Q[a:b + 1])
+
+    def spread(lo: float, hi: float, rows: int, least: int) -> None:
+        count = max(least, 1 + rows // PIECE_POINTS)
+        inner.extend(lo + (hi - lo) * np.arange(1, count + 1) / (count + 1))
+
+    def end_speed(P: np.ndarray, at: float) -> float:
+        return float(np.linalg.norm(_derivatives(P, at, 1)[1]))
+
+    first = pieces[0]
+    scale, origin = 1.0, 0.0                               # t = origin + scale * s on the piece
+    t[first.a:first.b] = first.s
+    for left, right in zip(pieces, pieces[1:]):
+        e, a = left.b - 1, right.a
+        joint = None
+        for count in range(1, JOIN_KNOTS + 1):
+            joint = _join(left, right, p, count)
+            if joint is not None:
+                break
+        for count in range(JOIN_KNOTS + 1, LOCAL_KNOTS + 1):
+            if joint is not None:
+                break
+            joint = _local_join(problem, left, right, count, tol_n, counted)
+        if joint is not None:
+            alpha, beta, knots = joint
+            inner.extend(origin + scale * knots)
+            scale_r, origin_r = scale * beta, origin + scale * alpha
+            t[a:right.b] = origin_r + scale_r * right.s
+            if a - e > 1:                                  # rows between: by chord
+                c = chords(e, a)
+                t[e:a + 1] = t[e] + (t[a] - t[e]) * c / c[-1]
+        else:
+            v = end_speed(left.poles, 1.0) / scale         # |dC/dt| at the left piece's end
+            v0 = end_speed(right.poles, 0.0)
+            if not (v > 0.0 and v0 > 0.0):
+                return None
+            t[e:a + 1] = t[e] + chords(e, a) / v
+            spread(t[e], t[a], a - e - 1, JOIN_KNOTS + 1)
+            scale_r, origin_r = v0 / v, t[a]
+            t[a:right.b] = origin_r + scale_r * right.s
+        scale, origin = scale_r, origin_r
+    if first.a > 0:                                        # rows before the first piece
+        v = end_speed(first.poles, 0.0)
+        if not v > 0.0:
+            return None
+        c = chords(0, first.a)
+        t[:first.a] = t[first.a] - (c[-1] - c[:-1]) / v
+        before = len(inner)
+        spread(t[0], t[first.a], first.a - 1, 1)
+        inner[:] = inner[before:] + inner[:before]
+    last = pieces[-1]
+    if last.b < m:                                         # rows after the last piece
+        v = end_speed(last.poles, 1.0) / scale
+        if not v > 0.0:
+            return None
+        e = last.b - 1
+        t[e:] = t[e] + chords(e, m - 1) / v
+        spread(t[e], t[-1], m - 1 - e - 1, 1)
+    t0, span = t[0], t[-1] - t[0]
+    if not (span > 0.0 and np.all(np.isfinite(t))):
+        return None
+    knots = (np.asarray(inner) - t0) / span
+    t = (t - t0) / span
+    t[0], t[-1] = 0.0, 1.0
+    if np.any(np.diff(np.concatenate([[0.0], knots, [1.0]])) <= 0.0) or np.any(np.diff(t) < 0.0):
+        return None
+    return knots, t

@@ -1,0 +1,93 @@
+"""The polynomial pieces of sampled B-spline points (issue 17, exactness;
+cagd/fitting/pieces.py): Bezier derivatives anywhere on the line, joins that give the
+knots between two pieces and the right piece's affine map exactly, and cubics with
+uneven knots sampled at random places that come back only through this stage."""
+from __future__ import annotations
+
+from math import comb
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import cagd.fitting.free_knots as free_knots
+from benchmarks.knot_recovery import both_ways, fair_poles
+from cagd import BSplineCurve, fit_curve
+from cagd.fitting.pieces import Piece, _derivatives, _join
+
+EXACT = 1e-10
+
+
+@given(st.integers(1, 6), st.floats(-2.0, 3.0), st.integers(0, 2 ** 31))
+def test_bezier_derivatives_anywhere(p, s, seed):
+    """Against the Bernstein form expanded by numpy's polynomial module (an independent
+    power basis), derivatives by its polyder, at s inside and outside [0, 1]."""
+    P = np.random.default_rng(seed).normal(size=(p + 1, 3))
+    poly = np.polynomial.polynomial
+    coef = sum(comb(p, i) * np.outer(poly.polymul(poly.polypow([0.0, 1.0], i), poly.polypow([1.0, -1.0], p - i)),
+                                     P[i]) for i in range(p + 1))
+    want = np.stack([poly.polyval(s, poly.polyder(coef, k)) if k else poly.polyval(s, coef) for k in range(p + 1)])
+    got = _derivatives(P, s, p)
+    np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10 * (1 + abs(s)) ** p)
+
+
+def _piece(curve: BSplineCurve, a: float, b: float) -> Piece:
+    """The curve on [a, b] (inside one knot span) as a piece: its Bezier poles."""
+    seg = curve.segment(a, b)
+    assert seg.control_points.shape[0] == curve.degree + 1
+    return Piece(0, 0, seg.control_points, np.linspace(0.0, 1.0, 5))
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.integers(1, 2), st.integers(0, 2 ** 31))
+def test_join_gives_the_knots_and_the_map(count, seed):
+    """A cubic with ``count`` knots between two windows, one in the span before them and
+    one in the span after: the knots (in the left window's variable), the right window's
+    offset and scale come back to 1e-8 (the join's tolerance is on its residual)."""
+    rng = np.random.default_rng(seed)
+    inner = np.sort(rng.uniform(0.3, 0.7, count))
+    while np.diff(inner).size and np.diff(inner).min() < 0.02:
+        inner = np.sort(rng.uniform(0.3, 0.7, count))
+    c = BSplineCurve(fair_poles(rng, 4 + count), 3, np.r_[[0.0] * 4, inner, [1.0] * 4])
+    a0, a1 = rng.uniform(0.05, 0.15), inner[0] - rng.uniform(0.0, 0.02)
+    b0, b1 = inner[-1] + rng.uniform(0.0, 0.02), rng.uniform(0.85, 0.95)
+    joint = _join(_piece(c, a0, a1), _piece(c, b0, b1), 3, count)
+    assert joint is not None
+    alpha, beta, knots = joint
+    h = a1 - a0
+    np.testing.assert_allclose(knots, (inner - a0) / h, rtol=0, atol=1e-8)
+    np.testing.assert_allclose([alpha, beta], [(b0 - a0) / h, (b1 - b0) / h], rtol=1e-8, atol=1e-8)
+
+
+def test_no_knot_between_runs_of_one_polynomial():
+    """Two windows of one span: no knot, and the map between them."""
+    c = BSplineCurve(fair_poles(np.random.default_rng(4), 5), 3, [0, 0, 0, 0, 0.8, 1, 1, 1, 1])
+    joint = _join(_piece(c, 0.1, 0.3), _piece(c, 0.35, 0.7), 3, 1)
+    assert joint is not None and len(joint[2]) == 0
+    np.testing.assert_allclose(joint[:2], [1.25, 1.75], rtol=1e-8)
+
+
+def test_two_knots_as_one_do_not_join():
+    """Two knots between the windows, tried as one: no join (the residual stays ~1e-2)."""
+    c = BSplineCurve(fair_poles(np.random.default_rng(5), 6), 3, [0, 0, 0, 0, 0.45, 0.55, 1, 1, 1, 1])
+    assert _join(_piece(c, 0.1, 0.44), _piece(c, 0.56, 0.9), 3, 1) is None
+
+
+@pytest.mark.parametrize("inner, m, seed", [((0.039, 0.0677), 566, 11), ((0.1333, 0.1612, 0.5492, 0.7726, 0.7774,
+                                                                          0.8254, 0.9222), 630, 12)])
+def test_uneven_cubics_come_back(monkeypatch, inner, m, seed):
+    """Cubics whose knots are 0.03 and 0.005 apart, sampled at random places (parameters
+    not given): the same count back, within 1e-10 both ways, at tol 1e-9; without the
+    pieces they end at hundreds of control points (the adaptive fit's)."""
+    rng = np.random.default_rng(seed)
+    n = len(inner) + 4
+    c = BSplineCurve(fair_poles(rng, n), 3, np.r_[[0.0] * 4, inner, [1.0] * 4])
+    Q = c(np.sort(np.r_[0.0, 1.0, rng.random(m - 2)]))
+    r = fit_curve(Q, 1e-9)
+    assert r.converged and r.max_error <= 1e-9
+    assert len(r.curve.control_points) == n
+    np.testing.assert_allclose(np.asarray(r.curve.knots)[4:-4], inner, rtol=0, atol=1e-8)
+    assert both_ways(r.curve, c) <= EXACT
+    monkeypatch.setattr(free_knots, "_segmented", lambda *a, **k: None)
+    assert len(fit_curve(Q, 1e-9).curve.control_points) > n
