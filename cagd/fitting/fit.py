@@ -53,6 +53,7 @@ from numpy.typing import ArrayLike
 
 from .. import _checks
 from .._periodic import wrapped_difference
+from .._ranks import ranks
 from .._results import ReadOnlyArrays
 from ..basis.banded import banded_product, solve_banded_rows
 from ..basis.bspline import basis_derivatives
@@ -376,7 +377,7 @@ def _span_blocks(cut: np.ndarray, m: int, R: Optional[int] = None) -> Tuple[np.n
     count = -(-sizes // R)                                         # blocks per span
     first = np.concatenate([[0], np.cumsum(count)[:-1]])
     span = np.repeat(np.arange(len(cut)), count)
-    top = cut[span] + (np.arange(count.sum()) - first[span]) * R      # each block's first row
+    top = cut[span] + ranks(count) * R                              # each block's first row
     index = top[:, None] + np.arange(R)
     end = (cut + sizes)[span]
     return np.where(index < end[:, None], index, m), first

@@ -70,6 +70,8 @@ JOIN_DAMPING = 1e-3
 JOIN_DIFF = 1e-7
 JOIN_MIN_GAP = 1e-3
 JOIN_DAMPING_MAX = 1e8
+#: ... the range of the log of the right piece's scale about its start
+JOIN_SCALE_RANGE = 5.0
 #: ... and the residual at which it stops early (rounding)
 JOIN_ROUNDOFF = 1e-13
 JOIN_KNOTS = 2
@@ -226,9 +228,15 @@ def _join(left: Piece, right: Piece, p: int, count: int) -> Optional[Tuple[float
     gap = max(float(np.linalg.norm(PR[0] - PL[-1])) / vL, JOIN_MIN_GAP)
     alpha0 = 1.0 + gap
     z = np.concatenate([[alpha0, np.log(beta0)], 1.0 + gap * np.arange(1, count + 1) / (count + 1)])
-    nodes = np.linspace(0.0, alpha0 + beta0, 2 * (p + 1) + count)
+    end = alpha0 + beta0
+    nodes = np.linspace(0.0, end, 2 * (p + 1) + count)
     BL = np.stack([_derivatives(PL, x, 0)[0] for x in nodes])
     size = float(np.abs(BL - BL.mean(0)).max())
+    # the unknowns stay in a box (a knot with no jump has no gradient and would run away;
+    # the right piece's offset within the nodes' reach, its scale within JOIN_SCALE_RANGE
+    # of the speed ratio's), so every evaluation stays finite
+    lower = np.concatenate([[0.0, z[1] - JOIN_SCALE_RANGE], np.zeros(count)])
+    upper = np.concatenate([[end, z[1] + JOIN_SCALE_RANGE], np.full(count, end)])
 
     def residual(z: np.ndarray, jumps: bool = False) -> np.ndarray:
         """The relative misfit at the nodes (or, ``jumps``, each knot's share |c_i| max
@@ -251,9 +259,10 @@ def _join(left: Piece, right: Piece, p: int, count: int) -> Optional[Tuple[float
             step = np.linalg.solve(A + lam * np.diag(np.diag(A) + TINY_DIAG), -Jac.T @ R)
         except np.linalg.LinAlgError:
             break
-        R2 = residual(z + step)
+        trial = np.clip(z + step, lower, upper)
+        R2 = residual(trial)
         if np.linalg.norm(R2) < np.linalg.norm(R):
-            z, R, lam = z + step, R2, lam / 3.0
+            z, R, lam = trial, R2, lam / 3.0
             if float(np.abs(R).max()) <= JOIN_ROUNDOFF:
                 break
         else:

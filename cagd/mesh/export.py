@@ -26,6 +26,7 @@ from typing import Any, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .. import _atomic
+from .._ranks import ranks
 from ..errors import CagdError
 from ..surfaces.base import Surface
 from ..surfaces.bspline import BSplineSurface
@@ -148,7 +149,7 @@ def _lines(breaks: Tuple[np.ndarray, np.ndarray], sizes: List[np.ndarray], facto
     out = []
     for b, c in zip(breaks, counts):
         k = c.astype(np.int64)
-        j = np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)
+        j = ranks(k)
         out.append(np.append(np.repeat(b[:-1], k) + np.repeat(np.diff(b) / k, k) * j, b[-1]))
     return out[0], out[1], capped
 

@@ -19,6 +19,7 @@ from typing import NamedTuple, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from .._periodic import clamped
+from .._ranks import ranks
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
@@ -191,7 +192,7 @@ def box_pairs(a: Pieces, b: Pieces, tol: float, chunk: int = 1 << 22) -> Tuple[n
         r1 = max(int(np.searchsorted(ends, ends[r0] - count[r0] + chunk, side="right")), r0 + 1)
         c = count[r0:r1]
         i = np.repeat(np.arange(r0, r1), c)
-        k = np.arange(int(c.sum())) - np.repeat(np.cumsum(c) - c, c)
+        k = ranks(c)
         j = order[np.repeat(first[r0:r1], c) + k]
         gap = np.maximum(0.0, np.maximum(lo_a[i] - hi_b[j], lo_b[j] - hi_a[i]))
         hit = np.einsum("nd,nd->n", gap, gap) <= tol * tol
@@ -338,7 +339,7 @@ def split_pairs(a: Pieces, b: Pieces, split_a: np.ndarray, split_b: np.ndarray, 
     cb, start_b, nb = children(b, np.asarray(split_b, bool), modes_b)
     total = na * nb
     parent = np.repeat(np.arange(len(total)), total)
-    k = np.arange(parent.size) - np.repeat(np.cumsum(total) - total, total)
+    k = ranks(total)
     ia = start_a[parent] + k // nb[parent]
     ib = start_b[parent] + k % nb[parent]
     return ca.take(ia), cb.take(ib), parent

@@ -24,6 +24,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._ranks import ranks
 from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
@@ -199,7 +200,7 @@ class BezierPieces:
         breaks = []
         for a, (c, p, b) in enumerate(zip(per, self.degrees, self.breaks)):
             src = np.repeat(np.arange(shape[a]), c)
-            j = np.arange(int(c.sum())) - np.repeat(np.cumsum(c) - c, c)
+            j = ranks(c)
             cache: Dict[Tuple[int, int], np.ndarray] = {}
             for jj, cc in set(zip(j.tolist(), c[src].tolist())):
                 cache[(jj, cc)] = restriction_matrix(p, jj / cc, (jj + 1) / cc)

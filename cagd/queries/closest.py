@@ -83,6 +83,7 @@ from numpy.typing import ArrayLike
 
 from .. import _checks, _periodic as periodic
 from .._deprecation import changed
+from .._ranks import ranks
 from ..curves.base import Curve
 from ..errors import CagdError
 from ..surfaces.base import Surface
@@ -434,7 +435,7 @@ class Projector:
             base0 = ends[c0 - 1] if c0 else 0
             c1 = max(c0 + 1, int(np.searchsorted(ends, base0 + GRID_CHUNK, side="right")))
             n_rows = rows_of[c0:c1]
-            k = np.arange(int(n_rows.sum())) - np.repeat(np.cumsum(n_rows) - n_rows, n_rows)
+            k = ranks(n_rows)
             zs: List[np.ndarray] = [k] * self.dim
             base = np.zeros(len(k), dtype=np.intp)
             for a in range(last - 1, -1, -1):            # the row's coordinates (mixed radix)
@@ -447,7 +448,7 @@ class Projector:
             first = np.searchsorted(U, base + lo[cell, last], side="left")
             n = np.searchsorted(U, base + hi[cell, last], side="right") - first
             row = np.repeat(np.arange(len(cell)), n)
-            u = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + first[row]
+            u = ranks(n) + first[row]
             cell = cell[row]
             zs = [zs[a][hit][row] for a in range(last)] + [U[u] - base[row]]
             acc, mid = np.zeros(()), np.zeros(())
@@ -588,8 +589,7 @@ class Projector:
                 nb = len(levels[lv - 1][0])
                 two = np.minimum(2, nb - 2 * node)
                 pid = np.repeat(pid, two)
-                node = np.repeat(2 * node, two) + (np.arange(int(two.sum())) -
-                                                   np.repeat(np.cumsum(two) - two, two))
+                node = np.repeat(2 * node, two) + ranks(two)
         if nearest:
             d = _distances(X, pid, levels[0][4], node)
             best = np.full(N, np.inf)
@@ -617,7 +617,7 @@ class Projector:
         N, K = len(X), self.SEEDS
         k = np.minimum(grid.length, K)
         pid = np.repeat(np.arange(N), k)
-        offs = np.arange(len(pid)) - np.repeat(np.cumsum(k) - k, k)
+        offs = ranks(k)
         cell = grid.cells[grid.start[pid] + offs]
         dist = np.full((N, K), np.inf)
         cells = np.zeros((N, K), dtype=np.intp)
@@ -680,7 +680,7 @@ class Projector:
             g1 = max(g0 + 1, int(np.searchsorted(cum, base + PAIR_BUDGET, side="right")))
             ng = n[g0:g1]
             pid = np.repeat(np.arange(g0, g1), ng)
-            offs = np.arange(len(pid)) - np.repeat(np.cumsum(ng) - ng, ng)
+            offs = ranks(ng)
             cell = grid.cells[start[pid] + offs]
             lb = self._cell_bounds(X, pid, cell)
             P.append(pid)

@@ -37,6 +37,7 @@ import weakref
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._ranks import ranks
 from ..errors import CagdError
 from ._cells import split_boxes
 from .bounds import box_lower_bound, robust_distance
@@ -136,7 +137,7 @@ class _ChordGrid:
         cu, cv = i1[:, 0] - i0[:, 0] + 1, i1[:, 1] - i0[:, 1] + 1
         n = cu * cv
         chord = np.repeat(np.arange(len(cmin)), n)
-        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        k = ranks(n)
         cell = (i0[chord, 0] + k // cv[chord]) * GRID + i0[chord, 1] + k % cv[chord]
         order = np.argsort(cell, kind="stable")
         self.chords = chord[order]
@@ -162,11 +163,11 @@ class _ChordGrid:
             b1 = max(int(np.searchsorted(ends, ends[b0] - cells[b0] + GRID_CHUNK, side="right")), b0 + 1)
             m = cells[b0:b1]
             box = np.repeat(np.arange(b0, b1), m)
-            k = np.arange(int(m.sum())) - np.repeat(np.cumsum(m) - m, m)
+            k = ranks(m)
             cell = (i0[box, 0] + k // cv[box]) * GRID + i0[box, 1] + k % cv[box]
             cnt = self.start[cell + 1] - self.start[cell]
             pb = np.repeat(box, cnt)
-            off = np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+            off = ranks(cnt)
             seg = self.chords[np.repeat(self.start[cell], cnt) + off]
             hit = np.all((self.cmin[seg] <= hi[pb]) & (self.cmax[seg] >= lo[pb]), axis=1)
             seg, pb = seg[hit], pb[hit]
@@ -598,7 +599,7 @@ def _hull_settled(p: "Projector", X: np.ndarray, pid: np.ndarray, lo: np.ndarray
     small = tiles <= MAX_HULL_CELLS
     i, first, count, tiles = i[small], [f[small] for f in first], [c[small] for c in count], tiles[small]
     point = np.repeat(i, tiles)
-    k = np.arange(int(tiles.sum())) - np.repeat(np.cumsum(tiles) - tiles, tiles)
+    k = ranks(tiles)
     r = np.repeat(np.arange(len(i)), tiles)
     cu = first[0][r] + k // count[1][r]
     cv = first[1][r] + k % count[1][r]

@@ -51,6 +51,7 @@ from typing import TYPE_CHECKING, Callable, List, Optional, Tuple
 import numpy as np
 
 from .._periodic import wrap
+from .._ranks import ranks
 from ._chords import _cartesian, _crossings, closed_chains, orient
 
 if TYPE_CHECKING:
@@ -295,7 +296,7 @@ def _trim_polylines(ts: "TrimmedSurface", flatten: Callable, scale: np.ndarray, 
             A = (_cartesian(Q[:, 0]) - lo) * scale
             chord = (_cartesian(Q[:, -1]) - lo) * scale - A
             n = np.maximum(np.ceil(np.linalg.norm(chord, axis=1) / _cell_sizes(gu, gv, A)).astype(np.int64), 1)
-            j = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+            j = ranks(n)
             R = np.repeat(Q, n, axis=0)
             starts.append(_de_casteljau(R, j / np.repeat(n, n)))
             middles.append(_de_casteljau(R, (j + 0.5) / np.repeat(n, n)))
@@ -582,7 +583,7 @@ def _full_cells(ts: "TrimmedSurface", chords: Tuple[np.ndarray, np.ndarray], gu:
     near = np.zeros((nu + 2, nv + 2), dtype=bool)
     a, b = chords
     k = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) / (SAMPLE_SPACING * h)).astype(np.int64), 1)
-    t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k, k)
+    t = ranks(k) / np.repeat(k, k)
     q = np.repeat(a, k, axis=0) + t[:, None] * np.repeat(b - a, k, axis=0)
     i = np.clip(np.searchsorted(gu, q[:, 0], side="right") - 1, 0, nu - 1) + 1
     j = np.clip(np.searchsorted(gv, q[:, 1], side="right") - 1, 0, nv - 1) + 1

@@ -30,6 +30,7 @@ from typing import Callable, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .._ranks import ranks
 from ..curves.bspline import BSplineCurve
 from ..errors import CagdError
 from ._chords import Chain, _cartesian, _crossings, _halves, _hom_pieces, _hull_bound, orient, _segment_distance
@@ -367,7 +368,7 @@ def _box_pairs(nodes: _Nodes, ids: np.ndarray, key: np.ndarray, chunk: int) -> T
         total = int(cnt.sum())
         if total:
             a = np.repeat(np.arange(first, last), cnt)
-            b = a + 1 + (np.arange(total) - np.repeat(np.cumsum(cnt) - cnt, cnt))
+            b = a + 1 + ranks(cnt)
             i, j = order[a], order[b]
             oi, oj = nodes.owner[i], nodes.owner[j]
             keep = ((key[oi] != key[oj]) | ((oi == oj) & (nodes.piece[i] != nodes.piece[j]))) & nodes.meet(i, j)

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike
 from .. import _checks
 from .._periodic import wrap
 from .._quadrature import adaptive
+from .._ranks import ranks
 from ..curves.base import Curve
 from ..curves.bspline import BSplineCurve, prime_bezier_nets
 from ..errors import CagdError
@@ -624,7 +625,7 @@ class _Flattened:
         B = pieces(_cartesian(np.concatenate([Q[:, -1] for Q in self.nets])))
         bound = [b for _, b in flat]
         owner = pieces(np.stack([np.repeat(np.arange(len(counts)), counts),
-                                 np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)], axis=1))
+                                 ranks(counts)], axis=1))
         loop_of = pieces(np.repeat(loop_ids, counts))
         curve_of = pieces(np.repeat(name_ids, counts))
         pos = pieces(np.repeat(pos_ids, counts))
@@ -680,7 +681,7 @@ class _Flattened:
         s1 = np.clip(np.floor((vhi - self.v0) / self.dv), 0, self.nstrips - 1).astype(np.int64)
         counts = s1 - s0 + 1
         seg = np.repeat(np.arange(n), counts)
-        strip = np.repeat(s0, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+        strip = np.repeat(s0, counts) + ranks(counts)
         order = np.argsort(strip, kind="stable")
         self.strip_segments = seg[order]
         self.strip_start = np.searchsorted(strip[order], np.arange(self.nstrips + 1))
@@ -720,9 +721,8 @@ class _Flattened:
 
     def _classify_chunk(self, u: np.ndarray, v: np.ndarray, idx: np.ndarray, strip: np.ndarray,
                         counts: np.ndarray, out: np.ndarray) -> None:
-        total = int(counts.sum())
         local = np.repeat(np.arange(len(idx)), counts)
-        offset = np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
+        offset = ranks(counts)
         seg = self.strip_segments[np.repeat(self.strip_start[strip], counts) + offset]
         pu, pv = u[idx][local], v[idx][local]
         a, b = self.A[seg], self.B[seg]
