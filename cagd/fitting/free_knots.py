@@ -330,7 +330,8 @@ Run = Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
 def _within(run: Run, tol_n: float, counted: np.ndarray) -> bool:
-    return float(run[3][counted].max()) <= tol_n
+    """Whether every counted miss of the run is within tol_n."""
+    return float(np.max(run[3], where=counted, initial=0.0)) <= tol_n
 
 
 def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n: float, counted: np.ndarray,

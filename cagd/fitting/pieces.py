@@ -39,7 +39,8 @@ from typing import TYPE_CHECKING, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from .free_knots import free_knot_fit
+from ..basis.bernstein import bernstein_to_power
+from .free_knots import _within, free_knot_fit
 
 if TYPE_CHECKING:  # pragma: no cover
     from .fit import _Problem
@@ -95,24 +96,22 @@ class Piece(NamedTuple):
     s: np.ndarray
 
 
-def _derivatives(P: np.ndarray, s: float, order: int) -> np.ndarray:
-    """B^(k)(s), k = 0 .. order, of the Bezier curve with poles P at one s (outside
-    [0, 1] too: the polynomial): (order + 1, d). Power coefficients c_j = C(p, j)
-    Delta^j P_0 (Farin, Curves and Surfaces for CAGD, 5.3), B^(k)(s) = sum_(j >= k)
-    j! / (j - k)! c_j s^(j - k)."""
-    from math import comb
-    p = len(P) - 1
-    diffs, c = P, [P[0]]
-    for j in range(1, p + 1):
-        diffs = diffs[1:] - diffs[:-1]
-        c.append(comb(p, j) * diffs[0])
-    C = np.stack(c)
-    power = np.arange(p + 1)
-    out = np.empty((order + 1, P.shape[1]))
-    for k in range(order + 1):
-        fall = np.prod(power[:, None] - np.arange(k)[None, :], axis=1) if k else np.ones(p + 1)
-        out[k] = (fall * float(s) ** np.maximum(power - k, 0)) @ C
-    return out
+def _power(P: np.ndarray) -> np.ndarray:
+    """Power coefficients c (p + 1, d) of the Bezier curve with poles P, B(s) = sum_j c_j s^j
+    (:func:`cagd.basis.bernstein.bernstein_to_power`)."""
+    return bernstein_to_power(len(P) - 1) @ P
+
+
+def _at(C: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """B(s) (len(s), d) at every s (outside [0, 1] too: the polynomial) from its power
+    coefficients C (Farin, Curves and Surfaces for CAGD, 5.3)."""
+    return np.vander(np.asarray(s, dtype=np.float64), len(C), increasing=True) @ C
+
+
+def _speed(P: np.ndarray, end: int) -> float:
+    """|B'| at the start (end 0: p |P_1 - P_0|) or the end (end 1: p |P_p - P_(p-1)|) of
+    the Bezier curve with poles P."""
+    return (len(P) - 1) * float(np.linalg.norm(P[1] - P[0] if end == 0 else P[-1] - P[-2]))
 
 
 def segmented_start(problem: "_Problem", tol_n: float, counted: np.ndarray
@@ -138,7 +137,7 @@ def segmented_start(problem: "_Problem", tol_n: float, counted: np.ndarray
             return None
         run = free_knot_fit(problem.subset(rows), np.zeros(0), s0, tol_n, counted[rows], [PIECE_PASSES],
                             PIECE_PATIENCE, PIECE_FAR)
-        if float(np.max(run[3], where=counted[rows], initial=0.0)) > tol_n:
+        if not _within(run, tol_n, counted[rows]):
             return None
         return Piece(a, b, run[1], run[2])
 
@@ -190,7 +189,6 @@ def _extended(Q: np.ndarray, rows: np.ndarray, piece: Piece) -> Optional[np.ndar
     """Parameters for the run ``rows`` (consecutive, ending at or after the piece's first
     row) from the piece's: its own where it has them, before and beyond it chord length
     over its speed at that end; scaled to [0, 1]."""
-    p = len(piece.poles) - 1
     a, b = int(rows[0]), int(rows[-1]) + 1
     lo, hi = max(a, piece.a), min(b, piece.b)
     if hi - lo < 2:
@@ -200,8 +198,7 @@ def _extended(Q: np.ndarray, rows: np.ndarray, piece: Piece) -> Optional[np.ndar
     for end, rng in ((0, range(lo, a - 1, -1)), (1, range(hi - 1, b))):
         if len(rng) < 2:
             continue
-        P = piece.poles
-        speed = p * float(np.linalg.norm(P[1] - P[0] if end == 0 else P[-1] - P[-2]))
+        speed = _speed(piece.poles, end)
         if not speed > 0.0:
             return None
         idx = np.fromiter(rng, dtype=np.intp)
@@ -220,8 +217,7 @@ def _join(left: Piece, right: Piece, p: int, count: int) -> Optional[Tuple[float
     2 (p + 1) + count nodes over both pieces), started from the speed ratio. Returns
     (alpha, beta, knots) when the relative residual is within JOIN_RTOL, else None."""
     PL, PR = left.poles, right.poles
-    vL = float(np.linalg.norm(_derivatives(PL, 1.0, 1)[1]))
-    vR = float(np.linalg.norm(_derivatives(PR, 0.0, 1)[1]))
+    vL, vR = _speed(PL, 1), _speed(PR, 0)
     if not (vL > 0.0 and vR > 0.0):
         return None
     beta0 = vR / vL                                       # the speed carries on: |B_R'| / beta = |B_L'|
@@ -230,7 +226,8 @@ def _join(left: Piece, right: Piece, p: int, count: int) -> Optional[Tuple[float
     z = np.concatenate([[alpha0, np.log(beta0)], 1.0 + gap * np.arange(1, count + 1) / (count + 1)])
     end = alpha0 + beta0
     nodes = np.linspace(0.0, end, 2 * (p + 1) + count)
-    BL = np.stack([_derivatives(PL, x, 0)[0] for x in nodes])
+    CR = _power(PR)
+    BL = _at(_power(PL), nodes)
     size = float(np.abs(BL - BL.mean(0)).max())
     # the unknowns stay in a box (a knot with no jump has no gradient and would run away;
     # the right piece's offset within the nodes' reach, its scale within JOIN_SCALE_RANGE
@@ -242,7 +239,7 @@ def _join(left: Piece, right: Piece, p: int, count: int) -> Optional[Tuple[float
         """The relative misfit at the nodes (or, ``jumps``, each knot's share |c_i| max
         |s - t_i|^p / size)."""
         alpha, beta = z[0], np.exp(z[1])
-        D = np.stack([_derivatives(PR, (x - alpha) / beta, 0)[0] for x in nodes]) - BL
+        D = _at(CR, (nodes - alpha) / beta) - BL
         E = (nodes[:, None] - z[2:][None, :]) ** p
         c, *_ = np.linalg.lstsq(E, D, rcond=None)
         if jumps:
@@ -287,7 +284,7 @@ def _local_join(problem: "_Problem", left: Piece, right: Piece, count: int, tol_
     p, Q = problem.p, problem.Q
     e, a = left.b - 1, right.a
     lo, hi = max(left.a, e - LOCAL_ROWS), min(right.b, a + LOCAL_ROWS)
-    v = float(np.linalg.norm(_derivatives(left.poles, 1.0, 1)[1]))
+    v = _speed(left.poles, 1)
     if not v > 0.0:
         return None
     s = np.empty(hi - lo)
@@ -299,7 +296,7 @@ def _local_join(problem: "_Problem", left: Piece, right: Piece, count: int, tol_
     rows = np.arange(lo, hi)
     run = free_knot_fit(problem.subset(rows), knots, (s - s0) / span, tol_n, counted[rows], [PIECE_PASSES],
                         PIECE_PATIENCE, PIECE_FAR)
-    if float(np.max(run[3], where=counted[rows], initial=0.0)) > tol_n:
+    if not _within(run, tol_n, counted[rows]):
         return None
     found = s0 + span * run[0][p + 1:-p - 1]
     sr = s0 + span * run[2][a - lo:]                        # the right rows' s
@@ -317,16 +314,9 @@ def _joined(problem: "_Problem", pieces: List[Piece], tol_n: float, counted: np.
     t = np.full(m, np.nan)
     inner: List[float] = []
 
-    def chords(a: int, b: int) -> np.ndarray:
-        """Cumulative chord length along rows a .. b (0 at a)."""
-        return _arc(Q[a:b + 1])
-
     def spread(lo: float, hi: float, rows: int, least: int) -> None:
         count = max(least, 1 + rows // PIECE_POINTS)
         inner.extend(lo + (hi - lo) * np.arange(1, count + 1) / (count + 1))
-
-    def end_speed(P: np.ndarray, at: float) -> float:
-        return float(np.linalg.norm(_derivatives(P, at, 1)[1]))
 
     first = pieces[0]
     scale, origin = 1.0, 0.0                               # t = origin + scale * s on the piece
@@ -348,34 +338,34 @@ def _joined(problem: "_Problem", pieces: List[Piece], tol_n: float, counted: np.
             scale_r, origin_r = scale * beta, origin + scale * alpha
             t[a:right.b] = origin_r + scale_r * right.s
             if a - e > 1:                                  # rows between: by chord
-                c = chords(e, a)
+                c = _arc(Q[e:a + 1])
                 t[e:a + 1] = t[e] + (t[a] - t[e]) * c / c[-1]
         else:
-            v = end_speed(left.poles, 1.0) / scale         # |dC/dt| at the left piece's end
-            v0 = end_speed(right.poles, 0.0)
+            v = _speed(left.poles, 1) / scale         # |dC/dt| at the left piece's end
+            v0 = _speed(right.poles, 0)
             if not (v > 0.0 and v0 > 0.0):
                 return None
-            t[e:a + 1] = t[e] + chords(e, a) / v
+            t[e:a + 1] = t[e] + _arc(Q[e:a + 1]) / v
             spread(t[e], t[a], a - e - 1, JOIN_KNOTS + 1)
             scale_r, origin_r = v0 / v, t[a]
             t[a:right.b] = origin_r + scale_r * right.s
         scale, origin = scale_r, origin_r
     if first.a > 0:                                        # rows before the first piece
-        v = end_speed(first.poles, 0.0)
+        v = _speed(first.poles, 0)
         if not v > 0.0:
             return None
-        c = chords(0, first.a)
+        c = _arc(Q[:first.a + 1])
         t[:first.a] = t[first.a] - (c[-1] - c[:-1]) / v
         before = len(inner)
         spread(t[0], t[first.a], first.a - 1, 1)
         inner[:] = inner[before:] + inner[:before]
     last = pieces[-1]
     if last.b < m:                                         # rows after the last piece
-        v = end_speed(last.poles, 1.0) / scale
+        v = _speed(last.poles, 1) / scale
         if not v > 0.0:
             return None
         e = last.b - 1
-        t[e:] = t[e] + chords(e, m - 1) / v
+        t[e:] = t[e] + _arc(Q[e:]) / v
         spread(t[e], t[-1], m - 1 - e - 1, 1)
     t0, span = t[0], t[-1] - t[0]
     if not (span > 0.0 and np.all(np.isfinite(t))):

@@ -1,7 +1,8 @@
 """The polynomial pieces of sampled B-spline points (issue 17, exactness;
-cagd/fitting/pieces.py): Bezier derivatives anywhere on the line, joins that give the
-knots between two pieces and the right piece's affine map exactly, and cubics with
-uneven knots sampled at random places that come back only through this stage."""
+cagd/fitting/pieces.py): Bezier values anywhere on the line and speeds at the ends,
+joins that give the knots between two pieces and the right piece's affine map exactly,
+and cubics with uneven knots sampled at random places that come back only through this
+stage."""
 from __future__ import annotations
 
 from math import comb
@@ -14,22 +15,26 @@ from hypothesis import strategies as st
 import cagd.fitting.free_knots as free_knots
 from benchmarks.knot_recovery import both_ways, fair_poles
 from cagd import BSplineCurve, fit_curve
-from cagd.fitting.pieces import Piece, _derivatives, _join
+from cagd.fitting.pieces import Piece, _at, _join, _power, _speed
 
 EXACT = 1e-10
 
 
-@given(st.integers(1, 6), st.floats(-2.0, 3.0), st.integers(0, 2 ** 31))
-def test_bezier_derivatives_anywhere(p, s, seed):
+@given(st.integers(1, 6), st.lists(st.floats(-2.0, 3.0), min_size=1, max_size=5), st.integers(0, 2 ** 31))
+def test_bezier_values_and_end_speeds_anywhere(p, s, seed):
     """Against the Bernstein form expanded by numpy's polynomial module (an independent
-    power basis), derivatives by its polyder, at s inside and outside [0, 1]."""
+    power basis): the values at s inside and outside [0, 1], and the speeds |B'| at the
+    ends by its polyder."""
     P = np.random.default_rng(seed).normal(size=(p + 1, 3))
     poly = np.polynomial.polynomial
     coef = sum(comb(p, i) * np.outer(poly.polymul(poly.polypow([0.0, 1.0], i), poly.polypow([1.0, -1.0], p - i)),
                                      P[i]) for i in range(p + 1))
-    want = np.stack([poly.polyval(s, poly.polyder(coef, k)) if k else poly.polyval(s, coef) for k in range(p + 1)])
-    got = _derivatives(P, s, p)
-    np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10 * (1 + abs(s)) ** p)
+    x = np.array(s)
+    np.testing.assert_allclose(_at(_power(P), x), poly.polyval(x, coef).T, rtol=1e-10,
+                               atol=1e-10 * (1 + np.abs(x).max()) ** p)
+    for end in (0, 1):
+        want = np.linalg.norm(poly.polyval(float(end), poly.polyder(coef)))
+        assert _speed(P, end) == pytest.approx(want, rel=1e-12, abs=1e-12)
 
 
 def _piece(curve: BSplineCurve, a: float, b: float) -> Piece:
