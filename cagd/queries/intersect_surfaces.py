@@ -564,7 +564,7 @@ def _solve(S: System, seeds, complete, tol, angle_tol, regions=(), edges=()):
     messages = []
     for xs, ends, P in items:
         closed = ends[0] == "closed"
-        fitted = None if closed else _edge_fit(S, xs)
+        fitted = None if closed else _edge_fit(S, xs, tol)
         if fitted is None or max(fitted[3], fitted[4]) > tol:       # not an edge, or its parameter curve
             fit = _fit(S, xs, P, closed, tol)                         # on the other surface is off: the fit
             fitted = fit if fitted is None or max(fit[3], fit[4]) < max(fitted[3], fitted[4]) else fitted
