@@ -165,3 +165,19 @@ def test_multiple_knots_come_back(monkeypatch, r, seed):
     assert both_ways(r_fit.curve, c) <= EXACT
     monkeypatch.setattr(pieces, "_join_kinds", lambda p, most: [(1, 1), (2, 1)])
     assert len(fit_curve(Q, 1e-9).curve.control_points) > n
+
+
+def test_rows_between_pieces_take_their_feet():
+    """A planar cubic with a triple knot (fuzz case): the join finds the knot, but the
+    four rows between the pieces got their parameters by chord length, one on the wrong
+    side of the knot, and the fit stopped 1.2e-3 off with one control point per point;
+    their feet on the nearer piece's polynomial give the curve back."""
+    P = [[0.0, 0.0], [2.290441099426166, 0.46557528229307993], [2.21864338545876, 0.22259906198908713],
+         [3.162674745226261, -0.25964390266074394], [2.2591562167467103, 0.7774118621440114],
+         [2.1126141772733673, 1.6769187230464877], [3.318670026685851, 3.3912600514525724]]
+    u = 0.5248582573641618
+    c = BSplineCurve(np.array(P), 3, [0, 0, 0, 0, u, u, u, 1, 1, 1, 1])
+    Q = c(np.sort(np.r_[0.0, 1.0, np.random.default_rng(0).random(818)]))
+    r = fit_curve(Q, 4.93321342684764e-09)
+    assert r.converged and len(r.curve.control_points) == 7
+    assert both_ways(r.curve, c) <= EXACT
