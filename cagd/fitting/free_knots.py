@@ -217,7 +217,7 @@ def _ordered_step(inner: np.ndarray, dk: np.ndarray, move: float = MAX_KNOT_MOVE
 
 
 def _knots(inner: np.ndarray, p: int) -> np.ndarray:
-    """The clamped knot vector on [0, 1] with these simple interior knots."""
+    """The clamped knot vector on [0, 1] with these interior knots."""
     return np.concatenate([np.zeros(p + 1), inner, np.ones(p + 1)])
 
 
@@ -380,11 +380,24 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
 
 def _segmented(problem: "_Problem", tol_n: float, counted: np.ndarray, most_inner: int
                ) -> Optional[Run]:
-    """A run from the points' polynomial pieces (:func:`cagd.fitting.pieces.segmented_start`:
-    knots and parameters near the sampled curve's own), thinned of the knots it does not
-    need, or None (SEGMENT_PASSES for the run, as many for the thinning)."""
-    from .pieces import PIECE_FAR, PIECE_PATIENCE, segmented_start
-    start = segmented_start(problem, tol_n, counted)
+    """A run from the points' polynomial pieces (:mod:`cagd.fitting.pieces`: knots and
+    parameters near the sampled curve's own), or None. Pieces joined only with a knot of
+    multiplicity 2 .. p (C^(p-2) .. C^0 there: Bezier pieces joined with a kink) keep
+    those knots: the least squares on them, with parameter correction (the free-knot run
+    moves simple knots only); otherwise the free-knot run from the simple knots, thinned
+    of those it does not need (SEGMENT_PASSES for the run, as many for the thinning)."""
+    from .fit import _fit_on
+    from .pieces import PIECE_FAR, PIECE_PATIENCE, joined_start, polynomial_pieces
+    pieces = polynomial_pieces(problem, tol_n, counted)
+    if pieces is None:
+        return None
+    start = joined_start(problem, pieces, tol_n, counted, problem.p)
+    if start is not None and len(start[0]) <= most_inner and np.any(np.diff(start[0]) == 0.0):
+        fitted, t, miss = _fit_on(problem, _knots(start[0], problem.p), start[1], tol_n)
+        run = (np.asarray(fitted.knots), fitted.control_points, t, miss)
+        if _within(run, tol_n, counted):
+            return run
+        start = joined_start(problem, pieces, tol_n, counted)
     if start is None or len(start[0]) > most_inner:
         return None
     budget = [SEGMENT_PASSES]

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 import cagd.fitting.free_knots as free_knots
 from benchmarks.knot_recovery import both_ways, fair_poles
 from cagd import BSplineCurve, fit_curve
+import cagd.fitting.pieces as pieces
 from cagd.fitting.pieces import Piece, _at, _join, _power, _speed
 
 EXACT = 1e-10
@@ -65,6 +66,30 @@ def test_join_gives_the_knots_and_the_map(count, seed):
     np.testing.assert_allclose([alpha, beta], [(b0 - a0) / h, (b1 - b0) / h], rtol=1e-8, atol=1e-8)
 
 
+@settings(max_examples=20, deadline=None)
+@given(st.integers(2, 3), st.integers(0, 2 ** 31))
+def test_join_gives_a_multiple_knot(r, seed):
+    """A cubic with one knot of multiplicity r (C^1, or C^0 with a kink) between two
+    windows: the knot comes back r times to 1e-8 and the right window's map takes the
+    knot to its own place there (at r = 3 the scale is free: a C^0 join fixes only where
+    the pieces meet); a simple knot does not join it."""
+    rng = np.random.default_rng(seed)
+    u = rng.uniform(0.35, 0.65)
+    c = BSplineCurve(fair_poles(rng, 4 + r), 3, np.r_[[0.0] * 4, [u] * r, [1.0] * 4])
+    a0, a1 = rng.uniform(0.05, 0.15), u - rng.uniform(0.0, 0.02)
+    b0, b1 = u + rng.uniform(0.0, 0.02), rng.uniform(0.85, 0.95)
+    left, right = _piece(c, a0, a1), _piece(c, b0, b1)
+    joint = _join(left, right, 3, 1, r)
+    assert joint is not None
+    alpha, beta, knots = joint
+    h = a1 - a0
+    np.testing.assert_allclose(knots, [(u - a0) / h] * r, rtol=0, atol=1e-8)
+    assert (knots[0] - alpha) / beta == pytest.approx((u - b0) / (b1 - b0), abs=1e-8)
+    if r == 2:
+        np.testing.assert_allclose([alpha, beta], [(b0 - a0) / h, (b1 - b0) / h], rtol=1e-8, atol=1e-8)
+    assert _join(left, right, 3, 1) is None
+
+
 def test_no_knot_between_runs_of_one_polynomial():
     """Two windows of one span: no knot, and the map between them."""
     c = BSplineCurve(fair_poles(np.random.default_rng(4), 5), 3, [0, 0, 0, 0, 0.8, 1, 1, 1, 1])
@@ -111,3 +136,48 @@ def test_a_join_stays_finite(recwarn):
         for count in (1, 2):
             _join(Piece(0, 16, PL, np.linspace(0, 1, 16)), Piece(20, 36, PR, np.linspace(0, 1, 16)), 3, count)
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+@pytest.mark.parametrize("r, seed", [(2, 21), (3, 22)])
+def test_multiple_knots_come_back(monkeypatch, r, seed):
+    """Cubics with a double knot (C^1) and with a triple one and a kink (C^0, Bezier
+    pieces joined at a corner), sampled at 600 random places (parameters not given): the
+    same count back, within 1e-10 both ways, at tol 1e-9, the knot's multiplicity too
+    (the knots themselves at r = 2; at a C^0 knot the speed ratio is free, so the knot
+    values are one parametrisation of the same curve); with simple knots only the fit
+    ends at hundreds of control points."""
+    rng = np.random.default_rng(seed)
+    n = 5 + r
+    inner = [0.3] + [0.62] * r
+    c = BSplineCurve(fair_poles(rng, n), 3, np.r_[[0.0] * 4, inner, [1.0] * 4])
+    if r == 3:
+        P = np.array(c.control_points)
+        P[5:] += 0.3 * np.linalg.norm(P[4] - P[3]) * np.array([0.0, 0.0, 1.0])   # a kink at the knot
+        c = BSplineCurve(P, 3, c.knots)
+    Q = c(np.sort(np.r_[0.0, 1.0, rng.random(598)]))
+    r_fit = fit_curve(Q, 1e-9)
+    assert r_fit.converged and r_fit.max_error <= 1e-9
+    assert len(r_fit.curve.control_points) == n
+    found = np.asarray(r_fit.curve.knots)[4:-4]
+    assert np.unique(found, return_counts=True)[1].tolist() == [1, r]
+    if r == 2:
+        np.testing.assert_allclose(found, inner, rtol=0, atol=1e-8)
+    assert both_ways(r_fit.curve, c) <= EXACT
+    monkeypatch.setattr(pieces, "_join_kinds", lambda p, most: [(1, 1), (2, 1)])
+    assert len(fit_curve(Q, 1e-9).curve.control_points) > n
+
+
+def test_rows_between_pieces_take_their_feet():
+    """A planar cubic with a triple knot (fuzz case): the join finds the knot, but the
+    four rows between the pieces got their parameters by chord length, one on the wrong
+    side of the knot, and the fit stopped 1.2e-3 off with one control point per point;
+    their feet on the nearer piece's polynomial give the curve back."""
+    P = [[0.0, 0.0], [2.290441099426166, 0.46557528229307993], [2.21864338545876, 0.22259906198908713],
+         [3.162674745226261, -0.25964390266074394], [2.2591562167467103, 0.7774118621440114],
+         [2.1126141772733673, 1.6769187230464877], [3.318670026685851, 3.3912600514525724]]
+    u = 0.5248582573641618
+    c = BSplineCurve(np.array(P), 3, [0, 0, 0, 0, u, u, u, 1, 1, 1, 1])
+    Q = c(np.sort(np.r_[0.0, 1.0, np.random.default_rng(0).random(818)]))
+    r = fit_curve(Q, 4.93321342684764e-09)
+    assert r.converged and len(r.curve.control_points) == 7
+    assert both_ways(r.curve, c) <= EXACT
