@@ -28,7 +28,8 @@ an affine map; so:
 - more knots in a gap (:func:`_local_join`, k = 3, 4): a free-knot run over the rows
   around it; else the speed |dC/dt| carries on across the gap (continuous for p >= 2)
   and the gap gets three knots or more, their surplus dropped after;
-- rows no piece holds get chord length over the speed.
+- rows between two joined pieces get their feet on the nearer piece's polynomial
+  (:func:`_gap_params`), the other rows no piece holds chord length over the speed.
 
 Where no p + 1 points lie between two knots the data do not fix the curve there (a
 different curve passes through the same points); such curves do not come back. The
