@@ -381,11 +381,12 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
 def _segmented(problem: "_Problem", tol_n: float, counted: np.ndarray, most_inner: int
                ) -> Optional[Run]:
     """A run from the points' polynomial pieces (:mod:`cagd.fitting.pieces`: knots and
-    parameters near the sampled curve's own), or None. Pieces joined only with a knot of
-    multiplicity 2 .. p (C^(p-2) .. C^0 there: Bezier pieces joined with a kink) keep
-    those knots: the least squares on them, with parameter correction (the free-knot run
-    moves simple knots only); otherwise the free-knot run from the simple knots, thinned
-    of those it does not need (SEGMENT_PASSES for the run, as many for the thinning)."""
+    parameters near the sampled curve's own), or None. A start whose joins found a knot
+    of multiplicity 2 .. p (C^(p-2) .. C^0 there: Bezier pieces joined with a kink) keeps
+    its knots: the least squares on them, with parameter correction (the free-knot run
+    moves simple knots only), kept when within tol; otherwise the free-knot run from the
+    joins with simple knots only, thinned of the knots it does not need (SEGMENT_PASSES
+    for the run, as many for the thinning)."""
     from .fit import _fit_on
     from .pieces import PIECE_FAR, PIECE_PATIENCE, joined_start, polynomial_pieces
     pieces = polynomial_pieces(problem, tol_n, counted)

@@ -253,7 +253,7 @@ def _settled_ends(S: System, xs: np.ndarray, k: int) -> np.ndarray:
     return x
 
 
-def edge_fit(S: System, xs: np.ndarray, tol: float = 0.0):
+def edge_fit(S: System, xs: np.ndarray, tol: float):
     """A branch along a boundary of one surface (the rows of boundary pieces lying on
     the other surface, :func:`cagd.queries.intersect_surfaces._edge_rows`: every row
     within AT_END_RTOL of the same boundary line (:func:`boundary_line`; such branches
@@ -266,10 +266,10 @@ def edge_fit(S: System, xs: np.ndarray, tol: float = 0.0):
     of a bicubic: 237 fitted poles, 7e-9 off, before). Where that parameter curve's image
     is more than ``tol`` off the edge, the spans' midpoints are projected onto the other
     surface (Gauss-Newton from the curve there; not where it is periodic) and added to
-    its rows, EDGE_ROUNDS times at most (the projections of a boundary crossing the other surface's knot lines have
-    kinks the cubic rounds off: 5e-9 at tol 1e-9 between 64 rows a span on
-    trj3_s1-al-214.stp faces 4 x 6). Returns what :func:`fit` returns, or None when the
-    rows are not on one boundary line."""
+    its rows, EDGE_ROUNDS times at most (the projections of an edge crossing the other
+    surface's knot lines have kinks the cubic rounds off: 5e-9 at tol 1e-9 between 64
+    rows a span on trj3_s1-al-214.stp faces 4 x 6); the best round is returned. Returns
+    what :func:`fit` returns, or None when the rows are not on one boundary line."""
     from ..curves.bspline import BSplineCurve
     from ..surfaces.bspline import BSplineSurface
     found = boundary_line(S, xs)

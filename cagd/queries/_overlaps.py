@@ -260,17 +260,18 @@ def _edges(A, B, starts: List[Tuple[float, np.ndarray, float, float]], tol: floa
 
 def _snap(A, B, s: float, t: np.ndarray, tol: float) -> Tuple[float, np.ndarray]:
     """An overlap end within 1e-6 of a domain end of B (curves) or of A is put on that
-    end, its partner by projection, when that end lies within tol of the other object:
-    the bisection alone stops where the distance reaches tol (an end of A 6e-6 off B,
-    occ22470.igs faces 1 x 16, was snapped on and its branch fitted 6e-6 off)."""
+    end, its partner by projection, when that end lies within tol of the other object
+    ((1 - END_TOL_SHARE) tol, as the ends searched): the bisection alone stops where the
+    distance reaches tol (an end of A 6e-6 off B, occ22470.igs faces 1 x 16, was snapped
+    on and its branch fitted 6e-6 off)."""
     for end in ((B.lo[0], B.hi[0]) if B.k == 1 else ()):
         if abs(t[0] - end) <= END_MARGIN_RTOL * (B.hi[0] - B.lo[0]):
             x, d = project_onto(A, B.points(np.array([[end]])), np.array([[s]]))
-            if float(d[0]) <= tol:
+            if float(d[0]) <= (1.0 - END_TOL_SHARE) * tol:
                 return float(x[0, 0]), np.array([end])
     for end in (A.lo[0], A.hi[0]):
         if abs(s - end) <= END_MARGIN_RTOL * (A.hi[0] - A.lo[0]):
             y, d = project_onto(B, A.points(np.array([[end]])), t.reshape(1, -1))
-            if float(d[0]) <= tol:
+            if float(d[0]) <= (1.0 - END_TOL_SHARE) * tol:
                 return float(end), y[0]
     return s, t
