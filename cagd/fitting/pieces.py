@@ -245,7 +245,7 @@ def _join(left: Piece, right: Piece, p: int, count: int, multiplicity: int = 1
     2 (p + 1) + count nodes over both pieces), started from the speed ratio. A knot of
     ``multiplicity`` r (C^(p-r) there) has the terms sum_(j = p-r+1..p) c_ij (s - t_i)^j
     (Piegl & Tiller 2.2: a knot of multiplicity r leaves C^(p-r)); at r = p (C^0: the
-    pieces' polynomials only meet at t) beta is free and stays near the speed ratio.
+    pieces' polynomials only meet at t) beta is free and stays at the speed ratio.
     Returns (alpha, beta, knots, each repeated r times) when the relative residual is
     within JOIN_RTOL, else None."""
     PL, PR = left.poles, right.poles
@@ -267,6 +267,7 @@ def _join(left: Piece, right: Piece, p: int, count: int, multiplicity: int = 1
     lower = np.concatenate([[0.0, z[1] - JOIN_SCALE_RANGE], np.zeros(count)])
     upper = np.concatenate([[end, z[1] + JOIN_SCALE_RANGE], np.full(count, end)])
     powers = np.arange(p - multiplicity + 1, p + 1)
+    free_scale = multiplicity == p          # C^0: the scale stays at the speed ratio (it drifted to the box's edge)
 
     def residual(z: np.ndarray, jumps: bool = False) -> np.ndarray:
         """The relative misfit at the nodes (or, ``jumps``, each knot's share: the largest
@@ -284,8 +285,11 @@ def _join(left: Piece, right: Piece, p: int, count: int, multiplicity: int = 1
     lam = JOIN_DAMPING
     for _ in range(JOIN_STEPS):
         h = JOIN_DIFF * np.maximum(np.abs(z), 1.0)
-        Jac = np.stack([(residual(z + h[i] * np.eye(len(z))[i]) - R) / h[i] for i in range(len(z))], axis=1)
+        Jac = np.stack([np.zeros_like(R) if i == 1 and free_scale else
+                        (residual(z + h[i] * np.eye(len(z))[i]) - R) / h[i] for i in range(len(z))], axis=1)
         A = Jac.T @ Jac
+        if free_scale:
+            A[1, 1] = 1.0                           # (its column is zero: the step keeps beta)
         try:
             with np.errstate(under="ignore"):       # (a column with no gradient: lam * TINY_DIAG)
                 step = np.linalg.solve(A + lam * np.diag(np.diag(A) + TINY_DIAG), -Jac.T @ R)
