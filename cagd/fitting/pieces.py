@@ -208,17 +208,18 @@ def _extended(Q: np.ndarray, rows: np.ndarray, piece: Piece) -> Optional[np.ndar
         idx = np.fromiter(rng, dtype=np.intp)
         c = _arc(Q[idx]) / speed
         s[idx - a] = s[idx[0] - a] + (c if end else -c)
-        s[idx[1:] - a] = _feet(piece.poles, Q[idx[1:]], s[idx[1:] - a])
+        s[idx[1:] - a] = _feet(piece.poles, Q[idx[1:]], s[idx[1:] - a])[0]
     s = s - s[0]
     return s / s[-1] if s[-1] > 0.0 else None
 
 
-def _feet(P: np.ndarray, Q: np.ndarray, s0: np.ndarray) -> np.ndarray:
+def _feet(P: np.ndarray, Q: np.ndarray, s0: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """Parameters of the rows Q on the polynomial of the Bezier curve with poles P
     (extended beyond [0, 1]): FEET_STEPS Newton steps on |B(s) - Q|^2 from s0 (the
     points of one polynomial get their own parameters; chord length over the end speed
     is off by its curvature: 6% over a third of a span, where a run stalled 45 tol
-    away), kept only where they lower every distance and keep s0's order."""
+    away), kept only where they lower every distance and keep s0's order. Returns the
+    parameters and the squared distances |B(s) - Q|^2 there."""
     C = _power(P)
     C1 = C[1:] * np.arange(1, len(C))[:, None]
     C2 = C1[1:] * np.arange(1, len(C1))[:, None]
@@ -231,8 +232,8 @@ def _feet(P: np.ndarray, Q: np.ndarray, s0: np.ndarray) -> np.ndarray:
     miss = ((_at(C, s) - Q) ** 2).sum(1)
     order = np.sign(s0[-1] - s0[0])
     if not (np.all(np.isfinite(s)) and np.all(miss <= miss0) and np.all(order * np.diff(s) >= 0.0)):
-        return s0
-    return s
+        return s0, miss0
+    return s, miss
 
 
 def _join(left: Piece, right: Piece, p: int, count: int, multiplicity: int = 1
@@ -326,10 +327,8 @@ def _gap_params(Q: np.ndarray, left: Piece, right: Piece, maps: Tuple[float, flo
         return None
     rows = Q[e + 1:a]
     c = _arc(Q[e:a + 1])
-    sL = _feet(left.poles, rows, left.s[-1] + c[1:-1] / vL)
-    sR = _feet(right.poles, rows, right.s[0] - (c[-1] - c[1:-1]) / vR)
-    dL = ((_at(_power(left.poles), sL) - rows) ** 2).sum(1)
-    dR = ((_at(_power(right.poles), sR) - rows) ** 2).sum(1)
+    sL, dL = _feet(left.poles, rows, left.s[-1] + c[1:-1] / vL)
+    sR, dR = _feet(right.poles, rows, right.s[0] - (c[-1] - c[1:-1]) / vR)
     origin, scale, origin_r, scale_r = maps
     return np.where(dL <= dR, origin + scale * sL, origin_r + scale_r * sR)
 
@@ -338,7 +337,7 @@ def _join_kinds(p: int, most: int) -> List[Tuple[int, int]]:
     """(knots, multiplicity) tried at a gap, fewest terms first (count x multiplicity, a
     simple knot before a multiple one): a double knot before two simple ones, which
     would fit it only nearly (two knots close together), three knots at most."""
-    kinds = [(c, r) for c in range(1, JOIN_KNOTS + 1) for r in range(1, (min(most, p) if c == 1 else 1) + 1)]
+    kinds = [(1, r) for r in range(1, min(most, p) + 1)] + [(c, 1) for c in range(2, JOIN_KNOTS + 1)]
     return sorted(kinds, key=lambda k: (k[0] * k[1], k[0]))
 
 
