@@ -830,29 +830,43 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
         c, tt, ee = _fit_on(problem, knots(b), start, tol_n)
         return c, tt, ee * counted, float(ee[counted].max())
 
-    # grow: until every point is within tol (or the cap, or a stall: tol below the noise)
-    curve, t, e, worst = attempt(breaks, u)
-    best = (curve, t, e, breaks, worst)                  # the grown fit with the smallest largest miss
-    history = [(len(curve.control_points), worst * plan.scale)]
-    why = None
-    while worst > tol_n and fits < MAX_FIT_ROUNDS:
-        s = len(breaks) - 1
-        if s >= most_spans:
-            break
-        E = _span_errors(breaks, t, e)
-        c = _worth(E, GROW_TARGET * tol_n, p)
-        count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol_n)), s + 1,
-                            min(most_spans, MAX_GROWTH * s + 1)))
-        breaks = _redistributed(breaks, c, count)
-        curve, t, e, worst = attempt(breaks, u)
-        if worst < best[4]:
-            best = (curve, t, e, breaks, worst)
-        history.append((len(curve.control_points), worst * plan.scale))
-        why = stalled(history, int(np.count_nonzero(counted)))
-        if why:
-            break
-    if why is None:
-        best = (curve, t, e, breaks, worst)
+    def grow(breaks: np.ndarray, start: np.ndarray, follow: bool):
+        """Until every point is within tol (or the cap, or a stall: tol below the noise),
+        every round from the parameters ``start`` (``follow``: from the last round's
+        feet); (the fit, why it stalled or None)."""
+        curve, t, e, worst = attempt(breaks, start)
+        best = (curve, t, e, breaks, worst)              # the grown fit with the smallest largest miss
+        history = [(len(curve.control_points), worst * plan.scale)]
+        why = None
+        while worst > tol_n and fits < MAX_FIT_ROUNDS:
+            s = len(breaks) - 1
+            if s >= most_spans:
+                break
+            E = _span_errors(breaks, t, e)
+            c = _worth(E, GROW_TARGET * tol_n, p)
+            count = int(np.clip(max(np.ceil(c.sum()), s + np.count_nonzero(E > tol_n)), s + 1,
+                                min(most_spans, MAX_GROWTH * s + 1)))
+            breaks = _redistributed(breaks, c, count)
+            curve, t, e, worst = attempt(breaks, t if follow else start)
+            if worst < best[4]:
+                best = (curve, t, e, breaks, worst)
+            history.append((len(curve.control_points), worst * plan.scale))
+            why = stalled(history, int(np.count_nonzero(counted)))
+            if why:
+                break
+        return (best if why else (curve, t, e, breaks, worst)), why
+
+    best, why = grow(breaks, u, False)
+    regrown = why is not None and fits < MAX_FIT_ROUNDS
+    if regrown:
+        # a stall may be the first parameters' fault, not noise (centripetal parameters of
+        # points sampled unevenly, 2.7e-6 .. 0.44 apart: a quartic's 658 points took 285
+        # control points for a miss of 6.9e-5 at tol 1e-7): the growth again from the
+        # best fit's feet, each round from the last one's (125 control points within
+        # tol), kept when it meets tol (noise stalls it again: up to twice the rounds)
+        again, why_again = grow(breaks, best[1], True)
+        if why_again is None and again[4] <= tol_n:
+            best, why = again, None
     if best[4] > tol_n and len(best[3]) - 1 >= most_spans and plan.interpolable:
         if plan.periodic:           # one span per point: the points at the breaks (odd degree)
             d = np.unique(u)        # or between them (even); repeated points once
@@ -885,7 +899,7 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
     if ok:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
     if plan.recover:
-        curve, t, fits = _recovered(problem, curve, t, u, ok, plan.most, tol_n, counted, fits)
+        curve, t, fits = _recovered(problem, curve, t, u, ok, plan.most, tol_n, counted, fits, regrown)
         ok = float(_misses(np.asarray(curve.knots), p, curve.control_points, problem.Q, t)[counted].max()) <= tol_n
     return curve, t, ok, fits, why, np.unique(np.asarray(curve.knots))
 
@@ -972,22 +986,24 @@ def _after_removal(problem: _Problem, curve: BSplineCurve, t: np.ndarray, tol_n:
 
 
 def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: np.ndarray, ok: bool, most: int,
-               tol_n: float, counted: np.ndarray, fits: int) -> Tuple[BSplineCurve, np.ndarray, int]:
+               tol_n: float, counted: np.ndarray, fits: int, regrown: bool = False
+               ) -> Tuple[BSplineCurve, np.ndarray, int]:
     """The knot-recovery stage (:func:`cagd.fitting.free_knots.recover_knots`, guided by
     the fit ``curve`` with the points' parameters t on it; ``initial`` their first
     parameters): fewer control points than ``curve`` has (than ``most`` + 1 when it
     misses tol) with the interior knots moved, kept when every point is within tol. The
     search over counts runs only for a tol below SEARCH_TOL (the points' frame is the
-    unit ball) when the adaptive fit missed it or needed SEARCH_FILL control points per
-    point or more: the exactness case, a sampled B-spline asked back, whose smooth pieces
-    the adaptive knots cannot follow to that tol (ordinary data is spared the search's
-    seconds: the anchor curve at tol 1e-5 takes 191 poles for 2,000 points)."""
+    unit ball) when the adaptive fit missed it, needed SEARCH_FILL control points per
+    point or more, or met it only when ``regrown`` (its first growth stalled): the
+    exactness case, a sampled B-spline asked back, whose smooth pieces the adaptive
+    knots cannot follow to that tol (ordinary data is spared the search's seconds: the
+    anchor curve at tol 1e-5 takes 191 poles for 2,000 points)."""
     from .free_knots import recover_knots
     p = problem.p
     n = len(curve.control_points) if ok else most + 1
     if n <= problem.least:
         return curve, t, fits
-    search = bool(tol_n <= SEARCH_TOL and (not ok or n >= SEARCH_FILL * np.count_nonzero(counted)))
+    search = bool(tol_n <= SEARCH_TOL and (not ok or regrown or n >= SEARCH_FILL * np.count_nonzero(counted)))
     m = len(problem.Q)
     rows = _sample_rows(m, RECOVERY_POINTS) if m > RECOVERY_POINTS else np.arange(m)
     sub = problem if len(rows) == m or not problem.w[rows].max() > 0.0 else problem.subset(rows)

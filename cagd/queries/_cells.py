@@ -3,6 +3,8 @@ evaluation of points and partials up to second order, vectorized over (point, ce
 rows), and the bookkeeping of (point, box) pairs."""
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 UNIFORM_RTOL = 1e-13         # breaks equally spaced to this share: a uniform grid (pieces found by division)
@@ -33,6 +35,7 @@ def split_boxes(pid, cell, lo, hi, lb, speed=None):
             np.concatenate([hi1, hi]), np.concatenate([lb, lb]))
 
 
+@lru_cache(maxsize=64)
 def _bernstein_to_power(p: int) -> np.ndarray:
     """(p+1, p+1) matrix C with power coefficients c_a = sum_i C[a, i] P_i of a degree-p
     Bezier polynomial on [0, 1] written in the centred variable s = 2 t - 1 in [-1, 1]:
@@ -43,6 +46,7 @@ def _bernstein_to_power(p: int) -> np.ndarray:
     for i in range(p + 1):
         c = P.polymul(P.polypow([1.0, 1.0], i), P.polypow([1.0, -1.0], p - i)) * (comb(p, i) / 2.0 ** p)
         C[:len(c), i] = c
+    C.setflags(write=False)                # shared by every table of degree p
     return C
 
 

@@ -605,128 +605,113 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     m <= 0)."""
     n, dim = S.shape
     k = c.shape[1]
-    r = [S[:, d] - Xp[:, d] for d in range(dim)]
-    f2 = r[0] * r[0]
-    for d in range(1, dim):
-        f2 = f2 + r[d] * r[d]
+    # component-first arrays (..., n), rows contiguous (S, J, H2 are transposed views of
+    # such storage): one numpy call per operation whatever n (a point's closest point
+    # bounds a handful of boxes a round), reductions over leading axes fast for long n
+    r = S.T - Xp.T                                                     # (dim, n)
+    f2 = _lead_sum(r * r)
     f = np.sqrt(f2)
-    Jc = [[J[:, d, a] for d in range(dim)] for a in range(k)]
-    grad, sc, si, delta, Sn = [], [], [], [], []
-    for a in range(k):
-        g = r[0] * Jc[a][0]
-        nn = Jc[a][0] * Jc[a][0]
-        for d in range(1, dim):
-            g = g + r[d] * Jc[a][d]
-            nn = nn + Jc[a][d] * Jc[a][d]
-        grad.append(2.0 * g)
-        sc.append(np.sqrt(nn))
+    Jt = J.T                                                           # (k, dim, n)
+    grad = 2.0 * _lead_sum((r * Jt).swapaxes(0, 1))                   # (k, n)
+    nrm = np.sqrt(_lead_sum((Jt * Jt).swapaxes(0, 1)))                 # |S_a(c)|
     # scales from the first-derivative bounds over the cell, at least SCALE_FLOOR_RTOL of
     # the largest (a direction degenerate over the whole cell). Issue 16: a floor of a
     # quarter of the largest made a sliver's short direction (L 1/300 of the long one's)
     # look degenerate: m ~ 1e-4 of the true one, boxes ~1/30 of the curvature radius
     # before any closed (a 0.1 x 10 mm face, points 1e-6 off: 70x the time)
-    top = L.max(axis=1)
+    Lt = L.T
+    top = Lt.max(axis=0)
     top = np.where(top > 0, top, 1.0)
-    for a in range(k):
-        nrm = sc[a]
-        sa = np.exp2(np.round(np.log2(np.maximum(L[:, a], SCALE_FLOOR_RTOL * top))))
-        sc[a] = sa
-        si.append(1.0 / sa)
-        Sn.append(nrm / sa)                                            # |S_a(c)| scaled
-        delta.append(np.maximum(np.abs(c[:, a] - lo[:, a]), np.abs(hi[:, a] - c[:, a])) * sa)
-    Jh = [[Jc[a][d] * si[a] for d in range(dim)] for a in range(k)]
-    Mh = [[M[:, a, b] * (si[a] * si[b]) for b in range(k)] for a in range(k)]
-    D = []
-    for a in range(k):
-        v = Mh[a][0] * delta[0]
-        for b in range(1, k):
-            v = v + Mh[a][b] * delta[b]
-        D.append(v)
-    Ld = L[:, 0] * delta[0] * si[0]
-    for a in range(1, k):
-        Ld = Ld + L[:, a] * delta[a] * si[a]
+    sc = np.exp2(np.round(np.log2(np.maximum(Lt, SCALE_FLOOR_RTOL * top))))  # (k, n) powers of two
+    si = 1.0 / sc
+    Sn = nrm / sc                                                      # |S_a(c)| scaled
+    ct = c.T
+    tlo, thi = lo.T - ct, hi.T - ct                                    # the box's offsets from c
+    delta = np.maximum(-tlo, thi) * sc                                 # its reach from c, scaled
+    Jh = Jt * si[:, None]
+    pa, pb, w2 = _PAIRS[k]                                             # (0, 0)[, (0, 1), (1, 1)]
+    sij = si[pa] * si[pb]                                              # (pairs, n)
+    Mh = M[:, pa, pb].T * sij
     if k == 1:
-        dJ = D[0]
-        lam = Mh[0][0]
-        sig = Sn[0]
+        D = Mh * delta
+        dJ, lam, sig = D[0], Mh[0], Sn[0]
     else:
-        dJ = np.sqrt(D[0] * D[0] + D[1] * D[1])
-        lam = 0.5 * (Mh[0][0] + Mh[1][1]) + np.sqrt(0.25 * (Mh[0][0] - Mh[1][1]) ** 2 + Mh[0][1] ** 2)
+        D = Mh[[0, 1]] * delta[0] + Mh[[1, 2]] * delta[1]               # D_a = sum_b Mh_ab delta_b
+        dJ = np.sqrt(_lead_sum(D * D))
+        lam = _eigenvalue_2x2(Mh[0], Mh[1], Mh[2], 1.0)
         u, v = Jh
         aa, cc = Sn[0] * Sn[0], Sn[1] * Sn[1]
-        bb = u[0] * v[0]
-        for d in range(1, dim):
-            bb = bb + u[d] * v[d]
+        bb = _lead_sum(u * v)
         if dim == 3:
-            det = (u[1] * v[2] - u[2] * v[1]) ** 2 + (u[2] * v[0] - u[0] * v[2]) ** 2 + (u[0] * v[1] - u[1] * v[0]) ** 2
+            w = u[[1, 2, 0]] * v[[2, 0, 1]] - u[[2, 0, 1]] * v[[1, 2, 0]]          # u x v
+            det = _lead_sum(w * w)
         elif dim == 2:
             det = (u[0] * v[1] - u[1] * v[0]) ** 2
         else:
             det = np.maximum(aa * cc - bb * bb, 0.0)
-        lmax = 0.5 * (aa + cc) + np.sqrt(0.25 * (aa - cc) ** 2 + bb * bb)
+        lmax = _eigenvalue_2x2(aa, bb, cc, 1.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             lmin = np.where(lmax > 0, det / lmax, 0.0)
         sig = np.sqrt(lmin) * (1.0 - SHRINK_RTOL)
+    Ld = _lead_sum(Lt * delta * si)
     m1 = 2.0 * (np.maximum(sig - dJ, 0.0) ** 2 - (f + Ld) * lam)
-    # half Hessian J^T J + r.d2S at c and the bound E of its change over the box
-    pairs = symmetric_pairs(k)
-    half, change, E2, scale = {}, {}, 0.0, 0.0
-    for a, b in pairs:
-        jj = Jh[a][0] * Jh[b][0]
-        rh = r[0] * H2[:, 0, a, b]
-        for d in range(1, dim):
-            jj = jj + Jh[a][d] * Jh[b][d]
-            rh = rh + r[d] * H2[:, d, a, b]
-        h = jj + rh * (si[a] * si[b])
-        half[a, b] = h
-        tt = T[:, a, b, 0] * (si[0] * delta[0])
-        for e in range(1, k):
-            tt = tt + T[:, a, b, e] * (si[e] * delta[e])
-        e_ab = D[a] * Sn[b] + Sn[a] * D[b] + D[a] * D[b] + Ld * Mh[a][b] + f * tt * (si[a] * si[b])
-        change[a, b] = e_ab
-        w = 1.0 if a == b else 2.0
-        E2 = E2 + w * e_ab * e_ab
-        scale = scale + w * np.abs(h)
-    if k == 1:
-        lmin_h = half[0, 0]
-    else:
-        A, B, C = half[0, 0], half[0, 1], half[1, 1]
-        lmin_h = 0.5 * (A + C) - np.sqrt(0.25 * (A - C) ** 2 + B * B)
+    # half Hessian J^T J + r.d2S at c and the bound E of its change over the box (pairs, n)
+    half = (_lead_sum((Jh[pa] * Jh[pb]).swapaxes(0, 1))
+            + _lead_sum(r[:, None] * H2[:, :, pa, pb].transpose(1, 2, 0)) * sij)
+    tt = _lead_sum(T[:, pa, pb].transpose(2, 1, 0) * (si * delta)[:, None])
+    change = D[pa] * Sn[pb] + Sn[pa] * D[pb] + D[pa] * D[pb] + Ld * Mh + f * tt * sij
+    E2 = _lead_sum(w2 * (change * change))            # |E|_F^2 (off-diagonal entries twice)
+    scale = _lead_sum(w2 * np.abs(half))
+    lmin_h = half[0] if k == 1 else _eigenvalue_2x2(half[0], half[1], half[2], -1.0)
     m2 = 2.0 * (lmin_h - np.sqrt(E2) - SLACK_RTOL * scale)
     m = np.maximum(m1, m2)
     if hessian is not None:
         ask = (lmin_h > 0) & (m <= 0)
         if target is not None:          # ... and only where the best m it could give closes the box
-            ask[ask] = f2[ask] + _quadratic_minimum(2.0 * lmin_h[ask], [g[ask] for g in grad], [x[ask] for x in sc],
-                                                    lo[ask], hi[ask], c[ask])[0] >= target[ask]
+            ask[ask] = f2[ask] + _quadratic_minimum(2.0 * lmin_h[ask], grad[:, ask], sc[:, ask], tlo[:, ask],
+                                                    thi[:, ask])[0] >= target[ask]
         i = np.flatnonzero(ask)
         if i.size:                      # (rows it declines: -inf, inf, nothing gained)
             m = m.copy()
             with np.errstate(invalid="ignore"):
                 hl, hh, div = hessian(i)
-                mu = _interval_eigenvalue(hl, hh, [x[i] for x in si])
+                mu = _interval_eigenvalue(hl, hh, si[:, i])
                 if div is not None:
                     mu = mu / np.where(mu > 0, div[1], div[0])
                 m[i] = np.fmax(m[i], mu)
-    q, parts = _quadratic_minimum(m, grad, sc, lo, hi, c)
-    if k == 2:          # ... or a curvature per direction (where one direction is concave)
-        q = np.maximum(q, _split_curvature(half, change, SLACK_RTOL * scale, grad, sc, lo, hi, c))
+    if k == 2:          # ... or a curvature per direction (where one direction is concave): in one call
+        qs, (ma, qa) = _quadratic_minimum(_split_curvatures(m, half, change, SLACK_RTOL * scale), grad, sc, tlo, thi)
+        q = np.maximum(qs[0], qs[1:].max(axis=0))
+        ma, qa = ma[0], qa[0]                         # the isotropic m's terms
+    else:
+        q, (ma, qa) = _quadratic_minimum(m, grad, sc, tlo, thi)
     bound = f2 + q - ULP_RTOL * f2
     if not convexity:
         return bound
     # the minimiser x^ over the box has g(x^) <= g(c), so sum_a q_a(t_a) <= 0 at t = x^ - c,
     # q_a(t) = grad_a t + m_a t^2 / 2 >= its minimum qmin_a over the box's range: each
     # q_a(t_a) <= qmin_a - sum_b qmin_b (+ a rounding margin), an interval of t_a
-    lo_t, hi_t = [], []
-    for g, ma, tlo, thi, qa in parts:
-        rhs = qa - q + BOUND_MARGIN_RTOL * f2 + TINY
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            root = np.sqrt(g * g + 2.0 * ma * rhs)
-            a0 = np.where(m > 0, (-g - root) / ma, -np.inf)
-            a1 = np.where(m > 0, (-g + root) / ma, np.inf)
-        lo_t.append(np.maximum(a0, tlo))
-        hi_t.append(np.minimum(a1, thi))
-    return bound, m, (np.stack(lo_t, axis=1), np.stack(hi_t, axis=1))
+    rhs = qa - q + BOUND_MARGIN_RTOL * f2 + TINY
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        root = np.sqrt(grad * grad + 2.0 * ma * rhs)
+        a0 = np.where(m > 0, (-grad - root) / ma, -np.inf)
+        a1 = np.where(m > 0, (-grad + root) / ma, np.inf)
+    return bound, m, (np.maximum(a0, tlo).T, np.minimum(a1, thi).T)
+
+
+def _lead_sum(a: np.ndarray) -> np.ndarray:
+    """The sum over the first axis, one row at a time (a handful of rows: contiguous adds of
+    long rows; numpy's reduction over a leading axis was 2.5x slower on 65,536 boxes)."""
+    out = a[0]
+    for row in a[1:]:
+        out = out + row
+    return out
+
+
+def _eigenvalue_2x2(a: np.ndarray, b: np.ndarray, c: np.ndarray, sign: float) -> np.ndarray:
+    """The larger (sign 1) or smaller (sign -1) eigenvalue of [[a, b], [b, c]]:
+    (a + c)/2 +- sqrt(((a - c)/2)^2 + b^2)."""
+    return 0.5 * (a + c) + sign * np.sqrt(0.25 * (a - c) ** 2 + b * b)
 
 
 def symmetric_pairs(k: int) -> List[Tuple[int, int]]:
@@ -734,56 +719,63 @@ def symmetric_pairs(k: int) -> List[Tuple[int, int]]:
     return [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
 
 
-def _quadratic_minimum(m: Union[np.ndarray, List[np.ndarray]], grad: List[np.ndarray], sc: List[np.ndarray],
-                       lo: np.ndarray, hi: np.ndarray, c: np.ndarray) -> Tuple[np.ndarray, list]:
-    """The minimum over the box [lo, hi] of sum_a grad_a t_a + m_a s_a^2 t_a^2 / 2, t = x - c
-    (separable: per direction, the ends and the clipped vertex; m one array for every
-    direction or one per direction, either with leading axes for several at once), and
-    per direction (grad_a, m_a s_a^2, t's range, that direction's minimum)."""
-    ms = m if isinstance(m, list) else [m] * len(grad)
-    q: np.ndarray = np.zeros(len(c))
-    parts = []
-    for a in range(len(grad)):
-        ma = ms[a] * (sc[a] * sc[a])
-        g = grad[a]
-        tlo, thi = lo[:, a] - c[:, a], hi[:, a] - c[:, a]
-        qa = np.minimum(g * tlo + 0.5 * ma * tlo ** 2, g * thi + 0.5 * ma * thi ** 2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ts = np.clip(np.where(ma > 0, -g / ma, 0.0), tlo, thi)
-        qa = np.minimum(qa, g * ts + 0.5 * ma * ts ** 2)
-        q = q + qa
-        parts.append((g, ma, tlo, thi, qa))
-    return q, parts
+# the entries of symmetric_pairs(k) as index arrays (a, b), and their weights in a sum
+# over the whole matrix (off-diagonal entries twice), as a column
+_PAIRS = {k: (np.array([a for a, _ in symmetric_pairs(k)]), np.array([b for _, b in symmetric_pairs(k)]),
+              np.array([[1.0 if a == b else 2.0] for a, b in symmetric_pairs(k)])) for k in (1, 2)}
 
 
-def _split_curvature(half: dict, change: dict, slack: Union[float, np.ndarray], grad: List[np.ndarray],
-                     sc: List[np.ndarray], lo: np.ndarray, hi: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """The best over rho in SPLIT_RATIOS of the minimum over the box of the separable
-    quadratic with a curvature per direction: with the half Hessian's entries within
-    h_ab +- e_ab over the box (scaled variables) and 2 |t_u t_v| <= rho t_u^2 + t_v^2 / rho,
+def _quadratic_minimum(m: np.ndarray, grad: np.ndarray, sc: np.ndarray, tlo: np.ndarray, thi: np.ndarray
+                       ) -> Tuple[np.ndarray, Tuple[np.ndarray, np.ndarray]]:
+    """The minimum over the box tlo <= t <= thi of sum_a grad_a t_a + m_a s_a^2 t_a^2 / 2
+    (separable: per direction, the ends and the clipped vertex); grad, sc, tlo, thi
+    (k, n) component-first, m (n,) one curvature for every direction or (..., k, n) one
+    per direction, leading axes for several at once; and the per-direction terms
+    (m_a s_a^2, that direction's minimum)."""
+    ma = m * (sc * sc)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ts = np.negative(grad) / np.where(ma > 0, ma, np.inf)           # the vertex (0 where not convex)
+    ts = np.minimum(np.maximum(ts, tlo), thi)
+    qa = np.minimum(np.minimum(grad * tlo + ma * (0.5 * tlo * tlo), grad * thi + ma * (0.5 * thi * thi)),
+                    ts * (grad + 0.5 * ma * ts))
+    return _lead_sum(qa.swapaxes(0, -2)), (ma, qa)
+
+
+def _split_curvatures(m: np.ndarray, half: np.ndarray, change: np.ndarray, slack: np.ndarray) -> np.ndarray:
+    """The curvatures (1 + len(SPLIT_RATIOS), 2, n) per direction of separable quadratics
+    below the box's (see :func:`box_lower_bound`): first m in both directions, then per
+    ratio rho in SPLIT_RATIOS: with the half Hessian's entries (pairs, n) within h_ab +-
+    e_ab over the box (scaled variables) and 2 |t_u t_v| <= rho t_u^2 + t_v^2 / rho,
     t^T H t >= (A - B rho) t_u^2 + (C - B / rho) t_v^2, A = h_uu - e_uu, C = h_vv - e_vv,
-    B = |h_uv| + e_uv (Gershgorin's split). Where the isotropic bound m is negative because
-    one direction is concave (a foot on the domain's edge: g's curvature across it may be
-    negative, its slope there positive), the other direction keeps its own curvature."""
-    A = half[0, 0] - change[0, 0] - slack
-    C = half[1, 1] - change[1, 1] - slack
-    B = np.abs(half[0, 1]) + change[0, 1]
-    rho = np.array(SPLIT_RATIOS)[:, None]                 # every ratio at once: (ratios, n)
-    return _quadratic_minimum([2.0 * (A - B * rho), 2.0 * (C - B / rho)], grad, sc, lo, hi, c)[0].max(axis=0)
+    B = |h_uv| + e_uv (Gershgorin's split). Where the isotropic bound m is negative
+    because one direction is concave (a foot on the domain's edge: g's curvature across
+    it may be negative, its slope there positive), the other direction keeps its own
+    curvature."""
+    A = half[0] - change[0] - slack
+    C = half[2] - change[2] - slack
+    B = np.abs(half[1]) + change[1]
+    rho = np.array(SPLIT_RATIOS)[:, None]
+    out = np.empty((1 + len(SPLIT_RATIOS), 2, len(m)))
+    out[0] = m
+    out[1:, 0] = 2.0 * (A - B * rho)
+    out[1:, 1] = 2.0 * (C - B / rho)
+    return out
 
 
-def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: List[np.ndarray]) -> np.ndarray:
+def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: np.ndarray) -> np.ndarray:
     """Twice a lower bound of the smallest eigenvalue of every symmetric matrix between
-    hl and hh (n, k, k), in the variables scaled by 1 / si (see :func:`box_lower_bound`),
-    lowered by SLACK_RTOL of its entries for rounding."""
-    A = hl[:, 0, 0] * (si[0] * si[0])
-    big = np.maximum(np.abs(A), np.abs(hh[:, 0, 0]) * (si[0] * si[0]))
+    hl and hh (n, k, k), in the variables scaled by 1 / si (k, n) (see
+    :func:`box_lower_bound`), lowered by SLACK_RTOL of its entries for rounding."""
+    s0 = si[0]
+    A = hl[:, 0, 0] * (s0 * s0)
+    big = np.maximum(np.abs(A), np.abs(hh[:, 0, 0]) * (s0 * s0))
     if len(si) == 1:
         return 2.0 * (A - SLACK_RTOL * big)
-    C = hl[:, 1, 1] * (si[1] * si[1])
-    B = np.maximum(np.abs(hl[:, 0, 1]), np.abs(hh[:, 0, 1])) * (si[0] * si[1])
-    big = big + np.maximum(np.abs(C), np.abs(hh[:, 1, 1]) * (si[1] * si[1])) + 2.0 * B
-    return 2.0 * (0.5 * (A + C) - np.sqrt(0.25 * (A - C) ** 2 + B * B) - SLACK_RTOL * big)
+    s1 = si[1]
+    C = hl[:, 1, 1] * (s1 * s1)
+    B = np.maximum(np.abs(hl[:, 0, 1]), np.abs(hh[:, 0, 1])) * (s0 * s1)
+    big = big + np.maximum(np.abs(C), np.abs(hh[:, 1, 1]) * (s1 * s1)) + 2.0 * B
+    return 2.0 * (_eigenvalue_2x2(A, B, C, -1.0) - SLACK_RTOL * big)
 
 
 def block_max(B: np.ndarray, shape: Sequence[int], reach: int = BLOCK) -> np.ndarray:

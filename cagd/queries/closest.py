@@ -136,6 +136,8 @@ LIGHT_BUDGET = 2        # ... and twice the default's per-cell share of the bran
 CACHE_OBJECTS = 16      # projectors kept by the objects' content (the most recently used) ...
 CACHE_BYTES = 256 << 20  # ... holding at most this many bytes of arrays (a default 50 x 50 one: ~30 MB)
 TREE_TOP = 64           # nodes of the hierarchy's top level, at most
+DIRECT_PAIRS = 16384    # points x cells up to which the hierarchy's pairs are formed directly (every cell
+                        # at once: one point on a 20 x 20 net descended 8 levels in 0.55 ms, 0.06 ms direct)
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
 BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
 BRANCH_MAX = 2_000_000  # ... and at most this many in all
@@ -560,12 +562,14 @@ class Projector:
         representative midpoint; returns the cell of the nearest midpoint per point
         (as ``cell``, in point order)."""
         N = len(X)
+        K = max(CANDIDATES, int(PAIR_BUDGET // max(N, 1)))
+        if N * len(self.radii) <= DIRECT_PAIRS and len(self.radii) <= K:
+            return self._direct_pairs(X, t, nearest)
         levels = self._tree
         top = len(levels) - 1
         n0 = len(levels[top][0])
         t = np.array(t, dtype=np.float64)
         rest = t.copy()
-        K = max(CANDIDATES, int(PAIR_BUDGET // max(N, 1)))
         pid = np.repeat(np.arange(N), n0)
         node = np.tile(np.arange(n0), N)
         lb = np.zeros(0)
@@ -599,6 +603,22 @@ class Projector:
             seed[pid[hit][::-1]] = self._tree_order[node[hit][::-1]]     # the first of ties
             return pid, seed, best, rest
         return pid, self._tree_order[node], lb, rest
+
+    def _direct_pairs(self, X: np.ndarray, t: np.ndarray, nearest: bool
+                      ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`_tree_pairs` over every (point, cell) pair at once (few of them, and no
+        more cells than the cap K): the same pairs, bounds and seeds (the first of ties in
+        cell order)."""
+        N, m = len(X), len(self.radii)
+        pid, cell = np.repeat(np.arange(N), m), np.tile(np.arange(m), N)
+        t = np.array(t, dtype=np.float64)
+        if nearest:
+            d = _distances(X, pid, self.mid_points, cell).reshape(N, m)
+            seed = d.argmin(axis=1)
+            return pid, seed, d[np.arange(N), seed], t.copy()
+        lb = self._cell_bounds(X, pid, cell)
+        keep = lb < t[pid]
+        return pid[keep], cell[keep], lb[keep], t.copy()
 
     def _cell_bounds(self, X: np.ndarray, pid: np.ndarray, cell: np.ndarray, box: bool = True) -> np.ndarray:
         """Lower bounds of |S - X[pid]| over the cells: the largest of the two hull-sphere
@@ -798,10 +818,11 @@ class Projector:
         # nearest to x*
         lb = self._mid_bound(X, pid, cell, lo, hi)
         i = np.flatnonzero(near & (np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid]))
-        h, lv, pi = home[pid[i]], step[i], pid[i]
-        lb[i] = np.maximum(lb[i], box_lower_bound(_rows(X, pi), lo[i], hi[i], _rows(xe, pi), _rows(Sx, pi),
-                                                  _rows(Jx, pi), _rows(Hx, pi), self.block[0][lv, h],
-                                                  self.block[1][lv, h], self.block[2][lv, h]))
+        if len(i):
+            h, lv, pi = home[pid[i]], step[i], pid[i]
+            lb[i] = np.maximum(lb[i], box_lower_bound(_rows(X, pi), lo[i], hi[i], _rows(xe, pi), _rows(Sx, pi),
+                                                      _rows(Jx, pi), _rows(Hx, pi), self.block[0][lv, h],
+                                                      self.block[1][lv, h], self.block[2][lv, h]))
         i = np.flatnonzero(np.sqrt(np.maximum(lb, 0.0)) < d[pid] - gap[pid])
         lb[i] = np.maximum(lb[i], self._bound(X, pid[i], cell[i], lo[i], hi[i], np.clip(x[pid[i]], lo[i], hi[i]),
                                               d[pid[i]] - gap[pid[i]]))

@@ -530,7 +530,8 @@ def test_split_curvature_bound_at_the_domain_edge(monkeypatch):
     S, J, H = p.evaluate(c, 2)
     args = (X, lo, hi, c, S, J, H, p.L[cell], p.M[cell], p.T3[cell])
     new = box_lower_bound(*args)
-    monkeypatch.setattr(bounds, "_split_curvature", lambda *a: -np.inf)
+    # the isotropic m alone: every split replaced by m in both directions
+    monkeypatch.setattr(bounds, "_split_curvatures", lambda m, *a: np.broadcast_to(m, (2, 2, len(m))))
     old = box_lower_bound(*args)
     gu, gv = (a.ravel() for a in np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41), indexing="ij"))
     for i in range(n):
@@ -543,11 +544,12 @@ def test_split_curvature_bound_at_the_domain_edge(monkeypatch):
 @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
 @given(seed=st.integers(0, 10_000))
 def test_split_curvature_is_below_the_quadratic_on_the_box(seed):
-    """The split bound (bounds._split_curvature) against its definition: for the extreme
-    matrices of the intervals (h_aa - e_aa on the diagonal, +-(|h_uv| + e_uv) off it) the
-    quadratic grad . t + y^T H y (y = s t, the scaled variables) sampled densely over the
-    box never falls below the bound."""
-    from cagd.queries.bounds import _split_curvature
+    """The split bounds (bounds._split_curvatures, minimised over the box by
+    bounds._quadratic_minimum) against their definition: for the extreme matrices of the
+    intervals (h_aa - e_aa on the diagonal, +-(|h_uv| + e_uv) off it) the quadratic
+    grad . t + y^T H y (y = s t, the scaled variables) sampled densely over the box never
+    falls below the best of them."""
+    from cagd.queries.bounds import _quadratic_minimum, _split_curvatures
     rng = np.random.default_rng(seed)
     n = 8
     half = {(0, 0): rng.uniform(-1, 2, n), (1, 1): rng.uniform(-1, 2, n), (0, 1): rng.uniform(-1, 1, n)}
@@ -556,7 +558,10 @@ def test_split_curvature_is_below_the_quadratic_on_the_box(seed):
     sc = [2.0 ** rng.integers(-3, 4, n), 2.0 ** rng.integers(-3, 4, n)]
     c = rng.uniform(-1, 1, (n, 2))
     lo, hi = c - rng.uniform(0, 1, (n, 2)), c + rng.uniform(0, 1, (n, 2))
-    q = _split_curvature(half, change, 0.0, grad, sc, lo, hi, c)
+    pairs = [(0, 0), (0, 1), (1, 1)]
+    ms = _split_curvatures(np.full(n, -np.inf), np.array([half[key] for key in pairs]),
+                           np.array([change[key] for key in pairs]), 0.0)
+    q = _quadratic_minimum(ms, np.array(grad), np.array(sc), (lo - c).T, (hi - c).T)[0][1:].max(axis=0)
     g = np.linspace(0.0, 1.0, 201)
     tu, tv = (a.ravel() for a in np.meshgrid(g, g, indexing="ij"))
     for i in range(n):

@@ -75,11 +75,14 @@ def _points(obj, rng, count, far):
 
 
 # --- the hierarchy against all pairs ----------------------------------------------------------------
+@pytest.mark.parametrize("direct", [0, 10 ** 9])
 @pytest.mark.parametrize("which", ["net", "curve", "sphere"])
-def test_tree_candidates_are_every_cell_below_the_threshold(which):
+def test_tree_candidates_are_every_cell_below_the_threshold(which, direct, monkeypatch):
     """_tree_pairs returns exactly the cells whose bound (both hull spheres, the hull box) is
     below the threshold, found by an all-pairs search, and their bounds; the bound of the
-    cells left out is the threshold. nearest=True gives a midpoint at the least distance."""
+    cells left out is the threshold. nearest=True gives a midpoint at the least distance.
+    Both ways: down the hierarchy, and every pair formed directly (few points and cells)."""
+    monkeypatch.setattr(cl, "DIRECT_PAIRS", direct)
     rng = np.random.default_rng(1)
     obj = {"net": random_net(9, 2), "curve": cagd.BSplineCurve(rng.uniform(-1, 1, (60, 3)), 3),
            "sphere": cagd.sphere(1.0)}[which]
