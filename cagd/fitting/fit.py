@@ -857,14 +857,18 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
         return (best if why else (curve, t, e, breaks, worst)), why
 
     best, why = grow(breaks, u, False)
-    regrown = why is not None and fits < MAX_FIT_ROUNDS
+    regrown = fits < MAX_FIT_ROUNDS and (why is not None or (best[4] > tol_n and len(best[3]) - 1 >= most_spans))
+    feet = u                                     # the regrowth's nearest feet (a start of the recovery)
     if regrown:
-        # a stall may be the first parameters' fault, not noise (centripetal parameters of
-        # points sampled unevenly, 2.7e-6 .. 0.44 apart: a quartic's 658 points took 285
-        # control points for a miss of 6.9e-5 at tol 1e-7): the growth again from the
-        # best fit's feet, each round from the last one's (125 control points within
-        # tol), kept when it meets tol (noise stalls it again: up to twice the rounds)
+        # a stall, or a miss at the cap, may be the first parameters' fault, not noise
+        # (centripetal parameters of points sampled unevenly, 2.7e-6 .. 0.44 apart: a
+        # quartic's 658 points took 285 control points for a miss of 6.9e-5 at tol 1e-7):
+        # the growth again from the best fit's feet, each round from the last one's (125
+        # control points within tol), kept when it meets tol (noise stalls it again: up
+        # to twice the rounds); its nearest feet start the knot-recovery search (at tol
+        # 1e-9 that quartic's 10 control points came back from them, not from the first)
         again, why_again = grow(breaks, best[1], True)
+        feet = again[1] if again[4] < best[4] else best[1]
         if why_again is None and again[4] <= tol_n:
             best, why = again, None
     if best[4] > tol_n and len(best[3]) - 1 >= most_spans and plan.interpolable:
@@ -899,7 +903,8 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
     if ok:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
     if plan.recover:
-        curve, t, fits = _recovered(problem, curve, t, u, ok, plan.most, tol_n, counted, fits, regrown)
+        starts = np.stack([feet, u]) if regrown else u[None]
+        curve, t, fits = _recovered(problem, curve, t, starts, ok, plan.most, tol_n, counted, fits, regrown)
         ok = float(_misses(np.asarray(curve.knots), p, curve.control_points, problem.Q, t)[counted].max()) <= tol_n
     return curve, t, ok, fits, why, np.unique(np.asarray(curve.knots))
 
@@ -989,12 +994,13 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
                tol_n: float, counted: np.ndarray, fits: int, regrown: bool = False
                ) -> Tuple[BSplineCurve, np.ndarray, int]:
     """The knot-recovery stage (:func:`cagd.fitting.free_knots.recover_knots`, guided by
-    the fit ``curve`` with the points' parameters t on it; ``initial`` their first
+    the fit ``curve`` with the points' parameters t on it; ``initial`` (s, m) sets of
+    parameters its search starts from: the regrowth's feet, then the points' first
     parameters): fewer control points than ``curve`` has (than ``most`` + 1 when it
     misses tol) with the interior knots moved, kept when every point is within tol. The
     search over counts runs only for a tol below SEARCH_TOL (the points' frame is the
     unit ball) when the adaptive fit missed it, needed SEARCH_FILL control points per
-    point or more, or met it only when ``regrown`` (its first growth stalled): the
+    point or more, or was ``regrown`` (its first growth stalled or missed at the cap): the
     exactness case, a sampled B-spline asked back, whose smooth pieces the adaptive
     knots cannot follow to that tol (ordinary data is spared the search's seconds: the
     anchor curve at tol 1e-5 takes 191 poles for 2,000 points)."""
@@ -1008,7 +1014,7 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
     rows = _sample_rows(m, RECOVERY_POINTS) if m > RECOVERY_POINTS else np.arange(m)
     sub = problem if len(rows) == m or not problem.w[rows].max() > 0.0 else problem.subset(rows)
     rows = rows if sub is not problem else np.arange(m)
-    found = recover_knots(sub, (np.asarray(curve.knots), curve.control_points, t[rows]), initial[rows], tol_n,
+    found = recover_knots(sub, (np.asarray(curve.knots), curve.control_points, t[rows]), initial[:, rows], tol_n,
                           counted[rows], n - p - 2, search)
     if found is None:
         return curve, t, fits

@@ -345,7 +345,9 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
       dropped (the smallest jump on the last success) while the runs stay within tol_n,
       on failure the next jump is added; MAX_KNOT_TRIES runs at most;
     - segmented (:func:`_segmented`): from the points' own polynomial pieces;
-    - searched (:func:`_search`): counts from a single span upwards.
+    - searched (:func:`_search`): counts from a single span upwards, from each set of
+      first parameters in ``initial`` (s, m) in turn until one succeeds, each with
+      MAX_STAGE_PASSES - GUIDED_PASSES passes and those the guided way left.
 
     Returns (U, P, t, misses) of the fewest knots found whose every counted miss (at
     the feet: an upper bound of the distance) is within tol_n."""
@@ -372,9 +374,11 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
                 inner = np.sort(pos[:q])
     if found is None and search:
         found = _segmented(problem, tol_n, counted, most_inner)
-    if found is None and search:
-        budget[0] += MAX_STAGE_PASSES - GUIDED_PASSES
-        found = _search(problem, initial, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS), budget)
+    passes = budget[0] + MAX_STAGE_PASSES - GUIDED_PASSES
+    for start in initial if search else ():
+        if found is not None:
+            break
+        found = _search(problem, start, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS), [passes])
     return found
 
 
