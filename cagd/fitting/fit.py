@@ -830,10 +830,12 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
         c, tt, ee = _fit_on(problem, knots(b), start, tol_n)
         return c, tt, ee * counted, float(ee[counted].max())
 
-    def grow(breaks: np.ndarray, start: np.ndarray, follow: bool):
+    def grow(breaks: np.ndarray, start: np.ndarray, follow: bool, rival: Optional[tuple] = None):
         """Until every point is within tol (or the cap, or a stall: tol below the noise),
         every round from the parameters ``start`` (``follow``: from the last round's
-        feet); (the fit, why it stalled or None)."""
+        feet); (the fit, why it stalled or None). ``rival``: a fit (as the returned
+        one) this growth stops at once it has more spans and misses no less (it stalled
+        there)."""
         curve, t, e, worst = attempt(breaks, start)
         best = (curve, t, e, breaks, worst)              # the grown fit with the smallest largest miss
         history = [(len(curve.control_points), worst * plan.scale)]
@@ -852,6 +854,8 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
                 best = (curve, t, e, breaks, worst)
             history.append((len(curve.control_points), worst * plan.scale))
             why = stalled(history, int(np.count_nonzero(counted)))
+            if rival is not None and not why and len(breaks) > len(rival[3]) and worst >= rival[4]:
+                why = "no nearer than the growth before"
             if why:
                 break
         return (best if why else (curve, t, e, breaks, worst)), why
@@ -867,7 +871,7 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
         # control points within tol), kept when it meets tol (noise stalls it again: up
         # to twice the rounds); its nearest feet start the knot-recovery search (at tol
         # 1e-9 that quartic's 10 control points came back from them, not from the first)
-        again, why_again = grow(breaks, best[1], True)
+        again, why_again = grow(breaks, best[1], True, best)
         feet = again[1] if again[4] < best[4] else best[1]
         if why_again is None and again[4] <= tol_n:
             best, why = again, None
