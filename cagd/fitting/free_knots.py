@@ -37,12 +37,14 @@ cannot hit. This stage tries smaller counts with the interior knots as unknowns:
 
 Limits (measured, tol 1e-9, centripetal start, random sample parameters,
 ``python -m benchmarks.knot_recovery``): of 16 random fair cubics and quartics with 4-7
-control points all 16 come back (1e-12), with 5-12 control points 14 of 16 (seed 0) and
-16 of 16 (seed 1); with their interior knots uniformly random (``--uneven``: two may be a
-thousandth apart) 11 and 10 of 16 (7 and 9 without the polynomial pieces, which segment
-cubics only), the others quartics, or cubics with three knots among a dozen points, whose
-shape the points do not fix; the runs end in a local minimum of the knots (free-knot least
-squares is not convex: Jupp 1978) within the stage's pass budget (seconds). The
+control points all 16 come back (1e-12), with 5-12 control points 16 of 16 (seeds 0 and
+1; 14 of 16 with seed 0 before the search also started from the feet of a growth run
+again, :func:`cagd.fitting.fit._fit_all`); with their interior knots uniformly random
+(``--uneven``: two may be a thousandth apart) 12 and 11 of 16 (11 and 10 before; 7 and 9
+without the polynomial pieces, which segment cubics only), the others quartics, or
+cubics with three knots among a dozen points, whose shape the points do not fix; the
+runs end in a local minimum of the knots (free-knot least squares is not convex: Jupp
+1978) within the stage's pass budget (seconds). The
 point-distance weight mu may fall to KNOT_DAMPING_MIN: at fit.py's floor of 1e-6 it
 outweighed the tangent distance along the valley where the knots and the parameters
 slide together (a step there changes the shape by ~1e-4 of the knot move), and the runs
