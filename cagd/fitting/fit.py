@@ -22,8 +22,11 @@ fitting (near them) but gives no fitting algorithm; this follows the standard li
   points miss by E_i is worth (E_i / tol)^(1/(p+1)) spans, the new breakpoints divide
   that density into equal parts; rounds grow the count until every point is within tol
   (a growth whose largest miss stalls while the count grows stops: tol is below the
-  points' noise, :func:`stalled`); a growth that reaches the cap of one control point per
-  point without meeting tol takes the curve through every point instead (global
+  points' noise, :func:`stalled`, or the first parameters are far from the curve's own:
+  after a stall, or a miss at the cap, the growth runs again from the best fit's feet,
+  each round from the last one's feet, kept when it meets tol; this project's); a
+  growth that reaches the cap of one control point per point without meeting tol takes
+  the curve through every point instead (global
   interpolation, Piegl & Tiller 9.2.1, on the points' parameters with averaged knots:
   within any tol; :func:`_interpolant`; periodic: a break at every point's parameter),
   then shrink it while they stay, then Tiller's knot
@@ -640,7 +643,8 @@ def fit_curve(points: ArrayLike, tol: float, degree: int = 3, parameters: Parame
     Returns:
         CurveFit; ``converged`` False (with the achieved error) when the cap or
         MAX_FIT_ROUNDS is reached before tol is met, or the growth stalls (:func:`stalled`:
-        tol below the points' noise; the grown fit with the smallest largest miss then).
+        tol below the points' noise, also when grown again from the best fit's feet; the
+        first growth's fit with the smallest largest miss then).
         At a cap of one control point per point (the default) the curve through every
         point is taken, within any tol, unless points are weighted 0, tangents are held
         or smoothing is asked for.
@@ -758,6 +762,11 @@ class _Plan(NamedTuple):
     interpolable: bool
 
 
+#: the fit rounds (of MAX_FIT_ROUNDS) a growth again from the best fit's feet leaves to
+#: the shrink after it
+REGROWTH_RESERVE = 8
+
+
 #: above this many points the knots are searched on FIT_SAMPLE_POINTS of them (evenly
 #: spaced in their order, the first and the last among them), then fitted to all of them
 #: and checked there; where a point between the sampled ones misses, the search goes on
@@ -814,8 +823,9 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
              ) -> Tuple[BSplineCurve, np.ndarray, bool, int, Optional[str], np.ndarray]:
     """The fit's search (:func:`fit_curve`; the module docstring) from the breakpoints
     ``breaks`` with the points' initial parameters u:
-    grow until every point is within tol (or the cap, or a stall: tol below the noise),
-    shrink by bisection down to ``floor`` + 1 spans (a count known or taken to miss),
+    grow until every point is within tol (or the cap, or a stall: tol below the noise;
+    after a stall or a miss at the cap, grow again from the best fit's feet, kept when
+    it meets tol), shrink by bisection down to ``floor`` + 1 spans (a count known or taken to miss),
     then (not periodic) Tiller's knot removal and the knot-recovery stage. Returns
     (curve, parameters, within tol, fits run, why the growth stalled or None, its
     breakpoints); a periodic curve comes back unwrapped (its knots
@@ -830,15 +840,18 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
         c, tt, ee = _fit_on(problem, knots(b), start, tol_n)
         return c, tt, ee * counted, float(ee[counted].max())
 
-    def grow(breaks: np.ndarray, start: np.ndarray, follow: bool):
-        """Until every point is within tol (or the cap, or a stall: tol below the noise),
-        every round from the parameters ``start`` (``follow``: from the last round's
-        feet); (the fit, why it stalled or None)."""
+    def grow(breaks: np.ndarray, start: np.ndarray, follow: bool, rival: Optional[tuple] = None,
+             rounds: int = MAX_FIT_ROUNDS) -> Tuple[tuple, Optional[str]]:
+        """Until every point is within tol (or the cap, ``rounds`` fits in all, or a
+        stall: tol below the noise), every round from the parameters ``start``
+        (``follow``: from the last round's feet); (the fit, why it stalled or None).
+        ``rival``: a fit (as the returned one) this growth stops at once it has more
+        spans and misses no less (it stalled there)."""
         curve, t, e, worst = attempt(breaks, start)
         best = (curve, t, e, breaks, worst)              # the grown fit with the smallest largest miss
         history = [(len(curve.control_points), worst * plan.scale)]
         why = None
-        while worst > tol_n and fits < MAX_FIT_ROUNDS:
+        while worst > tol_n and fits < rounds:
             s = len(breaks) - 1
             if s >= most_spans:
                 break
@@ -851,21 +864,29 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
             if worst < best[4]:
                 best = (curve, t, e, breaks, worst)
             history.append((len(curve.control_points), worst * plan.scale))
-            why = stalled(history, int(np.count_nonzero(counted)))
+            why = stalled(history, int(np.count_nonzero(counted))) if worst > tol_n else None
+            if rival is not None and not why and len(breaks) > len(rival[3]) and worst >= rival[4]:
+                why = "no nearer than the growth before"
             if why:
                 break
         return (best if why else (curve, t, e, breaks, worst)), why
 
     best, why = grow(breaks, u, False)
-    regrown = why is not None and fits < MAX_FIT_ROUNDS
+    regrown = fits < MAX_FIT_ROUNDS - REGROWTH_RESERVE and best[4] > tol_n and \
+        (why is not None or len(best[3]) - 1 >= most_spans)
+    feet = u                                     # of the nearer growth (the recovery's first start)
     if regrown:
-        # a stall may be the first parameters' fault, not noise (centripetal parameters of
-        # points sampled unevenly, 2.7e-6 .. 0.44 apart: a quartic's 658 points took 285
-        # control points for a miss of 6.9e-5 at tol 1e-7): the growth again from the
-        # best fit's feet, each round from the last one's (125 control points within
-        # tol), kept when it meets tol (noise stalls it again: up to twice the rounds)
-        again, why_again = grow(breaks, best[1], True)
-        if why_again is None and again[4] <= tol_n:
+        # a stall, or a miss at the cap, may be the first parameters' fault, not noise
+        # (centripetal parameters of points sampled unevenly, 2.7e-6 .. 0.44 apart: a
+        # quartic's 658 points took 285 control points for a miss of 6.9e-5 at tol 1e-7):
+        # the growth again from the best fit's feet, each round from the last one's (125
+        # control points within tol), kept when it meets tol (noise stalls it again, or
+        # it stops once it has more spans than the first growth's best and misses no
+        # less); the feet of the nearer growth start the knot-recovery search (at tol
+        # 1e-9 that quartic's 10 control points came back from them, not from the first)
+        again, _ = grow(breaks, best[1], True, best, MAX_FIT_ROUNDS - REGROWTH_RESERVE)
+        feet = again[1] if again[4] < best[4] else best[1]
+        if again[4] <= tol_n:
             best, why = again, None
     if best[4] > tol_n and len(best[3]) - 1 >= most_spans and plan.interpolable:
         if plan.periodic:           # one span per point: the points at the breaks (odd degree)
@@ -899,7 +920,8 @@ def _fit_all(problem: _Problem, u: np.ndarray, breaks: np.ndarray, floor: int, c
     if ok:
         curve, t = _after_removal(problem, curve, t, tol_n, counted)
     if plan.recover:
-        curve, t, fits = _recovered(problem, curve, t, u, ok, plan.most, tol_n, counted, fits, regrown)
+        starts = np.stack([feet, u]) if regrown else u[None]
+        curve, t, fits = _recovered(problem, curve, t, starts, ok, plan.most, tol_n, counted, fits, regrown)
         ok = float(_misses(np.asarray(curve.knots), p, curve.control_points, problem.Q, t)[counted].max()) <= tol_n
     return curve, t, ok, fits, why, np.unique(np.asarray(curve.knots))
 
@@ -989,12 +1011,13 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
                tol_n: float, counted: np.ndarray, fits: int, regrown: bool = False
                ) -> Tuple[BSplineCurve, np.ndarray, int]:
     """The knot-recovery stage (:func:`cagd.fitting.free_knots.recover_knots`, guided by
-    the fit ``curve`` with the points' parameters t on it; ``initial`` their first
+    the fit ``curve`` with the points' parameters t on it; ``initial`` (s, m) sets of
+    parameters its search starts from: the regrowth's feet, then the points' first
     parameters): fewer control points than ``curve`` has (than ``most`` + 1 when it
     misses tol) with the interior knots moved, kept when every point is within tol. The
     search over counts runs only for a tol below SEARCH_TOL (the points' frame is the
     unit ball) when the adaptive fit missed it, needed SEARCH_FILL control points per
-    point or more, or met it only when ``regrown`` (its first growth stalled): the
+    point or more, or was ``regrown`` (its first growth stalled or missed at the cap): the
     exactness case, a sampled B-spline asked back, whose smooth pieces the adaptive
     knots cannot follow to that tol (ordinary data is spared the search's seconds: the
     anchor curve at tol 1e-5 takes 191 poles for 2,000 points)."""
@@ -1008,7 +1031,7 @@ def _recovered(problem: _Problem, curve: BSplineCurve, t: np.ndarray, initial: n
     rows = _sample_rows(m, RECOVERY_POINTS) if m > RECOVERY_POINTS else np.arange(m)
     sub = problem if len(rows) == m or not problem.w[rows].max() > 0.0 else problem.subset(rows)
     rows = rows if sub is not problem else np.arange(m)
-    found = recover_knots(sub, (np.asarray(curve.knots), curve.control_points, t[rows]), initial[rows], tol_n,
+    found = recover_knots(sub, (np.asarray(curve.knots), curve.control_points, t[rows]), initial[:, rows], tol_n,
                           counted[rows], n - p - 2, search)
     if found is None:
         return curve, t, fits

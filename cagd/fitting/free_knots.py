@@ -37,12 +37,14 @@ cannot hit. This stage tries smaller counts with the interior knots as unknowns:
 
 Limits (measured, tol 1e-9, centripetal start, random sample parameters,
 ``python -m benchmarks.knot_recovery``): of 16 random fair cubics and quartics with 4-7
-control points all 16 come back (1e-12), with 5-12 control points 14 of 16 (seed 0) and
-16 of 16 (seed 1); with their interior knots uniformly random (``--uneven``: two may be a
-thousandth apart) 11 and 10 of 16 (7 and 9 without the polynomial pieces, which segment
-cubics only), the others quartics, or cubics with three knots among a dozen points, whose
-shape the points do not fix; the runs end in a local minimum of the knots (free-knot least
-squares is not convex: Jupp 1978) within the stage's pass budget (seconds). The
+control points all 16 come back (1e-12), with 5-12 control points 16 of 16 (seeds 0 and
+1; 14 of 16 with seed 0 before the search also started from the feet of a growth run
+again, :func:`cagd.fitting.fit._fit_all`); with their interior knots uniformly random
+(``--uneven``: two may be a thousandth apart) 12 and 11 of 16 (11 and 10 before; 7 and 9
+without the polynomial pieces, which segment cubics only), the others quartics, or
+cubics with three knots among a dozen points, whose shape the points do not fix; the
+runs end in a local minimum of the knots (free-knot least squares is not convex: Jupp
+1978) within the stage's pass budget (seconds). The
 point-distance weight mu may fall to KNOT_DAMPING_MIN: at fit.py's floor of 1e-6 it
 outweighed the tangent distance along the valley where the knots and the parameters
 slide together (a step there changes the shape by ~1e-4 of the knot move), and the runs
@@ -345,7 +347,9 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
       dropped (the smallest jump on the last success) while the runs stay within tol_n,
       on failure the next jump is added; MAX_KNOT_TRIES runs at most;
     - segmented (:func:`_segmented`): from the points' own polynomial pieces;
-    - searched (:func:`_search`): counts from a single span upwards.
+    - searched (:func:`_search`): counts from a single span upwards, from each set of
+      first parameters in ``initial`` (s, m) in turn until one succeeds, each with
+      MAX_STAGE_PASSES - GUIDED_PASSES passes and those the guided way left.
 
     Returns (U, P, t, misses) of the fewest knots found whose every counted miss (at
     the feet: an upper bound of the distance) is within tol_n."""
@@ -372,9 +376,11 @@ def recover_knots(problem: "_Problem", guide: Guide, initial: np.ndarray, tol_n:
                 inner = np.sort(pos[:q])
     if found is None and search:
         found = _segmented(problem, tol_n, counted, most_inner)
-    if found is None and search:
-        budget[0] += MAX_STAGE_PASSES - GUIDED_PASSES
-        found = _search(problem, initial, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS), budget)
+    passes = budget[0] + MAX_STAGE_PASSES - GUIDED_PASSES
+    for start in initial if search else ():
+        if found is not None:
+            break
+        found = _search(problem, start, tol_n, counted, min(most_inner, MAX_SEARCH_KNOTS), [passes])
     return found
 
 

@@ -578,7 +578,8 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
 
     delta = the box's reach from c (c need not lie in the box), L, M, T bounds of the
     first, second and third partials valid on the hull of c and the box; S, J, H2 the
-    point, first and second partials at c. The quadratic is minimised over the box
+    point, first and second partials at c (M, T and H2 symmetric in their parameter
+    indices a, b: only the entries a <= b are read). The quadratic is minimised over the box
     exactly (it is separable). The bound is taken in the variables y_a = s_a x_a, s_a the
     power of two nearest the first-derivative bound L_a (at least SCALE_FLOOR_RTOL of
     the largest), so that a large second derivative along one direction is weighed
@@ -741,7 +742,8 @@ def _quadratic_minimum(m: np.ndarray, grad: np.ndarray, sc: np.ndarray, tlo: np.
     return _lead_sum(qa.swapaxes(0, -2)), (ma, qa)
 
 
-def _split_curvatures(m: np.ndarray, half: np.ndarray, change: np.ndarray, slack: np.ndarray) -> np.ndarray:
+def _split_curvatures(m: np.ndarray, half: np.ndarray, change: np.ndarray, slack: Union[float, np.ndarray]
+                      ) -> np.ndarray:
     """The curvatures (1 + len(SPLIT_RATIOS), 2, n) per direction of separable quadratics
     below the box's (see :func:`box_lower_bound`): first m in both directions, then per
     ratio rho in SPLIT_RATIOS: with the half Hessian's entries (pairs, n) within h_ab +-

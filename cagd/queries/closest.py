@@ -550,7 +550,8 @@ class Projector:
     def _tree_pairs(self, X: np.ndarray, t: np.ndarray, nearest: bool
                     ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Descend the hierarchy for points X with thresholds t (N,), level by level over
-        (point, node) pairs, keeping the nodes whose lower bound is below t.
+        (point, node) pairs, keeping the nodes whose lower bound is below t (few points
+        and cells, at most DIRECT_PAIRS pairs: every pair at once, :meth:`_direct_pairs`).
 
         nearest=False: the bound is the distance to the node's box of control points
         (at the leaves also the hull-sphere bounds |X - c| - r, whichever is larger), t
@@ -607,8 +608,9 @@ class Projector:
     def _direct_pairs(self, X: np.ndarray, t: np.ndarray, nearest: bool
                       ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`_tree_pairs` over every (point, cell) pair at once (few of them, and no
-        more cells than the cap K): the same pairs, bounds and seeds (the first of ties in
-        cell order)."""
+        more cells than the cap K): the same pairs and bounds (in cell order); nearest=True:
+        the seed cell of the nearest midpoint (the first of ties in cell order, not tree
+        order; ``t`` not used: the callers pass inf), every pair as the first output."""
         N, m = len(X), len(self.radii)
         pid, cell = np.repeat(np.arange(N), m), np.tile(np.arange(m), N)
         t = np.array(t, dtype=np.float64)

@@ -493,11 +493,8 @@ def test_a_stall_from_uneven_first_parameters_grows_again_from_the_feet():
     points, largest miss 6.9e-5, 'tol is below the points' noise' on exact data); grown
     again from the best fit's feet it meets tol (oracle: brute force on 200,001 samples of
     the fit)."""
-    from benchmarks.knot_recovery import random_curve, sampled
-    rng = np.random.default_rng(0)
-    p, n, m = int(rng.choice([3, 4])), int(rng.integers(5, 13)), int(rng.integers(300, 1001))
-    c = random_curve(rng, p, n)
-    Q = sampled(c, m, rng)
+    p, c, Q = _knot_recovery_case(0)
+    n, m = len(c.control_points), len(Q)
     chords = np.sqrt((np.diff(Q, axis=0) ** 2).sum(-1))
     assert (p, n, m) == (4, 10, 658) and chords.min() < 1e-5 and chords.max() > 0.4
     r = fit_curve(Q, 1e-7, degree=4)
@@ -505,6 +502,35 @@ def test_a_stall_from_uneven_first_parameters_grows_again_from_the_feet():
     assert len(r.curve.control_points) < 200
     near, slack = sampled_distances(r.curve, Q)
     assert float(near.max()) <= 1e-7 + slack
+
+
+def _knot_recovery_case(index: int):
+    """The index-th curve of ``python -m benchmarks.knot_recovery`` (seed 0): (degree,
+    curve, points)."""
+    from benchmarks.knot_recovery import random_curve, sampled
+    rng = np.random.default_rng(0)
+    for _ in range(index + 1):
+        p, n, m = int(rng.choice([3, 4])), int(rng.integers(5, 13)), int(rng.integers(300, 1001))
+        c = random_curve(rng, p, n)
+        Q = sampled(c, m, rng)
+    return p, c, Q
+
+
+@pytest.mark.parametrize("index, poles", [(0, 10), (11, 12)])
+def test_quartics_sampled_unevenly_come_back(index, poles):
+    """Two quartics of the knot-recovery benchmark (10 and 12 control points, 658 and 750
+    points at random parameters) at tol 1e-9: the growth from the centripetal parameters
+    reached one control point per point and the knot-recovery search from them found
+    nothing (the interpolant came back); grown again from the best fit's feet, the
+    search from those feet finds the curve: the same count, within 1e-10 both ways
+    (certified closest points)."""
+    p, c, Q = _knot_recovery_case(index)
+    assert p == 4 and len(c.control_points) == poles
+    r = fit_curve(Q, 1e-9, degree=4)
+    assert r.converged and len(r.curve.control_points) == poles, r.message
+    s = np.linspace(0.0, 1.0, 2000)
+    assert float(cagd.closest_point(c, r.curve(s)).distances.max()) <= 1e-10
+    assert float(cagd.closest_point(r.curve, c(s)).distances.max()) <= 1e-10
 
 
 def test_stalled_rule():

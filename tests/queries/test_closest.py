@@ -559,7 +559,7 @@ def test_split_curvature_is_below_the_quadratic_on_the_box(seed):
     c = rng.uniform(-1, 1, (n, 2))
     lo, hi = c - rng.uniform(0, 1, (n, 2)), c + rng.uniform(0, 1, (n, 2))
     pairs = [(0, 0), (0, 1), (1, 1)]
-    ms = _split_curvatures(np.full(n, -np.inf), np.array([half[key] for key in pairs]),
+    ms = _split_curvatures(np.zeros(n), np.array([half[key] for key in pairs]),         # (row 0: m, unused)
                            np.array([change[key] for key in pairs]), 0.0)
     q = _quadratic_minimum(ms, np.array(grad), np.array(sc), (lo - c).T, (hi - c).T)[0][1:].max(axis=0)
     g = np.linspace(0.0, 1.0, 201)
