@@ -136,8 +136,9 @@ LIGHT_BUDGET = 2        # ... and twice the default's per-cell share of the bran
 CACHE_OBJECTS = 16      # projectors kept by the objects' content (the most recently used) ...
 CACHE_BYTES = 256 << 20  # ... holding at most this many bytes of arrays (a default 50 x 50 one: ~30 MB)
 TREE_TOP = 64           # nodes of the hierarchy's top level, at most
-DIRECT_PAIRS = 16384    # points x cells up to which the hierarchy's pairs are formed directly (every cell
-                        # at once: one point on a 20 x 20 net descended 8 levels in 0.55 ms, 0.06 ms direct)
+DIRECT_PAIRS = 16384    # points x cells up to which the hierarchy's pairs are formed directly (every cell at
+                        # once: one point on a 20 x 20 net, 289 cells, found its seed cell in 0.42 ms down the
+                        # hierarchy, 0.05 ms directly; its candidates in 0.22 ms, 0.15 ms)
 BRANCH_PER_POINT = 256  # open (point, box) pairs per point in branch and bound, at most ...
 BRANCH_PER_CELL = 16    # ... plus this many per cell (a few points on a large object)
 BRANCH_MAX = 2_000_000  # ... and at most this many in all
