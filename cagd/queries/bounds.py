@@ -29,7 +29,8 @@ from ..curves.base import Curve, rational_derivatives
 from .._checks import frozen
 from ..errors import CagdError
 from ..surfaces.base import Surface, rational_partials
-from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, row_max, row_min, squared_norms
+from ._numerics import SLACK_RTOL, TINY, ULP_RTOL, column_extremes, eigenvalue_2x2, lead_sum, row_max, row_min, \
+    squared_norms
 
 CLOSED_RTOL = 1e-11           # a direction whose opposite sides meet within this share of the size is closed
 SHRINK_RTOL = 1e-10           # the smallest singular value of J, lowered by this share for rounding
@@ -610,11 +611,11 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     # such storage): one numpy call per operation whatever n (a point's closest point
     # bounds a handful of boxes a round), reductions over leading axes fast for long n
     r = S.T - Xp.T                                                     # (dim, n)
-    f2 = _lead_sum(r * r)
+    f2 = squared_norms(r.T)
     f = np.sqrt(f2)
     Jt = J.T                                                           # (k, dim, n)
-    grad = 2.0 * _lead_sum((r * Jt).swapaxes(0, 1))                   # (k, n)
-    nrm = np.sqrt(_lead_sum((Jt * Jt).swapaxes(0, 1)))                 # |S_a(c)|
+    grad = 2.0 * lead_sum((r * Jt).swapaxes(0, 1))                   # (k, n)
+    nrm = np.sqrt(squared_norms(Jt.transpose(0, 2, 1)))              # |S_a(c)|
     # scales from the first-derivative bounds over the cell, at least SCALE_FLOOR_RTOL of
     # the largest (a direction degenerate over the whole cell). Issue 16: a floor of a
     # quarter of the largest made a sliver's short direction (L 1/300 of the long one's)
@@ -638,32 +639,32 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
         dJ, lam, sig = D[0], Mh[0], Sn[0]
     else:
         D = Mh[[0, 1]] * delta[0] + Mh[[1, 2]] * delta[1]               # D_a = sum_b Mh_ab delta_b
-        dJ = np.sqrt(_lead_sum(D * D))
-        lam = _eigenvalue_2x2(Mh[0], Mh[1], Mh[2], 1.0)
+        dJ = np.sqrt(squared_norms(D.T))
+        lam = eigenvalue_2x2(Mh[0], Mh[1], Mh[2], 1.0)
         u, v = Jh
         aa, cc = Sn[0] * Sn[0], Sn[1] * Sn[1]
-        bb = _lead_sum(u * v)
+        bb = lead_sum(u * v)
         if dim == 3:
             w = u[[1, 2, 0]] * v[[2, 0, 1]] - u[[2, 0, 1]] * v[[1, 2, 0]]          # u x v
-            det = _lead_sum(w * w)
+            det = squared_norms(w.T)
         elif dim == 2:
             det = (u[0] * v[1] - u[1] * v[0]) ** 2
         else:
             det = np.maximum(aa * cc - bb * bb, 0.0)
-        lmax = _eigenvalue_2x2(aa, bb, cc, 1.0)
+        lmax = eigenvalue_2x2(aa, bb, cc, 1.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             lmin = np.where(lmax > 0, det / lmax, 0.0)
         sig = np.sqrt(lmin) * (1.0 - SHRINK_RTOL)
-    Ld = _lead_sum(Lt * delta * si)
+    Ld = lead_sum(Lt * delta * si)
     m1 = 2.0 * (np.maximum(sig - dJ, 0.0) ** 2 - (f + Ld) * lam)
     # half Hessian J^T J + r.d2S at c and the bound E of its change over the box (pairs, n)
-    half = (_lead_sum((Jh[pa] * Jh[pb]).swapaxes(0, 1))
-            + _lead_sum(r[:, None] * H2[:, :, pa, pb].transpose(1, 2, 0)) * sij)
-    tt = _lead_sum(T[:, pa, pb].transpose(2, 1, 0) * (si * delta)[:, None])
+    half = (lead_sum((Jh[pa] * Jh[pb]).swapaxes(0, 1))
+            + lead_sum(r[:, None] * H2[:, :, pa, pb].transpose(1, 2, 0)) * sij)
+    tt = lead_sum(T[:, pa, pb].transpose(2, 1, 0) * (si * delta)[:, None])
     change = D[pa] * Sn[pb] + Sn[pa] * D[pb] + D[pa] * D[pb] + Ld * Mh + f * tt * sij
-    E2 = _lead_sum(w2 * (change * change))            # |E|_F^2 (off-diagonal entries twice)
-    scale = _lead_sum(w2 * np.abs(half))
-    lmin_h = half[0] if k == 1 else _eigenvalue_2x2(half[0], half[1], half[2], -1.0)
+    E2 = lead_sum(w2 * (change * change))            # |E|_F^2 (off-diagonal entries twice)
+    scale = lead_sum(w2 * np.abs(half))
+    lmin_h = half[0] if k == 1 else eigenvalue_2x2(half[0], half[1], half[2], -1.0)
     m2 = 2.0 * (lmin_h - np.sqrt(E2) - SLACK_RTOL * scale)
     m = np.maximum(m1, m2)
     if hessian is not None:
@@ -700,21 +701,6 @@ def box_lower_bound(Xp: np.ndarray, lo: np.ndarray, hi: np.ndarray, c: np.ndarra
     return bound, m, (np.maximum(a0, tlo).T, np.minimum(a1, thi).T)
 
 
-def _lead_sum(a: np.ndarray) -> np.ndarray:
-    """The sum over the first axis, one row at a time (a handful of rows: contiguous adds of
-    long rows; numpy's reduction over a leading axis was 2.5x slower on 65,536 boxes)."""
-    out = a[0]
-    for row in a[1:]:
-        out = out + row
-    return out
-
-
-def _eigenvalue_2x2(a: np.ndarray, b: np.ndarray, c: np.ndarray, sign: float) -> np.ndarray:
-    """The larger (sign 1) or smaller (sign -1) eigenvalue of [[a, b], [b, c]]:
-    (a + c)/2 +- sqrt(((a - c)/2)^2 + b^2)."""
-    return 0.5 * (a + c) + sign * np.sqrt(0.25 * (a - c) ** 2 + b * b)
-
-
 def symmetric_pairs(k: int) -> List[Tuple[int, int]]:
     """The entries (a, b), a <= b, of a symmetric k x k matrix (k = 1, 2)."""
     return [(0, 0)] if k == 1 else [(0, 0), (0, 1), (1, 1)]
@@ -739,7 +725,7 @@ def _quadratic_minimum(m: np.ndarray, grad: np.ndarray, sc: np.ndarray, tlo: np.
     ts = np.minimum(np.maximum(ts, tlo), thi)
     qa = np.minimum(np.minimum(grad * tlo + ma * (0.5 * tlo * tlo), grad * thi + ma * (0.5 * thi * thi)),
                     ts * (grad + 0.5 * ma * ts))
-    return _lead_sum(qa.swapaxes(0, -2)), (ma, qa)
+    return lead_sum(qa.swapaxes(0, -2)), (ma, qa)
 
 
 def _split_curvatures(m: np.ndarray, half: np.ndarray, change: np.ndarray, slack: Union[float, np.ndarray]
@@ -777,7 +763,7 @@ def _interval_eigenvalue(hl: np.ndarray, hh: np.ndarray, si: np.ndarray) -> np.n
     C = hl[:, 1, 1] * (s1 * s1)
     B = np.maximum(np.abs(hl[:, 0, 1]), np.abs(hh[:, 0, 1])) * (s0 * s1)
     big = big + np.maximum(np.abs(C), np.abs(hh[:, 1, 1]) * (s1 * s1)) + 2.0 * B
-    return 2.0 * (_eigenvalue_2x2(A, B, C, -1.0) - SLACK_RTOL * big)
+    return 2.0 * (eigenvalue_2x2(A, B, C, -1.0) - SLACK_RTOL * big)
 
 
 def block_max(B: np.ndarray, shape: Sequence[int], reach: int = BLOCK) -> np.ndarray:

@@ -95,7 +95,7 @@ from ._hessian_hull import HessianHull, RationalHessianHull
 from ._pole_bound import PoleCells
 from ._newton import projected_newton
 from ._numerics import AT_END_RTOL, BOUND_SHRINK_RTOL, COLLAPSED_SPEED_RTOL, LEVENBERG_RTOL, SIZE_ROUNDING, \
-    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, row_max, smallest_per_group, squared_norms
+    SLACK_RTOL, TINY, ULP_RTOL, column_extremes, eigenvalue_2x2, row_max, smallest_per_group, squared_norms
 
 MIN_VOXEL_RTOL = 1e-9        # the voxel size is at least this share of the size
 WIN_GAP_RTOL = 1e-9          # a cell wins only by more than this share of the distance ... (the foot is proven
@@ -618,10 +618,10 @@ class Projector:
         if nearest:
             d = _distances(X, pid, self.mid_points, cell).reshape(N, m)
             seed = d.argmin(axis=1)
-            return pid, seed, d[np.arange(N), seed], t.copy()
+            return pid, seed, d[np.arange(N), seed], t
         lb = self._cell_bounds(X, pid, cell)
         keep = lb < t[pid]
-        return pid[keep], cell[keep], lb[keep], t.copy()
+        return pid[keep], cell[keep], lb[keep], t
 
     def _cell_bounds(self, X: np.ndarray, pid: np.ndarray, cell: np.ndarray, box: bool = True) -> np.ndarray:
         """Lower bounds of |S - X[pid]| over the cells: the largest of the two hull-sphere
@@ -938,7 +938,7 @@ class Projector:
             degenerate |= alone & (H[:, a, a] <= flat)
         if self.k == 2:
             both = ~fixed[:, 0] & ~fixed[:, 1]
-            lmin = 0.5 * (H[:, 0, 0] + H[:, 1, 1]) - np.sqrt(0.25 * (H[:, 0, 0] - H[:, 1, 1]) ** 2 + H[:, 0, 1] ** 2)
+            lmin = eigenvalue_2x2(H[:, 0, 0], H[:, 0, 1], H[:, 1, 1], -1.0)
             good &= ~both | (lmin >= floor)
             degenerate |= ~held[:, 0] & ~held[:, 1] & (lmin <= flat)
         if self.k == 2:        # a parameter bound that is a collapsed edge (a pole) is no
